@@ -1,0 +1,29 @@
+// What every megavox subcommand shares: the global options and opening the device they name.
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <string>
+
+#include "megavox/device.h"
+
+namespace mv::cli {
+
+struct GlobalOptions {
+  std::string device;         // --device / MEGAVOX_DEVICE
+  std::string device_memory;  // --device-memory, e.g. 512M; empty = default
+  bool profile = false;       // --profile
+};
+
+inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
+  DeviceOptions o;
+  o.selector = g.device;
+  o.memory_budget = g.device_memory.empty() ? 0 : parse_size(g.device_memory);
+  o.profile = g.profile;
+  return Device::open(o);
+}
+
+void add_devices_command(CLI::App& app, const GlobalOptions& g);
+void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g);
+
+}  // namespace mv::cli

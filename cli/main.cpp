@@ -1,0 +1,50 @@
+// megavox command line: parses, reports, and leaves the work to the host pipelines.
+#include <cstdio>
+#include <iostream>
+
+#include "cli_common.h"
+#include "megavox/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "megavox: a compute backend for massive 3D models (sparse voxel octrees and DAGs, point hierarchies)\n"
+      "on any OpenCL or Vulkan compute device, CPU or GPU.\n\n"
+      "Examples:\n"
+      "  megavox devices                       list the compute devices megavox can use\n"
+      "  megavox bench sort --n 16M            radix-sort 16M (key, value) pairs and compare with std::sort\n"
+      "  megavox --device vk:0 bench sort      the same on the first Vulkan device\n"
+      "  MEGAVOX_DEVICE=pocl megavox devices   pick a device by (part of) its name\n",
+      "megavox"};
+  app.set_version_flag("--version", std::string("megavox ") + MEGAVOX_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough();
+
+  mv::cli::GlobalOptions g;
+  app.add_option("--device", g.device,
+                 "Device to run on: ocl:N (OpenCL devices across platforms), vk:N (Vulkan devices), or part of a "
+                 "device or platform name such as pocl or llvmpipe. Default: $MEGAVOX_DEVICE, else a GPU "
+                 "(Vulkan first), else PoCL")
+      ->envname("MEGAVOX_DEVICE");
+  app.add_option("--device-memory", g.device_memory,
+                 "Device memory budget, e.g. 512M or 2G (default: 3/4 of what the device reports). Work that "
+                 "does not fit fails with a message naming what it needs");
+  app.add_flag("--profile", g.profile, "Time every kernel on the device and print the totals");
+
+  mv::cli::add_devices_command(app, g);
+  CLI::App* bench = app.add_subcommand("bench", "Measure megavox against the tools a user would pick instead");
+  bench->require_subcommand(1);
+  mv::cli::add_bench_sort_command(*bench, g);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const mv::Error& e) {
+    std::fprintf(stderr, "megavox: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "megavox: internal error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,57 @@
+# Embeds the kernels listed in kernels/kernels.cmake into the library:
+#  - each OpenCL program (.cl) with its #include "..." lines inlined, as a C++ raw string;
+#  - each GLSL entry compiled to SPIR-V by glslangValidator (target Vulkan 1.2) as a uint32_t array;
+#  - a table (kernel_table.cpp) mapping kernel names to both.
+find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+
+set(MV_KERNEL_DIR ${CMAKE_SOURCE_DIR}/kernels)
+set(MV_KERNEL_GEN ${CMAKE_BINARY_DIR}/kernels_gen)
+file(MAKE_DIRECTORY ${MV_KERNEL_GEN})
+file(GLOB MV_KERNEL_COMMON CONFIGURE_DEPENDS ${MV_KERNEL_DIR}/common/*.h)
+
+set(MV_KERNEL_SOURCES "")
+set(MV_KERNEL_INCLUDES "")
+set(MV_KERNEL_ENTRIES "")
+set(MV_CL_PROGRAMS "")
+
+function(mv_cl_program cl)
+  string(MAKE_C_IDENTIFIER ${cl} id)
+  set(out ${MV_KERNEL_GEN}/cl_${id}.h)
+  if(NOT cl IN_LIST MV_CL_PROGRAMS)
+    add_custom_command(OUTPUT ${out}
+      COMMAND ${CMAKE_COMMAND} -DIN=${MV_KERNEL_DIR}/${cl} -DROOT=${MV_KERNEL_DIR} -DOUT=${out} -DVAR=mv_cl_${id}
+              -P ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
+      DEPENDS ${MV_KERNEL_DIR}/${cl} ${MV_KERNEL_COMMON} ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
+      COMMENT "Embedding OpenCL program ${cl}")
+    list(APPEND MV_CL_PROGRAMS ${cl})
+    set(MV_CL_PROGRAMS ${MV_CL_PROGRAMS} PARENT_SCOPE)
+    list(APPEND MV_KERNEL_SOURCES ${out})
+    set(MV_KERNEL_SOURCES ${MV_KERNEL_SOURCES} PARENT_SCOPE)
+    string(APPEND MV_KERNEL_INCLUDES "#include \"cl_${id}.h\"\n")
+    set(MV_KERNEL_INCLUDES ${MV_KERNEL_INCLUDES} PARENT_SCOPE)
+  endif()
+endfunction()
+
+macro(mv_kernel name cl comp)
+  mv_cl_program(${cl})
+  string(MAKE_C_IDENTIFIER ${cl} _cl_id)
+  set(_defs "")
+  foreach(d ${ARGN})
+    list(APPEND _defs -D${d})
+  endforeach()
+  set(_spv ${MV_KERNEL_GEN}/spv_${name}.h)
+  add_custom_command(OUTPUT ${_spv}
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${MV_KERNEL_DIR} ${_defs} --vn mv_spv_${name}
+            -o ${_spv} ${MV_KERNEL_DIR}/${comp}
+    DEPENDS ${MV_KERNEL_DIR}/${comp} ${MV_KERNEL_COMMON}
+    COMMENT "Compiling ${comp} (${name}) to SPIR-V")
+  list(APPEND MV_KERNEL_SOURCES ${_spv})
+  string(APPEND MV_KERNEL_INCLUDES "#include \"spv_${name}.h\"\n")
+  string(APPEND MV_KERNEL_ENTRIES
+    "  {\"${name}\", \"${cl}\", mv_cl_${_cl_id}, mv_spv_${name}, sizeof(mv_spv_${name}) / sizeof(uint32_t)},\n")
+endmacro()
+
+include(${MV_KERNEL_DIR}/kernels.cmake)
+
+configure_file(${CMAKE_SOURCE_DIR}/cmake/kernel_table.cpp.in ${MV_KERNEL_GEN}/kernel_table.cpp @ONLY)
+list(APPEND MV_KERNEL_SOURCES ${MV_KERNEL_GEN}/kernel_table.cpp)

@@ -1,0 +1,30 @@
+# cmake -DIN=file.cl -DROOT=kernels/ -DOUT=out.h -DVAR=name -P inline_cl.cmake
+# Writes OUT: `static const char VAR[] = R"mvcl(<IN with every #include "x" inlined>)mvcl";`
+# Includes resolve against the including file's folder, then ROOT (as glslang does with -I).
+# The text is handled as one string, never as a CMake list, so semicolons survive.
+function(mv_inline path out_var)
+  file(READ ${path} text)
+  get_filename_component(dir ${path} DIRECTORY)
+  string(REGEX MATCHALL "#[ \t]*include[ \t]+\"[^\"]+\"" directives "${text}")
+  foreach(directive IN LISTS directives)
+    string(REGEX REPLACE "#[ \t]*include[ \t]+\"([^\"]+)\"" "\\1" inc "${directive}")
+    if(EXISTS ${dir}/${inc})
+      mv_inline(${dir}/${inc} sub)
+    elseif(EXISTS ${ROOT}/${inc})
+      mv_inline(${ROOT}/${inc} sub)
+    else()
+      message(FATAL_ERROR "${path}: cannot find included file ${inc}")
+    endif()
+    string(FIND "${text}" "${directive}" at)
+    string(LENGTH "${directive}" len)
+    string(SUBSTRING "${text}" 0 ${at} before)
+    math(EXPR after_at "${at} + ${len}")
+    string(SUBSTRING "${text}" ${after_at} -1 after)
+    set(text "${before}${sub}${after}")
+  endforeach()
+  set(${out_var} "${text}" PARENT_SCOPE)
+endfunction()
+
+mv_inline(${IN} text)
+file(WRITE ${OUT}.tmp "static const char ${VAR}[] = R\"mvcl(${text})mvcl\";\n")
+file(RENAME ${OUT}.tmp ${OUT})

@@ -1,0 +1,49 @@
+// `megavox bench sort`: our radix sort against the sorts a user would pick instead, in one run.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "megavox/device.h"
+
+namespace mv::bench {
+
+struct SortBenchOptions {
+  uint64_t n = 16u << 20;
+  int key_bits = 64;    // 32 or 64
+  bool pairs = true;    // move a 32-bit value (the original index) with each key
+  int repeats = 3;      // device runs; the best is reported
+  uint64_t seed = 1;
+};
+
+struct SortBenchResult {
+  DeviceInfo device;
+  uint64_t n = 0;
+  int key_bits = 0;
+  bool pairs = true;
+  uint32_t passes = 0;
+  double seconds = 0;            // best device sort, data already on the device
+  double upload_seconds = 0;     // host -> device of keys (+ values), last run
+  double download_seconds = 0;
+  double keys_per_s = 0;
+  double std_sort_seconds = 0;
+  double std_sort_keys_per_s = 0;
+  std::string parallel_sort_name;  // the faster of tbb::parallel_sort and boost block_indirect_sort
+  double parallel_sort_seconds = 0;
+  double parallel_sort_keys_per_s = 0;
+  double speedup_vs_std_sort = 0;
+  double speedup_vs_parallel_sort = 0;
+  double copy_gb_per_s = 0;      // host memcpy, bytes read + written per second, measured in this run
+  double floor_seconds = 0;      // passes x 2 x n x pair bytes / copy bandwidth
+  double floor_fraction = 0;     // floor_seconds / seconds
+  bool verified = false;         // output is the stable sort of the input (checked in full)
+  std::vector<KernelTiming> kernel_totals;  // per kernel over the best run (with profiling)
+};
+
+// Throws mv::Error when the device cannot hold the data (the message says how much it needs).
+SortBenchResult run_sort_bench(Device& dev, const SortBenchOptions& options);
+
+// Host memcpy bandwidth (read + write bytes per second), best of a few copies of `bytes`.
+double measure_copy_bandwidth(uint64_t bytes);
+
+}  // namespace mv::bench

@@ -1,0 +1,37 @@
+// Plain C++ reference implementations: the oracle every kernel's test compares against. Written for
+// obviousness, not speed, and independent of the kernel sources (no shared code with kernels/common).
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+namespace mv::ref {
+
+// Bit i of x, y, z -> bits 3i, 3i+1, 3i+2; `bits_per_axis` = 21 (64-bit keys) or 10 (32-bit keys).
+uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis);
+
+// out[i] = sum of in[0..i), out[n] = total.
+std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in);
+
+// std::stable_sort of (key, value) pairs by key; values may be null (keys only).
+template <class Key>
+void stable_sort(std::vector<Key>& keys, std::vector<uint32_t>* values) {
+  if (!values) {
+    std::stable_sort(keys.begin(), keys.end());
+    return;
+  }
+  std::vector<uint32_t> order(keys.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+  std::vector<Key> k(keys.size());
+  std::vector<uint32_t> v(keys.size());
+  for (size_t i = 0; i < order.size(); ++i) {
+    k[i] = keys[order[i]];
+    v[i] = (*values)[order[i]];
+  }
+  keys.swap(k);
+  values->swap(v);
+}
+
+}  // namespace mv::ref

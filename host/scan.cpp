@@ -1,0 +1,42 @@
+#include "../kernels/common/scan.h"
+
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+#include "scan_plan.h"
+
+namespace mv {
+
+ScanPlan plan_scan(Device& dev, uint32_t n) {
+  ScanPlan plan;
+  plan.n = n;
+  plan.shape = block_shape(dev.info(), n);
+  const uint32_t cap = dev.info().max_loop_iterations;
+  if (cap && plan.shape.blocks >= cap)
+    throw Error("exclusive_scan: " + std::to_string(n) + " values need " + std::to_string(plan.shape.blocks) +
+                " blocks, more than one loop may run on " + dev.info().name);
+  plan.sums = dev.alloc((uint64_t{plan.shape.blocks} + 1) * 4, "scan block sums");
+  return plan;
+}
+
+void record_scan(Device& dev, ScanPlan& plan, const Buffer& src, Buffer& dst) {
+  const uint32_t n = plan.n;
+  if (src.bytes() < uint64_t{n} * 4 || dst.bytes() < (uint64_t{n} + 1) * 4)
+    throw Error("exclusive_scan: buffers too small for " + std::to_string(n) + " values");
+  const BlockShape& s = plan.shape;
+  MvScanParams p{n, s.blocks, s.block_size, 0};
+  dev.dispatch(dev.kernel("scan_reduce"), s.groups, s.local_size, {&src, &plan.sums}, p);
+  dev.barrier();
+  MvScanParams small{s.blocks, 1, s.blocks, 0};
+  dev.dispatch(dev.kernel("scan_small"), 1, 1, {&plan.sums}, small);
+  dev.barrier();
+  dev.dispatch(dev.kernel("scan_apply"), s.groups, s.local_size, {&src, &dst, &plan.sums}, p);
+  dev.copy(plan.sums, dst, 4, uint64_t{s.blocks} * 4, uint64_t{n} * 4);
+  dev.barrier();
+}
+
+void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint32_t n) {
+  ScanPlan plan = plan_scan(dev, n);
+  record_scan(dev, plan, src, dst);
+}
+
+}  // namespace mv

@@ -1,0 +1,169 @@
+// megavox — compute devices, device memory and kernel dispatch, independent of the backend API.
+//
+// A Device is one OpenCL or Vulkan device opened with a memory budget. Device memory comes only from its
+// page pool (fixed-size pages carved out of a few large allocations); a request the budget cannot hold
+// throws mv::Error naming what was asked and what is left. Work is recorded in one ordered stream:
+// dispatch/fill/copy may overlap until barrier(); finish() waits for everything; upload/download wait
+// for earlier work first.
+#pragma once
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+namespace mv {
+
+namespace rt {
+class Backend;
+class BackendBuffer;
+class BackendKernel;
+class MemoryPool;
+}  // namespace rt
+
+struct DeviceInfo {
+  std::string backend;   // "opencl" or "vulkan"
+  int index = 0;         // position among the backend's devices: selector "ocl:N" / "vk:N"
+  std::string name;      // device name as the driver reports it
+  std::string platform;  // OpenCL platform name; Vulkan: driver name
+  std::string vendor;    // OpenCL platform vendor ("The pocl project"); Vulkan: driver name
+  std::string driver;    // driver version
+  std::string api_version;
+  std::string type;      // "cpu", "gpu" or "other"
+  uint32_t compute_units = 0;
+  uint64_t global_memory_bytes = 0;
+  uint64_t max_allocation_bytes = 0;
+  uint64_t max_binding_bytes = 0;  // largest single buffer binding (Vulkan storage range; OpenCL: max alloc)
+  uint64_t local_memory_bytes = 0;
+  uint32_t max_work_group_size = 0;
+  uint32_t max_groups = 0;         // largest group count in one dimension of a dispatch
+  uint32_t subgroup_size = 0;      // 0 when the API does not say
+  bool fp64 = false;
+  bool int64 = false;
+  // Most iterations one loop of one work-item may run; 0 = no limit. llvmpipe (lavapipe) silently ends any
+  // shader loop after 65535 iterations, so block-per-work-item kernels cap their blocks below that.
+  uint32_t max_loop_iterations = 0;
+
+  std::string selector() const { return (backend == "opencl" ? "ocl:" : "vk:") + std::to_string(index); }
+};
+
+struct KernelTiming {
+  std::string kernel;
+  uint64_t ns = 0;
+};
+
+// Every device both backends can see: OpenCL devices first (all platforms, enumeration order), then Vulkan.
+std::vector<DeviceInfo> list_devices();
+
+// Resolves a selector: "ocl:N", "vk:N", or a case-insensitive substring of a device name, platform name or
+// platform vendor (so "pocl" finds PoCL, whose platform is "Portable Computing Language").
+// Empty means the default: the first GPU (Vulkan before OpenCL when a GPU is visible through both), else
+// the first OpenCL CPU device (PoCL), else the first device. Throws mv::Error listing the devices when
+// nothing matches.
+DeviceInfo select_device(const std::string& selector);
+
+// Parses sizes such as "512M", "2G", "16K", "1048576" (binary units). Throws mv::Error on garbage.
+uint64_t parse_size(std::string_view text);
+std::string format_bytes(uint64_t bytes);
+
+class Device;
+
+// Device memory owned by a Device's page pool. Move-only; returns its pages when destroyed.
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(Buffer&& other) noexcept;
+  Buffer& operator=(Buffer&& other) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  ~Buffer();
+
+  uint64_t bytes() const { return bytes_; }
+  bool empty() const { return bytes_ == 0; }
+
+ private:
+  friend class Device;
+  void release();
+  rt::MemoryPool* pool_ = nullptr;
+  uint32_t arena_ = 0;
+  uint64_t first_page_ = 0;
+  uint64_t pages_ = 0;
+  uint64_t bytes_ = 0;
+  struct ImplDeleter {
+    void operator()(rt::BackendBuffer* b) const;  // out of line: the type is the backend's
+  };
+  std::unique_ptr<rt::BackendBuffer, ImplDeleter> impl_;
+};
+
+// A built kernel; owned by its Device, valid while the Device lives.
+class Kernel {
+ public:
+  const std::string& name() const { return name_; }
+
+ private:
+  friend class Device;
+  std::string name_;
+  rt::BackendKernel* impl_ = nullptr;
+};
+
+struct DeviceOptions {
+  std::string selector;         // see select_device(); empty = default (or $MEGAVOX_DEVICE when set)
+  uint64_t memory_budget = 0;   // 0 = default: a safe fraction of what the device reports
+  bool profile = false;         // collect per-dispatch timings (take_timings)
+};
+
+class Device {
+ public:
+  static std::unique_ptr<Device> open(const DeviceOptions& options = {});
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  const DeviceInfo& info() const;
+  uint64_t memory_budget() const;
+  uint64_t memory_used() const;  // bytes in pages handed out
+  uint64_t page_bytes() const;
+
+  // Throws mv::Error when the budget or the largest single allocation cannot hold `bytes`.
+  Buffer alloc(uint64_t bytes, std::string_view what);
+
+  void upload(Buffer& dst, const void* src, uint64_t bytes, uint64_t offset = 0);
+  void download(const Buffer& src, void* dst, uint64_t bytes, uint64_t offset = 0) const;
+  void fill(Buffer& dst, uint32_t pattern, uint64_t bytes, uint64_t offset = 0);
+  void copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_offset = 0, uint64_t dst_offset = 0);
+
+  // Kernels embedded at build time, by entry name; built on first use, once per Device.
+  Kernel& kernel(std::string_view name);
+
+  // Records a dispatch of `groups` work-groups of `local_size` items. Kernel arguments: the buffers in
+  // order, then `params` (a trivially copyable struct from kernels/common, shared with the kernel source).
+  template <class Params>
+  void dispatch(Kernel& k, uint32_t groups, uint32_t local_size, std::initializer_list<const Buffer*> buffers,
+                const Params& params) {
+    static_assert(std::is_trivially_copyable_v<Params>);
+    dispatch_raw(k, groups, local_size, buffers, &params, sizeof(Params));
+  }
+  void dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size, std::initializer_list<const Buffer*> buffers,
+                    const void* params, size_t params_bytes);
+  void barrier();
+  void finish();
+
+  // Timings of the dispatches finished since the last call (empty unless opened with profile = true).
+  std::vector<KernelTiming> take_timings();
+
+  // Groups for a grid-stride dispatch covering `items` with `local_size`, capped at the device limit.
+  uint32_t groups_for(uint64_t items, uint32_t local_size) const;
+
+  // For runtime tests: build a kernel from explicit sources (bypassing the embedded registry).
+  Kernel& kernel_from_source(const std::string& name, const char* cl_source, const uint32_t* spirv,
+                             size_t spirv_words);
+
+ private:
+  Device() = default;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mv

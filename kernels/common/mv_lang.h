@@ -1,0 +1,90 @@
+/* megavox kernel language shim: lets one header compile as host C++, OpenCL C 1.2 and GLSL 4.60 (Vulkan).
+ * Kernel bodies and parameter layouts live in kernels/common and use only what is defined here; the
+ * per-language entry points (the .cl and .comp files of each kernel family) stay thin. The PNanoVDB.h pattern.
+ *
+ * Buffers are typed references: MvBufU32 / MvBufU64, read with MV_LD(buf, i), written with MV_ST(buf, i, v).
+ * On Vulkan they are buffer-device-address references (no 128 MiB descriptor limit); on OpenCL global
+ * pointers; on the host plain pointers. */
+#ifndef MV_LANG_H
+#define MV_LANG_H
+
+#if defined(__OPENCL_VERSION__)
+#define MV_OPENCL 1
+#elif defined(VULKAN) || defined(GL_SPIRV)
+#define MV_GLSL 1
+#else
+#define MV_CPP 1
+#endif
+
+/* ---- types, casts, literals, functions ---- */
+#if defined(MV_CPP)
+#include <cstdint>
+typedef uint32_t mv_u32;
+typedef uint64_t mv_u64;
+typedef int32_t mv_i32;
+typedef float mv_f32;
+typedef double mv_f64;
+#define MV_INLINE static inline
+#define MV_U32(x) ((mv_u32)(x))
+#define MV_U64(x) ((mv_u64)(x))
+#define MV_STRUCT_BEGIN(name) struct name {
+#define MV_STRUCT_END(name) };
+#define MV_MIN(a, b) ((a) < (b) ? (a) : (b))
+#define MV_MAX(a, b) ((a) > (b) ? (a) : (b))
+#elif defined(MV_OPENCL)
+#define mv_u32 uint
+#define mv_u64 ulong
+#define mv_i32 int
+#define mv_f32 float
+#define mv_f64 double
+#define MV_INLINE static inline
+#define MV_U32(x) ((uint)(x))
+#define MV_U64(x) ((ulong)(x))
+#define MV_STRUCT_BEGIN(name) typedef struct name {
+#define MV_STRUCT_END(name) } name;
+#define MV_MIN(a, b) min(a, b)
+#define MV_MAX(a, b) max(a, b)
+#pragma OPENCL FP_CONTRACT OFF
+#else /* GLSL */
+#define mv_u32 uint
+#define mv_u64 uint64_t
+#define mv_i32 int
+#define mv_f32 float
+#define mv_f64 double
+#define MV_INLINE
+#define MV_U32(x) uint(x)
+#define MV_U64(x) uint64_t(x)
+#define MV_STRUCT_BEGIN(name) struct name {
+#define MV_STRUCT_END(name) };
+#define MV_MIN(a, b) min(a, b)
+#define MV_MAX(a, b) max(a, b)
+#endif
+
+/* ---- buffers ---- */
+#if defined(MV_CPP)
+typedef mv_u32* MvBufU32;
+typedef mv_u64* MvBufU64;
+#define MV_LD(buf, i) ((buf)[i])
+#define MV_ST(buf, i, v) ((buf)[i] = (v))
+#elif defined(MV_OPENCL)
+#define MvBufU32 __global uint*
+#define MvBufU64 __global ulong*
+#define MV_LD(buf, i) ((buf)[i])
+#define MV_ST(buf, i, v) ((buf)[i] = (v))
+#else
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32 { uint v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufU64 { uint64_t v[]; };
+#define MV_LD(buf, i) ((buf).v[i])
+#define MV_ST(buf, i, v_) ((buf).v[i] = (v_))
+#endif
+
+/* ---- work-item ids (1-D dispatches; kernels loop grid-stride so group counts stay within limits) ---- */
+#if defined(MV_OPENCL)
+#define MV_GLOBAL_ID() MV_U32(get_global_id(0))
+#define MV_GLOBAL_SIZE() MV_U32(get_global_size(0))
+#elif defined(MV_GLSL)
+#define MV_GLOBAL_ID() (gl_GlobalInvocationID.x)
+#define MV_GLOBAL_SIZE() (gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+#endif
+
+#endif /* MV_LANG_H */

@@ -1,0 +1,26 @@
+/* LSD radix sort, block-per-work-item variant (the fast shape on CPU devices: PoCL, lavapipe).
+ *
+ * The keys are cut into `blocks` contiguous blocks of `block_size`; work-item b owns block b. One pass
+ * per 8-bit digit that varies over the keys (reduce-then-scan, no cross-work-group waiting):
+ *   1. radix_histogram: each block counts its digits into hist[digit * blocks + b]
+ *   2. scan_small:      exclusive scan of hist (digit-major, so offsets follow key order: stable)
+ *   3. radix_scatter:   each block walks its keys in order and writes each to hist[digit][b]++
+ * Before the passes radix_or_and reduces OR and AND of all keys: digits where they agree are constant
+ * over every key and are skipped. */
+#ifndef MV_RADIX_SORT_H
+#define MV_RADIX_SORT_H
+#include "mv_lang.h"
+
+#define MV_RADIX_BITS 8
+#define MV_RADIX_BUCKETS 256
+
+MV_STRUCT_BEGIN(MvRadixParams)
+  mv_u32 n;          /* number of keys */
+  mv_u32 blocks;     /* number of blocks (= work-items doing useful work) */
+  mv_u32 block_size; /* keys per block (the last block may be short) */
+  mv_u32 shift;      /* bit position of this pass's digit */
+  mv_u32 has_values; /* nonzero: move 32-bit values along with the keys */
+  mv_u32 pad0;
+MV_STRUCT_END(MvRadixParams)
+
+#endif

@@ -1,0 +1,44 @@
+// Vulkan entry points of the radix sort: one SPIR-V module per (entry, key type), selected at build time
+// with -DMV_ENTRY_<name> and -DMV_KEY64 (bodies: common/radix_sort_body.h).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common/mv_glsl_prelude.h"
+#include "common/radix_sort.h"
+
+#ifdef MV_KEY64
+#define MV_KEY uint64_t
+#define MvBufKey MvBufU64
+#define MV_KCAST(x) MV_U64(x)
+#define MV_KFN(f) f##_k64
+#else
+#define MV_KEY uint
+#define MvBufKey MvBufU32
+#define MV_KCAST(x) MV_U32(x)
+#define MV_KFN(f) f##_k32
+#endif
+#include "common/radix_sort_body.h"
+
+#if defined(MV_ENTRY_or_and)
+layout(push_constant) uniform Args { MvBufKey keys; MvBufKey red; MvRadixParams p; } args;
+void main() {
+  uint b = MV_GLOBAL_ID();
+  if (b < args.p.blocks) MV_KFN(mv_radix_or_and)(args.keys, args.red, args.p, b);
+}
+#elif defined(MV_ENTRY_histogram)
+layout(push_constant) uniform Args { MvBufKey keys; MvBufU32 hist; MvRadixParams p; } args;
+void main() {
+  uint b = MV_GLOBAL_ID();
+  if (b < args.p.blocks) MV_KFN(mv_radix_histogram)(args.keys, args.hist, args.p, b);
+}
+#elif defined(MV_ENTRY_scatter)
+layout(push_constant) uniform Args {
+  MvBufKey keys_in; MvBufKey keys_out; MvBufU32 vals_in; MvBufU32 vals_out; MvBufU32 offsets; MvRadixParams p;
+} args;
+void main() {
+  uint b = MV_GLOBAL_ID();
+  if (b < args.p.blocks)
+    MV_KFN(mv_radix_scatter)(args.keys_in, args.keys_out, args.vals_in, args.vals_out, args.offsets, args.p, b);
+}
+#else
+#error "define MV_ENTRY_or_and, MV_ENTRY_histogram or MV_ENTRY_scatter"
+#endif

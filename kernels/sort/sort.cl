@@ -1,0 +1,36 @@
+// OpenCL entry points of the radix sort (bodies: common/radix_sort_body.h, one instance per key type).
+#include "common/radix_sort.h"
+
+#define MV_KEY uint
+#define MvBufKey __global uint*
+#define MV_KCAST(x) MV_U32(x)
+#define MV_KFN(f) f##_k32
+#include "common/radix_sort_body.h"
+#undef MV_KEY
+#undef MvBufKey
+#undef MV_KCAST
+#undef MV_KFN
+
+#define MV_KEY ulong
+#define MvBufKey __global ulong*
+#define MV_KCAST(x) MV_U64(x)
+#define MV_KFN(f) f##_k64
+#include "common/radix_sort_body.h"
+
+#define MV_RADIX_ENTRIES(K, KT)                                                                               \
+  __kernel void radix_or_and_##K(__global KT* keys, __global KT* red, MvRadixParams p) {                      \
+    uint b = MV_GLOBAL_ID();                                                                                  \
+    if (b < p.blocks) mv_radix_or_and_##K(keys, red, p, b);                                                  \
+  }                                                                                                           \
+  __kernel void radix_histogram_##K(__global KT* keys, __global uint* hist, MvRadixParams p) {                \
+    uint b = MV_GLOBAL_ID();                                                                                  \
+    if (b < p.blocks) mv_radix_histogram_##K(keys, hist, p, b);                                              \
+  }                                                                                                           \
+  __kernel void radix_scatter_##K(__global KT* keys_in, __global KT* keys_out, __global uint* vals_in,         \
+                                  __global uint* vals_out, __global uint* offsets, MvRadixParams p) {         \
+    uint b = MV_GLOBAL_ID();                                                                                  \
+    if (b < p.blocks) mv_radix_scatter_##K(keys_in, keys_out, vals_in, vals_out, offsets, p, b);             \
+  }
+
+MV_RADIX_ENTRIES(k32, uint)
+MV_RADIX_ENTRIES(k64, ulong)

@@ -1,0 +1,86 @@
+// The one small interface every compute backend implements (OpenCL, Vulkan).
+// Nothing above runtime/ sees this header: host code talks to mv::Device (include/megavox/device.h).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "megavox/device.h"  // DeviceInfo, KernelTiming
+
+namespace mv::rt {
+
+// A kernel as embedded at build time: OpenCL C source (all includes inlined) and SPIR-V.
+struct KernelDesc {
+  std::string name;            // entry point name, unique across all kernels (e.g. "radix_scatter_k64")
+  std::string cl_program;      // name of the OpenCL program that holds the entry (built once per device)
+  const char* cl_source = nullptr;
+  const uint32_t* spirv = nullptr;  // one SPIR-V module per kernel, entry "main"
+  size_t spirv_words = 0;
+};
+
+// One large device allocation; the memory pool carves pages out of it.
+class BackendArena {
+ public:
+  virtual ~BackendArena() = default;
+};
+
+// A byte range [offset, offset + bytes) of an arena, usable as a kernel argument.
+class BackendBuffer {
+ public:
+  virtual ~BackendBuffer() = default;
+};
+
+class BackendKernel {
+ public:
+  virtual ~BackendKernel() = default;
+};
+
+// All work is ordered in one stream per backend. dispatch/fill/copy are recorded (OpenCL: enqueued on an
+// in-order queue; Vulkan: recorded into a command buffer) and run no later than finish(). barrier() makes
+// every earlier write visible to every later command; without one, consecutive commands may overlap.
+// upload/download are synchronous: they wait for all earlier work, then copy.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual const DeviceInfo& info() const = 0;
+
+  virtual std::unique_ptr<BackendArena> create_arena(uint64_t bytes) = 0;  // throws mv::Error on failure
+  virtual std::unique_ptr<BackendBuffer> create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) = 0;
+
+  virtual void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) = 0;
+  virtual void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) = 0;
+  // Fill `bytes` (multiple of 4) at `offset` (multiple of 4) with a 32-bit pattern; recorded in the stream.
+  virtual void fill(BackendBuffer& dst, uint64_t offset, uint64_t bytes, uint32_t pattern) = 0;
+  // Copy `bytes` (multiple of 4) between buffers; recorded in the stream.
+  virtual void copy(BackendBuffer& src, uint64_t src_offset, BackendBuffer& dst, uint64_t dst_offset,
+                    uint64_t bytes) = 0;
+
+  // Built once per backend instance and cached by desc.name. A build failure throws mv::Error naming
+  // the kernel (OpenCL: with the compiler log; Vulkan: the rejected module or pipeline).
+  virtual BackendKernel& kernel(const KernelDesc& desc) = 0;
+
+  // Arguments: the buffers in order, then one trivially-copyable parameter struct (may be empty).
+  // OpenCL: kernel(global T* b0, ..., global T* bk, Params p). Vulkan: push constants
+  // { uint64_t address of b0 .. bk; Params p; } (at most kMaxPushBytes in all).
+  virtual void dispatch(BackendKernel& kernel, uint32_t groups, uint32_t local_size,
+                        std::span<BackendBuffer* const> buffers, const void* params, size_t params_bytes) = 0;
+  virtual void barrier() = 0;
+  virtual void finish() = 0;
+
+  // Per-dispatch device timings (kernel name, nanoseconds), collected while profiling is on.
+  virtual void set_profiling(bool on) = 0;
+  virtual std::vector<KernelTiming> take_timings() = 0;
+};
+
+inline constexpr size_t kMaxPushBytes = 128;  // Vulkan's guaranteed minimum push-constant size
+
+// Discovery. Each list is in the API's enumeration order; index i opens the i-th entry.
+std::vector<DeviceInfo> enumerate_opencl();
+std::vector<DeviceInfo> enumerate_vulkan();
+std::unique_ptr<Backend> open_opencl(int index);
+std::unique_ptr<Backend> open_vulkan(int index);
+
+}  // namespace mv::rt

@@ -1,0 +1,188 @@
+// mv::Device: a backend, its page pool and its kernels behind one backend-neutral class.
+#include "megavox/device.h"
+
+#include <algorithm>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "backend.h"
+#include "kernel_table.h"
+#include "megavox/error.h"
+#include "memory_pool.h"
+
+namespace mv {
+
+namespace {
+constexpr uint64_t kPageBytes = 64 << 10;
+constexpr uint64_t kMaxArenaBytes = 1ull << 30;
+}  // namespace
+
+struct Device::Impl {
+  std::unique_ptr<rt::Backend> backend;
+  std::unique_ptr<rt::MemoryPool> pool;
+  std::map<std::string, std::unique_ptr<Kernel>, std::less<>> kernels;
+};
+
+// ---- Buffer ----
+
+Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  if (this != &other) {
+    release();
+    pool_ = std::exchange(other.pool_, nullptr);
+    arena_ = other.arena_;
+    first_page_ = other.first_page_;
+    pages_ = other.pages_;
+    bytes_ = std::exchange(other.bytes_, 0);
+    impl_ = std::move(other.impl_);
+  }
+  return *this;
+}
+
+Buffer::~Buffer() { release(); }
+
+void Buffer::ImplDeleter::operator()(rt::BackendBuffer* b) const { delete b; }
+
+void Buffer::release() {
+  impl_.reset();
+  if (pool_) pool_->release({arena_, first_page_, pages_});
+  pool_ = nullptr;
+  bytes_ = 0;
+}
+
+// ---- Device ----
+
+std::unique_ptr<Device> Device::open(const DeviceOptions& options) {
+  DeviceInfo chosen = select_device(options.selector);
+  std::unique_ptr<Device> device(new Device());
+  device->impl_ = std::make_unique<Impl>();
+  auto& impl = *device->impl_;
+  impl.backend = chosen.backend == "opencl" ? rt::open_opencl(chosen.index) : rt::open_vulkan(chosen.index);
+  const DeviceInfo& info = impl.backend->info();
+  uint64_t budget = options.memory_budget;
+  if (budget == 0) {
+    budget = info.global_memory_bytes / 4 * 3;  // leave room for the driver and other users
+  } else if (budget > info.global_memory_bytes) {
+    throw Error("--device-memory " + format_bytes(budget) + " is more than " + info.name + " has (" +
+                format_bytes(info.global_memory_bytes) + ")");
+  }
+  uint64_t max_arena = std::min(kMaxArenaBytes, info.max_allocation_bytes);
+  impl.pool = std::make_unique<rt::MemoryPool>(*impl.backend, budget, kPageBytes, max_arena);
+  impl.backend->set_profiling(options.profile);
+  return device;
+}
+
+Device::~Device() {
+  if (impl_ && impl_->backend) {
+    try {
+      impl_->backend->finish();
+    } catch (...) {
+    }
+  }
+}
+
+const DeviceInfo& Device::info() const { return impl_->backend->info(); }
+uint64_t Device::memory_budget() const { return impl_->pool->budget(); }
+uint64_t Device::memory_used() const { return impl_->pool->used(); }
+uint64_t Device::page_bytes() const { return impl_->pool->page_bytes(); }
+
+Buffer Device::alloc(uint64_t bytes, std::string_view what) {
+  Buffer buf;
+  if (bytes == 0) return buf;
+  auto range = impl_->pool->allocate(bytes, what);
+  buf.pool_ = impl_->pool.get();
+  buf.arena_ = range.arena;
+  buf.first_page_ = range.first_page;
+  buf.pages_ = range.pages;
+  buf.bytes_ = bytes;
+  try {
+    buf.impl_.reset(impl_->backend->create_buffer(impl_->pool->arena(range.arena), range.first_page * page_bytes(),
+                                                  range.pages * page_bytes())
+                        .release());
+  } catch (...) {
+    buf.release();
+    throw;
+  }
+  return buf;
+}
+
+namespace {
+void check_range(const Buffer& b, uint64_t offset, uint64_t bytes, const char* op) {
+  if (offset > b.bytes() || bytes > b.bytes() - offset)
+    throw Error(std::string(op) + ": range [" + std::to_string(offset) + ", +" + std::to_string(bytes) +
+                ") is outside a buffer of " + std::to_string(b.bytes()) + " bytes");
+}
+}  // namespace
+
+void Device::upload(Buffer& dst, const void* src, uint64_t bytes, uint64_t offset) {
+  check_range(dst, offset, bytes, "upload");
+  if (bytes) impl_->backend->upload(*dst.impl_, offset, src, bytes);
+}
+
+void Device::download(const Buffer& src, void* dst, uint64_t bytes, uint64_t offset) const {
+  check_range(src, offset, bytes, "download");
+  if (bytes) impl_->backend->download(*src.impl_, offset, dst, bytes);
+}
+
+void Device::fill(Buffer& dst, uint32_t pattern, uint64_t bytes, uint64_t offset) {
+  check_range(dst, offset, bytes, "fill");
+  if (bytes % 4 || offset % 4) throw Error("fill: offset and size must be multiples of 4");
+  if (bytes) impl_->backend->fill(*dst.impl_, offset, bytes, pattern);
+}
+
+void Device::copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_offset, uint64_t dst_offset) {
+  check_range(src, src_offset, bytes, "copy");
+  check_range(dst, dst_offset, bytes, "copy");
+  if (bytes % 4 || src_offset % 4 || dst_offset % 4) throw Error("copy: offsets and size must be multiples of 4");
+  if (bytes) impl_->backend->copy(*src.impl_, src_offset, *dst.impl_, dst_offset, bytes);
+}
+
+Kernel& Device::kernel(std::string_view name) {
+  if (auto it = impl_->kernels.find(name); it != impl_->kernels.end()) return *it->second;
+  const rt::EmbeddedKernel* e = rt::find_embedded_kernel(name);
+  if (!e) throw Error("no embedded kernel named '" + std::string(name) + "'");
+  return kernel_from_source(e->name, e->cl_source, e->spirv, e->spirv_words);
+}
+
+Kernel& Device::kernel_from_source(const std::string& name, const char* cl_source, const uint32_t* spirv,
+                                   size_t spirv_words) {
+  rt::KernelDesc desc;
+  desc.name = name;
+  desc.cl_program = name;
+  if (const rt::EmbeddedKernel* e = rt::find_embedded_kernel(name); e && e->cl_source == cl_source)
+    desc.cl_program = e->cl_program;  // embedded kernels share their program's build
+  desc.cl_source = cl_source;
+  desc.spirv = spirv;
+  desc.spirv_words = spirv_words;
+  auto k = std::make_unique<Kernel>();
+  k->name_ = name;
+  k->impl_ = &impl_->backend->kernel(desc);
+  return *impl_->kernels.emplace(name, std::move(k)).first->second;
+}
+
+void Device::dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size,
+                          std::initializer_list<const Buffer*> buffers, const void* params, size_t params_bytes) {
+  if (local_size == 0 || local_size > info().max_work_group_size)
+    throw Error("kernel '" + k.name() + "': work-group size " + std::to_string(local_size) + " is not in [1, " +
+                std::to_string(info().max_work_group_size) + "]");
+  std::vector<rt::BackendBuffer*> bufs;
+  bufs.reserve(buffers.size());
+  for (const Buffer* b : buffers) bufs.push_back(b ? b->impl_.get() : nullptr);
+  impl_->backend->dispatch(*k.impl_, groups, local_size, bufs, params, params_bytes);
+}
+
+void Device::barrier() { impl_->backend->barrier(); }
+void Device::finish() {
+  impl_->backend->finish();
+  impl_->pool->reclaim();
+}
+std::vector<KernelTiming> Device::take_timings() { return impl_->backend->take_timings(); }
+
+uint32_t Device::groups_for(uint64_t items, uint32_t local_size) const {
+  uint64_t groups = (items + local_size - 1) / local_size;
+  return static_cast<uint32_t>(std::clamp<uint64_t>(groups, 1, info().max_groups));
+}
+
+}  // namespace mv

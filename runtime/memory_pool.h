@@ -1,0 +1,60 @@
+// Device memory budget and page pool.
+//
+// Device memory is a budget, not a hope: the pool owns a few large allocations ("arenas", created on
+// demand, each at most min(largest allocation the device allows, 1 GiB, what is left of the budget)) and
+// hands out runs of fixed-size pages from them, first fit. An array may span many pages (but one arena).
+// A request that cannot be placed throws mv::Error naming what was asked, what is left and the budget —
+// never a failure deep inside a driver. The page cache of later stages builds on these pages.
+//
+// Released ranges are only retired: recorded work may still use them, so they return to the free pages
+// at the next reclaim() (Device::finish), or when an allocation would otherwise fail (after a finish).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "backend.h"
+
+namespace mv::rt {
+
+class MemoryPool {
+ public:
+  struct Range {
+    uint32_t arena = 0;
+    uint64_t first_page = 0;
+    uint64_t pages = 0;
+  };
+
+  MemoryPool(Backend& backend, uint64_t budget_bytes, uint64_t page_bytes, uint64_t max_arena_bytes);
+
+  Range allocate(uint64_t bytes, std::string_view what);
+  void release(const Range& range);  // retire: free again after the next reclaim()
+  void reclaim();                     // call only when the device is idle
+
+  BackendArena& arena(uint32_t index) { return *arenas_[index].memory; }
+  uint64_t budget() const { return budget_; }
+  uint64_t used() const { return used_pages_ * page_bytes_; }
+  uint64_t page_bytes() const { return page_bytes_; }
+  uint64_t max_arena_bytes() const { return max_arena_bytes_; }
+
+ private:
+  struct Arena {
+    std::unique_ptr<BackendArena> memory;
+    std::vector<bool> used;  // one flag per page
+  };
+  bool find_run(const Arena& arena, uint64_t pages, uint64_t& first) const;
+  bool place(uint64_t pages, Range& out);
+  uint64_t largest_free_run() const;
+
+  Backend& backend_;
+  uint64_t budget_;
+  uint64_t page_bytes_;
+  uint64_t max_arena_bytes_;
+  uint64_t arena_bytes_total_ = 0;
+  uint64_t used_pages_ = 0;
+  std::vector<Arena> arenas_;
+  std::vector<Range> retired_;
+};
+
+}  // namespace mv::rt

@@ -1,0 +1,308 @@
+// Backend over OpenCL 1.2 (PoCL on the CPU here; any ICD elsewhere).
+// One in-order queue per device, so barrier() has nothing to do: each command starts after the previous
+// one ends. Programs are built once per device and cached by their .cl path; kernels by entry name.
+#define CL_TARGET_OPENCL_VERSION 120
+#define CL_USE_DEPRECATED_OPENCL_1_2_APIS
+#include <CL/cl.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "backend.h"
+#include "megavox/error.h"
+
+namespace mv::rt {
+namespace {
+
+std::string cl_error_name(cl_int err) {
+  switch (err) {
+#define MV_CL_CASE(e) \
+  case e:             \
+    return #e;
+    MV_CL_CASE(CL_DEVICE_NOT_FOUND) MV_CL_CASE(CL_DEVICE_NOT_AVAILABLE) MV_CL_CASE(CL_COMPILER_NOT_AVAILABLE)
+    MV_CL_CASE(CL_MEM_OBJECT_ALLOCATION_FAILURE) MV_CL_CASE(CL_OUT_OF_RESOURCES) MV_CL_CASE(CL_OUT_OF_HOST_MEMORY)
+    MV_CL_CASE(CL_BUILD_PROGRAM_FAILURE) MV_CL_CASE(CL_MISALIGNED_SUB_BUFFER_OFFSET) MV_CL_CASE(CL_INVALID_VALUE)
+    MV_CL_CASE(CL_INVALID_DEVICE) MV_CL_CASE(CL_INVALID_CONTEXT) MV_CL_CASE(CL_INVALID_MEM_OBJECT)
+    MV_CL_CASE(CL_INVALID_BUFFER_SIZE) MV_CL_CASE(CL_INVALID_PROGRAM) MV_CL_CASE(CL_INVALID_KERNEL_NAME)
+    MV_CL_CASE(CL_INVALID_KERNEL) MV_CL_CASE(CL_INVALID_ARG_INDEX) MV_CL_CASE(CL_INVALID_ARG_VALUE)
+    MV_CL_CASE(CL_INVALID_ARG_SIZE) MV_CL_CASE(CL_INVALID_KERNEL_ARGS) MV_CL_CASE(CL_INVALID_WORK_GROUP_SIZE)
+    MV_CL_CASE(CL_INVALID_WORK_ITEM_SIZE) MV_CL_CASE(CL_INVALID_GLOBAL_WORK_SIZE) MV_CL_CASE(CL_INVALID_OPERATION)
+#undef MV_CL_CASE
+    default:
+      return "OpenCL error " + std::to_string(err);
+  }
+}
+
+void check(cl_int err, const std::string& what) {
+  if (err != CL_SUCCESS) throw Error("OpenCL: " + what + " failed (" + cl_error_name(err) + ")");
+}
+
+template <class T>
+T device_value(cl_device_id dev, cl_device_info param) {
+  T value{};
+  clGetDeviceInfo(dev, param, sizeof(T), &value, nullptr);
+  return value;
+}
+
+std::string device_string(cl_device_id dev, cl_device_info param) {
+  size_t size = 0;
+  if (clGetDeviceInfo(dev, param, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+  std::string s(size, '\0');
+  clGetDeviceInfo(dev, param, size, s.data(), nullptr);
+  while (!s.empty() && (s.back() == '\0' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+std::string platform_string(cl_platform_id p, cl_platform_info param) {
+  size_t size = 0;
+  if (clGetPlatformInfo(p, param, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+  std::string s(size, '\0');
+  clGetPlatformInfo(p, param, size, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+struct ClDevice {
+  cl_platform_id platform;
+  cl_device_id device;
+};
+
+// All devices of all platforms, in enumeration order: the meaning of "ocl:N".
+std::vector<ClDevice> all_devices() {
+  cl_uint nplat = 0;
+  if (clGetPlatformIDs(0, nullptr, &nplat) != CL_SUCCESS || nplat == 0) return {};
+  std::vector<cl_platform_id> plats(nplat);
+  clGetPlatformIDs(nplat, plats.data(), nullptr);
+  std::vector<ClDevice> out;
+  for (cl_platform_id p : plats) {
+    cl_uint ndev = 0;
+    if (clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, 0, nullptr, &ndev) != CL_SUCCESS || ndev == 0) continue;
+    std::vector<cl_device_id> devs(ndev);
+    clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, ndev, devs.data(), nullptr);
+    for (cl_device_id d : devs) out.push_back({p, d});
+  }
+  return out;
+}
+
+DeviceInfo describe(const ClDevice& d, int index) {
+  DeviceInfo info;
+  info.backend = "opencl";
+  info.index = index;
+  info.name = device_string(d.device, CL_DEVICE_NAME);
+  info.platform = platform_string(d.platform, CL_PLATFORM_NAME);
+  info.vendor = platform_string(d.platform, CL_PLATFORM_VENDOR);
+  info.driver = device_string(d.device, CL_DRIVER_VERSION);
+  info.api_version = device_string(d.device, CL_DEVICE_VERSION);
+  auto type = device_value<cl_device_type>(d.device, CL_DEVICE_TYPE);
+  info.type = (type & CL_DEVICE_TYPE_GPU) ? "gpu" : (type & CL_DEVICE_TYPE_CPU) ? "cpu" : "other";
+  info.compute_units = device_value<cl_uint>(d.device, CL_DEVICE_MAX_COMPUTE_UNITS);
+  info.global_memory_bytes = device_value<cl_ulong>(d.device, CL_DEVICE_GLOBAL_MEM_SIZE);
+  info.max_allocation_bytes = device_value<cl_ulong>(d.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+  info.max_binding_bytes = info.max_allocation_bytes;
+  info.local_memory_bytes = device_value<cl_ulong>(d.device, CL_DEVICE_LOCAL_MEM_SIZE);
+  info.max_work_group_size = static_cast<uint32_t>(device_value<size_t>(d.device, CL_DEVICE_MAX_WORK_GROUP_SIZE));
+  info.max_groups = 0x7fffffff;  // OpenCL bounds the global size only by size_t
+  info.subgroup_size = 0;
+  info.fp64 = device_value<cl_device_fp_config>(d.device, CL_DEVICE_DOUBLE_FP_CONFIG) != 0;
+  info.int64 = true;  // 64-bit integers are core OpenCL C
+  return info;
+}
+
+struct ClArena final : BackendArena {
+  cl_mem mem = nullptr;
+  ~ClArena() override {
+    if (mem) clReleaseMemObject(mem);
+  }
+};
+
+struct ClBuffer final : BackendBuffer {
+  cl_mem mem = nullptr;  // a sub-buffer of the arena
+  ~ClBuffer() override {
+    if (mem) clReleaseMemObject(mem);
+  }
+};
+
+struct ClKernel final : BackendKernel {
+  std::string name;
+  cl_kernel kernel = nullptr;
+  ~ClKernel() override {
+    if (kernel) clReleaseKernel(kernel);
+  }
+};
+
+class OpenCLBackend final : public Backend {
+ public:
+  OpenCLBackend(const ClDevice& d, int index) : device_(d.device), info_(describe(d, index)) {
+    cl_int err = CL_SUCCESS;
+    context_ = clCreateContext(nullptr, 1, &device_, nullptr, nullptr, &err);
+    check(err, "creating a context on '" + info_.name + "'");
+    queue_ = clCreateCommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE, &err);
+    check(err, "creating a command queue on '" + info_.name + "'");
+  }
+
+  ~OpenCLBackend() override {
+    if (queue_) clFinish(queue_);
+    for (auto& t : pending_) clReleaseEvent(t.event);
+    kernels_.clear();
+    for (auto& [name, prog] : programs_) clReleaseProgram(prog);
+    if (queue_) clReleaseCommandQueue(queue_);
+    if (context_) clReleaseContext(context_);
+  }
+
+  const DeviceInfo& info() const override { return info_; }
+
+  std::unique_ptr<BackendArena> create_arena(uint64_t bytes) override {
+    auto arena = std::make_unique<ClArena>();
+    cl_int err = CL_SUCCESS;
+    arena->mem = clCreateBuffer(context_, CL_MEM_READ_WRITE, bytes, nullptr, &err);
+    check(err, "allocating " + std::to_string(bytes) + " bytes of device memory");
+    return arena;
+  }
+
+  std::unique_ptr<BackendBuffer> create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) override {
+    auto buf = std::make_unique<ClBuffer>();
+    cl_buffer_region region{offset, bytes};
+    cl_int err = CL_SUCCESS;
+    buf->mem = clCreateSubBuffer(static_cast<ClArena&>(arena).mem, CL_MEM_READ_WRITE,
+                                 CL_BUFFER_CREATE_TYPE_REGION, &region, &err);
+    check(err, "creating a sub-buffer at offset " + std::to_string(offset));
+    return buf;
+  }
+
+  void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override {
+    if (bytes == 0) return;
+    check(clEnqueueWriteBuffer(queue_, mem(dst), CL_TRUE, offset, bytes, src, 0, nullptr, nullptr), "upload");
+  }
+
+  void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) override {
+    if (bytes == 0) return;
+    check(clEnqueueReadBuffer(queue_, mem(src), CL_TRUE, offset, bytes, dst, 0, nullptr, nullptr), "download");
+  }
+
+  void fill(BackendBuffer& dst, uint64_t offset, uint64_t bytes, uint32_t pattern) override {
+    if (bytes == 0) return;
+    check(clEnqueueFillBuffer(queue_, mem(dst), &pattern, sizeof pattern, offset, bytes, 0, nullptr, nullptr),
+          "fill");
+  }
+
+  void copy(BackendBuffer& src, uint64_t src_offset, BackendBuffer& dst, uint64_t dst_offset,
+            uint64_t bytes) override {
+    if (bytes == 0) return;
+    check(clEnqueueCopyBuffer(queue_, mem(src), mem(dst), src_offset, dst_offset, bytes, 0, nullptr, nullptr),
+          "copy");
+  }
+
+  BackendKernel& kernel(const KernelDesc& desc) override {
+    if (auto it = kernels_.find(desc.name); it != kernels_.end()) return *it->second;
+    cl_program program = build_program(desc);
+    auto k = std::make_unique<ClKernel>();
+    k->name = desc.name;
+    cl_int err = CL_SUCCESS;
+    k->kernel = clCreateKernel(program, desc.name.c_str(), &err);
+    check(err, "creating kernel '" + desc.name + "' from program '" + desc.cl_program + "'");
+    return *kernels_.emplace(desc.name, std::move(k)).first->second;
+  }
+
+  void dispatch(BackendKernel& kernel, uint32_t groups, uint32_t local_size, std::span<BackendBuffer* const> buffers,
+                const void* params, size_t params_bytes) override {
+    if (groups == 0) return;
+    auto& k = static_cast<ClKernel&>(kernel);
+    cl_uint arg = 0;
+    for (BackendBuffer* b : buffers) {
+      cl_mem m = b ? static_cast<ClBuffer*>(b)->mem : nullptr;
+      check(clSetKernelArg(k.kernel, arg++, sizeof(cl_mem), &m), "setting buffer arguments of '" + k.name + "'");
+    }
+    if (params_bytes > 0)
+      check(clSetKernelArg(k.kernel, arg, params_bytes, params), "setting the parameters of '" + k.name + "'");
+    size_t local = local_size;
+    size_t global = static_cast<size_t>(groups) * local;
+    cl_event event = nullptr;
+    check(clEnqueueNDRangeKernel(queue_, k.kernel, 1, nullptr, &global, &local, 0, nullptr,
+                                 profiling_ ? &event : nullptr),
+          "launching '" + k.name + "'");
+    if (event) pending_.push_back({k.name, event});
+  }
+
+  void barrier() override {}  // the queue is in order
+
+  void finish() override {
+    check(clFinish(queue_), "waiting for the device");
+    for (auto& t : pending_) {
+      cl_ulong start = 0, end = 0;
+      clGetEventProfilingInfo(t.event, CL_PROFILING_COMMAND_START, sizeof start, &start, nullptr);
+      clGetEventProfilingInfo(t.event, CL_PROFILING_COMMAND_END, sizeof end, &end, nullptr);
+      timings_.push_back({t.kernel, end > start ? end - start : 0});
+      clReleaseEvent(t.event);
+    }
+    pending_.clear();
+  }
+
+  void set_profiling(bool on) override { profiling_ = on; }
+  std::vector<KernelTiming> take_timings() override { return std::exchange(timings_, {}); }
+
+ private:
+  static cl_mem mem(BackendBuffer& b) { return static_cast<ClBuffer&>(b).mem; }
+
+  cl_program build_program(const KernelDesc& desc) {
+    if (auto it = programs_.find(desc.cl_program); it != programs_.end()) return it->second;
+    if (!desc.cl_source) throw Error("OpenCL: kernel '" + desc.name + "' has no OpenCL source");
+    cl_int err = CL_SUCCESS;
+    const char* src = desc.cl_source;
+    cl_program program = clCreateProgramWithSource(context_, 1, &src, nullptr, &err);
+    check(err, "creating program '" + desc.cl_program + "'");
+    err = clBuildProgram(program, 1, &device_, "-cl-std=CL1.2", nullptr, nullptr);
+    if (err != CL_SUCCESS) {
+      std::string log = build_log(program);
+      clReleaseProgram(program);
+      throw Error("OpenCL: building program '" + desc.cl_program + "' (kernel '" + desc.name + "') for '" +
+                  info_.name + "' failed (" + cl_error_name(err) + "). Compiler log:\n" + log);
+    }
+    programs_.emplace(desc.cl_program, program);
+    return program;
+  }
+
+  std::string build_log(cl_program program) {
+    size_t size = 0;
+    clGetProgramBuildInfo(program, device_, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size);
+    std::string log(size, '\0');
+    if (size) clGetProgramBuildInfo(program, device_, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
+    while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
+    return log.empty() ? "(empty)" : log;
+  }
+
+  struct PendingTiming {
+    std::string kernel;
+    cl_event event;
+  };
+
+  cl_device_id device_;
+  DeviceInfo info_;
+  cl_context context_ = nullptr;
+  cl_command_queue queue_ = nullptr;
+  std::map<std::string, cl_program> programs_;
+  std::map<std::string, std::unique_ptr<ClKernel>> kernels_;
+  bool profiling_ = false;
+  std::vector<PendingTiming> pending_;
+  std::vector<KernelTiming> timings_;
+};
+
+}  // namespace
+
+std::vector<DeviceInfo> enumerate_opencl() {
+  std::vector<DeviceInfo> out;
+  auto devs = all_devices();
+  for (size_t i = 0; i < devs.size(); ++i) out.push_back(describe(devs[i], static_cast<int>(i)));
+  return out;
+}
+
+std::unique_ptr<Backend> open_opencl(int index) {
+  auto devs = all_devices();
+  if (index < 0 || static_cast<size_t>(index) >= devs.size())
+    throw Error("OpenCL: no device ocl:" + std::to_string(index) + " (" + std::to_string(devs.size()) + " found)");
+  return std::make_unique<OpenCLBackend>(devs[index], index);
+}
+
+}  // namespace mv::rt

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs megavox's build and test dependencies from Debian 12 packages (idempotent, non-interactive).
+#   scripts/setup.sh          what building and testing need
+#   scripts/setup.sh --bench  also the baseline-only libraries the benchmarks compare against
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo     # OpenCL, PoCL (the CPU device)
+  libvulkan-dev mesa-vulkan-drivers glslang-tools vulkan-tools   # Vulkan, lavapipe, GLSL -> SPIR-V
+  libcli11-dev nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev
+)
+if [[ "${1:-}" == "--bench" ]]; then
+  packages+=(libboost-dev)  # boost::sort::block_indirect_sort, the parallel CPU sort baseline
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  SUDO=""
+  [[ $(id -u) -eq 0 ]] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

@@ -1,0 +1,69 @@
+// The device memory budget and page pool.
+#include "megavox/error.h"
+#include "test_support.h"
+
+namespace mv::test {
+namespace {
+
+class MemoryTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(MemoryTest, RequestBeyondBudgetNamesWhatAndWhatIsLeft) {
+  auto dev = Device::open({GetParam().selector(), 4u << 20, false});
+  EXPECT_EQ(dev->memory_budget(), 4u << 20);
+  Buffer a = dev->alloc(3u << 20, "first array");
+  try {
+    Buffer b = dev->alloc(2u << 20, "second array");
+    FAIL() << "expected a budget error";
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find("second array needs 2.0 MiB"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("1.0 MiB left"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("budget 4.0 MiB"), std::string::npos) << msg;
+  }
+  EXPECT_EQ(dev->memory_used(), 3u << 20);
+}
+
+TEST_P(MemoryTest, ReleasedPagesAreReused) {
+  auto dev = Device::open({GetParam().selector(), 4u << 20, false});
+  for (int i = 0; i < 20; ++i) {
+    Buffer a = dev->alloc(3u << 20, "array");  // fits only if the previous one's pages came back
+    dev->fill(a, 7, 3u << 20);
+  }
+  dev->finish();
+  EXPECT_EQ(dev->memory_used(), 0u);
+}
+
+TEST_P(MemoryTest, SmallBuffersSharePagesOfOneArena) {
+  auto dev = Device::open({GetParam().selector(), 8u << 20, false});
+  std::vector<Buffer> bufs;
+  for (int i = 0; i < 50; ++i) bufs.push_back(dev->alloc(1000 + i, "small"));
+  EXPECT_EQ(dev->memory_used(), 50 * dev->page_bytes());
+  // Each buffer keeps its own contents.
+  for (int i = 0; i < 50; ++i) dev->fill(bufs[i], static_cast<uint32_t>(i), 1000);
+  dev->finish();
+  for (int i = 0; i < 50; ++i) {
+    uint32_t v = 0;
+    dev->download(bufs[i], &v, 4, 996);
+    ASSERT_EQ(v, static_cast<uint32_t>(i));
+  }
+}
+
+TEST_P(MemoryTest, BudgetLargerThanTheDeviceIsAnError) {
+  EXPECT_THROW(Device::open({GetParam().selector(), GetParam().global_memory_bytes + (1ull << 30), false}), Error);
+  EXPECT_THROW(Device::open({GetParam().selector(), 1000, false}), Error);  // smaller than one page
+}
+
+TEST_P(MemoryTest, ArrayLargerThanOneAllocationIsAClearError) {
+  auto dev = Device::open({GetParam().selector(), 0, false});
+  try {
+    dev->alloc(uint64_t{8} << 30, "huge array");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("huge array needs 8.0 GiB"), std::string::npos) << e.what();
+  }
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(MemoryTest);
+
+}  // namespace
+}  // namespace mv::test

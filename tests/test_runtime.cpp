@@ -1,0 +1,138 @@
+// Device discovery, selection and kernel build errors.
+#include <cstdlib>
+
+#include "megavox/error.h"
+#include "test_support.h"
+
+namespace mv::test {
+namespace {
+
+bool has_device(const std::string& backend, const std::string& needle) {
+  for (const auto& d : all_devices()) {
+    std::string hay = d.name + " " + d.platform;
+    for (auto& c : hay) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (d.backend == backend && hay.find(needle) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// The CPU devices CI relies on. MEGAVOX_EXPECT_DEVICES=none turns this off on machines that lack them.
+TEST(Environment, ExpectedCpuDevicesArePresent) {
+  const char* expect = std::getenv("MEGAVOX_EXPECT_DEVICES");
+  if (expect && std::string(expect) == "none") return;
+  EXPECT_TRUE(has_device("opencl", "portable computing language") || has_device("opencl", "pocl"))
+      << "PoCL (OpenCL on the CPU) is missing: install pocl-opencl-icd (scripts/setup.sh does)";
+  EXPECT_TRUE(has_device("vulkan", "llvmpipe"))
+      << "lavapipe (Vulkan on the CPU) is missing: install mesa-vulkan-drivers (scripts/setup.sh does)";
+}
+
+TEST(Selection, UnknownSelectorListsDevices) {
+  try {
+    select_device("no-such-device");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find("no device matches 'no-such-device'"), std::string::npos) << msg;
+    for (const auto& d : all_devices()) EXPECT_NE(msg.find(d.selector()), std::string::npos) << msg;
+  }
+  EXPECT_THROW(select_device("ocl:999"), Error);
+  EXPECT_THROW(select_device("vk:x"), Error);
+}
+
+TEST(Selection, ByIndexAndByName) {
+  for (const auto& d : all_devices()) {
+    DeviceInfo s = select_device(d.selector());
+    EXPECT_EQ(s.backend, d.backend);
+    EXPECT_EQ(s.index, d.index);
+  }
+  if (has_device("opencl", "pocl") || has_device("opencl", "portable")) EXPECT_EQ(select_device("pocl").backend, "opencl");
+  if (has_device("vulkan", "llvmpipe")) EXPECT_EQ(select_device("LLVMPIPE").backend, "vulkan");
+}
+
+TEST(Selection, DefaultPrefersGpuThenPocl) {
+  unsetenv("MEGAVOX_DEVICE");
+  DeviceInfo d = select_device("");
+  bool any_gpu = false;
+  for (const auto& x : all_devices()) any_gpu |= x.type == "gpu";
+  if (any_gpu) EXPECT_EQ(d.type, "gpu");
+  else EXPECT_EQ(d.backend, "opencl");
+}
+
+TEST(Sizes, ParseAndFormat) {
+  EXPECT_EQ(parse_size("1048576"), 1048576u);
+  EXPECT_EQ(parse_size("16K"), 16u << 10);
+  EXPECT_EQ(parse_size("512M"), 512u << 20);
+  EXPECT_EQ(parse_size("2G"), 2ull << 30);
+  EXPECT_EQ(parse_size("2GiB"), 2ull << 30);
+  EXPECT_THROW(parse_size(""), Error);
+  EXPECT_THROW(parse_size("abc"), Error);
+  EXPECT_THROW(parse_size("12Q"), Error);
+  EXPECT_THROW(parse_size("99999999999999999999"), Error);
+  EXPECT_THROW(parse_size("99999999999T"), Error);
+  EXPECT_EQ(format_bytes(512u << 20), "512.0 MiB");
+}
+
+class RuntimeTest : public ::testing::TestWithParam<DeviceInfo> {
+ protected:
+  Device& dev() { return shared_device(GetParam()); }
+};
+
+TEST_P(RuntimeTest, UploadFillCopyDownload) {
+  Device& d = dev();
+  std::vector<uint32_t> data = random_u32(100000, 1);
+  Buffer a = d.alloc(data.size() * 4, "a");
+  Buffer b = d.alloc(data.size() * 4, "b");
+  d.upload(a, data.data(), data.size() * 4);
+  d.fill(b, 0x01020304, data.size() * 4);
+  d.barrier();
+  d.copy(a, b, 4000 * 4, 1000 * 4, 2000 * 4);
+  d.finish();
+  std::vector<uint32_t> got(data.size());
+  d.download(b, got.data(), got.size() * 4);
+  for (size_t i = 0; i < got.size(); ++i) {
+    uint32_t expect = (i >= 2000 && i < 6000) ? data[i - 1000] : 0x01020304u;
+    ASSERT_EQ(got[i], expect) << "at " << i;
+  }
+  EXPECT_THROW(d.download(a, got.data(), 8, data.size() * 4), Error);  // out of range
+}
+
+TEST_P(RuntimeTest, UnknownKernelIsAnError) { EXPECT_THROW(dev().kernel("no_such_kernel"), Error); }
+
+TEST_P(RuntimeTest, BuildErrorsNameTheKernel) {
+  Device& d = dev();
+  const uint32_t garbage[] = {0xdeadbeef, 1, 2, 3, 4, 5};
+  static const char* bad_cl = "__kernel void broken_kernel(__global uint* a) { a[0] = undefined_symbol; }\n";
+  try {
+    d.kernel_from_source("broken_kernel", bad_cl, garbage, 6);
+    FAIL() << "expected a build error";
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find("broken_kernel"), std::string::npos) << msg;
+    if (GetParam().backend == "opencl")  // the compiler's own log is surfaced
+      EXPECT_NE(msg.find("undefined_symbol"), std::string::npos) << msg;
+  }
+}
+
+TEST_P(RuntimeTest, ProfilingReportsKernelTimes) {
+  auto d = Device::open({GetParam().selector(), 64u << 20, true});
+  std::vector<uint64_t> keys = random_u64(1 << 16, 4);
+  Buffer kb = d->alloc(keys.size() * 8, "keys");
+  d->upload(kb, keys.data(), keys.size() * 8);
+  std::vector<uint32_t> xyz(3 * 1000, 7);
+  Buffer pts = d->alloc(xyz.size() * 4, "points");
+  d->upload(pts, xyz.data(), xyz.size() * 4);
+  struct P {
+    uint32_t n, pad;
+  } p{1000, 0};
+  d->dispatch(d->kernel("morton_encode64"), 16, 64, {&pts, &kb}, p);
+  d->finish();
+  auto t = d->take_timings();
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_EQ(t[0].kernel, "morton_encode64");
+  EXPECT_TRUE(d->take_timings().empty());
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(RuntimeTest);
+
+}  // namespace
+}  // namespace mv::test

@@ -1,0 +1,36 @@
+// Test helpers: every kernel test runs on every device found (the test name carries it), each device
+// opened once per test process.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "megavox/device.h"
+
+namespace mv::test {
+
+// All devices megavox sees. Read once.
+const std::vector<DeviceInfo>& all_devices();
+
+// The device for `info`, opened on first use with the default budget and kept for the process.
+Device& shared_device(const DeviceInfo& info);
+
+// "pocl_ocl0", "llvmpipe_vk0": a gtest-safe name that carries the backend.
+std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& info);
+
+// Deterministic random data.
+std::vector<uint32_t> random_u32(size_t n, uint64_t seed);
+std::vector<uint64_t> random_u64(size_t n, uint64_t seed);
+
+}  // namespace mv::test
+
+// Parameterizes `suite` over every device.
+#define MV_INSTANTIATE_ON_ALL_DEVICES(suite) \
+  INSTANTIATE_TEST_SUITE_P(Devices, suite, ::testing::ValuesIn(::mv::test::all_devices()), ::mv::test::device_test_name)
+
+namespace mv {
+// gtest prints parameters with this instead of a byte dump.
+inline void PrintTo(const DeviceInfo& d, std::ostream* os) { *os << d.selector() << " (" << d.name << ")"; }
+}  // namespace mv

@@ -1,19 +1,21 @@
-// Host side of the stable LSD radix sort (kernels: kernels/common/radix_sort_body.h).
+// Host side of the stable radix sort (kernels: kernels/common/radix_sort_body.h).
 #include "../kernels/common/radix_sort.h"
 
+#include <algorithm>
+#include <thread>
 #include <utility>
 
 #include "launch_shape.h"
-#include "scan_plan.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
+#include "scan_plan.h"
 
 namespace mv {
 
 namespace {
 
 template <class Key>
-Key varying_bits(Device& dev, const Buffer& red, uint32_t blocks) {
+uint64_t varying_bits(Device& dev, const Buffer& red, uint32_t blocks) {
   std::vector<Key> r(size_t{blocks} * 2);
   dev.download(red, r.data(), r.size() * sizeof(Key));
   Key acc_or = 0, acc_and = ~Key{0};
@@ -24,9 +26,47 @@ Key varying_bits(Device& dev, const Buffer& red, uint32_t blocks) {
   return acc_or ^ acc_and;  // a bit is constant over all keys iff OR and AND agree on it
 }
 
+// One sort: the kernels, buffers and shape shared by its passes.
+struct SortRun {
+  Device& dev;
+  BlockShape shape;
+  MvRadixParams p;
+  Kernel& histogram;
+  Kernel& scatter;
+  Kernel& local_sort;
+  Buffer hist;  // blocks x 256 counts (+1 for the scan total)
+  ScanPlan scan;
+
+  // histogram + scan of digit `d` of `keys`: hist then holds each (digit, block)'s first output position.
+  void count(const Buffer& keys, uint32_t d) {
+    p.shift = 8 * d;
+    dev.dispatch(histogram, shape.groups, shape.local_size, {&keys, &hist}, p);
+    dev.barrier();
+  }
+  void scan_and_scatter(const Buffer& kin, Buffer& kout, const Buffer* vin, Buffer* vout) {
+    record_scan(dev, scan, hist, hist);
+    dev.dispatch(scatter, shape.groups, shape.local_size, {&kin, &kout, vin ? vin : &kin, vout ? vout : &kout, &hist},
+                 p);
+    dev.barrier();
+  }
+};
+
+// Largest bucket of the counted digit (the counts are read back: one wait).
+uint32_t largest_bucket(Device& dev, const Buffer& hist, uint32_t blocks) {
+  std::vector<uint32_t> h(size_t{blocks} * MV_RADIX_BUCKETS);
+  dev.download(hist, h.data(), h.size() * 4);
+  uint32_t largest = 0;
+  for (uint32_t d = 0; d < MV_RADIX_BUCKETS; ++d) {
+    uint64_t size = 0;
+    for (uint32_t b = 0; b < blocks; ++b) size += h[size_t{d} * blocks + b];
+    largest = std::max<uint32_t>(largest, static_cast<uint32_t>(size));
+  }
+  return largest;
+}
+
 }  // namespace
 
-SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits) {
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits, SortStrategy strategy) {
   SortReport report;
   if (n <= 1) return report;
   const bool k64 = bits == KeyBits::k64;
@@ -34,40 +74,67 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
   if (keys.bytes() < n * key_bytes || (values && values->bytes() < uint64_t{n} * 4))
     throw Error("radix_sort: buffers too small for " + std::to_string(n) + " keys");
 
-  BlockShape s = block_shape(dev.info(), n);
-  MvRadixParams p{n, s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
-  const char* sfx = k64 ? "_k64" : "_k32";
-  Kernel& or_and = dev.kernel(std::string("radix_or_and") + sfx);
-  Kernel& histogram = dev.kernel(std::string("radix_histogram") + sfx);
-  Kernel& scatter = dev.kernel(std::string("radix_scatter") + sfx);
+  const DeviceInfo& info = dev.info();
+  BlockShape s = block_shape(info, n);
+  const std::string sfx = k64 ? "_k64" : "_k32";
+  Kernel& or_and = dev.kernel("radix_or_and" + sfx);
 
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
+  MvRadixParams p{n, s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
   dev.dispatch(or_and, s.groups, s.local_size, {&keys, &red}, p);
   dev.barrier();
   uint64_t varying = k64 ? varying_bits<uint64_t>(dev, red, s.blocks) : varying_bits<uint32_t>(dev, red, s.blocks);
 
   const uint32_t digits = k64 ? 8 : 4;
-  for (uint32_t d = 0; d < digits; ++d)
-    if (((varying >> (8 * d)) & 0xff) == 0) ++report.digits_skipped;
-  if (report.digits_skipped == digits) return report;
+  std::vector<uint32_t> vary;  // varying digits, least significant first
+  for (uint32_t d = 0; d < digits; ++d) {
+    if ((varying >> (8 * d)) & 0xff) vary.push_back(d);
+    else ++report.digits_skipped;
+  }
+  if (vary.empty()) return report;
 
-  Buffer hist = dev.alloc((uint64_t{s.blocks} * MV_RADIX_BUCKETS + 1) * 4, "radix sort histograms");
+  SortRun run{dev,
+              s,
+              p,
+              dev.kernel("radix_histogram" + sfx),
+              dev.kernel("radix_scatter" + sfx),
+              dev.kernel("radix_local_sort" + sfx),
+              dev.alloc((uint64_t{s.blocks} * MV_RADIX_BUCKETS + 1) * 4, "radix sort histograms"),
+              plan_scan(dev, s.blocks * MV_RADIX_BUCKETS)};
   Buffer keys_alt = dev.alloc(uint64_t{n} * key_bytes, "radix sort scratch keys");
   Buffer values_alt = values ? dev.alloc(uint64_t{n} * 4, "radix sort scratch values") : Buffer();
+
+  bool hybrid = strategy == SortStrategy::Hybrid ||
+                (strategy == SortStrategy::Auto && info.type == "cpu" && vary.size() >= 2);
+  if (hybrid) {
+    run.count(keys, vary.back());
+    uint32_t largest = largest_bucket(dev, run.hist, s.blocks);
+    const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
+    // Under a loop cap (lavapipe) the in-bucket sort's nested loops add up to about 900 iterations per key of
+    // the largest bucket; only tiny buckets stay inside it.
+    bool fits = info.max_loop_iterations == 0 || uint64_t{largest} * 900 < info.max_loop_iterations;
+    bool balanced = uint64_t{largest} * 2 * threads <= n;  // every thread gets buckets to sort
+    hybrid = fits && (balanced || strategy == SortStrategy::Hybrid);
+  }
+  if (hybrid) {
+    run.scan_and_scatter(keys, keys_alt, values, values ? &values_alt : nullptr);
+    for (size_t i = 0; i + 1 < vary.size(); ++i) run.p.local_digits |= 1u << vary[i];
+    uint32_t local = s.local_size;
+    dev.dispatch(run.local_sort, (MV_RADIX_BUCKETS + local - 1) / local, local,
+                 {&keys, &keys_alt, values ? values : &keys, values ? &values_alt : &keys_alt, &run.hist}, run.p);
+    dev.barrier();
+    report.passes = static_cast<uint32_t>(vary.size());
+    report.hybrid = true;
+    return report;
+  }
+
   Buffer* kin = &keys;
   Buffer* kout = &keys_alt;
   Buffer* vin = values;
   Buffer* vout = values ? &values_alt : nullptr;
-  ScanPlan scan = plan_scan(dev, s.blocks * MV_RADIX_BUCKETS);
-
-  for (uint32_t d = 0; d < digits; ++d) {
-    if (((varying >> (8 * d)) & 0xff) == 0) continue;
-    p.shift = 8 * d;
-    dev.dispatch(histogram, s.groups, s.local_size, {kin, &hist}, p);
-    dev.barrier();
-    record_scan(dev, scan, hist, hist);
-    dev.dispatch(scatter, s.groups, s.local_size, {kin, kout, vin ? vin : kin, vout ? vout : kout, &hist}, p);
-    dev.barrier();
+  for (uint32_t d : vary) {
+    run.count(*kin, d);
+    run.scan_and_scatter(*kin, *kout, vin, vout);
     std::swap(kin, kout);
     std::swap(vin, vout);
     ++report.passes;
@@ -82,7 +149,7 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
 namespace {
 
 template <class Key>
-SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>* values) {
+SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>* values, SortStrategy strategy) {
   if (values && values->size() != keys.size()) throw Error("radix_sort: keys and values differ in length");
   if (keys.size() > UINT32_MAX) throw Error("radix_sort: more than 2^32-1 keys");
   auto n = static_cast<uint32_t>(keys.size());
@@ -94,7 +161,8 @@ SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>*
     vb = dev.alloc(uint64_t{n} * 4, "values");
     dev.upload(vb, values->data(), uint64_t{n} * 4);
   }
-  SortReport r = radix_sort(dev, kb, values ? &vb : nullptr, n, sizeof(Key) == 8 ? KeyBits::k64 : KeyBits::k32);
+  SortReport r = radix_sort(dev, kb, values ? &vb : nullptr, n, sizeof(Key) == 8 ? KeyBits::k64 : KeyBits::k32,
+                            strategy);
   dev.finish();
   dev.download(kb, keys.data(), uint64_t{n} * sizeof(Key));
   if (values) dev.download(vb, values->data(), uint64_t{n} * 4);
@@ -103,11 +171,11 @@ SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>*
 
 }  // namespace
 
-SortReport radix_sort(Device& dev, std::vector<uint32_t>& keys, std::vector<uint32_t>* values) {
-  return sort_host(dev, keys, values);
+SortReport radix_sort(Device& dev, std::vector<uint32_t>& keys, std::vector<uint32_t>* values, SortStrategy strategy) {
+  return sort_host(dev, keys, values, strategy);
 }
-SortReport radix_sort(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values) {
-  return sort_host(dev, keys, values);
+SortReport radix_sort(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values, SortStrategy strategy) {
+  return sort_host(dev, keys, values, strategy);
 }
 
 }  // namespace mv

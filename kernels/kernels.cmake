@@ -7,6 +7,8 @@ mv_kernel(radix_histogram_k32   sort/sort.cl         sort/radix_sort.comp     MV
 mv_kernel(radix_histogram_k64   sort/sort.cl         sort/radix_sort.comp     MV_ENTRY_histogram MV_KEY64)
 mv_kernel(radix_scatter_k32     sort/sort.cl         sort/radix_sort.comp     MV_ENTRY_scatter)
 mv_kernel(radix_scatter_k64     sort/sort.cl         sort/radix_sort.comp     MV_ENTRY_scatter MV_KEY64)
+mv_kernel(radix_local_sort_k32  sort/sort.cl         sort/radix_sort.comp     MV_ENTRY_local_sort)
+mv_kernel(radix_local_sort_k64  sort/sort.cl         sort/radix_sort.comp     MV_ENTRY_local_sort MV_KEY64)
 mv_kernel(scan_reduce           scan/scan.cl         scan/scan.comp           MV_ENTRY_reduce)
 mv_kernel(scan_small            scan/scan.cl         scan/scan.comp           MV_ENTRY_small)
 mv_kernel(scan_apply            scan/scan.cl         scan/scan.comp           MV_ENTRY_apply)

@@ -8,17 +8,29 @@
 namespace mv::test {
 namespace {
 
+// Every case runs with each strategy: the plain global LSD passes and the hybrid (global top digit, then
+// buckets sorted in cache), whatever the device would pick by itself.
 class SortTest : public ::testing::TestWithParam<DeviceInfo> {
  protected:
   Device& dev() { return shared_device(GetParam()); }
 
-  // Sorts `keys` on the device twice (keys only; pairs with values = index) and compares with the reference.
   template <class Key>
   void check(const std::vector<Key>& keys) {
+    for (SortStrategy s : {SortStrategy::Lsd, SortStrategy::Hybrid, SortStrategy::Auto}) {
+      strategy_ = s;
+      check_one(keys);
+      if (HasFatalFailure()) return;
+    }
+  }
+
+  // Sorts `keys` on the device twice (keys only; pairs with values = index) and compares with the reference.
+  template <class Key>
+  void check_one(const std::vector<Key>& keys) {
+    SCOPED_TRACE(strategy_ == SortStrategy::Lsd ? "Lsd" : strategy_ == SortStrategy::Hybrid ? "Hybrid" : "Auto");
     std::vector<Key> expect_keys = keys;
     ref::stable_sort<Key>(expect_keys, nullptr);
     std::vector<Key> got = keys;
-    radix_sort(dev(), got, nullptr);
+    radix_sort(dev(), got, nullptr, strategy_);
     ASSERT_TRUE(got == expect_keys) << "keys-only sort differs, n = " << keys.size();
 
     std::vector<uint32_t> values(keys.size()), expect_values(keys.size());
@@ -26,7 +38,7 @@ class SortTest : public ::testing::TestWithParam<DeviceInfo> {
     expect_keys = keys;
     ref::stable_sort<Key>(expect_keys, &expect_values);
     got = keys;
-    radix_sort(dev(), got, &values);
+    radix_sort(dev(), got, &values, strategy_);
     ASSERT_TRUE(got == expect_keys) << "pair sort keys differ, n = " << keys.size();
     ASSERT_TRUE(values == expect_values) << "pair sort values differ (stability), n = " << keys.size();
   }
@@ -57,7 +69,16 @@ class SortTest : public ::testing::TestWithParam<DeviceInfo> {
     std::vector<Key> high = r;  // only the top byte varies
     for (auto& k : high) k = (k >> (sizeof(Key) * 8 - 8)) << (sizeof(Key) * 8 - 8);
     check<Key>(high);
+    std::vector<Key> two = r;  // two varying digits far apart: one global pass, one in-bucket pass
+    for (auto& k : two) k &= (Key(0xff) << (sizeof(Key) * 8 - 16)) | Key(0xff);
+    check<Key>(two);
+    std::vector<Key> skewed = r;  // most keys in one top-digit bucket: Auto must stay correct
+    for (size_t i = 0; i < skewed.size(); ++i)
+      if (i % 10) skewed[i] &= ~(Key(0xff) << (sizeof(Key) * 8 - 8));
+    check<Key>(skewed);
   }
+
+  SortStrategy strategy_ = SortStrategy::Auto;
 };
 
 TEST_P(SortTest, Keys32AllShapes) { check_all_shapes<uint32_t>(); }
@@ -68,7 +89,8 @@ TEST_P(SortTest, SkipsConstantDigits) {
   for (auto& k : keys) k = (k & 0xff00) | 0x1100000000ull;  // digit 1 varies; digits 0, 2..7 constant
   std::vector<uint64_t> expect = keys;
   std::sort(expect.begin(), expect.end());
-  SortReport r = radix_sort(dev(), keys, nullptr);
+  SortReport r = radix_sort(dev(), keys, nullptr, SortStrategy::Lsd);
+  EXPECT_FALSE(r.hybrid);
   EXPECT_EQ(r.passes, 1u);
   EXPECT_EQ(r.digits_skipped, 7u);
   EXPECT_TRUE(keys == expect);
@@ -83,9 +105,24 @@ TEST_P(SortTest, ArrayLargerThan128MiB) {
   std::vector<uint64_t> expect_keys = keys;
   std::vector<uint32_t> expect_values = values;
   ref::stable_sort<uint64_t>(expect_keys, &expect_values);
-  radix_sort(dev(), keys, &values);
+  radix_sort(dev(), keys, &values);  // Auto: the strategy the benchmark uses on this device
   ASSERT_TRUE(keys == expect_keys);
   ASSERT_TRUE(values == expect_values);
+}
+
+TEST_P(SortTest, HybridRunsWhereBucketsFit) {
+  // Buckets of ~12 keys fit every device, lavapipe's loop cap included, so the hybrid kernels run everywhere.
+  std::vector<uint64_t> keys = random_u64(3000, 8);
+  std::vector<uint32_t> values(keys.size());
+  for (uint32_t i = 0; i < values.size(); ++i) values[i] = i;
+  std::vector<uint64_t> expect = keys;
+  std::vector<uint32_t> expect_values = values;
+  ref::stable_sort<uint64_t>(expect, &expect_values);
+  SortReport r = radix_sort(dev(), keys, &values, SortStrategy::Hybrid);
+  EXPECT_TRUE(r.hybrid);
+  EXPECT_TRUE(values == expect_values);
+  EXPECT_EQ(r.passes, 8u);
+  EXPECT_TRUE(keys == expect);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(SortTest);

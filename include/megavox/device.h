@@ -42,8 +42,9 @@ struct DeviceInfo {
   uint32_t subgroup_size = 0;      // 0 when the API does not say
   bool fp64 = false;
   bool int64 = false;
-  // Most iterations one loop of one work-item may run; 0 = no limit. llvmpipe (lavapipe) silently ends any
-  // shader loop after 65535 iterations, so block-per-work-item kernels cap their blocks below that.
+  // Most iterations one loop statement may run in one work-item, summed over every time the loop is entered;
+  // 0 = no limit. llvmpipe (lavapipe) silently ends a shader loop once it has run 65535 iterations in the
+  // invocation, so block-per-work-item kernels keep their blocks (and nested loops) below that.
   uint32_t max_loop_iterations = 0;
 
   std::string selector() const { return (backend == "opencl" ? "ocl:" : "vk:") + std::to_string(index); }

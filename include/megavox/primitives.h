@@ -20,17 +20,27 @@ void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint32_t n, Key
 void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint32_t n);
 
 struct SortReport {
-  uint32_t passes = 0;          // 8-bit digit passes run
+  uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
   uint32_t digits_skipped = 0;  // digits constant over all keys
+  bool hybrid = false;          // one global pass on the top digit, then each bucket sorted in cache
 };
+
+// Lsd: one global pass per varying digit (any device). Hybrid: one global pass on the most significant
+// varying digit, then each of its 256 buckets sorted in cache by one work-item (fast on CPUs when the keys
+// spread over the buckets). Auto: hybrid on CPU devices when the buckets are balanced, else Lsd. Hybrid
+// falls back to Lsd where a bucket would be too large for the device (a loop cap). Same output either way.
+enum class SortStrategy { Auto, Lsd, Hybrid };
 
 // Stable LSD radix sort of n keys (32- or 64-bit), with 32-bit values moved along when `values` is not null.
 // Waits once, to learn which digits vary. On return `keys` (and `*values`) hold the sorted data; the Buffer
 // objects may have been swapped with scratch buffers of the same size, so keep using these objects.
-SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits);
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits,
+                      SortStrategy strategy = SortStrategy::Auto);
 
 // Host convenience: upload, sort, download (keys-only when values is null). Waits.
-SortReport radix_sort(Device& dev, std::vector<uint32_t>& keys, std::vector<uint32_t>* values);
-SortReport radix_sort(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values);
+SortReport radix_sort(Device& dev, std::vector<uint32_t>& keys, std::vector<uint32_t>* values,
+                      SortStrategy strategy = SortStrategy::Auto);
+SortReport radix_sort(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values,
+                      SortStrategy strategy = SortStrategy::Auto);
 
 }  // namespace mv

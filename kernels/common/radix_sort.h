@@ -6,7 +6,10 @@
  *   2. scan_small:      exclusive scan of hist (digit-major, so offsets follow key order: stable)
  *   3. radix_scatter:   each block walks its keys in order and writes each to hist[digit][b]++
  * Before the passes radix_or_and reduces OR and AND of all keys: digits where they agree are constant
- * over every key and are skipped. */
+ * over every key and are skipped.
+ *
+ * CPU devices use a hybrid instead when the keys spread well: one such global pass on the most significant
+ * varying digit, then radix_local_sort sorts each of the 256 buckets in cache (see radix_sort_body.h). */
 #ifndef MV_RADIX_SORT_H
 #define MV_RADIX_SORT_H
 #include "mv_lang.h"
@@ -20,7 +23,7 @@ MV_STRUCT_BEGIN(MvRadixParams)
   mv_u32 block_size; /* keys per block (the last block may be short) */
   mv_u32 shift;      /* bit position of this pass's digit */
   mv_u32 has_values; /* nonzero: move 32-bit values along with the keys */
-  mv_u32 pad0;
+  mv_u32 local_digits; /* radix_local_sort: bit j set = sort on digit j */
 MV_STRUCT_END(MvRadixParams)
 
 #endif

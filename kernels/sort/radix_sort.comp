@@ -10,11 +10,13 @@
 #define MvBufKey MvBufU64
 #define MV_KCAST(x) MV_U64(x)
 #define MV_KFN(f) f##_k64
+#define MV_RADIX_KEY_DIGITS 8
 #else
 #define MV_KEY uint
 #define MvBufKey MvBufU32
 #define MV_KCAST(x) MV_U32(x)
 #define MV_KFN(f) f##_k32
+#define MV_RADIX_KEY_DIGITS 4
 #endif
 #include "common/radix_sort_body.h"
 
@@ -39,6 +41,15 @@ void main() {
   if (b < args.p.blocks)
     MV_KFN(mv_radix_scatter)(args.keys_in, args.keys_out, args.vals_in, args.vals_out, args.offsets, args.p, b);
 }
+#elif defined(MV_ENTRY_local_sort)
+layout(push_constant) uniform Args {
+  MvBufKey keys; MvBufKey keys_alt; MvBufU32 vals; MvBufU32 vals_alt; MvBufU32 offsets; MvRadixParams p;
+} args;
+void main() {
+  uint d = MV_GLOBAL_ID();
+  if (d < MV_RADIX_BUCKETS)
+    MV_KFN(mv_radix_local_sort)(args.keys, args.keys_alt, args.vals, args.vals_alt, args.offsets, args.p, d);
+}
 #else
-#error "define MV_ENTRY_or_and, MV_ENTRY_histogram or MV_ENTRY_scatter"
+#error "define MV_ENTRY_or_and, MV_ENTRY_histogram, MV_ENTRY_scatter or MV_ENTRY_local_sort"
 #endif

@@ -5,7 +5,9 @@
 #define MvBufKey __global uint*
 #define MV_KCAST(x) MV_U32(x)
 #define MV_KFN(f) f##_k32
+#define MV_RADIX_KEY_DIGITS 4
 #include "common/radix_sort_body.h"
+#undef MV_RADIX_KEY_DIGITS
 #undef MV_KEY
 #undef MvBufKey
 #undef MV_KCAST
@@ -15,6 +17,7 @@
 #define MvBufKey __global ulong*
 #define MV_KCAST(x) MV_U64(x)
 #define MV_KFN(f) f##_k64
+#define MV_RADIX_KEY_DIGITS 8
 #include "common/radix_sort_body.h"
 
 #define MV_RADIX_ENTRIES(K, KT)                                                                               \
@@ -30,6 +33,11 @@
                                   __global uint* vals_out, __global uint* offsets, MvRadixParams p) {         \
     uint b = MV_GLOBAL_ID();                                                                                  \
     if (b < p.blocks) mv_radix_scatter_##K(keys_in, keys_out, vals_in, vals_out, offsets, p, b);             \
+  }                                                                                                           \
+  __kernel void radix_local_sort_##K(__global KT* keys, __global KT* keys_alt, __global uint* vals,           \
+                                     __global uint* vals_alt, __global uint* offsets, MvRadixParams p) {      \
+    uint d = MV_GLOBAL_ID();                                                                                  \
+    if (d < MV_RADIX_BUCKETS) mv_radix_local_sort_##K(keys, keys_alt, vals, vals_alt, offsets, p, d);        \
   }
 
 MV_RADIX_ENTRIES(k32, uint)

@@ -16,6 +16,7 @@
 
 #define MV_RADIX_BITS 8
 #define MV_RADIX_BUCKETS 256
+#define MV_RADIX_SMALL 32 /* in-bucket ranges of at most this many keys are finished by insertion sort */
 
 MV_STRUCT_BEGIN(MvRadixParams)
   mv_u32 n;          /* number of keys */

@@ -15,7 +15,6 @@ namespace mv {
 
 namespace {
 constexpr uint64_t kPageBytes = 64 << 10;
-constexpr uint64_t kMaxArenaBytes = 1ull << 30;
 }  // namespace
 
 struct Device::Impl {
@@ -68,8 +67,7 @@ std::unique_ptr<Device> Device::open(const DeviceOptions& options) {
     throw Error("--device-memory " + format_bytes(budget) + " is more than " + info.name + " has (" +
                 format_bytes(info.global_memory_bytes) + ")");
   }
-  uint64_t max_arena = std::min(kMaxArenaBytes, info.max_allocation_bytes);
-  impl.pool = std::make_unique<rt::MemoryPool>(*impl.backend, budget, kPageBytes, max_arena);
+  impl.pool = std::make_unique<rt::MemoryPool>(*impl.backend, budget, kPageBytes, info.max_allocation_bytes);
   impl.backend->set_profiling(options.profile);
   return device;
 }

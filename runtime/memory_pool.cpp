@@ -49,6 +49,7 @@ MemoryPool::Range MemoryPool::allocate(uint64_t bytes, std::string_view what) {
                  " left, largest free run " + format_bytes(largest_free_run()) +
                  "); raise --device-memory or use a smaller problem");
   };
+  if (need > budget_) throw fail("more than the whole budget");
   if (need > max_arena_bytes_)
     throw fail("more than one allocation may hold on " + backend_.info().name + " (" +
                format_bytes(max_arena_bytes_) + ")");

@@ -1,7 +1,7 @@
 // Device memory budget and page pool.
 //
 // Device memory is a budget, not a hope: the pool owns a few large allocations ("arenas", created on
-// demand, each at most min(largest allocation the device allows, 1 GiB, what is left of the budget)) and
+// demand, each at most min(largest allocation the device allows, what is left of the budget)) and
 // hands out runs of fixed-size pages from them, first fit. An array may span many pages (but one arena).
 // A request that cannot be placed throws mv::Error naming what was asked, what is left and the budget —
 // never a failure deep inside a driver. The page cache of later stages builds on these pages.

@@ -78,13 +78,13 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufU64 { u
 #define MV_ST(buf, i, v_) ((buf).v[i] = (v_))
 #endif
 
-/* ---- private arrays passed to helper functions: a pointer in C and OpenCL, an inout array in GLSL ---- */
+/* ---- a private 256-entry array passed to a helper: a pointer in C and OpenCL, an inout array in GLSL ---- */
 #if defined(MV_GLSL)
-#define MV_PRIVATE_ARRAY(type, name) inout type name[256]
+#define MV_ARRAY256_PARAM(type, name) inout type name[256]
 #elif defined(MV_OPENCL)
-#define MV_PRIVATE_ARRAY(type, name) __private type* name
+#define MV_ARRAY256_PARAM(type, name) __private type* name
 #else
-#define MV_PRIVATE_ARRAY(type, name) type* name
+#define MV_ARRAY256_PARAM(type, name) type* name
 #endif
 
 /* ---- work-item ids (1-D dispatches; kernels loop grid-stride so group counts stay within limits) ---- */

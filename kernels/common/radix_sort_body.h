@@ -35,38 +35,11 @@ MV_INLINE void MV_KFN(mv_radix_histogram)(MvBufKey keys, MvBufU32 hist, MvRadixP
   for (mv_u32 d = 0u; d < MV_U32(MV_RADIX_BUCKETS); ++d) MV_ST(hist, d * p.blocks + b, count[d]);
 }
 
-/* Stable: keys of block b go, in order, to the positions the scanned histogram gives for (digit, b). */
-MV_INLINE void MV_KFN(mv_radix_scatter)(MvBufKey keys_in, MvBufKey keys_out, MvBufU32 vals_in, MvBufU32 vals_out,
-                                        MvBufU32 offsets, MvRadixParams p, mv_u32 b) {
-  mv_u32 next[MV_RADIX_BUCKETS];
-  for (mv_u32 d = 0u; d < MV_U32(MV_RADIX_BUCKETS); ++d) next[d] = MV_LD(offsets, d * p.blocks + b);
-  mv_u32 begin = b * p.block_size;
-  mv_u32 end = MV_MIN(begin + p.block_size, p.n);
-  if (p.has_values != 0u) {
-    for (mv_u32 i = begin; i < end; ++i) {
-      MV_KEY k = MV_LD(keys_in, i);
-      mv_u32 d = MV_KFN(mv_radix_digit)(k, p.shift);
-      mv_u32 pos = next[d];
-      next[d] = pos + 1u;
-      MV_ST(keys_out, pos, k);
-      MV_ST(vals_out, pos, MV_LD(vals_in, i));
-    }
-  } else {
-    for (mv_u32 i = begin; i < end; ++i) {
-      MV_KEY k = MV_LD(keys_in, i);
-      mv_u32 d = MV_KFN(mv_radix_digit)(k, p.shift);
-      mv_u32 pos = next[d];
-      next[d] = pos + 1u;
-      MV_ST(keys_out, pos, k);
-    }
-  }
-}
-
 /* One stable counting-sort pass over [begin, end) of src into dst, by the digit at `shift`; `next` holds each
  * digit's first output position and is advanced. */
-MV_INLINE void MV_KFN(mv_radix_local_pass)(MvBufKey src, MvBufKey dst, MvBufU32 vsrc, MvBufU32 vdst, mv_u32 has_values,
+MV_INLINE void MV_KFN(mv_radix_pass)(MvBufKey src, MvBufKey dst, MvBufU32 vsrc, MvBufU32 vdst, mv_u32 has_values,
                                            mv_u32 begin, mv_u32 end, mv_u32 shift,
-                                           MV_PRIVATE_ARRAY(mv_u32, next)) {
+                                           MV_ARRAY256_PARAM(mv_u32, next)) {
   if (has_values != 0u) {
     for (mv_u32 i = begin; i < end; ++i) {
       MV_KEY k = MV_LD(src, i);
@@ -85,6 +58,16 @@ MV_INLINE void MV_KFN(mv_radix_local_pass)(MvBufKey src, MvBufKey dst, MvBufU32 
       MV_ST(dst, pos, k);
     }
   }
+}
+
+/* Stable: keys of block b go, in order, to the positions the scanned histogram gives for (digit, b). */
+MV_INLINE void MV_KFN(mv_radix_scatter)(MvBufKey keys_in, MvBufKey keys_out, MvBufU32 vals_in, MvBufU32 vals_out,
+                                        MvBufU32 offsets, MvRadixParams p, mv_u32 b) {
+  mv_u32 next[MV_RADIX_BUCKETS];
+  for (mv_u32 d = 0u; d < MV_U32(MV_RADIX_BUCKETS); ++d) next[d] = MV_LD(offsets, d * p.blocks + b);
+  mv_u32 begin = b * p.block_size;
+  mv_u32 end = MV_MIN(begin + p.block_size, p.n);
+  MV_KFN(mv_radix_pass)(keys_in, keys_out, vals_in, vals_out, p.has_values, begin, end, p.shift, next);
 }
 
 /* Stable insertion sort of [begin, end) of src (values vsrc) into the same range of keys (values vals);
@@ -162,8 +145,8 @@ MV_INLINE void MV_KFN(mv_radix_local_sort)(MvBufKey keys, MvBufKey keys_alt, MvB
         acc += count[c];
       }
       bounds[base + MV_U32(MV_RADIX_BUCKETS)] = e;
-      if (alt != 0u) MV_KFN(mv_radix_local_pass)(keys_alt, keys, vals_alt, vals, p.has_values, b, e, shift, next);
-      else MV_KFN(mv_radix_local_pass)(keys, keys_alt, vals, vals_alt, p.has_values, b, e, shift, next);
+      if (alt != 0u) MV_KFN(mv_radix_pass)(keys_alt, keys, vals_alt, vals, p.has_values, b, e, shift, next);
+      else MV_KFN(mv_radix_pass)(keys, keys_alt, vals, vals_alt, p.has_values, b, e, shift, next);
       if (largest <= MV_U32(MV_RADIX_SMALL)) {
         /* Every child is small: one insertion pass over the whole range finishes them all, since each key
          * only moves within its own child (later children hold larger keys). */

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Runs every benchmark BENCHMARKS.md reports, one after another (nothing else should run meanwhile), and
+# prints each command with its JSON. Usage: scripts/bench.sh [out.jsonl]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh --bench
+scripts/build.sh >/dev/null
+out=${1:-/dev/null}
+: >"$out"
+run() {
+  echo "\$ $*" >&2
+  "$@" | tee -a "$out"
+}
+for dev in ocl:0 vk:0; do
+  for n in 1M 16M; do run build/megavox --device "$dev" bench sort --n "$n" --json; done
+done
+run build/megavox --device ocl:0 bench sort --n 64M --json
+# 64M pairs need 1.5 GiB of keys, values and scratch: more than lavapipe's default budget (3/4 of 2 GiB).
+run build/megavox --device vk:0 --device-memory 1600M bench sort --n 64M --repeats 1 --json

@@ -14,3 +14,6 @@ mv_kernel(scan_small            scan/scan.cl         scan/scan.comp           MV
 mv_kernel(scan_apply            scan/scan.cl         scan/scan.comp           MV_ENTRY_apply)
 mv_kernel(morton_encode32       morton/morton.cl     morton/morton.comp)
 mv_kernel(morton_encode64       morton/morton.cl     morton/morton.comp       MV_KEY64)
+mv_kernel(unique_flags          scan/unique.cl       scan/unique.comp         MV_ENTRY_flags)
+mv_kernel(unique_compact        scan/unique.cl       scan/unique.comp         MV_ENTRY_compact)
+mv_kernel(voxelize              voxel/voxelize.cl    voxel/voxelize.comp)

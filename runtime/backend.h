@@ -62,7 +62,8 @@ class Backend {
   // the kernel (OpenCL: with the compiler log; Vulkan: the rejected module or pipeline).
   virtual BackendKernel& kernel(const KernelDesc& desc) = 0;
 
-  // Arguments: the buffers in order, then one trivially-copyable parameter struct (may be empty).
+  // Arguments: the buffers in order (null for an empty Buffer, which the kernel must not touch), then one
+  // trivially-copyable parameter struct (may be empty).
   // OpenCL: kernel(global T* b0, ..., global T* bk, Params p). Vulkan: push constants
   // { uint64_t address of b0 .. bk; Params p; } (at most kMaxPushBytes in all).
   virtual void dispatch(BackendKernel& kernel, uint32_t groups, uint32_t local_size,

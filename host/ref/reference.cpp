@@ -1,5 +1,7 @@
 #include "reference.h"
 
+#include "../../kernels/common/voxelize.h"
+
 namespace mv::ref {
 
 uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis) {
@@ -10,6 +12,26 @@ uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis) {
     key |= uint64_t{(z >> i) & 1u} << (3 * i + 2);
   }
   return key;
+}
+
+std::vector<uint64_t> voxelize(const std::vector<float>& tris, uint32_t n) {
+  std::vector<uint64_t> keys;
+  for (size_t t = 0; t + 9 <= tris.size(); t += 9) {
+    const float* v = &tris[t];
+    uint32_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = mv_voxel_floor(std::min({double(v[a]), double(v[3 + a]), double(v[6 + a])}), n);
+      hi[a] = mv_voxel_floor(std::max({double(v[a]), double(v[3 + a]), double(v[6 + a])}), n);
+    }
+    for (uint32_t x = lo[0]; x <= hi[0]; ++x)
+      for (uint32_t y = lo[1]; y <= hi[1]; ++y)
+        for (uint32_t z = lo[2]; z <= hi[2]; ++z)
+          if (mv_voxel_hit(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], x, y, z, n))
+            keys.push_back(morton3(x, y, z, 21));
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
 }
 
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in) {

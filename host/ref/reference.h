@@ -11,6 +11,11 @@ namespace mv::ref {
 // Bit i of x, y, z -> bits 3i, 3i+1, 3i+2; `bits_per_axis` = 21 (64-bit keys) or 10 (32-bit keys).
 uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis);
 
+// Sorted unique Morton keys of the voxels the triangles (grid units, 9 floats each) meet: every voxel of each
+// triangle's bounding box is tested with the decisive predicate the kernels use (kernels/common/voxelize.h),
+// without the kernels' column walk.
+std::vector<uint64_t> voxelize(const std::vector<float>& grid_triangles, uint32_t resolution);
+
 // out[i] = sum of in[0..i), out[n] = total.
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in);
 

@@ -19,6 +19,10 @@ void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint32_t n, Key
 // src and dst may be the same buffer.
 void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint32_t n);
 
+// Removes repeats from n sorted 64-bit keys: `out` receives the distinct keys in order (it may be `keys`
+// must be another buffer of n keys). Returns how many there are (waits once, to read the count).
+uint32_t unique_sorted(Device& dev, const Buffer& keys, Buffer& out, uint32_t n);
+
 struct SortReport {
   uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
   uint32_t digits_skipped = 0;  // digits constant over all keys

@@ -18,7 +18,9 @@
 
 /* ---- types, casts, literals, functions ---- */
 #if defined(MV_CPP)
+#include <cmath>
 #include <cstdint>
+using std::floor;
 typedef uint32_t mv_u32;
 typedef uint64_t mv_u64;
 typedef int32_t mv_i32;
@@ -31,6 +33,10 @@ typedef double mv_f64;
 #define MV_STRUCT_END(name) };
 #define MV_MIN(a, b) ((a) < (b) ? (a) : (b))
 #define MV_MAX(a, b) ((a) > (b) ? (a) : (b))
+#define MV_F64(x) ((mv_f64)(x))
+#define MV_FMIN(a, b) ((a) < (b) ? (a) : (b))
+#define MV_FMAX(a, b) ((a) > (b) ? (a) : (b))
+#define MV_FABS(x) ((x) < 0.0 ? -(x) : (x))
 #elif defined(MV_OPENCL)
 #define mv_u32 uint
 #define mv_u64 ulong
@@ -44,7 +50,12 @@ typedef double mv_f64;
 #define MV_STRUCT_END(name) } name;
 #define MV_MIN(a, b) min(a, b)
 #define MV_MAX(a, b) max(a, b)
+#define MV_F64(x) ((double)(x))
+#define MV_FMIN(a, b) fmin(a, b)
+#define MV_FMAX(a, b) fmax(a, b)
+#define MV_FABS(x) fabs(x)
 #pragma OPENCL FP_CONTRACT OFF
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #else /* GLSL */
 #define mv_u32 uint
 #define mv_u64 uint64_t
@@ -58,22 +69,29 @@ typedef double mv_f64;
 #define MV_STRUCT_END(name) };
 #define MV_MIN(a, b) min(a, b)
 #define MV_MAX(a, b) max(a, b)
+#define MV_F64(x) double(x)
+#define MV_FMIN(a, b) min(a, b)
+#define MV_FMAX(a, b) max(a, b)
+#define MV_FABS(x) abs(x)
 #endif
 
 /* ---- buffers ---- */
 #if defined(MV_CPP)
 typedef mv_u32* MvBufU32;
 typedef mv_u64* MvBufU64;
+typedef const float* MvBufF32;
 #define MV_LD(buf, i) ((buf)[i])
 #define MV_ST(buf, i, v) ((buf)[i] = (v))
 #elif defined(MV_OPENCL)
 #define MvBufU32 __global uint*
 #define MvBufU64 __global ulong*
+#define MvBufF32 __global float*
 #define MV_LD(buf, i) ((buf)[i])
 #define MV_ST(buf, i, v) ((buf)[i] = (v))
 #else
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32 { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufU64 { uint64_t v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufF32 { float v[]; };
 #define MV_LD(buf, i) ((buf).v[i])
 #define MV_ST(buf, i, v_) ((buf).v[i] = (v_))
 #endif

@@ -360,8 +360,8 @@ class VulkanBackend final : public Backend {
            "-byte push-constant limit");
     std::array<unsigned char, kMaxPushBytes> push{};
     for (size_t i = 0; i < buffers.size(); ++i) {
-      if (!buffers[i]) fail("kernel '" + kernel.name + "': buffer argument " + std::to_string(i) + " is null");
-      const VkDeviceAddress address = as_vk(*buffers[i]).address;
+      // A null (empty) buffer passes address 0, as OpenCL passes a null cl_mem: the kernel must not touch it.
+      const VkDeviceAddress address = buffers[i] ? as_vk(*buffers[i]).address : 0;
       std::memcpy(push.data() + 8 * i, &address, sizeof(address));
     }
     if (params_bytes) std::memcpy(push.data() + 8 * buffers.size(), params, params_bytes);

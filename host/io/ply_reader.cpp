@@ -1,0 +1,665 @@
+#include "ply_reader.h"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string_view>
+#include <utility>
+
+#include "megavox/error.h"
+
+namespace mv::io {
+namespace {
+
+static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
+
+constexpr uint64_t kMaxHeaderBytes = 1 << 20;  // real headers are a few hundred bytes
+constexpr size_t kMaxToken = 64;                // longest ascii value ("-1.2345678901234567e-308" is 24)
+constexpr size_t kBufferBytes = 1 << 20;
+
+// ---------------------------------------------------------------------------------------------------
+// Types
+
+enum class Scalar : uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+size_t scalar_size(Scalar t) {
+  static constexpr size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
+  return sizes[static_cast<size_t>(t)];
+}
+
+bool is_integer(Scalar t) { return t < Scalar::f32; }
+
+std::string_view scalar_name(Scalar t) {
+  static constexpr std::string_view names[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
+  return names[static_cast<size_t>(t)];
+}
+
+std::optional<Scalar> parse_scalar(std::string_view s) {
+  static constexpr std::pair<std::string_view, Scalar> names[] = {
+      {"char", Scalar::i8},     {"int8", Scalar::i8},     {"uchar", Scalar::u8},    {"uint8", Scalar::u8},
+      {"short", Scalar::i16},   {"int16", Scalar::i16},   {"ushort", Scalar::u16},  {"uint16", Scalar::u16},
+      {"int", Scalar::i32},     {"int32", Scalar::i32},   {"uint", Scalar::u32},    {"uint32", Scalar::u32},
+      {"float", Scalar::f32},   {"float32", Scalar::f32}, {"double", Scalar::f64},  {"float64", Scalar::f64}};
+  for (const auto& [name, t] : names)
+    if (name == s) return t;
+  return std::nullopt;
+}
+
+struct Property {
+  std::string name;
+  bool is_list = false;
+  Scalar count_type = Scalar::u8;  // lists only
+  Scalar type = Scalar::f32;       // the value type (of each list entry for lists)
+  uint64_t line = 0;
+};
+
+struct Element {
+  std::string name;
+  uint64_t count = 0;
+  std::vector<Property> props;
+  uint64_t line = 0;
+};
+
+enum class Format { ascii, binary_le, binary_be };
+
+struct Header {
+  Format format = Format::ascii;
+  std::vector<Element> elements;
+  std::vector<std::string> comments;
+};
+
+uint64_t sat_mul(uint64_t a, uint64_t b) {
+  uint64_t r;
+  return __builtin_mul_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
+}
+
+uint64_t sat_add(uint64_t a, uint64_t b) {
+  uint64_t r;
+  return __builtin_add_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
+}
+
+std::string num(uint64_t v) { return std::to_string(v); }
+
+// ---------------------------------------------------------------------------------------------------
+// Buffered input
+
+// Thrown when the data ends early; whoever knows which element was being read turns it into mv::Error.
+struct EndOfData {};
+
+// Reads the file in large blocks and hands out small contiguous pieces of it.
+class Source {
+ public:
+  explicit Source(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb")) {
+    if (!file_) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    std::error_code ec;
+    // The size bounds every count in the header; a pipe or directory has none.
+    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": not a regular file");
+    size_ = std::filesystem::file_size(path, ec);
+    if (ec) throw Error(path + ": cannot read its size: " + ec.message());
+    capacity_ = std::clamp<uint64_t>(size_, 4096, kBufferBytes);
+    buffer_ = std::make_unique_for_overwrite<char[]>(capacity_);
+    pos_ = end_ = buffer_.get();
+  }
+  ~Source() { std::fclose(file_); }
+  Source(const Source&) = delete;
+  Source& operator=(const Source&) = delete;
+
+  const std::string& path() const { return path_; }
+  uint64_t size() const { return size_; }
+  uint64_t consumed() const { return read_ - static_cast<uint64_t>(end_ - pos_); }
+  uint64_t line() const { return line_; }  // ascii: the line being read, 1-based
+
+  // The next n bytes, contiguous (n <= kMaxToken).
+  const char* take(size_t n) {
+    if (static_cast<size_t>(end_ - pos_) < n && !fill(n)) throw EndOfData{};
+    const char* p = pos_;
+    pos_ += n;
+    return p;
+  }
+
+  void skip(uint64_t n) {
+    while (n > 0) {
+      if (pos_ == end_ && !fill(1)) throw EndOfData{};
+      size_t k = static_cast<size_t>(std::min<uint64_t>(n, static_cast<uint64_t>(end_ - pos_)));
+      pos_ += k;
+      n -= k;
+    }
+  }
+
+  // One header line without "\n" or "\r\n". False if it is longer than max_chars.
+  bool header_line(std::string& out, size_t max_chars) {
+    out.clear();
+    for (;;) {
+      if (pos_ == end_ && !fill(1)) throw EndOfData{};
+      char c = *pos_++;
+      if (c == '\n') break;
+      if (out.size() == max_chars) return false;
+      out.push_back(c);
+    }
+    ++line_;
+    if (!out.empty() && out.back() == '\r') out.pop_back();
+    return true;
+  }
+
+  // The next whitespace-separated ascii token; valid until the next call.
+  std::string_view token() {
+    for (;; ++pos_) {
+      if (pos_ == end_ && !fill(1)) throw EndOfData{};
+      if (*pos_ == '\n') ++line_;
+      else if (!is_space(*pos_)) break;
+    }
+    size_t n = 1;
+    while ((pos_ + n < end_ || fill(n + 1)) && !is_space(pos_[n]) && pos_[n] != '\n')
+      if (++n > kMaxToken) throw Error(path_ + ": line " + num(line_) + ": value longer than " + num(kMaxToken) + " characters");
+    std::string_view t(pos_, n);
+    pos_ += n;
+    return t;
+  }
+
+ private:
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+  // Makes at least n bytes available after pos_ (moving the rest to the front); false if the file ends first.
+  bool fill(size_t n) {
+    size_t have = static_cast<size_t>(end_ - pos_);
+    std::memmove(buffer_.get(), pos_, have);
+    pos_ = buffer_.get();
+    end_ = pos_ + have;
+    while (have < n) {
+      size_t got = std::fread(end_, 1, capacity_ - have, file_);
+      if (got == 0) {
+        if (std::ferror(file_)) throw Error(path_ + ": read error: " + std::strerror(errno));
+        return false;
+      }
+      end_ += got;
+      have += got;
+      read_ += got;
+    }
+    return true;
+  }
+
+  std::string path_;
+  std::FILE* file_;
+  uint64_t size_ = 0;
+  size_t capacity_ = 0;
+  std::unique_ptr<char[]> buffer_;
+  char* pos_ = nullptr;
+  char* end_ = nullptr;
+  uint64_t read_ = 0;
+  uint64_t line_ = 1;
+};
+
+// ---------------------------------------------------------------------------------------------------
+// Values: one scalar at a time, the only part that differs between the three formats
+
+template <class T, bool Swap>
+T load(const char* p) {
+  using U = std::conditional_t<sizeof(T) == 1, uint8_t,
+            std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
+  U u;
+  std::memcpy(&u, p, sizeof u);
+  if constexpr (Swap && sizeof(T) == 2) u = __builtin_bswap16(u);
+  if constexpr (Swap && sizeof(T) == 4) u = __builtin_bswap32(u);
+  if constexpr (Swap && sizeof(T) == 8) u = __builtin_bswap64(u);
+  return std::bit_cast<T>(u);
+}
+
+// Binary values in file byte order; Swap when that differs from the host's. double holds every type exactly.
+template <bool Swap>
+class BinaryValues {
+ public:
+  explicit BinaryValues(Source& src) : src_(src) {}
+
+  double scalar(Scalar t) {
+    const char* p = src_.take(scalar_size(t));
+    switch (t) {
+      case Scalar::i8: return load<int8_t, Swap>(p);
+      case Scalar::u8: return load<uint8_t, Swap>(p);
+      case Scalar::i16: return load<int16_t, Swap>(p);
+      case Scalar::u16: return load<uint16_t, Swap>(p);
+      case Scalar::i32: return load<int32_t, Swap>(p);
+      case Scalar::u32: return load<uint32_t, Swap>(p);
+      case Scalar::f32: return load<float, Swap>(p);
+      case Scalar::f64: return load<double, Swap>(p);
+    }
+    return 0;
+  }
+  void skip(Scalar t, uint64_t n) { src_.skip(sat_mul(n, scalar_size(t))); }
+  std::string where() const { return {}; }
+
+ private:
+  Source& src_;
+};
+
+class AsciiValues {
+ public:
+  explicit AsciiValues(Source& src) : src_(src) {}
+
+  double scalar(Scalar t) {
+    std::string_view s = src_.token();
+    return is_integer(t) ? parse_integer(s, t) : parse_real(s, t);
+  }
+  // Skipped values are still checked: the format is strict.
+  void skip(Scalar t, uint64_t n) {
+    for (uint64_t i = 0; i < n; ++i) scalar(t);
+  }
+  std::string where() const { return "line " + num(src_.line()) + ": "; }
+
+ private:
+  double parse_integer(std::string_view s, Scalar t) {
+    static constexpr int64_t lo[] = {INT8_MIN, 0, INT16_MIN, 0, INT32_MIN, 0};
+    static constexpr int64_t hi[] = {INT8_MAX, UINT8_MAX, INT16_MAX, UINT16_MAX, INT32_MAX, UINT32_MAX};
+    std::string_view digits = s.size() > 1 && s[0] == '+' ? s.substr(1) : s;
+    int64_t v = 0;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    size_t i = static_cast<size_t>(t);
+    if (ec != std::errc{} || end != digits.data() + digits.size() || v < lo[i] || v > hi[i]) bad(s, t);
+    return static_cast<double>(v);
+  }
+  double parse_real(std::string_view s, Scalar t) {
+    std::string_view digits = s.size() > 1 && s[0] == '+' ? s.substr(1) : s;
+    double v = 0;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    // Out-of-range values become +-inf so that the caller reports them as non-finite.
+    if (ec == std::errc::result_out_of_range) v = digits[0] == '-' ? -HUGE_VAL : HUGE_VAL;
+    else if (ec != std::errc{}) bad(s, t);
+    if (end != digits.data() + digits.size()) bad(s, t);
+    return v;
+  }
+  [[noreturn]] void bad(std::string_view s, Scalar t) const {
+    throw Error(src_.path() + ": " + where() + "'" + std::string(s) + "' is not a valid " + std::string(scalar_name(t)));
+  }
+
+  Source& src_;
+};
+
+// ---------------------------------------------------------------------------------------------------
+// Header
+
+std::vector<std::string_view> split_words(std::string_view s) {
+  std::vector<std::string_view> words;
+  size_t i = 0;
+  while (i < s.size()) {
+    if (s[i] == ' ' || s[i] == '\t') {
+      ++i;
+      continue;
+    }
+    size_t j = s.find_first_of(" \t", i);
+    if (j == std::string_view::npos) j = s.size();
+    words.push_back(s.substr(i, j - i));
+    i = j;
+  }
+  return words;
+}
+
+class HeaderParser {
+ public:
+  explicit HeaderParser(Source& src) : src_(src) {}
+
+  Header parse() {
+    std::string text;
+    if (!first_line_is_ply(text)) throw Error(src_.path() + ": not a PLY file (the first line is not 'ply')");
+    try {
+      while (true) {
+        line_ = src_.line();
+        if (!src_.header_line(text, kMaxHeaderBytes) || src_.consumed() > kMaxHeaderBytes)
+          fail("header longer than " + num(kMaxHeaderBytes) + " bytes (no end_header?)");
+        if (parse_line(text)) break;
+      }
+    } catch (const EndOfData&) {
+      throw Error(src_.path() + ": header ends at line " + num(src_.line()) + " without 'end_header'");
+    }
+    if (!have_format_) fail("header has no 'format' line");
+    return std::move(h_);
+  }
+
+ private:
+  bool first_line_is_ply(std::string& text) {
+    try {
+      return src_.header_line(text, 4) && text == "ply";
+    } catch (const EndOfData&) {
+      return false;
+    }
+  }
+
+  // True at end_header.
+  bool parse_line(std::string_view text) {
+    auto w = split_words(text);
+    if (w.empty()) fail("empty header line");
+    if (w[0] == "comment") {
+      std::string_view rest = text.substr(text.find("comment") + 7);
+      h_.comments.emplace_back(rest.substr(std::min(rest.find_first_not_of(" \t"), rest.size())));
+    } else if (w[0] == "obj_info") {
+      // Free-form, nothing to keep.
+    } else if (w[0] == "format") {
+      parse_format(w);
+    } else if (!have_format_) {
+      fail("expected the 'format' line before '" + std::string(w[0]) + "'");
+    } else if (w[0] == "element") {
+      parse_element(w);
+    } else if (w[0] == "property") {
+      parse_property(w);
+    } else if (w[0] == "end_header") {
+      if (w.size() != 1) fail("unexpected text after 'end_header'");
+      return true;
+    } else {
+      fail("unknown header keyword '" + std::string(w[0]) + "'");
+    }
+    return false;
+  }
+
+  void parse_format(const std::vector<std::string_view>& w) {
+    if (have_format_) fail("second 'format' line");
+    if (w.size() != 3) fail("expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
+    if (w[1] == "ascii") h_.format = Format::ascii;
+    else if (w[1] == "binary_little_endian") h_.format = Format::binary_le;
+    else if (w[1] == "binary_big_endian") h_.format = Format::binary_be;
+    else fail("unknown format '" + std::string(w[1]) + "'");
+    if (w[2] != "1.0") fail("unsupported PLY version '" + std::string(w[2]) + "' (only 1.0)");
+    have_format_ = true;
+  }
+
+  void parse_element(const std::vector<std::string_view>& w) {
+    if (w.size() != 3) fail("expected 'element <name> <count>'");
+    uint64_t count = 0;
+    auto [end, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), count);
+    if (ec != std::errc{} || end != w[2].data() + w[2].size())
+      fail("element count '" + std::string(w[2]) + "' is not a number from 0 to 2^64-1");
+    for (const Element& e : h_.elements)
+      if (e.name == w[1]) fail("duplicate element '" + e.name + "'");
+    h_.elements.push_back({std::string(w[1]), count, {}, line_});
+  }
+
+  void parse_property(const std::vector<std::string_view>& w) {
+    if (h_.elements.empty()) fail("property before any element");
+    Property p;
+    p.line = line_;
+    if (w.size() >= 2 && w[1] == "list") {
+      if (w.size() != 5) fail("expected 'property list <count type> <value type> <name>'");
+      p.is_list = true;
+      p.count_type = type(w[2]);
+      if (!is_integer(p.count_type)) fail("list count type must be an integer type, not '" + std::string(w[2]) + "'");
+      p.type = type(w[3]);
+      p.name = w[4];
+    } else {
+      if (w.size() != 3) fail("expected 'property <type> <name>'");
+      p.type = type(w[1]);
+      p.name = w[2];
+    }
+    Element& e = h_.elements.back();
+    for (const Property& q : e.props)
+      if (q.name == p.name) fail("duplicate property '" + p.name + "' in element '" + e.name + "'");
+    e.props.push_back(std::move(p));
+  }
+
+  Scalar type(std::string_view s) {
+    auto t = parse_scalar(s);
+    if (!t) fail("unknown property type '" + std::string(s) + "'");
+    return *t;
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(src_.path() + ": line " + num(line_) + ": " + what);
+  }
+
+  Source& src_;
+  Header h_;
+  bool have_format_ = false;
+  uint64_t line_ = 1;
+};
+
+std::string format_name(Format f) {
+  switch (f) {
+    case Format::ascii: return "ascii";
+    case Format::binary_le: return "binary_little_endian";
+    case Format::binary_be: return "binary_big_endian";
+  }
+  return {};
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------
+// Reader
+
+struct PlyMeshReader::Impl {
+  static constexpr size_t kNone = static_cast<size_t>(-1);
+
+  Source src;
+  Header header;
+  PlyInfo info;
+  std::vector<float> positions;
+
+  size_t vertex_el = kNone;
+  size_t face_el = kNone;
+  std::vector<int> vertex_role;  // per vertex property: 0/1/2 for x/y/z, -1 skipped
+  size_t index_prop = kNone;     // the face element's index list
+
+  // Streaming state: the next element to read, and the face (and polygon) being read.
+  size_t next_el = 0;
+  uint64_t face = 0;
+  uint64_t poly_left = 0;  // indices of the current polygon still to read
+  uint32_t poly_first = 0;
+  uint32_t poly_prev = 0;
+  bool done = false;
+
+  explicit Impl(const std::string& path) : src(path), header(HeaderParser(src).parse()) {
+    check_counts();
+    find_layout();
+    info = {header.elements[vertex_el].count, face_el == kNone ? 0 : header.elements[face_el].count,
+            format_name(header.format), header.comments};
+    with_values([&](auto& v) { advance(v); });
+  }
+
+  [[noreturn]] void fail(const std::string& what) const { throw Error(src.path() + ": " + what); }
+  [[noreturn]] void fail_at(uint64_t line, const std::string& what) const { fail("line " + num(line) + ": " + what); }
+
+  // Runs f with the value reader of this file's format: the element walkers below are format-independent.
+  template <class F>
+  void with_values(F&& f) {
+    constexpr bool host_le = std::endian::native == std::endian::little;
+    if (header.format == Format::ascii) {
+      AsciiValues v(src);
+      f(v);
+    } else if ((header.format == Format::binary_le) == host_le) {
+      BinaryValues<false> v(src);
+      f(v);
+    } else {
+      BinaryValues<true> v(src);
+      f(v);
+    }
+  }
+
+  static size_t find_property(const Element& e, std::string_view name) {
+    for (size_t i = 0; i < e.props.size(); ++i)
+      if (e.props[i].name == name) return i;
+    return kNone;
+  }
+
+  void find_layout() {
+    const auto& els = header.elements;
+    for (size_t i = 0; i < els.size(); ++i) {
+      if (els[i].name == "vertex") vertex_el = i;
+      if (els[i].name == "face") face_el = i;
+    }
+    if (vertex_el == kNone) fail("no 'vertex' element");
+    const Element& ve = els[vertex_el];
+    if (ve.count > (uint64_t{1} << 32)) fail_at(ve.line, num(ve.count) + " vertices exceed the 32-bit index range");
+    vertex_role.assign(ve.props.size(), -1);
+    for (int axis = 0; axis < 3; ++axis) {
+      const char name[2] = {static_cast<char>('x' + axis), 0};
+      size_t p = find_property(ve, name);
+      if (p == kNone) fail_at(ve.line, "element 'vertex' has no property '" + std::string(name) + "'");
+      if (ve.props[p].is_list) fail_at(ve.props[p].line, "vertex property '" + std::string(name) + "' is a list");
+      vertex_role[p] = axis;
+    }
+    if (face_el == kNone) return;
+    const Element& fe = els[face_el];
+    if (face_el < vertex_el) fail_at(fe.line, "element 'face' comes before 'vertex' (faces must follow the vertices)");
+    index_prop = find_property(fe, "vertex_indices");
+    if (index_prop == kNone) index_prop = find_property(fe, "vertex_index");
+    if (index_prop == kNone || !fe.props[index_prop].is_list)
+      fail_at(fe.line, "element 'face' has no list property 'vertex_indices' or 'vertex_index'");
+    const Property& ip = fe.props[index_prop];
+    if (!is_integer(ip.type))
+      fail_at(ip.line, "list '" + ip.name + "' must hold integer indices, not " + std::string(scalar_name(ip.type)));
+  }
+
+  // Refuses counts the file cannot hold, before anything is allocated: a truncated file or a garbage count.
+  // Each entry needs at least its scalars and list counts (binary) or 2 characters per value, "0 " (ascii).
+  void check_counts() const {
+    bool ascii = header.format == Format::ascii;
+    uint64_t data_bytes = src.size() - src.consumed();
+    uint64_t available = data_bytes + (ascii ? 1 : 0);  // ascii: the last value may lack its "\n"
+    uint64_t need = 0;
+    for (const Element& e : header.elements) {
+      uint64_t per_entry = 0;
+      for (const Property& p : e.props) per_entry += ascii ? 2 : scalar_size(p.is_list ? p.count_type : p.type);
+      uint64_t total = sat_add(need, sat_mul(per_entry, e.count));
+      if (total > available)
+        fail("truncated: expected " + num(e.count) + " " + plural(e) + ", but the " + num(data_bytes) +
+             " bytes after the header hold at most " + num((available - need) / per_entry));
+      need = total;
+    }
+  }
+
+  static std::string plural(const Element& e) {
+    return e.name == "vertex" ? "vertices" : e.name == "face" ? "faces" : "'" + e.name + "' elements";
+  }
+
+  std::string entry(const Element& e, uint64_t i) const { return e.name + " " + num(i); }
+
+  [[noreturn]] void truncated(const Element& e, uint64_t complete) const {
+    fail("truncated: expected " + num(e.count) + " " + plural(e) + ", file ends after " + num(complete));
+  }
+
+  template <class V>
+  uint64_t list_length(V& v, const Element& e, uint64_t i, const Property& p) {
+    double n = v.scalar(p.count_type);
+    if (n < 0) fail(v.where() + entry(e, i) + ": list '" + p.name + "' has negative length " + std::to_string(static_cast<int64_t>(n)));
+    return static_cast<uint64_t>(n);
+  }
+
+  template <class V>
+  void skip_property(V& v, const Element& e, uint64_t i, const Property& p) {
+    v.skip(p.type, p.is_list ? list_length(v, e, i, p) : 1);
+  }
+
+  template <class V>
+  void skip_element(V& v, const Element& e) {
+    if (e.props.empty()) return;  // no data, however large the count
+    uint64_t i = 0;
+    try {
+      for (; i < e.count; ++i)
+        for (const Property& p : e.props) skip_property(v, e, i, p);
+    } catch (const EndOfData&) {
+      truncated(e, i);
+    }
+  }
+
+  template <class V>
+  void read_vertices(V& v) {
+    const Element& e = header.elements[vertex_el];
+    positions.resize(3 * e.count);  // bounded by the file size (check_counts)
+    float* out = positions.data();
+    uint64_t i = 0;
+    try {
+      for (; i < e.count; ++i, out += 3) {
+        for (size_t k = 0; k < e.props.size(); ++k) {
+          const Property& p = e.props[k];
+          if (vertex_role[k] < 0) {
+            skip_property(v, e, i, p);
+            continue;
+          }
+          double d = v.scalar(p.type);
+          // Checked before the conversion: a double beyond the float range does not convert.
+          if (!(std::fabs(d) <= std::numeric_limits<float>::max()))
+            fail(v.where() + entry(e, i) + ": coordinate " + p.name + " = " + std::to_string(d) + " is not a finite float");
+          out[vertex_role[k]] = static_cast<float>(d);
+        }
+      }
+    } catch (const EndOfData&) {
+      truncated(e, i);
+    }
+  }
+
+  // Reads elements up to the face element (left for next_triangles) or to the end of the file.
+  template <class V>
+  void advance(V& v) {
+    for (; next_el < header.elements.size(); ++next_el) {
+      if (next_el == face_el) return;
+      if (next_el == vertex_el) read_vertices(v);
+      else skip_element(v, header.elements[next_el]);
+    }
+    done = true;
+  }
+
+  template <class V>
+  uint32_t read_index(V& v, const Element& e, const Property& p) {
+    double d = v.scalar(p.type);
+    uint64_t vertices = info.vertices;
+    if (!(d >= 0 && d < static_cast<double>(vertices)))
+      fail(v.where() + entry(e, face) + " refers to vertex " + std::to_string(static_cast<int64_t>(d)) + " (only " +
+           num(vertices) + " vertices)");
+    return static_cast<uint32_t>(d);
+  }
+
+  template <class V>
+  void stream_faces(V& v, std::vector<uint32_t>& out, size_t max_triangles) {
+    const Element& e = header.elements[face_el];
+    const Property& ip = e.props[index_prop];
+    out.reserve(3 * std::min<uint64_t>({max_triangles, e.count - face + 1, uint64_t{1} << 20}));
+    try {
+      while (out.size() / 3 < max_triangles) {
+        if (poly_left == 0) {
+          if (face == e.count) {
+            ++next_el;
+            advance(v);
+            return;
+          }
+          for (size_t k = 0; k < index_prop; ++k) skip_property(v, e, face, e.props[k]);
+          uint64_t n = list_length(v, e, face, ip);
+          if (n < 3) fail(v.where() + entry(e, face) + " has " + num(n) + " vertex indices (a face needs at least 3)");
+          poly_first = read_index(v, e, ip);
+          poly_prev = read_index(v, e, ip);
+          poly_left = n - 2;
+        }
+        uint32_t cur = read_index(v, e, ip);
+        out.insert(out.end(), {poly_first, poly_prev, cur});
+        poly_prev = cur;
+        if (--poly_left == 0) {
+          for (size_t k = index_prop + 1; k < e.props.size(); ++k) skip_property(v, e, face, e.props[k]);
+          ++face;
+        }
+      }
+    } catch (const EndOfData&) {
+      truncated(e, face);
+    }
+  }
+};
+
+PlyMeshReader::PlyMeshReader(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+PlyMeshReader::~PlyMeshReader() = default;
+PlyMeshReader::PlyMeshReader(PlyMeshReader&&) noexcept = default;
+PlyMeshReader& PlyMeshReader::operator=(PlyMeshReader&&) noexcept = default;
+
+const PlyInfo& PlyMeshReader::info() const { return impl_->info; }
+
+const std::vector<float>& PlyMeshReader::positions() const { return impl_->positions; }
+
+bool PlyMeshReader::next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) {
+  indices.clear();
+  if (max_triangles == 0) impl_->fail("next_triangles: max_triangles must be at least 1");
+  if (impl_->done) return false;
+  impl_->with_values([&](auto& v) { impl_->stream_faces(v, indices, max_triangles); });
+  return !indices.empty();
+}
+
+}  // namespace mv::io

@@ -1,0 +1,54 @@
+// Streaming PLY 1.0 mesh reader (ascii, binary_little_endian, binary_big_endian).
+//
+// Vertices are read on construction and held in RAM (12 bytes per vertex); faces are streamed in batches
+// with next_triangles(), so a mesh whose face list does not fit in RAM can still be processed.
+// Every fault -- missing file, malformed header, truncated data, bad index, non-finite coordinate, a
+// count larger than the file could hold -- throws mv::Error naming the file and the fault.
+//
+// Accepted input:
+// - one `vertex` element with scalar x, y, z of any type (converted to float); other properties skipped;
+// - an optional `face` element after it whose list `vertex_indices` (or `vertex_index`) has integer count
+//   and index types; polygons are fan-triangulated, a list with fewer than 3 indices is an error.
+//   A file without a face element (a point cloud) is an empty mesh: info().faces == 0;
+// - any other elements, before, between or after, are skipped (they must still be complete).
+// Not accepted: a face element before the vertex element (faces could not be checked while streamed),
+// more than 2^32 vertices (indices are 32-bit). Bytes after the last element are ignored.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mv::io {
+
+struct PlyInfo {
+  uint64_t vertices = 0;
+  uint64_t faces = 0;  // polygons as declared by the header (a quad becomes 2 triangles)
+  std::string format;  // "ascii", "binary_little_endian" or "binary_big_endian"
+  std::vector<std::string> comments;  // text after "comment ", in header order
+};
+
+class PlyMeshReader {
+ public:
+  // Opens `path`, parses the header and reads all vertices.
+  explicit PlyMeshReader(const std::string& path);
+  ~PlyMeshReader();
+  PlyMeshReader(PlyMeshReader&&) noexcept;
+  PlyMeshReader& operator=(PlyMeshReader&&) noexcept;
+
+  const PlyInfo& info() const;
+
+  // x, y, z of every vertex, 3 floats per vertex.
+  const std::vector<float>& positions() const;
+
+  // Replaces `indices` with up to `max_triangles` triangles (3 vertex indices each) of the next faces; a
+  // polygon may be split across calls. Returns false, with `indices` empty, once every face was read.
+  bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mv::io

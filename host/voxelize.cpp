@@ -1,0 +1,146 @@
+// Host side of the surface voxelizer (kernel body: kernels/common/voxelize.h).
+#include "../kernels/common/voxelize.h"
+
+#include "megavox/voxelize.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <utility>
+
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+
+namespace mv {
+
+namespace {
+constexpr uint32_t kColumnsPerItem = 256;
+}
+
+void Bounds::extend(double x, double y, double z) {
+  const double p[3] = {x, y, z};
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::min(lo[a], p[a]);
+    hi[a] = std::max(hi[a], p[a]);
+  }
+}
+
+GridTransform grid_for_bounds(const Bounds& b, uint32_t resolution) {
+  if (resolution == 0 || resolution > (1u << 21))
+    throw Error("resolution " + std::to_string(resolution) + " is outside [1, 2097152] voxels per axis");
+  if (b.empty()) throw Error("cannot place a grid around an empty model");
+  double side = 0;
+  for (int a = 0; a < 3; ++a) side = std::max(side, b.hi[a] - b.lo[a]);
+  if (!(side > 0)) side = 1;
+  GridTransform g;
+  for (int a = 0; a < 3; ++a) g.origin[a] = 0.5 * (b.lo[a] + b.hi[a]) - 0.5 * side;
+  g.voxel_size = side / resolution;
+  g.resolution = resolution;
+  return g;
+}
+
+void triangles_to_grid(const GridTransform& grid, const std::vector<float>& positions, const uint32_t* indices,
+                       size_t triangles, std::vector<float>& out) {
+  const double n = grid.resolution;
+  const double inv = 1.0 / grid.voxel_size;
+  const size_t vertices = positions.size() / 3;
+  out.reserve(out.size() + triangles * 9);
+  for (size_t t = 0; t < 3 * triangles; ++t) {
+    uint32_t v = indices[t];
+    if (v >= vertices) throw Error("triangle " + std::to_string(t / 3) + " refers to vertex " + std::to_string(v) +
+                                   " of " + std::to_string(vertices));
+    for (int a = 0; a < 3; ++a) {
+      double g = (double(positions[3 * size_t{v} + a]) - grid.origin[a]) * inv;
+      out.push_back(static_cast<float>(std::clamp(g, 0.0, n)));
+    }
+  }
+}
+
+Voxelizer::Voxelizer(Device& dev, uint32_t resolution) : dev_(dev), resolution_(resolution) {
+  if (resolution == 0 || resolution > (1u << 21))
+    throw Error("resolution " + std::to_string(resolution) + " is outside [1, 2097152] voxels per axis");
+}
+
+void Voxelizer::add(const std::vector<float>& tris) {
+  const size_t count = tris.size() / 9;
+  if (count == 0) return;
+  if (count > UINT32_MAX / 9) throw Error("voxelize: too many triangles in one batch");
+  triangles_ += count;
+
+  // Work items: runs of at most kColumnsPerItem columns of each triangle's walk.
+  std::vector<uint32_t> item_tri, item_col;
+  for (uint32_t t = 0; t < count; ++t) {
+    const float* v = &tris[9 * size_t{t}];
+    MvTriFrame f = mv_tri_frame(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], resolution_);
+    uint64_t columns = uint64_t{mv_frame_hi(f, f.u) - mv_frame_lo(f, f.u) + 1} *
+                       (mv_frame_hi(f, f.v) - mv_frame_lo(f, f.v) + 1);
+    if (columns > UINT32_MAX - kColumnsPerItem) throw Error("voxelize: triangle " + std::to_string(t) + " is too large");
+    for (uint64_t c = 0; c < columns; c += kColumnsPerItem) {
+      item_tri.push_back(t);
+      item_col.push_back(static_cast<uint32_t>(c));
+    }
+  }
+  const auto items = static_cast<uint32_t>(item_tri.size());
+  Buffer tri_buf = dev_.alloc(tris.size() * 4, "voxelizer triangles");
+  Buffer tri_of = dev_.alloc(uint64_t{items} * 4, "voxelizer work items");
+  Buffer col_of = dev_.alloc(uint64_t{items} * 4, "voxelizer work items");
+  Buffer counts = dev_.alloc(uint64_t{items} * 4, "voxelizer counts");
+  dev_.upload(tri_buf, tris.data(), tris.size() * 4);
+  dev_.upload(tri_of, item_tri.data(), uint64_t{items} * 4);
+  dev_.upload(col_of, item_col.data(), uint64_t{items} * 4);
+
+  Kernel& k = dev_.kernel("voxelize");
+  const uint32_t local = 64;
+  MvVoxelizeParams p{0, items, resolution_, kColumnsPerItem, 0, 0};
+  Buffer none;
+  dev_.dispatch(k, dev_.groups_for(items, local), local, {&tri_buf, &tri_of, &col_of, &counts, &none}, p);
+  std::vector<uint32_t> n(items);
+  dev_.download(counts, n.data(), uint64_t{items} * 4);
+
+  // Emit in chunks of items whose keys (with sort scratch and unique output: 4 copies) fit the budget.
+  const uint64_t room = (dev_.memory_budget() - dev_.memory_used()) / 2 / (4 * 8);
+  if (room == 0) throw Error("voxelize: no device memory left for voxel keys");
+  std::vector<uint32_t> offsets(items);
+  uint32_t first = 0;
+  while (first < items) {
+    uint64_t total = 0;
+    uint32_t last = first;
+    while (last < items && (last == first || total + n[last] <= std::min<uint64_t>(room, UINT32_MAX))) {
+      offsets[last] = static_cast<uint32_t>(total);
+      total += n[last++];
+    }
+    if (total > UINT32_MAX) throw Error("voxelize: one triangle hits more than 2^32 voxels");
+    hits_ += total;
+    if (total > 0) {
+      dev_.upload(counts, offsets.data() + first, uint64_t{last - first} * 4, uint64_t{first} * 4);
+      Buffer keys = dev_.alloc(total * 8, "voxel keys");
+      p = {first, last - first, resolution_, kColumnsPerItem, 1, 0};
+      dev_.dispatch(k, dev_.groups_for(last - first, local), local, {&tri_buf, &tri_of, &col_of, &counts, &keys}, p);
+      dev_.barrier();
+      auto n_keys = static_cast<uint32_t>(total);
+      radix_sort(dev_, keys, nullptr, n_keys, KeyBits::k64);
+      Buffer unique = dev_.alloc(total * 8, "unique voxel keys");
+      uint32_t m = unique_sorted(dev_, keys, unique, n_keys);
+      std::vector<uint64_t> chunk(m);
+      dev_.download(unique, chunk.data(), uint64_t{m} * 8);
+      merge(std::move(chunk));
+    }
+    first = last;
+  }
+  dev_.finish();
+}
+
+void Voxelizer::merge(std::vector<uint64_t>&& chunk) {
+  if (keys_.empty()) {
+    keys_ = std::move(chunk);
+    return;
+  }
+  std::vector<uint64_t> merged;
+  merged.reserve(keys_.size() + chunk.size());
+  std::set_union(keys_.begin(), keys_.end(), chunk.begin(), chunk.end(), std::back_inserter(merged));
+  keys_.swap(merged);
+}
+
+std::vector<uint64_t> Voxelizer::take_keys() { return std::exchange(keys_, {}); }
+
+}  // namespace mv

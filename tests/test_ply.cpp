@@ -51,6 +51,9 @@ std::string temp_file(const std::string& name) {
 
 std::string write_file(const std::string& name, const std::string& bytes) {
   std::string path = temp_file(name);
+  // Unlinked first: ext4 flushes a file truncated and rewritten on close, which made the fuzz test I/O bound.
+  std::error_code ec;
+  fs::remove(path, ec);
   std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   return path;
 }

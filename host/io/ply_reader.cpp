@@ -103,6 +103,7 @@ class Source {
     if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": not a regular file");
     size_ = std::filesystem::file_size(path, ec);
     if (ec) throw Error(path + ": cannot read its size: " + ec.message());
+    std::setvbuf(file_, nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
     capacity_ = std::clamp<uint64_t>(size_, 4096, kBufferBytes);
     buffer_ = std::make_unique_for_overwrite<char[]>(capacity_);
     pos_ = end_ = buffer_.get();
@@ -123,6 +124,14 @@ class Source {
     pos_ += n;
     return p;
   }
+
+  // The buffered bytes from the read position, after trying to make at least n available (fewer at the end
+  // of the file). For decoding many binary records at once; advance() moves past what was used.
+  std::pair<const char*, const char*> window(size_t n) {
+    if (static_cast<size_t>(end_ - pos_) < n) fill(n);
+    return {pos_, end_};
+  }
+  void advance(size_t n) { pos_ += n; }
 
   void skip(uint64_t n) {
     while (n > 0) {
@@ -211,26 +220,31 @@ T load(const char* p) {
   return std::bit_cast<T>(u);
 }
 
-// Binary values in file byte order; Swap when that differs from the host's. double holds every type exactly.
+// One binary value in file byte order; Swap when that differs from the host's. double holds every type exactly.
+// Always inlined: the binary fast paths call it per value, and the switch then folds into their loops.
+template <bool Swap>
+[[gnu::always_inline]] inline double decode(const char* p, Scalar t) {
+  switch (t) {
+    case Scalar::i8: return load<int8_t, Swap>(p);
+    case Scalar::u8: return load<uint8_t, Swap>(p);
+    case Scalar::i16: return load<int16_t, Swap>(p);
+    case Scalar::u16: return load<uint16_t, Swap>(p);
+    case Scalar::i32: return load<int32_t, Swap>(p);
+    case Scalar::u32: return load<uint32_t, Swap>(p);
+    case Scalar::f32: return load<float, Swap>(p);
+    case Scalar::f64: return load<double, Swap>(p);
+  }
+  return 0;
+}
+
 template <bool Swap>
 class BinaryValues {
  public:
+  static constexpr bool kSwap = Swap;
+  static constexpr bool kBinary = true;
   explicit BinaryValues(Source& src) : src_(src) {}
 
-  double scalar(Scalar t) {
-    const char* p = src_.take(scalar_size(t));
-    switch (t) {
-      case Scalar::i8: return load<int8_t, Swap>(p);
-      case Scalar::u8: return load<uint8_t, Swap>(p);
-      case Scalar::i16: return load<int16_t, Swap>(p);
-      case Scalar::u16: return load<uint16_t, Swap>(p);
-      case Scalar::i32: return load<int32_t, Swap>(p);
-      case Scalar::u32: return load<uint32_t, Swap>(p);
-      case Scalar::f32: return load<float, Swap>(p);
-      case Scalar::f64: return load<double, Swap>(p);
-    }
-    return 0;
-  }
+  double scalar(Scalar t) { return decode<Swap>(src_.take(scalar_size(t)), t); }
   void skip(Scalar t, uint64_t n) { src_.skip(sat_mul(n, scalar_size(t))); }
   std::string where() const { return {}; }
 
@@ -240,6 +254,7 @@ class BinaryValues {
 
 class AsciiValues {
  public:
+  static constexpr bool kBinary = false;
   explicit AsciiValues(Source& src) : src_(src) {}
 
   double scalar(Scalar t) {
@@ -441,6 +456,7 @@ struct PlyMeshReader::Impl {
   size_t face_el = kNone;
   std::vector<int> vertex_role;  // per vertex property: 0/1/2 for x/y/z, -1 skipped
   size_t index_prop = kNone;     // the face element's index list
+  double vertex_limit = 0;       // indices must be below this
 
   // Streaming state: the next element to read, and the face (and polygon) being read.
   size_t next_el = 0;
@@ -455,6 +471,7 @@ struct PlyMeshReader::Impl {
     find_layout();
     info = {header.elements[vertex_el].count, face_el == kNone ? 0 : header.elements[face_el].count,
             format_name(header.format), header.comments};
+    vertex_limit = static_cast<double>(info.vertices);
     with_values([&](auto& v) { advance(v); });
   }
 
@@ -534,17 +551,50 @@ struct PlyMeshReader::Impl {
     return e.name == "vertex" ? "vertices" : e.name == "face" ? "faces" : "'" + e.name + "' elements";
   }
 
-  std::string entry(const Element& e, uint64_t i) const { return e.name + " " + num(i); }
-
   [[noreturn]] void truncated(const Element& e, uint64_t complete) const {
     fail("truncated: expected " + num(e.count) + " " + plural(e) + ", file ends after " + num(complete));
   }
 
+  // Checks on values read from the data, shared by the generic walkers and the binary fast paths. The
+  // messages are built out of line so that the loops stay small.
+  template <class V>
+  [[noreturn, gnu::cold, gnu::noinline]] void fail_entry(const V& v, const Element& e, uint64_t i, const std::string& what) const {
+    fail(v.where() + e.name + " " + num(i) + what);
+  }
+
+  template <class V>
+  [[gnu::always_inline]] uint64_t checked_length(const V& v, const Element& e, uint64_t i, const Property& p, double n) const {
+    if (n < 0) [[unlikely]]
+      fail_entry(v, e, i, ": list '" + p.name + "' has negative length " + std::to_string(static_cast<int64_t>(n)));
+    return static_cast<uint64_t>(n);
+  }
+
+  template <class V>
+  [[gnu::always_inline]] float checked_coordinate(const V& v, const Element& e, uint64_t i, const Property& p, double d) const {
+    // Checked before the conversion: a double beyond the float range does not convert.
+    if (!(std::fabs(d) <= std::numeric_limits<float>::max())) [[unlikely]]
+      fail_entry(v, e, i, ": coordinate " + p.name + " = " + std::to_string(d) + " is not a finite float");
+    return static_cast<float>(d);
+  }
+
+  template <class V>
+  [[gnu::always_inline]] uint32_t checked_index(const V& v, const Element& e, double d) const {
+    if (!(d >= 0 && d < vertex_limit)) [[unlikely]]
+      fail_entry(v, e, face, " refers to vertex " + std::to_string(static_cast<int64_t>(d)) + " (only " +
+                                 num(info.vertices) + " vertices)");
+    return static_cast<uint32_t>(d);
+  }
+
+  template <class V>
+  [[gnu::always_inline]] uint64_t checked_face_size(const V& v, const Element& e, uint64_t n) const {
+    if (n < 3) [[unlikely]]
+      fail_entry(v, e, face, " has " + num(n) + " vertex indices (a face needs at least 3)");
+    return n;
+  }
+
   template <class V>
   uint64_t list_length(V& v, const Element& e, uint64_t i, const Property& p) {
-    double n = v.scalar(p.count_type);
-    if (n < 0) fail(v.where() + entry(e, i) + ": list '" + p.name + "' has negative length " + std::to_string(static_cast<int64_t>(n)));
-    return static_cast<uint64_t>(n);
+    return checked_length(v, e, i, p, v.scalar(p.count_type));
   }
 
   template <class V>
@@ -564,29 +614,56 @@ struct PlyMeshReader::Impl {
     }
   }
 
+  // Bytes per entry of an element of scalars, 0 if it has lists or records too large for the fast paths.
+  static size_t record_bytes(const Element& e) {
+    size_t bytes = 0;
+    for (const Property& p : e.props) {
+      if (p.is_list) return 0;
+      bytes += scalar_size(p.type);
+    }
+    return bytes <= 4096 ? bytes : 0;  // the source buffer holds at least 4096 bytes
+  }
+
   template <class V>
   void read_vertices(V& v) {
     const Element& e = header.elements[vertex_el];
     positions.resize(3 * e.count);  // bounded by the file size (check_counts)
+    if constexpr (V::kBinary) {
+      if (size_t record = record_bytes(e)) return read_vertex_records(v, e, record);
+    }
     float* out = positions.data();
     uint64_t i = 0;
     try {
       for (; i < e.count; ++i, out += 3) {
         for (size_t k = 0; k < e.props.size(); ++k) {
           const Property& p = e.props[k];
-          if (vertex_role[k] < 0) {
-            skip_property(v, e, i, p);
-            continue;
-          }
-          double d = v.scalar(p.type);
-          // Checked before the conversion: a double beyond the float range does not convert.
-          if (!(std::fabs(d) <= std::numeric_limits<float>::max()))
-            fail(v.where() + entry(e, i) + ": coordinate " + p.name + " = " + std::to_string(d) + " is not a finite float");
-          out[vertex_role[k]] = static_cast<float>(d);
+          if (vertex_role[k] < 0) skip_property(v, e, i, p);
+          else out[vertex_role[k]] = checked_coordinate(v, e, i, p, v.scalar(p.type));
         }
       }
     } catch (const EndOfData&) {
       truncated(e, i);
+    }
+  }
+
+  // Binary fast path: fixed-size vertex records decoded straight from the buffer, many at a time.
+  template <class V>
+  void read_vertex_records(const V& v, const Element& e, size_t record) {
+    size_t offset[3] = {};
+    const Property* prop[3] = {};
+    for (size_t k = 0, at = 0; k < e.props.size(); at += scalar_size(e.props[k].type), ++k) {
+      if (vertex_role[k] < 0) continue;
+      offset[vertex_role[k]] = at;
+      prop[vertex_role[k]] = &e.props[k];
+    }
+    float* out = positions.data();
+    for (uint64_t i = 0; i < e.count;) {
+      auto [begin, end] = src.window(record);
+      uint64_t n = std::min<uint64_t>(e.count - i, static_cast<uint64_t>(end - begin) / record);
+      if (n == 0) truncated(e, i);
+      for (const char* r = begin; r != begin + n * record; r += record, out += 3, ++i)
+        for (int a = 0; a < 3; ++a) out[a] = checked_coordinate(v, e, i, *prop[a], decode<V::kSwap>(r + offset[a], prop[a]->type));
+      src.advance(n * record);
     }
   }
 
@@ -601,23 +678,19 @@ struct PlyMeshReader::Impl {
     done = true;
   }
 
-  template <class V>
-  uint32_t read_index(V& v, const Element& e, const Property& p) {
-    double d = v.scalar(p.type);
-    uint64_t vertices = info.vertices;
-    if (!(d >= 0 && d < static_cast<double>(vertices)))
-      fail(v.where() + entry(e, face) + " refers to vertex " + std::to_string(static_cast<int64_t>(d)) + " (only " +
-           num(vertices) + " vertices)");
-    return static_cast<uint32_t>(d);
-  }
-
+  // Emits one triangle per call, reading whatever the face element's layout puts before it; a polygon's
+  // state survives between calls, so a batch may end inside a polygon.
   template <class V>
   void stream_faces(V& v, std::vector<uint32_t>& out, size_t max_triangles) {
     const Element& e = header.elements[face_el];
     const Property& ip = e.props[index_prop];
+    const bool only_indices = e.props.size() == 1;
     out.reserve(3 * std::min<uint64_t>({max_triangles, e.count - face + 1, uint64_t{1} << 20}));
     try {
       while (out.size() / 3 < max_triangles) {
+        if constexpr (V::kBinary) {
+          if (only_indices && poly_left == 0 && read_face_records(v, e, ip, out, max_triangles)) continue;
+        }
         if (poly_left == 0) {
           if (face == e.count) {
             ++next_el;
@@ -625,13 +698,11 @@ struct PlyMeshReader::Impl {
             return;
           }
           for (size_t k = 0; k < index_prop; ++k) skip_property(v, e, face, e.props[k]);
-          uint64_t n = list_length(v, e, face, ip);
-          if (n < 3) fail(v.where() + entry(e, face) + " has " + num(n) + " vertex indices (a face needs at least 3)");
-          poly_first = read_index(v, e, ip);
-          poly_prev = read_index(v, e, ip);
-          poly_left = n - 2;
+          poly_left = checked_face_size(v, e, list_length(v, e, face, ip)) - 2;
+          poly_first = checked_index(v, e, v.scalar(ip.type));
+          poly_prev = checked_index(v, e, v.scalar(ip.type));
         }
-        uint32_t cur = read_index(v, e, ip);
+        uint32_t cur = checked_index(v, e, v.scalar(ip.type));
         out.insert(out.end(), {poly_first, poly_prev, cur});
         poly_prev = cur;
         if (--poly_left == 0) {
@@ -642,6 +713,43 @@ struct PlyMeshReader::Impl {
     } catch (const EndOfData&) {
       truncated(e, face);
     }
+  }
+
+  // Binary fast path for faces that are just an index list: whole polygons decoded straight from the buffer
+  // while they fit in it and in the batch. False if not even one did (the generic step takes over).
+  template <class V>
+  bool read_face_records(const V& v, const Element& e, const Property& ip, std::vector<uint32_t>& out,
+                         size_t max_triangles) {
+    const size_t count_bytes = scalar_size(ip.count_type), index_bytes = scalar_size(ip.type);
+    auto [p, end] = src.window(count_bytes + 3 * index_bytes);
+    const char* begin = p;
+    // Room for every triangle the buffered bytes could hold (each needs at least one more index), written
+    // through a pointer and trimmed afterwards.
+    size_t old_size = out.size();
+    size_t room = std::min<size_t>(max_triangles - old_size / 3, static_cast<size_t>(end - p) / index_bytes);
+    out.resize(old_size + 3 * room);
+    uint32_t* t = out.data() + old_size;
+    const uint32_t* t_end = t + 3 * room;
+    while (face < e.count && static_cast<size_t>(end - p) >= count_bytes) {
+      uint64_t n = checked_length(v, e, face, ip, decode<V::kSwap>(p, ip.count_type));
+      if (static_cast<uint64_t>(end - p - count_bytes) / index_bytes < n) break;  // continues past the buffer
+      if (static_cast<uint64_t>(t_end - t) / 3 < checked_face_size(v, e, n) - 2) break;  // past the batch
+      const char* q = p + count_bytes;
+      uint32_t first = checked_index(v, e, decode<V::kSwap>(q, ip.type));
+      uint32_t prev = checked_index(v, e, decode<V::kSwap>(q + index_bytes, ip.type));
+      for (uint64_t k = 2; k < n; ++k, t += 3) {
+        uint32_t cur = checked_index(v, e, decode<V::kSwap>(q + k * index_bytes, ip.type));
+        t[0] = first;
+        t[1] = prev;
+        t[2] = cur;
+        prev = cur;
+      }
+      p = q + n * index_bytes;
+      ++face;
+    }
+    out.resize(static_cast<size_t>(t - out.data()));
+    src.advance(static_cast<size_t>(p - begin));
+    return p != begin;
   }
 };
 

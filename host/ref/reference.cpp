@@ -2,6 +2,9 @@
 
 #include "../../kernels/common/voxelize.h"
 
+#include <map>
+#include <utility>
+
 namespace mv::ref {
 
 uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis) {
@@ -32,6 +35,31 @@ std::vector<uint64_t> voxelize(const std::vector<float>& tris, uint32_t n) {
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;
+}
+
+DagCounts dag_counts(const std::vector<uint64_t>& voxels, uint32_t levels) {
+  DagCounts out;
+  out.svo.assign(levels + 1, 0);
+  out.dag.assign(levels + 1, 0);
+  out.svo[0] = out.dag[0] = voxels.size();
+  std::map<uint64_t, uint32_t> below;  // key -> DAG id, one level down (voxels: all 0)
+  for (uint64_t v : voxels) below[v] = 0;
+  for (uint32_t l = 1; l <= levels; ++l) {
+    using Node = std::pair<uint32_t, std::vector<uint32_t>>;  // (mask, child ids)
+    std::map<uint64_t, Node> nodes;
+    for (auto& [key, id] : below) {
+      Node& n = nodes[key >> 3];
+      n.first |= 1u << (key & 7);
+      if (l > 1) n.second.push_back(id);
+    }
+    std::map<Node, uint32_t> distinct;
+    std::map<uint64_t, uint32_t> ids;
+    for (auto& [key, node] : nodes) ids[key] = distinct.emplace(node, uint32_t(distinct.size())).first->second;
+    out.svo[l] = nodes.size();
+    out.dag[l] = distinct.size();
+    below = std::move(ids);
+  }
+  return out;
 }
 
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in) {

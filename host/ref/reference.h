@@ -16,6 +16,13 @@ uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis);
 // without the kernels' column walk.
 std::vector<uint64_t> voxelize(const std::vector<float>& grid_triangles, uint32_t resolution);
 
+// Node counts per level (index = level; level 0 = voxels) of the sparse octree of sorted unique voxel keys
+// in a 2^levels grid, and of its minimal DAG, from plain maps keyed by (mask, child ids).
+struct DagCounts {
+  std::vector<uint64_t> svo, dag;
+};
+DagCounts dag_counts(const std::vector<uint64_t>& voxels, uint32_t levels);
+
 // out[i] = sum of in[0..i), out[n] = total.
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in);
 

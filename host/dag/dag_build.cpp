@@ -1,0 +1,180 @@
+// Host side of SVO level building and DAG reduction (kernels: kernels/common/dag.h).
+#include "../../kernels/common/dag.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "../scan_plan.h"
+#include "megavox/dag.h"
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+
+namespace mv {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr uint32_t kLocal = 64;
+
+// The octree level l as the device holds it while building: node keys, child masks, first children.
+struct SvoLevel {
+  uint32_t n = 0;
+  Buffer keys, mask, first;
+};
+
+template <class T>
+std::vector<T> fetch(Device& dev, const Buffer& b, size_t n) {
+  std::vector<T> v(n);
+  dev.download(b, v.data(), n * sizeof(T));
+  return v;
+}
+
+// Parents of the sorted unique keys in `below`.
+SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
+  SvoLevel up;
+  Buffer pos = dev.alloc((uint64_t{n} + 1) * 4, "octree parent positions");
+  MvDagParams p{n, 0, 0, 0};
+  dev.dispatch(dev.kernel("svo_flags"), dev.groups_for(n, kLocal), kLocal, {&keys, &pos}, p);
+  dev.barrier();
+  ScanPlan scan = plan_scan(dev, n);
+  record_scan(dev, scan, pos, pos);
+  dev.download(pos, &up.n, 4, uint64_t{n} * 4);
+  up.keys = dev.alloc(uint64_t{up.n} * 8, "octree node keys");
+  up.mask = dev.alloc(uint64_t{up.n} * 4, "octree node masks");
+  up.first = dev.alloc(uint64_t{up.n} * 4, "octree first children");
+  dev.dispatch(dev.kernel("svo_parents"), dev.groups_for(n, kLocal), kLocal,
+               {&keys, &pos, &up.keys, &up.mask, &up.first}, p);
+  dev.barrier();
+  return up;
+}
+
+// Distinct subtrees of one level: id per node, and the representative node of each id.
+struct Reduced {
+  uint32_t distinct = 0;
+  Buffer id, rep;
+};
+
+Reduced reduce_level(Device& dev, const SvoLevel& lv, const Buffer& child_ids, bool leaf) {
+  const uint32_t n = lv.n;
+  Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
+  Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
+  Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
+  Buffer collided = dev.alloc(4, "hash collision flag");
+  Reduced r;
+  r.id = dev.alloc(uint64_t{n} * 4, "node ids");
+  const uint32_t groups = dev.groups_for(n, kLocal);
+  ScanPlan scan = plan_scan(dev, n);
+  for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
+    MvDagParams p{n, leaf ? 1u : 0u, seed, 0x6d766f78u};
+    dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &child_ids, &hashes, &order}, p);
+    dev.barrier();
+    radix_sort(dev, hashes, &order, n, KeyBits::k64);
+    dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&hashes, &run}, p);
+    dev.barrier();
+    record_scan(dev, scan, run, run);
+    dev.download(run, &r.distinct, 4, uint64_t{n} * 4);
+    r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
+    dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
+    dev.fill(collided, 0, 4);
+    dev.barrier();
+    dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &child_ids, &r.id, &r.rep, &collided},
+                 p);
+    uint32_t bad = 0;
+    dev.download(collided, &bad, 4);
+    if (!bad) return r;
+    if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
+  }
+}
+
+// The DAG level in id order, from the representatives' masks and their children's ids.
+DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Buffer& child_ids, uint32_t below,
+                  bool leaf) {
+  DagLevel out;
+  auto mask = fetch<uint32_t>(dev, lv.mask, lv.n);
+  auto rep = fetch<uint32_t>(dev, r.rep, r.distinct);
+  out.mask.resize(r.distinct);
+  for (uint32_t i = 0; i < r.distinct; ++i) out.mask[i] = mask[rep[i]];
+  if (leaf) return out;
+  auto first = fetch<uint32_t>(dev, lv.first, lv.n);
+  auto cid = fetch<uint32_t>(dev, child_ids, below);
+  out.first.resize(r.distinct);
+  for (uint32_t i = 0; i < r.distinct; ++i) {
+    out.first[i] = static_cast<uint32_t>(out.children.size());
+    uint32_t f = first[rep[i]];
+    for (int c = 0, k = 0; c < 8; ++c)
+      if (out.mask[i] >> c & 1) out.children.push_back(cid[f + k++]);
+  }
+  return out;
+}
+
+}  // namespace
+
+Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
+  if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
+  if (voxels.size() > UINT32_MAX) throw Error("DAG build: more than 2^32-1 voxels in one build");
+  if (!voxels.empty() && voxels.back() >> (3 * levels))
+    throw Error("DAG build: a voxel key lies outside the 2^" + std::to_string(levels) + " grid");
+  Dag dag;
+  dag.levels = levels;
+  dag.voxels = voxels.size();
+  dag.svo_nodes.assign(levels + 1, 0);
+  dag.level.resize(levels + 1);
+  dag.svo_nodes[0] = voxels.size();
+  if (voxels.empty()) return dag;
+
+  auto t0 = Clock::now();
+  std::vector<SvoLevel> svo(levels + 1);
+  svo[0].n = static_cast<uint32_t>(voxels.size());
+  svo[0].keys = dev.alloc(voxels.size() * 8, "voxel keys");
+  dev.upload(svo[0].keys, voxels.data(), voxels.size() * 8);
+  for (uint32_t l = 1; l <= levels; ++l) {
+    svo[l] = build_parents(dev, svo[l - 1].keys, svo[l - 1].n);
+    svo[l - 1].keys = Buffer();  // keys are only needed to find parents
+    dag.svo_nodes[l] = svo[l].n;
+  }
+  dev.finish();
+  auto t1 = Clock::now();
+
+  Reduced below;
+  for (uint32_t l = 1; l <= levels; ++l) {
+    const bool leaf = l == 1;
+    Reduced r = reduce_level(dev, svo[l], below.id, leaf);
+    dag.level[l] = assemble(dev, svo[l], r, below.id, svo[l - 1].n, leaf);
+    below = std::move(r);
+    svo[l - 1] = SvoLevel();
+  }
+  dev.finish();
+  if (times) {
+    times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
+    times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  }
+  return dag;
+}
+
+std::vector<uint64_t> decode_voxels(const Dag& dag) {
+  std::vector<uint64_t> out;
+  if (dag.levels == 0 || dag.level[dag.levels].mask.empty()) return out;
+  // Depth-first from the root; the key prefix grows by one octant per level.
+  struct Item {
+    uint32_t level, node;
+    uint64_t prefix;
+  };
+  std::vector<Item> stack{{dag.levels, 0, 0}};
+  while (!stack.empty()) {
+    Item it = stack.back();
+    stack.pop_back();
+    const DagLevel& lv = dag.level[it.level];
+    uint32_t m = lv.mask[it.node];
+    for (int c = 7, k = __builtin_popcount(m) - 1; c >= 0; --c) {
+      if (!(m >> c & 1)) continue;
+      uint64_t key = it.prefix << 3 | uint64_t(c);
+      if (it.level == 1) out.push_back(key);
+      else stack.push_back({it.level - 1, lv.children[lv.first[it.node] + k], key});
+      --k;
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace mv

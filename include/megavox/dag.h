@@ -1,0 +1,43 @@
+// megavox — sparse voxel octree levels and their reduction to a DAG of distinct subtrees.
+//
+// Levels count from the bottom (the convention of the public voxcom tools): level 0 = voxels, level 1 =
+// 2x2x2 masks, level 2 = 4x4x4 bricks, ..., level L = the root of a 2^L grid. Octants are Morton octants
+// (bit 0 = x, bit 1 = y, bit 2 = z); encoders convert to their format's order.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "megavox/device.h"
+
+namespace mv {
+
+// One level of a DAG, nodes in id order. Node i has child mask `mask[i]`; above level 1 its children's ids
+// (into the level below) are children[first[i] .. first[i] + popcount(mask[i])), in octant order.
+struct DagLevel {
+  std::vector<uint32_t> mask;
+  std::vector<uint32_t> first;
+  std::vector<uint32_t> children;
+};
+
+struct Dag {
+  uint32_t levels = 0;              // L
+  uint64_t voxels = 0;
+  std::vector<uint64_t> svo_nodes;  // index = level: nodes of the sparse octree (level 0 = voxels)
+  std::vector<DagLevel> level;      // index = level, 1..L (level[0] stays empty)
+  uint64_t nodes(uint32_t l) const { return level[l].mask.size(); }
+};
+
+struct DagBuildTimes {
+  double svo_seconds = 0;     // voxels -> SVO levels
+  double reduce_seconds = 0;  // SVO -> DAG
+};
+
+// Builds the octree levels of sorted, unique voxel keys (64-bit Morton codes of a 2^levels grid) and reduces
+// each level, bottom-up, to its distinct subtrees: the minimal DAG. Runs on the device; per-level results
+// come back to the host.
+Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
+
+// Every voxel a DAG holds, as sorted Morton keys.
+std::vector<uint64_t> decode_voxels(const Dag& dag);
+
+}  // namespace mv

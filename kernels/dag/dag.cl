@@ -1,0 +1,27 @@
+// OpenCL entry points of SVO level building and DAG reduction (bodies: common/dag.h).
+#include "common/dag.h"
+
+#define MV_ID MV_GLOBAL_ID(), MV_GLOBAL_SIZE()
+
+__kernel void svo_flags(__global ulong* keys, __global uint* flags, MvDagParams p) {
+  mv_svo_flags(keys, flags, p, MV_ID);
+}
+__kernel void svo_parents(__global ulong* keys, __global uint* pos, __global ulong* pkeys, __global uint* pmask,
+                          __global uint* pfirst, MvDagParams p) {
+  mv_svo_parents(keys, pos, pkeys, pmask, pfirst, p, MV_ID);
+}
+__kernel void dag_hash(__global uint* mask, __global uint* first, __global uint* cid, __global ulong* hashes,
+                       __global uint* order, MvDagParams p) {
+  mv_dag_hash(mask, first, cid, hashes, order, p, MV_ID);
+}
+__kernel void dag_runs(__global ulong* hashes, __global uint* flags, MvDagParams p) {
+  mv_dag_runs(hashes, flags, p, MV_ID);
+}
+__kernel void dag_assign(__global ulong* hashes, __global uint* order, __global uint* run, __global uint* id,
+                         __global uint* rep, MvDagParams p) {
+  mv_dag_assign(hashes, order, run, id, rep, p, MV_ID);
+}
+__kernel void dag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* id,
+                         __global uint* rep, __global uint* collided, MvDagParams p) {
+  mv_dag_verify(mask, first, cid, id, rep, collided, p, MV_ID);
+}

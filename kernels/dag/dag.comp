@@ -1,0 +1,38 @@
+// Vulkan entry points of SVO level building and DAG reduction, one module per -DMV_ENTRY_<name>
+// (bodies: common/dag.h).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common/mv_glsl_prelude.h"
+#include "common/dag.h"
+
+#define MV_ID MV_GLOBAL_ID(), MV_GLOBAL_SIZE()
+
+#if defined(MV_ENTRY_svo_flags)
+layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 flags; MvDagParams p; } a;
+void main() { mv_svo_flags(a.keys, a.flags, a.p, MV_ID); }
+#elif defined(MV_ENTRY_svo_parents)
+layout(push_constant) uniform Args {
+  MvBufU64 keys; MvBufU32 pos; MvBufU64 pkeys; MvBufU32 pmask; MvBufU32 pfirst; MvDagParams p;
+} a;
+void main() { mv_svo_parents(a.keys, a.pos, a.pkeys, a.pmask, a.pfirst, a.p, MV_ID); }
+#elif defined(MV_ENTRY_dag_hash)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU64 hashes; MvBufU32 order; MvDagParams p;
+} a;
+void main() { mv_dag_hash(a.mask, a.first, a.cid, a.hashes, a.order, a.p, MV_ID); }
+#elif defined(MV_ENTRY_dag_runs)
+layout(push_constant) uniform Args { MvBufU64 hashes; MvBufU32 flags; MvDagParams p; } a;
+void main() { mv_dag_runs(a.hashes, a.flags, a.p, MV_ID); }
+#elif defined(MV_ENTRY_dag_assign)
+layout(push_constant) uniform Args {
+  MvBufU64 hashes; MvBufU32 order; MvBufU32 run; MvBufU32 id; MvBufU32 rep; MvDagParams p;
+} a;
+void main() { mv_dag_assign(a.hashes, a.order, a.run, a.id, a.rep, a.p, MV_ID); }
+#elif defined(MV_ENTRY_dag_verify)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 id; MvBufU32 rep; MvBufU32 collided; MvDagParams p;
+} a;
+void main() { mv_dag_verify(a.mask, a.first, a.cid, a.id, a.rep, a.collided, a.p, MV_ID); }
+#else
+#error "define one MV_ENTRY_<name>"
+#endif

@@ -1,0 +1,95 @@
+// SVO levels and DAG reduction on every device against the map-based reference; decoding gives the voxels.
+#include <algorithm>
+#include <random>
+
+#include "host/ref/reference.h"
+#include "megavox/dag.h"
+#include "megavox/voxelize.h"
+#include "megavox/error.h"
+#include "test_support.h"
+
+namespace mv::test {
+namespace {
+
+std::vector<uint64_t> sorted_unique(std::vector<uint64_t> k) {
+  std::sort(k.begin(), k.end());
+  k.erase(std::unique(k.begin(), k.end()), k.end());
+  return k;
+}
+
+// Voxel sets with little, some and much sharing.
+std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t levels) {
+  const uint32_t n = 1u << levels;
+  std::mt19937_64 rng(levels);
+  std::vector<std::pair<std::string, std::vector<uint64_t>>> sets;
+  std::vector<uint64_t> random, shell, tiled;
+  for (int i = 0; i < 3000; ++i) random.push_back(ref::morton3(rng() % n, rng() % n, rng() % n, 21));
+  const double c = n / 2.0, r = n * 0.4;
+  for (uint32_t x = 0; x < n; ++x)
+    for (uint32_t y = 0; y < n; ++y)
+      for (uint32_t z = 0; z < n; ++z) {
+        double d = std::sqrt((x + .5 - c) * (x + .5 - c) + (y + .5 - c) * (y + .5 - c) + (z + .5 - c) * (z + .5 - c));
+        if (std::abs(d - r) < 0.9) shell.push_back(ref::morton3(x, y, z, 21));
+        if (((x ^ y ^ z) & 3) == 0 && (x % 8) < 5) tiled.push_back(ref::morton3(x, y, z, 21));
+      }
+  sets.push_back({"random", sorted_unique(random)});
+  sets.push_back({"shell", sorted_unique(shell)});
+  sets.push_back({"tiled", sorted_unique(tiled)});
+  sets.push_back({"one voxel", {ref::morton3(n - 1, 0, n / 2, 21)}});
+  return sets;
+}
+
+class DagTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(DagTest, CountsMatchReferenceAndDecodeGivesTheVoxels) {
+  Device& dev = shared_device(GetParam());
+  for (uint32_t levels : {1u, 3u, 6u}) {
+    for (auto& [name, voxels] : voxel_sets(levels)) {
+      SCOPED_TRACE(name + ", levels " + std::to_string(levels));
+      Dag dag = build_svdag(dev, voxels, levels);
+      ref::DagCounts expect = ref::dag_counts(voxels, levels);
+      EXPECT_EQ(dag.svo_nodes, expect.svo);
+      for (uint32_t l = 1; l <= levels; ++l) {
+        EXPECT_EQ(dag.nodes(l), expect.dag[l]) << "level " << l;
+        EXPECT_LE(dag.nodes(l), dag.svo_nodes[l]) << "level " << l;
+      }
+      EXPECT_EQ(dag.nodes(levels), 1u);
+      EXPECT_TRUE(decode_voxels(dag) == voxels);
+    }
+  }
+}
+
+TEST_P(DagTest, EmptyInputGivesAnEmptyDag) {
+  Dag dag = build_svdag(shared_device(GetParam()), {}, 4);
+  EXPECT_EQ(dag.voxels, 0u);
+  EXPECT_TRUE(decode_voxels(dag).empty());
+}
+
+TEST_P(DagTest, VoxelizedMeshEndToEnd) {
+  Device& dev = shared_device(GetParam());
+  // An octahedron: 8 triangles, voxelized at 64^3, then reduced.
+  std::vector<float> pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+  std::vector<uint32_t> idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  Bounds b;
+  for (size_t i = 0; i < pos.size(); i += 3) b.extend(pos[i], pos[i + 1], pos[i + 2]);
+  GridTransform g = grid_for_bounds(b, 64);
+  std::vector<float> tris;
+  triangles_to_grid(g, pos, idx.data(), 8, tris);
+  Voxelizer v(dev, 64);
+  v.add(tris);
+  std::vector<uint64_t> voxels = v.take_keys();
+  ASSERT_GT(voxels.size(), 1000u);
+  Dag dag = build_svdag(dev, voxels, 6);
+  ref::DagCounts expect = ref::dag_counts(voxels, 6);
+  for (uint32_t l = 1; l <= 6; ++l) EXPECT_EQ(dag.nodes(l), expect.dag[l]) << "level " << l;
+  EXPECT_TRUE(decode_voxels(dag) == voxels);
+}
+
+TEST(DagBuild, RejectsKeysOutsideTheGrid) {
+  EXPECT_THROW(build_svdag(shared_device(all_devices().front()), {ref::morton3(8, 0, 0, 21)}, 3), Error);
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(DagTest);
+
+}  // namespace
+}  // namespace mv::test

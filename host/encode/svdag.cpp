@@ -1,0 +1,108 @@
+// The svdag encoding (layout in include/megavox/encode.h).
+#include <algorithm>
+#include <string>
+
+#include "megavox/encode.h"
+#include "megavox/error.h"
+
+namespace mv {
+
+uint32_t thesis_mask(uint32_t m) {
+  uint32_t out = 0;
+  for (uint32_t c = 0; c < 8; ++c)
+    if (m >> c & 1) out |= 1u << thesis_octant(c);
+  return out;
+}
+
+EncodedDag encode_svdag(const Dag& dag) {
+  EncodedDag enc;
+  enc.levels = dag.levels;
+  enc.level_offset.assign(dag.levels + 1, 0);
+  if (dag.levels == 0 || dag.voxels == 0) return enc;
+  // Word position of every node: levels root first, a node takes 1 + popcount words (leaves: 1).
+  std::vector<std::vector<uint64_t>> at(dag.levels + 1);
+  uint64_t words = 0;
+  for (uint32_t l = dag.levels; l >= 1; --l) {
+    enc.level_offset[l] = words;
+    const auto& masks = dag.level[l].mask;
+    at[l].resize(masks.size());
+    for (size_t i = 0; i < masks.size(); ++i) {
+      at[l][i] = words;
+      words += l == 1 ? 1 : 1 + __builtin_popcount(masks[i]);
+    }
+  }
+  if (words > UINT32_MAX) throw Error("svdag: " + std::to_string(words) + " words exceed 32-bit pointers");
+  enc.words.reserve(words);
+  for (uint32_t l = dag.levels; l >= 1; --l) {
+    const DagLevel& lv = dag.level[l];
+    for (size_t i = 0; i < lv.mask.size(); ++i) {
+      enc.words.push_back(thesis_mask(lv.mask[i]));
+      if (l == 1) continue;
+      uint32_t child_at[8] = {};  // by thesis octant
+      for (uint32_t c = 0, k = 0; c < 8; ++c)
+        if (lv.mask[i] >> c & 1) child_at[thesis_octant(c)] = static_cast<uint32_t>(at[l - 1][lv.children[lv.first[i] + k++]]);
+      uint32_t tm = thesis_mask(lv.mask[i]);
+      for (int t = 7; t >= 0; --t)
+        if (tm >> t & 1) enc.words.push_back(child_at[t]);
+    }
+  }
+  return enc;
+}
+
+void validate_svdag(const EncodedDag& enc) {
+  if (enc.words.empty()) return;
+  const uint32_t L = enc.levels;
+  auto fail = [](const std::string& why) { return Error("svdag: " + why); };
+  if (L == 0 || L > 21 || enc.level_offset.size() != L + 1) throw fail("bad level count");
+  if (enc.level_offset[L] != 0) throw fail("the root level must start at word 0");
+  // One linear walk per level, bottom-up: node sizes must tile the level, and every pointer must land on a
+  // node start one level down (so the graph is acyclic and complete without following any path).
+  std::vector<uint32_t> below, here;
+  for (uint32_t l = 1; l <= L; ++l) {
+    uint64_t begin = enc.level_offset[l];
+    uint64_t end = l == 1 ? enc.words.size() : enc.level_offset[l - 1];
+    if (begin > end || end > enc.words.size()) throw fail("level " + std::to_string(l) + " lies outside the stream");
+    here.clear();
+    for (uint64_t w = begin; w < end;) {
+      here.push_back(static_cast<uint32_t>(w));
+      uint32_t header = enc.words[w];
+      if (header == 0 || header > 0xff) throw fail("word " + std::to_string(w) + " is not a node header");
+      uint64_t next = w + (l == 1 ? 1 : 1 + __builtin_popcount(header));
+      if (next > end) throw fail("node at word " + std::to_string(w) + " runs past its level");
+      for (uint64_t q = w + 1; q < next; ++q)
+        if (!std::binary_search(below.begin(), below.end(), enc.words[q]))
+          throw fail("word " + std::to_string(q) + " points to " + std::to_string(enc.words[q]) +
+                     ", not a node of level " + std::to_string(l - 1));
+      w = next;
+    }
+    below.swap(here);
+  }
+  if (below.size() != 1) throw fail("the root level must hold exactly one node");
+}
+
+std::vector<uint64_t> decode_svdag(const EncodedDag& enc) {
+  validate_svdag(enc);
+  std::vector<uint64_t> out;
+  if (enc.words.empty()) return out;
+  struct Item {
+    uint32_t level, word;
+    uint64_t prefix;
+  };
+  std::vector<Item> stack{{enc.levels, 0, 0}};
+  while (!stack.empty()) {
+    Item it = stack.back();
+    stack.pop_back();
+    uint32_t tm = enc.words[it.word];
+    uint32_t ptr = it.word + 1;
+    for (int t = 7; t >= 0; --t) {
+      if (!(tm >> t & 1)) continue;
+      uint64_t key = it.prefix << 3 | thesis_octant(uint32_t(t));
+      if (it.level == 1) out.push_back(key);
+      else stack.push_back({it.level - 1, enc.words[ptr++], key});
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace mv

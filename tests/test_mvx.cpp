@@ -1,0 +1,173 @@
+// The svdag encoding and the .mvx container: round trips, and every kind of damage is a clear error.
+#include <xxhash.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "host/ref/reference.h"
+#include "megavox/error.h"
+#include "megavox/mvx.h"
+#include "test_support.h"
+
+namespace mv::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+Dag sample_dag(std::vector<uint64_t>* voxels_out = nullptr) {
+  std::mt19937_64 rng(9);
+  std::vector<uint64_t> v;
+  for (int i = 0; i < 2000; ++i) v.push_back(ref::morton3(rng() % 64, rng() % 64, (rng() % 8) * 8, 21));
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  if (voxels_out) *voxels_out = v;
+  return build_svdag(shared_device(all_devices().front()), v, 6);
+}
+
+MvxFile sample_file(std::vector<uint64_t>* voxels = nullptr) {
+  Dag dag = sample_dag(voxels);
+  MvxFile f;
+  f.grid.resolution = 64;
+  f.grid.voxel_size = 0.5;
+  f.grid.origin[0] = -3;
+  f.bounds.extend(-3, 0, 0);
+  f.bounds.extend(29, 10, 20);
+  f.voxels = dag.voxels;
+  f.svo_nodes = dag.svo_nodes;
+  f.dag_nodes.push_back(dag.voxels);
+  for (uint32_t l = 1; l <= dag.levels; ++l) f.dag_nodes.push_back(dag.nodes(l));
+  f.dag = encode_svdag(dag);
+  return f;
+}
+
+std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("megavox_test_" + name)).string(); }
+
+std::vector<char> read_all(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_all(const std::string& p, const std::vector<char>& bytes) {
+  std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+TEST(Svdag, EncodesAndDecodesExactly) {
+  std::vector<uint64_t> voxels;
+  Dag dag = sample_dag(&voxels);
+  EncodedDag enc = encode_svdag(dag);
+  uint64_t expect_words = dag.nodes(1);
+  for (uint32_t l = 2; l <= dag.levels; ++l) expect_words += dag.nodes(l) + dag.level[l].children.size();
+  EXPECT_EQ(enc.words.size(), expect_words);
+  EXPECT_TRUE(decode_svdag(enc) == voxels);
+  EXPECT_EQ(thesis_octant(1), 4u);  // Morton x bit -> thesis octant 4x + 2y + z
+  EXPECT_EQ(thesis_octant(4), 1u);
+  EXPECT_EQ(thesis_octant(2), 2u);
+}
+
+TEST(Svdag, RejectsBadPointersAndHeaders) {
+  EncodedDag enc = encode_svdag(sample_dag());
+  EncodedDag bad = enc;
+  bad.words[1] = bad.words[1] + 1;  // the root's first pointer: no longer a node start
+  EXPECT_THROW(validate_svdag(bad), Error);
+  bad = enc;
+  bad.words[1] = 0;  // points back at the root: a cycle
+  EXPECT_THROW(validate_svdag(bad), Error);
+  bad = enc;
+  bad.words[0] = 0;  // empty header
+  EXPECT_THROW(validate_svdag(bad), Error);
+  bad = enc;
+  bad.words.pop_back();  // a leaf missing
+  EXPECT_THROW(validate_svdag(bad), Error);
+}
+
+TEST(Mvx, RoundTrip) {
+  std::vector<uint64_t> voxels;
+  MvxFile f = sample_file(&voxels);
+  const std::string p = temp_path("roundtrip.mvx");
+  write_mvx(p, f);
+  EXPECT_FALSE(fs::exists(p + ".tmp"));
+  EXPECT_EQ(fs::file_size(p) % 4096, 0u);
+  MvxFile g = read_mvx(p);
+  EXPECT_EQ(g.voxels, f.voxels);
+  EXPECT_EQ(g.svo_nodes, f.svo_nodes);
+  EXPECT_EQ(g.dag_nodes, f.dag_nodes);
+  EXPECT_EQ(g.grid.resolution, 64u);
+  EXPECT_EQ(g.grid.voxel_size, 0.5);
+  EXPECT_EQ(g.bounds.hi[2], 20);
+  EXPECT_TRUE(decode_svdag(g.dag) == voxels);
+  fs::remove(p);
+}
+
+TEST(Mvx, DamageIsAClearError) {
+  MvxFile f = sample_file();
+  const std::string p = temp_path("damage.mvx");
+  write_mvx(p, f);
+  const std::vector<char> good = read_all(p);
+  const std::string q = temp_path("damaged.mvx");
+  auto expect_error = [&](const std::vector<char>& bytes, const std::string& words) {
+    write_all(q, bytes);
+    try {
+      read_mvx(q);
+      ADD_FAILURE() << "no error for damage expected to say '" << words << "'";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  std::vector<char> b = good;
+  b[0] = 'X';
+  expect_error(b, "bad magic");
+  expect_error(std::vector<char>(good.begin(), good.begin() + 100), "truncated");
+  expect_error(std::vector<char>(good.begin(), good.end() - 4096), "truncated");
+  b = good;
+  b[40] ^= 1;  // inside the header
+  expect_error(b, "header checksum");
+  b = good;
+  b[4096 + 3] ^= 1;  // inside the counts section
+  expect_error(b, "checksum mismatch in the counts section");
+  b = good;
+  b[b.size() - 4096 - 1] ^= 0;  // padding is not checked; a flip in the nodes is:
+  b[3 * 4096 + 4] ^= 0x10;
+  expect_error(b, "checksum mismatch in the nodes section");
+  // Every single-byte flip of the header page fails cleanly or is harmless padding.
+  for (size_t i = 0; i < 4096; i += 7) {
+    b = good;
+    b[i] ^= 0x5a;
+    write_all(q, b);
+    try {
+      read_mvx(q);
+    } catch (const Error&) {
+    }
+  }
+  // Every truncation is an error.
+  for (size_t n = 0; n < good.size(); n += 997) {
+    write_all(q, std::vector<char>(good.begin(), good.begin() + n));
+    EXPECT_THROW(read_mvx(q), Error) << "truncated to " << n;
+  }
+  EXPECT_THROW(read_mvx(temp_path("no_such_file.mvx")), Error);
+  fs::remove(p);
+  fs::remove(q);
+}
+
+TEST(Mvx, ValidChecksumsButBadPointersAreCaught) {
+  MvxFile f = sample_file();
+  f.dag.words[1] = 0;  // a cycle, written with correct checksums
+  const std::string p = temp_path("cycle.mvx");
+  write_mvx(p, f);
+  try {
+    read_mvx(p);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("points to"), std::string::npos) << e.what();
+  }
+  fs::remove(p);
+}
+
+TEST(Mvx, UnwritablePathIsAnErrorAndLeavesNothing) {
+  EXPECT_THROW(write_mvx("/nonexistent-dir/x.mvx", sample_file()), Error);
+  EXPECT_FALSE(fs::exists("/nonexistent-dir/x.mvx.tmp"));
+}
+
+}  // namespace
+}  // namespace mv::test

@@ -25,5 +25,7 @@ inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
 
 void add_devices_command(CLI::App& app, const GlobalOptions& g);
 void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g);
+void add_build_command(CLI::App& app, const GlobalOptions& g);
+void add_info_command(CLI::App& app);
 
 }  // namespace mv::cli

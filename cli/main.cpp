@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
       "on any OpenCL or Vulkan compute device, CPU or GPU.\n\n"
       "Examples:\n"
       "  megavox devices                       list the compute devices megavox can use\n"
+      "  megavox build bunny.ply --resolution 4K -o bunny.mvx   voxelize a mesh into a voxel DAG\n"
+      "  megavox info bunny.mvx                validate a .mvx file and print what it holds\n"
       "  megavox bench sort --n 16M            radix-sort 16M (key, value) pairs and compare with std::sort\n"
       "  megavox --device vk:0 bench sort      the same on the first Vulkan device\n"
       "  MEGAVOX_DEVICE=pocl megavox devices   pick a device by (part of) its name\n",
@@ -31,6 +33,8 @@ int main(int argc, char** argv) {
   app.add_flag("--profile", g.profile, "Time every kernel on the device and print the totals");
 
   mv::cli::add_devices_command(app, g);
+  mv::cli::add_build_command(app, g);
+  mv::cli::add_info_command(app);
   CLI::App* bench = app.add_subcommand("bench", "Measure megavox against the tools a user would pick instead");
   bench->require_subcommand(1);
   mv::cli::add_bench_sort_command(*bench, g);

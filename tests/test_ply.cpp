@@ -2,6 +2,9 @@
 // and the staged real meshes (when the shared data directory is present).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -114,6 +117,7 @@ struct MeshSpec {
   // Colours and a normal between the coordinates, a face property on each side of the index list, and
   // skipped elements with list properties before the vertices, between vertices and faces, and after faces.
   bool extras = false;
+  bool vertex_list = false;  // a list property in the vertex element (not a fixed-size record)
   bool with_faces = true;
 };
 
@@ -142,12 +146,18 @@ std::string make_ply(const MeshSpec& m, Fmt f) {
   h += m.extras ? "property " + c + " x\nproperty uchar red\nproperty " + c + " y\nproperty uchar green\nproperty " + c +
                       " z\nproperty uchar blue\nproperty float nx\n"
                 : "property " + c + " x\nproperty " + c + " y\nproperty " + c + " z\n";
+  if (m.vertex_list) h += "property list ushort uint neighbours\n";
   for (const auto& v : m.vertices) {
     for (int k = 0; k < 3; ++k) {
       w.put(c, v[k]);
       if (m.extras) w.put("uchar", 200 + k);
     }
     if (m.extras) w.put("float", -1.5);
+    if (m.vertex_list) {
+      w.put("ushort", 2);
+      w.put("uint", 1);
+      w.put("uint", 2);
+    }
     w.end_entry();
   }
   if (m.extras) {
@@ -265,6 +275,7 @@ TEST(Ply, RoundTripDoublesExtraPropertiesAndElements) {
       SCOPED_TRACE(std::string(fmt_name(f)) + " " + coord);
       MeshSpec m = small_mesh();
       m.extras = true;
+      m.vertex_list = coord[0] == 'i' || coord[0] == 'd';  // half the cases leave the binary fast path
       m.coord_type = coord;
       if (m.coord_type == "double" || m.coord_type == "float64") m.vertices[4] = {0.1, -1e-30, 123456.789};
       else m.vertices[4] = {2, -1, -3};  // integers only
@@ -311,30 +322,53 @@ TEST(Ply, EmptyFaceElement) {
   expect_mesh(read_all(write_file("noface.ply", make_ply(m, Fmt::ascii))), m);
 }
 
+// Batches of 1, 2 and 1000 triangles, on the generic face walker (extras) and the binary fast path.
 TEST(Ply, Batching) {
-  MeshSpec m = small_mesh();
-  m.extras = true;
-  m.faces.push_back({4, 3, 2, 1, 0});  // 3 triangles: split across batches of 1 and 2
-  const std::vector<uint32_t> want = fan(m.faces);
   for (Fmt f : kAllFormats) {
-    std::string path = write_file("batch.ply", make_ply(m, f));
-    for (size_t batch : {1, 2, 1000}) {
-      SCOPED_TRACE(std::string(fmt_name(f)) + " batch " + std::to_string(batch));
-      PlyMeshReader r(path);
-      std::vector<uint32_t> all, part;
-      size_t calls = 0;
-      while (r.next_triangles(part, batch)) {
-        ++calls;
-        ASSERT_LE(part.size(), 3 * batch);
-        if (all.size() + part.size() < want.size()) {
-          EXPECT_EQ(part.size(), 3 * batch);  // only the last batch may be short
+    for (bool extras : {false, true}) {
+      MeshSpec m = small_mesh();
+      m.extras = extras;
+      m.faces.push_back({4, 3, 2, 1, 0});  // 3 triangles: split across batches of 2
+      m.faces.push_back({0, 1, 2});
+      const std::vector<uint32_t> want = fan(m.faces);
+      std::string path = write_file("batch.ply", make_ply(m, f));
+      for (size_t batch : {1, 2, 1000}) {
+        SCOPED_TRACE(std::string(fmt_name(f)) + (extras ? " extras" : "") + " batch " + std::to_string(batch));
+        PlyMeshReader r(path);
+        std::vector<uint32_t> all, part;
+        size_t calls = 0;
+        while (r.next_triangles(part, batch)) {
+          ++calls;
+          ASSERT_LE(part.size(), 3 * batch);
+          if (all.size() + part.size() < want.size()) {
+            EXPECT_EQ(part.size(), 3 * batch);  // only the last batch may be short
+          }
+          all.insert(all.end(), part.begin(), part.end());
         }
-        all.insert(all.end(), part.begin(), part.end());
+        EXPECT_EQ(all, want);
+        EXPECT_EQ(calls, (want.size() / 3 + batch - 1) / batch);
+        EXPECT_FALSE(r.next_triangles(part, batch));  // stays at the end
+        EXPECT_TRUE(part.empty());
       }
-      EXPECT_EQ(all, want);
-      EXPECT_EQ(calls, (want.size() / 3 + batch - 1) / batch);
-      EXPECT_FALSE(r.next_triangles(part, batch));  // stays at the end
-      EXPECT_TRUE(part.empty());
+    }
+  }
+}
+
+// A file larger than the reader's 1 MiB buffer: records and polygons straddle refills.
+TEST(Ply, LargerThanTheBuffer) {
+  MeshSpec m;
+  for (int i = 0; i < 40000; ++i) m.vertices.push_back({i * 0.5, -i * 0.25, static_cast<double>(i % 7)});
+  for (int i = 0; i < 70000; ++i) {
+    std::vector<double> face;
+    for (int k = 0; k < 3 + i % 4; ++k) face.push_back((i * 31 + k * 977) % 40000);
+    m.faces.push_back(face);
+  }
+  for (Fmt f : {Fmt::le, Fmt::be}) {
+    std::string path = write_file("large.ply", make_ply(m, f));
+    ASSERT_GT(fs::file_size(path), 1u << 20);
+    for (size_t batch : {7, 100000}) {
+      SCOPED_TRACE(std::string(fmt_name(f)) + " batch " + std::to_string(batch));
+      expect_mesh(read_all(path, batch), m);
     }
   }
 }

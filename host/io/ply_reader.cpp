@@ -96,28 +96,24 @@ struct EndOfData {};
 // Reads the file in large blocks and hands out small contiguous pieces of it.
 class Source {
  public:
-  explicit Source(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb")) {
+  explicit Source(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
     if (!file_) throw Error("cannot open '" + path + "': " + std::strerror(errno));
     std::error_code ec;
     // The size bounds every count in the header; a pipe or directory has none.
     if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": not a regular file");
     size_ = std::filesystem::file_size(path, ec);
     if (ec) throw Error(path + ": cannot read its size: " + ec.message());
-    std::setvbuf(file_, nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
+    std::setvbuf(file_.get(), nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
     capacity_ = std::clamp<uint64_t>(size_, 4096, kBufferBytes);
     buffer_ = std::make_unique_for_overwrite<char[]>(capacity_);
     pos_ = end_ = buffer_.get();
   }
-  ~Source() { std::fclose(file_); }
-  Source(const Source&) = delete;
-  Source& operator=(const Source&) = delete;
-
   const std::string& path() const { return path_; }
   uint64_t size() const { return size_; }
   uint64_t consumed() const { return read_ - static_cast<uint64_t>(end_ - pos_); }
   uint64_t line() const { return line_; }  // ascii: the line being read, 1-based
 
-  // The next n bytes, contiguous (n <= kMaxToken).
+  // The next n bytes, contiguous (n <= 8: one binary value).
   const char* take(size_t n) {
     if (static_cast<size_t>(end_ - pos_) < n && !fill(n)) throw EndOfData{};
     const char* p = pos_;
@@ -182,9 +178,9 @@ class Source {
     pos_ = buffer_.get();
     end_ = pos_ + have;
     while (have < n) {
-      size_t got = std::fread(end_, 1, capacity_ - have, file_);
+      size_t got = std::fread(end_, 1, capacity_ - have, file_.get());
       if (got == 0) {
-        if (std::ferror(file_)) throw Error(path_ + ": read error: " + std::strerror(errno));
+        if (std::ferror(file_.get())) throw Error(path_ + ": read error: " + std::strerror(errno));
         return false;
       }
       end_ += got;
@@ -195,7 +191,7 @@ class Source {
   }
 
   std::string path_;
-  std::FILE* file_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   uint64_t size_ = 0;
   size_t capacity_ = 0;
   std::unique_ptr<char[]> buffer_;
@@ -206,7 +202,8 @@ class Source {
 };
 
 // ---------------------------------------------------------------------------------------------------
-// Values: one scalar at a time, the only part that differs between the three formats
+// Values: reading one scalar, all the generic element walkers need to know of the format. (The binary fast
+// paths in the reader decode whole records from the buffer instead.)
 
 template <class T, bool Swap>
 T load(const char* p) {
@@ -723,31 +720,23 @@ struct PlyMeshReader::Impl {
     const size_t count_bytes = scalar_size(ip.count_type), index_bytes = scalar_size(ip.type);
     auto [p, end] = src.window(count_bytes + 3 * index_bytes);
     const char* begin = p;
-    // Room for every triangle the buffered bytes could hold (each needs at least one more index), written
-    // through a pointer and trimmed afterwards.
-    size_t old_size = out.size();
-    size_t room = std::min<size_t>(max_triangles - old_size / 3, static_cast<size_t>(end - p) / index_bytes);
-    out.resize(old_size + 3 * room);
-    uint32_t* t = out.data() + old_size;
-    const uint32_t* t_end = t + 3 * room;
     while (face < e.count && static_cast<size_t>(end - p) >= count_bytes) {
       uint64_t n = checked_length(v, e, face, ip, decode<V::kSwap>(p, ip.count_type));
       if (static_cast<uint64_t>(end - p - count_bytes) / index_bytes < n) break;  // continues past the buffer
-      if (static_cast<uint64_t>(t_end - t) / 3 < checked_face_size(v, e, n) - 2) break;  // past the batch
+      if (max_triangles - out.size() / 3 < checked_face_size(v, e, n) - 2) break;  // continues past the batch
       const char* q = p + count_bytes;
       uint32_t first = checked_index(v, e, decode<V::kSwap>(q, ip.type));
       uint32_t prev = checked_index(v, e, decode<V::kSwap>(q + index_bytes, ip.type));
-      for (uint64_t k = 2; k < n; ++k, t += 3) {
+      for (uint64_t k = 2; k < n; ++k) {
         uint32_t cur = checked_index(v, e, decode<V::kSwap>(q + k * index_bytes, ip.type));
-        t[0] = first;
-        t[1] = prev;
-        t[2] = cur;
+        out.push_back(first);
+        out.push_back(prev);
+        out.push_back(cur);
         prev = cur;
       }
       p = q + n * index_bytes;
       ++face;
     }
-    out.resize(static_cast<size_t>(t - out.data()));
     src.advance(static_cast<size_t>(p - begin));
     return p != begin;
   }

@@ -3,7 +3,8 @@
 // Vertices are read on construction and held in RAM (12 bytes per vertex); faces are streamed in batches
 // with next_triangles(), so a mesh whose face list does not fit in RAM can still be processed.
 // Every fault -- missing file, malformed header, truncated data, bad index, non-finite coordinate, a
-// count larger than the file could hold -- throws mv::Error naming the file and the fault.
+// count larger than the file could hold -- throws mv::Error naming the file and the fault. After an error
+// from next_triangles the reader is spent: open the file again to retry.
 //
 // Accepted input:
 // - one `vertex` element with scalar x, y, z of any type (converted to float); other properties skipped;

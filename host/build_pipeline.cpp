@@ -1,0 +1,114 @@
+// The main job, stage by stage: read -> voxelize -> octree -> DAG -> encode -> write.
+#include <chrono>
+#include <cmath>
+
+#include "io/ply_reader.h"
+#include "megavox/build.h"
+#include "megavox/dag.h"
+#include "megavox/encode.h"
+#include "megavox/error.h"
+#include "megavox/mvx.h"
+#include "megavox/voxelize.h"
+
+namespace mv {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+constexpr size_t kBatchTriangles = 1u << 20;
+}  // namespace
+
+uint32_t parse_resolution(const std::string& text) {
+  uint64_t n = 0;
+  try {
+    n = parse_size(text);
+  } catch (const Error&) {
+    throw Error("--resolution '" + text + "' is not a number of voxels per axis (examples: 1024, 2K, 16K)");
+  }
+  if (n < 2 || n > (1u << 21) || (n & (n - 1)))
+    throw Error("--resolution " + text + " must be a power of two from 2 to 2M voxels per axis");
+  return static_cast<uint32_t>(n);
+}
+
+BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
+  if (o.format != "svdag")
+    throw Error("--format " + o.format + ": this build writes svdag only so far (svo, ussvdag and ssvdag are "
+                "not implemented yet)");
+  BuildReport r;
+  r.input = o.input;
+  r.output = o.output;
+  r.format = o.format;
+  r.resolution = o.resolution;
+  const uint32_t levels = static_cast<uint32_t>(std::log2(double(o.resolution)) + 0.5);
+  auto report = [&](const std::string& stage, double f) {
+    if (progress) progress(stage, f);
+  };
+  auto t = Clock::now();
+  auto lap = [&](const std::string& stage) {
+    auto now = Clock::now();
+    r.seconds.push_back({stage, std::chrono::duration<double>(now - t).count()});
+    t = now;
+  };
+
+  // Bounds of the vertices the faces use (scans carry unreferenced vertices), then the grid.
+  report("read", 0);
+  Bounds bounds;
+  std::vector<uint32_t> idx;
+  {
+    io::PlyMeshReader mesh(o.input);
+    const auto& pos = mesh.positions();
+    std::vector<bool> used(pos.size() / 3, false);
+    while (mesh.next_triangles(idx, kBatchTriangles))
+      for (uint32_t v : idx) used[v] = true;
+    for (size_t v = 0; v < used.size(); ++v)
+      if (used[v]) bounds.extend(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]);
+  }
+  if (bounds.empty()) throw Error(o.input + ": the mesh has no triangles");
+  GridTransform grid = grid_for_bounds(bounds, o.resolution);
+  lap("read");
+
+  io::PlyMeshReader mesh(o.input);
+  Voxelizer vox(dev, o.resolution);
+  std::vector<float> tris;
+  const double faces = std::max<double>(1, double(mesh.info().faces));
+  while (mesh.next_triangles(idx, kBatchTriangles)) {
+    tris.clear();
+    triangles_to_grid(grid, mesh.positions(), idx.data(), idx.size() / 3, tris);
+    vox.add(tris);
+    report("voxelize", std::min(1.0, double(vox.triangles()) / faces));
+  }
+  std::vector<uint64_t> voxels = vox.take_keys();
+  r.triangles = vox.triangles();
+  r.voxels = voxels.size();
+  lap("voxelize");
+
+  report("dag", 0);
+  DagBuildTimes times;
+  Dag dag = build_svdag(dev, voxels, levels, &times);
+  voxels = {};
+  r.seconds.push_back({"svo", times.svo_seconds});
+  r.seconds.push_back({"svdag", times.reduce_seconds});
+  t = Clock::now();
+
+  report("encode", 0);
+  MvxFile file;
+  file.grid = grid;
+  file.bounds = bounds;
+  file.voxels = dag.voxels;
+  file.svo_nodes = dag.svo_nodes;
+  file.dag_nodes.push_back(dag.voxels);
+  for (uint32_t l = 1; l <= levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
+  file.dag = encode_svdag(dag);
+  lap("encode");
+  report("write", 0);
+  write_mvx(o.output, file);
+  lap("write");
+
+  r.svo_nodes = file.svo_nodes;
+  r.nodes_per_level = file.dag_nodes;
+  for (uint32_t l = 2; l <= levels; ++l) r.nodes_total += file.dag_nodes[l];
+  r.bytes = file.dag.words.size() * 4;
+  r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
+  return r;
+}
+
+}  // namespace mv

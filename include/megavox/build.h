@@ -1,0 +1,44 @@
+// megavox — the main job: a mesh on disk to an encoded voxel DAG in a .mvx file.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "megavox/device.h"
+
+namespace mv {
+
+struct BuildOptions {
+  std::string input;         // a PLY mesh (binary or ASCII)
+  std::string output;        // the .mvx to write
+  uint32_t resolution = 0;   // voxels per axis, a power of two
+  std::string format = "svdag";
+};
+
+struct BuildReport {
+  std::string input, output, format;
+  uint32_t resolution = 0;
+  uint64_t triangles = 0;
+  uint64_t voxels = 0;
+  std::vector<uint64_t> svo_nodes;       // index = level (0 = voxels, 1 = 2^3 masks, 2 = 4^3 bricks, ...)
+  std::vector<uint64_t> nodes_per_level; // the DAG's, same indexing
+  uint64_t nodes_total = 0;              // DAG nodes over levels >= 2 (bricks counted as nodes)
+  uint64_t bytes = 0;                    // the encoded DAG
+  double bits_per_voxel = 0;
+  struct Stage {
+    std::string name;
+    double seconds;
+  };
+  std::vector<Stage> seconds;  // per stage, in order
+};
+
+// Called with a stage name and the fraction done (0..1), from the calling thread.
+using Progress = std::function<void(const std::string& stage, double fraction)>;
+
+BuildReport build_mvx(Device& dev, const BuildOptions& options, const Progress& progress = {});
+
+// "16K" -> 16384, "2048" -> 2048; throws mv::Error unless a power of two in [2, 2^21].
+uint32_t parse_resolution(const std::string& text);
+
+}  // namespace mv

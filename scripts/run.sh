@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# Sets up, builds and runs megavox's main job on its built-in default: list the compute devices, then
-# benchmark the radix sort that every later stage builds on against std::sort and a parallel CPU sort.
+# Sets up, builds and runs megavox's main job on its default input, the Stanford bunny (npm package `bunny`):
+# list the compute devices, voxelize the bunny at 2K^3 and reduce it to a voxel DAG (.mvx), check the file,
+# then benchmark the radix sort every stage builds on against std::sort and a parallel CPU sort.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh --bench
 scripts/build.sh
+scripts/bunny.sh
 build/megavox devices
+build/megavox build build/bunny.ply --resolution 2K --format svdag -o build/bunny.mvx
+build/megavox info build/bunny.mvx
 build/megavox bench sort --n 16M

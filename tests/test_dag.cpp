@@ -59,6 +59,45 @@ TEST_P(DagTest, CountsMatchReferenceAndDecodeGivesTheVoxels) {
   }
 }
 
+TEST_P(DagTest, SymmetricCountsMatchReferenceAndDecodeGivesTheVoxels) {
+  Device& dev = shared_device(GetParam());
+  for (uint32_t levels : {1u, 3u, 6u}) {
+    for (auto& [name, voxels] : voxel_sets(levels)) {
+      SCOPED_TRACE(name + ", levels " + std::to_string(levels));
+      Dag plain = build_svdag(dev, voxels, levels);
+      Dag sym = build_ssvdag(dev, voxels, levels);
+      ref::DagCounts expect = ref::ssvdag_counts(voxels, levels);
+      EXPECT_EQ(sym.svo_nodes, expect.svo);
+      for (uint32_t l = 1; l <= levels; ++l) {
+        EXPECT_EQ(sym.nodes(l), expect.dag[l]) << "level " << l;
+        EXPECT_LE(sym.nodes(l), plain.nodes(l)) << "level " << l;
+      }
+      EXPECT_TRUE(decode_voxels(sym) == voxels);
+    }
+  }
+}
+
+// The notes' synthetic case: two voxels mirrored across the grid's centre plane x = N/2. The SVDAG needs two
+// nodes per level below the root (2L - 1), the SSVDAG one (L).
+TEST_P(DagTest, TwoMirroredVoxels) {
+  Device& dev = shared_device(GetParam());
+  for (uint32_t levels : {2u, 5u, 9u}) {
+    const uint32_t n = 1u << levels;
+    std::vector<uint64_t> voxels = {ref::morton3(0, 3 % n, 1 % n, 21), ref::morton3(n - 1, 3 % n, 1 % n, 21)};
+    std::sort(voxels.begin(), voxels.end());
+    Dag plain = build_svdag(dev, voxels, levels);
+    Dag sym = build_ssvdag(dev, voxels, levels);
+    uint64_t plain_nodes = 0, sym_nodes = 0;
+    for (uint32_t l = 1; l <= levels; ++l) {
+      plain_nodes += plain.nodes(l);
+      sym_nodes += sym.nodes(l);
+    }
+    EXPECT_EQ(plain_nodes, 2 * levels - 1) << "levels " << levels;
+    EXPECT_EQ(sym_nodes, levels) << "levels " << levels;
+    EXPECT_TRUE(decode_voxels(sym) == voxels);
+  }
+}
+
 TEST_P(DagTest, EmptyInputGivesAnEmptyDag) {
   Dag dag = build_svdag(shared_device(GetParam()), {}, 4);
   EXPECT_EQ(dag.voxels, 0u);
@@ -83,6 +122,11 @@ TEST_P(DagTest, VoxelizedMeshEndToEnd) {
   ref::DagCounts expect = ref::dag_counts(voxels, 6);
   for (uint32_t l = 1; l <= 6; ++l) EXPECT_EQ(dag.nodes(l), expect.dag[l]) << "level " << l;
   EXPECT_TRUE(decode_voxels(dag) == voxels);
+  Dag sym = build_ssvdag(dev, voxels, 6);
+  ref::DagCounts sym_expect = ref::ssvdag_counts(voxels, 6);
+  for (uint32_t l = 1; l <= 6; ++l) EXPECT_EQ(sym.nodes(l), sym_expect.dag[l]) << "level " << l;
+  EXPECT_LT(sym.nodes(2), dag.nodes(2));  // the octahedron is symmetric: the SSVDAG must find it
+  EXPECT_TRUE(decode_voxels(sym) == voxels);
 }
 
 TEST(DagBuild, RejectsKeysOutsideTheGrid) {

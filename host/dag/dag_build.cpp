@@ -1,5 +1,5 @@
 // Host side of SVO level building and DAG reduction (kernels: kernels/common/dag.h).
-#include "../../kernels/common/dag.h"
+#include "../../kernels/common/ssvdag.h"
 
 #include <algorithm>
 #include <chrono>
@@ -48,25 +48,39 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
   return up;
 }
 
-// Distinct subtrees of one level: id per node, and the representative node of each id.
+// Distinct subtrees of one level: id per node, the representative node of each id and, for the SSVDAG,
+// each node's tag (as its parent will point to it) and each id's stabilizer.
 struct Reduced {
   uint32_t distinct = 0;
-  Buffer id, rep;
+  Buffer id, rep, tag, idstab, tstar;
 };
 
-Reduced reduce_level(Device& dev, const SvoLevel& lv, const Buffer& child_ids, bool leaf) {
+Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, bool symmetric) {
   const uint32_t n = lv.n;
   Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
   Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
   Buffer collided = dev.alloc(4, "hash collision flag");
+  Buffer stab;
   Reduced r;
   r.id = dev.alloc(uint64_t{n} * 4, "node ids");
   const uint32_t groups = dev.groups_for(n, kLocal);
+  MvDagParams p{n, leaf ? 1u : 0u, 0, 0x6d766f78u};
+  if (symmetric) {
+    r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
+    stab = dev.alloc(uint64_t{n} * 4, "node stabilizers");
+    dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
+                 {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &stab}, p);
+    dev.barrier();
+  }
   ScanPlan scan = plan_scan(dev, n);
   for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
-    MvDagParams p{n, leaf ? 1u : 0u, seed, 0x6d766f78u};
-    dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &child_ids, &hashes, &order}, p);
+    p.seed_lo = seed;
+    if (symmetric)
+      dev.dispatch(dev.kernel("ssvdag_hash"), groups, kLocal,
+                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &hashes, &order}, p);
+    else
+      dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
     dev.barrier();
     radix_sort(dev, hashes, &order, n, KeyBits::k64);
     dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&hashes, &run}, p);
@@ -77,45 +91,64 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Buffer& child_ids, b
     dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
     dev.fill(collided, 0, 4);
     dev.barrier();
-    dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &child_ids, &r.id, &r.rep, &collided},
-                 p);
+    if (symmetric)
+      dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
+                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &r.id, &r.rep, &collided}, p);
+    else
+      dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided},
+                   p);
     uint32_t bad = 0;
     dev.download(collided, &bad, 4);
-    if (!bad) return r;
+    if (!bad) break;
     if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
   }
+  if (symmetric) {
+    r.tag = dev.alloc(uint64_t{n} * 4, "node tags");
+    r.idstab = dev.alloc(uint64_t{r.distinct} * 4, "class stabilizers");
+    dev.dispatch(dev.kernel("ssvdag_tags"), groups, kLocal, {&r.tstar, &stab, &r.id, &r.rep, &r.tag, &r.idstab}, p);
+    dev.barrier();
+  }
+  return r;
 }
 
-// The DAG level in id order, from the representatives' masks and their children's ids.
-DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Buffer& child_ids, uint32_t below,
-                  bool leaf) {
+// The DAG level in id order: each representative in its stored orientation (reflected by its T* for the
+// SSVDAG) with its children's (id, tag) in octant order. Uses the kernels' own functions on the host.
+DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduced& below, uint32_t n_below,
+                  bool leaf, bool symmetric) {
   DagLevel out;
   auto mask = fetch<uint32_t>(dev, lv.mask, lv.n);
   auto rep = fetch<uint32_t>(dev, r.rep, r.distinct);
+  auto tstar = symmetric ? fetch<uint32_t>(dev, r.tstar, lv.n) : std::vector<uint32_t>(lv.n, 0);
   out.mask.resize(r.distinct);
-  for (uint32_t i = 0; i < r.distinct; ++i) out.mask[i] = mask[rep[i]];
+  for (uint32_t i = 0; i < r.distinct; ++i) out.mask[i] = mv_reflect_mask(mask[rep[i]], tstar[rep[i]]);
   if (leaf) return out;
   auto first = fetch<uint32_t>(dev, lv.first, lv.n);
-  auto cid = fetch<uint32_t>(dev, child_ids, below);
+  auto cid = fetch<uint32_t>(dev, below.id, n_below);
+  auto ctag = symmetric ? fetch<uint32_t>(dev, below.tag, n_below) : std::vector<uint32_t>(n_below, 0);
+  auto cstab = symmetric ? fetch<uint32_t>(dev, below.idstab, below.distinct) : std::vector<uint32_t>(below.distinct, 1);
   out.first.resize(r.distinct);
   for (uint32_t i = 0; i < r.distinct; ++i) {
     out.first[i] = static_cast<uint32_t>(out.children.size());
-    uint32_t f = first[rep[i]];
-    for (int c = 0, k = 0; c < 8; ++c)
-      if (out.mask[i] >> c & 1) out.children.push_back(cid[f + k++]);
+    for (uint32_t o = 0; o < 8; ++o) {
+      if (!(out.mask[i] >> o & 1)) continue;
+      uint64_t e = mv_reflected_entry(mask.data(), first.data(), cid.data(), ctag.data(), cstab.data(), rep[i],
+                                      tstar[rep[i]], o);
+      out.children.push_back(static_cast<uint32_t>(e >> 3));
+      if (symmetric) out.tags.push_back(static_cast<uint32_t>(e & 7));
+    }
   }
   return out;
 }
 
-}  // namespace
-
-Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
+Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
+              DagBuildTimes* times) {
   if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
   if (voxels.size() > UINT32_MAX) throw Error("DAG build: more than 2^32-1 voxels in one build");
   if (!voxels.empty() && voxels.back() >> (3 * levels))
     throw Error("DAG build: a voxel key lies outside the 2^" + std::to_string(levels) + " grid");
   Dag dag;
   dag.levels = levels;
+  dag.symmetric = symmetric;
   dag.voxels = voxels.size();
   dag.svo_nodes.assign(levels + 1, 0);
   dag.level.resize(levels + 1);
@@ -138,11 +171,12 @@ Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t level
   Reduced below;
   for (uint32_t l = 1; l <= levels; ++l) {
     const bool leaf = l == 1;
-    Reduced r = reduce_level(dev, svo[l], below.id, leaf);
-    dag.level[l] = assemble(dev, svo[l], r, below.id, svo[l - 1].n, leaf);
+    Reduced r = reduce_level(dev, svo[l], below, leaf, symmetric);
+    dag.level[l] = assemble(dev, svo[l], r, below, svo[l - 1].n, leaf, symmetric);
     below = std::move(r);
     svo[l - 1] = SvoLevel();
   }
+  if (symmetric) dev.download(below.tag, &dag.root_tag, 4);
   dev.finish();
   if (times) {
     times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
@@ -151,26 +185,42 @@ Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t level
   return dag;
 }
 
+}  // namespace
+
+Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
+  return build_dag(dev, voxels, levels, false, times);
+}
+
+Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
+  return build_dag(dev, voxels, levels, true, times);
+}
+
 std::vector<uint64_t> decode_voxels(const Dag& dag) {
   std::vector<uint64_t> out;
   if (dag.levels == 0 || dag.level[dag.levels].mask.empty()) return out;
-  // Depth-first from the root; the key prefix grows by one octant per level.
+  // Depth-first from the root; the key prefix grows by one octant per level. `reflect` is the reflection
+  // accumulated along the path: the subtree is reflect(stored node), so stored octant c lands at c ^ reflect.
   struct Item {
-    uint32_t level, node;
+    uint32_t level, node, reflect;
     uint64_t prefix;
   };
-  std::vector<Item> stack{{dag.levels, 0, 0}};
+  std::vector<Item> stack{{dag.levels, 0, dag.root_tag, 0}};
   while (!stack.empty()) {
     Item it = stack.back();
     stack.pop_back();
     const DagLevel& lv = dag.level[it.level];
     uint32_t m = lv.mask[it.node];
-    for (int c = 7, k = __builtin_popcount(m) - 1; c >= 0; --c) {
+    for (uint32_t c = 0, k = 0; c < 8; ++c) {
       if (!(m >> c & 1)) continue;
-      uint64_t key = it.prefix << 3 | uint64_t(c);
-      if (it.level == 1) out.push_back(key);
-      else stack.push_back({it.level - 1, lv.children[lv.first[it.node] + k], key});
-      --k;
+      uint64_t key = it.prefix << 3 | uint64_t(c ^ it.reflect);
+      if (it.level == 1) {
+        out.push_back(key);
+      } else {
+        uint32_t j = lv.first[it.node] + k;
+        uint32_t tag = lv.tags.empty() ? 0 : lv.tags[j];
+        stack.push_back({it.level - 1, lv.children[j], it.reflect ^ tag, key});
+      }
+      ++k;
     }
   }
   std::sort(out.begin(), out.end());

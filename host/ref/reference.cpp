@@ -62,6 +62,78 @@ DagCounts dag_counts(const std::vector<uint64_t>& voxels, uint32_t levels) {
   return out;
 }
 
+namespace {
+
+uint32_t reflect(uint32_t mask, uint32_t t) {
+  uint32_t r = 0;
+  for (uint32_t c = 0; c < 8; ++c)
+    if (mask >> c & 1) r |= 1u << (c ^ t);
+  return r;
+}
+
+uint32_t normalize(uint32_t tag, uint32_t stab) {
+  uint32_t best = tag;
+  for (uint32_t s = 0; s < 8; ++s)
+    if (stab >> s & 1) best = std::min(best, tag ^ s);
+  return best;
+}
+
+}  // namespace
+
+DagCounts ssvdag_counts(const std::vector<uint64_t>& voxels, uint32_t levels) {
+  DagCounts out;
+  out.svo.assign(levels + 1, 0);
+  out.dag.assign(levels + 1, 0);
+  out.svo[0] = out.dag[0] = voxels.size();
+  struct Ref {
+    uint32_t id, tag;
+  };
+  std::map<uint64_t, Ref> below;  // node key -> (class id, tag) one level down
+  std::vector<uint32_t> stab_below;
+  for (uint64_t v : voxels) below[v] = {0, 0};
+  for (uint32_t l = 1; l <= levels; ++l) {
+    struct Node {
+      uint32_t mask = 0;
+      Ref child[8] = {};
+    };
+    std::map<uint64_t, Node> nodes;
+    for (auto& [key, ref] : below) {
+      Node& n = nodes[key >> 3];
+      n.mask |= 1u << (key & 7);
+      n.child[key & 7] = ref;
+    }
+    std::map<std::vector<uint64_t>, uint32_t> classes;
+    std::vector<uint32_t> stab_here;
+    std::map<uint64_t, Ref> refs;
+    for (auto& [key, n] : nodes) {
+      auto key_of = [&](uint32_t t) {
+        std::vector<uint64_t> k{reflect(n.mask, t)};
+        if (l > 1)
+          for (uint32_t o = 0; o < 8; ++o) {
+            uint32_t c = o ^ t;
+            k.push_back(n.mask >> c & 1
+                            ? (uint64_t{n.child[c].id} << 3 | normalize(n.child[c].tag ^ t, stab_below[n.child[c].id]))
+                            : 0);
+          }
+        return k;
+      };
+      uint32_t best = 0, stab = 0;
+      for (uint32_t t = 0; t < 8; ++t) {
+        if (key_of(t) < key_of(best)) best = t;
+        if (key_of(t) == key_of(0)) stab |= 1u << t;
+      }
+      auto [it, fresh] = classes.emplace(key_of(best), uint32_t(classes.size()));
+      if (fresh) stab_here.push_back(stab);
+      refs[key] = {it->second, normalize(best, stab)};
+    }
+    out.svo[l] = nodes.size();
+    out.dag[l] = classes.size();
+    below = std::move(refs);
+    stab_below = std::move(stab_here);
+  }
+  return out;
+}
+
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in) {
   std::vector<uint32_t> out(in.size() + 1, 0);
   for (size_t i = 0; i < in.size(); ++i) out[i + 1] = out[i] + in[i];

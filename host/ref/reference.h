@@ -23,6 +23,10 @@ struct DagCounts {
 };
 DagCounts dag_counts(const std::vector<uint64_t>& voxels, uint32_t levels);
 
+// The same for the DAG reduced up to the 8 axis reflections (SSVDAG, exact stabilizer method), written
+// independently of the kernels: class keys are vectors of (mask, then (child id, normalized tag) per octant).
+DagCounts ssvdag_counts(const std::vector<uint64_t>& voxels, uint32_t levels);
+
 // out[i] = sum of in[0..i), out[n] = total.
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in);
 

@@ -13,14 +13,19 @@ namespace mv {
 
 // One level of a DAG, nodes in id order. Node i has child mask `mask[i]`; above level 1 its children's ids
 // (into the level below) are children[first[i] .. first[i] + popcount(mask[i])), in octant order.
+// In an SSVDAG, tags[j] is the reflection (bit 0 = x, 1 = y, 2 = z) on the pointer children[j]: that child
+// subtree is the stored node mirrored across those axes (octant c becomes c ^ tag). Empty for an SVDAG.
 struct DagLevel {
   std::vector<uint32_t> mask;
   std::vector<uint32_t> first;
   std::vector<uint32_t> children;
+  std::vector<uint32_t> tags;
 };
 
 struct Dag {
   uint32_t levels = 0;              // L
+  bool symmetric = false;           // SSVDAG: pointers carry reflection tags
+  uint32_t root_tag = 0;            // SSVDAG: the model is the stored root reflected by this tag
   uint64_t voxels = 0;
   std::vector<uint64_t> svo_nodes;  // index = level: nodes of the sparse octree (level 0 = voxels)
   std::vector<DagLevel> level;      // index = level, 1..L (level[0] stays empty)
@@ -36,6 +41,10 @@ struct DagBuildTimes {
 // each level, bottom-up, to its distinct subtrees: the minimal DAG. Runs on the device; per-level results
 // come back to the host.
 Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
+
+// The same octree reduced up to the 8 axis reflections: subtrees that are mirror images of each other share
+// one node and pointers carry reflection tags; exact (the stabilizer method), so no symmetry is missed.
+Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
 // Every voxel a DAG holds, as sorted Morton keys.
 std::vector<uint64_t> decode_voxels(const Dag& dag);

@@ -4,6 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/dag.h"
+#include "common/ssvdag.h"
 
 #define MV_ID MV_GLOBAL_ID(), MV_GLOBAL_SIZE()
 
@@ -33,6 +34,31 @@ layout(push_constant) uniform Args {
   MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 id; MvBufU32 rep; MvBufU32 collided; MvDagParams p;
 } a;
 void main() { mv_dag_verify(a.mask, a.first, a.cid, a.id, a.rep, a.collided, a.p, MV_ID); }
+#elif defined(MV_ENTRY_ssvdag_canon)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU32 stab;
+  MvDagParams p;
+} a;
+void main() { mv_ssvdag_canon(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.stab, a.p, MV_ID); }
+#elif defined(MV_ENTRY_ssvdag_hash)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU64 hashes;
+  MvBufU32 order; MvDagParams p;
+} a;
+void main() { mv_ssvdag_hash(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.hashes, a.order, a.p, MV_ID); }
+#elif defined(MV_ENTRY_ssvdag_verify)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU32 id;
+  MvBufU32 rep; MvBufU32 collided; MvDagParams p;
+} a;
+void main() {
+  mv_ssvdag_verify(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.id, a.rep, a.collided, a.p, MV_ID);
+}
+#elif defined(MV_ENTRY_ssvdag_tags)
+layout(push_constant) uniform Args {
+  MvBufU32 tstar; MvBufU32 stab; MvBufU32 id; MvBufU32 rep; MvBufU32 tag; MvBufU32 idstab; MvDagParams p;
+} a;
+void main() { mv_ssvdag_tags(a.tstar, a.stab, a.id, a.rep, a.tag, a.idstab, a.p, MV_ID); }
 #else
 #error "define one MV_ENTRY_<name>"
 #endif

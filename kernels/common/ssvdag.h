@@ -1,0 +1,119 @@
+/* Symmetry-aware DAG reduction (SSVDAG): subtrees equal up to the 8 reflections about the axis-aligned
+ * planes through a node's centre share one representative; pointers carry a 3-bit reflection tag.
+ *
+ * The exact stabilizer method (notes on Jaspe Villanueva 2018, 1.6(c)). A reflection T is a 3-bit mask
+ * (bit 0 = x, 1 = y, 2 = z) and, with Morton octants, maps octant c to c ^ T. Every representative keeps
+ * stab = the set of reflections that leave it unchanged (an 8-bit set); a tag t on a pointer to it is
+ * normalized to min over s in stab of t ^ s, so equal subtrees always get equal (id, tag) pairs. For node n
+ * and each T, the reflected node n_T has child[c ^ T] = child[c] with tag norm(tag[c] ^ T). n's class is
+ * keyed by Key(n_T*) with T* = argmin_T Key(n_T) (lexicographic: mask, then (id, tag) by octant), stab(n) =
+ * {S : Key(n_S) == Key(n_0)}, and the parent's pointer to n becomes (class, norm(T*)). Level-1 nodes (2x2x2
+ * masks) are keyed by the mask alone. Exact: two subtrees get the same key iff one is a reflection of the
+ * other, so no symmetry is missed. The hash / sort / runs / verify pipeline of dag.h then assigns ids. */
+#ifndef MV_SSVDAG_H
+#define MV_SSVDAG_H
+#include "dag.h"
+
+MV_INLINE mv_u32 mv_reflect_mask(mv_u32 m, mv_u32 t) {
+  mv_u32 r = 0u;
+  for (mv_u32 c = 0u; c < 8u; ++c)
+    if (((m >> c) & 1u) != 0u) r |= 1u << (c ^ t);
+  return r;
+}
+
+MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 stab) {
+  mv_u32 best = t;
+  for (mv_u32 s = 1u; s < 8u; ++s)
+    if (((stab >> s) & 1u) != 0u) best = MV_MIN(best, t ^ s);
+  return best;
+}
+
+/* Entry o (octant) of n_T, as one comparable number: (child id << 3) | normalized tag; 0 if empty. */
+MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
+                                    mv_u32 i, mv_u32 t, mv_u32 o) {
+  mv_u32 m = MV_LD(mask, i);
+  mv_u32 c = o ^ t;
+  if (((m >> c) & 1u) == 0u) return MV_U64(0);
+  mv_u32 j = MV_LD(first, i) + mv_popcount8(m & ((1u << c) - 1u));
+  mv_u32 id = MV_LD(cid, j);
+  mv_u32 tag = mv_norm_tag(MV_LD(ctag, j) ^ t, MV_LD(cstab, id));
+  return (MV_U64(id) << 3) | MV_U64(tag);
+}
+
+/* -1, 0, 1 as Key(n_a) <, ==, > Key(n_b). */
+MV_INLINE mv_i32 mv_compare_reflections(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
+                                        MvDagParams p, mv_u32 i, mv_u32 a, mv_u32 b) {
+  mv_u32 m = MV_LD(mask, i);
+  mv_u32 ma = mv_reflect_mask(m, a), mb = mv_reflect_mask(m, b);
+  if (ma != mb) return ma < mb ? -1 : 1;
+  if (p.leaf != 0u) return 0;
+  for (mv_u32 o = 0u; o < 8u; ++o) {
+    mv_u64 ea = mv_reflected_entry(mask, first, cid, ctag, cstab, i, a, o);
+    mv_u64 eb = mv_reflected_entry(mask, first, cid, ctag, cstab, i, b, o);
+    if (ea != eb) return ea < eb ? -1 : 1;
+  }
+  return 0;
+}
+
+/* T* (smallest key, ties to the smaller T) and stab of each node. */
+MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
+                               MvBufU32 tstar, MvBufU32 stab, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 best = 0u;
+    mv_u32 s = 1u;
+    for (mv_u32 t = 1u; t < 8u; ++t) {
+      if (mv_compare_reflections(mask, first, cid, ctag, cstab, p, i, t, best) < 0) best = t;
+      if (mv_compare_reflections(mask, first, cid, ctag, cstab, p, i, t, 0u) == 0) s |= 1u << t;
+    }
+    MV_ST(tstar, i, best);
+    MV_ST(stab, i, s);
+  }
+}
+
+MV_INLINE mv_u64 mv_ssvdag_node_hash(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
+                                     MvBufU32 tstar, MvDagParams p, mv_u32 i) {
+  mv_u32 t = MV_LD(tstar, i);
+  mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
+  h = mv_hash_mix(h, MV_U64(mv_reflect_mask(MV_LD(mask, i), t)));
+  if (p.leaf == 0u)
+    for (mv_u32 o = 0u; o < 8u; ++o) h = mv_hash_mix(h, mv_reflected_entry(mask, first, cid, ctag, cstab, i, t, o));
+  return h;
+}
+
+MV_INLINE void mv_ssvdag_hash(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
+                              MvBufU32 tstar, MvBufU64 hashes, MvBufU32 order, MvDagParams p, mv_u32 gid,
+                              mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    MV_ST(hashes, i, mv_ssvdag_node_hash(mask, first, cid, ctag, cstab, tstar, p, i));
+    MV_ST(order, i, i);
+  }
+}
+
+/* Canonical forms of nodes a and b equal? A mismatch within a run is a hash collision. */
+MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
+                                MvBufU32 tstar, MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p,
+                                mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 r = MV_LD(rep, MV_LD(id, i));
+    mv_u32 ti = MV_LD(tstar, i), tr = MV_LD(tstar, r);
+    bool same = mv_reflect_mask(MV_LD(mask, i), ti) == mv_reflect_mask(MV_LD(mask, r), tr);
+    if (p.leaf == 0u)
+      for (mv_u32 o = 0u; o < 8u; ++o)
+        same = same && mv_reflected_entry(mask, first, cid, ctag, cstab, i, ti, o) ==
+                           mv_reflected_entry(mask, first, cid, ctag, cstab, r, tr, o);
+    if (!same) MV_ST(collided, 0u, 1u);
+  }
+}
+
+/* Each node's tag as its parent will see it, and each class's stab (from its representative). */
+MV_INLINE void mv_ssvdag_tags(MvBufU32 tstar, MvBufU32 stab, MvBufU32 id, MvBufU32 rep, MvBufU32 tag,
+                              MvBufU32 idstab, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 s = MV_LD(stab, i);
+    MV_ST(tag, i, mv_norm_tag(MV_LD(tstar, i), s));
+    mv_u32 k = MV_LD(id, i);
+    if (MV_LD(rep, k) == i) MV_ST(idstab, k, s);
+  }
+}
+
+#endif

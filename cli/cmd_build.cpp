@@ -74,7 +74,10 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       ->required();
   cmd->add_option("--resolution", a->resolution, "Voxels per axis, a power of two: 1024, 2K, 16K, ...")
       ->capture_default_str();
-  cmd->add_option("--format", a->format, "DAG encoding: svdag (the thesis / SymVox 32-bit layout)")
+  cmd->add_option("--format", a->format,
+                  "DAG encoding: svdag (the thesis / SymVox 32-bit layout) or ussvdag (symmetry-aware reduction,\n"
+                  "same layout with per-child mirror bits)")
+      ->check(CLI::IsMember({"svdag", "ussvdag"}))
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");

@@ -30,9 +30,9 @@ uint32_t parse_resolution(const std::string& text) {
 }
 
 BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
-  if (o.format != "svdag")
-    throw Error("--format " + o.format + ": this build writes svdag only so far (svo, ussvdag and ssvdag are "
-                "not implemented yet)");
+  if (o.format != "svdag" && o.format != "ussvdag")
+    throw Error("--format " + o.format + ": this build writes svdag and ussvdag so far (svo and the compact "
+                "ssvdag encoding are not implemented yet)");
   BuildReport r;
   r.input = o.input;
   r.output = o.output;
@@ -83,10 +83,11 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
 
   report("dag", 0);
   DagBuildTimes times;
-  Dag dag = build_svdag(dev, voxels, levels, &times);
+  const bool symmetric = o.format == "ussvdag";
+  Dag dag = symmetric ? build_ssvdag(dev, voxels, levels, &times) : build_svdag(dev, voxels, levels, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
-  r.seconds.push_back({"svdag", times.reduce_seconds});
+  r.seconds.push_back({symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
 
   report("encode", 0);

@@ -171,3 +171,44 @@ TEST(Mvx, UnwritablePathIsAnErrorAndLeavesNothing) {
 
 }  // namespace
 }  // namespace mv::test
+
+namespace mv::test {
+namespace {
+
+TEST(Ussvdag, EncodesAndDecodesExactly) {
+  std::mt19937_64 rng(4);
+  std::vector<uint64_t> v;
+  for (int i = 0; i < 3000; ++i) {  // a model mirrored in x: many mirrored subtrees
+    uint32_t x = rng() % 32, y = rng() % 64, z = rng() % 64;
+    v.push_back(ref::morton3(x, y, z, 21));
+    v.push_back(ref::morton3(63 - x, y, z, 21));
+  }
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  Device& dev = shared_device(all_devices().front());
+  Dag sym = build_ssvdag(dev, v, 6);
+  Dag plain = build_svdag(dev, v, 6);
+  EncodedDag enc = encode_svdag(sym);
+  EXPECT_EQ(enc.encoding, Encoding::ussvdag);
+  EXPECT_LT(enc.words.size(), encode_svdag(plain).words.size());
+  EXPECT_TRUE(decode_svdag(enc) == v);
+  EncodedDag bad = enc;
+  bad.words[0] |= 1u << 8 << __builtin_ctz(~bad.words[0] & 0xff);  // a mirror bit on a missing child
+  if ((enc.words[0] & 0xff) != 0xff) EXPECT_THROW(validate_svdag(bad), Error);
+  // Through the file.
+  MvxFile f;
+  f.grid.resolution = 64;
+  f.voxels = sym.voxels;
+  f.svo_nodes = sym.svo_nodes;
+  f.dag_nodes.assign(7, 1);
+  f.dag = enc;
+  const std::string p = temp_path("ussvdag.mvx");
+  write_mvx(p, f);
+  MvxFile g = read_mvx(p);
+  EXPECT_EQ(g.dag.encoding, Encoding::ussvdag);
+  EXPECT_TRUE(decode_svdag(g.dag) == v);
+  std::filesystem::remove(p);
+}
+
+}  // namespace
+}  // namespace mv::test

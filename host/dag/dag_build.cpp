@@ -176,8 +176,31 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
     below = std::move(r);
     svo[l - 1] = SvoLevel();
   }
-  if (symmetric) dev.download(below.tag, &dag.root_tag, 4);
+  uint32_t root_tag = 0;
+  if (symmetric) dev.download(below.tag, &root_tag, 4);
   dev.finish();
+  if (root_tag) {
+    // The root was stored canonically reflected; store it in the model's own orientation instead (nothing
+    // else points to it), as the SymVox formats do: octant c moves to c ^ t, child tags pick up t.
+    DagLevel& top = dag.level[levels];
+    const uint32_t t = root_tag, m = top.mask[0];
+    top.mask[0] = mv_reflect_mask(m, t);
+    if (levels > 1) {
+      uint32_t ids[8] = {}, tags[8] = {};
+      for (uint32_t c = 0, k = 0; c < 8; ++c)
+        if (m >> c & 1) {
+          ids[c ^ t] = top.children[k];
+          tags[c ^ t] = top.tags[k++] ^ t;
+        }
+      top.children.clear();
+      top.tags.clear();
+      for (uint32_t c = 0; c < 8; ++c)
+        if (top.mask[0] >> c & 1) {
+          top.children.push_back(ids[c]);
+          top.tags.push_back(tags[c]);
+        }
+    }
+  }
   if (times) {
     times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
     times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
@@ -204,7 +227,7 @@ std::vector<uint64_t> decode_voxels(const Dag& dag) {
     uint32_t level, node, reflect;
     uint64_t prefix;
   };
-  std::vector<Item> stack{{dag.levels, 0, dag.root_tag, 0}};
+  std::vector<Item> stack{{dag.levels, 0, 0, 0}};
   while (!stack.empty()) {
     Item it = stack.back();
     stack.pop_back();

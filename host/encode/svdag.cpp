@@ -16,6 +16,7 @@ uint32_t thesis_mask(uint32_t m) {
 
 EncodedDag encode_svdag(const Dag& dag) {
   EncodedDag enc;
+  enc.encoding = dag.symmetric ? Encoding::ussvdag : Encoding::svdag;
   enc.levels = dag.levels;
   enc.level_offset.assign(dag.levels + 1, 0);
   if (dag.levels == 0 || dag.voxels == 0) return enc;
@@ -36,12 +37,22 @@ EncodedDag encode_svdag(const Dag& dag) {
   for (uint32_t l = dag.levels; l >= 1; --l) {
     const DagLevel& lv = dag.level[l];
     for (size_t i = 0; i < lv.mask.size(); ++i) {
-      enc.words.push_back(thesis_mask(lv.mask[i]));
-      if (l == 1) continue;
-      uint32_t child_at[8] = {};  // by thesis octant
-      for (uint32_t c = 0, k = 0; c < 8; ++c)
-        if (lv.mask[i] >> c & 1) child_at[thesis_octant(c)] = static_cast<uint32_t>(at[l - 1][lv.children[lv.first[i] + k++]]);
       uint32_t tm = thesis_mask(lv.mask[i]);
+      if (l == 1) {
+        enc.words.push_back(tm);
+        continue;
+      }
+      uint32_t child_at[8] = {};  // by thesis octant
+      uint32_t header = tm;
+      for (uint32_t c = 0, k = 0; c < 8; ++c) {
+        if (!(lv.mask[i] >> c & 1)) continue;
+        uint32_t j = lv.first[i] + k++;
+        uint32_t t = thesis_octant(c);
+        child_at[t] = static_cast<uint32_t>(at[l - 1][lv.children[j]]);
+        uint32_t tag = lv.tags.empty() ? 0 : lv.tags[j];
+        header |= (tag & 1) << (8 + t) | (tag >> 1 & 1) << (16 + t) | (tag >> 2 & 1) << (24 + t);
+      }
+      enc.words.push_back(header);
       for (int t = 7; t >= 0; --t)
         if (tm >> t & 1) enc.words.push_back(child_at[t]);
     }
@@ -66,8 +77,12 @@ void validate_svdag(const EncodedDag& enc) {
     for (uint64_t w = begin; w < end;) {
       here.push_back(static_cast<uint32_t>(w));
       uint32_t header = enc.words[w];
-      if (header == 0 || header > 0xff) throw fail("word " + std::to_string(w) + " is not a node header");
-      uint64_t next = w + (l == 1 ? 1 : 1 + __builtin_popcount(header));
+      uint32_t mask = header & 0xff;
+      uint32_t mirrors = enc.encoding == Encoding::ussvdag && l > 1 ? header >> 8 : 0;
+      bool stray = (mirrors & ~(mask * 0x10101u)) != 0;  // mirror bits only for children that exist
+      if (mask == 0 || (header >> 8) != mirrors || stray)
+        throw fail("word " + std::to_string(w) + " is not a node header");
+      uint64_t next = w + (l == 1 ? 1 : 1 + __builtin_popcount(mask));
       if (next > end) throw fail("node at word " + std::to_string(w) + " runs past its level");
       for (uint64_t q = w + 1; q < next; ++q)
         if (!std::binary_search(below.begin(), below.end(), enc.words[q]))
@@ -85,20 +100,24 @@ std::vector<uint64_t> decode_svdag(const EncodedDag& enc) {
   std::vector<uint64_t> out;
   if (enc.words.empty()) return out;
   struct Item {
-    uint32_t level, word;
+    uint32_t level, word, reflect;  // the subtree is the stored node mirrored by `reflect`
     uint64_t prefix;
   };
-  std::vector<Item> stack{{enc.levels, 0, 0}};
+  std::vector<Item> stack{{enc.levels, 0, 0, 0}};
   while (!stack.empty()) {
     Item it = stack.back();
     stack.pop_back();
-    uint32_t tm = enc.words[it.word];
+    uint32_t header = enc.words[it.word];
     uint32_t ptr = it.word + 1;
     for (int t = 7; t >= 0; --t) {
-      if (!(tm >> t & 1)) continue;
-      uint64_t key = it.prefix << 3 | thesis_octant(uint32_t(t));
-      if (it.level == 1) out.push_back(key);
-      else stack.push_back({it.level - 1, enc.words[ptr++], key});
+      if (!(header >> t & 1)) continue;
+      uint64_t key = it.prefix << 3 | (thesis_octant(uint32_t(t)) ^ it.reflect);
+      if (it.level == 1) {
+        out.push_back(key);
+        continue;
+      }
+      uint32_t tag = (header >> (8 + t) & 1) | (header >> (16 + t) & 1) << 1 | (header >> (24 + t) & 1) << 2;
+      stack.push_back({it.level - 1, enc.words[ptr++], it.reflect ^ tag, key});
     }
   }
   std::sort(out.begin(), out.end());

@@ -63,6 +63,8 @@ std::string encoding_name(Encoding e) {
   switch (e) {
     case Encoding::svdag:
       return "svdag";
+    case Encoding::ussvdag:
+      return "ussvdag";
   }
   return "unknown(" + std::to_string(static_cast<uint32_t>(e)) + ")";
 }
@@ -144,7 +146,7 @@ MvxFile read_mvx(const std::string& path) {
     throw Error(path + ": .mvx version " + std::to_string(h.version) + " (this megavox reads version " +
                 std::to_string(kMvxVersion) + ")");
   if (hash(&h, offsetof(Header, checksum)) != h.checksum) throw Error(path + ": header checksum mismatch");
-  if (h.encoding != static_cast<uint32_t>(Encoding::svdag))
+  if (h.encoding != static_cast<uint32_t>(Encoding::svdag) && h.encoding != static_cast<uint32_t>(Encoding::ussvdag))
     throw Error(path + ": unknown encoding " + std::to_string(h.encoding));
   if (h.levels < 1 || h.levels > 21) throw Error(path + ": bad level count " + std::to_string(h.levels));
   if (h.resolution != (1u << h.levels)) throw Error(path + ": resolution does not match the level count");
@@ -176,7 +178,7 @@ MvxFile read_mvx(const std::string& path) {
   if (counts.size() != 2 * (uint64_t{h.levels} + 1)) throw Error(path + ": counts section has the wrong size");
   out.svo_nodes.assign(counts.begin(), counts.begin() + h.levels + 1);
   out.dag_nodes.assign(counts.begin() + h.levels + 1, counts.end());
-  out.dag.encoding = Encoding::svdag;
+  out.dag.encoding = static_cast<Encoding>(h.encoding);
   out.dag.levels = h.levels;
   out.dag.level_offset = section_data<uint64_t>(f.get(), *find[kLevels], path, "levels");
   out.dag.words = section_data<uint32_t>(f.get(), *find[kNodes], path, "nodes");

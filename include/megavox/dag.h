@@ -25,7 +25,6 @@ struct DagLevel {
 struct Dag {
   uint32_t levels = 0;              // L
   bool symmetric = false;           // SSVDAG: pointers carry reflection tags
-  uint32_t root_tag = 0;            // SSVDAG: the model is the stored root reflected by this tag
   uint64_t voxels = 0;
   std::vector<uint64_t> svo_nodes;  // index = level: nodes of the sparse octree (level 0 = voxels)
   std::vector<DagLevel> level;      // index = level, 1..L (level[0] stays empty)
@@ -43,7 +42,8 @@ struct DagBuildTimes {
 Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
 // The same octree reduced up to the 8 axis reflections: subtrees that are mirror images of each other share
-// one node and pointers carry reflection tags; exact (the stabilizer method), so no symmetry is missed.
+// one node and pointers carry reflection tags; exact (the stabilizer method), so no symmetry is missed. The
+// root is stored in the model's own orientation.
 Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
 // Every voxel a DAG holds, as sorted Morton keys.

@@ -23,6 +23,9 @@ inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
   return Device::open(o);
 }
 
+// With --profile: the device time of each kernel since the last call, summed by name, on stderr.
+void print_kernel_totals(Device& dev);
+
 void add_devices_command(CLI::App& app, const GlobalOptions& g);
 void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g);
 void add_build_command(CLI::App& app, const GlobalOptions& g);

@@ -90,6 +90,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     auto dev = open_device(g);
     BuildReport r = build_mvx(*dev, o, progress_bar(!a->quiet && isatty(STDERR_FILENO)));
     if (!a->quiet && isatty(STDERR_FILENO)) std::fprintf(stderr, "\n");
+    if (g.profile) print_kernel_totals(*dev);
     if (a->json) std::cout << report_json(r).dump(2) << "\n";
     else print_table(r);
   });

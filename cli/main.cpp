@@ -1,9 +1,23 @@
 // megavox command line: parses, reports, and leaves the work to the host pipelines.
 #include <cstdio>
 #include <iostream>
+#include <map>
 
 #include "cli_common.h"
 #include "megavox/error.h"
+
+namespace mv::cli {
+void print_kernel_totals(Device& dev) {
+  std::map<std::string, std::pair<uint64_t, uint64_t>> totals;  // name -> (ns, dispatches)
+  for (const auto& t : dev.take_timings()) {
+    totals[t.kernel].first += t.ns;
+    totals[t.kernel].second += 1;
+  }
+  for (const auto& [name, v] : totals)
+    std::fprintf(stderr, "kernel %-24s %10.4f s %8llu dispatches\n", name.c_str(), v.first * 1e-9,
+                 (unsigned long long)v.second);
+}
+}  // namespace mv::cli
 
 int main(int argc, char** argv) {
   CLI::App app{

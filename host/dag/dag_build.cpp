@@ -55,11 +55,27 @@ struct Reduced {
   Buffer id, rep, tag, idstab, tstar;
 };
 
+// Level 1: classes are (canonical) masks, ranked without hashing (kernels: leaf_present, leaf_ids).
+void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, bool symmetric) {
+  MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0};
+  Buffer present = dev.alloc(257 * 4, "leaf classes");
+  dev.fill(present, 0, 257 * 4);
+  dev.barrier();
+  const uint32_t groups = dev.groups_for(lv.n, kLocal);
+  dev.dispatch(dev.kernel("leaf_present"), groups, kLocal, {&lv.mask, &r.tstar, &present}, p);
+  dev.barrier();
+  exclusive_scan(dev, present, present, 256);
+  dev.download(present, &r.distinct, 4, 256 * 4);
+  r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
+  dev.dispatch(dev.kernel("leaf_ids"), groups, kLocal, {&lv.mask, &r.tstar, &present, &r.id, &r.rep}, p);
+  dev.barrier();
+}
+
 Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, bool symmetric) {
   const uint32_t n = lv.n;
-  Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
-  Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
-  Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
+  Buffer hashes = leaf ? Buffer() : dev.alloc(uint64_t{n} * 8, "node hashes");
+  Buffer order = leaf ? Buffer() : dev.alloc(uint64_t{n} * 4, "node order");
+  Buffer run = leaf ? Buffer() : dev.alloc((uint64_t{n} + 1) * 4, "node runs");
   Buffer collided = dev.alloc(4, "hash collision flag");
   Buffer stab;
   Reduced r;
@@ -73,34 +89,39 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
                  {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &stab}, p);
     dev.barrier();
   }
-  ScanPlan scan = plan_scan(dev, n);
-  for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
-    p.seed_lo = seed;
-    if (symmetric)
-      dev.dispatch(dev.kernel("ssvdag_hash"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &hashes, &order}, p);
-    else
-      dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
-    dev.barrier();
-    radix_sort(dev, hashes, &order, n, KeyBits::k64);
-    dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&hashes, &run}, p);
-    dev.barrier();
-    record_scan(dev, scan, run, run);
-    dev.download(run, &r.distinct, 4, uint64_t{n} * 4);
-    r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
-    dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
-    dev.fill(collided, 0, 4);
-    dev.barrier();
-    if (symmetric)
-      dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &r.id, &r.rep, &collided}, p);
-    else
-      dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided},
-                   p);
-    uint32_t bad = 0;
-    dev.download(collided, &bad, 4);
-    if (!bad) break;
-    if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
+  if (leaf) {
+    reduce_leaves(dev, lv, r, symmetric);
+  } else {
+    ScanPlan scan = plan_scan(dev, n);
+    for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
+      p.seed_lo = seed;
+      if (symmetric)
+        dev.dispatch(dev.kernel("ssvdag_hash"), groups, kLocal,
+                     {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &hashes, &order}, p);
+      else
+        dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
+      dev.barrier();
+      radix_sort(dev, hashes, &order, n, KeyBits::k64);
+      dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&hashes, &run}, p);
+      dev.barrier();
+      record_scan(dev, scan, run, run);
+      dev.download(run, &r.distinct, 4, uint64_t{n} * 4);
+      r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
+      dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
+      dev.fill(collided, 0, 4);
+      dev.barrier();
+      if (symmetric)
+        dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
+                     {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &r.id, &r.rep, &collided},
+                     p);
+      else
+        dev.dispatch(dev.kernel("dag_verify"), groups, kLocal,
+                     {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided}, p);
+      uint32_t bad = 0;
+      dev.download(collided, &bad, 4);
+      if (!bad) break;
+      if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
+    }
   }
   if (symmetric) {
     r.tag = dev.alloc(uint64_t{n} * 4, "node tags");

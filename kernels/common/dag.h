@@ -15,7 +15,7 @@
 
 MV_STRUCT_BEGIN(MvDagParams)
   mv_u32 n;     /* nodes (or keys) in this level */
-  mv_u32 leaf;  /* 1: level-1 nodes, whose identity is the mask alone */
+  mv_u32 leaf;  /* nonzero: level-1 nodes, whose identity is the mask alone (2: with symmetry) */
   mv_u32 seed_lo;
   mv_u32 seed_hi;
 MV_STRUCT_END(MvDagParams)

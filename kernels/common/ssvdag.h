@@ -40,7 +40,7 @@ MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid,
   return (MV_U64(id) << 3) | MV_U64(tag);
 }
 
-/* -1, 0, 1 as Key(n_a) <, ==, > Key(n_b). */
+/* -1, 0, 1 as Key(n_a) <, ==, > Key(n_b). p.leaf != 0: level-1 nodes, keyed by the mask alone. */
 MV_INLINE mv_i32 mv_compare_reflections(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
                                         MvDagParams p, mv_u32 i, mv_u32 a, mv_u32 b) {
   mv_u32 m = MV_LD(mask, i);
@@ -113,6 +113,28 @@ MV_INLINE void mv_ssvdag_tags(MvBufU32 tstar, MvBufU32 stab, MvBufU32 id, MvBufU
     MV_ST(tag, i, mv_norm_tag(MV_LD(tstar, i), s));
     mv_u32 k = MV_LD(id, i);
     if (MV_LD(rep, k) == i) MV_ST(idstab, k, s);
+  }
+}
+
+/* Level 1 needs no hashing: a 2x2x2 node's class is its canonical mask (the mask itself without symmetry),
+ * one of at most 256. leaf_present marks the masks that occur; their exclusive scan ranks them; leaf_ids
+ * gives each node the rank of its mask as id (ids in mask order) and each id a representative (any member:
+ * all give the same stored mask and stabilizer). tstar is null without symmetry. */
+MV_INLINE mv_u32 mv_leaf_class(MvBufU32 mask, MvBufU32 tstar, MvDagParams p, mv_u32 i) {
+  return p.leaf == 2u ? mv_reflect_mask(MV_LD(mask, i), MV_LD(tstar, i)) : MV_LD(mask, i);
+}
+
+MV_INLINE void mv_leaf_present(MvBufU32 mask, MvBufU32 tstar, MvBufU32 present, MvDagParams p, mv_u32 gid,
+                               mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) MV_ST(present, mv_leaf_class(mask, tstar, p, i), 1u);
+}
+
+MV_INLINE void mv_leaf_ids(MvBufU32 mask, MvBufU32 tstar, MvBufU32 rank, MvBufU32 id, MvBufU32 rep, MvDagParams p,
+                           mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 r = MV_LD(rank, mv_leaf_class(mask, tstar, p, i));
+    MV_ST(id, i, r);
+    MV_ST(rep, r, i);
   }
 }
 

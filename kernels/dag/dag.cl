@@ -46,3 +46,10 @@ __kernel void ssvdag_tags(__global uint* tstar, __global uint* stab, __global ui
                           __global uint* tag, __global uint* idstab, MvDagParams p) {
   mv_ssvdag_tags(tstar, stab, id, rep, tag, idstab, p, MV_ID);
 }
+__kernel void leaf_present(__global uint* mask, __global uint* tstar, __global uint* present, MvDagParams p) {
+  mv_leaf_present(mask, tstar, present, p, MV_ID);
+}
+__kernel void leaf_ids(__global uint* mask, __global uint* tstar, __global uint* rank, __global uint* id,
+                       __global uint* rep, MvDagParams p) {
+  mv_leaf_ids(mask, tstar, rank, id, rep, p, MV_ID);
+}

@@ -59,6 +59,14 @@ layout(push_constant) uniform Args {
   MvBufU32 tstar; MvBufU32 stab; MvBufU32 id; MvBufU32 rep; MvBufU32 tag; MvBufU32 idstab; MvDagParams p;
 } a;
 void main() { mv_ssvdag_tags(a.tstar, a.stab, a.id, a.rep, a.tag, a.idstab, a.p, MV_ID); }
+#elif defined(MV_ENTRY_leaf_present)
+layout(push_constant) uniform Args { MvBufU32 mask; MvBufU32 tstar; MvBufU32 present; MvDagParams p; } a;
+void main() { mv_leaf_present(a.mask, a.tstar, a.present, a.p, MV_ID); }
+#elif defined(MV_ENTRY_leaf_ids)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 tstar; MvBufU32 rank; MvBufU32 id; MvBufU32 rep; MvDagParams p;
+} a;
+void main() { mv_leaf_ids(a.mask, a.tstar, a.rank, a.id, a.rep, a.p, MV_ID); }
 #else
 #error "define one MV_ENTRY_<name>"
 #endif

@@ -29,6 +29,7 @@ void print_kernel_totals(Device& dev);
 void add_devices_command(CLI::App& app, const GlobalOptions& g);
 void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g);
 void add_build_command(CLI::App& app, const GlobalOptions& g);
+void add_bench_build_command(CLI::App& bench, const GlobalOptions& g);
 void add_info_command(CLI::App& app);
 
 }  // namespace mv::cli

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   CLI::App* bench = app.add_subcommand("bench", "Measure megavox against the tools a user would pick instead");
   bench->require_subcommand(1);
   mv::cli::add_bench_sort_command(*bench, g);
+  mv::cli::add_bench_build_command(*bench, g);
 
   try {
     app.parse(argc, argv);

@@ -40,30 +40,58 @@ MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid,
   return (MV_U64(id) << 3) | MV_U64(tag);
 }
 
-/* -1, 0, 1 as Key(n_a) <, ==, > Key(n_b). p.leaf != 0: level-1 nodes, keyed by the mask alone. */
-MV_INLINE mv_i32 mv_compare_reflections(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
-                                        MvDagParams p, mv_u32 i, mv_u32 a, mv_u32 b) {
-  mv_u32 m = MV_LD(mask, i);
-  mv_u32 ma = mv_reflect_mask(m, a), mb = mv_reflect_mask(m, b);
-  if (ma != mb) return ma < mb ? -1 : 1;
-  if (p.leaf != 0u) return 0;
-  for (mv_u32 o = 0u; o < 8u; ++o) {
-    mv_u64 ea = mv_reflected_entry(mask, first, cid, ctag, cstab, i, a, o);
-    mv_u64 eb = mv_reflected_entry(mask, first, cid, ctag, cstab, i, b, o);
-    if (ea != eb) return ea < eb ? -1 : 1;
-  }
-  return 0;
-}
-
-/* T* (smallest key, ties to the smaller T) and stab of each node. */
+/* T* (smallest key, ties to the smaller T) and stab of each node, comparing the reflected keys entry by
+ * entry from the children's (id, tag, stab) read once. */
 MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
                                MvBufU32 tstar, MvBufU32 stab, MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 m = MV_LD(mask, i);
+    if (p.leaf != 0u) { /* a 2x2x2 node: its reflected masks are the whole key */
+      mv_u32 best = 0u, s = 1u, lowest = m;
+      for (mv_u32 t = 1u; t < 8u; ++t) {
+        mv_u32 r = mv_reflect_mask(m, t);
+        if (r < lowest) {
+          lowest = r;
+          best = t;
+        }
+        if (r == m) s |= 1u << t;
+      }
+      MV_ST(tstar, i, best);
+      MV_ST(stab, i, s);
+      continue;
+    }
+    mv_u32 id[8], tag[8], cs[8];
+    mv_u32 j = p.leaf == 0u ? MV_LD(first, i) : 0u;
+    for (mv_u32 c = 0u; c < 8u; ++c) {
+      id[c] = 0u;
+      tag[c] = 0u;
+      cs[c] = 1u;
+      if (p.leaf == 0u && ((m >> c) & 1u) != 0u) {
+        id[c] = MV_LD(cid, j);
+        tag[c] = MV_LD(ctag, j);
+        cs[c] = MV_LD(cstab, id[c]);
+        j += 1u;
+      }
+    }
+    /* Compare the reflected keys entry by entry, computing entries from the children as needed. */
     mv_u32 best = 0u;
     mv_u32 s = 1u;
     for (mv_u32 t = 1u; t < 8u; ++t) {
-      if (mv_compare_reflections(mask, first, cid, ctag, cstab, p, i, t, best) < 0) best = t;
-      if (mv_compare_reflections(mask, first, cid, ctag, cstab, p, i, t, 0u) == 0) s |= 1u << t;
+      mv_i32 vs_best = 0, vs_id = 0;
+      mv_u32 mt = mv_reflect_mask(m, t), mb = mv_reflect_mask(m, best);
+      if (mt != mb) vs_best = mt < mb ? -1 : 1;
+      if (mt != m) vs_id = mt < m ? -1 : 1;
+      for (mv_u32 o = 0u; o < 8u && (vs_best == 0 || vs_id == 0); ++o) {
+        mv_u32 c = o ^ t, cb = o ^ best;
+        mv_u64 x = ((m >> c) & 1u) != 0u ? (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ t, cs[c])) : MV_U64(0);
+        mv_u64 xb = ((m >> cb) & 1u) != 0u ? (MV_U64(id[cb]) << 3) | MV_U64(mv_norm_tag(tag[cb] ^ best, cs[cb]))
+                                             : MV_U64(0);
+        mv_u64 x0 = ((m >> o) & 1u) != 0u ? (MV_U64(id[o]) << 3) | MV_U64(mv_norm_tag(tag[o], cs[o])) : MV_U64(0);
+        if (vs_best == 0 && x != xb) vs_best = x < xb ? -1 : 1;
+        if (vs_id == 0 && x != x0) vs_id = x < x0 ? -1 : 1;
+      }
+      if (vs_best < 0) best = t;
+      if (vs_id == 0) s |= 1u << t;
     }
     MV_ST(tstar, i, best);
     MV_ST(stab, i, s);

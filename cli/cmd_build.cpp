@@ -75,9 +75,9 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("--resolution", a->resolution, "Voxels per axis, a power of two: 1024, 2K, 16K, ...")
       ->capture_default_str();
   cmd->add_option("--format", a->format,
-                  "DAG encoding: svdag (the thesis / SymVox 32-bit layout) or ussvdag (symmetry-aware reduction,\n"
-                  "same layout with per-child mirror bits)")
-      ->check(CLI::IsMember({"svdag", "ussvdag"}))
+                  "DAG encoding: svdag (the thesis / SymVox 32-bit layout), ussvdag (symmetry-aware reduction,\n"
+                  "same layout with per-child mirror bits) or ssvdag (symmetry-aware, compact 16-bit encoding)")
+      ->check(CLI::IsMember({"svdag", "ussvdag", "ssvdag"}))
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");

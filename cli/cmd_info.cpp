@@ -19,7 +19,7 @@ void add_info_command(CLI::App& app) {
     MvxFile f = read_mvx(*path);
     uint64_t total = 0;
     for (size_t l = 2; l < f.dag_nodes.size(); ++l) total += f.dag_nodes[l];
-    const uint64_t bytes = f.dag.words.size() * 4;
+    const uint64_t bytes = f.dag.bytes();
     const double bpv = f.voxels ? 8.0 * double(bytes) / double(f.voxels) : 0;
     if (*json) {
       nlohmann::json j = {{"file", *path},

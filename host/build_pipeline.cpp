@@ -30,9 +30,10 @@ uint32_t parse_resolution(const std::string& text) {
 }
 
 BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
-  if (o.format != "svdag" && o.format != "ussvdag")
-    throw Error("--format " + o.format + ": this build writes svdag and ussvdag so far (svo and the compact "
-                "ssvdag encoding are not implemented yet)");
+  if (o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
+    throw Error("--format " + o.format + ": this build writes svdag, ussvdag and ssvdag (svo is not implemented "
+                "yet)");
+  if (o.format == "ssvdag" && o.resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
   BuildReport r;
   r.input = o.input;
   r.output = o.output;
@@ -83,7 +84,7 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
 
   report("dag", 0);
   DagBuildTimes times;
-  const bool symmetric = o.format == "ussvdag";
+  const bool symmetric = o.format != "svdag";
   Dag dag = symmetric ? build_ssvdag(dev, voxels, levels, &times) : build_svdag(dev, voxels, levels, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
@@ -98,7 +99,7 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   file.svo_nodes = dag.svo_nodes;
   file.dag_nodes.push_back(dag.voxels);
   for (uint32_t l = 1; l <= levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
-  file.dag = encode_svdag(dag);
+  file.dag = o.format == "ssvdag" ? encode_ssvdag(dag) : encode_svdag(dag);
   lap("encode");
   report("write", 0);
   write_mvx(o.output, file);
@@ -107,7 +108,7 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   r.svo_nodes = file.svo_nodes;
   r.nodes_per_level = file.dag_nodes;
   for (uint32_t l = 2; l <= levels; ++l) r.nodes_total += file.dag_nodes[l];
-  r.bytes = file.dag.words.size() * 4;
+  r.bytes = file.dag.bytes();
   r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
   return r;
 }

@@ -8,6 +8,6 @@ scripts/setup.sh --bench
 scripts/build.sh
 scripts/bunny.sh
 build/megavox devices
-build/megavox build build/bunny.ply --resolution 2K --format svdag -o build/bunny.mvx
+build/megavox build build/bunny.ply --resolution 2K --format ssvdag -o build/bunny.mvx
 build/megavox info build/bunny.mvx
 build/megavox bench sort --n 16M

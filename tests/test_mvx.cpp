@@ -212,3 +212,58 @@ TEST(Ussvdag, EncodesAndDecodesExactly) {
 
 }  // namespace
 }  // namespace mv::test
+
+namespace mv::test {
+namespace {
+
+TEST(Ssvdag, CompactEncodingDecodesExactly) {
+  Device& dev = shared_device(all_devices().front());
+  std::mt19937_64 rng(12);
+  for (uint32_t levels : {3u, 5u, 7u}) {
+    const uint32_t n = 1u << levels;
+    std::vector<uint64_t> v;
+    for (int i = 0; i < 4000; ++i) {
+      uint32_t x = rng() % (n / 2), y = rng() % n, z = rng() % n;
+      v.push_back(ref::morton3(x, y, z, 21));
+      if (i % 3) v.push_back(ref::morton3(n - 1 - x, y, z, 21));
+    }
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    Dag sym = build_ssvdag(dev, v, levels);
+    EncodedDag enc = encode_ssvdag(sym);
+    EXPECT_EQ(enc.bricks.size(), sym.nodes(2));
+    EXPECT_TRUE(decode_ssvdag(enc) == v) << "levels " << levels;
+    EXPECT_LT(enc.bytes(), encode_svdag(build_svdag(dev, v, levels)).bytes());
+    const std::string p = temp_path("ssvdag.mvx");
+    MvxFile f;
+    f.grid.resolution = n;
+    f.voxels = sym.voxels;
+    f.svo_nodes = sym.svo_nodes;
+    f.dag_nodes.assign(levels + 1, 1);
+    f.dag = enc;
+    write_mvx(p, f);
+    EXPECT_TRUE(decode_encoded(read_mvx(p).dag) == v);
+    std::filesystem::remove(p);
+  }
+}
+
+TEST(Ssvdag, RejectsDamage) {
+  Device& dev = shared_device(all_devices().front());
+  std::vector<uint64_t> v;
+  for (uint32_t x = 0; x < 64; x += 3) v.push_back(ref::morton3(x, x / 2, 63 - x, 21));
+  std::sort(v.begin(), v.end());
+  EncodedDag enc = encode_ssvdag(build_ssvdag(dev, v, 6));
+  EncodedDag bad = enc;
+  bad.inner[0] = 0;  // empty root
+  EXPECT_THROW(validate_ssvdag(bad), Error);
+  bad = enc;
+  bad.bricks.pop_back();  // a pointer to a missing brick
+  EXPECT_THROW(validate_ssvdag(bad), Error);
+  bad = enc;
+  bad.inner.pop_back();  // a node cut short
+  EXPECT_THROW(validate_ssvdag(bad), Error);
+  EXPECT_THROW(encode_ssvdag(build_ssvdag(dev, {0}, 2)), Error);
+}
+
+}  // namespace
+}  // namespace mv::test

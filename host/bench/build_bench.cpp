@@ -85,10 +85,12 @@ BuildBenchResult run_build_bench(Device& dev, const std::string& mesh, uint32_t 
   r.ssvdag_nodes = nodes_above_masks(sym);
   r.svdag_bytes = encode_svdag(plain).words.size() * 4;
   r.ussvdag_bytes = encode_svdag(sym).words.size() * 4;
+  r.ssvdag_bytes = encode_ssvdag(sym).bytes();
   r.svdag_voxels_per_s = double(r.voxels) / r.svdag_seconds;
   r.ssvdag_voxels_per_s = double(r.voxels) / r.ssvdag_seconds;
   r.time_ratio = r.ssvdag_seconds / r.svdag_seconds;
   r.byte_ratio = double(r.ussvdag_bytes) / double(r.svdag_bytes);
+  r.compact_byte_ratio = double(r.ssvdag_bytes) / double(r.svdag_bytes);
   return r;
 }
 

@@ -21,7 +21,8 @@ namespace {
 constexpr char kMagic[8] = {'M', 'E', 'G', 'A', 'V', 'O', 'X', '\x1a'};
 constexpr uint64_t kPage = 4096;
 constexpr uint32_t kMaxSections = 16;
-enum SectionKind : uint32_t { kCounts = 1, kLevels = 2, kNodes = 3 };
+enum SectionKind : uint32_t { kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5 };
+constexpr uint32_t kKinds = 6;
 
 struct Section {
   uint32_t kind = 0, reserved = 0;
@@ -65,6 +66,8 @@ std::string encoding_name(Encoding e) {
       return "svdag";
     case Encoding::ussvdag:
       return "ussvdag";
+    case Encoding::ssvdag:
+      return "ssvdag";
   }
   return "unknown(" + std::to_string(static_cast<uint32_t>(e)) + ")";
 }
@@ -78,15 +81,20 @@ void write_mvx(const std::string& path, const MvxFile& in) {
     const void* data;
     uint64_t bytes;
   };
-  const Blob blobs[] = {{kCounts, counts.data(), counts.size() * 8},
-                        {kLevels, in.dag.level_offset.data(), in.dag.level_offset.size() * 8},
-                        {kNodes, in.dag.words.data(), in.dag.words.size() * 4}};
+  std::vector<Blob> blobs = {{kCounts, counts.data(), counts.size() * 8},
+                             {kLevels, in.dag.level_offset.data(), in.dag.level_offset.size() * 8}};
+  if (in.dag.encoding == Encoding::ssvdag) {
+    blobs.push_back({kInner, in.dag.inner.data(), in.dag.inner.size() * 2});
+    blobs.push_back({kBricks, in.dag.bricks.data(), in.dag.bricks.size() * 8});
+  } else {
+    blobs.push_back({kNodes, in.dag.words.data(), in.dag.words.size() * 4});
+  }
   Header h{};
   std::memcpy(h.magic, kMagic, 8);
   h.version = kMvxVersion;
   h.encoding = static_cast<uint32_t>(in.dag.encoding);
   h.levels = L;
-  h.sections = 3;
+  h.sections = static_cast<uint32_t>(blobs.size());
   for (int a = 0; a < 3; ++a) {
     h.origin[a] = in.grid.origin[a];
     h.bounds_lo[a] = in.bounds.lo[a];
@@ -146,16 +154,19 @@ MvxFile read_mvx(const std::string& path) {
     throw Error(path + ": .mvx version " + std::to_string(h.version) + " (this megavox reads version " +
                 std::to_string(kMvxVersion) + ")");
   if (hash(&h, offsetof(Header, checksum)) != h.checksum) throw Error(path + ": header checksum mismatch");
-  if (h.encoding != static_cast<uint32_t>(Encoding::svdag) && h.encoding != static_cast<uint32_t>(Encoding::ussvdag))
+  if (h.encoding < static_cast<uint32_t>(Encoding::svdag) || h.encoding > static_cast<uint32_t>(Encoding::ssvdag))
     throw Error(path + ": unknown encoding " + std::to_string(h.encoding));
+  const bool compact = h.encoding == static_cast<uint32_t>(Encoding::ssvdag);
   if (h.levels < 1 || h.levels > 21) throw Error(path + ": bad level count " + std::to_string(h.levels));
   if (h.resolution != (1u << h.levels)) throw Error(path + ": resolution does not match the level count");
-  if (!(h.voxel_size > 0) || h.sections != 3) throw Error(path + ": bad grid or section count");
-  const Section* find[4] = {};
+  if (!(h.voxel_size > 0) || h.sections != (compact ? 4u : 3u)) throw Error(path + ": bad grid or section count");
+  const Section* find[kKinds] = {};
   uint64_t expected_bytes = kPage;
   for (uint32_t i = 0; i < h.sections; ++i) {
     const Section& s = h.table[i];
-    if (s.kind < 1 || s.kind > 3 || find[s.kind]) throw Error(path + ": bad section table");
+    const bool wanted = s.kind == kCounts || s.kind == kLevels || (compact ? s.kind == kInner || s.kind == kBricks
+                                                                            : s.kind == kNodes);
+    if (!wanted || find[s.kind]) throw Error(path + ": bad section table");
     if (s.offset % kPage || s.offset < kPage || s.offset > file_bytes || s.bytes > file_bytes - s.offset)
       throw Error(path + ": truncated: section " + std::to_string(i) + " ends past the end of the file");
     find[s.kind] = &s;
@@ -181,9 +192,14 @@ MvxFile read_mvx(const std::string& path) {
   out.dag.encoding = static_cast<Encoding>(h.encoding);
   out.dag.levels = h.levels;
   out.dag.level_offset = section_data<uint64_t>(f.get(), *find[kLevels], path, "levels");
-  out.dag.words = section_data<uint32_t>(f.get(), *find[kNodes], path, "nodes");
+  if (compact) {
+    out.dag.inner = section_data<uint16_t>(f.get(), *find[kInner], path, "inner nodes");
+    out.dag.bricks = section_data<uint64_t>(f.get(), *find[kBricks], path, "bricks");
+  } else {
+    out.dag.words = section_data<uint32_t>(f.get(), *find[kNodes], path, "nodes");
+  }
   try {
-    validate_svdag(out.dag);
+    validate_encoded(out.dag);
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }

@@ -17,7 +17,15 @@
 
 namespace mv {
 
-enum class Encoding : uint32_t { svdag = 2, ussvdag = 3 };
+// ssvdag: the compact encoding of the thesis (Jaspe Villanueva 2018, 5.4; SymVox) for an SSVDAG. Level-2
+// nodes become 64-bit 4x4x4 bricks (bit 16x + 4y + z, children already mirrored by their tags) in a brick
+// array; the inner levels (L .. 3) are streams of 16-bit words, each level's nodes sorted by descending
+// reference count so popular nodes get short offsets. A node is a header word (2 bits per child c = 0..7,
+// thesis octants: 00 empty, 01 16-bit pointer, 10 / 11 32-bit pointer whose offset bit 29 is 0 / 1) and the
+// pointers of its children in descending c. A 16-bit pointer holds the Z, Y, X mirror bits in bits 15..13
+// and a 13-bit offset; a 32-bit pointer (high word first) the mirror bits in 31..29 and offset bits 28..0.
+// Offsets count 16-bit words from the start of the child's level, or bricks when the child is a brick.
+enum class Encoding : uint32_t { svdag = 2, ussvdag = 3, ssvdag = 4 };
 
 // Thesis octant index of a Morton octant (and back: the map is its own inverse).
 constexpr uint32_t thesis_octant(uint32_t morton) { return ((morton & 1) << 2) | (morton & 2) | ((morton >> 2) & 1); }
@@ -26,18 +34,30 @@ uint32_t thesis_mask(uint32_t morton_mask);  // permutes mask bits the same way
 struct EncodedDag {
   Encoding encoding = Encoding::svdag;
   uint32_t levels = 0;
-  std::vector<uint32_t> words;         // the node stream
+  std::vector<uint32_t> words;         // svdag, ussvdag: the node stream
   std::vector<uint64_t> level_offset;  // index = level: first word of that level (levels root first)
+  std::vector<uint16_t> inner;         // ssvdag: levels L .. 3, root first
+  std::vector<uint64_t> bricks;        // ssvdag: level-2 nodes
+  uint64_t bytes() const { return words.size() * 4 + inner.size() * 2 + bricks.size() * 8; }
 };
 
 // svdag for a plain DAG, ussvdag for a symmetric one.
 EncodedDag encode_svdag(const Dag& dag);
 
+// The compact ssvdag encoding of an SSVDAG with at least 3 levels.
+EncodedDag encode_ssvdag(const Dag& symmetric_dag);
+
 // Checks the stream in one linear pass per level: node sizes tile each level, every pointer lands on a
 // node start one level down (so no cycles), one root. Throws mv::Error naming the fault.
 void validate_svdag(const EncodedDag& enc);
+void validate_ssvdag(const EncodedDag& enc);
 
 // Validates, then expands every path: the voxels as sorted Morton keys (memory grows with the voxels).
 std::vector<uint64_t> decode_svdag(const EncodedDag& enc);
+std::vector<uint64_t> decode_ssvdag(const EncodedDag& enc);
+
+// Validates / decodes whichever encoding `enc` holds.
+void validate_encoded(const EncodedDag& enc);
+std::vector<uint64_t> decode_encoded(const EncodedDag& enc);
 
 }  // namespace mv

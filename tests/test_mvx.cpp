@@ -267,3 +267,37 @@ TEST(Ssvdag, RejectsDamage) {
 
 }  // namespace
 }  // namespace mv::test
+
+namespace mv::test {
+namespace {
+
+// The whole build on every device gives the same encoded bytes (discrete results are backend-independent).
+TEST(Build, EveryDeviceWritesTheSameBytes) {
+  std::vector<float> pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+  std::vector<uint32_t> idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  Bounds b;
+  for (size_t i = 0; i < pos.size(); i += 3) b.extend(pos[i], pos[i + 1], pos[i + 2]);
+  GridTransform g = grid_for_bounds(b, 128);
+  std::vector<float> tris;
+  triangles_to_grid(g, pos, idx.data(), 8, tris);
+  std::vector<std::vector<uint32_t>> svdag, ussvdag;
+  std::vector<std::vector<uint16_t>> ssvdag;
+  for (const DeviceInfo& d : all_devices()) {
+    Device& dev = shared_device(d);
+    Voxelizer v(dev, 128);
+    v.add(tris);
+    std::vector<uint64_t> voxels = v.take_keys();
+    svdag.push_back(encode_svdag(build_svdag(dev, voxels, 7)).words);
+    Dag sym = build_ssvdag(dev, voxels, 7);
+    ussvdag.push_back(encode_svdag(sym).words);
+    ssvdag.push_back(encode_ssvdag(sym).inner);
+  }
+  for (size_t i = 1; i < svdag.size(); ++i) {
+    EXPECT_TRUE(svdag[i] == svdag[0]) << all_devices()[i].selector();
+    EXPECT_TRUE(ussvdag[i] == ussvdag[0]) << all_devices()[i].selector();
+    EXPECT_TRUE(ssvdag[i] == ssvdag[0]) << all_devices()[i].selector();
+  }
+}
+
+}  // namespace
+}  // namespace mv::test

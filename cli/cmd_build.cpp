@@ -66,10 +66,11 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
   auto a = std::make_shared<BuildArgs>();
   auto* cmd = app.add_subcommand(
       "build",
-      "Voxelize a triangle mesh (PLY, binary or ASCII) at a resolution and reduce it to a voxel DAG in a .mvx\n"
+      "Voxelize a triangle mesh (PLY, binary or ASCII, streamed; OBJ, glTF, FBX, STL, ... through assimp) at a\n"
+      "resolution and reduce it to a voxel DAG in a .mvx\n"
       "file. The grid is a cube on the mesh's longest extent, centred on its bounds; a voxel is set when a\n"
       "triangle meets its cell. Example: megavox build bunny.ply --resolution 4K -o bunny.mvx");
-  cmd->add_option("input", a->input, "Mesh file (.ply)")->required();
+  cmd->add_option("input", a->input, "Mesh file (.ply, .obj, .gltf, .fbx, .stl, ...)")->required();
   cmd->add_option("-o,--output", a->output, "The .mvx file to write (written to OUT.tmp, renamed on success)")
       ->required();
   cmd->add_option("--resolution", a->resolution, "Voxels per axis, a power of two: 1024, 2K, 16K, ...")

@@ -2,7 +2,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "io/ply_reader.h"
+#include "io/mesh_source.h"
 #include "megavox/build.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
@@ -55,10 +55,10 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   Bounds bounds;
   std::vector<uint32_t> idx;
   {
-    io::PlyMeshReader mesh(o.input);
-    const auto& pos = mesh.positions();
+    auto mesh = io::open_mesh(o.input);
+    const auto& pos = mesh->positions();
     std::vector<bool> used(pos.size() / 3, false);
-    while (mesh.next_triangles(idx, kBatchTriangles))
+    while (mesh->next_triangles(idx, kBatchTriangles))
       for (uint32_t v : idx) used[v] = true;
     for (size_t v = 0; v < used.size(); ++v)
       if (used[v]) bounds.extend(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]);
@@ -67,13 +67,13 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   GridTransform grid = grid_for_bounds(bounds, o.resolution);
   lap("read");
 
-  io::PlyMeshReader mesh(o.input);
+  auto mesh = io::open_mesh(o.input);
   Voxelizer vox(dev, o.resolution);
   std::vector<float> tris;
-  const double faces = std::max<double>(1, double(mesh.info().faces));
-  while (mesh.next_triangles(idx, kBatchTriangles)) {
+  const double faces = std::max<double>(1, double(mesh->triangles_hint()));
+  while (mesh->next_triangles(idx, kBatchTriangles)) {
     tris.clear();
-    triangles_to_grid(grid, mesh.positions(), idx.data(), idx.size() / 3, tris);
+    triangles_to_grid(grid, mesh->positions(), idx.data(), idx.size() / 3, tris);
     vox.add(tris);
     report("voxelize", std::min(1.0, double(vox.triangles()) / faces));
   }

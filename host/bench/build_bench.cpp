@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "io/ply_reader.h"
+#include "io/mesh_source.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
@@ -42,11 +42,11 @@ BuildBenchResult run_build_bench(Device& dev, const std::string& mesh, uint32_t 
   r.mesh = mesh;
   r.resolution = resolution;
   r.read_gb_per_s = plain_read_gb_per_s(mesh);
-  io::PlyMeshReader reader(mesh);
+  auto reader = io::open_mesh(mesh);
   std::vector<uint32_t> idx, all;
-  while (reader.next_triangles(idx, 1u << 20)) all.insert(all.end(), idx.begin(), idx.end());
+  while (reader->next_triangles(idx, 1u << 20)) all.insert(all.end(), idx.begin(), idx.end());
   Bounds b;
-  const auto& pos = reader.positions();
+  const auto& pos = reader->positions();
   for (uint32_t v : all) b.extend(pos[3 * size_t{v}], pos[3 * size_t{v} + 1], pos[3 * size_t{v} + 2]);
   if (b.empty()) throw Error(mesh + ": the mesh has no triangles");
   GridTransform grid = grid_for_bounds(b, resolution);

@@ -10,7 +10,7 @@
 namespace mv {
 
 struct BuildOptions {
-  std::string input;         // a PLY mesh (binary or ASCII)
+  std::string input;         // a mesh: PLY (streamed) or anything assimp reads (OBJ, glTF, FBX, STL, ...)
   std::string output;        // the .mvx to write
   uint32_t resolution = 0;   // voxels per axis, a power of two
   std::string format = "svdag";

@@ -1,0 +1,25 @@
+// Triangle meshes from any supported file, as vertex positions plus triangles delivered in batches.
+// PLY goes through megavox's streaming reader (massive scans); OBJ, glTF, FBX, STL, ... through assimp,
+// which loads the whole file (those formats are rarely massive).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mv::io {
+
+class MeshSource {
+ public:
+  virtual ~MeshSource() = default;
+  virtual const std::vector<float>& positions() const = 0;  // 3 floats per vertex
+  virtual uint64_t triangles_hint() const = 0;               // for progress; may be approximate
+  // Replaces `indices` with up to max_triangles triangles (3 indices each); false at the end.
+  virtual bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) = 0;
+};
+
+// Chooses the reader by content (a PLY starts with "ply\n"), else by assimp. Throws mv::Error naming the file
+// and the fault.
+std::unique_ptr<MeshSource> open_mesh(const std::string& path);
+
+}  // namespace mv::io

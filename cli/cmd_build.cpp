@@ -14,7 +14,7 @@ namespace mv::cli {
 namespace {
 
 struct BuildArgs {
-  std::string input, output, resolution = "1K", format = "svdag";
+  std::string input, output, resolution, format = "svdag", grid;
   bool json = false, quiet = false;
 };
 
@@ -34,7 +34,10 @@ Progress progress_bar(bool enabled) {
 
 void print_table(const BuildReport& r) {
   std::printf("%s -> %s (%s, %u^3)\n", r.input.c_str(), r.output.c_str(), r.format.c_str(), r.resolution);
-  std::printf("  triangles %llu, voxels %llu\n", (unsigned long long)r.triangles, (unsigned long long)r.voxels);
+  if (!r.vdb_grid.empty())
+    std::printf("  grid '%s' (%s), voxels %llu\n", r.vdb_grid.c_str(), r.vdb_class.c_str(), (unsigned long long)r.voxels);
+  else
+    std::printf("  triangles %llu, voxels %llu\n", (unsigned long long)r.triangles, (unsigned long long)r.voxels);
   std::printf("  %-6s %14s %14s %8s\n", "level", "octree nodes", "DAG nodes", "DAG/SVO");
   for (size_t l = 0; l < r.nodes_per_level.size(); ++l)
     std::printf("  %-6zu %14llu %14llu %8.3f\n", l, (unsigned long long)r.svo_nodes[l],
@@ -55,6 +58,7 @@ nlohmann::json report_json(const BuildReport& r) {
   return {{"input", r.input},         {"output", r.output},
           {"format", r.format},       {"resolution", r.resolution},
           {"triangles", r.triangles}, {"voxels", r.voxels},
+          {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},
           {"svo_nodes_per_level", r.svo_nodes},
           {"nodes_per_level", r.nodes_per_level},
           {"nodes_total", r.nodes_total},
@@ -67,14 +71,17 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
   auto* cmd = app.add_subcommand(
       "build",
       "Voxelize a triangle mesh (PLY, binary or ASCII, streamed; OBJ, glTF, FBX, STL, ... through assimp) at a\n"
-      "resolution and reduce it to a voxel DAG in a .mvx\n"
+      "resolution, or read an OpenVDB volume (level sets: surface voxels; fog: voxels > 0), and reduce it to a\n"
+      "voxel DAG in a .mvx\n"
       "file. The grid is a cube on the mesh's longest extent, centred on its bounds; a voxel is set when a\n"
       "triangle meets its cell. Example: megavox build bunny.ply --resolution 4K -o bunny.mvx");
   cmd->add_option("input", a->input, "Mesh file (.ply, .obj, .gltf, .fbx, .stl, ...)")->required();
   cmd->add_option("-o,--output", a->output, "The .mvx file to write (written to OUT.tmp, renamed on success)")
       ->required();
-  cmd->add_option("--resolution", a->resolution, "Voxels per axis, a power of two: 1024, 2K, 16K, ...")
-      ->capture_default_str();
+  cmd->add_option("--resolution", a->resolution,
+                  "Voxels per axis, a power of two: 1024, 2K, 16K, ... (default: 1K for meshes; for a .vdb the\n"
+                  "smallest power of two that holds its voxels, one VDB voxel per voxel)");
+  cmd->add_option("--grid", a->grid, "The .vdb grid to read (default: the first)");
   cmd->add_option("--format", a->format,
                   "DAG encoding: svdag (the thesis / SymVox 32-bit layout), ussvdag (symmetry-aware reduction,\n"
                   "same layout with per-child mirror bits) or ssvdag (symmetry-aware, compact 16-bit encoding)")
@@ -86,7 +93,8 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     BuildOptions o;
     o.input = a->input;
     o.output = a->output;
-    o.resolution = parse_resolution(a->resolution);
+    o.resolution = a->resolution.empty() ? 0 : parse_resolution(a->resolution);
+    o.grid = a->grid;
     o.format = a->format;
     auto dev = open_device(g);
     BuildReport r = build_mvx(*dev, o, progress_bar(!a->quiet && isatty(STDERR_FILENO)));

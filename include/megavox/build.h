@@ -10,16 +10,19 @@
 namespace mv {
 
 struct BuildOptions {
-  std::string input;         // a mesh: PLY (streamed) or anything assimp reads (OBJ, glTF, FBX, STL, ...)
+  std::string input;         // a mesh: PLY (streamed) or anything assimp reads (OBJ, glTF, FBX, STL, ...),
+                             // or an OpenVDB .vdb volume (one VDB voxel = one voxel)
   std::string output;        // the .mvx to write
-  uint32_t resolution = 0;   // voxels per axis, a power of two
+  uint32_t resolution = 0;   // voxels per axis, a power of two; 0: 1024 for meshes, the smallest fit for .vdb
+  std::string grid;          // .vdb: the grid to read (empty: the first)
   std::string format = "svdag";
 };
 
 struct BuildReport {
   std::string input, output, format;
   uint32_t resolution = 0;
-  uint64_t triangles = 0;
+  uint64_t triangles = 0;  // 0 for a .vdb input
+  std::string vdb_grid, vdb_class;  // the .vdb grid read and its class
   uint64_t voxels = 0;
   std::vector<uint64_t> svo_nodes;       // index = level (0 = voxels, 1 = 2^3 masks, 2 = 4^3 bricks, ...)
   std::vector<uint64_t> nodes_per_level; // the DAG's, same indexing

@@ -1,0 +1,106 @@
+#include "io/vdb_source.h"
+
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+#include "megavox/error.h"
+
+namespace mv::io {
+
+namespace {
+
+uint64_t morton_key(uint64_t x, uint64_t y, uint64_t z) {
+  uint64_t key = 0;
+  for (int b = 0; b < 21; ++b) key |= (x >> b & 1) << (3 * b) | (y >> b & 1) << (3 * b + 1) | (z >> b & 1) << (3 * b + 2);
+  return key;
+}
+
+}  // namespace
+
+bool is_vdb(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  unsigned char head[4] = {};
+  size_t got = std::fread(head, 1, 4, f);
+  std::fclose(f);
+  return got == 4 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56;  // " BDV"
+}
+
+VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t resolution) {
+  openvdb::initialize();
+  VdbVoxels out;
+  openvdb::FloatGrid::Ptr grid;
+  try {
+    openvdb::io::File file(path);
+    file.open();
+    std::string wanted = name;
+    if (wanted.empty()) {
+      auto it = file.beginName();
+      if (it == file.endName()) throw Error(path + ": the file holds no grids");
+      wanted = it.gridName();
+    }
+    if (!file.hasGrid(wanted)) throw Error(path + ": no grid named '" + wanted + "'");
+    grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(wanted));
+    file.close();
+    if (!grid) throw Error(path + ": grid '" + wanted + "' does not hold float values");
+    out.grid_name = wanted;
+  } catch (const openvdb::Exception& e) {
+    throw Error(path + ": cannot read the OpenVDB file (" + std::string(e.what()) + ")");
+  }
+  const bool level_set = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
+  out.grid_class = level_set ? "level set" : "fog volume";
+  const double vs = grid->voxelSize()[0];
+  const float band = static_cast<float>(0.5 * vs);
+
+  std::vector<openvdb::Coord> coords;
+  for (auto it = grid->cbeginValueOn(); it; ++it) {
+    const float v = *it;
+    const bool keep = level_set ? std::abs(v) <= band : v > 0.0f;
+    if (!keep) continue;
+    if (it.isVoxelValue()) {
+      coords.push_back(it.getCoord());
+    } else {  // an active tile: all of its voxels
+      openvdb::CoordBBox box;
+      it.getBoundingBox(box);
+      if (box.volume() > (uint64_t{1} << 32)) throw Error(path + ": an active tile is too large to expand");
+      for (auto c = box.begin(); c; ++c) coords.push_back(*c);
+    }
+  }
+  if (coords.empty()) throw Error(path + ": grid '" + out.grid_name + "' selects no voxels");
+  openvdb::Coord lo = coords[0], hi = coords[0];
+  for (const auto& c : coords) {
+    lo.minComponent(c);
+    hi.maxComponent(c);
+  }
+  uint64_t extent = 0;
+  for (int a = 0; a < 3; ++a) extent = std::max<uint64_t>(extent, uint64_t(int64_t(hi[a]) - lo[a] + 1));
+  uint32_t n = 8;
+  while (n < extent) n *= 2;
+  if (resolution == 0) resolution = n;
+  if (resolution < extent)
+    throw Error(path + ": the selected voxels span " + std::to_string(extent) + " voxels; --resolution " +
+                std::to_string(resolution) + " would need resampling, which .vdb input does not do yet");
+  out.extent = static_cast<uint32_t>(extent);
+  out.keys.reserve(coords.size());
+  for (const auto& c : coords)
+    out.keys.push_back(morton_key(uint64_t(c[0] - lo[0]), uint64_t(c[1] - lo[1]), uint64_t(c[2] - lo[2])));
+  std::sort(out.keys.begin(), out.keys.end());
+  out.keys.erase(std::unique(out.keys.begin(), out.keys.end()), out.keys.end());
+  for (int a = 0; a < 3; ++a) out.index_min[a] = lo[a];
+  // VDB voxels are centred on their integer index: voxel lo covers [lo - 1/2, lo + 1/2) in index space.
+  openvdb::Vec3d o = grid->transform().indexToWorld(openvdb::Vec3d(lo[0] - 0.5, lo[1] - 0.5, lo[2] - 0.5));
+  openvdb::Vec3d top = grid->transform().indexToWorld(openvdb::Vec3d(hi[0] + 0.5, hi[1] + 0.5, hi[2] + 0.5));
+  out.grid.origin[0] = o[0];
+  out.grid.origin[1] = o[1];
+  out.grid.origin[2] = o[2];
+  out.grid.voxel_size = vs;
+  out.grid.resolution = resolution;
+  out.bounds.extend(o[0], o[1], o[2]);
+  out.bounds.extend(top[0], top[1], top[2]);
+  return out;
+}
+
+}  // namespace mv::io

@@ -56,9 +56,16 @@ void triangles_to_grid(const GridTransform& grid, const std::vector<float>& posi
   }
 }
 
-Voxelizer::Voxelizer(Device& dev, uint32_t resolution) : dev_(dev), resolution_(resolution) {
+Voxelizer::Voxelizer(Device& dev, uint32_t resolution) : dev_(dev), resolution_(resolution), box_size_(resolution) {
   if (resolution == 0 || resolution > (1u << 21))
     throw Error("resolution " + std::to_string(resolution) + " is outside [1, 2097152] voxels per axis");
+}
+
+void Voxelizer::restrict_to(uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
+  box_[0] = x;
+  box_[1] = y;
+  box_[2] = z;
+  box_size_ = size;
 }
 
 void Voxelizer::add(const std::vector<float>& tris) {
@@ -71,7 +78,9 @@ void Voxelizer::add(const std::vector<float>& tris) {
   std::vector<uint32_t> item_tri, item_col;
   for (uint32_t t = 0; t < count; ++t) {
     const float* v = &tris[9 * size_t{t}];
-    MvTriFrame f = mv_tri_frame(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], resolution_);
+    MvTriFrame f = mv_tri_frame(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], resolution_, box_[0], box_[1],
+                                box_[2], box_size_);
+    if (f.empty) continue;
     uint64_t columns = uint64_t{mv_frame_hi(f, f.u) - mv_frame_lo(f, f.u) + 1} *
                        (mv_frame_hi(f, f.v) - mv_frame_lo(f, f.v) + 1);
     if (columns > UINT32_MAX - kColumnsPerItem) throw Error("voxelize: triangle " + std::to_string(t) + " is too large");
@@ -81,6 +90,7 @@ void Voxelizer::add(const std::vector<float>& tris) {
     }
   }
   const auto items = static_cast<uint32_t>(item_tri.size());
+  if (items == 0) return;
   Buffer tri_buf = dev_.alloc(tris.size() * 4, "voxelizer triangles");
   Buffer tri_of = dev_.alloc(uint64_t{items} * 4, "voxelizer work items");
   Buffer col_of = dev_.alloc(uint64_t{items} * 4, "voxelizer work items");
@@ -91,7 +101,7 @@ void Voxelizer::add(const std::vector<float>& tris) {
 
   Kernel& k = dev_.kernel("voxelize");
   const uint32_t local = 64;
-  MvVoxelizeParams p{0, items, resolution_, kColumnsPerItem, 0, 0};
+  MvVoxelizeParams p{0, items, resolution_, kColumnsPerItem, 0, box_size_, box_[0], box_[1], box_[2], 0};
   Buffer none;
   dev_.dispatch(k, dev_.groups_for(items, local), local, {&tri_buf, &tri_of, &col_of, &counts, &none}, p);
   std::vector<uint32_t> n(items);
@@ -114,7 +124,7 @@ void Voxelizer::add(const std::vector<float>& tris) {
     if (total > 0) {
       dev_.upload(counts, offsets.data() + first, uint64_t{last - first} * 4, uint64_t{first} * 4);
       Buffer keys = dev_.alloc(total * 8, "voxel keys");
-      p = {first, last - first, resolution_, kColumnsPerItem, 1, 0};
+      p = {first, last - first, resolution_, kColumnsPerItem, 1, box_size_, box_[0], box_[1], box_[2], 0};
       dev_.dispatch(k, dev_.groups_for(last - first, local), local, {&tri_buf, &tri_of, &col_of, &counts, &keys}, p);
       dev_.barrier();
       auto n_keys = static_cast<uint32_t>(total);

@@ -29,3 +29,4 @@ mv_kernel(ssvdag_verify         dag/dag.cl           dag/dag.comp             MV
 mv_kernel(ssvdag_tags           dag/dag.cl           dag/dag.comp             MV_ENTRY_ssvdag_tags)
 mv_kernel(leaf_present          dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_present)
 mv_kernel(leaf_ids              dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_ids)
+mv_kernel(gather_slots          dag/dag.cl           dag/dag.comp             MV_ENTRY_gather_slots)

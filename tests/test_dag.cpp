@@ -4,6 +4,7 @@
 
 #include "host/ref/reference.h"
 #include "megavox/dag.h"
+#include "megavox/encode.h"
 #include "megavox/voxelize.h"
 #include "megavox/error.h"
 #include "test_support.h"
@@ -134,6 +135,49 @@ TEST(DagBuild, RejectsKeysOutsideTheGrid) {
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(DagTest);
+
+}  // namespace
+}  // namespace mv::test
+
+namespace mv::test {
+namespace {
+
+// Out-of-core (cube by cube, then merged) gives the in-core DAG exactly: the same encoded bytes.
+TEST_P(DagTest, OutOfCoreEqualsInCore) {
+  Device& dev = shared_device(GetParam());
+  std::vector<float> pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1.3f};
+  std::vector<uint32_t> idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  Bounds b;
+  for (size_t i = 0; i < pos.size(); i += 3) b.extend(pos[i], pos[i + 1], pos[i + 2]);
+  const uint32_t levels = 7, n = 1u << levels;
+  GridTransform g = grid_for_bounds(b, n);
+  std::vector<float> tris;
+  triangles_to_grid(g, pos, idx.data(), 8, tris);
+  Voxelizer all(dev, n);
+  all.add(tris);
+  std::vector<uint64_t> voxels = all.take_keys();
+  CubeVoxels cube = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
+    Voxelizer v(dev, n);
+    v.restrict_to(x, y, z, size);
+    v.add(tris);
+    return v.take_keys();
+  };
+  for (bool symmetric : {false, true}) {
+    Dag in_core = symmetric ? build_ssvdag(dev, voxels, levels) : build_svdag(dev, voxels, levels);
+    for (uint32_t cube_levels : {4u, 6u}) {
+      SCOPED_TRACE((symmetric ? "symmetric, cubes of 2^" : "plain, cubes of 2^") + std::to_string(cube_levels));
+      Dag ooc = build_dag_by_cubes(dev, levels, cube_levels, symmetric, cube);
+      EXPECT_EQ(ooc.voxels, in_core.voxels);
+      EXPECT_EQ(ooc.svo_nodes, in_core.svo_nodes);
+      EXPECT_TRUE(encode_svdag(ooc).words == encode_svdag(in_core).words);
+      if (symmetric) {
+        EXPECT_TRUE(encode_ssvdag(ooc).inner == encode_ssvdag(in_core).inner);
+        EXPECT_TRUE(encode_ssvdag(ooc).bricks == encode_ssvdag(in_core).bricks);
+      }
+      EXPECT_TRUE(decode_voxels(ooc) == voxels);
+    }
+  }
+}
 
 }  // namespace
 }  // namespace mv::test

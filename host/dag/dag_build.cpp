@@ -161,6 +161,29 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
   return out;
 }
 
+// The root was stored canonically reflected by its tag; store it in the model's own orientation instead
+// (nothing else points to it), as the SymVox formats do: octant c moves to c ^ t, child tags pick up t.
+void store_root_unreflected(Dag& dag, uint32_t t) {
+  if (t == 0) return;
+  DagLevel& top = dag.level[dag.levels];
+  const uint32_t m = top.mask[0];
+  top.mask[0] = mv_reflect_mask(m, t);
+  if (dag.levels == 1) return;
+  uint32_t ids[8] = {}, tags[8] = {};
+  for (uint32_t c = 0, k = 0; c < 8; ++c)
+    if (m >> c & 1) {
+      ids[c ^ t] = top.children[k];
+      tags[c ^ t] = top.tags[k++] ^ t;
+    }
+  top.children.clear();
+  top.tags.clear();
+  for (uint32_t c = 0; c < 8; ++c)
+    if (top.mask[0] >> c & 1) {
+      top.children.push_back(ids[c]);
+      top.tags.push_back(tags[c]);
+    }
+}
+
 Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
               DagBuildTimes* times) {
   if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
@@ -200,33 +223,53 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   uint32_t root_tag = 0;
   if (symmetric) dev.download(below.tag, &root_tag, 4);
   dev.finish();
-  if (root_tag) {
-    // The root was stored canonically reflected; store it in the model's own orientation instead (nothing
-    // else points to it), as the SymVox formats do: octant c moves to c ^ t, child tags pick up t.
-    DagLevel& top = dag.level[levels];
-    const uint32_t t = root_tag, m = top.mask[0];
-    top.mask[0] = mv_reflect_mask(m, t);
-    if (levels > 1) {
-      uint32_t ids[8] = {}, tags[8] = {};
-      for (uint32_t c = 0, k = 0; c < 8; ++c)
-        if (m >> c & 1) {
-          ids[c ^ t] = top.children[k];
-          tags[c ^ t] = top.tags[k++] ^ t;
-        }
-      top.children.clear();
-      top.tags.clear();
-      for (uint32_t c = 0; c < 8; ++c)
-        if (top.mask[0] >> c & 1) {
-          top.children.push_back(ids[c]);
-          top.tags.push_back(tags[c]);
-        }
-    }
-  }
+  store_root_unreflected(dag, root_tag);
   if (times) {
     times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
     times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
   }
   return dag;
+}
+
+// The union of the cubes' partial DAGs at one level: nodes in their stored orientation, and one slot per
+// child pointer (the union node it points to, the pointer's tag).
+struct UnionLevel {
+  std::vector<uint32_t> mask, first, slot_node, slot_tag;
+};
+
+// Merged classes of one union level (or of the cube roots): per slot, the class id and tag it points to.
+Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric) {
+  const auto n = static_cast<uint32_t>(u.slot_node.size());
+  Reduced slots;
+  slots.distinct = merged.distinct;
+  slots.idstab = std::move(merged.idstab);
+  if (n == 0) return slots;
+  Buffer node = dev.alloc(uint64_t{n} * 4, "merge slots");
+  dev.upload(node, u.slot_node.data(), uint64_t{n} * 4);
+  Buffer tag;
+  if (symmetric) {
+    tag = dev.alloc(uint64_t{n} * 4, "merge slot tags");
+    dev.upload(tag, u.slot_tag.data(), uint64_t{n} * 4);
+    slots.tag = dev.alloc(uint64_t{n} * 4, "merged slot tags");
+  }
+  slots.id = dev.alloc(uint64_t{n} * 4, "merged slot ids");
+  MvDagParams p{n, symmetric ? 1u : 0u, 0, 0};
+  dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(n, kLocal), kLocal,
+               {&node, &tag, &merged.id, &merged.tag, &slots.id, &slots.tag}, p);
+  dev.barrier();
+  return slots;
+}
+
+SvoLevel upload_level(Device& dev, const UnionLevel& u) {
+  SvoLevel lv;
+  lv.n = static_cast<uint32_t>(u.mask.size());
+  lv.mask = dev.alloc(uint64_t{lv.n} * 4, "merge masks");
+  dev.upload(lv.mask, u.mask.data(), uint64_t{lv.n} * 4);
+  if (!u.first.empty()) {
+    lv.first = dev.alloc(uint64_t{lv.n} * 4, "merge first slots");
+    dev.upload(lv.first, u.first.data(), uint64_t{lv.n} * 4);
+  }
+  return lv;
 }
 
 }  // namespace
@@ -237,6 +280,101 @@ Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t level
 
 Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
   return build_dag(dev, voxels, levels, true, times);
+}
+
+Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
+                       DagBuildTimes* times) {
+  if (cube_levels < 1 || cube_levels >= levels)
+    throw Error("out-of-core build: cubes of 2^" + std::to_string(cube_levels) + " voxels must be smaller than the 2^" +
+                std::to_string(levels) + " grid");
+  auto t0 = Clock::now();
+  Dag dag;
+  dag.levels = levels;
+  dag.symmetric = symmetric;
+  dag.svo_nodes.assign(levels + 1, 0);
+  dag.level.resize(levels + 1);
+  // 1. Each cube on its own, in Morton order; its partial DAG joins the union, level by level.
+  std::vector<UnionLevel> u(cube_levels + 1);
+  std::vector<uint64_t> root_keys;   // Morton key of each non-empty cube at level cube_levels
+  std::vector<uint32_t> root_node;   // its root in the union's top level
+  const uint32_t side = 1u << cube_levels;
+  const uint64_t cubes = uint64_t{1} << (3 * (levels - cube_levels));
+  const uint64_t local_mask = (uint64_t{1} << (3 * cube_levels)) - 1;
+  for (uint64_t c = 0; c < cubes; ++c) {
+    uint32_t x = 0, y = 0, z = 0;
+    for (uint32_t b = 0; b < levels - cube_levels; ++b) {
+      x |= uint32_t(c >> (3 * b) & 1) << b;
+      y |= uint32_t(c >> (3 * b + 1) & 1) << b;
+      z |= uint32_t(c >> (3 * b + 2) & 1) << b;
+    }
+    std::vector<uint64_t> keys = voxels_of(x * side, y * side, z * side, side);
+    if (keys.empty()) continue;
+    for (uint64_t& k : keys) {
+      if ((k >> (3 * cube_levels)) != c) throw Error("out-of-core build: a voxel lies outside its cube");
+      k &= local_mask;
+    }
+    Dag part = build_dag(dev, keys, cube_levels, symmetric, nullptr);
+    dag.voxels += part.voxels;
+    for (uint32_t l = 0; l <= cube_levels; ++l) dag.svo_nodes[l] += part.svo_nodes[l];
+    for (uint32_t l = 1; l <= cube_levels; ++l) {
+      const DagLevel& p = part.level[l];
+      UnionLevel& ul = u[l];
+      const auto below_base = l > 1 ? static_cast<uint32_t>(u[l - 1].mask.size() - part.level[l - 1].mask.size()) : 0;
+      for (size_t i = 0; i < p.mask.size(); ++i) {
+        ul.mask.push_back(p.mask[i]);
+        if (l == 1) continue;
+        ul.first.push_back(static_cast<uint32_t>(ul.slot_node.size()));
+        for (uint32_t k = 0; k < static_cast<uint32_t>(__builtin_popcount(p.mask[i])); ++k) {
+          ul.slot_node.push_back(below_base + p.children[p.first[i] + k]);
+          ul.slot_tag.push_back(p.tags.empty() ? 0 : p.tags[p.first[i] + k]);
+        }
+      }
+    }
+    root_keys.push_back(c);
+    root_node.push_back(static_cast<uint32_t>(u[cube_levels].mask.size() - 1));
+  }
+  if (root_keys.empty()) return dag;
+  auto t1 = Clock::now();
+
+  // 2. Reduce the union again, bottom-up, exactly as an in-core build reduces its octree levels: the same
+  // hashes of the same (mask, child class, tag) give the same classes, ids and stored orientations.
+  Reduced below;
+  for (uint32_t l = 1; l <= cube_levels; ++l) {
+    SvoLevel lv = upload_level(dev, u[l]);
+    Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric);
+    Reduced r = reduce_level(dev, lv, slots, l == 1, symmetric);
+    dag.level[l] = assemble(dev, lv, r, slots, static_cast<uint32_t>(u[l].slot_node.size()), l == 1, symmetric);
+    below = std::move(r);
+    u[l - 1] = UnionLevel();
+  }
+  // 3. Above the cubes: an octree over the cube roots, whose slots point at the roots' classes.
+  SvoLevel roots;
+  roots.n = static_cast<uint32_t>(root_keys.size());
+  roots.keys = dev.alloc(uint64_t{roots.n} * 8, "cube keys");
+  dev.upload(roots.keys, root_keys.data(), uint64_t{roots.n} * 8);
+  UnionLevel root_slots;
+  root_slots.slot_node = root_node;
+  root_slots.slot_tag.assign(root_node.size(), 0);
+  Reduced slots = gather(dev, root_slots, below, symmetric);
+  uint32_t n_slots = roots.n;
+  for (uint32_t l = cube_levels + 1; l <= levels; ++l) {
+    SvoLevel lv = build_parents(dev, roots.keys, roots.n);
+    dag.svo_nodes[l] = lv.n;
+    Reduced r = reduce_level(dev, lv, slots, false, symmetric);
+    dag.level[l] = assemble(dev, lv, r, slots, n_slots, false, symmetric);
+    n_slots = lv.n;
+    roots = std::move(lv);
+    slots = std::move(r);
+  }
+  uint32_t root_tag = 0;
+  if (symmetric) dev.download(slots.tag, &root_tag, 4);
+  dev.finish();
+  store_root_unreflected(dag, root_tag);
+  if (times) {
+    times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
+    times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  }
+  return dag;
 }
 
 std::vector<uint64_t> decode_voxels(const Dag& dag) {

@@ -5,6 +5,7 @@
 // (bit 0 = x, bit 1 = y, bit 2 = z); encoders convert to their format's order.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "megavox/device.h"
@@ -45,6 +46,16 @@ Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t level
 // one node and pointers carry reflection tags; exact (the stabilizer method), so no symmetry is missed. The
 // root is stored in the model's own orientation.
 Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
+
+// The sorted, unique voxel keys (global Morton keys) of the cube [x, x + size)^3... of the grid.
+using CubeVoxels = std::function<std::vector<uint64_t>(uint32_t x, uint32_t y, uint32_t z, uint32_t size)>;
+
+// Out-of-core: the grid is split into cubes of 2^cube_levels voxels per side, taken one at a time in Morton
+// order (only one cube's voxels are ever in memory), each reduced on its own; the partial DAGs are then
+// merged and reduced again bottom-up. The result is identical, byte for byte once encoded, to the in-core
+// build of all the voxels. `times` counts the cubes as the octree stage and the merge as the reduction.
+Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
+                       DagBuildTimes* times = nullptr);
 
 // Every voxel a DAG holds, as sorted Morton keys.
 std::vector<uint64_t> decode_voxels(const Dag& dag);

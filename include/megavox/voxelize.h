@@ -39,6 +39,9 @@ void triangles_to_grid(const GridTransform& grid, const std::vector<float>& posi
 class Voxelizer {
  public:
   Voxelizer(Device& dev, uint32_t resolution);
+  // Keeps only the voxels of the cube [x, x + size) x [y, y + size) x [z, z + size) (out-of-core builds
+  // voxelize one such cube at a time). Default: the whole grid.
+  void restrict_to(uint32_t x, uint32_t y, uint32_t z, uint32_t size);
   // Triangles in grid units (9 floats each), e.g. from triangles_to_grid.
   void add(const std::vector<float>& grid_triangles);
   // Sorted, unique 64-bit Morton keys of every voxel an added triangle meets; resets the collection.
@@ -50,6 +53,8 @@ class Voxelizer {
   void merge(std::vector<uint64_t>&& sorted_unique);
   Device& dev_;
   uint32_t resolution_;
+  uint32_t box_[3] = {0, 0, 0};
+  uint32_t box_size_;
   uint64_t triangles_ = 0;
   uint64_t hits_ = 0;
   std::vector<uint64_t> keys_;

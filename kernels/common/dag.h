@@ -114,4 +114,16 @@ MV_INLINE void mv_dag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU
     if (!mv_same_node(mask, first, cid, p, i, MV_LD(rep, MV_LD(id, i)))) MV_ST(collided, 0u, 1u);
 }
 
+/* Out-of-core merge: a union of partial DAGs is reduced again like an octree level whose "children" are
+ * pointer slots. Each slot takes the class id of the node it points to and, with symmetry, the XOR of its
+ * own tag and that node's tag (p.leaf = 1 marks symmetric input here). */
+MV_INLINE void mv_gather_slots(MvBufU32 slot_node, MvBufU32 slot_tag, MvBufU32 id, MvBufU32 tag, MvBufU32 out_id,
+                               MvBufU32 out_tag, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 s = gid; s < p.n; s += stride) {
+    mv_u32 node = MV_LD(slot_node, s);
+    MV_ST(out_id, s, MV_LD(id, node));
+    if (p.leaf != 0u) MV_ST(out_tag, s, MV_LD(slot_tag, s) ^ MV_LD(tag, node));
+  }
+}
+
 #endif

@@ -21,11 +21,16 @@ MV_STRUCT_BEGIN(MvVoxelizeParams)
   mv_u32 grid;             /* voxels per axis, N <= 2^21 */
   mv_u32 columns_per_item; /* columns one work item walks at most */
   mv_u32 emit;             /* 0: counts[item] = its voxels; 1: write their keys from keys[counts[item]] on */
+  mv_u32 box_size;         /* only voxels of the cube [box, box + box_size) (out-of-core builds) */
+  mv_u32 box_x;
+  mv_u32 box_y;
+  mv_u32 box_z;
   mv_u32 pad0;
 MV_STRUCT_END(MvVoxelizeParams)
 
 /* Where a triangle's walk goes: the dominant axis d (0 = x, 1 = y, 2 = z; ties go to the later axis) with
- * the two others u < v, and the voxel range of its bounding box, clamped to the grid. */
+ * the two others u < v, and the voxel range of its bounding box, clamped to the grid and to the box
+ * (empty = 1 when they do not meet). */
 MV_STRUCT_BEGIN(MvTriFrame)
   mv_u32 d;
   mv_u32 u;
@@ -36,6 +41,7 @@ MV_STRUCT_BEGIN(MvTriFrame)
   mv_u32 hi0;
   mv_u32 hi1;
   mv_u32 hi2;
+  mv_u32 empty;
 MV_STRUCT_END(MvTriFrame)
 
 MV_INLINE mv_u32 mv_voxel_floor(mv_f64 x, mv_u32 grid) {
@@ -45,7 +51,8 @@ MV_INLINE mv_u32 mv_voxel_floor(mv_f64 x, mv_u32 grid) {
 }
 
 MV_INLINE MvTriFrame mv_tri_frame(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
-                                  mv_f64 cy, mv_f64 cz, mv_u32 grid) {
+                                  mv_f64 cy, mv_f64 cz, mv_u32 grid, mv_u32 box_x, mv_u32 box_y, mv_u32 box_z,
+                                  mv_u32 box_size) {
   MvTriFrame f;
   MV_PRECISE mv_f64 e0x = bx - ax, e0y = by - ay, e0z = bz - az;
   MV_PRECISE mv_f64 e1x = cx - bx, e1y = cy - by, e1z = cz - bz;
@@ -65,6 +72,13 @@ MV_INLINE MvTriFrame mv_tri_frame(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv
   f.hi0 = mv_voxel_floor(MV_FMAX(ax, MV_FMAX(bx, cx)), grid);
   f.hi1 = mv_voxel_floor(MV_FMAX(ay, MV_FMAX(by, cy)), grid);
   f.hi2 = mv_voxel_floor(MV_FMAX(az, MV_FMAX(bz, cz)), grid);
+  f.lo0 = MV_MAX(f.lo0, box_x);
+  f.lo1 = MV_MAX(f.lo1, box_y);
+  f.lo2 = MV_MAX(f.lo2, box_z);
+  f.hi0 = MV_MIN(f.hi0, box_x + box_size - 1u);
+  f.hi1 = MV_MIN(f.hi1, box_y + box_size - 1u);
+  f.hi2 = MV_MIN(f.hi2, box_z + box_size - 1u);
+  f.empty = (f.lo0 > f.hi0 || f.lo1 > f.hi1 || f.lo2 > f.hi2) ? 1u : 0u;
   return f;
 }
 
@@ -73,6 +87,7 @@ MV_INLINE mv_u32 mv_frame_hi(MvTriFrame f, mv_u32 axis) { return axis == 0u ? f.
 
 /* Columns a triangle's walk visits: the voxels of its bounding box projected along the dominant axis. */
 MV_INLINE mv_u32 mv_frame_columns(MvTriFrame f) {
+  if (f.empty != 0u) return 0u;
   return (mv_frame_hi(f, f.u) - mv_frame_lo(f, f.u) + 1u) * (mv_frame_hi(f, f.v) - mv_frame_lo(f, f.v) + 1u);
 }
 
@@ -95,7 +110,7 @@ MV_INLINE mv_u32 mv_voxelize_item(MvBufF32 tris, MvBufU64 keys, mv_u32 at, mv_u3
   mv_f64 ax = MV_F64(MV_LD(tris, 9u * t + 0u)), ay = MV_F64(MV_LD(tris, 9u * t + 1u)), az = MV_F64(MV_LD(tris, 9u * t + 2u));
   mv_f64 bx = MV_F64(MV_LD(tris, 9u * t + 3u)), by = MV_F64(MV_LD(tris, 9u * t + 4u)), bz = MV_F64(MV_LD(tris, 9u * t + 5u));
   mv_f64 cx = MV_F64(MV_LD(tris, 9u * t + 6u)), cy = MV_F64(MV_LD(tris, 9u * t + 7u)), cz = MV_F64(MV_LD(tris, 9u * t + 8u));
-  MvTriFrame f = mv_tri_frame(ax, ay, az, bx, by, bz, cx, cy, cz, p.grid);
+  MvTriFrame f = mv_tri_frame(ax, ay, az, bx, by, bz, cx, cy, cz, p.grid, p.box_x, p.box_y, p.box_z, p.box_size);
   mv_u32 ulo = mv_frame_lo(f, f.u), vlo = mv_frame_lo(f, f.v), dlo = mv_frame_lo(f, f.d), dhi = mv_frame_hi(f, f.d);
   mv_u32 width = mv_frame_hi(f, f.u) - ulo + 1u;
   mv_u32 last = MV_MIN(first + p.columns_per_item, mv_frame_columns(f));

@@ -53,3 +53,7 @@ __kernel void leaf_ids(__global uint* mask, __global uint* tstar, __global uint*
                        __global uint* rep, MvDagParams p) {
   mv_leaf_ids(mask, tstar, rank, id, rep, p, MV_ID);
 }
+__kernel void gather_slots(__global uint* slot_node, __global uint* slot_tag, __global uint* id, __global uint* tag,
+                           __global uint* out_id, __global uint* out_tag, MvDagParams p) {
+  mv_gather_slots(slot_node, slot_tag, id, tag, out_id, out_tag, p, MV_ID);
+}

@@ -67,6 +67,11 @@ layout(push_constant) uniform Args {
   MvBufU32 mask; MvBufU32 tstar; MvBufU32 rank; MvBufU32 id; MvBufU32 rep; MvDagParams p;
 } a;
 void main() { mv_leaf_ids(a.mask, a.tstar, a.rank, a.id, a.rep, a.p, MV_ID); }
+#elif defined(MV_ENTRY_gather_slots)
+layout(push_constant) uniform Args {
+  MvBufU32 slot_node; MvBufU32 slot_tag; MvBufU32 id; MvBufU32 tag; MvBufU32 out_id; MvBufU32 out_tag; MvDagParams p;
+} a;
+void main() { mv_gather_slots(a.slot_node, a.slot_tag, a.id, a.tag, a.out_id, a.out_tag, a.p, MV_ID); }
 #else
 #error "define one MV_ENTRY_<name>"
 #endif

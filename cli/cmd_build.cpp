@@ -15,6 +15,7 @@ namespace {
 
 struct BuildArgs {
   std::string input, output, resolution, format = "svdag", grid;
+  uint32_t cube = 1024;
   bool json = false, quiet = false;
 };
 
@@ -33,7 +34,8 @@ Progress progress_bar(bool enabled) {
 }
 
 void print_table(const BuildReport& r) {
-  std::printf("%s -> %s (%s, %u^3)\n", r.input.c_str(), r.output.c_str(), r.format.c_str(), r.resolution);
+  std::printf("%s -> %s (%s, %u^3%s)\n", r.input.c_str(), r.output.c_str(), r.format.c_str(), r.resolution,
+              r.cube ? (", out of core in cubes of " + std::to_string(r.cube) + "^3").c_str() : "");
   if (!r.vdb_grid.empty())
     std::printf("  grid '%s' (%s), voxels %llu\n", r.vdb_grid.c_str(), r.vdb_class.c_str(), (unsigned long long)r.voxels);
   else
@@ -58,7 +60,7 @@ nlohmann::json report_json(const BuildReport& r) {
   return {{"input", r.input},         {"output", r.output},
           {"format", r.format},       {"resolution", r.resolution},
           {"triangles", r.triangles}, {"voxels", r.voxels},
-          {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},
+          {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
           {"svo_nodes_per_level", r.svo_nodes},
           {"nodes_per_level", r.nodes_per_level},
           {"nodes_total", r.nodes_total},
@@ -82,6 +84,10 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
                   "Voxels per axis, a power of two: 1024, 2K, 16K, ... (default: 1K for meshes; for a .vdb the\n"
                   "smallest power of two that holds its voxels, one VDB voxel per voxel)");
   cmd->add_option("--grid", a->grid, "The .vdb grid to read (default: the first)");
+  cmd->add_option("--cube", a->cube,
+                  "Meshes above this resolution build out of core, one cube of this many voxels per side at a time\n"
+                  "(device memory holds one cube's voxels); 0 = always in core")
+      ->capture_default_str();
   cmd->add_option("--format", a->format,
                   "DAG encoding: svdag (the thesis / SymVox 32-bit layout), ussvdag (symmetry-aware reduction,\n"
                   "same layout with per-child mirror bits) or ssvdag (symmetry-aware, compact 16-bit encoding)")
@@ -95,6 +101,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     o.output = a->output;
     o.resolution = a->resolution.empty() ? 0 : parse_resolution(a->resolution);
     o.grid = a->grid;
+    o.cube = a->cube;
     o.format = a->format;
     auto dev = open_device(g);
     BuildReport r = build_mvx(*dev, o, progress_bar(!a->quiet && isatty(STDERR_FILENO)));

@@ -1,5 +1,7 @@
 // The main job, stage by stage: read -> voxelize -> octree -> DAG -> encode -> write.
+#include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 
 #include "io/mesh_source.h"
@@ -70,6 +72,103 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
   return v;
 }
 
+// The mesh's triangles in grid units, all in memory (9 floats each), and the grid.
+struct GridMesh {
+  std::vector<float> tris;
+  GridTransform grid;
+  Bounds bounds;
+};
+
+GridMesh load_grid_mesh(const BuildOptions& o, uint32_t resolution) {
+  GridMesh m;
+  auto mesh = io::open_mesh(o.input);
+  std::vector<uint32_t> idx, all;
+  while (mesh->next_triangles(idx, kBatchTriangles)) all.insert(all.end(), idx.begin(), idx.end());
+  const auto& pos = mesh->positions();
+  for (uint32_t v : all) m.bounds.extend(pos[3 * size_t{v}], pos[3 * size_t{v} + 1], pos[3 * size_t{v} + 2]);
+  if (m.bounds.empty()) throw Error(o.input + ": the mesh has no triangles");
+  m.grid = grid_for_bounds(m.bounds, resolution);
+  triangles_to_grid(m.grid, pos, all.data(), all.size() / 3, m.tris);
+  return m;
+}
+
+using Lap = std::function<void(const std::string&)>;
+using Report = std::function<void(const std::string&, double)>;
+
+void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
+                      BuildReport& r, const Lap& lap) {
+  MvxFile file;
+  file.grid = grid;
+  file.bounds = bounds;
+  file.voxels = dag.voxels;
+  file.svo_nodes = dag.svo_nodes;
+  file.dag_nodes.push_back(dag.voxels);
+  for (uint32_t l = 1; l <= dag.levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
+  file.dag = o.format == "ssvdag" ? encode_ssvdag(dag) : encode_svdag(dag);
+  lap("encode");
+  write_mvx(o.output, file);
+  lap("write");
+  r.voxels = dag.voxels;
+  r.svo_nodes = file.svo_nodes;
+  r.nodes_per_level = file.dag_nodes;
+  for (uint32_t l = 2; l <= dag.levels; ++l) r.nodes_total += file.dag_nodes[l];
+  r.bytes = file.dag.bytes();
+  r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
+}
+
+// A mesh at a resolution above the cube size: triangles are bucketed by the cubes their bounding boxes
+// meet, then each non-empty cube is voxelized and reduced alone and the partial DAGs merged
+// (build_dag_by_cubes): device memory holds one cube's voxels at a time. The triangles stay in host memory.
+BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
+                              const Report& report, const Lap& lap) {
+  if (o.cube < 8 || (o.cube & (o.cube - 1))) throw Error("--cube " + std::to_string(o.cube) + " must be a power of two >= 8");
+  GridMesh m = load_grid_mesh(o, resolution);
+  lap("read");
+  r.resolution = resolution;
+  r.cube = o.cube;
+  r.triangles = m.tris.size() / 9;
+  const uint32_t per_axis = resolution / o.cube;
+  std::vector<std::vector<uint32_t>> bucket(size_t{per_axis} * per_axis * per_axis);
+  for (uint32_t t = 0; t < r.triangles; ++t) {
+    uint32_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const float* v = &m.tris[9 * size_t{t}];
+      double mn = std::min({double(v[a]), double(v[3 + a]), double(v[6 + a])});
+      double mx = std::max({double(v[a]), double(v[3 + a]), double(v[6 + a])});
+      lo[a] = std::min<uint32_t>(per_axis - 1, static_cast<uint32_t>(std::max(0.0, std::floor(mn)) / o.cube));
+      hi[a] = std::min<uint32_t>(per_axis - 1, static_cast<uint32_t>(std::max(0.0, std::floor(mx)) / o.cube));
+    }
+    for (uint32_t x = lo[0]; x <= hi[0]; ++x)
+      for (uint32_t y = lo[1]; y <= hi[1]; ++y)
+        for (uint32_t z = lo[2]; z <= hi[2]; ++z) bucket[(size_t{z} * per_axis + y) * per_axis + x].push_back(t);
+  }
+  const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
+  const uint32_t cube_levels = static_cast<uint32_t>(std::lround(std::log2(double(o.cube))));
+  uint64_t done = 0;
+  const double cubes = double(per_axis) * per_axis * per_axis;
+  std::vector<float> tris;
+  CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
+    report("cubes", double(++done) / cubes);
+    const auto& ts = bucket[(size_t{z / size} * per_axis + y / size) * per_axis + x / size];
+    if (ts.empty()) return std::vector<uint64_t>();
+    tris.clear();
+    for (uint32_t t : ts) tris.insert(tris.end(), m.tris.begin() + 9 * size_t{t}, m.tris.begin() + 9 * size_t{t} + 9);
+    Voxelizer v(dev, resolution);
+    v.restrict_to(x, y, z, size);
+    v.add(tris);
+    return v.take_keys();
+  };
+  const bool symmetric = o.format != "svdag";
+  DagBuildTimes times;
+  Dag dag = build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times);
+  r.seconds.push_back({"voxelize+cubes", times.svo_seconds});
+  r.seconds.push_back({symmetric ? "merge ssvdag" : "merge svdag", times.reduce_seconds});
+  lap("total dag");
+  r.seconds.pop_back();
+  encode_and_write(dag, o, m.grid, m.bounds, r, lap);
+  return r;
+}
+
 }  // namespace
 
 BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
@@ -91,8 +190,12 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   };
 
   report("read", 0);
+  const uint32_t mesh_resolution = o.resolution ? o.resolution : 1024;
+  const bool vdb = io::is_vdb(o.input);
+  if (!vdb && o.cube && mesh_resolution > o.cube) return build_out_of_core(dev, o, mesh_resolution, r, report, lap);
+  if (o.format == "ssvdag" && o.resolution && o.resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
   Voxels voxels;
-  if (io::is_vdb(o.input)) {
+  if (vdb) {
     io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
     r.vdb_grid = vdb.grid_name;
     r.vdb_class = vdb.grid_class;
@@ -110,34 +213,14 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   const GridTransform grid = voxels.grid;
   const Bounds bounds = voxels.bounds;
 
-  report("dag", 0);
-  DagBuildTimes times;
   const bool symmetric = o.format != "svdag";
+  DagBuildTimes times;
   Dag dag = symmetric ? build_ssvdag(dev, voxels.keys, levels, &times) : build_svdag(dev, voxels.keys, levels, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
   r.seconds.push_back({symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
-
-  report("encode", 0);
-  MvxFile file;
-  file.grid = grid;
-  file.bounds = bounds;
-  file.voxels = dag.voxels;
-  file.svo_nodes = dag.svo_nodes;
-  file.dag_nodes.push_back(dag.voxels);
-  for (uint32_t l = 1; l <= levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
-  file.dag = o.format == "ssvdag" ? encode_ssvdag(dag) : encode_svdag(dag);
-  lap("encode");
-  report("write", 0);
-  write_mvx(o.output, file);
-  lap("write");
-
-  r.svo_nodes = file.svo_nodes;
-  r.nodes_per_level = file.dag_nodes;
-  for (uint32_t l = 2; l <= levels; ++l) r.nodes_total += file.dag_nodes[l];
-  r.bytes = file.dag.bytes();
-  r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
+  encode_and_write(dag, o, grid, bounds, r, lap);
   return r;
 }
 

@@ -15,6 +15,9 @@ struct BuildOptions {
   std::string output;        // the .mvx to write
   uint32_t resolution = 0;   // voxels per axis, a power of two; 0: 1024 for meshes, the smallest fit for .vdb
   std::string grid;          // .vdb: the grid to read (empty: the first)
+  // Meshes above this resolution build out of core, one cube of this many voxels per side at a time
+  // (a power of two); 0 = always in core.
+  uint32_t cube = 1024;
   std::string format = "svdag";
 };
 
@@ -23,6 +26,7 @@ struct BuildReport {
   uint32_t resolution = 0;
   uint64_t triangles = 0;  // 0 for a .vdb input
   std::string vdb_grid, vdb_class;  // the .vdb grid read and its class
+  uint32_t cube = 0;                // out of core: the cube side used; 0 = in core
   uint64_t voxels = 0;
   std::vector<uint64_t> svo_nodes;       // index = level (0 = voxels, 1 = 2^3 masks, 2 = 4^3 bricks, ...)
   std::vector<uint64_t> nodes_per_level; // the DAG's, same indexing

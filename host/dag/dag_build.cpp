@@ -184,6 +184,19 @@ void store_root_unreflected(Dag& dag, uint32_t t) {
     }
 }
 
+// After the root level: wait, store the root unreflected, report the times.
+void finish_build(Device& dev, Dag& dag, const Reduced& root, Clock::time_point t0, Clock::time_point t1,
+                  DagBuildTimes* times) {
+  uint32_t root_tag = 0;
+  if (dag.symmetric) dev.download(root.tag, &root_tag, 4);
+  dev.finish();
+  store_root_unreflected(dag, root_tag);
+  if (times) {
+    times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
+    times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  }
+}
+
 Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
               DagBuildTimes* times) {
   if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
@@ -220,14 +233,7 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
     below = std::move(r);
     svo[l - 1] = SvoLevel();
   }
-  uint32_t root_tag = 0;
-  if (symmetric) dev.download(below.tag, &root_tag, 4);
-  dev.finish();
-  store_root_unreflected(dag, root_tag);
-  if (times) {
-    times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
-    times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
-  }
+  finish_build(dev, dag, below, t0, t1, times);
   return dag;
 }
 
@@ -366,14 +372,7 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
     roots = std::move(lv);
     slots = std::move(r);
   }
-  uint32_t root_tag = 0;
-  if (symmetric) dev.download(slots.tag, &root_tag, 4);
-  dev.finish();
-  store_root_unreflected(dag, root_tag);
-  if (times) {
-    times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
-    times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
-  }
+  finish_build(dev, dag, slots, t0, t1, times);
   return dag;
 }
 

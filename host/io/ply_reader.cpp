@@ -9,71 +9,32 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <optional>
 #include <string_view>
 #include <utility>
 
 #include "megavox/error.h"
+#include "ply_header.h"
 
 namespace mv::io {
+
+using detail::Element;
+using detail::EndOfData;
+using detail::Format;
+using detail::Header;
+using detail::HeaderLines;
+using detail::is_integer;
+using detail::num;
+using detail::Property;
+using detail::Scalar;
+using detail::scalar_name;
+using detail::scalar_size;
+
 namespace {
 
 static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
 
-constexpr uint64_t kMaxHeaderBytes = 1 << 20;  // real headers are a few hundred bytes
-constexpr size_t kMaxToken = 64;                // longest ascii value ("-1.2345678901234567e-308" is 24)
+constexpr size_t kMaxToken = 64;  // longest ascii value ("-1.2345678901234567e-308" is 24)
 constexpr size_t kBufferBytes = 1 << 20;
-
-// ---------------------------------------------------------------------------------------------------
-// Types
-
-enum class Scalar : uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
-
-size_t scalar_size(Scalar t) {
-  static constexpr size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
-  return sizes[static_cast<size_t>(t)];
-}
-
-bool is_integer(Scalar t) { return t < Scalar::f32; }
-
-std::string_view scalar_name(Scalar t) {
-  static constexpr std::string_view names[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
-  return names[static_cast<size_t>(t)];
-}
-
-std::optional<Scalar> parse_scalar(std::string_view s) {
-  static constexpr std::pair<std::string_view, Scalar> names[] = {
-      {"char", Scalar::i8},     {"int8", Scalar::i8},     {"uchar", Scalar::u8},    {"uint8", Scalar::u8},
-      {"short", Scalar::i16},   {"int16", Scalar::i16},   {"ushort", Scalar::u16},  {"uint16", Scalar::u16},
-      {"int", Scalar::i32},     {"int32", Scalar::i32},   {"uint", Scalar::u32},    {"uint32", Scalar::u32},
-      {"float", Scalar::f32},   {"float32", Scalar::f32}, {"double", Scalar::f64},  {"float64", Scalar::f64}};
-  for (const auto& [name, t] : names)
-    if (name == s) return t;
-  return std::nullopt;
-}
-
-struct Property {
-  std::string name;
-  bool is_list = false;
-  Scalar count_type = Scalar::u8;  // lists only
-  Scalar type = Scalar::f32;       // the value type (of each list entry for lists)
-  uint64_t line = 0;
-};
-
-struct Element {
-  std::string name;
-  uint64_t count = 0;
-  std::vector<Property> props;
-  uint64_t line = 0;
-};
-
-enum class Format { ascii, binary_le, binary_be };
-
-struct Header {
-  Format format = Format::ascii;
-  std::vector<Element> elements;
-  std::vector<std::string> comments;
-};
 
 uint64_t sat_mul(uint64_t a, uint64_t b) {
   uint64_t r;
@@ -85,16 +46,11 @@ uint64_t sat_add(uint64_t a, uint64_t b) {
   return __builtin_add_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
 }
 
-std::string num(uint64_t v) { return std::to_string(v); }
-
 // ---------------------------------------------------------------------------------------------------
 // Buffered input
 
-// Thrown when the data ends early; whoever knows which element was being read turns it into mv::Error.
-struct EndOfData {};
-
 // Reads the file in large blocks and hands out small contiguous pieces of it.
-class Source {
+class Source final : public HeaderLines {
  public:
   explicit Source(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
     if (!file_) throw Error("cannot open '" + path + "': " + std::strerror(errno));
@@ -108,10 +64,10 @@ class Source {
     buffer_ = std::make_unique_for_overwrite<char[]>(capacity_);
     pos_ = end_ = buffer_.get();
   }
-  const std::string& path() const { return path_; }
+  const std::string& path() const override { return path_; }
   uint64_t size() const { return size_; }
-  uint64_t consumed() const { return read_ - static_cast<uint64_t>(end_ - pos_); }
-  uint64_t line() const { return line_; }  // ascii: the line being read, 1-based
+  uint64_t consumed() const override { return read_ - static_cast<uint64_t>(end_ - pos_); }
+  uint64_t line() const override { return line_; }  // ascii: the line being read, 1-based
 
   // The next n bytes, contiguous (n <= 8: one binary value).
   const char* take(size_t n) {
@@ -139,7 +95,7 @@ class Source {
   }
 
   // One header line without "\n" or "\r\n". False if it is longer than max_chars.
-  bool header_line(std::string& out, size_t max_chars) {
+  bool header_line(std::string& out, size_t max_chars) override {
     out.clear();
     for (;;) {
       if (pos_ == end_ && !fill(1)) throw EndOfData{};
@@ -292,150 +248,6 @@ class AsciiValues {
   Source& src_;
 };
 
-// ---------------------------------------------------------------------------------------------------
-// Header
-
-std::vector<std::string_view> split_words(std::string_view s) {
-  std::vector<std::string_view> words;
-  size_t i = 0;
-  while (i < s.size()) {
-    if (s[i] == ' ' || s[i] == '\t') {
-      ++i;
-      continue;
-    }
-    size_t j = s.find_first_of(" \t", i);
-    if (j == std::string_view::npos) j = s.size();
-    words.push_back(s.substr(i, j - i));
-    i = j;
-  }
-  return words;
-}
-
-class HeaderParser {
- public:
-  explicit HeaderParser(Source& src) : src_(src) {}
-
-  Header parse() {
-    std::string text;
-    if (!first_line_is_ply(text)) throw Error(src_.path() + ": not a PLY file (the first line is not 'ply')");
-    try {
-      while (true) {
-        line_ = src_.line();
-        if (!src_.header_line(text, kMaxHeaderBytes) || src_.consumed() > kMaxHeaderBytes)
-          fail("header longer than " + num(kMaxHeaderBytes) + " bytes (no end_header?)");
-        if (parse_line(text)) break;
-      }
-    } catch (const EndOfData&) {
-      throw Error(src_.path() + ": header ends at line " + num(src_.line()) + " without 'end_header'");
-    }
-    if (!have_format_) fail("header has no 'format' line");
-    return std::move(h_);
-  }
-
- private:
-  bool first_line_is_ply(std::string& text) {
-    try {
-      return src_.header_line(text, 4) && text == "ply";
-    } catch (const EndOfData&) {
-      return false;
-    }
-  }
-
-  // True at end_header.
-  bool parse_line(std::string_view text) {
-    auto w = split_words(text);
-    if (w.empty()) fail("empty header line");
-    if (w[0] == "comment") {
-      std::string_view rest = text.substr(text.find("comment") + 7);
-      h_.comments.emplace_back(rest.substr(std::min(rest.find_first_not_of(" \t"), rest.size())));
-    } else if (w[0] == "obj_info") {
-      // Free-form, nothing to keep.
-    } else if (w[0] == "format") {
-      parse_format(w);
-    } else if (!have_format_) {
-      fail("expected the 'format' line before '" + std::string(w[0]) + "'");
-    } else if (w[0] == "element") {
-      parse_element(w);
-    } else if (w[0] == "property") {
-      parse_property(w);
-    } else if (w[0] == "end_header") {
-      if (w.size() != 1) fail("unexpected text after 'end_header'");
-      return true;
-    } else {
-      fail("unknown header keyword '" + std::string(w[0]) + "'");
-    }
-    return false;
-  }
-
-  void parse_format(const std::vector<std::string_view>& w) {
-    if (have_format_) fail("second 'format' line");
-    if (w.size() != 3) fail("expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
-    if (w[1] == "ascii") h_.format = Format::ascii;
-    else if (w[1] == "binary_little_endian") h_.format = Format::binary_le;
-    else if (w[1] == "binary_big_endian") h_.format = Format::binary_be;
-    else fail("unknown format '" + std::string(w[1]) + "'");
-    if (w[2] != "1.0") fail("unsupported PLY version '" + std::string(w[2]) + "' (only 1.0)");
-    have_format_ = true;
-  }
-
-  void parse_element(const std::vector<std::string_view>& w) {
-    if (w.size() != 3) fail("expected 'element <name> <count>'");
-    uint64_t count = 0;
-    auto [end, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), count);
-    if (ec != std::errc{} || end != w[2].data() + w[2].size())
-      fail("element count '" + std::string(w[2]) + "' is not a number from 0 to 2^64-1");
-    for (const Element& e : h_.elements)
-      if (e.name == w[1]) fail("duplicate element '" + e.name + "'");
-    h_.elements.push_back({std::string(w[1]), count, {}, line_});
-  }
-
-  void parse_property(const std::vector<std::string_view>& w) {
-    if (h_.elements.empty()) fail("property before any element");
-    Property p;
-    p.line = line_;
-    if (w.size() >= 2 && w[1] == "list") {
-      if (w.size() != 5) fail("expected 'property list <count type> <value type> <name>'");
-      p.is_list = true;
-      p.count_type = type(w[2]);
-      if (!is_integer(p.count_type)) fail("list count type must be an integer type, not '" + std::string(w[2]) + "'");
-      p.type = type(w[3]);
-      p.name = w[4];
-    } else {
-      if (w.size() != 3) fail("expected 'property <type> <name>'");
-      p.type = type(w[1]);
-      p.name = w[2];
-    }
-    Element& e = h_.elements.back();
-    for (const Property& q : e.props)
-      if (q.name == p.name) fail("duplicate property '" + p.name + "' in element '" + e.name + "'");
-    e.props.push_back(std::move(p));
-  }
-
-  Scalar type(std::string_view s) {
-    auto t = parse_scalar(s);
-    if (!t) fail("unknown property type '" + std::string(s) + "'");
-    return *t;
-  }
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(src_.path() + ": line " + num(line_) + ": " + what);
-  }
-
-  Source& src_;
-  Header h_;
-  bool have_format_ = false;
-  uint64_t line_ = 1;
-};
-
-std::string format_name(Format f) {
-  switch (f) {
-    case Format::ascii: return "ascii";
-    case Format::binary_le: return "binary_little_endian";
-    case Format::binary_be: return "binary_big_endian";
-  }
-  return {};
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------
@@ -463,11 +275,11 @@ struct PlyMeshReader::Impl {
   uint32_t poly_prev = 0;
   bool done = false;
 
-  explicit Impl(const std::string& path) : src(path), header(HeaderParser(src).parse()) {
+  explicit Impl(const std::string& path) : src(path), header(detail::parse_header(src)) {
     check_counts();
     find_layout();
     info = {header.elements[vertex_el].count, face_el == kNone ? 0 : header.elements[face_el].count,
-            format_name(header.format), header.comments};
+            detail::format_name(header.format), header.comments};
     vertex_limit = static_cast<double>(info.vertices);
     with_values([&](auto& v) { advance(v); });
   }

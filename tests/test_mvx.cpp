@@ -194,7 +194,9 @@ TEST(Ussvdag, EncodesAndDecodesExactly) {
   EXPECT_TRUE(decode_svdag(enc) == v);
   EncodedDag bad = enc;
   bad.words[0] |= 1u << 8 << __builtin_ctz(~bad.words[0] & 0xff);  // a mirror bit on a missing child
-  if ((enc.words[0] & 0xff) != 0xff) EXPECT_THROW(validate_svdag(bad), Error);
+  if ((enc.words[0] & 0xff) != 0xff) {
+    EXPECT_THROW(validate_svdag(bad), Error);
+  }
   // Through the file.
   MvxFile f;
   f.grid.resolution = 64;

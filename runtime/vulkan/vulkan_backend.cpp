@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "backend.h"
+#include "vulkan_device.h"
 #include "megavox/error.h"
 
 namespace mv::rt {
@@ -25,167 +26,7 @@ constexpr uint64_t kFenceTimeoutNs = 30ull * 60 * 1000000000ull;  // 30 minutes
 constexpr uint64_t kStagingBytes = 64ull << 20;                   // chunk size of staged transfers
 constexpr VkPipelineStageFlags kWorkStages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
 
-std::string result_name(VkResult r) {
-  switch (r) {
-#define MV_VK_RESULT(x) \
-  case x:               \
-    return #x;
-    MV_VK_RESULT(VK_SUCCESS)
-    MV_VK_RESULT(VK_NOT_READY)
-    MV_VK_RESULT(VK_TIMEOUT)
-    MV_VK_RESULT(VK_INCOMPLETE)
-    MV_VK_RESULT(VK_ERROR_OUT_OF_HOST_MEMORY)
-    MV_VK_RESULT(VK_ERROR_OUT_OF_DEVICE_MEMORY)
-    MV_VK_RESULT(VK_ERROR_INITIALIZATION_FAILED)
-    MV_VK_RESULT(VK_ERROR_DEVICE_LOST)
-    MV_VK_RESULT(VK_ERROR_MEMORY_MAP_FAILED)
-    MV_VK_RESULT(VK_ERROR_LAYER_NOT_PRESENT)
-    MV_VK_RESULT(VK_ERROR_EXTENSION_NOT_PRESENT)
-    MV_VK_RESULT(VK_ERROR_FEATURE_NOT_PRESENT)
-    MV_VK_RESULT(VK_ERROR_INCOMPATIBLE_DRIVER)
-    MV_VK_RESULT(VK_ERROR_TOO_MANY_OBJECTS)
-    MV_VK_RESULT(VK_ERROR_FORMAT_NOT_SUPPORTED)
-    MV_VK_RESULT(VK_ERROR_FRAGMENTED_POOL)
-    MV_VK_RESULT(VK_ERROR_UNKNOWN)
-    MV_VK_RESULT(VK_ERROR_OUT_OF_POOL_MEMORY)
-    MV_VK_RESULT(VK_ERROR_INVALID_EXTERNAL_HANDLE)
-    MV_VK_RESULT(VK_ERROR_FRAGMENTATION)
-    MV_VK_RESULT(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
-    MV_VK_RESULT(VK_PIPELINE_COMPILE_REQUIRED)
-    MV_VK_RESULT(VK_ERROR_INVALID_SHADER_NV)
-#undef MV_VK_RESULT
-    default:
-      return "VkResult " + std::to_string(static_cast<int>(r));
-  }
-}
-
-// A zeroed Vulkan structure with its sType (and chain) set; spelled out once instead of per struct.
-template <class T>
-T vk(VkStructureType type, void* next = nullptr) {
-  T s{};
-  s.sType = type;
-  s.pNext = next;
-  return s;
-}
-
-[[noreturn]] void fail(const std::string& what) { throw Error("Vulkan: " + what); }
-
-void check(VkResult r, const std::string& call) {
-  if (r != VK_SUCCESS) fail(call + " failed (" + result_name(r) + ")");
-}
-
-// Shared by enumerate_vulkan() and open_vulkan() so both see the same devices in the same order.
-VkResult create_instance(VkInstance* out) {
-  uint32_t count = 0;
-  VkResult r = vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
-  if (r != VK_SUCCESS) return r;
-  std::vector<VkExtensionProperties> extensions(count);
-  r = vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data());
-  if (r != VK_SUCCESS && r != VK_INCOMPLETE) return r;
-  // Portability drivers (MoltenVK) are only listed when the application opts in.
-  const char* portability = VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME;
-  const bool has_portability = std::any_of(extensions.begin(), extensions.begin() + count, [&](const auto& e) {
-    return std::strcmp(e.extensionName, portability) == 0;
-  });
-
-  auto app = vk<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
-  app.pApplicationName = "megavox";
-  app.apiVersion = VK_API_VERSION_1_2;
-  auto ci = vk<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
-  ci.pApplicationInfo = &app;
-  if (has_portability) {
-    ci.flags = VK_INSTANCE_CREATE_ENUMERATE_PORTABILITY_BIT_KHR;
-    ci.enabledExtensionCount = 1;
-    ci.ppEnabledExtensionNames = &portability;
-  }
-  return vkCreateInstance(&ci, nullptr, out);
-}
-
-VkResult physicaldevices(VkInstance instance, std::vector<VkPhysicalDevice>& out) {
-  uint32_t count = 0;
-  VkResult r = vkEnumeratePhysicalDevices(instance, &count, nullptr);
-  if (r != VK_SUCCESS) return r;
-  out.resize(count);
-  r = vkEnumeratePhysicalDevices(instance, &count, out.data());
-  out.resize(count);
-  return r == VK_INCOMPLETE ? VK_SUCCESS : r;
-}
-
-// Everything megavox reads about a physical device. The Vulkan 1.2 structures stay zeroed on older devices.
-struct DeviceQuery {
-  VkPhysicalDeviceProperties props{};
-  VkPhysicalDeviceDriverProperties driver =
-      vk<VkPhysicalDeviceDriverProperties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES);
-  VkPhysicalDeviceSubgroupProperties subgroup =
-      vk<VkPhysicalDeviceSubgroupProperties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES);
-  VkPhysicalDeviceMaintenance3Properties maintenance3 =
-      vk<VkPhysicalDeviceMaintenance3Properties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES);
-  VkPhysicalDeviceFeatures features{};
-  VkPhysicalDeviceVulkan12Features features12 =
-      vk<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
-  VkPhysicalDeviceMemoryProperties memory{};
-};
-
-DeviceQuery query_device(VkPhysicalDevice device) {
-  DeviceQuery q;
-  vkGetPhysicalDeviceProperties(device, &q.props);
-  const bool v12 = q.props.apiVersion >= VK_API_VERSION_1_2;
-
-  q.subgroup.pNext = &q.maintenance3;
-  q.maintenance3.pNext = v12 ? &q.driver : nullptr;
-  auto props2 = vk<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &q.subgroup);
-  vkGetPhysicalDeviceProperties2(device, &props2);
-
-  auto features2 =
-      vk<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, v12 ? &q.features12 : nullptr);
-  vkGetPhysicalDeviceFeatures2(device, &features2);
-  q.features = features2.features;
-  vkGetPhysicalDeviceMemoryProperties(device, &q.memory);
-  // The chain pointed into this object; a returned copy must not carry it.
-  q.subgroup.pNext = q.maintenance3.pNext = q.features12.pNext = nullptr;
-  return q;
-}
-
-DeviceInfo describe(const DeviceQuery& q, int index) {
-  DeviceInfo info;
-  info.backend = "vulkan";
-  info.index = index;
-  info.name = q.props.deviceName;
-  info.platform = q.driver.driverName[0] ? q.driver.driverName : "Vulkan";
-  info.driver = q.driver.driverInfo[0] ? q.driver.driverInfo : std::to_string(q.props.driverVersion);
-  info.api_version = std::to_string(VK_API_VERSION_MAJOR(q.props.apiVersion)) + "." +
-                     std::to_string(VK_API_VERSION_MINOR(q.props.apiVersion)) + "." +
-                     std::to_string(VK_API_VERSION_PATCH(q.props.apiVersion));
-  switch (q.props.deviceType) {
-    case VK_PHYSICAL_DEVICE_TYPE_CPU:
-      info.type = "cpu";
-      break;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
-      info.type = "gpu";
-      break;
-    default:
-      info.type = "other";
-      break;
-  }
-  for (uint32_t i = 0; i < q.memory.memoryHeapCount; ++i)
-    if (q.memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
-      info.global_memory_bytes = std::max<uint64_t>(info.global_memory_bytes, q.memory.memoryHeaps[i].size);
-  const VkPhysicalDeviceLimits& limits = q.props.limits;
-  info.max_allocation_bytes = q.maintenance3.maxMemoryAllocationSize;
-  info.max_binding_bytes = limits.maxStorageBufferRange;
-  info.local_memory_bytes = limits.maxComputeSharedMemorySize;
-  info.max_work_group_size = limits.maxComputeWorkGroupInvocations;
-  info.max_groups = limits.maxComputeWorkGroupCount[0];
-  info.subgroup_size = q.subgroup.subgroupSize;
-  info.fp64 = q.features.shaderFloat64;
-  info.int64 = q.features.shaderInt64;
-  info.vendor = info.platform;
-  // llvmpipe's shader compiler ends every loop after 65535 iterations (a guard against hangs), without error.
-  if (q.driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE) info.max_loop_iterations = 65535;
-  return info;
-}
+using namespace vulkan;
 
 // A VkBuffer bound to its own VkDeviceMemory: arenas, and the staging buffers of unmappable arenas.
 struct VulkanArena final : BackendArena {
@@ -582,7 +423,8 @@ class VulkanBackend final : public Backend {
     const uint64_t at = b.offset + offset;
     if (arena.mapped) {
       char* device = static_cast<char*>(arena.mapped) + at;
-      from_host ? std::memcpy(device, from_host, bytes) : std::memcpy(to_host, device, bytes);
+      if (from_host) std::memcpy(device, from_host, bytes);
+      else if (to_host) std::memcpy(to_host, device, bytes);
       return;
     }
     const auto staging =
@@ -660,18 +502,6 @@ class VulkanBackend final : public Backend {
 };
 
 }  // namespace
-
-std::vector<DeviceInfo> enumerate_vulkan() {
-  std::vector<DeviceInfo> infos;
-  VkInstance instance = VK_NULL_HANDLE;
-  if (create_instance(&instance) != VK_SUCCESS) return infos;  // no loader or no driver: no Vulkan devices
-  std::vector<VkPhysicalDevice> devices;
-  if (physicaldevices(instance, devices) == VK_SUCCESS)
-    for (size_t i = 0; i < devices.size(); ++i)
-      infos.push_back(describe(query_device(devices[i]), static_cast<int>(i)));
-  vkDestroyInstance(instance, nullptr);
-  return infos;
-}
 
 std::unique_ptr<Backend> open_vulkan(int index) { return std::make_unique<VulkanBackend>(index); }
 

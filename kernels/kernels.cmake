@@ -30,3 +30,4 @@ mv_kernel(ssvdag_tags           dag/dag.cl           dag/dag.comp             MV
 mv_kernel(leaf_present          dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_present)
 mv_kernel(leaf_ids              dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_ids)
 mv_kernel(gather_slots          dag/dag.cl           dag/dag.comp             MV_ENTRY_gather_slots)
+mv_kernel(dag_emit              dag/dag.cl           dag/dag.comp             MV_ENTRY_dag_emit)

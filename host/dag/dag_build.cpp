@@ -133,29 +133,27 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
 }
 
 // The DAG level in id order: each representative in its stored orientation (reflected by its T* for the
-// SSVDAG) with its children's (id, tag) in octant order. Uses the kernels' own functions on the host.
-DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduced& below, uint32_t n_below,
-                  bool leaf, bool symmetric) {
+// SSVDAG) with its children's (id, tag) in octant order; gathered on the device (kernel dag_emit) and read
+// back sequentially (gathering on the host was the slowest part of a reduction: random reads).
+DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduced& below, bool leaf,
+                  bool symmetric) {
   DagLevel out;
-  auto mask = fetch<uint32_t>(dev, lv.mask, lv.n);
-  auto rep = fetch<uint32_t>(dev, r.rep, r.distinct);
-  auto tstar = symmetric ? fetch<uint32_t>(dev, r.tstar, lv.n) : std::vector<uint32_t>(lv.n, 0);
-  out.mask.resize(r.distinct);
-  for (uint32_t i = 0; i < r.distinct; ++i) out.mask[i] = mv_reflect_mask(mask[rep[i]], tstar[rep[i]]);
+  const uint32_t n = r.distinct;
+  Buffer masks = dev.alloc(uint64_t{n} * 4, "DAG level masks");
+  Buffer entries = leaf ? Buffer() : dev.alloc(uint64_t{n} * 64, "DAG level entries");
+  MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0};
+  dev.dispatch(dev.kernel("dag_emit"), dev.groups_for(n, kLocal), kLocal,
+               {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &r.rep, &masks, &entries}, p);
+  out.mask = fetch<uint32_t>(dev, masks, n);
   if (leaf) return out;
-  auto first = fetch<uint32_t>(dev, lv.first, lv.n);
-  auto cid = fetch<uint32_t>(dev, below.id, n_below);
-  auto ctag = symmetric ? fetch<uint32_t>(dev, below.tag, n_below) : std::vector<uint32_t>(n_below, 0);
-  auto cstab = symmetric ? fetch<uint32_t>(dev, below.idstab, below.distinct) : std::vector<uint32_t>(below.distinct, 1);
-  out.first.resize(r.distinct);
-  for (uint32_t i = 0; i < r.distinct; ++i) {
+  std::vector<uint64_t> e = fetch<uint64_t>(dev, entries, size_t{n} * 8);
+  out.first.resize(n);
+  for (uint32_t i = 0; i < n; ++i) {
     out.first[i] = static_cast<uint32_t>(out.children.size());
     for (uint32_t o = 0; o < 8; ++o) {
       if (!(out.mask[i] >> o & 1)) continue;
-      uint64_t e = mv_reflected_entry(mask.data(), first.data(), cid.data(), ctag.data(), cstab.data(), rep[i],
-                                      tstar[rep[i]], o);
-      out.children.push_back(static_cast<uint32_t>(e >> 3));
-      if (symmetric) out.tags.push_back(static_cast<uint32_t>(e & 7));
+      out.children.push_back(static_cast<uint32_t>(e[8 * size_t{i} + o] >> 3));
+      if (symmetric) out.tags.push_back(static_cast<uint32_t>(e[8 * size_t{i} + o] & 7));
     }
   }
   return out;
@@ -229,7 +227,7 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   for (uint32_t l = 1; l <= levels; ++l) {
     const bool leaf = l == 1;
     Reduced r = reduce_level(dev, svo[l], below, leaf, symmetric);
-    dag.level[l] = assemble(dev, svo[l], r, below, svo[l - 1].n, leaf, symmetric);
+    dag.level[l] = assemble(dev, svo[l], r, below, leaf, symmetric);
     below = std::move(r);
     svo[l - 1] = SvoLevel();
   }
@@ -349,7 +347,7 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
     SvoLevel lv = upload_level(dev, u[l]);
     Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric);
     Reduced r = reduce_level(dev, lv, slots, l == 1, symmetric);
-    dag.level[l] = assemble(dev, lv, r, slots, static_cast<uint32_t>(u[l].slot_node.size()), l == 1, symmetric);
+    dag.level[l] = assemble(dev, lv, r, slots, l == 1, symmetric);
     below = std::move(r);
     u[l - 1] = UnionLevel();
   }
@@ -362,13 +360,11 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
   root_slots.slot_node = root_node;
   root_slots.slot_tag.assign(root_node.size(), 0);
   Reduced slots = gather(dev, root_slots, below, symmetric);
-  uint32_t n_slots = roots.n;
   for (uint32_t l = cube_levels + 1; l <= levels; ++l) {
     SvoLevel lv = build_parents(dev, roots.keys, roots.n);
     dag.svo_nodes[l] = lv.n;
     Reduced r = reduce_level(dev, lv, slots, false, symmetric);
-    dag.level[l] = assemble(dev, lv, r, slots, n_slots, false, symmetric);
-    n_slots = lv.n;
+    dag.level[l] = assemble(dev, lv, r, slots, false, symmetric);
     roots = std::move(lv);
     slots = std::move(r);
   }

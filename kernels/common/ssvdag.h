@@ -144,6 +144,27 @@ MV_INLINE void mv_ssvdag_tags(MvBufU32 tstar, MvBufU32 stab, MvBufU32 id, MvBufU
   }
 }
 
+/* The reduced level in id order, for the host: class r's stored mask (its representative reflected by T*)
+ * and its 8 entries ((child id << 3) | tag, 0 = empty) in octant order. p.seed_lo = 1 with symmetry; without
+ * it tstar, ctag and cstab are null and tags are 0. */
+MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab, MvBufU32 tstar,
+                           MvBufU32 rep, MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p, mv_u32 gid,
+                           mv_u32 stride) {
+  for (mv_u32 r = gid; r < p.n; r += stride) {
+    mv_u32 node = MV_LD(rep, r);
+    mv_u32 t = p.seed_lo != 0u ? MV_LD(tstar, node) : 0u; /* seed_lo: 1 = symmetric */
+    MV_ST(out_mask, r, mv_reflect_mask(MV_LD(mask, node), t));
+    if (p.leaf != 0u) continue;
+    mv_u32 m = MV_LD(mask, node);
+    for (mv_u32 o = 0u; o < 8u; ++o) {
+      mv_u64 e = MV_U64(0);
+      if (p.seed_lo != 0u) e = mv_reflected_entry(mask, first, cid, ctag, cstab, node, t, o);
+      else if (((m >> o) & 1u) != 0u) e = MV_U64(MV_LD(cid, MV_LD(first, node) + mv_popcount8(m & ((1u << o) - 1u)))) << 3;
+      MV_ST(out_entry, 8u * r + o, e);
+    }
+  }
+}
+
 /* Level 1 needs no hashing: a 2x2x2 node's class is its canonical mask (the mask itself without symmetry),
  * one of at most 256. leaf_present marks the masks that occur; their exclusive scan ranks them; leaf_ids
  * gives each node the rank of its mask as id (ids in mask order) and each id a representative (any member:

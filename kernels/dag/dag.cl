@@ -57,3 +57,8 @@ __kernel void gather_slots(__global uint* slot_node, __global uint* slot_tag, __
                            __global uint* out_id, __global uint* out_tag, MvDagParams p) {
   mv_gather_slots(slot_node, slot_tag, id, tag, out_id, out_tag, p, MV_ID);
 }
+__kernel void dag_emit(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
+                       __global uint* cstab, __global uint* tstar, __global uint* rep, __global uint* out_mask,
+                       __global ulong* out_entry, MvDagParams p) {
+  mv_dag_emit(mask, first, cid, ctag, cstab, tstar, rep, out_mask, out_entry, p, MV_ID);
+}

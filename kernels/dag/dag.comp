@@ -72,6 +72,14 @@ layout(push_constant) uniform Args {
   MvBufU32 slot_node; MvBufU32 slot_tag; MvBufU32 id; MvBufU32 tag; MvBufU32 out_id; MvBufU32 out_tag; MvDagParams p;
 } a;
 void main() { mv_gather_slots(a.slot_node, a.slot_tag, a.id, a.tag, a.out_id, a.out_tag, a.p, MV_ID); }
+#elif defined(MV_ENTRY_dag_emit)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU32 rep;
+  MvBufU32 out_mask; MvBufU64 out_entry; MvDagParams p;
+} a;
+void main() {
+  mv_dag_emit(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID);
+}
 #else
 #error "define one MV_ENTRY_<name>"
 #endif

@@ -89,9 +89,10 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
                   "(device memory holds one cube's voxels); 0 = always in core")
       ->capture_default_str();
   cmd->add_option("--format", a->format,
-                  "DAG encoding: svdag (the thesis / SymVox 32-bit layout), ussvdag (symmetry-aware reduction,\n"
-                  "same layout with per-child mirror bits) or ssvdag (symmetry-aware, compact 16-bit encoding)")
-      ->check(CLI::IsMember({"svdag", "ussvdag", "ssvdag"}))
+                  "Encoding: svo (the plain octree, in core only), svdag (the thesis / SymVox 32-bit layout),\n"
+                  "ussvdag (symmetry-aware reduction, same layout with per-child mirror bits) or ssvdag\n"
+                  "(symmetry-aware, compact 16-bit encoding)")
+      ->check(CLI::IsMember({"svo", "svdag", "ussvdag", "ssvdag"}))
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");

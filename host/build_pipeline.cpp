@@ -158,7 +158,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     v.add(tris);
     return v.take_keys();
   };
-  const bool symmetric = o.format != "svdag";
+  const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
   DagBuildTimes times;
   Dag dag = build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times);
   r.seconds.push_back({"voxelize+cubes", times.svo_seconds});
@@ -172,9 +172,8 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
 }  // namespace
 
 BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
-  if (o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
-    throw Error("--format " + o.format + ": this build writes svdag, ussvdag and ssvdag (svo is not implemented "
-                "yet)");
+  if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
+    throw Error("--format " + o.format + ": choose svo, svdag, ussvdag or ssvdag");
   BuildReport r;
   r.input = o.input;
   r.output = o.output;
@@ -192,7 +191,11 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   report("read", 0);
   const uint32_t mesh_resolution = o.resolution ? o.resolution : 1024;
   const bool vdb = io::is_vdb(o.input);
-  if (!vdb && o.cube && mesh_resolution > o.cube) return build_out_of_core(dev, o, mesh_resolution, r, report, lap);
+  if (!vdb && o.cube && mesh_resolution > o.cube) {
+    if (o.format == "svo")
+      throw Error("--format svo builds in core (the plain octree of the whole grid in device memory): add --cube 0");
+    return build_out_of_core(dev, o, mesh_resolution, r, report, lap);
+  }
   if (o.format == "ssvdag" && o.resolution && o.resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
   Voxels voxels;
   if (vdb) {
@@ -213,12 +216,14 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   const GridTransform grid = voxels.grid;
   const Bounds bounds = voxels.bounds;
 
-  const bool symmetric = o.format != "svdag";
+  const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
   DagBuildTimes times;
-  Dag dag = symmetric ? build_ssvdag(dev, voxels.keys, levels, &times) : build_svdag(dev, voxels.keys, levels, &times);
+  Dag dag = o.format == "svo" ? build_svo(dev, voxels.keys, levels, &times)
+            : symmetric       ? build_ssvdag(dev, voxels.keys, levels, &times)
+                              : build_svdag(dev, voxels.keys, levels, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
-  r.seconds.push_back({symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
+  r.seconds.push_back({o.format == "svo" ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
   encode_and_write(dag, o, grid, bounds, r, lap);
   return r;

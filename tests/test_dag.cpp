@@ -181,3 +181,22 @@ TEST_P(DagTest, OutOfCoreEqualsInCore) {
 
 }  // namespace
 }  // namespace mv::test
+
+namespace mv::test {
+namespace {
+
+TEST_P(DagTest, PlainOctreeEncodesAsSvo) {
+  Device& dev = shared_device(GetParam());
+  for (auto& [name, voxels] : voxel_sets(5)) {
+    SCOPED_TRACE(name);
+    Dag svo = build_svo(dev, voxels, 5);
+    for (uint32_t l = 1; l <= 5; ++l) EXPECT_EQ(svo.nodes(l), svo.svo_nodes[l]) << "level " << l;
+    EncodedDag enc = encode_svdag(svo);
+    EXPECT_EQ(enc.encoding, Encoding::svo);
+    EXPECT_TRUE(decode_svdag(enc) == voxels);
+    EXPECT_GE(enc.words.size(), encode_svdag(build_svdag(dev, voxels, 5)).words.size());
+  }
+}
+
+}  // namespace
+}  // namespace mv::test

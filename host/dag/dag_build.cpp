@@ -132,6 +132,19 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   return r;
 }
 
+// No reduction (the plain octree): every node is its own class.
+Reduced identity_level(Device& dev, const SvoLevel& lv) {
+  Reduced r;
+  r.distinct = lv.n;
+  std::vector<uint32_t> iota(lv.n);
+  for (uint32_t i = 0; i < lv.n; ++i) iota[i] = i;
+  r.id = dev.alloc(uint64_t{lv.n} * 4, "octree node ids");
+  dev.upload(r.id, iota.data(), uint64_t{lv.n} * 4);
+  r.rep = dev.alloc(uint64_t{lv.n} * 4, "octree node ids");
+  dev.upload(r.rep, iota.data(), uint64_t{lv.n} * 4);
+  return r;
+}
+
 // The DAG level in id order: each representative in its stored orientation (reflected by its T* for the
 // SSVDAG) with its children's (id, tag) in octant order; gathered on the device (kernel dag_emit) and read
 // back sequentially (gathering on the host was the slowest part of a reduction: random reads).
@@ -196,7 +209,7 @@ void finish_build(Device& dev, Dag& dag, const Reduced& root, Clock::time_point 
 }
 
 Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
-              DagBuildTimes* times) {
+              DagBuildTimes* times, bool reduce = true) {
   if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
   if (voxels.size() > UINT32_MAX) throw Error("DAG build: more than 2^32-1 voxels in one build");
   if (!voxels.empty() && voxels.back() >> (3 * levels))
@@ -204,6 +217,7 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   Dag dag;
   dag.levels = levels;
   dag.symmetric = symmetric;
+  dag.reduced = reduce;
   dag.voxels = voxels.size();
   dag.svo_nodes.assign(levels + 1, 0);
   dag.level.resize(levels + 1);
@@ -226,7 +240,7 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   Reduced below;
   for (uint32_t l = 1; l <= levels; ++l) {
     const bool leaf = l == 1;
-    Reduced r = reduce_level(dev, svo[l], below, leaf, symmetric);
+    Reduced r = reduce ? reduce_level(dev, svo[l], below, leaf, symmetric) : identity_level(dev, svo[l]);
     dag.level[l] = assemble(dev, svo[l], r, below, leaf, symmetric);
     below = std::move(r);
     svo[l - 1] = SvoLevel();
@@ -284,6 +298,10 @@ Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t level
 
 Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
   return build_dag(dev, voxels, levels, true, times);
+}
+
+Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
+  return build_dag(dev, voxels, levels, false, times, false);
 }
 
 Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,

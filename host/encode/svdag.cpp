@@ -16,7 +16,7 @@ uint32_t thesis_mask(uint32_t m) {
 
 EncodedDag encode_svdag(const Dag& dag) {
   EncodedDag enc;
-  enc.encoding = dag.symmetric ? Encoding::ussvdag : Encoding::svdag;
+  enc.encoding = dag.symmetric ? Encoding::ussvdag : dag.reduced ? Encoding::svdag : Encoding::svo;
   enc.levels = dag.levels;
   enc.level_offset.assign(dag.levels + 1, 0);
   if (dag.levels == 0 || dag.voxels == 0) return enc;

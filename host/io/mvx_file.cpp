@@ -62,6 +62,8 @@ std::vector<T> section_data(std::FILE* f, const Section& s, const std::string& p
 
 std::string encoding_name(Encoding e) {
   switch (e) {
+    case Encoding::svo:
+      return "svo";
     case Encoding::svdag:
       return "svdag";
     case Encoding::ussvdag:
@@ -154,7 +156,7 @@ MvxFile read_mvx(const std::string& path) {
     throw Error(path + ": .mvx version " + std::to_string(h.version) + " (this megavox reads version " +
                 std::to_string(kMvxVersion) + ")");
   if (hash(&h, offsetof(Header, checksum)) != h.checksum) throw Error(path + ": header checksum mismatch");
-  if (h.encoding < static_cast<uint32_t>(Encoding::svdag) || h.encoding > static_cast<uint32_t>(Encoding::ssvdag))
+  if (h.encoding < static_cast<uint32_t>(Encoding::svo) || h.encoding > static_cast<uint32_t>(Encoding::ssvdag))
     throw Error(path + ": unknown encoding " + std::to_string(h.encoding));
   const bool compact = h.encoding == static_cast<uint32_t>(Encoding::ssvdag);
   if (h.levels < 1 || h.levels > 21) throw Error(path + ": bad level count " + std::to_string(h.levels));

@@ -26,6 +26,7 @@ struct DagLevel {
 struct Dag {
   uint32_t levels = 0;              // L
   bool symmetric = false;           // SSVDAG: pointers carry reflection tags
+  bool reduced = true;              // false: the plain octree (build_svo), every subtree stored once per use
   uint64_t voxels = 0;
   std::vector<uint64_t> svo_nodes;  // index = level: nodes of the sparse octree (level 0 = voxels)
   std::vector<DagLevel> level;      // index = level, 1..L (level[0] stays empty)
@@ -56,6 +57,9 @@ using CubeVoxels = std::function<std::vector<uint64_t>(uint32_t x, uint32_t y, u
 // build of all the voxels. `times` counts the cubes as the octree stage and the merge as the reduction.
 Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
                        DagBuildTimes* times = nullptr);
+
+// The octree itself, unreduced, in the same form (each level's nodes in key order).
+Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
 // Every voxel a DAG holds, as sorted Morton keys.
 std::vector<uint64_t> decode_voxels(const Dag& dag);

@@ -25,7 +25,8 @@ namespace mv {
 // pointers of its children in descending c. A 16-bit pointer holds the Z, Y, X mirror bits in bits 15..13
 // and a 13-bit offset; a 32-bit pointer (high word first) the mirror bits in 31..29 and offset bits 28..0.
 // Offsets count 16-bit words from the start of the child's level, or bricks when the child is a brick.
-enum class Encoding : uint32_t { svdag = 2, ussvdag = 3, ssvdag = 4 };
+// svo: the plain octree (build_svo) in the svdag layout, each subtree stored once per use.
+enum class Encoding : uint32_t { svo = 1, svdag = 2, ussvdag = 3, ssvdag = 4 };
 
 // Thesis octant index of a Morton octant (and back: the map is its own inverse).
 constexpr uint32_t thesis_octant(uint32_t morton) { return ((morton & 1) << 2) | (morton & 2) | ((morton >> 2) & 1); }
@@ -41,7 +42,7 @@ struct EncodedDag {
   uint64_t bytes() const { return words.size() * 4 + inner.size() * 2 + bricks.size() * 8; }
 };
 
-// svdag for a plain DAG, ussvdag for a symmetric one.
+// svdag for a plain DAG, ussvdag for a symmetric one, svo for an unreduced octree.
 EncodedDag encode_svdag(const Dag& dag);
 
 // The compact ssvdag encoding of an SSVDAG with at least 3 levels.

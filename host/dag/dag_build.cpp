@@ -82,11 +82,13 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   r.id = dev.alloc(uint64_t{n} * 4, "node ids");
   const uint32_t groups = dev.groups_for(n, kLocal);
   MvDagParams p{n, leaf ? 1u : 0u, 0, 0x6d766f78u};
+  Buffer canon;  // SSVDAG: each node's canonical key (mask + 8 entries), hashed and verified
   if (symmetric) {
     r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
     stab = dev.alloc(uint64_t{n} * 4, "node stabilizers");
+    if (!leaf) canon = dev.alloc(uint64_t{n} * 72, "canonical node keys");
     dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                 {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &stab}, p);
+                 {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &stab, &canon}, p);
     dev.barrier();
   }
   if (leaf) {
@@ -96,8 +98,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
       p.seed_lo = seed;
       if (symmetric)
-        dev.dispatch(dev.kernel("ssvdag_hash"), groups, kLocal,
-                     {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &hashes, &order}, p);
+        dev.dispatch(dev.kernel("ssvdag_hash"), groups, kLocal, {&canon, &hashes, &order}, p);
       else
         dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
       dev.barrier();
@@ -111,9 +112,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
       dev.fill(collided, 0, 4);
       dev.barrier();
       if (symmetric)
-        dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
-                     {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &r.id, &r.rep, &collided},
-                     p);
+        dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal, {&canon, &r.id, &r.rep, &collided}, p);
       else
         dev.dispatch(dev.kernel("dag_verify"), groups, kLocal,
                      {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided}, p);

@@ -43,7 +43,8 @@ MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid,
 /* T* (smallest key, ties to the smaller T) and stab of each node, comparing the reflected keys entry by
  * entry from the children's (id, tag, stab) read once. */
 MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
-                               MvBufU32 tstar, MvBufU32 stab, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+                               MvBufU32 tstar, MvBufU32 stab, MvBufU64 canon, MvDagParams p, mv_u32 gid,
+                               mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
     if (p.leaf != 0u) { /* a 2x2x2 node: its reflected masks are the whole key */
@@ -95,40 +96,34 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBu
     }
     MV_ST(tstar, i, best);
     MV_ST(stab, i, s);
+    /* the canonical key, for hashing and verification: mask, then the entries of n_T* */
+    MV_ST(canon, 9u * i, MV_U64(mv_reflect_mask(m, best)));
+    for (mv_u32 o = 0u; o < 8u; ++o) {
+      mv_u32 c = o ^ best;
+      MV_ST(canon, 9u * i + 1u + o,
+            ((m >> c) & 1u) != 0u ? (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ best, cs[c])) : MV_U64(0));
+    }
   }
 }
 
-MV_INLINE mv_u64 mv_ssvdag_node_hash(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
-                                     MvBufU32 tstar, MvDagParams p, mv_u32 i) {
-  mv_u32 t = MV_LD(tstar, i);
-  mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
-  h = mv_hash_mix(h, MV_U64(mv_reflect_mask(MV_LD(mask, i), t)));
-  if (p.leaf == 0u)
-    for (mv_u32 o = 0u; o < 8u; ++o) h = mv_hash_mix(h, mv_reflected_entry(mask, first, cid, ctag, cstab, i, t, o));
-  return h;
-}
-
-MV_INLINE void mv_ssvdag_hash(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
-                              MvBufU32 tstar, MvBufU64 hashes, MvBufU32 order, MvDagParams p, mv_u32 gid,
+/* Hash of node i's canonical key (written by ssvdag_canon). */
+MV_INLINE void mv_ssvdag_hash(MvBufU64 canon, MvBufU64 hashes, MvBufU32 order, MvDagParams p, mv_u32 gid,
                               mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    MV_ST(hashes, i, mv_ssvdag_node_hash(mask, first, cid, ctag, cstab, tstar, p, i));
+    mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
+    for (mv_u32 k = 0u; k < 9u; ++k) h = mv_hash_mix(h, MV_LD(canon, 9u * i + k));
+    MV_ST(hashes, i, h);
     MV_ST(order, i, i);
   }
 }
 
-/* Canonical forms of nodes a and b equal? A mismatch within a run is a hash collision. */
-MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
-                                MvBufU32 tstar, MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p,
+/* Canonical keys of node i and its run's representative equal? A mismatch is a hash collision. */
+MV_INLINE void mv_ssvdag_verify(MvBufU64 canon, MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p,
                                 mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 r = MV_LD(rep, MV_LD(id, i));
-    mv_u32 ti = MV_LD(tstar, i), tr = MV_LD(tstar, r);
-    bool same = mv_reflect_mask(MV_LD(mask, i), ti) == mv_reflect_mask(MV_LD(mask, r), tr);
-    if (p.leaf == 0u)
-      for (mv_u32 o = 0u; o < 8u; ++o)
-        same = same && mv_reflected_entry(mask, first, cid, ctag, cstab, i, ti, o) ==
-                           mv_reflected_entry(mask, first, cid, ctag, cstab, r, tr, o);
+    bool same = true;
+    for (mv_u32 k = 0u; k < 9u; ++k) same = same && MV_LD(canon, 9u * i + k) == MV_LD(canon, 9u * r + k);
     if (!same) MV_ST(collided, 0u, 1u);
   }
 }

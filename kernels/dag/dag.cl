@@ -29,18 +29,16 @@ __kernel void dag_verify(__global uint* mask, __global uint* first, __global uin
 #include "common/ssvdag.h"
 
 __kernel void ssvdag_canon(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                           __global uint* cstab, __global uint* tstar, __global uint* stab, MvDagParams p) {
-  mv_ssvdag_canon(mask, first, cid, ctag, cstab, tstar, stab, p, MV_ID);
+                           __global uint* cstab, __global uint* tstar, __global uint* stab, __global ulong* canon,
+                           MvDagParams p) {
+  mv_ssvdag_canon(mask, first, cid, ctag, cstab, tstar, stab, canon, p, MV_ID);
 }
-__kernel void ssvdag_hash(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                          __global uint* cstab, __global uint* tstar, __global ulong* hashes, __global uint* order,
-                          MvDagParams p) {
-  mv_ssvdag_hash(mask, first, cid, ctag, cstab, tstar, hashes, order, p, MV_ID);
+__kernel void ssvdag_hash(__global ulong* canon, __global ulong* hashes, __global uint* order, MvDagParams p) {
+  mv_ssvdag_hash(canon, hashes, order, p, MV_ID);
 }
-__kernel void ssvdag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                            __global uint* cstab, __global uint* tstar, __global uint* id, __global uint* rep,
-                            __global uint* collided, MvDagParams p) {
-  mv_ssvdag_verify(mask, first, cid, ctag, cstab, tstar, id, rep, collided, p, MV_ID);
+__kernel void ssvdag_verify(__global ulong* canon, __global uint* id, __global uint* rep, __global uint* collided,
+                            MvDagParams p) {
+  mv_ssvdag_verify(canon, id, rep, collided, p, MV_ID);
 }
 __kernel void ssvdag_tags(__global uint* tstar, __global uint* stab, __global uint* id, __global uint* rep,
                           __global uint* tag, __global uint* idstab, MvDagParams p) {

@@ -37,23 +37,15 @@ void main() { mv_dag_verify(a.mask, a.first, a.cid, a.id, a.rep, a.collided, a.p
 #elif defined(MV_ENTRY_ssvdag_canon)
 layout(push_constant) uniform Args {
   MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU32 stab;
-  MvDagParams p;
+  MvBufU64 canon; MvDagParams p;
 } a;
-void main() { mv_ssvdag_canon(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.stab, a.p, MV_ID); }
+void main() { mv_ssvdag_canon(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.stab, a.canon, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_hash)
-layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU64 hashes;
-  MvBufU32 order; MvDagParams p;
-} a;
-void main() { mv_ssvdag_hash(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.hashes, a.order, a.p, MV_ID); }
+layout(push_constant) uniform Args { MvBufU64 canon; MvBufU64 hashes; MvBufU32 order; MvDagParams p; } a;
+void main() { mv_ssvdag_hash(a.canon, a.hashes, a.order, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_verify)
-layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU32 id;
-  MvBufU32 rep; MvBufU32 collided; MvDagParams p;
-} a;
-void main() {
-  mv_ssvdag_verify(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.id, a.rep, a.collided, a.p, MV_ID);
-}
+layout(push_constant) uniform Args { MvBufU64 canon; MvBufU32 id; MvBufU32 rep; MvBufU32 collided; MvDagParams p; } a;
+void main() { mv_ssvdag_verify(a.canon, a.id, a.rep, a.collided, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_tags)
 layout(push_constant) uniform Args {
   MvBufU32 tstar; MvBufU32 stab; MvBufU32 id; MvBufU32 rep; MvBufU32 tag; MvBufU32 idstab; MvDagParams p;

@@ -9,7 +9,7 @@ packages=(
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo     # OpenCL, PoCL (the CPU device)
   libvulkan-dev mesa-vulkan-drivers glslang-tools vulkan-tools   # Vulkan, lavapipe, GLSL -> SPIR-V
   libcli11-dev nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libxxhash-dev
-  libassimp-dev libopenvdb-dev                                  # OBJ, glTF, FBX, STL, ... meshes; .vdb volumes
+  libassimp-dev libopenvdb-dev libimath-dev                     # OBJ, glTF, FBX, STL, ... meshes; .vdb volumes
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(libboost-dev)  # boost::sort::block_indirect_sort, the parallel CPU sort baseline

@@ -74,8 +74,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       "build",
       "Voxelize a triangle mesh (PLY, binary or ASCII, streamed; OBJ, glTF, FBX, STL, ... through assimp) at a\n"
       "resolution, or read an OpenVDB volume (level sets: surface voxels; fog: voxels > 0), and reduce it to a\n"
-      "voxel DAG in a .mvx\n"
-      "file. The grid is a cube on the mesh's longest extent, centred on its bounds; a voxel is set when a\n"
+      "voxel DAG in a .mvx file. The grid is a cube on the mesh's longest extent, centred on its bounds; a voxel is set when a\n"
       "triangle meets its cell. Example: megavox build bunny.ply --resolution 4K -o bunny.mvx");
   cmd->add_option("input", a->input, "Mesh file (.ply, .obj, .gltf, .fbx, .stl, ...)")->required();
   cmd->add_option("-o,--output", a->output, "The .mvx file to write (written to OUT.tmp, renamed on success)")

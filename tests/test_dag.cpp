@@ -108,13 +108,7 @@ TEST_P(DagTest, EmptyInputGivesAnEmptyDag) {
 TEST_P(DagTest, VoxelizedMeshEndToEnd) {
   Device& dev = shared_device(GetParam());
   // An octahedron: 8 triangles, voxelized at 64^3, then reduced.
-  std::vector<float> pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
-  std::vector<uint32_t> idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
-  Bounds b;
-  for (size_t i = 0; i < pos.size(); i += 3) b.extend(pos[i], pos[i + 1], pos[i + 2]);
-  GridTransform g = grid_for_bounds(b, 64);
-  std::vector<float> tris;
-  triangles_to_grid(g, pos, idx.data(), 8, tris);
+  std::vector<float> tris = octahedron_grid_triangles(64);
   Voxelizer v(dev, 64);
   v.add(tris);
   std::vector<uint64_t> voxels = v.take_keys();
@@ -145,14 +139,8 @@ namespace {
 // Out-of-core (cube by cube, then merged) gives the in-core DAG exactly: the same encoded bytes.
 TEST_P(DagTest, OutOfCoreEqualsInCore) {
   Device& dev = shared_device(GetParam());
-  std::vector<float> pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1.3f};
-  std::vector<uint32_t> idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
-  Bounds b;
-  for (size_t i = 0; i < pos.size(); i += 3) b.extend(pos[i], pos[i + 1], pos[i + 2]);
   const uint32_t levels = 7, n = 1u << levels;
-  GridTransform g = grid_for_bounds(b, n);
-  std::vector<float> tris;
-  triangles_to_grid(g, pos, idx.data(), 8, tris);
+  std::vector<float> tris = octahedron_grid_triangles(n, -1.3f);
   Voxelizer all(dev, n);
   all.add(tris);
   std::vector<uint64_t> voxels = all.take_keys();

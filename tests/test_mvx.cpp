@@ -275,13 +275,7 @@ namespace {
 
 // The whole build on every device gives the same encoded bytes (discrete results are backend-independent).
 TEST(Build, EveryDeviceWritesTheSameBytes) {
-  std::vector<float> pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
-  std::vector<uint32_t> idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
-  Bounds b;
-  for (size_t i = 0; i < pos.size(); i += 3) b.extend(pos[i], pos[i + 1], pos[i + 2]);
-  GridTransform g = grid_for_bounds(b, 128);
-  std::vector<float> tris;
-  triangles_to_grid(g, pos, idx.data(), 8, tris);
+  std::vector<float> tris = octahedron_grid_triangles(128);
   std::vector<std::vector<uint32_t>> svdag, ussvdag;
   std::vector<std::vector<uint16_t>> ssvdag;
   for (const DeviceInfo& d : all_devices()) {

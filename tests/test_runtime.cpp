@@ -45,8 +45,12 @@ TEST(Selection, ByIndexAndByName) {
     EXPECT_EQ(s.backend, d.backend);
     EXPECT_EQ(s.index, d.index);
   }
-  if (has_device("opencl", "pocl") || has_device("opencl", "portable")) EXPECT_EQ(select_device("pocl").backend, "opencl");
-  if (has_device("vulkan", "llvmpipe")) EXPECT_EQ(select_device("LLVMPIPE").backend, "vulkan");
+  if (has_device("opencl", "pocl") || has_device("opencl", "portable")) {
+    EXPECT_EQ(select_device("pocl").backend, "opencl");
+  }
+  if (has_device("vulkan", "llvmpipe")) {
+    EXPECT_EQ(select_device("LLVMPIPE").backend, "vulkan");
+  }
 }
 
 TEST(Selection, DefaultPrefersGpuThenPocl) {
@@ -108,8 +112,9 @@ TEST_P(RuntimeTest, BuildErrorsNameTheKernel) {
   } catch (const Error& e) {
     std::string msg = e.what();
     EXPECT_NE(msg.find("broken_kernel"), std::string::npos) << msg;
-    if (GetParam().backend == "opencl")  // the compiler's own log is surfaced
+    if (GetParam().backend == "opencl") {  // the compiler's own log is surfaced
       EXPECT_NE(msg.find("undefined_symbol"), std::string::npos) << msg;
+    }
   }
 }
 

@@ -4,6 +4,8 @@
 #include <map>
 #include <memory>
 
+#include "megavox/voxelize.h"
+
 namespace mv::test {
 
 const std::vector<DeviceInfo>& all_devices() {
@@ -30,6 +32,16 @@ std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& p) {
   for (auto& c : sel)
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return tag + "_" + d.backend + "_" + sel;
+}
+
+std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom) {
+  std::vector<float> pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, bottom};
+  std::vector<uint32_t> idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  Bounds b;
+  for (size_t i = 0; i < pos.size(); i += 3) b.extend(pos[i], pos[i + 1], pos[i + 2]);
+  std::vector<float> tris;
+  triangles_to_grid(grid_for_bounds(b, resolution), pos, idx.data(), idx.size() / 3, tris);
+  return tris;
 }
 
 std::vector<uint32_t> random_u32(size_t n, uint64_t seed) {

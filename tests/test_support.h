@@ -20,6 +20,10 @@ Device& shared_device(const DeviceInfo& info);
 // "pocl_ocl0", "llvmpipe_vk0": a gtest-safe name that carries the backend.
 std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& info);
 
+// An octahedron (8 triangles; its bottom vertex at y = `bottom`) placed on a grid of `resolution` voxels
+// per axis and given in grid units (9 floats per triangle), ready for a Voxelizer.
+std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom = -1.0f);
+
 // Deterministic random data.
 std::vector<uint32_t> random_u32(size_t n, uint64_t seed);
 std::vector<uint64_t> random_u64(size_t n, uint64_t seed);

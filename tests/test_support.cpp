@@ -1,9 +1,12 @@
 #include "test_support.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <map>
 #include <memory>
 
+#include "host/ref/reference.h"
 #include "megavox/voxelize.h"
 
 namespace mv::test {
@@ -42,6 +45,34 @@ std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom) 
   std::vector<float> tris;
   triangles_to_grid(grid_for_bounds(b, resolution), pos, idx.data(), idx.size() / 3, tris);
   return tris;
+}
+
+static std::vector<uint64_t> sorted_unique(std::vector<uint64_t> k) {
+  std::sort(k.begin(), k.end());
+  k.erase(std::unique(k.begin(), k.end()), k.end());
+  return k;
+}
+
+// Voxel sets with little, some and much sharing (see test_support.h).
+std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t levels) {
+  const uint32_t n = 1u << levels;
+  std::mt19937_64 rng(levels);
+  std::vector<std::pair<std::string, std::vector<uint64_t>>> sets;
+  std::vector<uint64_t> random, shell, tiled;
+  for (int i = 0; i < 3000; ++i) random.push_back(ref::morton3(rng() % n, rng() % n, rng() % n, 21));
+  const double c = n / 2.0, r = n * 0.4;
+  for (uint32_t x = 0; x < n; ++x)
+    for (uint32_t y = 0; y < n; ++y)
+      for (uint32_t z = 0; z < n; ++z) {
+        double d = std::sqrt((x + .5 - c) * (x + .5 - c) + (y + .5 - c) * (y + .5 - c) + (z + .5 - c) * (z + .5 - c));
+        if (std::abs(d - r) < 0.9) shell.push_back(ref::morton3(x, y, z, 21));
+        if (((x ^ y ^ z) & 3) == 0 && (x % 8) < 5) tiled.push_back(ref::morton3(x, y, z, 21));
+      }
+  sets.push_back({"random", sorted_unique(random)});
+  sets.push_back({"shell", sorted_unique(shell)});
+  sets.push_back({"tiled", sorted_unique(tiled)});
+  sets.push_back({"one voxel", {ref::morton3(n - 1, 0, n / 2, 21)}});
+  return sets;
 }
 
 std::vector<uint32_t> random_u32(size_t n, uint64_t seed) {

@@ -5,6 +5,7 @@
 
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "megavox/device.h"
@@ -23,6 +24,10 @@ std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& info);
 // An octahedron (8 triangles; its bottom vertex at y = `bottom`) placed on a grid of `resolution` voxels
 // per axis and given in grid units (9 floats per triangle), ready for a Voxelizer.
 std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom = -1.0f);
+
+// Voxel sets (sorted unique 64-bit Morton keys of a 2^levels grid) with little, some and much sharing:
+// "random" (3000 random voxels), "shell" (a sphere's shell), "tiled" (a repeating pattern), "one voxel".
+std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t levels);
 
 // Deterministic random data.
 std::vector<uint32_t> random_u32(size_t n, uint64_t seed);

@@ -75,6 +75,37 @@ typedef double mv_f64;
 #define MV_FABS(x) abs(x)
 #endif
 
+/* Exactness: every float expression whose result must match across devices is evaluated as written, without
+ * fused multiply-add (OpenCL: FP_CONTRACT OFF above; host: -ffp-contract=off; GLSL: `precise` on the
+ * variables that receive it). */
+#if defined(MV_GLSL)
+#define MV_PRECISE precise
+#else
+#define MV_PRECISE
+#endif
+
+/* ---- bit operations and float bit casts ---- */
+#if defined(MV_CPP)
+#include <bit>
+#define MV_POPCOUNT(x) ((mv_u32)std::popcount((mv_u32)(x)))
+#define MV_FIND_MSB(x) (31u - (mv_u32)std::countl_zero((mv_u32)(x))) /* x != 0 */
+#define MV_FBITS(x) std::bit_cast<mv_u32>((mv_f32)(x))
+#define MV_BITSF(x) std::bit_cast<mv_f32>((mv_u32)(x))
+#define MV_F32(x) ((mv_f32)(x))
+#elif defined(MV_OPENCL)
+#define MV_POPCOUNT(x) popcount((uint)(x))
+#define MV_FIND_MSB(x) (31u - clz((uint)(x)))
+#define MV_FBITS(x) as_uint((float)(x))
+#define MV_BITSF(x) as_float((uint)(x))
+#define MV_F32(x) ((float)(x))
+#else
+#define MV_POPCOUNT(x) uint(bitCount(uint(x)))
+#define MV_FIND_MSB(x) uint(findMSB(uint(x)))
+#define MV_FBITS(x) floatBitsToUint(float(x))
+#define MV_BITSF(x) uintBitsToFloat(uint(x))
+#define MV_F32(x) float(x)
+#endif
+
 /* ---- buffers ---- */
 #if defined(MV_CPP)
 typedef mv_u32* MvBufU32;

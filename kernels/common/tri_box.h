@@ -8,12 +8,6 @@
 #define MV_TRI_BOX_H
 #include "mv_lang.h"
 
-#if defined(MV_GLSL)
-#define MV_PRECISE precise
-#else
-#define MV_PRECISE
-#endif
-
 /* Does the projection of the triangle on `axis` miss the box's projection [-r, r]? */
 MV_INLINE bool mv_axis_separates(mv_f64 p0, mv_f64 p1, mv_f64 p2, mv_f64 r) {
   MV_PRECISE mv_f64 lo = MV_FMIN(p0, MV_FMIN(p1, p2));

@@ -1,0 +1,150 @@
+// Host side of ray traversal (kernel bodies: kernels/common/trace.h, secondary.h).
+#include "trace/trace_engine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <thread>
+
+#include "megavox/error.h"
+#include "megavox/trace.h"
+
+namespace mv {
+
+TraceEngine::TraceEngine(Device& dev, const EncodedDag& dag) : dev_(dev), levels_(dag.levels) {
+  encoding_ = static_cast<uint32_t>(dag.encoding);
+  if (dag.levels == 0 || dag.levels > 21) throw Error("trace: the DAG has " + std::to_string(dag.levels) + " levels");
+  if (dag.encoding == Encoding::ssvdag) {
+    if (dag.inner.empty()) throw Error("trace: the DAG is empty");
+    if (dag.inner.size() >= (uint64_t{1} << 32)) throw Error("trace: the ssvdag stream exceeds 2^32 words");
+    std::vector<uint16_t> inner = dag.inner;
+    if (inner.size() % 2) inner.push_back(0);
+    words_ = dev.alloc(inner.size() * 2, "ssvdag inner nodes");
+    dev.upload(words_, inner.data(), inner.size() * 2);
+    bricks_ = dev.alloc(std::max<size_t>(dag.bricks.size(), 1) * 8, "ssvdag bricks");
+    if (!dag.bricks.empty()) dev.upload(bricks_, dag.bricks.data(), dag.bricks.size() * 8);
+    std::vector<uint32_t> offsets(dag.levels + 1, 0);
+    for (uint32_t l = 0; l <= dag.levels && l < dag.level_offset.size(); ++l)
+      offsets[l] = static_cast<uint32_t>(dag.level_offset[l]);
+    level_offsets_ = dev.alloc(offsets.size() * 4, "ssvdag level offsets");
+    dev.upload(level_offsets_, offsets.data(), offsets.size() * 4);
+  } else {
+    if (dag.words.empty()) throw Error("trace: the DAG is empty");
+    words_ = dev.alloc(dag.words.size() * 4, "DAG words");
+    dev.upload(words_, dag.words.data(), dag.words.size() * 4);
+  }
+}
+
+uint32_t TraceEngine::step_limit(uint32_t wanted) const {
+  uint32_t cap = dev_.info().max_loop_iterations;
+  return cap ? std::min(wanted, cap - 16) : wanted;
+}
+
+// One ray per work-item where the driver caps loop iterations (lavapipe), so a work-item's traversal loop
+// never sums over several rays; elsewhere grid-stride: a few groups per hardware thread on CPUs, 64-wide
+// groups on GPUs.
+template <class F>
+void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
+  const DeviceInfo& info = dev_.info();
+  const bool gpu = info.type == "gpu";
+  const uint32_t local = gpu ? 64 : info.backend == "vulkan" ? 8 : 1;
+  const uint64_t max_groups = std::max<uint32_t>(info.max_groups, 1);
+  const uint64_t per_dispatch = info.max_loop_iterations ? max_groups * local : count;
+  const uint32_t threads = std::max<uint32_t>({info.compute_units, std::thread::hardware_concurrency(), 1u});
+  for (uint64_t first = 0; first < count; first += per_dispatch) {
+    uint32_t n = static_cast<uint32_t>(std::min<uint64_t>(per_dispatch, count - first));
+    uint64_t groups = (uint64_t{n} + local - 1) / local;
+    if (!info.max_loop_iterations) groups = std::min<uint64_t>(groups, gpu ? max_groups : uint64_t{threads} * 16);
+    dispatch(static_cast<uint32_t>(first), n, static_cast<uint32_t>(groups), local);
+  }
+}
+
+void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count, uint32_t width, float proj,
+                        uint32_t max_steps, bool occlusion, Buffer& results) {
+  Kernel& k = dev_.kernel("trace_rays");
+  const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
+  const Buffer* offsets = bricks ? &level_offsets_ : nullptr;
+  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local) {
+    MvTraceParams p{};
+    p.first = first;
+    p.count = n;
+    p.levels = levels_;
+    p.encoding = encoding_;
+    p.camera = camera ? 1u : 0u;
+    p.occlusion = occlusion ? 1u : 0u;
+    p.width = width;
+    p.max_steps = step_limit(max_steps);
+    p.proj = proj;
+    dev_.dispatch(k, groups, local, {rays, camera, &words_, bricks, offsets, &results}, p);
+  });
+  dev_.barrier();
+}
+
+void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table,
+                            uint32_t count, MvSecondaryParams p, Buffer& out) {
+  Kernel& k = dev_.kernel("secondary_rays");
+  p.levels = levels_;
+  p.camera = camera ? 1u : 0u;
+  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local) {
+    p.first = first;
+    p.count = n;
+    dev_.dispatch(k, groups, local, {rays, camera, &hits, table, &out}, p);
+  });
+  dev_.barrier();
+}
+
+// ---- the public ray-query interface ----
+
+Tracer::Tracer(Device& dev, const MvxFile& file)
+    : grid_(file.grid), engine_(std::make_unique<TraceEngine>(dev, file.dag)) {}
+
+Tracer::~Tracer() = default;
+
+std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptions& options) {
+  std::vector<RayHit> out(rays.size());
+  if (rays.empty()) return out;
+  if (rays.size() > UINT32_MAX / MV_HIT_WORDS) throw Error("trace: too many rays in one batch");
+  // World to the root cube [0, 1)^3: a translation and one scale, so t keeps its meaning.
+  const double side = grid_.voxel_size * grid_.resolution;
+  std::vector<float> cube(rays.size() * MV_RAY_FLOATS);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray& r = rays[i];
+    float* c = &cube[i * MV_RAY_FLOATS];
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(r.origin[a]) || !std::isfinite(r.direction[a]))
+        throw Error("trace: ray " + std::to_string(i) + " has a non-finite origin or direction");
+      c[a] = static_cast<float>((double(r.origin[a]) - grid_.origin[a]) / side);
+      c[3 + a] = static_cast<float>(double(r.direction[a]) / side);
+    }
+    if (std::isnan(r.tmax)) throw Error("trace: ray " + std::to_string(i) + " has a NaN tmax");
+    c[6] = std::min(r.tmax, 1e30f);
+    c[7] = 0;
+  }
+  const uint32_t n = static_cast<uint32_t>(rays.size());
+  Device& dev = engine_->device();
+  Buffer ray_buf = dev.alloc(cube.size() * 4, "rays");
+  dev.upload(ray_buf, cube.data(), cube.size() * 4);
+  Buffer hit_buf = dev.alloc(uint64_t{n} * MV_HIT_WORDS * 4, "ray hits");
+  engine_->trace(&ray_buf, nullptr, n, 0, 0.0f, options.max_steps, false, hit_buf);
+  std::vector<uint32_t> words(uint64_t{n} * MV_HIT_WORDS);
+  dev.download(hit_buf, words.data(), words.size() * 4);
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t* w = &words[uint64_t{i} * MV_HIT_WORDS];
+    RayHit& h = out[i];
+    uint32_t info = w[4];
+    h.hit = MV_INFO_STATUS(info) == MV_TRACE_HIT;
+    h.gave_up = MV_INFO_STATUS(info) == MV_TRACE_GAVE_UP;
+    h.steps = w[5];
+    if (!h.hit) continue;
+    h.t = MV_BITSF(w[0]);
+    h.level = MV_INFO_LEVEL(info);
+    h.cell[0] = w[1];
+    h.cell[1] = w[2];
+    h.cell[2] = w[3];
+    uint32_t axis = MV_INFO_AXIS(info);
+    if (axis != MV_AXIS_NONE) h.normal[axis] = MV_INFO_NEGATIVE(info) ? -1 : 1;
+  }
+  return out;
+}
+
+}  // namespace mv

@@ -1,0 +1,349 @@
+/* Ray traversal of the encoded voxel DAGs, written once for the host, OpenCL C and GLSL.
+ *
+ * Encodings (include/megavox/encode.h): svo / svdag / ussvdag are one stream of 32-bit words (header word with
+ * the child mask and, for ussvdag, per-child mirror bits; one 32-bit absolute pointer per child; one-word 2^3
+ * leaves); ssvdag is the compact stream of 16-bit words (2-bit child codes, 16/32-bit pointers with mirror
+ * tags, offsets relative to the child level) over 64-bit 4^3 bricks. The traversal is the thesis's
+ * "transform the geometry" multi-level DDA (notes 1.10): the ray stays fixed, a 3-bit mirror mask M is
+ * accumulated along the path, and the child seen in octant v is stored at slot v ^ M.
+ *
+ * Coordinates: the root cube is [0, 1)^3 (host maps world to this cube); a cell of level l has side
+ * 2^(l - L). Every decision is a comparison of crossing times t = (b - o) * inv_d, where b is a cell
+ * boundary (exact in float), inv_d a deterministic reciprocal (mv_rcp: integer seed + Newton steps, only
+ * correctly rounded + - *). Crossings are ordered by (t, axis): at equal t the lower axis is crossed first.
+ * So the walk is the same on every device, and equals a flat DDA over the voxels (host/ref) bit for bit:
+ * a coarse boundary is also a fine one with the same float t, and a descent picks the child half by asking
+ * whether the ray crossed the cell's mid plane before the event that brought it into the cell.
+ *
+ * A ray stops at the first full cell that is a voxel, or (LOD) whose side s satisfies s * proj < t + lod_t
+ * (proj = 0: voxels only). A ray starting inside the cube starts in the cell it is in just before t = 0
+ * (on a boundary: the cell behind it), so it reports a hit at t = 0 without a face only when it starts in a
+ * full voxel. */
+#ifndef MV_TRACE_H
+#define MV_TRACE_H
+#include "mv_lang.h"
+
+#define MV_ENC_SSVDAG 4u
+#define MV_TRACE_MISS 0u
+#define MV_TRACE_HIT 1u
+#define MV_TRACE_GAVE_UP 2u /* max_steps reached */
+#define MV_AXIS_NONE 3u     /* hit at the ray's origin: no face */
+#define MV_RAY_FLOATS 8u    /* ox oy oz dx dy dz tmax lod_t */
+#define MV_HIT_WORDS 6u     /* t (float bits) x y z info steps */
+#define MV_CAMERA_FLOATS 16u
+
+/* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 */
+#define MV_INFO_STATUS(i) ((i) & 3u)
+#define MV_INFO_AXIS(i) (((i) >> 2) & 3u)
+#define MV_INFO_NEGATIVE(i) (((i) >> 4) & 1u)
+#define MV_INFO_LEVEL(i) (((i) >> 8) & 31u)
+
+MV_STRUCT_BEGIN(MvTraceParams)
+  mv_u32 first;     /* rays [first, first + count) in this dispatch */
+  mv_u32 count;
+  mv_u32 levels;    /* L: the root cube is 2^L voxels per axis */
+  mv_u32 encoding;  /* Encoding: 1 svo, 2 svdag, 3 ussvdag (32-bit words), 4 ssvdag (16-bit words + bricks) */
+  mv_u32 camera;    /* 0: rays from the ray buffer; 1: camera rays (camera buffer, ray index = pixel) */
+  mv_u32 occlusion; /* 0: hit records; 1: occlusion counts (count[i] += 1 when ray i hits) */
+  mv_u32 width;     /* camera rays: image width */
+  mv_u32 max_steps; /* give up after this many loop steps (the same on every device) */
+  mv_f32 proj;      /* LOD factor, see above; 0 = voxels only */
+  mv_u32 pad0;
+MV_STRUCT_END(MvTraceParams)
+
+MV_STRUCT_BEGIN(MvRay)
+  mv_f32 ox; mv_f32 oy; mv_f32 oz;
+  mv_f32 dx; mv_f32 dy; mv_f32 dz;
+  mv_f32 tmax;
+  mv_f32 lod_t; /* added to t in the LOD test: a secondary ray keeps the LOD of its primary */
+MV_STRUCT_END(MvRay)
+
+MV_STRUCT_BEGIN(MvHit)
+  mv_f32 t;
+  mv_u32 x; mv_u32 y; mv_u32 z; /* the cell at the hit level */
+  mv_u32 info;
+  mv_u32 steps;
+MV_STRUCT_END(MvHit)
+
+/* 1 / x for |x| in [1e-20, 1e20], identical on every device (not always correctly rounded). */
+MV_INLINE mv_f32 mv_rcp(mv_f32 x) {
+  mv_u32 b = MV_FBITS(x);
+  MV_PRECISE mv_f32 a = MV_BITSF(b & 0x7fffffffu);
+  MV_PRECISE mv_f32 r = MV_BITSF(0x7ef311c3u - (b & 0x7fffffffu));
+  r = r * (2.0f - a * r);
+  r = r * (2.0f - a * r);
+  r = r * (2.0f - a * r);
+  r = r * (2.0f - a * r);
+  return MV_BITSF(MV_FBITS(r) | (b & 0x80000000u));
+}
+
+/* Direction components keep their sign (zero counts as positive) and at least 1e-20 magnitude. */
+MV_INLINE mv_f32 mv_dir_clamp(mv_f32 d) {
+  if (d >= 0.0f && d < 1e-20f) return 1e-20f;
+  if (d < 0.0f && d > -1e-20f) return -1e-20f;
+  return d;
+}
+
+/* The side of a cell of level l in a root cube of level L: 2^(l - L), exact. */
+MV_INLINE mv_f32 mv_cell_side(mv_u32 l, mv_u32 L) { return MV_BITSF(((127u + l) - L) << 23); }
+
+MV_INLINE mv_f32 mv_cross(mv_f32 b, mv_f32 o, mv_f32 inv) {
+  MV_PRECISE mv_f32 t = (b - o) * inv;
+  return t;
+}
+
+/* Event (t, k) comes strictly before event (te, ae). */
+MV_INLINE bool mv_before(mv_f32 t, mv_u32 k, mv_f32 te, mv_u32 ae) { return t < te || (t == te && k < ae); }
+
+/* Has the crossing (t, k) happened by event (te, ae)? The start event of a ray that begins inside the cube
+ * (ae = MV_AXIS_NONE, te = 0) counts only crossings at t < 0: a ray starting on a boundary is still in the
+ * cell behind it and crosses at t = 0 (for both directions, so the rule does not depend on the sign of 0). */
+MV_INLINE bool mv_crossed(mv_f32 t, mv_u32 k, mv_f32 te, mv_u32 ae) {
+  return ae == MV_AXIS_NONE ? t < te : mv_before(t, k, te, ae);
+}
+
+/* The half (0 lower, 1 upper) along axis k of the cell of side s the ray is in, inside parent cell `parent`
+ * (side 2s), given the event (te, ae) that brought it into the parent. */
+MV_INLINE mv_u32 mv_child_half(mv_u32 parent, mv_f32 s, mv_f32 o, mv_f32 inv, mv_u32 k, mv_f32 te, mv_u32 ae) {
+  MV_PRECISE mv_f32 mid = MV_F32(2u * parent + 1u) * s;
+  bool pos = inv > 0.0f;
+  if (k == ae) return pos ? 0u : 1u;
+  bool crossed = mv_crossed(mv_cross(mid, o, inv), k, te, ae);
+  return pos == crossed ? 1u : 0u;
+}
+
+/* Where a ray enters the root cube: the event (t, axis), axis MV_AXIS_NONE when it starts inside (t = 0).
+ * enters = 0 when it misses the cube or enters after tmax. */
+MV_STRUCT_BEGIN(MvEntry)
+  mv_f32 t;
+  mv_u32 axis;
+  mv_u32 enters;
+MV_STRUCT_END(MvEntry)
+
+/* Is the ray inside [0, 1) on this axis just before t = 0 (see mv_crossed)? */
+MV_INLINE bool mv_inside_unit(mv_f32 x, mv_f32 inv) { return inv > 0.0f ? x > 0.0f && x <= 1.0f : x >= 0.0f && x < 1.0f; }
+
+MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f32 i1, mv_f32 i2, mv_f32 tmax) {
+  MvEntry e;
+  e.t = 0.0f;
+  e.axis = MV_AXIS_NONE;
+  e.enters = tmax >= 0.0f ? 1u : 0u;
+  mv_f32 o[3];
+  mv_f32 inv[3];
+  o[0] = o0; o[1] = o1; o[2] = o2;
+  inv[0] = i0; inv[1] = i1; inv[2] = i2;
+  if (mv_inside_unit(o0, i0) && mv_inside_unit(o1, i1) && mv_inside_unit(o2, i2)) return e;
+  for (mv_u32 k = 0u; k < 3u; ++k) {
+    if (mv_inside_unit(o[k], inv[k])) continue;
+    bool pos = inv[k] > 0.0f;
+    if (pos ? o[k] > 1.0f : o[k] < 0.0f) e.enters = 0u; /* outside on k and moving away */
+    mv_f32 t = mv_cross(pos ? 0.0f : 1.0f, o[k], inv[k]);
+    if (e.axis == MV_AXIS_NONE || mv_before(e.t, e.axis, t, k)) {
+      e.t = t;
+      e.axis = k;
+    }
+  }
+  for (mv_u32 k = 0u; k < 3u; ++k)
+    if (mv_before(mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]), k, e.t, e.axis)) e.enters = 0u;
+  if (e.t > tmax) e.enters = 0u;
+  return e;
+}
+
+/* Thesis octant index (4x + 2y + z) of a Morton octant (x + 2y + 4z); its own inverse. */
+MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) | ((m >> 2) & 1u); }
+
+/* 16-bit word w of the ssvdag inner stream, stored two per 32-bit word, low half first. */
+MV_INLINE mv_u32 mv_inner16(MvBufU32 words, mv_u32 w) { return (MV_LD(words, w >> 1) >> ((w & 1u) * 16u)) & 0xffffu; }
+
+/* Is slot `slot` (stored Morton octant) of the current node full? */
+MV_INLINE bool mv_slot_full(mv_u32 enc, mv_u32 nl, mv_u32 hdr, mv_u64 brick, mv_u32 sub, mv_u32 slot) {
+  mv_u32 t8 = mv_thesis_octant(slot);
+  if (enc != MV_ENC_SSVDAG) return ((hdr >> t8) & 1u) != 0u;
+  if (nl >= 3u) return ((hdr >> (2u * t8)) & 3u) != 0u;
+  if (nl == 2u) /* the 2x2x2 sub-block `slot` of the brick: bits 16x + 4y + z, x, y, z in {2c, 2c + 1} */
+    return (brick & (MV_U64(0x330033u) << (32u * (slot & 1u) + 8u * ((slot >> 1) & 1u) + 2u * (slot >> 2)))) != MV_U64(0);
+  mv_u32 bx = 2u * (sub & 1u) + (slot & 1u), by = 2u * ((sub >> 1) & 1u) + ((slot >> 1) & 1u);
+  mv_u32 bz = 2u * (sub >> 2) + (slot >> 2);
+  return ((brick >> (16u * bx + 4u * by + bz)) & MV_U64(1)) != MV_U64(0);
+}
+
+MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 L, MvRay r,
+                         mv_f32 proj, mv_u32 max_steps) {
+  MvHit h;
+  h.t = 0.0f;
+  h.x = 0u; h.y = 0u; h.z = 0u;
+  h.info = MV_TRACE_MISS | (MV_AXIS_NONE << 2);
+  h.steps = 0u;
+  mv_f32 o[3];
+  mv_f32 inv[3];
+  o[0] = r.ox; o[1] = r.oy; o[2] = r.oz;
+  inv[0] = mv_rcp(mv_dir_clamp(r.dx));
+  inv[1] = mv_rcp(mv_dir_clamp(r.dy));
+  inv[2] = mv_rcp(mv_dir_clamp(r.dz));
+  MvEntry e = mv_ray_entry(o[0], o[1], o[2], inv[0], inv[1], inv[2], r.tmax);
+  if (L == 0u || e.enters == 0u) return h;
+  mv_f32 te = e.t;
+  mv_u32 ae = e.axis;
+
+  /* Per node level: the node (word index, ssvdag brick index), its header and its mirror mask. */
+  mv_u32 node_at[22];
+  mv_u32 hdr_at[22];
+  mv_u32 mir_at[22];
+  mv_u64 brick = MV_U64(0);
+  mv_u32 sub = 0u; /* ssvdag level-1 node: the stored 2^3 sub-block of the brick */
+  mv_u32 nl = L;
+  node_at[L] = 0u;
+  mir_at[L] = 0u;
+  hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner16(words, 0u) : MV_LD(words, 0u);
+  mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
+  mv_f32 s = mv_cell_side(lc, L);
+  mv_u32 idx[3];
+  for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = mv_child_half(0u, s, o[k], inv[k], k, te, ae);
+
+  mv_u32 status = MV_TRACE_MISS;
+  mv_u32 steps = 0u;
+  while (true) {
+    if (steps == max_steps) {
+      status = MV_TRACE_GAVE_UP;
+      break;
+    }
+    ++steps;
+    mv_u32 slot = ((idx[0] & 1u) | ((idx[1] & 1u) << 1) | ((idx[2] & 1u) << 2)) ^ mir_at[nl];
+    if (mv_slot_full(enc, nl, hdr_at[nl], brick, sub, slot)) {
+      if (lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t)) {
+        status = MV_TRACE_HIT;
+        break;
+      }
+      /* descend into the child at `slot` */
+      mv_u32 t8 = mv_thesis_octant(slot);
+      mv_u32 hdr = hdr_at[nl];
+      if (enc != MV_ENC_SSVDAG) {
+        mv_u32 child = MV_LD(words, node_at[nl] + 1u + MV_POPCOUNT((hdr & 0xffu) >> (t8 + 1u)));
+        mv_u32 tag = ((hdr >> (8u + t8)) & 1u) | (((hdr >> (16u + t8)) & 1u) << 1) | (((hdr >> (24u + t8)) & 1u) << 2);
+        node_at[nl - 1u] = child;
+        hdr_at[nl - 1u] = MV_LD(words, child);
+        mir_at[nl - 1u] = mir_at[nl] ^ tag;
+      } else if (nl >= 3u) {
+        /* pointer position: 1 + sum over later children of min(code, 2) words */
+        mv_u32 later = hdr >> (2u * (t8 + 1u));
+        mv_u32 sizes = later - ((later >> 1) & later & 0x5555u);
+        mv_u32 at = node_at[nl] + 1u + MV_POPCOUNT(sizes & 0x5555u) + 2u * MV_POPCOUNT(sizes & 0xaaaau);
+        mv_u32 code = (hdr >> (2u * t8)) & 3u;
+        mv_u32 first = mv_inner16(words, at);
+        mv_u32 off = first & 0x1fffu;
+        mv_u32 tag = first >> 13;
+        if (code != 1u) {
+          mv_u32 word = (first << 16) | mv_inner16(words, at + 1u);
+          off = (word & 0x1fffffffu) | ((code & 1u) << 29);
+          tag = word >> 29;
+        }
+        mir_at[nl - 1u] = mir_at[nl] ^ tag;
+        if (nl > 3u) {
+          node_at[nl - 1u] = MV_LD(lvl_off, nl - 1u) + off;
+          hdr_at[nl - 1u] = mv_inner16(words, node_at[nl - 1u]);
+        } else {
+          node_at[2] = off;
+          brick = MV_U64(MV_LD(bricks, 2u * off)) | (MV_U64(MV_LD(bricks, 2u * off + 1u)) << 32);
+        }
+      } else { /* brick -> one of its 2^3 sub-blocks, same mirror mask */
+        sub = slot;
+        mir_at[1] = mir_at[2];
+      }
+      nl -= 1u;
+      lc -= 1u;
+      s = s * 0.5f;
+      for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k] + mv_child_half(idx[k], s, o[k], inv[k], k, te, ae);
+      continue;
+    }
+    /* empty: step to the next cell of this level (lowest axis first on equal times) */
+    mv_u32 a = 0u;
+    mv_f32 ta = 0.0f;
+    for (mv_u32 k = 0u; k < 3u; ++k) {
+      mv_f32 t = mv_cross(MV_F32(idx[k] + (inv[k] > 0.0f ? 1u : 0u)) * s, o[k], inv[k]);
+      if (k == 0u || t < ta) {
+        ta = t;
+        a = k;
+      }
+    }
+    if (ta > r.tmax) break;
+    te = ta;
+    ae = a;
+    mv_u32 old = idx[a];
+    mv_u32 nw = inv[a] > 0.0f ? old + 1u : old - 1u;
+    mv_u32 j = MV_FIND_MSB(old ^ nw) + 1u; /* the node of level lc + j is the first to hold the new cell */
+    if (lc + j > L) break;                 /* left the root */
+    idx[a] = nw;
+    if (j > 1u) {
+      for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> (j - 1u);
+      nl = lc + j;
+      lc = nl - 1u;
+      s = mv_cell_side(lc, L);
+    }
+  }
+  h.steps = steps;
+  if (status != MV_TRACE_HIT) {
+    h.info = status | (MV_AXIS_NONE << 2);
+    return h;
+  }
+  h.t = te;
+  h.x = idx[0]; h.y = idx[1]; h.z = idx[2];
+  mv_u32 negative = ae != MV_AXIS_NONE && inv[ae] > 0.0f ? 1u : 0u;
+  h.info = MV_TRACE_HIT | (ae << 2) | (negative << 4) | (lc << 8);
+  return h;
+}
+
+/* Ray i of a ray buffer (MV_RAY_FLOATS per ray). */
+MV_INLINE MvRay mv_load_ray(MvBufF32 rays, mv_u32 i) {
+  MvRay r;
+  mv_u32 b = MV_RAY_FLOATS * i;
+  r.ox = MV_LD(rays, b); r.oy = MV_LD(rays, b + 1u); r.oz = MV_LD(rays, b + 2u);
+  r.dx = MV_LD(rays, b + 3u); r.dy = MV_LD(rays, b + 4u); r.dz = MV_LD(rays, b + 5u);
+  r.tmax = MV_LD(rays, b + 6u);
+  r.lod_t = MV_LD(rays, b + 7u);
+  return r;
+}
+
+/* The camera ray of a pixel (row 0 at the top): camera buffer = eye[3], base[3], du[3], dv[3], tmax, where
+ * the direction is base + x du + y dv (not normalized: its component along the view axis is 1, so t is
+ * depth along the view axis). */
+MV_INLINE MvRay mv_camera_ray(MvBufF32 cam, mv_u32 pixel, mv_u32 width) {
+  MvRay r;
+  mv_f32 fx = MV_F32(pixel % width), fy = MV_F32(pixel / width);
+  r.ox = MV_LD(cam, 0u); r.oy = MV_LD(cam, 1u); r.oz = MV_LD(cam, 2u);
+  MV_PRECISE mv_f32 dx = MV_LD(cam, 3u) + fx * MV_LD(cam, 6u) + fy * MV_LD(cam, 9u);
+  MV_PRECISE mv_f32 dy = MV_LD(cam, 4u) + fx * MV_LD(cam, 7u) + fy * MV_LD(cam, 10u);
+  MV_PRECISE mv_f32 dz = MV_LD(cam, 5u) + fx * MV_LD(cam, 8u) + fy * MV_LD(cam, 11u);
+  r.dx = dx; r.dy = dy; r.dz = dz;
+  r.tmax = MV_LD(cam, 12u);
+  r.lod_t = 0.0f;
+  return r;
+}
+
+MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTraceParams p) {
+  return p.camera == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);
+}
+
+#if !defined(MV_CPP)
+/* One work-item's share of a trace dispatch. */
+MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
+                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize) {
+  for (mv_u32 j = gid; j < p.count; j += gsize) {
+    mv_u32 i = p.first + j;
+    MvHit h = mv_trace(words, bricks, lvl_off, p.encoding, p.levels, mv_trace_source_ray(rays, cam, i, p), p.proj,
+                       p.max_steps);
+    if (p.occlusion == 1u) {
+      if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
+    } else {
+      mv_u32 b = MV_HIT_WORDS * i;
+      MV_ST(results, b, MV_FBITS(h.t));
+      MV_ST(results, b + 1u, h.x);
+      MV_ST(results, b + 2u, h.y);
+      MV_ST(results, b + 3u, h.z);
+      MV_ST(results, b + 4u, h.info);
+      MV_ST(results, b + 5u, h.steps);
+    }
+  }
+}
+#endif
+
+#endif /* MV_TRACE_H */

@@ -1,0 +1,12 @@
+// OpenCL entry points of ray traversal (bodies: common/trace.h, common/secondary.h).
+#include "common/secondary.h"
+
+__kernel void trace_rays(__global float* rays, __global float* cam, __global uint* words, __global uint* bricks,
+                         __global uint* lvl_off, __global uint* out, MvTraceParams p) {
+  mv_trace_rays(rays, cam, words, bricks, lvl_off, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global float* table,
+                             __global uint* out, MvSecondaryParams p) {
+  mv_secondary_rays(rays, cam, hits, table, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}

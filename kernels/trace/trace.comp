@@ -1,0 +1,18 @@
+// Vulkan entry points of ray traversal, one module per -DMV_ENTRY_<name> (bodies: common/trace.h,
+// common/secondary.h).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common/mv_glsl_prelude.h"
+#include "common/secondary.h"
+
+#if defined(MV_ENTRY_trace_rays)
+layout(push_constant) uniform Args {
+  MvBufF32 rays; MvBufF32 cam; MvBufU32 words; MvBufU32 bricks; MvBufU32 lvl_off; MvBufU32 out_; MvTraceParams p;
+} a;
+void main() { mv_trace_rays(a.rays, a.cam, a.words, a.bricks, a.lvl_off, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_secondary_rays)
+layout(push_constant) uniform Args {
+  MvBufF32 rays; MvBufF32 cam; MvBufU32 hits; MvBufF32 table; MvBufU32 out_; MvSecondaryParams p;
+} a;
+void main() { mv_secondary_rays(a.rays, a.cam, a.hits, a.table, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#endif

@@ -31,5 +31,6 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g);
 void add_build_command(CLI::App& app, const GlobalOptions& g);
 void add_bench_build_command(CLI::App& bench, const GlobalOptions& g);
 void add_info_command(CLI::App& app);
+void add_render_command(CLI::App& app, const GlobalOptions& g);
 
 }  // namespace mv::cli

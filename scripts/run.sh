@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs megavox's main job on its default input, the Stanford bunny (npm package `bunny`):
 # list the compute devices, voxelize the bunny at 2K^3 and reduce it to a voxel DAG (.mvx), check the file,
-# then benchmark the radix sort every stage builds on against std::sort and a parallel CPU sort.
+# render it to a PNG through the ray traversal kernel, then benchmark the radix sort every stage builds on
+# against std::sort and a parallel CPU sort.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh --bench
@@ -10,4 +11,6 @@ scripts/bunny.sh
 build/megavox devices
 build/megavox build build/bunny.ply --resolution 2K --format ssvdag -o build/bunny.mvx
 build/megavox info build/bunny.mvx
+build/megavox render build/bunny.mvx -o build/bunny.png
+echo "picture: $(pwd)/build/bunny.png"
 build/megavox bench sort --n 16M

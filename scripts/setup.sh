@@ -10,9 +10,11 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslang-tools vulkan-tools   # Vulkan, lavapipe, GLSL -> SPIR-V
   libcli11-dev nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libxxhash-dev
   libassimp-dev libopenvdb-dev libimath-dev                     # OBJ, glTF, FBX, STL, ... meshes; .vdb volumes
+  libpng-dev                                                    # rendered pictures
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(libboost-dev)  # boost::sort::block_indirect_sort, the parallel CPU sort baseline
+  packages+=(libboost-dev)    # boost::sort::block_indirect_sort, the parallel CPU sort baseline
+  packages+=(libembree-dev)   # Embree 3, the triangle ray-tracing baseline of bench trace
 fi
 
 missing=()

@@ -1,6 +1,8 @@
 /* Secondary rays from primary hits (shadow rays toward a directional light, ambient-occlusion rays), written
  * once for the host, OpenCL C and GLSL. They start on the face the primary ray hit, moved off it by 1/256 of
- * the hit cell, and keep the primary's LOD (lod_t = primary lod_t + t). AO directions come from a table of
+ * the hit cell and then `lead` hit cells along their direction (a voxelized surface is a staircase: without
+ * the lead a ray toward a light at a shallow angle meets the next step of its own surface), and keep the
+ * primary's LOD (lod_t = primary lod_t + t). AO directions come from a table of
  * cosine-weighted unit vectors around +z (host-made), turned to the face normal by permuting axes (exact);
  * pixel p's sample k uses entry (hash(p) + k * stride) & mask, so every device draws the same sequence. */
 #ifndef MV_SECONDARY_H
@@ -22,7 +24,8 @@ MV_STRUCT_BEGIN(MvSecondaryParams)
   mv_u32 mask;   /* AO: table entries - 1 (a power of two minus one) */
   mv_f32 lx; mv_f32 ly; mv_f32 lz; /* shadow: unit direction toward the light (root-cube axes) */
   mv_f32 tmax;   /* shadow: how far to look; AO: the occlusion radius (root cube = 1) */
-  mv_u32 pad0; mv_u32 pad1; mv_u32 pad2;
+  mv_f32 lead;   /* start this many hit cells along the ray: steps past the voxel staircase of the surface */
+  mv_u32 pad1; mv_u32 pad2;
 MV_STRUCT_END(MvSecondaryParams)
 
 MV_INLINE mv_u32 mv_hash32(mv_u32 x) {
@@ -47,7 +50,7 @@ MV_INLINE MvRay mv_inactive_ray() {
 /* The secondary ray of primary ray `pr` with hit `h` in direction (u, v, w) given in the hit face's frame
  * (w along the normal, u and v along the next two axes) when `in_face_frame` is 1, or (u, v, w) = (x, y, z) when 0. */
 MV_INLINE MvRay mv_secondary_ray(MvRay pr, MvHit h, mv_u32 L, mv_u32 in_face_frame, mv_f32 u, mv_f32 v, mv_f32 w,
-                                 mv_f32 tmax) {
+                                 mv_f32 tmax, mv_f32 lead) {
   mv_u32 axis = MV_INFO_AXIS(h.info);
   if (MV_INFO_STATUS(h.info) != MV_TRACE_HIT || axis == MV_AXIS_NONE) return mv_inactive_ray();
   mv_f32 s = mv_cell_side(MV_INFO_LEVEL(h.info), L);
@@ -67,6 +70,10 @@ MV_INLINE MvRay mv_secondary_ray(MvRay pr, MvHit h, mv_u32 L, mv_u32 in_face_fra
     d[(axis + 1u) % 3u] = u;
     d[(axis + 2u) % 3u] = v;
   }
+  MV_PRECISE mv_f32 step = lead * s;
+  p[0] = p[0] + step * d[0];
+  p[1] = p[1] + step * d[1];
+  p[2] = p[2] + step * d[2];
   MvRay r;
   r.ox = p[0]; r.oy = p[1]; r.oz = p[2];
   r.dx = d[0]; r.dy = d[1]; r.dz = d[2];
@@ -96,10 +103,10 @@ MV_INLINE void mv_store_ray(MvBufU32 dst, mv_u32 i, MvRay r) {
 
 /* The secondary ray of pixel / ray i for the parameters' kind and sample. */
 MV_INLINE MvRay mv_make_secondary(MvRay pr, MvHit h, MvBufF32 table, mv_u32 i, MvSecondaryParams p) {
-  if (p.kind == MV_SECONDARY_SHADOW) return mv_secondary_ray(pr, h, p.levels, 0u, p.lx, p.ly, p.lz, p.tmax);
+  if (p.kind == MV_SECONDARY_SHADOW) return mv_secondary_ray(pr, h, p.levels, 0u, p.lx, p.ly, p.lz, p.tmax, p.lead);
   mv_u32 e = (mv_hash32(i) + p.sample_k * p.stride) & p.mask;
   return mv_secondary_ray(pr, h, p.levels, 1u, MV_LD(table, 3u * e), MV_LD(table, 3u * e + 1u),
-                          MV_LD(table, 3u * e + 2u), p.tmax);
+                          MV_LD(table, 3u * e + 2u), p.tmax, p.lead);
 }
 
 #if !defined(MV_CPP)

@@ -1,0 +1,89 @@
+// The CPU reference renderer: the same rays and shading as render(), traced by the flat voxel DDA.
+#include <tbb/parallel_for.h>
+
+#include <cstring>
+
+#include "megavox/render.h"
+#include "ref/trace_reference.h"
+#include "render/frame.h"
+
+namespace mv {
+
+namespace {
+
+void store(std::vector<uint32_t>& hits, uint32_t i, const MvHit& h) {
+  uint32_t* w = &hits[uint64_t{i} * MV_HIT_WORDS];
+  w[0] = MV_FBITS(h.t);
+  w[1] = h.x;
+  w[2] = h.y;
+  w[3] = h.z;
+  w[4] = h.info;
+  w[5] = h.steps;
+}
+
+// Heat maps count the hierarchical walk's steps, which the flat DDA does not take: for them the primary rays
+// run through the kernel's own traversal code compiled for the host.
+struct HostDag {
+  explicit HostDag(const EncodedDag& dag) : enc(uint32_t(dag.encoding)), levels(dag.levels) {
+    if (dag.encoding == Encoding::ssvdag) {
+      std::vector<uint16_t> inner = dag.inner;
+      if (inner.size() % 2) inner.push_back(0);
+      words.resize(inner.size() / 2);
+      std::memcpy(words.data(), inner.data(), inner.size() * 2);
+      bricks.resize(dag.bricks.size() * 2);
+      std::memcpy(bricks.data(), dag.bricks.data(), dag.bricks.size() * 8);
+      for (uint64_t o : dag.level_offset) offsets.push_back(uint32_t(o));
+    } else {
+      words = dag.words;
+    }
+  }
+  MvHit trace(const MvRay& r, float proj, uint32_t max_steps) {
+    return mv_trace(words.data(), bricks.data(), offsets.data(), enc, levels, r, proj, max_steps);
+  }
+  uint32_t enc, levels;
+  std::vector<uint32_t> words, bricks, offsets;
+};
+
+}  // namespace
+
+RenderResult render_reference(const MvxFile& file, const Camera& camera, const RenderOptions& options) {
+  const FrameSetup s = frame_setup(file.grid, file.dag.levels, camera, options);
+  const uint32_t n = s.width * s.height;
+  ref::Occupancy occ(decode_encoded(file.dag), file.dag.levels);
+  HostDag host(file.dag);
+  FrameResults res;
+  res.hits.resize(uint64_t{n} * MV_HIT_WORDS);
+  std::vector<MvRay> primary(n);
+  std::vector<MvHit> first(n);
+  tbb::parallel_for(0u, n, [&](uint32_t i) {
+    primary[i] = mv_camera_ray(s.camera, i, s.width);
+    first[i] = options.shading == Shading::heat ? host.trace(primary[i], s.proj, options.max_steps)
+                                                : ref::trace(occ, primary[i], s.proj);
+    store(res.hits, i, first[i]);
+  });
+  RenderResult out;
+  for (const MvHit& h : first) out.hits += MV_INFO_STATUS(h.info) == MV_TRACE_HIT;
+  if (options.shading == Shading::shaded) {
+    res.shadow.assign(n, 0);
+    res.ao.assign(n, 0);
+    tbb::parallel_for(0u, n, [&](uint32_t i) {
+      auto occluded = [&](const MvSecondaryParams& p) {
+        MvRay r = mv_make_secondary(primary[i], first[i], s.ao_table.data(), i, p);
+        return MV_INFO_STATUS(ref::trace(occ, r, s.proj).info) == MV_TRACE_HIT ? 1u : 0u;
+      };
+      MvSecondaryParams shadow = s.shadow;
+      shadow.levels = s.levels;
+      res.shadow[i] = occluded(shadow);
+      for (uint32_t k = 0; k < s.ao_samples; ++k) {
+        MvSecondaryParams p = s.ao;
+        p.levels = s.levels;
+        p.sample_k = k;
+        res.ao[i] += occluded(p);
+      }
+    });
+  }
+  out.image = shade(s, options, res);
+  return out;
+}
+
+}  // namespace mv

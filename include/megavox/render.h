@@ -1,0 +1,71 @@
+// megavox — pictures of an encoded voxel DAG: pinhole camera, primary / shadow / ambient-occlusion rays
+// through the traversal kernel, shading on the host, PNG out.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "megavox/mvx.h"
+#include "megavox/trace.h"
+
+namespace mv {
+
+enum class Shading {
+  shaded,  // diffuse light with hard shadows and ambient occlusion
+  normal,  // face normal as colour
+  depth,   // distance along the view axis, near = bright
+  level,   // false colour per level of detail the ray stopped at
+  heat,    // traversal steps per pixel (log scale)
+};
+Shading parse_shading(const std::string& name);  // throws mv::Error naming the choices
+std::string shading_name(Shading s);
+
+// A pinhole camera in the model's own units; fov is the vertical field of view in degrees.
+struct Camera {
+  double eye[3] = {0, 0, 1};
+  double target[3] = {0, 0, 0};
+  double up[3] = {0, 1, 0};
+  double fov = 40;
+};
+
+// A camera framing `bounds` from one side: front (from +Z), back (-Z), left (-X), right (+X), top (+Y),
+// iso (from +X+Y+Z); +Y is up (top: -Z is up). Throws mv::Error for other names.
+Camera view_camera(const Bounds& bounds, const std::string& view, double fov = 40);
+
+struct RenderOptions {
+  uint32_t width = 1920, height = 1080;
+  Shading shading = Shading::shaded;
+  double lod_pixels = 1;     // stop at cells that project smaller than this many pixels; 0 = voxels only
+  uint32_t ao_samples = 8;   // ambient-occlusion rays per hit (0 = no AO); at most 256
+  double ao_radius = 0;      // in model units; 0 = 1/20 of the grid's side
+  uint32_t max_steps = 60000;
+};
+
+struct Image {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgb;  // rows top to bottom, 3 bytes per pixel
+};
+
+struct RenderPass {
+  std::string name;   // "primary", "shadow", "ao"
+  uint64_t rays = 0;  // rays traced (secondary passes: one per hit and sample)
+  double seconds = 0;
+};
+
+struct RenderResult {
+  Image image;
+  std::vector<RenderPass> passes;
+  uint64_t hits = 0;  // pixels whose primary ray hit
+};
+
+// Renders on the tracer's device.
+RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& options);
+
+// The same picture from the CPU reference: the flat voxel DDA (host/ref/trace_reference.h) over the decoded
+// voxels of `file`, the same rays and the same shading. Slow; for tests.
+RenderResult render_reference(const MvxFile& file, const Camera& camera, const RenderOptions& options);
+
+// Writes an 8-bit RGB PNG (to a temporary name, renamed on success). Throws mv::Error on I/O failure.
+void write_png(const std::string& path, const Image& image);
+
+}  // namespace mv

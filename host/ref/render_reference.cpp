@@ -1,10 +1,9 @@
 // The CPU reference renderer: the same rays and shading as render(), traced by the flat voxel DDA.
 #include <tbb/parallel_for.h>
 
-#include <cstring>
-
 #include "megavox/render.h"
 #include "ref/trace_reference.h"
+#include "trace/host_trace.h"
 #include "render/frame.h"
 
 namespace mv {
@@ -21,36 +20,15 @@ void store(std::vector<uint32_t>& hits, uint32_t i, const MvHit& h) {
   w[5] = h.steps;
 }
 
-// Heat maps count the hierarchical walk's steps, which the flat DDA does not take: for them the primary rays
-// run through the kernel's own traversal code compiled for the host.
-struct HostDag {
-  explicit HostDag(const EncodedDag& dag) : enc(uint32_t(dag.encoding)), levels(dag.levels) {
-    if (dag.encoding == Encoding::ssvdag) {
-      std::vector<uint16_t> inner = dag.inner;
-      if (inner.size() % 2) inner.push_back(0);
-      words.resize(inner.size() / 2);
-      std::memcpy(words.data(), inner.data(), inner.size() * 2);
-      bricks.resize(dag.bricks.size() * 2);
-      std::memcpy(bricks.data(), dag.bricks.data(), dag.bricks.size() * 8);
-      for (uint64_t o : dag.level_offset) offsets.push_back(uint32_t(o));
-    } else {
-      words = dag.words;
-    }
-  }
-  MvHit trace(const MvRay& r, float proj, uint32_t max_steps) {
-    return mv_trace(words.data(), bricks.data(), offsets.data(), enc, levels, r, proj, max_steps);
-  }
-  uint32_t enc, levels;
-  std::vector<uint32_t> words, bricks, offsets;
-};
-
 }  // namespace
 
 RenderResult render_reference(const MvxFile& file, const Camera& camera, const RenderOptions& options) {
   const FrameSetup s = frame_setup(file.grid, file.dag.levels, camera, options);
   const uint32_t n = s.width * s.height;
   ref::Occupancy occ(decode_encoded(file.dag), file.dag.levels);
-  HostDag host(file.dag);
+  // Heat maps count the hierarchical walk's steps, which the flat DDA does not take: for them the primary
+  // rays run through the kernel's own traversal code compiled for the host.
+  HostTracer host(file.dag);
   FrameResults res;
   res.hits.resize(uint64_t{n} * MV_HIT_WORDS);
   std::vector<MvRay> primary(n);

@@ -1,0 +1,76 @@
+// `megavox bench trace`: rays per second of the traversal kernel against Embree on the source triangles.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+#include "bench/trace_bench.h"
+#include "cli_common.h"
+
+namespace mv::cli {
+
+void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
+  struct Args {
+    std::vector<std::string> files;
+    std::string mesh;
+    bench::TraceBenchOptions o;
+    bool json = false;
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd = bench.add_subcommand(
+      "trace",
+      "Trace the renderer's rays through one or more .mvx files (e.g. the svdag and ssvdag builds of one mesh):\n"
+      "Mrays/s of primary, shadow and ambient-occlusion rays on the device (best of --repeats), the same primary\n"
+      "rays through the kernel's code built for the host and through the flat reference DDA, and Embree 3\n"
+      "(rtcIntersect1 on all threads) on the source triangles with the same camera rays: the rate ratio and the\n"
+      "share of pixels where voxels and triangles agree on hit or miss. With svdag and ssvdag files: the\n"
+      "SSVDAG/SVDAG primary time ratio.");
+  cmd->add_option("files", a->files, "The .mvx files (the first one's bounds frame the camera)")->required();
+  cmd->add_option("--mesh", a->mesh, "The source mesh, traced by Embree (needs scripts/setup.sh --bench)");
+  cmd->add_option("--width", a->o.width, "Image width")->capture_default_str();
+  cmd->add_option("--height", a->o.height, "Image height")->capture_default_str();
+  cmd->add_option("--view", a->o.view, "Preset camera (see render --help)")->capture_default_str();
+  cmd->add_option("--lod-pixels", a->o.lod_pixels, "Level-of-detail threshold in pixels; 0 = voxels")
+      ->capture_default_str();
+  cmd->add_option("--ao-samples", a->o.ao_samples, "Ambient-occlusion rays per hit")->capture_default_str();
+  cmd->add_option("--repeats", a->o.repeats, "Runs per figure (the best is kept)")->capture_default_str();
+  cmd->add_flag("--json", a->json, "Print one JSON object");
+  cmd->callback([&g, a] {
+    auto dev = open_device(g);
+    bench::TraceBenchResult r = bench::run_trace_bench(*dev, a->files, a->mesh, a->o);
+    if (g.profile) print_kernel_totals(*dev);
+    if (a->json) {
+      nlohmann::json encs = nlohmann::json::array();
+      for (const auto& e : r.encodings)
+        encs.push_back({{"file", e.file}, {"format", e.format}, {"resolution", e.resolution}, {"hits", e.hits},
+                        {"primary_mrays", e.primary_mrays}, {"shadow_mrays", e.shadow_mrays},
+                        {"ao_mrays", e.ao_mrays}, {"primary_seconds", e.primary_seconds},
+                        {"host_core_mrays", e.host_core_mrays}, {"reference_mrays", e.reference_mrays},
+                        {"over_embree", e.over_embree}, {"silhouette_agreement", e.silhouette_agreement}});
+      nlohmann::json j = {{"benchmark", "trace"}, {"device", r.device}, {"mesh", r.mesh}, {"width", r.width},
+                          {"height", r.height}, {"lod_pixels", r.lod_pixels}, {"encodings", encs},
+                          {"embree", r.have_embree}, {"triangles", r.triangles},
+                          {"embree_mrays", r.embree_mrays}, {"embree_build_seconds", r.embree_build_seconds},
+                          {"embree_hits", r.embree_hits}, {"ssvdag_over_svdag", r.ssvdag_over_svdag}};
+      std::cout << j.dump(2) << "\n";
+      return;
+    }
+    std::printf("%ux%u rays on %s, LOD %.3g px\n", r.width, r.height, r.device.c_str(), r.lod_pixels);
+    std::printf("  %-8s %6s %10s %10s %10s %12s %12s %9s %10s\n", "format", "res", "primary", "shadow", "ao",
+                "host core", "flat ref", "/embree", "silhouette");
+    for (const auto& e : r.encodings)
+      std::printf("  %-8s %6u %10.2f %10.2f %10.2f %12.2f %12.3f %9.2f %9.2f%%\n", e.format.c_str(), e.resolution,
+                  e.primary_mrays, e.shadow_mrays, e.ao_mrays, e.host_core_mrays, e.reference_mrays, e.over_embree,
+                  100 * e.silhouette_agreement);
+    std::printf("  (Mrays/s)\n");
+    if (r.have_embree)
+      std::printf("  Embree 3: %llu triangles, scene %.3f s, %.2f Mrays/s primary (rtcIntersect1), %llu hits\n",
+                  (unsigned long long)r.triangles, r.embree_build_seconds, r.embree_mrays,
+                  (unsigned long long)r.embree_hits);
+    else if (!a->mesh.empty())
+      std::printf("  Embree: not built in (scripts/setup.sh --bench installs libembree-dev; rebuild)\n");
+    if (r.ssvdag_over_svdag > 0) std::printf("  SSVDAG/SVDAG primary time: %.3f\n", r.ssvdag_over_svdag);
+  });
+}
+
+}  // namespace mv::cli

@@ -1,0 +1,189 @@
+// `megavox bench trace` (see trace_bench.h).
+#include "bench/trace_bench.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "io/mesh_source.h"
+#include "megavox/error.h"
+#include "megavox/mvx.h"
+#include "megavox/render.h"
+#include "ref/trace_reference.h"
+#include "render/frame.h"
+#include "trace/host_trace.h"
+
+#if MEGAVOX_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
+
+namespace mv::bench {
+
+namespace {
+
+using clock = std::chrono::steady_clock;
+double since(clock::time_point t0) { return std::chrono::duration<double>(clock::now() - t0).count(); }
+
+// Mrays/s of a CPU tracer over every `every`-th primary ray of the image, on all threads. The hits are
+// folded into a checksum so the work cannot be optimized away.
+template <class Trace>
+double cpu_rate(const FrameSetup& s, uint32_t every, Trace&& trace) {
+  const uint32_t n = s.width * s.height;
+  auto t0 = clock::now();
+  std::atomic<uint64_t> checksum{0};
+  uint64_t rays = tbb::parallel_reduce(
+      tbb::blocked_range<uint32_t>(0, n, 1024), uint64_t{0},
+      [&](const tbb::blocked_range<uint32_t>& r, uint64_t acc) {
+        uint64_t sum = 0;
+        for (uint32_t i = r.begin(); i < r.end(); ++i)
+          if (i % every == 0) {
+            MvHit h = trace(mv_camera_ray(s.camera, i, s.width));
+            sum += MV_FBITS(h.t) + h.info + h.x;
+            ++acc;
+          }
+        checksum += sum;
+        return acc;
+      },
+      std::plus<>());
+  volatile uint64_t keep = checksum.load();
+  (void)keep;
+  return double(rays) / since(t0) / 1e6;
+}
+
+#if MEGAVOX_HAVE_EMBREE
+// Embree 3 over the source triangles: the scene build, then rtcIntersect1 for every camera ray (world units),
+// rows spread over all threads. Returns per-pixel hit flags.
+std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, const FrameSetup& s,
+                                  uint32_t repeats, TraceBenchResult& out) {
+  auto src = io::open_mesh(mesh);
+  std::vector<uint32_t> indices, batch;
+  while (src->next_triangles(batch, 1 << 20)) indices.insert(indices.end(), batch.begin(), batch.end());
+  const std::vector<float>& pos = src->positions();
+  out.triangles = indices.size() / 3;
+  RTCDevice device = rtcNewDevice(nullptr);
+  if (!device) throw Error("bench trace: Embree could not create a device");
+  auto t0 = clock::now();
+  RTCScene scene = rtcNewScene(device);
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  float* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), pos.size() / 3));
+  std::copy(pos.begin(), pos.end(), v);
+  uint32_t* tri = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(uint32_t), indices.size() / 3));
+  std::copy(indices.begin(), indices.end(), tri);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  out.embree_build_seconds = since(t0);
+  const uint32_t n = s.width * s.height;
+  std::vector<uint8_t> hit(n);
+  out.embree_seconds = INFINITY;
+  for (uint32_t rep = 0; rep < repeats; ++rep) {
+    auto t1 = clock::now();
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, s.height), [&](const tbb::blocked_range<uint32_t>& rows) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      for (uint32_t y = rows.begin(); y < rows.end(); ++y)
+        for (uint32_t x = 0; x < s.width; ++x) {
+          RTCRayHit rh{};
+          rh.ray.org_x = float(cam.eye[0]);
+          rh.ray.org_y = float(cam.eye[1]);
+          rh.ray.org_z = float(cam.eye[2]);
+          rh.ray.dir_x = s.camera[3] + x * s.camera[6] + y * s.camera[9];
+          rh.ray.dir_y = s.camera[4] + x * s.camera[7] + y * s.camera[10];
+          rh.ray.dir_z = s.camera[5] + x * s.camera[8] + y * s.camera[11];
+          rh.ray.tnear = 0;
+          rh.ray.tfar = INFINITY;
+          rh.ray.mask = ~0u;
+          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          rtcIntersect1(scene, &ctx, &rh);
+          hit[size_t{y} * s.width + x] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
+    });
+    out.embree_seconds = std::min(out.embree_seconds, since(t1));
+  }
+  rtcReleaseScene(scene);
+  rtcReleaseDevice(device);
+  out.have_embree = true;
+  out.embree_mrays = n / out.embree_seconds / 1e6;
+  for (uint8_t h : hit) out.embree_hits += h;
+  return hit;
+}
+#endif
+
+}  // namespace
+
+TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& files, const std::string& mesh,
+                                 const TraceBenchOptions& o) {
+  if (files.empty()) throw Error("bench trace: name at least one .mvx file");
+  if (o.repeats == 0) throw Error("bench trace: --repeats must be at least 1");
+  TraceBenchResult out;
+  out.mesh = mesh;
+  out.device = dev.info().name;
+  out.width = o.width;
+  out.height = o.height;
+  out.lod_pixels = o.lod_pixels;
+  RenderOptions ro;
+  ro.width = o.width;
+  ro.height = o.height;
+  ro.lod_pixels = o.lod_pixels;
+  ro.ao_samples = o.ao_samples;
+  std::vector<uint8_t> embree_hit;
+  Camera cam;
+  for (size_t f = 0; f < files.size(); ++f) {
+    MvxFile file = read_mvx(files[f]);
+    // Every file is looked at with the first file's camera, so all trace the same rays.
+    if (f == 0) cam = view_camera(file.bounds, o.view);
+    TraceBenchEncoding e;
+    e.file = files[f];
+    e.format = encoding_name(file.dag.encoding);
+    e.resolution = file.grid.resolution;
+    Tracer tracer(dev, file);
+    e.primary_seconds = e.shadow_seconds = e.ao_seconds = INFINITY;
+    for (uint32_t rep = 0; rep < o.repeats; ++rep) {
+      RenderResult r = render(tracer, cam, ro);
+      e.hits = r.hits;
+      for (const RenderPass& p : r.passes) {
+        double& best = p.name == "primary" ? e.primary_seconds : p.name == "shadow" ? e.shadow_seconds : e.ao_seconds;
+        best = std::min(best, p.seconds);
+        if (p.name == "primary") e.primary_mrays = p.rays / best / 1e6;
+        if (p.name == "shadow") e.shadow_mrays = p.rays / best / 1e6;
+        if (p.name == "ao") e.ao_mrays = p.rays / best / 1e6;
+      }
+    }
+    const FrameSetup s = frame_setup(file.grid, file.dag.levels, cam, ro);
+    HostTracer host(file.dag);
+    e.host_core_mrays = cpu_rate(s, 1, [&](const MvRay& r) { return host.trace(r, s.proj, ro.max_steps); });
+    ref::Occupancy occ(decode_encoded(file.dag), file.dag.levels);
+    e.reference_mrays = cpu_rate(s, 61, [&](const MvRay& r) { return ref::trace(occ, r, s.proj); });
+#if MEGAVOX_HAVE_EMBREE
+    if (!mesh.empty()) {
+      if (embree_hit.empty()) embree_hit = embree_trace(mesh, cam, s, o.repeats, out);
+      // Silhouettes: the kernel's hit flags (its host build gives the same bytes) against Embree's.
+      uint64_t agree = 0;
+      const uint32_t n = s.width * s.height;
+      for (uint32_t i = 0; i < n; ++i)
+        agree += (MV_INFO_STATUS(host.trace(mv_camera_ray(s.camera, i, s.width), s.proj, ro.max_steps).info) ==
+                  MV_TRACE_HIT) == (embree_hit[i] != 0);
+      e.silhouette_agreement = double(agree) / n;
+      e.over_embree = e.primary_mrays / out.embree_mrays;
+    }
+#endif
+    out.encodings.push_back(e);
+  }
+  const TraceBenchEncoding *sv = nullptr, *ss = nullptr;
+  for (const auto& e : out.encodings) {
+    if (e.format == "svdag" && !sv) sv = &e;
+    if (e.format == "ssvdag" && !ss) ss = &e;
+  }
+  if (sv && ss) out.ssvdag_over_svdag = ss->primary_seconds / sv->primary_seconds;
+  return out;
+}
+
+}  // namespace mv::bench

@@ -1,0 +1,48 @@
+// `megavox bench trace`: rays per second of the traversal kernel per encoding (primary, shadow and AO rays
+// of the renderer's camera), against Embree tracing the source triangles with the same primary rays, the
+// kernel's code compiled for the host, and the flat reference DDA.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "megavox/device.h"
+
+namespace mv::bench {
+
+struct TraceBenchOptions {
+  uint32_t width = 1280, height = 720;
+  std::string view = "iso";
+  double lod_pixels = 1;
+  uint32_t ao_samples = 4;
+  uint32_t repeats = 3;  // best of
+};
+
+struct TraceBenchEncoding {
+  std::string file, format;
+  uint32_t resolution = 0;
+  uint64_t hits = 0;
+  double primary_seconds = 0, shadow_seconds = 0, ao_seconds = 0;  // best of `repeats`
+  double primary_mrays = 0, shadow_mrays = 0, ao_mrays = 0;
+  double host_core_mrays = 0;   // the same primary rays, kernel code built for the host (TBB threads)
+  double reference_mrays = 0;   // the flat voxel DDA (a sample of the rays)
+  double silhouette_agreement = 0;  // pixels where the voxels and Embree's triangles agree on hit / miss
+  double over_embree = 0;           // primary Mrays/s / Embree's
+};
+
+struct TraceBenchResult {
+  std::string mesh, device;
+  uint32_t width = 0, height = 0;
+  double lod_pixels = 0;
+  std::vector<TraceBenchEncoding> encodings;
+  bool have_embree = false;
+  uint64_t triangles = 0;
+  double embree_build_seconds = 0, embree_seconds = 0, embree_mrays = 0;  // rtcIntersect1, all threads
+  uint64_t embree_hits = 0;
+  double ssvdag_over_svdag = 0;  // primary-ray time ratio, when both encodings were given
+};
+
+TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& files, const std::string& mesh,
+                                 const TraceBenchOptions& options);
+
+}  // namespace mv::bench

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "io/mesh_source.h"
 #include "megavox/error.h"
@@ -134,29 +135,38 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
   ro.height = o.height;
   ro.lod_pixels = o.lod_pixels;
   ro.ao_samples = o.ao_samples;
-  std::vector<uint8_t> embree_hit;
-  Camera cam;
+  // All files open at once and the repeats alternate between them, so drift on a noisy machine hits every
+  // encoding alike; the camera frames the first file, so all trace the same rays.
+  std::vector<MvxFile> mvx;
+  std::vector<std::unique_ptr<Tracer>> tracers;
+  for (const std::string& f : files) {
+    mvx.push_back(read_mvx(f));
+    tracers.push_back(std::make_unique<Tracer>(dev, mvx.back()));
+  }
+  const Camera cam = view_camera(mvx.front().bounds, o.view);
+  out.encodings.resize(files.size());
   for (size_t f = 0; f < files.size(); ++f) {
-    MvxFile file = read_mvx(files[f]);
-    // Every file is looked at with the first file's camera, so all trace the same rays.
-    if (f == 0) cam = view_camera(file.bounds, o.view);
-    TraceBenchEncoding e;
+    TraceBenchEncoding& e = out.encodings[f];
     e.file = files[f];
-    e.format = encoding_name(file.dag.encoding);
-    e.resolution = file.grid.resolution;
-    Tracer tracer(dev, file);
+    e.format = encoding_name(mvx[f].dag.encoding);
+    e.resolution = mvx[f].grid.resolution;
     e.primary_seconds = e.shadow_seconds = e.ao_seconds = INFINITY;
-    for (uint32_t rep = 0; rep < o.repeats; ++rep) {
-      RenderResult r = render(tracer, cam, ro);
+  }
+  for (uint32_t rep = 0; rep < o.repeats; ++rep)
+    for (size_t f = 0; f < files.size(); ++f) {
+      TraceBenchEncoding& e = out.encodings[f];
+      RenderResult r = render(*tracers[f], cam, ro);
       e.hits = r.hits;
       for (const RenderPass& p : r.passes) {
         double& best = p.name == "primary" ? e.primary_seconds : p.name == "shadow" ? e.shadow_seconds : e.ao_seconds;
         best = std::min(best, p.seconds);
-        if (p.name == "primary") e.primary_mrays = p.rays / best / 1e6;
-        if (p.name == "shadow") e.shadow_mrays = p.rays / best / 1e6;
-        if (p.name == "ao") e.ao_mrays = p.rays / best / 1e6;
+        (p.name == "primary" ? e.primary_mrays : p.name == "shadow" ? e.shadow_mrays : e.ao_mrays) = p.rays / best / 1e6;
       }
     }
+  std::vector<uint8_t> embree_hit;
+  for (size_t f = 0; f < files.size(); ++f) {
+    const MvxFile& file = mvx[f];
+    TraceBenchEncoding& e = out.encodings[f];
     const FrameSetup s = frame_setup(file.grid, file.dag.levels, cam, ro);
     HostTracer host(file.dag);
     e.host_core_mrays = cpu_rate(s, 1, [&](const MvRay& r) { return host.trace(r, s.proj, ro.max_steps); });
@@ -175,7 +185,6 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
       e.over_embree = e.primary_mrays / out.embree_mrays;
     }
 #endif
-    out.encodings.push_back(e);
   }
   const TraceBenchEncoding *sv = nullptr, *ss = nullptr;
   for (const auto& e : out.encodings) {

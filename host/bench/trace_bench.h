@@ -15,7 +15,7 @@ struct TraceBenchOptions {
   std::string view = "iso";
   double lod_pixels = 1;
   uint32_t ao_samples = 4;
-  uint32_t repeats = 3;  // best of
+  uint32_t repeats = 5;  // best of, alternating between the files
 };
 
 struct TraceBenchEncoding {

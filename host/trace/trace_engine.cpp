@@ -43,6 +43,8 @@ uint32_t TraceEngine::step_limit(uint32_t wanted) const {
 // One ray per work-item where the driver caps loop iterations (lavapipe), so a work-item's traversal loop
 // never sums over several rays; elsewhere grid-stride: a few groups per hardware thread on CPUs, 64-wide
 // groups on GPUs.
+// CPU devices without a loop cap (PoCL) give each work-item a contiguous block of rays: neighbouring rays
+// walk the same nodes, so the block stays in cache; 64 blocks per hardware thread keep the load balanced.
 template <class F>
 void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
   const DeviceInfo& info = dev_.info();
@@ -54,8 +56,14 @@ void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
   for (uint64_t first = 0; first < count; first += per_dispatch) {
     uint32_t n = static_cast<uint32_t>(std::min<uint64_t>(per_dispatch, count - first));
     uint64_t groups = (uint64_t{n} + local - 1) / local;
-    if (!info.max_loop_iterations) groups = std::min<uint64_t>(groups, gpu ? max_groups : uint64_t{threads} * 16);
-    dispatch(static_cast<uint32_t>(first), n, static_cast<uint32_t>(groups), local);
+    uint32_t block = 0;
+    if (!info.max_loop_iterations && !gpu) {
+      groups = std::min<uint64_t>(groups, uint64_t{threads} * 64);
+      block = static_cast<uint32_t>((n + groups * local - 1) / (groups * local));
+    } else if (!info.max_loop_iterations) {
+      groups = std::min<uint64_t>(groups, max_groups);
+    }
+    dispatch(static_cast<uint32_t>(first), n, static_cast<uint32_t>(groups), local, block);
   }
 }
 
@@ -64,8 +72,9 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count
   Kernel& k = dev_.kernel("trace_rays");
   const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
   const Buffer* offsets = bricks ? &level_offsets_ : nullptr;
-  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local) {
+  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
     MvTraceParams p{};
+    p.block = block;
     p.first = first;
     p.count = n;
     p.levels = levels_;
@@ -85,7 +94,7 @@ void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buff
   Kernel& k = dev_.kernel("secondary_rays");
   p.levels = levels_;
   p.camera = camera ? 1u : 0u;
-  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local) {
+  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t) {
     p.first = first;
     p.count = n;
     dev_.dispatch(k, groups, local, {rays, camera, &hits, table, &out}, p);

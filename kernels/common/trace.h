@@ -48,7 +48,8 @@ MV_STRUCT_BEGIN(MvTraceParams)
   mv_u32 width;     /* camera rays: image width */
   mv_u32 max_steps; /* give up after this many loop steps (the same on every device) */
   mv_f32 proj;      /* LOD factor, see above; 0 = voxels only */
-  mv_u32 pad0;
+  mv_u32 block;     /* rays per work-item, contiguous (CPU devices: neighbouring rays share cache lines); 0 =
+                       grid-stride */
 MV_STRUCT_END(MvTraceParams)
 
 MV_STRUCT_BEGIN(MvRay)
@@ -327,7 +328,10 @@ MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTra
 /* One work-item's share of a trace dispatch. */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
                              MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize) {
-  for (mv_u32 j = gid; j < p.count; j += gsize) {
+  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
+  mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
+  mv_u32 stride = p.block != 0u ? 1u : gsize;
+  for (mv_u32 j = begin; j < end; j += stride) {
     mv_u32 i = p.first + j;
     MvHit h = mv_trace(words, bricks, lvl_off, p.encoding, p.levels, mv_trace_source_ray(rays, cam, i, p), p.proj,
                        p.max_steps);

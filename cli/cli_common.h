@@ -23,6 +23,9 @@ inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
   return Device::open(o);
 }
 
+// "X,Y,Z" -> three numbers; throws mv::Error naming the option (`what`) otherwise.
+void parse_vec3(const std::string& text, const char* what, double out[3]);
+
 // With --profile: the device time of each kernel since the last call, summed by name, on stderr.
 void print_kernel_totals(Device& dev);
 

@@ -6,13 +6,14 @@
 
 #include "bench/trace_bench.h"
 #include "cli_common.h"
+#include "megavox/error.h"
 
 namespace mv::cli {
 
 void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
   struct Args {
     std::vector<std::string> files;
-    std::string mesh;
+    std::string mesh, eye, target, up = "0,1,0";
     bench::TraceBenchOptions o;
     bool json = false;
   };
@@ -30,12 +31,23 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
   cmd->add_option("--width", a->o.width, "Image width")->capture_default_str();
   cmd->add_option("--height", a->o.height, "Image height")->capture_default_str();
   cmd->add_option("--view", a->o.view, "Preset camera (see render --help)")->capture_default_str();
+  cmd->add_option("--eye", a->eye, "Camera position X,Y,Z in model units (with --target; replaces --view)");
+  cmd->add_option("--target", a->target, "Point looked at X,Y,Z");
+  cmd->add_option("--up", a->up, "Up direction X,Y,Z")->capture_default_str();
+  cmd->add_option("--fov", a->o.camera.fov, "Vertical field of view in degrees (with --eye)")->capture_default_str();
   cmd->add_option("--lod-pixels", a->o.lod_pixels, "Level-of-detail threshold in pixels; 0 = voxels")
       ->capture_default_str();
   cmd->add_option("--ao-samples", a->o.ao_samples, "Ambient-occlusion rays per hit")->capture_default_str();
   cmd->add_option("--repeats", a->o.repeats, "Runs per figure (the best is kept)")->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object");
   cmd->callback([&g, a] {
+    if (!a->eye.empty() || !a->target.empty()) {
+      if (a->eye.empty() || a->target.empty()) throw Error("--eye and --target go together");
+      parse_vec3(a->eye, "--eye", a->o.camera.eye);
+      parse_vec3(a->target, "--target", a->o.camera.target);
+      parse_vec3(a->up, "--up", a->o.camera.up);
+      a->o.use_camera = true;
+    }
     auto dev = open_device(g);
     bench::TraceBenchResult r = bench::run_trace_bench(*dev, a->files, a->mesh, a->o);
     if (g.profile) print_kernel_totals(*dev);

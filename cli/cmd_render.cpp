@@ -3,24 +3,12 @@
 
 #include <cstdio>
 #include <iostream>
-#include <sstream>
 
 #include "cli_common.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 
 namespace mv::cli {
-
-namespace {
-
-void parse_vec3(const std::string& text, const char* what, double out[3]) {
-  std::istringstream in(text);
-  char c1 = 0, c2 = 0;
-  if (!(in >> out[0] >> c1 >> out[1] >> c2 >> out[2]) || c1 != ',' || c2 != ',' || !in.eof())
-    throw Error(std::string(what) + " wants X,Y,Z (three numbers separated by commas), got '" + text + "'");
-}
-
-}  // namespace
 
 void add_render_command(CLI::App& app, const GlobalOptions& g) {
   struct Args {

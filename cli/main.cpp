@@ -2,11 +2,19 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include "cli_common.h"
 #include "megavox/error.h"
 
 namespace mv::cli {
+void parse_vec3(const std::string& text, const char* what, double out[3]) {
+  std::istringstream in(text);
+  char c1 = 0, c2 = 0;
+  if (!(in >> out[0] >> c1 >> out[1] >> c2 >> out[2]) || c1 != ',' || c2 != ',' || !in.eof())
+    throw Error(std::string(what) + " wants X,Y,Z (three numbers separated by commas), got '" + text + "'");
+}
+
 void print_kernel_totals(Device& dev) {
   std::map<std::string, std::pair<uint64_t, uint64_t>> totals;  // name -> (ns, dispatches)
   for (const auto& t : dev.take_timings()) {

@@ -143,7 +143,7 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
     mvx.push_back(read_mvx(f));
     tracers.push_back(std::make_unique<Tracer>(dev, mvx.back()));
   }
-  const Camera cam = view_camera(mvx.front().bounds, o.view);
+  const Camera cam = o.use_camera ? o.camera : view_camera(mvx.front().bounds, o.view);
   out.encodings.resize(files.size());
   for (size_t f = 0; f < files.size(); ++f) {
     TraceBenchEncoding& e = out.encodings[f];

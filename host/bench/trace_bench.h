@@ -7,12 +7,15 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/render.h"
 
 namespace mv::bench {
 
 struct TraceBenchOptions {
   uint32_t width = 1280, height = 720;
   std::string view = "iso";
+  bool use_camera = false;  // trace from `camera` instead of the preset view
+  Camera camera;
   double lod_pixels = 1;
   uint32_t ao_samples = 4;
   uint32_t repeats = 5;  // best of, alternating between the files

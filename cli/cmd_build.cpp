@@ -14,7 +14,7 @@ namespace mv::cli {
 namespace {
 
 struct BuildArgs {
-  std::string input, output, resolution, format = "svdag", grid;
+  std::string input, output, resolution, format = "svdag", grid, grid_origin = "center", bounds, voxelize = "conservative";
   uint32_t cube = 1024;
   bool json = false, quiet = false;
 };
@@ -39,7 +39,9 @@ void print_table(const BuildReport& r) {
   if (!r.vdb_grid.empty())
     std::printf("  grid '%s' (%s), voxels %llu\n", r.vdb_grid.c_str(), r.vdb_class.c_str(), (unsigned long long)r.voxels);
   else
-    std::printf("  triangles %llu, voxels %llu\n", (unsigned long long)r.triangles, (unsigned long long)r.voxels);
+    std::printf("  triangles %llu, voxels %llu (%s, grid origin %s: %.9g,%.9g,%.9g, voxel %.9g)\n",
+                (unsigned long long)r.triangles, (unsigned long long)r.voxels, r.voxelize.c_str(), r.grid_origin.c_str(),
+                r.grid.origin[0], r.grid.origin[1], r.grid.origin[2], r.grid.voxel_size);
   std::printf("  %-6s %14s %14s %8s\n", "level", "octree nodes", "DAG nodes", "DAG/SVO");
   for (size_t l = 0; l < r.nodes_per_level.size(); ++l)
     std::printf("  %-6zu %14llu %14llu %8.3f\n", l, (unsigned long long)r.svo_nodes[l],
@@ -61,6 +63,8 @@ nlohmann::json report_json(const BuildReport& r) {
           {"format", r.format},       {"resolution", r.resolution},
           {"triangles", r.triangles}, {"voxels", r.voxels},
           {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
+          {"voxelize", r.voxelize},   {"grid_origin", r.grid_origin},
+          {"grid", {{"origin", r.grid.origin}, {"voxel_size", r.grid.voxel_size}}},
           {"svo_nodes_per_level", r.svo_nodes},
           {"nodes_per_level", r.nodes_per_level},
           {"nodes_total", r.nodes_total},
@@ -74,8 +78,10 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       "build",
       "Voxelize a triangle mesh (PLY, binary or ASCII, streamed; OBJ, glTF, FBX, STL, ... through assimp) at a\n"
       "resolution, or read an OpenVDB volume (level sets: surface voxels; fog: voxels > 0), and reduce it to a\n"
-      "voxel DAG in a .mvx file. The grid is a cube on the mesh's longest extent, centred on its bounds; a voxel is set when a\n"
-      "triangle meets its cell. Example: megavox build bunny.ply --resolution 4K -o bunny.mvx");
+      "voxel DAG in a .mvx file. The grid is a cube on the mesh's longest extent (--grid-origin, --bounds); voxel i\n"
+      "covers [i, i+1) and the grid's top face belongs to the last voxel. Example:\n"
+      "  megavox build bunny.ply --resolution 4K --format ssvdag -o bunny.mvx\n"
+      "  megavox build bunny.ply --resolution 2K --voxelize thin --grid-origin min -o bunny_thin.mvx");
   cmd->add_option("input", a->input, "Mesh file (.ply, .obj, .gltf, .fbx, .stl, ...)")->required();
   cmd->add_option("-o,--output", a->output, "The .mvx file to write (written to OUT.tmp, renamed on success)")
       ->required();
@@ -93,6 +99,20 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
                   "(symmetry-aware, compact 16-bit encoding)")
       ->check(CLI::IsMember({"svo", "svdag", "ussvdag", "ssvdag"}))
       ->capture_default_str();
+  cmd->add_option("--grid-origin", a->grid_origin,
+                  "Meshes: where the cube sits. center: centred on the bounds (SymVox); min: at the bounds' min corner,\n"
+                  "shorter axes start at 0 (voxcom, cuda_voxelizer)")
+      ->check(CLI::IsMember({"center", "min"}))
+      ->capture_default_str();
+  cmd->add_option("--bounds", a->bounds,
+                  "Meshes: an explicit cube X,Y,Z,SIZE (min corner and side, in the mesh's units), so several inputs\n"
+                  "share one grid; geometry outside it is cut away")
+      ->excludes("--grid-origin");
+  cmd->add_option("--voxelize", a->voxelize,
+                  "Meshes: conservative (every voxel a triangle touches, exact; 26-separating) or thin (Schwarz &\n"
+                  "Seidel's 6-separating surface, about 1/3 fewer voxels)")
+      ->check(CLI::IsMember({"conservative", "thin"}))
+      ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
   cmd->callback([&g, a] {
@@ -103,6 +123,8 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     o.grid = a->grid;
     o.cube = a->cube;
     o.format = a->format;
+    o.placement = a->bounds.empty() ? parse_grid_origin(a->grid_origin) : parse_grid_bounds(a->bounds);
+    o.voxelize = a->voxelize;
     auto dev = open_device(g);
     BuildReport r = build_mvx(*dev, o, progress_bar(!a->quiet && isatty(STDERR_FILENO)));
     if (!a->quiet && isatty(STDERR_FILENO)) std::fprintf(stderr, "\n");

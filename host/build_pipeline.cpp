@@ -6,6 +6,7 @@
 
 #include "io/mesh_source.h"
 #include "io/vdb_source.h"
+#include "build_steps.h"
 #include "megavox/build.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
@@ -40,6 +41,28 @@ struct Voxels {
   Bounds bounds;
 };
 
+Voxelizer::Rule rule(const BuildOptions& o) {
+  return o.voxelize == "thin" ? Voxelizer::Rule::kThin : Voxelizer::Rule::kConservative;
+}
+
+bool clips(const BuildOptions& o) { return o.placement.origin == GridPlacement::Origin::kCube; }
+
+// The grid around a mesh's bounds; with an explicit cube the stored bounds become the part inside it.
+GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds& bounds) {
+  if (bounds.empty()) throw Error(o.input + ": the mesh has no triangles");
+  GridTransform g = grid_for_bounds(bounds, resolution, o.placement);
+  if (clips(o)) {
+    const double side = g.voxel_size * g.resolution;
+    for (int a = 0; a < 3; ++a) {
+      bounds.lo[a] = std::max(bounds.lo[a], g.origin[a]);
+      bounds.hi[a] = std::min(bounds.hi[a], g.origin[a] + side);
+    }
+    if (bounds.empty() || bounds.lo[1] > bounds.hi[1] || bounds.lo[2] > bounds.hi[2])
+      throw Error(o.input + ": the mesh lies outside --bounds");
+  }
+  return g;
+}
+
 // A mesh: bounds of the vertices the faces use (scans carry unreferenced vertices), the grid, then the
 // triangles voxelized in batches on the device.
 Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
@@ -55,15 +78,14 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
     for (size_t i = 0; i < used.size(); ++i)
       if (used[i]) v.bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
   }
-  if (v.bounds.empty()) throw Error(o.input + ": the mesh has no triangles");
-  v.grid = grid_for_bounds(v.bounds, resolution);
+  v.grid = place_mesh_grid(o, resolution, v.bounds);
   auto mesh = io::open_mesh(o.input);
-  Voxelizer vox(dev, resolution);
+  Voxelizer vox(dev, resolution, rule(o));
   std::vector<float> tris;
   const double faces = std::max<double>(1, double(mesh->triangles_hint()));
   while (mesh->next_triangles(idx, kBatchTriangles)) {
     tris.clear();
-    triangles_to_grid(v.grid, mesh->positions(), idx.data(), idx.size() / 3, tris);
+    triangles_to_grid(v.grid, mesh->positions(), idx.data(), idx.size() / 3, tris, clips(o));
     vox.add(tris);
     report("voxelize", std::min(1.0, double(vox.triangles()) / faces));
   }
@@ -86,9 +108,8 @@ GridMesh load_grid_mesh(const BuildOptions& o, uint32_t resolution) {
   while (mesh->next_triangles(idx, kBatchTriangles)) all.insert(all.end(), idx.begin(), idx.end());
   const auto& pos = mesh->positions();
   for (uint32_t v : all) m.bounds.extend(pos[3 * size_t{v}], pos[3 * size_t{v} + 1], pos[3 * size_t{v} + 2]);
-  if (m.bounds.empty()) throw Error(o.input + ": the mesh has no triangles");
-  m.grid = grid_for_bounds(m.bounds, resolution);
-  triangles_to_grid(m.grid, pos, all.data(), all.size() / 3, m.tris);
+  m.grid = place_mesh_grid(o, resolution, m.bounds);
+  triangles_to_grid(m.grid, pos, all.data(), all.size() / 3, m.tris, clips(o));
   return m;
 }
 
@@ -97,21 +118,15 @@ using Report = std::function<void(const std::string&, double)>;
 
 void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
                       BuildReport& r, const Lap& lap) {
-  MvxFile file;
-  file.grid = grid;
-  file.bounds = bounds;
-  file.voxels = dag.voxels;
-  file.svo_nodes = dag.svo_nodes;
-  file.dag_nodes.push_back(dag.voxels);
-  for (uint32_t l = 1; l <= dag.levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
-  file.dag = o.format == "ssvdag" ? encode_ssvdag(dag) : encode_svdag(dag);
+  MvxFile file = mvx_for_dag(dag, o.format, grid, bounds);
   lap("encode");
   write_mvx(o.output, file);
   lap("write");
+  r.grid = grid;
   r.voxels = dag.voxels;
   r.svo_nodes = file.svo_nodes;
   r.nodes_per_level = file.dag_nodes;
-  for (uint32_t l = 2; l <= dag.levels; ++l) r.nodes_total += file.dag_nodes[l];
+  r.nodes_total = nodes_total(file);
   r.bytes = file.dag.bytes();
   r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
 }
@@ -153,7 +168,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     if (ts.empty()) return std::vector<uint64_t>();
     tris.clear();
     for (uint32_t t : ts) tris.insert(tris.end(), m.tris.begin() + 9 * size_t{t}, m.tris.begin() + 9 * size_t{t} + 9);
-    Voxelizer v(dev, resolution);
+    Voxelizer v(dev, resolution, rule(o));
     v.restrict_to(x, y, z, size);
     v.add(tris);
     return v.take_keys();
@@ -170,6 +185,33 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
 }
 
 }  // namespace
+
+Dag build_dag_for_format(Device& dev, const std::vector<uint64_t>& keys, uint32_t levels, const std::string& format,
+                         DagBuildTimes* times) {
+  if (format == "ssvdag" && levels < 3) throw Error("--format ssvdag needs a resolution of at least 8");
+  if (format == "svo") return build_svo(dev, keys, levels, times);
+  if (format == "ussvdag" || format == "ssvdag") return build_ssvdag(dev, keys, levels, times);
+  if (format == "svdag") return build_svdag(dev, keys, levels, times);
+  throw Error("--format " + format + ": choose svo, svdag, ussvdag or ssvdag");
+}
+
+MvxFile mvx_for_dag(const Dag& dag, const std::string& format, const GridTransform& grid, const Bounds& bounds) {
+  MvxFile file;
+  file.grid = grid;
+  file.bounds = bounds;
+  file.voxels = dag.voxels;
+  file.svo_nodes = dag.svo_nodes;
+  file.dag_nodes.push_back(dag.voxels);
+  for (uint32_t l = 1; l <= dag.levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
+  file.dag = format == "ssvdag" ? encode_ssvdag(dag) : encode_svdag(dag);
+  return file;
+}
+
+uint64_t nodes_total(const MvxFile& file) {
+  uint64_t total = 0;
+  for (size_t l = 2; l < file.dag_nodes.size(); ++l) total += file.dag_nodes[l];
+  return total;
+}
 
 BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
   if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
@@ -191,6 +233,14 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   report("read", 0);
   const uint32_t mesh_resolution = o.resolution ? o.resolution : 1024;
   const bool vdb = io::is_vdb(o.input);
+  if (o.voxelize != "conservative" && o.voxelize != "thin")
+    throw Error("--voxelize " + o.voxelize + ": choose conservative or thin");
+  if (vdb && (o.placement.origin != GridPlacement::Origin::kCenter || o.voxelize != "conservative"))
+    throw Error(o.input + ": --grid-origin, --bounds and --voxelize apply to meshes; a .vdb keeps its own voxels");
+  if (!vdb) {
+    r.grid_origin = to_string(o.placement.origin);
+    r.voxelize = o.voxelize;
+  }
   if (!vdb && o.cube && mesh_resolution > o.cube) {
     if (o.format == "svo")
       throw Error("--format svo builds in core (the plain octree of the whole grid in device memory): add --cube 0");
@@ -218,9 +268,7 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
 
   const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
   DagBuildTimes times;
-  Dag dag = o.format == "svo" ? build_svo(dev, voxels.keys, levels, &times)
-            : symmetric       ? build_ssvdag(dev, voxels.keys, levels, &times)
-                              : build_svdag(dev, voxels.keys, levels, &times);
+  Dag dag = build_dag_for_format(dev, voxels.keys, levels, o.format, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
   r.seconds.push_back({o.format == "svo" ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iterator>
 #include <utility>
 
@@ -25,38 +26,94 @@ void Bounds::extend(double x, double y, double z) {
   }
 }
 
-GridTransform grid_for_bounds(const Bounds& b, uint32_t resolution) {
+GridPlacement parse_grid_origin(const std::string& text) {
+  GridPlacement p;
+  if (text == "center") p.origin = GridPlacement::Origin::kCenter;
+  else if (text == "min") p.origin = GridPlacement::Origin::kMin;
+  else throw Error("--grid-origin '" + text + "': choose center or min (or give --bounds X,Y,Z,SIZE)");
+  return p;
+}
+
+GridPlacement parse_grid_bounds(const std::string& text) {
+  GridPlacement p;
+  p.origin = GridPlacement::Origin::kCube;
+  double v[4];
+  const char* s = text.c_str();
+  for (int i = 0; i < 4; ++i) {
+    char* end = nullptr;
+    v[i] = std::strtod(s, &end);
+    const char want = i < 3 ? ',' : '\0';
+    if (end == s || *end != want || !std::isfinite(v[i]))
+      throw Error("--bounds '" + text + "' is not X,Y,Z,SIZE (the cube's min corner and side, four numbers)");
+    s = end + 1;
+  }
+  if (!(v[3] > 0)) throw Error("--bounds '" + text + "': the cube's side must be positive");
+  for (int a = 0; a < 3; ++a) p.corner[a] = v[a];
+  p.side = v[3];
+  return p;
+}
+
+std::string to_string(GridPlacement::Origin origin) {
+  switch (origin) {
+    case GridPlacement::Origin::kCenter: return "center";
+    case GridPlacement::Origin::kMin: return "min";
+    case GridPlacement::Origin::kCube: return "bounds";
+  }
+  return "?";
+}
+
+GridTransform grid_for_bounds(const Bounds& b, uint32_t resolution, const GridPlacement& placement) {
   if (resolution == 0 || resolution > (1u << 21))
     throw Error("resolution " + std::to_string(resolution) + " is outside [1, 2097152] voxels per axis");
+  GridTransform g;
+  g.resolution = resolution;
+  if (placement.origin == GridPlacement::Origin::kCube) {
+    if (!(placement.side > 0) || !std::isfinite(placement.side)) throw Error("the grid's cube needs a positive side");
+    for (int a = 0; a < 3; ++a) g.origin[a] = placement.corner[a];
+    g.voxel_size = placement.side / resolution;
+    return g;
+  }
   if (b.empty()) throw Error("cannot place a grid around an empty model");
   double side = 0;
   for (int a = 0; a < 3; ++a) side = std::max(side, b.hi[a] - b.lo[a]);
   if (!(side > 0)) side = 1;
-  GridTransform g;
-  for (int a = 0; a < 3; ++a) g.origin[a] = 0.5 * (b.lo[a] + b.hi[a]) - 0.5 * side;
+  const bool centre = placement.origin == GridPlacement::Origin::kCenter;
+  for (int a = 0; a < 3; ++a) g.origin[a] = centre ? 0.5 * (b.lo[a] + b.hi[a]) - 0.5 * side : b.lo[a];
   g.voxel_size = side / resolution;
-  g.resolution = resolution;
   return g;
 }
 
 void triangles_to_grid(const GridTransform& grid, const std::vector<float>& positions, const uint32_t* indices,
-                       size_t triangles, std::vector<float>& out) {
+                       size_t triangles, std::vector<float>& out, bool clip) {
   const double n = grid.resolution;
   const double inv = 1.0 / grid.voxel_size;
   const size_t vertices = positions.size() / 3;
   out.reserve(out.size() + triangles * 9);
-  for (size_t t = 0; t < 3 * triangles; ++t) {
-    uint32_t v = indices[t];
-    if (v >= vertices) throw Error("triangle " + std::to_string(t / 3) + " refers to vertex " + std::to_string(v) +
-                                   " of " + std::to_string(vertices));
-    for (int a = 0; a < 3; ++a) {
-      double g = (double(positions[3 * size_t{v} + a]) - grid.origin[a]) * inv;
-      out.push_back(static_cast<float>(std::clamp(g, 0.0, n)));
+  for (size_t t = 0; t < triangles; ++t) {
+    float g[9];
+    bool outside[3][2] = {{true, true}, {true, true}, {true, true}};  // [axis][below, above] for all vertices
+    for (int k = 0; k < 3; ++k) {
+      uint32_t v = indices[3 * t + k];
+      if (v >= vertices)
+        throw Error("triangle " + std::to_string(t) + " refers to vertex " + std::to_string(v) + " of " +
+                    std::to_string(vertices));
+      for (int a = 0; a < 3; ++a) {
+        double x = (double(positions[3 * size_t{v} + a]) - grid.origin[a]) * inv;
+        if (!clip) x = std::clamp(x, 0.0, n);
+        g[3 * k + a] = static_cast<float>(x);
+        outside[a][0] = outside[a][0] && g[3 * k + a] < 0;
+        outside[a][1] = outside[a][1] && g[3 * k + a] > n;
+      }
     }
+    bool misses = false;
+    for (int a = 0; a < 3; ++a) misses = misses || outside[a][0] || outside[a][1];
+    if (clip && misses) continue;
+    out.insert(out.end(), g, g + 9);
   }
 }
 
-Voxelizer::Voxelizer(Device& dev, uint32_t resolution) : dev_(dev), resolution_(resolution), box_size_(resolution) {
+Voxelizer::Voxelizer(Device& dev, uint32_t resolution, Rule rule)
+    : dev_(dev), resolution_(resolution), rule_(rule), box_size_(resolution) {
   if (resolution == 0 || resolution > (1u << 21))
     throw Error("resolution " + std::to_string(resolution) + " is outside [1, 2097152] voxels per axis");
 }
@@ -100,8 +157,9 @@ void Voxelizer::add(const std::vector<float>& tris) {
   dev_.upload(col_of, item_col.data(), uint64_t{items} * 4);
 
   Kernel& k = dev_.kernel("voxelize");
+  const uint32_t thin = rule_ == Rule::kThin ? 1u : 0u;
   const uint32_t local = 64;
-  MvVoxelizeParams p{0, items, resolution_, kColumnsPerItem, 0, box_size_, box_[0], box_[1], box_[2], 0};
+  MvVoxelizeParams p{0, items, resolution_, kColumnsPerItem, 0, box_size_, box_[0], box_[1], box_[2], thin};
   Buffer none;
   dev_.dispatch(k, dev_.groups_for(items, local), local, {&tri_buf, &tri_of, &col_of, &counts, &none}, p);
   std::vector<uint32_t> n(items);
@@ -124,7 +182,7 @@ void Voxelizer::add(const std::vector<float>& tris) {
     if (total > 0) {
       dev_.upload(counts, offsets.data() + first, uint64_t{last - first} * 4, uint64_t{first} * 4);
       Buffer keys = dev_.alloc(total * 8, "voxel keys");
-      p = {first, last - first, resolution_, kColumnsPerItem, 1, box_size_, box_[0], box_[1], box_[2], 0};
+      p = {first, last - first, resolution_, kColumnsPerItem, 1, box_size_, box_[0], box_[1], box_[2], thin};
       dev_.dispatch(k, dev_.groups_for(last - first, local), local, {&tri_buf, &tri_of, &col_of, &counts, &keys}, p);
       dev_.barrier();
       auto n_keys = static_cast<uint32_t>(total);

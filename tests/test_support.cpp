@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 
+#include "host/io/mesh_source.h"
 #include "host/ref/reference.h"
 #include "megavox/voxelize.h"
 
@@ -35,6 +39,28 @@ std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& p) {
   for (auto& c : sel)
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return tag + "_" + d.backend + "_" + sel;
+}
+
+std::string shared_data_file(const std::string& relative) {
+  const char* env = std::getenv("MEGAVOX_TEST_DATA");
+  std::filesystem::path data =
+      env ? std::filesystem::path(env) : std::filesystem::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
+  std::filesystem::path file = data / relative;
+  if (std::filesystem::exists(file)) return file.string();
+  std::printf("shared data not found at %s: skipping the checks on %s\n", data.string().c_str(), relative.c_str());
+  return "";
+}
+
+std::vector<float> mesh_grid_triangles(const std::string& path, uint32_t resolution, const GridPlacement& placement) {
+  auto mesh = io::open_mesh(path);
+  std::vector<uint32_t> idx, all;
+  while (mesh->next_triangles(idx, 1u << 20)) all.insert(all.end(), idx.begin(), idx.end());
+  Bounds b;
+  for (uint32_t v : all) b.extend(mesh->positions()[3 * size_t{v}], mesh->positions()[3 * size_t{v} + 1],
+                                  mesh->positions()[3 * size_t{v} + 2]);
+  std::vector<float> tris;
+  triangles_to_grid(grid_for_bounds(b, resolution, placement), mesh->positions(), all.data(), all.size() / 3, tris);
+  return tris;
 }
 
 std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/voxelize.h"
 
 namespace mv::test {
 
@@ -23,6 +24,13 @@ std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& info);
 
 // An octahedron (8 triangles; its bottom vertex at y = `bottom`) placed on a grid of `resolution` voxels
 // per axis and given in grid units (9 floats per triangle), ready for a Voxelizer.
+// A file under the shared test data (${MEGAVOX_TEST_DATA:-<source>/../shared/data}), or "" after printing one
+// line when it is absent (a user's machine has no shared data).
+std::string shared_data_file(const std::string& relative);
+
+// The triangles of a mesh file in grid units (9 floats each) on a grid placed by `placement`.
+std::vector<float> mesh_grid_triangles(const std::string& path, uint32_t resolution, const GridPlacement& placement = {});
+
 std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom = -1.0f);
 
 // Voxel sets (sorted unique 64-bit Morton keys of a 2^levels grid) with little, some and much sharing:

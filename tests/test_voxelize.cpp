@@ -47,8 +47,8 @@ TEST(VoxelPredicate, SeparatedByAnEdgeAxis) {
   // Near voxel (0,0,0)'s corner but cut off by the triangle's edge: the bounding boxes overlap, the
   // triangle does not reach the voxel.
   float t[9] = {1.1f, 0.0f, 0.5f, 2.0f, 0.0f, 0.5f, 2.0f, 1.9f, 0.5f};
-  EXPECT_FALSE(mv_voxel_hit(t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], 0, 0, 0, 8));
-  EXPECT_TRUE(mv_voxel_hit(t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], 1, 0, 0, 8));
+  EXPECT_FALSE(mv_voxel_hit(t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], 0, 0, 0, 8, 0));
+  EXPECT_TRUE(mv_voxel_hit(t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], 1, 0, 0, 8, 0));
 }
 
 // Every point sampled on a triangle lies in a voxel the reference reports (conservative coverage).
@@ -86,6 +86,8 @@ TEST(VoxelPredicate, CoversSampledPoints) {
 }
 
 // Triangles of every kind the kernels must get exactly right.
+}  // namespace
+
 std::vector<float> test_triangles(uint32_t n, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<float> pos(0.0f, float(n));
@@ -115,18 +117,22 @@ std::vector<float> test_triangles(uint32_t n, uint64_t seed) {
   return out;
 }
 
+namespace {
+
 class VoxelizeTest : public ::testing::TestWithParam<DeviceInfo> {};
 
 TEST_P(VoxelizeTest, MatchesReference) {
   Device& dev = shared_device(GetParam());
   for (uint32_t n : {16u, 64u, 1024u}) {
     std::vector<float> tris = test_triangles(n, n);
-    Voxelizer v(dev, n);
-    v.add(tris);
-    std::vector<uint64_t> got = v.take_keys();
-    std::vector<uint64_t> expect = ref::voxelize(tris, n);
-    ASSERT_EQ(got.size(), expect.size()) << "grid " << n;
-    ASSERT_TRUE(got == expect) << "grid " << n;
+    for (bool thin : {false, true}) {
+      Voxelizer v(dev, n, thin ? Voxelizer::Rule::kThin : Voxelizer::Rule::kConservative);
+      v.add(tris);
+      std::vector<uint64_t> got = v.take_keys();
+      std::vector<uint64_t> expect = ref::voxelize(tris, n, thin);
+      ASSERT_EQ(got.size(), expect.size()) << "grid " << n << (thin ? " thin" : " conservative");
+      ASSERT_TRUE(got == expect) << "grid " << n << (thin ? " thin" : " conservative");
+    }
   }
 }
 

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <memory>
 
+#include "atomic_file.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 
@@ -112,32 +113,18 @@ void write_mvx(const std::string& path, const MvxFile& in) {
   }
   h.checksum = hash(&h, offsetof(Header, checksum));
 
-  const std::string tmp = path + ".tmp";
-  {
-    File f(std::fopen(tmp.c_str(), "wb"));
-    if (!f) throw Error("cannot write '" + tmp + "': " + std::strerror(errno));
+  io::write_atomically(path, [&](std::FILE* f) {
     std::vector<char> page(kPage, 0);
     std::memcpy(page.data(), &h, sizeof h);
-    bool ok = std::fwrite(page.data(), 1, kPage, f.get()) == kPage;
+    bool ok = std::fwrite(page.data(), 1, kPage, f) == kPage;
     for (uint32_t i = 0; ok && i < h.sections; ++i) {
-      ok = std::fwrite(blobs[i].data, 1, blobs[i].bytes, f.get()) == blobs[i].bytes;
+      ok = std::fwrite(blobs[i].data, 1, blobs[i].bytes, f) == blobs[i].bytes;
       uint64_t pad = (kPage - blobs[i].bytes % kPage) % kPage;
       std::vector<char> zeros(pad, 0);
-      ok = ok && std::fwrite(zeros.data(), 1, pad, f.get()) == pad;
+      ok = ok && std::fwrite(zeros.data(), 1, pad, f) == pad;
     }
-    ok = ok && std::fflush(f.get()) == 0;
-    if (!ok) {
-      int err = errno;
-      f.reset();
-      std::remove(tmp.c_str());
-      throw Error("cannot write '" + tmp + "': " + std::strerror(err));
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    int err = errno;
-    std::remove(tmp.c_str());
-    throw Error("cannot rename '" + tmp + "' to '" + path + "': " + std::strerror(err));
-  }
+    return ok;
+  });
 }
 
 MvxFile read_mvx(const std::string& path) {

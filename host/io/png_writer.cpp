@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include "atomic_file.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 
@@ -43,24 +44,11 @@ bool encode_png(std::FILE* f, const Image& image, std::string& why) {
 void write_png(const std::string& path, const Image& image) {
   if (image.width == 0 || image.height == 0 || image.rgb.size() != size_t{image.width} * image.height * 3)
     throw Error("write_png: the image is empty or its size does not match its pixels");
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw Error("cannot write '" + tmp + "': " + std::strerror(errno));
   std::string why;
-  bool ok = encode_png(f, image, why);
-  if (std::fflush(f) != 0 || std::ferror(f)) {
-    ok = false;
-    why = std::strerror(errno);
-  }
-  std::fclose(f);
-  if (!ok) {
-    std::remove(tmp.c_str());
-    throw Error("cannot write '" + path + "': " + why);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    int err = errno;
-    std::remove(tmp.c_str());
-    throw Error("cannot rename '" + tmp + "' to '" + path + "': " + std::strerror(err));
+  try {
+    io::write_atomically(path, [&](std::FILE* f) { return encode_png(f, image, why); });
+  } catch (const Error& e) {
+    throw Error(why.empty() ? e.what() : "cannot write '" + path + "': " + why);
   }
 }
 

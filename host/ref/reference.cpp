@@ -17,7 +17,7 @@ uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis) {
   return key;
 }
 
-std::vector<uint64_t> voxelize(const std::vector<float>& tris, uint32_t n) {
+std::vector<uint64_t> voxelize(const std::vector<float>& tris, uint32_t n, bool thin) {
   std::vector<uint64_t> keys;
   for (size_t t = 0; t + 9 <= tris.size(); t += 9) {
     const float* v = &tris[t];
@@ -29,7 +29,7 @@ std::vector<uint64_t> voxelize(const std::vector<float>& tris, uint32_t n) {
     for (uint32_t x = lo[0]; x <= hi[0]; ++x)
       for (uint32_t y = lo[1]; y <= hi[1]; ++y)
         for (uint32_t z = lo[2]; z <= hi[2]; ++z)
-          if (mv_voxel_hit(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], x, y, z, n))
+          if (mv_voxel_hit(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], x, y, z, n, thin ? 1u : 0u))
             keys.push_back(morton3(x, y, z, 21));
   }
   std::sort(keys.begin(), keys.end());

@@ -13,8 +13,8 @@ uint64_t morton3(uint32_t x, uint32_t y, uint32_t z, int bits_per_axis);
 
 // Sorted unique Morton keys of the voxels the triangles (grid units, 9 floats each) meet: every voxel of each
 // triangle's bounding box is tested with the decisive predicate the kernels use (kernels/common/voxelize.h),
-// without the kernels' column walk.
-std::vector<uint64_t> voxelize(const std::vector<float>& grid_triangles, uint32_t resolution);
+// without the kernels' column walk. `thin`: the 6-separating rule instead of the conservative one.
+std::vector<uint64_t> voxelize(const std::vector<float>& grid_triangles, uint32_t resolution, bool thin = false);
 
 // Node counts per level (index = level; level 0 = voxels) of the sparse octree of sorted unique voxel keys
 // in a 2^levels grid, and of its minimal DAG, from plain maps keyed by (mask, child ids).

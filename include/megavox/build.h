@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/voxelize.h"
 
 namespace mv {
 
@@ -19,6 +20,8 @@ struct BuildOptions {
   // (a power of two); 0 = always in core.
   uint32_t cube = 1024;
   std::string format = "svdag";
+  GridPlacement placement;               // meshes: where the grid sits (a .vdb keeps its index space)
+  std::string voxelize = "conservative"; // meshes: conservative (26-separating) or thin (6-separating)
 };
 
 struct BuildReport {
@@ -27,6 +30,8 @@ struct BuildReport {
   uint64_t triangles = 0;  // 0 for a .vdb input
   std::string vdb_grid, vdb_class;  // the .vdb grid read and its class
   uint32_t cube = 0;                // out of core: the cube side used; 0 = in core
+  std::string grid_origin, voxelize;  // meshes: the placement and voxelization rule used
+  GridTransform grid;                 // world -> grid, as stored in the .mvx
   uint64_t voxels = 0;
   std::vector<uint64_t> svo_nodes;       // index = level (0 = voxels, 1 = 2^3 masks, 2 = 4^3 bricks, ...)
   std::vector<uint64_t> nodes_per_level; // the DAG's, same indexing

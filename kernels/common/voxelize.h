@@ -1,5 +1,6 @@
-/* Conservative surface voxelization of triangles into 64-bit Morton keys (3 x 21 bits, x lowest).
+/* Surface voxelization of triangles into 64-bit Morton keys (3 x 21 bits, x lowest).
  *
+ * Two rules: conservative (default; exact overlap, tri_box.h) or thin (6-separating, tri_thin.h).
  * Triangles arrive in grid units (9 floats each; the host maps world to grid). A voxel (i, j, k) is set when
  * the triangle meets its cell: exact separating-axis test (tri_box.h), half-open along the grid axes
  * ([i, i+1): a triangle lying in the plane x = i belongs to voxel i, not i-1) except that the top face of the
@@ -14,6 +15,7 @@
 #define MV_VOXELIZE_H
 #include "morton.h"
 #include "tri_box.h"
+#include "tri_thin.h"
 
 MV_STRUCT_BEGIN(MvVoxelizeParams)
   mv_u32 first_item;       /* this dispatch covers items [first_item, first_item + items) */
@@ -25,7 +27,7 @@ MV_STRUCT_BEGIN(MvVoxelizeParams)
   mv_u32 box_x;
   mv_u32 box_y;
   mv_u32 box_z;
-  mv_u32 pad0;
+  mv_u32 thin;             /* 0: conservative (tri_box.h); 1: thin, 6-separating (tri_thin.h) */
 MV_STRUCT_END(MvVoxelizeParams)
 
 /* Where a triangle's walk goes: the dominant axis d (0 = x, 1 = y, 2 = z; ties go to the later axis) with
@@ -94,12 +96,14 @@ MV_INLINE mv_u32 mv_frame_columns(MvTriFrame f) {
 MV_INLINE mv_f64 mv_pick(mv_f64 x, mv_f64 y, mv_f64 z, mv_u32 axis) { return axis == 0u ? x : axis == 1u ? y : z; }
 
 /* Half-open along the grid axes (see the top of this file): the closed test, minus cells the triangle only
- * touches from above (all of it at or beyond the cell's upper face, except on the grid's top face). */
+ * touches from above (all of it at or beyond the cell's upper face, except on the grid's top face). The
+ * thin rule keeps the same exclusion, so thin voxels stay within the conservative ones. */
 MV_INLINE bool mv_voxel_hit(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx, mv_f64 cy,
-                            mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid) {
+                            mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid, mv_u32 thin) {
   if (i + 1u < grid && MV_FMIN(ax, MV_FMIN(bx, cx)) >= MV_F64(i + 1u)) return false;
   if (j + 1u < grid && MV_FMIN(ay, MV_FMIN(by, cy)) >= MV_F64(j + 1u)) return false;
   if (k + 1u < grid && MV_FMIN(az, MV_FMIN(bz, cz)) >= MV_F64(k + 1u)) return false;
+  if (thin != 0u) return mv_tri_voxel_thin(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, grid);
   return mv_tri_box_overlap(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k);
 }
 
@@ -140,7 +144,7 @@ MV_INLINE mv_u32 mv_voxelize_item(MvBufF32 tris, MvBufU64 keys, mv_u32 at, mv_u3
       mv_u32 x = f.d == 0u ? cd : cu;
       mv_u32 y = f.d == 1u ? cd : f.d == 0u ? cu : cv;
       mv_u32 z = f.d == 2u ? cd : cv;
-      if (mv_voxel_hit(ax, ay, az, bx, by, bz, cx, cy, cz, x, y, z, p.grid)) {
+      if (mv_voxel_hit(ax, ay, az, bx, by, bz, cx, cy, cz, x, y, z, p.grid, p.thin)) {
         if (p.emit != 0u) MV_ST(keys, at + found, mv_morton3_64(x, y, z));
         found += 1u;
       }

@@ -1,0 +1,14 @@
+// Output files are written to PATH.tmp and renamed onto PATH only when every byte is out, so a failure
+// never leaves a truncated or half-old file behind.
+#pragma once
+#include <cstdio>
+#include <functional>
+#include <string>
+
+namespace mv::io {
+
+// Opens PATH.tmp, calls `write` (false = failed, errno says why), flushes, closes and renames; on any
+// failure removes PATH.tmp and throws mv::Error naming the file.
+void write_atomically(const std::string& path, const std::function<bool(std::FILE*)>& write);
+
+}  // namespace mv::io

@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   mv::cli::add_build_command(app, g);
   mv::cli::add_info_command(app);
   mv::cli::add_render_command(app, g);
+  mv::cli::add_export_command(app, g);
+  mv::cli::add_import_command(app, g);
   CLI::App* bench = app.add_subcommand("bench", "Measure megavox against the tools a user would pick instead");
   bench->require_subcommand(1);
   mv::cli::add_bench_sort_command(*bench, g);

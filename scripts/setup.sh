@@ -10,7 +10,9 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslang-tools vulkan-tools   # Vulkan, lavapipe, GLSL -> SPIR-V
   libcli11-dev nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libxxhash-dev
   libassimp-dev libopenvdb-dev libimath-dev                     # OBJ, glTF, FBX, STL, ... meshes; .vdb volumes
+  libnanovdb-dev                                                # NanoVDB export
   libpng-dev                                                    # rendered pictures
+  libgmp-dev                                                    # tests: exact rational voxelization oracle
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(libboost-dev)    # boost::sort::block_indirect_sort, the parallel CPU sort baseline

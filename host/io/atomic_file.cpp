@@ -20,8 +20,19 @@ void write_atomically(const std::string& path, const std::function<bool(std::FIL
     std::remove(tmp.c_str());
     throw Error("cannot write '" + tmp + "': " + std::strerror(err));
   }
+  write_atomically_by_name(path, [](const std::string&) {});
+}
+
+void write_atomically_by_name(const std::string& path, const std::function<void(const std::string& tmp)>& write) {
+  const std::string tmp = path + ".tmp";
+  try {
+    write(tmp);
+  } catch (const std::exception& e) {
+    std::remove(tmp.c_str());
+    throw Error("cannot write '" + tmp + "': " + e.what());
+  }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    err = errno;
+    int err = errno;
     std::remove(tmp.c_str());
     throw Error("cannot rename '" + tmp + "' to '" + path + "': " + std::strerror(err));
   }

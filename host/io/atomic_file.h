@@ -11,4 +11,7 @@ namespace mv::io {
 // failure removes PATH.tmp and throws mv::Error naming the file.
 void write_atomically(const std::string& path, const std::function<bool(std::FILE*)>& write);
 
+// For writers that want a file name: `write` writes PATH.tmp (throwing on failure), then it is renamed.
+void write_atomically_by_name(const std::string& path, const std::function<void(const std::string& tmp)>& write);
+
 }  // namespace mv::io

@@ -29,10 +29,30 @@ bool is_vdb(const std::string& path) {
   return got == 4 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56;  // " BDV"
 }
 
+namespace {
+
+// The coordinates of a grid's active values that `keep` selects, active tiles expanded.
+template <class GridT, class Keep>
+void collect(const GridT& grid, const Keep& keep, const std::string& path, std::vector<openvdb::Coord>& coords) {
+  for (auto it = grid.cbeginValueOn(); it; ++it) {
+    if (!keep(*it)) continue;
+    if (it.isVoxelValue()) {
+      coords.push_back(it.getCoord());
+    } else {  // an active tile: all of its voxels
+      openvdb::CoordBBox box;
+      it.getBoundingBox(box);
+      if (box.volume() > (uint64_t{1} << 32)) throw Error(path + ": an active tile is too large to expand");
+      for (auto c = box.begin(); c; ++c) coords.push_back(*c);
+    }
+  }
+}
+
+}  // namespace
+
 VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t resolution) {
   openvdb::initialize();
   VdbVoxels out;
-  openvdb::FloatGrid::Ptr grid;
+  openvdb::GridBase::Ptr base;
   try {
     openvdb::io::File file(path);
     file.open();
@@ -43,32 +63,29 @@ VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t re
       wanted = it.gridName();
     }
     if (!file.hasGrid(wanted)) throw Error(path + ": no grid named '" + wanted + "'");
-    grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(wanted));
+    base = file.readGrid(wanted);
     file.close();
-    if (!grid) throw Error(path + ": grid '" + wanted + "' does not hold float values");
     out.grid_name = wanted;
   } catch (const openvdb::Exception& e) {
     throw Error(path + ": cannot read the OpenVDB file (" + std::string(e.what()) + ")");
   }
-  const bool level_set = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
-  out.grid_class = level_set ? "level set" : "fog volume";
-  const double vs = grid->voxelSize()[0];
-  const float band = static_cast<float>(0.5 * vs);
-
   std::vector<openvdb::Coord> coords;
-  for (auto it = grid->cbeginValueOn(); it; ++it) {
-    const float v = *it;
-    const bool keep = level_set ? std::abs(v) <= band : v > 0.0f;
-    if (!keep) continue;
-    if (it.isVoxelValue()) {
-      coords.push_back(it.getCoord());
-    } else {  // an active tile: all of its voxels
-      openvdb::CoordBBox box;
-      it.getBoundingBox(box);
-      if (box.volume() > (uint64_t{1} << 32)) throw Error(path + ": an active tile is too large to expand");
-      for (auto c = box.begin(); c; ++c) coords.push_back(*c);
-    }
+  if (auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base)) {
+    const bool level_set = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
+    out.grid_class = level_set ? "level set" : "fog volume";
+    const float band = static_cast<float>(0.5 * grid->voxelSize()[0]);
+    collect(*grid, [&](float v) { return level_set ? std::abs(v) <= band : v > 0.0f; }, path, coords);
+  } else if (auto mask = openvdb::gridPtrCast<openvdb::MaskGrid>(base)) {
+    out.grid_class = "mask";
+    collect(*mask, [](bool) { return true; }, path, coords);
+  } else if (auto flags = openvdb::gridPtrCast<openvdb::BoolGrid>(base)) {
+    out.grid_class = "mask";
+    collect(*flags, [](bool v) { return v; }, path, coords);
+  } else {
+    throw Error(path + ": grid '" + out.grid_name + "' holds " + base->valueType() +
+                " values; megavox reads float grids (level sets, fog volumes) and mask / bool grids");
   }
+  const double vs = base->voxelSize()[0];
   if (coords.empty()) throw Error(path + ": grid '" + out.grid_name + "' selects no voxels");
   openvdb::Coord lo = coords[0], hi = coords[0];
   for (const auto& c : coords) {
@@ -91,8 +108,8 @@ VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t re
   out.keys.erase(std::unique(out.keys.begin(), out.keys.end()), out.keys.end());
   for (int a = 0; a < 3; ++a) out.index_min[a] = lo[a];
   // VDB voxels are centred on their integer index: voxel lo covers [lo - 1/2, lo + 1/2) in index space.
-  openvdb::Vec3d o = grid->transform().indexToWorld(openvdb::Vec3d(lo[0] - 0.5, lo[1] - 0.5, lo[2] - 0.5));
-  openvdb::Vec3d top = grid->transform().indexToWorld(openvdb::Vec3d(hi[0] + 0.5, hi[1] + 0.5, hi[2] + 0.5));
+  openvdb::Vec3d o = base->transform().indexToWorld(openvdb::Vec3d(lo[0] - 0.5, lo[1] - 0.5, lo[2] - 0.5));
+  openvdb::Vec3d top = base->transform().indexToWorld(openvdb::Vec3d(hi[0] + 0.5, hi[1] + 0.5, hi[2] + 0.5));
   out.grid.origin[0] = o[0];
   out.grid.origin[1] = o[1];
   out.grid.origin[2] = o[2];

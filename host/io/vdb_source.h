@@ -9,7 +9,7 @@
 namespace mv::io {
 
 struct VdbVoxels {
-  std::string grid_name, grid_class;  // class: "level set" or "fog volume" (anything else reads as fog)
+  std::string grid_name, grid_class;  // class: "level set", "fog volume" (other float grids read as fog) or "mask"
   std::vector<uint64_t> keys;         // sorted unique Morton keys of (index - index_min)
   int64_t index_min[3] = {0, 0, 0};   // the smallest index of a selected voxel
   uint32_t extent = 0;                // voxels along the longest axis of the selected voxels' index box
@@ -21,7 +21,8 @@ struct VdbVoxels {
 bool is_vdb(const std::string& path);
 
 // Reads grid `name` (empty: the first) of a .vdb file. Level sets give their surface voxels (active voxels
-// with |distance| <= half a voxel); fog volumes and other grids give their active voxels with value > 0.
+// with |distance| <= half a voxel); fog volumes and other float grids give their active voxels with value > 0;
+// mask and bool grids (e.g. `megavox export --format vdb`) their active (true) voxels.
 // The grid is resolution voxels per axis (0: the smallest power of two, at least 8, that holds the voxels).
 VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t resolution);
 

@@ -33,6 +33,20 @@ MV_INLINE mv_u64 mv_morton3_64(mv_u32 x, mv_u32 y, mv_u32 z) {
   return mv_morton_spread21(MV_U64(x)) | (mv_morton_spread21(MV_U64(y)) << 1) | (mv_morton_spread21(MV_U64(z)) << 2);
 }
 
+/* The inverse of mv_morton_spread21: every third bit of v, packed. */
+MV_INLINE mv_u32 mv_morton_compact21(mv_u64 v) {
+  v &= 0x1249249249249249UL;
+  v = (v ^ (v >> 2)) & 0x10c30c30c30c30c3UL;
+  v = (v ^ (v >> 4)) & 0x100f00f00f00f00fUL;
+  v = (v ^ (v >> 8)) & 0x1f0000ff0000ffUL;
+  v = (v ^ (v >> 16)) & 0x1f00000000ffffUL;
+  v = (v ^ (v >> 32)) & 0x1fffffUL;
+  return MV_U32(v);
+}
+
+/* Coordinate `axis` (0 = x, 1 = y, 2 = z) of a 64-bit Morton key. */
+MV_INLINE mv_u32 mv_morton3_64_axis(mv_u64 key, mv_u32 axis) { return mv_morton_compact21(key >> axis); }
+
 MV_INLINE mv_u32 mv_morton3_32(mv_u32 x, mv_u32 y, mv_u32 z) {
   return mv_morton_spread10(x) | (mv_morton_spread10(y) << 1) | (mv_morton_spread10(z) << 2);
 }

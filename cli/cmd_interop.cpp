@@ -1,0 +1,83 @@
+// `megavox export` and `megavox import`: files other voxel tools read and write.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+#include "cli_common.h"
+#include "megavox/interop.h"
+
+namespace mv::cli {
+
+void add_export_command(CLI::App& app, const GlobalOptions& g) {
+  auto o = std::make_shared<ExportOptions>();
+  auto json = std::make_shared<bool>(false);
+  auto* cmd = app.add_subcommand(
+      "export",
+      "Write a .mvx for other tools: SymVox-family DAG files (the SSVDAG authors' viewer; voxcom reads the 32-bit\n"
+      "ones) or the voxels as an OpenVDB mask grid / NanoVDB grid named 'voxels'. Examples:\n"
+      "  megavox export bunny.mvx --format symvox-ssvdag -o bunny.ssvdag\n"
+      "  megavox export bunny.mvx --format vdb -o bunny.vdb");
+  cmd->add_option("file", o->input, "The .mvx file")->required();
+  cmd->add_option("-o,--output", o->output, "The file to write (written to OUT.tmp, renamed on success)")->required();
+  cmd->add_option("--format", o->format,
+                  "symvox-svdag (32-bit SVDAG), symvox-ussvdag (32-bit, per-child mirror bits), symvox-ssvdag\n"
+                  "(SymVox's compact 16-bit SSVDAG), vdb (OpenVDB MaskGrid) or nvdb (NanoVDB)")
+      ->required()
+      ->check(CLI::IsMember({"symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb", "nvdb"}));
+  cmd->add_flag("--json", *json, "Print one JSON object");
+  cmd->callback([&g, o, json] {
+    auto dev = open_device(g);
+    ExportReport r = export_mvx(*dev, *o);
+    if (*json) {
+      std::cout << nlohmann::json{{"input", r.input}, {"output", r.output}, {"format", r.format},
+                                  {"voxels", r.voxels}, {"bytes", r.bytes}, {"rebuilt", r.rebuilt}}
+                       .dump(2)
+                << "\n";
+      return;
+    }
+    std::printf("%s -> %s (%s%s): %llu voxels, %llu bytes\n", r.input.c_str(), r.output.c_str(), r.format.c_str(),
+                r.rebuilt ? ", re-encoded from the voxels" : "", (unsigned long long)r.voxels,
+                (unsigned long long)r.bytes);
+  });
+}
+
+void add_import_command(CLI::App& app, const GlobalOptions& g) {
+  auto o = std::make_shared<ImportOptions>();
+  auto json = std::make_shared<bool>(false);
+  auto* cmd = app.add_subcommand(
+      "import",
+      "Read a SymVox-family DAG file (.svdag, .ussvdag: 32-bit; .ssvdag: SymVox's 16-bit, or voxcom's 32-bit\n"
+      "under that name) into a .mvx. The layout is told from the content, not the name, and fully validated.\n"
+      "Example: megavox import scene.ussvdag -o scene.mvx");
+  cmd->add_option("file", o->input, "The SymVox-family file")->required();
+  cmd->add_option("-o,--output", o->output, "The .mvx to write (written to OUT.tmp, renamed on success)")->required();
+  cmd->add_option("--convention", o->convention,
+                  "Who wrote it: symvox (child 4x+2y+z, cube centred on the bbox), voxcom (Morton child order, cube at\n"
+                  "the bbox's min corner, voxel units) or auto (voxcom when the bbox starts at 0 and the root side is\n"
+                  "the resolution)")
+      ->check(CLI::IsMember({"auto", "symvox", "voxcom"}))
+      ->capture_default_str();
+  cmd->add_option("--format", o->format, "Encoding of the .mvx: svdag, ussvdag or ssvdag (default: the file's layout)")
+      ->check(CLI::IsMember({"svdag", "ussvdag", "ssvdag"}));
+  cmd->add_flag("--json", *json, "Print one JSON object");
+  cmd->callback([&g, o, json] {
+    auto dev = open_device(g);
+    ImportReport r = import_symvox(*dev, *o);
+    if (*json) {
+      std::cout << nlohmann::json{{"input", r.input},       {"output", r.output},       {"layout", r.layout},
+                                  {"convention", r.convention}, {"format", r.format},   {"levels", r.levels},
+                                  {"resolution", 1u << r.levels}, {"voxels", r.voxels}, {"file_nodes", r.file_nodes},
+                                  {"nodes_total", r.nodes_total}, {"bytes", r.bytes}}
+                       .dump(2)
+                << "\n";
+      return;
+    }
+    std::printf("%s (%s layout, %s convention, %u^3) -> %s (%s): %llu voxels, %llu DAG nodes, %llu bytes\n",
+                r.input.c_str(), r.layout.c_str(), r.convention.c_str(), 1u << r.levels, r.output.c_str(),
+                r.format.c_str(), (unsigned long long)r.voxels, (unsigned long long)r.nodes_total,
+                (unsigned long long)r.bytes);
+  });
+}
+
+}  // namespace mv::cli

@@ -1,0 +1,45 @@
+// megavox — files other tools read and write: SymVox-family DAGs in and out, OpenVDB / NanoVDB out.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "megavox/device.h"
+
+namespace mv {
+
+// `megavox export FILE.mvx --format F -o OUT`, F one of
+//   symvox-svdag    32-bit SVDAG (.svdag), symvox-ussvdag 32-bit with per-child mirror bits (.ussvdag),
+//   symvox-ssvdag   SymVox's compact 16-bit SSVDAG (.ssvdag): each with the header SymVox's viewer reads
+//                   (bbox, root side, levels, node count, first-leaf word, word count) and its child order;
+//   vdb             an OpenVDB mask grid "voxels" (one active voxel per voxel, world transform kept);
+//   nvdb            the same grid as NanoVDB.
+// An .mvx already in the wanted encoding is written as is; otherwise its voxels are decoded and rebuilt.
+struct ExportOptions {
+  std::string input, output, format;
+};
+struct ExportReport {
+  std::string input, output, format;
+  uint64_t voxels = 0, bytes = 0;
+  bool rebuilt = false;  // re-encoded from the voxels (the .mvx held another encoding)
+};
+ExportReport export_mvx(Device& dev, const ExportOptions& options);
+
+// `megavox import FILE -o OUT.mvx`: the layout (32-bit SVDAG / USSVDAG, 16-bit SSVDAG) is told from the
+// content, not the extension, and validated like every reader. Conventions: symvox (child c = 4x + 2y + z,
+// root cube centred on the bbox), voxcom (the i3d2025-voxel-transform-dag tools: the same layout written with
+// Morton child order x + 2y + 4z and the cube at the bbox's min corner, in voxel units), or auto: voxcom when
+// the bbox starts at 0 and the root side is the grid's resolution, else symvox. The voxels are rebuilt into
+// `format` (default: the file's own layout).
+struct ImportOptions {
+  std::string input, output;
+  std::string convention = "auto";
+  std::string format;  // svdag | ussvdag | ssvdag; empty: the file's layout
+};
+struct ImportReport {
+  std::string input, output, layout, convention, format;
+  uint32_t levels = 0;
+  uint64_t voxels = 0, nodes_total = 0, bytes = 0, file_nodes = 0;
+};
+ImportReport import_symvox(Device& dev, const ImportOptions& options);
+
+}  // namespace mv

@@ -31,5 +31,6 @@ mv_kernel(leaf_present          dag/dag.cl           dag/dag.comp             MV
 mv_kernel(leaf_ids              dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_ids)
 mv_kernel(gather_slots          dag/dag.cl           dag/dag.comp             MV_ENTRY_gather_slots)
 mv_kernel(dag_emit              dag/dag.cl           dag/dag.comp             MV_ENTRY_dag_emit)
-mv_kernel(trace_rays            trace/trace.cl       trace/trace.comp         MV_ENTRY_trace_rays)
+mv_kernel(trace_rays            trace/trace.cl       trace/trace.comp         MV_ENTRY_trace_rays MV_TRACE_ENC=2u)
+mv_kernel(trace_rays_ssvdag     trace/trace.cl       trace/trace.comp         MV_ENTRY_trace_rays MV_TRACE_ENC=4u)
 mv_kernel(secondary_rays        trace/trace.cl       trace/trace.comp         MV_ENTRY_secondary_rays)

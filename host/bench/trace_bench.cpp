@@ -152,11 +152,15 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
     e.resolution = mvx[f].grid.resolution;
     e.primary_seconds = e.shadow_seconds = e.ao_seconds = INFINITY;
   }
+  std::vector<std::vector<double>> render_seconds(files.size());  // [file][repeat]: all passes
   for (uint32_t rep = 0; rep < o.repeats; ++rep)
     for (size_t f = 0; f < files.size(); ++f) {
       TraceBenchEncoding& e = out.encodings[f];
       RenderResult r = render(*tracers[f], cam, ro);
       e.hits = r.hits;
+      double total = 0;
+      for (const RenderPass& p : r.passes) total += p.seconds;
+      render_seconds[f].push_back(total);
       for (const RenderPass& p : r.passes) {
         double& best = p.name == "primary" ? e.primary_seconds : p.name == "shadow" ? e.shadow_seconds : e.ao_seconds;
         best = std::min(best, p.seconds);
@@ -186,12 +190,18 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
     }
 #endif
   }
-  const TraceBenchEncoding *sv = nullptr, *ss = nullptr;
-  for (const auto& e : out.encodings) {
-    if (e.format == "svdag" && !sv) sv = &e;
-    if (e.format == "ssvdag" && !ss) ss = &e;
+  int sv = -1, ss = -1;
+  for (size_t f = 0; f < files.size(); ++f) {
+    if (out.encodings[f].format == "svdag" && sv < 0) sv = int(f);
+    if (out.encodings[f].format == "ssvdag" && ss < 0) ss = int(f);
   }
-  if (sv && ss) out.ssvdag_over_svdag = ss->primary_seconds / sv->primary_seconds;
+  if (sv >= 0 && ss >= 0) {
+    std::vector<double> ratios;
+    for (uint32_t rep = 0; rep < o.repeats; ++rep) ratios.push_back(render_seconds[ss][rep] / render_seconds[sv][rep]);
+    std::sort(ratios.begin(), ratios.end());
+    out.ssvdag_over_svdag = ratios[ratios.size() / 2];
+    out.ssvdag_over_svdag_primary = out.encodings[ss].primary_seconds / out.encodings[sv].primary_seconds;
+  }
   return out;
 }
 

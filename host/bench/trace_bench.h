@@ -18,7 +18,7 @@ struct TraceBenchOptions {
   Camera camera;
   double lod_pixels = 1;
   uint32_t ao_samples = 4;
-  uint32_t repeats = 5;  // best of, alternating between the files
+  uint32_t repeats = 7;  // best of, alternating between the files
 };
 
 struct TraceBenchEncoding {
@@ -42,7 +42,11 @@ struct TraceBenchResult {
   uint64_t triangles = 0;
   double embree_build_seconds = 0, embree_seconds = 0, embree_mrays = 0;  // rtcIntersect1, all threads
   uint64_t embree_hits = 0;
-  double ssvdag_over_svdag = 0;  // primary-ray time ratio, when both encodings were given
+  // When both encodings were given: SSVDAG / SVDAG trace time of whole renders (primary + shadow + AO rays),
+  // the median over the repeats of each back-to-back pair (steadier than ratios of best times on a noisy
+  // machine), and the ratio of the best primary-pass times.
+  double ssvdag_over_svdag = 0;
+  double ssvdag_over_svdag_primary = 0;
 };
 
 TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& files, const std::string& mesh,

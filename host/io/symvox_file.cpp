@@ -118,7 +118,9 @@ SymvoxFile read_symvox(const std::string& path) {
   f.root_side = r.get<float>("header");
   f.levels = r.get<uint32_t>("header");
   f.nodes = r.get<uint32_t>("header");
-  if (f.levels < 1 || f.levels > 21) throw Error(path + ": " + std::to_string(f.levels) + " levels is outside 1..21");
+  if (f.levels < 1 || f.levels > 21)
+    throw Error(path + ": not a SymVox-family file (its header says " + std::to_string(f.levels) +
+                " levels; 1 to 21 expected)");
   if (!(f.root_side > 0) || !std::isfinite(f.root_side)) throw Error(path + ": the root side is not a positive number");
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(f.bbox_min[a]) || !std::isfinite(f.bbox_max[a]) || f.bbox_min[a] > f.bbox_max[a])

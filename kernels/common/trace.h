@@ -23,6 +23,7 @@
 #define MV_TRACE_H
 #include "mv_lang.h"
 
+#define MV_ENC_SVDAG 2u  /* also stands for svo and ussvdag: the same 32-bit word decode */
 #define MV_ENC_SSVDAG 4u
 #define MV_TRACE_MISS 0u
 #define MV_TRACE_HIT 1u
@@ -325,15 +326,16 @@ MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTra
 }
 
 #if !defined(MV_CPP)
-/* One work-item's share of a trace dispatch. */
+/* One work-item's share of a trace dispatch. `enc` is a constant of the entry point (MV_ENC_SVDAG for every
+ * 32-bit word encoding, or MV_ENC_SSVDAG), so each kernel compiles only its encoding's decode. */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
-                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize) {
+                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc) {
   mv_u32 begin = p.block != 0u ? gid * p.block : gid;
   mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
   mv_u32 stride = p.block != 0u ? 1u : gsize;
   for (mv_u32 j = begin; j < end; j += stride) {
     mv_u32 i = p.first + j;
-    MvHit h = mv_trace(words, bricks, lvl_off, p.encoding, p.levels, mv_trace_source_ray(rays, cam, i, p), p.proj,
+    MvHit h = mv_trace(words, bricks, lvl_off, enc, p.levels, mv_trace_source_ray(rays, cam, i, p), p.proj,
                        p.max_steps);
     if (p.occlusion == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);

@@ -87,7 +87,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       ->required();
   cmd->add_option("--resolution", a->resolution,
                   "Voxels per axis, a power of two: 1024, 2K, 16K, ... (default: 1K for meshes; for a .vdb the\n"
-                  "smallest power of two that holds its voxels, one VDB voxel per voxel)");
+                  "smallest power of two that holds its voxels, one VDB voxel per voxel; a smaller one resamples)");
   cmd->add_option("--grid", a->grid, "The .vdb grid to read (default: the first)");
   cmd->add_option("--cube", a->cube,
                   "Meshes above this resolution build out of core, one cube of this many voxels per side at a time\n"

@@ -9,6 +9,7 @@
 #include "megavox/build.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
+#include "host/ref/reference.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -48,7 +49,22 @@ TEST(Vdb, LevelSetSurfaceAndFogVoxels) {
   EXPECT_EQ(d.index_min[0], -4);
 
   EXPECT_THROW(io::read_vdb(path, "nosuch", 0), Error);
-  EXPECT_THROW(io::read_vdb(path, "ball", 16), Error);  // would need resampling
+  // Resampled to 16 voxels per axis: each voxel set when a surface voxel maps into it.
+  io::VdbVoxels small = io::read_vdb(path, "ball", 16);
+  EXPECT_EQ(small.grid.resolution, 16u);
+  EXPECT_DOUBLE_EQ(small.grid.voxel_size, 0.5 * ball.extent / 16);
+  std::vector<uint64_t> expect_small;
+  for (uint64_t k : ball.keys) {
+    uint64_t c[3] = {0, 0, 0};
+    for (int b = 0; b < 21; ++b)
+      for (int a = 0; a < 3; ++a) c[a] |= (k >> (3 * b + a) & 1) << b;
+    expect_small.push_back(ref::morton3(uint32_t(c[0] * 16 / ball.extent), uint32_t(c[1] * 16 / ball.extent),
+                                        uint32_t(c[2] * 16 / ball.extent), 21));
+  }
+  std::sort(expect_small.begin(), expect_small.end());
+  expect_small.erase(std::unique(expect_small.begin(), expect_small.end()), expect_small.end());
+  EXPECT_TRUE(small.keys == expect_small);
+  EXPECT_LT(small.keys.size(), ball.keys.size());
 
   // Through the whole job: the file holds exactly those voxels.
   Device& dev = shared_device(all_devices().front());

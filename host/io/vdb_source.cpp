@@ -97,13 +97,15 @@ VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t re
   uint32_t n = 8;
   while (n < extent) n *= 2;
   if (resolution == 0) resolution = n;
-  if (resolution < extent)
-    throw Error(path + ": the selected voxels span " + std::to_string(extent) + " voxels; --resolution " +
-                std::to_string(resolution) + " would need resampling, which .vdb input does not do yet");
+  // One VDB voxel = one voxel; a smaller --resolution resamples: the cube of `extent` VDB voxels is split into
+  // `resolution` voxels per axis and a voxel is set when any selected VDB voxel's index maps into it,
+  // i' = floor((i - min) * resolution / extent) (integer arithmetic, exact).
+  const bool resample = resolution < extent;
   out.extent = static_cast<uint32_t>(extent);
   out.keys.reserve(coords.size());
+  auto cell = [&](int64_t i) { return resample ? uint64_t(i) * resolution / extent : uint64_t(i); };
   for (const auto& c : coords)
-    out.keys.push_back(morton_key(uint64_t(c[0] - lo[0]), uint64_t(c[1] - lo[1]), uint64_t(c[2] - lo[2])));
+    out.keys.push_back(morton_key(cell(c[0] - lo[0]), cell(c[1] - lo[1]), cell(c[2] - lo[2])));
   std::sort(out.keys.begin(), out.keys.end());
   out.keys.erase(std::unique(out.keys.begin(), out.keys.end()), out.keys.end());
   for (int a = 0; a < 3; ++a) out.index_min[a] = lo[a];
@@ -113,7 +115,7 @@ VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t re
   out.grid.origin[0] = o[0];
   out.grid.origin[1] = o[1];
   out.grid.origin[2] = o[2];
-  out.grid.voxel_size = vs;
+  out.grid.voxel_size = resample ? vs * double(extent) / resolution : vs;
   out.grid.resolution = resolution;
   out.bounds.extend(o[0], o[1], o[2]);
   out.bounds.extend(top[0], top[1], top[2]);

@@ -23,7 +23,8 @@ bool is_vdb(const std::string& path);
 // Reads grid `name` (empty: the first) of a .vdb file. Level sets give their surface voxels (active voxels
 // with |distance| <= half a voxel); fog volumes and other float grids give their active voxels with value > 0;
 // mask and bool grids (e.g. `megavox export --format vdb`) their active (true) voxels.
-// The grid is resolution voxels per axis (0: the smallest power of two, at least 8, that holds the voxels).
+// The grid is resolution voxels per axis (0: the smallest power of two, at least 8, that holds the voxels);
+// below the voxels' extent the grid is resampled (a voxel is set when any selected VDB voxel falls in it).
 VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t resolution);
 
 }  // namespace mv::io

@@ -226,10 +226,9 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
         hdr_at[nl - 1u] = MV_LD(words, child);
         mir_at[nl - 1u] = mir_at[nl] ^ tag;
       } else if (nl >= 3u) {
-        /* pointer position: 1 + sum over later children of min(code, 2) words */
+        /* pointer position: 1 + sum over later children of min(code, 2) = [code != 0] + [code >= 2] words */
         mv_u32 later = hdr >> (2u * (t8 + 1u));
-        mv_u32 sizes = later - ((later >> 1) & later & 0x5555u);
-        mv_u32 at = node_at[nl] + 1u + MV_POPCOUNT(sizes & 0x5555u) + 2u * MV_POPCOUNT(sizes & 0xaaaau);
+        mv_u32 at = node_at[nl] + 1u + MV_POPCOUNT((later | (later >> 1)) & 0x5555u) + MV_POPCOUNT((later >> 1) & 0x5555u);
         mv_u32 code = (hdr >> (2u * t8)) & 3u;
         mv_u32 first = mv_inner16(words, at);
         mv_u32 off = first & 0x1fffu;

@@ -15,6 +15,7 @@ namespace {
 
 struct BuildArgs {
   std::string input, output, resolution, format = "svdag", grid, grid_origin = "center", bounds, voxelize = "conservative";
+  std::string memory;
   uint32_t cube = 1024;
   bool json = false, quiet = false;
 };
@@ -113,6 +114,9 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
                   "Seidel's 6-separating surface, about 1/3 fewer voxels)")
       ->check(CLI::IsMember({"conservative", "thin"}))
       ->capture_default_str();
+  cmd->add_option("--memory", a->memory,
+                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM); a build that would pass it stops with an\n"
+                  "error naming what it needs");
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
   cmd->callback([&g, a] {
@@ -125,6 +129,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     o.format = a->format;
     o.placement = a->bounds.empty() ? parse_grid_origin(a->grid_origin) : parse_grid_bounds(a->bounds);
     o.voxelize = a->voxelize;
+    o.memory = a->memory.empty() ? 0 : parse_size(a->memory);
     auto dev = open_device(g);
     BuildReport r = build_mvx(*dev, o, progress_bar(!a->quiet && isatty(STDERR_FILENO)));
     if (!a->quiet && isatty(STDERR_FILENO)) std::fprintf(stderr, "\n");

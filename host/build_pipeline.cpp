@@ -3,6 +3,7 @@
 #include <chrono>
 #include <functional>
 #include <cmath>
+#include <unistd.h>
 
 #include "io/mesh_source.h"
 #include "io/vdb_source.h"
@@ -20,6 +21,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr size_t kBatchTriangles = 1u << 20;
 }  // namespace
+
+uint64_t default_host_memory() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) / 2 : uint64_t{4} << 30;
+}
 
 uint32_t parse_resolution(const std::string& text) {
   uint64_t n = 0;
@@ -43,6 +49,19 @@ struct Voxels {
 
 Voxelizer::Rule rule(const BuildOptions& o) {
   return o.voxelize == "thin" ? Voxelizer::Rule::kThin : Voxelizer::Rule::kConservative;
+}
+
+uint64_t memory_budget(const BuildOptions& o) { return o.memory ? o.memory : default_host_memory(); }
+
+// Fails early, before the heavy work, when a mesh's host-side arrays would pass the budget.
+void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh, bool all_triangles) {
+  const uint64_t vertices = mesh.positions().size() / 3, triangles = mesh.triangles_hint();
+  // positions and the used-vertex flags; then either one batch of triangles or all of them in grid units
+  // with their indices and the per-cube bucket entries
+  uint64_t need = vertices * 13 + (all_triangles ? triangles * (12 + 36 + 4) : std::min<uint64_t>(triangles, kBatchTriangles) * 48);
+  if (need > memory_budget(o))
+    throw Error(o.input + ": the mesh needs about " + std::to_string((need + (1 << 20) - 1) >> 20) +
+                " MiB of host memory, over --memory " + std::to_string(memory_budget(o) >> 20) + " MiB");
 }
 
 bool clips(const BuildOptions& o) { return o.placement.origin == GridPlacement::Origin::kCube; }
@@ -71,6 +90,7 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
   std::vector<uint32_t> idx;
   {
     auto mesh = io::open_mesh(o.input);
+    check_mesh_memory(o, *mesh, false);
     const auto& pos = mesh->positions();
     std::vector<bool> used(pos.size() / 3, false);
     while (mesh->next_triangles(idx, kBatchTriangles))
@@ -81,6 +101,7 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
   v.grid = place_mesh_grid(o, resolution, v.bounds);
   auto mesh = io::open_mesh(o.input);
   Voxelizer vox(dev, resolution, rule(o));
+  vox.limit_host_memory(memory_budget(o));
   std::vector<float> tris;
   const double faces = std::max<double>(1, double(mesh->triangles_hint()));
   while (mesh->next_triangles(idx, kBatchTriangles)) {
@@ -104,6 +125,7 @@ struct GridMesh {
 GridMesh load_grid_mesh(const BuildOptions& o, uint32_t resolution) {
   GridMesh m;
   auto mesh = io::open_mesh(o.input);
+  check_mesh_memory(o, *mesh, true);
   std::vector<uint32_t> idx, all;
   while (mesh->next_triangles(idx, kBatchTriangles)) all.insert(all.end(), idx.begin(), idx.end());
   const auto& pos = mesh->positions();
@@ -169,6 +191,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     tris.clear();
     for (uint32_t t : ts) tris.insert(tris.end(), m.tris.begin() + 9 * size_t{t}, m.tris.begin() + 9 * size_t{t} + 9);
     Voxelizer v(dev, resolution, rule(o));
+    v.limit_host_memory(memory_budget(o));
     v.restrict_to(x, y, z, size);
     v.add(tris);
     return v.take_keys();

@@ -199,6 +199,12 @@ void Voxelizer::add(const std::vector<float>& tris) {
 }
 
 void Voxelizer::merge(std::vector<uint64_t>&& chunk) {
+  // the merge holds the old keys, the chunk and the union at once
+  const uint64_t need = 8 * (2 * (keys_.size() + chunk.size()));
+  if (host_budget_ && need > host_budget_)
+    throw Error("voxelize: the voxel keys need " + std::to_string((need + (1 << 20) - 1) >> 20) +
+                " MiB of host memory, over --memory " + std::to_string(host_budget_ >> 20) +
+                " MiB; raise --memory, or lower --cube so the build runs out of core in smaller cubes");
   if (keys_.empty()) {
     keys_ = std::move(chunk);
     return;

@@ -101,6 +101,34 @@ TEST(BuildJob, SharedMeshAsObjMatchesItsPly) {
   fs::remove(obj);
 }
 
+TEST(BuildJob, HostMemoryBudgetIsEnforced) {
+  std::vector<float> pos;
+  std::vector<uint32_t> idx;
+  bumpy_sphere(pos, idx);
+  const std::string ply = temp_path("budget.ply");
+  write_ply(ply, pos, idx);
+  Device& dev = shared_device(all_devices().front());
+  BuildOptions o;
+  o.input = ply;
+  o.output = temp_path("budget.mvx");
+  o.resolution = 512;
+  for (uint32_t cube : {0u, 64u}) {  // in core: the voxel keys; out of core: the triangles first
+    o.cube = cube;
+    o.memory = cube ? 16 << 10 : 1 << 20;
+    try {
+      build_mvx(dev, o);
+      ADD_FAILURE() << "no error under a " << o.memory << "-byte budget";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("--memory"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(o.output));
+    o.memory = 256 << 20;
+    EXPECT_GT(build_mvx(dev, o).voxels, 0u);
+    fs::remove(o.output);
+  }
+  fs::remove(ply);
+}
+
 TEST(BuildJob, BadInputsAreClearErrorsAndWriteNothing) {
   Device& dev = shared_device(all_devices().front());
   BuildOptions o;

@@ -22,6 +22,9 @@ struct BuildOptions {
   std::string format = "svdag";
   GridPlacement placement;               // meshes: where the grid sits (a .vdb keeps its index space)
   std::string voxelize = "conservative"; // meshes: conservative (26-separating) or thin (6-separating)
+  // Host RAM budget in bytes (0: half the physical RAM). A build whose triangles or voxel keys would pass it
+  // stops with an error naming what it needs (nothing is written).
+  uint64_t memory = 0;
 };
 
 struct BuildReport {
@@ -49,6 +52,9 @@ struct BuildReport {
 using Progress = std::function<void(const std::string& stage, double fraction)>;
 
 BuildReport build_mvx(Device& dev, const BuildOptions& options, const Progress& progress = {});
+
+// Half the machine's physical RAM: the default --memory.
+uint64_t default_host_memory();
 
 // "16K" -> 16384, "2048" -> 2048; throws mv::Error unless a power of two in [2, 2^21].
 uint32_t parse_resolution(const std::string& text);

@@ -120,6 +120,8 @@ std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, co
 
 }  // namespace
 
+constexpr uint64_t kReferenceVoxels = uint64_t{64} << 20;
+
 TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& files, const std::string& mesh,
                                  const TraceBenchOptions& o) {
   if (files.empty()) throw Error("bench trace: name at least one .mvx file");
@@ -174,8 +176,11 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
     const FrameSetup s = frame_setup(file.grid, file.dag.levels, cam, ro);
     HostTracer host(file.dag);
     e.host_core_mrays = cpu_rate(s, 1, [&](const MvRay& r) { return host.trace(r, s.proj, ro.max_steps); });
-    ref::Occupancy occ(decode_encoded(file.dag), file.dag.levels);
-    e.reference_mrays = cpu_rate(s, 61, [&](const MvRay& r) { return ref::trace(occ, r, s.proj); });
+    // The flat reference holds every voxel in host maps: only for files it fits (0 = skipped).
+    if (file.voxels <= kReferenceVoxels) {
+      ref::Occupancy occ(decode_encoded(file.dag), file.dag.levels);
+      e.reference_mrays = cpu_rate(s, 61, [&](const MvRay& r) { return ref::trace(occ, r, s.proj); });
+    }
 #if MEGAVOX_HAVE_EMBREE
     if (!mesh.empty()) {
       if (embree_hit.empty()) embree_hit = embree_trace(mesh, cam, s, o.repeats, out);

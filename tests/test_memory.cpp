@@ -1,4 +1,5 @@
 // The device memory budget and page pool.
+#include <algorithm>
 #include "megavox/error.h"
 #include "test_support.h"
 
@@ -55,11 +56,13 @@ TEST_P(MemoryTest, BudgetLargerThanTheDeviceIsAnError) {
 
 TEST_P(MemoryTest, ArrayLargerThanOneAllocationIsAClearError) {
   auto dev = Device::open({GetParam().selector(), 0, false});
+  // Beyond one allocation and the budget whatever the device reports (PoCL's sizes follow the free RAM).
+  const uint64_t huge = std::max<uint64_t>(GetParam().max_allocation_bytes, dev->memory_budget()) + (uint64_t{1} << 30);
   try {
-    dev->alloc(uint64_t{8} << 30, "huge array");
+    dev->alloc(huge, "huge array");
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("huge array needs 8.0 GiB"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("huge array needs"), std::string::npos) << e.what();
   }
 }
 

@@ -10,6 +10,7 @@
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
+#include "host/build_steps.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -19,18 +20,11 @@ namespace {
 MvxFile octahedron_file(Device& dev, Encoding e) {
   const uint32_t levels = 6, n = 64;
   std::vector<uint64_t> voxels = ref::voxelize(octahedron_grid_triangles(n), n);
-  MvxFile f;
   Bounds b;
   b.extend(-1, -1, -1);
   b.extend(1, 1, 1);
-  f.grid = grid_for_bounds(b, n);
-  f.bounds = b;
-  f.voxels = voxels.size();
-  Dag dag = e == Encoding::svo     ? build_svo(dev, voxels, levels)
-            : e == Encoding::svdag ? build_svdag(dev, voxels, levels)
-                                   : build_ssvdag(dev, voxels, levels);
-  f.dag = e == Encoding::ssvdag ? encode_ssvdag(dag) : encode_svdag(dag);
-  return f;
+  const std::string format = encoding_name(e);
+  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, format), format, grid_for_bounds(b, n), b);
 }
 
 size_t differing_pixels(const Image& a, const Image& b) {

@@ -11,6 +11,7 @@
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/trace.h"
+#include "host/build_steps.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -20,14 +21,10 @@ constexpr Encoding kEncodings[] = {Encoding::svo, Encoding::svdag, Encoding::uss
 
 // The voxels in one encoding, on a grid of unit voxels at the origin (world = grid units).
 MvxFile encoded_file(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, Encoding e) {
-  MvxFile f;
-  f.grid.resolution = 1u << levels;
-  f.voxels = voxels.size();
-  Dag dag = e == Encoding::svo     ? build_svo(dev, voxels, levels)
-            : e == Encoding::svdag ? build_svdag(dev, voxels, levels)
-                                   : build_ssvdag(dev, voxels, levels);
-  f.dag = e == Encoding::ssvdag ? encode_ssvdag(dag) : encode_svdag(dag);
-  return f;
+  GridTransform grid;
+  grid.resolution = 1u << levels;
+  const std::string format = encoding_name(e);
+  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, format), format, grid, Bounds{});
 }
 
 // Rays of every kind the issue names, in grid units of an n^3 grid: from outside toward the grid, from

@@ -12,11 +12,11 @@
 #include "megavox/error.h"
 #include "megavox/voxelize.h"
 
+#include "stopwatch.h"
+
 namespace mv::bench {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 uint64_t nodes_above_masks(const Dag& d) {
   uint64_t n = 0;

@@ -13,12 +13,12 @@
 #include <boost/sort/sort.hpp>
 #endif
 
+#include "stopwatch.h"
+
 namespace mv::bench {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 uint64_t splitmix64(uint64_t& state) {
   uint64_t z = (state += 0x9e3779b97f4a7c15ull);

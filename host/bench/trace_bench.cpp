@@ -23,19 +23,19 @@
 #include <embree3/rtcore.h>
 #endif
 
+#include "stopwatch.h"
+
 namespace mv::bench {
 
 namespace {
 
-using clock = std::chrono::steady_clock;
-double since(clock::time_point t0) { return std::chrono::duration<double>(clock::now() - t0).count(); }
 
 // Mrays/s of a CPU tracer over every `every`-th primary ray of the image, on all threads. The hits are
 // folded into a checksum so the work cannot be optimized away.
 template <class Trace>
 double cpu_rate(const FrameSetup& s, uint32_t every, Trace&& trace) {
   const uint32_t n = s.width * s.height;
-  auto t0 = clock::now();
+  auto t0 = Clock::now();
   std::atomic<uint64_t> checksum{0};
   uint64_t rays = tbb::parallel_reduce(
       tbb::blocked_range<uint32_t>(0, n, 1024), uint64_t{0},
@@ -68,7 +68,7 @@ std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, co
   out.triangles = indices.size() / 3;
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) throw Error("bench trace: Embree could not create a device");
-  auto t0 = clock::now();
+  auto t0 = Clock::now();
   RTCScene scene = rtcNewScene(device);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   float* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -86,7 +86,7 @@ std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, co
   std::vector<uint8_t> hit(n);
   out.embree_seconds = INFINITY;
   for (uint32_t rep = 0; rep < repeats; ++rep) {
-    auto t1 = clock::now();
+    auto t1 = Clock::now();
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, s.height), [&](const tbb::blocked_range<uint32_t>& rows) {
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);

@@ -49,83 +49,91 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
 }
 
 // Distinct subtrees of one level: id per node, the representative node of each id and, for the SSVDAG,
-// each node's tag (as its parent will point to it) and each id's stabilizer.
+// each node's tag (as its parent will point to it) and each id's tag normalization table (its stabilizer).
 struct Reduced {
   uint32_t distinct = 0;
-  Buffer id, rep, tag, idstab, tstar;
+  Buffer id, rep, tag, idnorm, tstar;
+  Buffer class_mask;  // level 1: each class's stored mask (its canonical mask with symmetry)
 };
 
-// Level 1: classes are (canonical) masks, ranked without hashing (kernels: leaf_present, leaf_ids).
+// Level 1: classes are (canonical) masks, ranked without hashing (kernels: leaf_table, leaf_present,
+// leaf_classes, leaf_ids); with symmetry the 256-mask table also gives each node its tag, each class its
+// tag table.
 void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, bool symmetric) {
   MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0};
-  Buffer present = dev.alloc(257 * 4, "leaf classes");
+  Buffer table, present = dev.alloc(257 * 4, "leaf classes");
   dev.fill(present, 0, 257 * 4);
+  if (symmetric) {
+    table = dev.alloc(512 * 4, "leaf mask table");
+    dev.dispatch(dev.kernel("leaf_table"), dev.groups_for(256, kLocal), kLocal, {&table}, p);
+    r.tag = dev.alloc(uint64_t{lv.n} * 4, "node tags");
+  }
   dev.barrier();
   const uint32_t groups = dev.groups_for(lv.n, kLocal);
-  dev.dispatch(dev.kernel("leaf_present"), groups, kLocal, {&lv.mask, &r.tstar, &present}, p);
+  dev.dispatch(dev.kernel("leaf_present"), groups, kLocal, {&lv.mask, &table, &present}, p);
   dev.barrier();
   exclusive_scan(dev, present, present, 256);
   dev.download(present, &r.distinct, 4, 256 * 4);
-  r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
-  dev.dispatch(dev.kernel("leaf_ids"), groups, kLocal, {&lv.mask, &r.tstar, &present, &r.id, &r.rep}, p);
+  r.class_mask = dev.alloc(uint64_t{r.distinct} * 4, "leaf class masks");
+  if (symmetric) r.idnorm = dev.alloc(uint64_t{r.distinct} * 4, "class tag tables");
+  dev.dispatch(dev.kernel("leaf_classes"), dev.groups_for(256, kLocal), kLocal,
+               {&table, &present, &r.class_mask, &r.idnorm}, p);
+  dev.dispatch(dev.kernel("leaf_ids"), groups, kLocal, {&lv.mask, &table, &present, &r.id, &r.tag}, p);
   dev.barrier();
 }
 
 Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, bool symmetric) {
   const uint32_t n = lv.n;
-  Buffer hashes = leaf ? Buffer() : dev.alloc(uint64_t{n} * 8, "node hashes");
-  Buffer order = leaf ? Buffer() : dev.alloc(uint64_t{n} * 4, "node order");
-  Buffer run = leaf ? Buffer() : dev.alloc((uint64_t{n} + 1) * 4, "node runs");
-  Buffer collided = dev.alloc(4, "hash collision flag");
-  Buffer stab;
   Reduced r;
   r.id = dev.alloc(uint64_t{n} * 4, "node ids");
-  const uint32_t groups = dev.groups_for(n, kLocal);
-  MvDagParams p{n, leaf ? 1u : 0u, 0, 0x6d766f78u};
-  Buffer canon;  // SSVDAG: each node's canonical key (mask + 8 entries), hashed and verified
+  if (leaf) {
+    reduce_leaves(dev, lv, r, symmetric);
+    return r;
+  }
+  Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
+  Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
+  Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
+  Buffer collided = dev.alloc(4, "hash collision flag");
+  Buffer stab;
   if (symmetric) {
     r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
     stab = dev.alloc(uint64_t{n} * 4, "node stabilizers");
-    if (!leaf) canon = dev.alloc(uint64_t{n} * 72, "canonical node keys");
-    dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                 {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &stab, &canon}, p);
-    dev.barrier();
   }
-  if (leaf) {
-    reduce_leaves(dev, lv, r, symmetric);
-  } else {
-    ScanPlan scan = plan_scan(dev, n);
-    for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
-      p.seed_lo = seed;
-      if (symmetric)
-        dev.dispatch(dev.kernel("ssvdag_hash"), groups, kLocal, {&canon, &hashes, &order}, p);
-      else
-        dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
-      dev.barrier();
-      radix_sort(dev, hashes, &order, n, KeyBits::k64);
-      dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&hashes, &run}, p);
-      dev.barrier();
-      record_scan(dev, scan, run, run);
-      dev.download(run, &r.distinct, 4, uint64_t{n} * 4);
-      r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
-      dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
-      dev.fill(collided, 0, 4);
-      dev.barrier();
-      if (symmetric)
-        dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal, {&canon, &r.id, &r.rep, &collided}, p);
-      else
-        dev.dispatch(dev.kernel("dag_verify"), groups, kLocal,
-                     {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided}, p);
-      uint32_t bad = 0;
-      dev.download(collided, &bad, 4);
-      if (!bad) break;
-      if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
-    }
+  const uint32_t groups = dev.groups_for(n, kLocal);
+  MvDagParams p{n, 0, 0, 0x6d766f78u};
+  ScanPlan scan = plan_scan(dev, n);
+  for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
+    p.seed_lo = seed;
+    if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
+      dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
+                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &stab, &hashes, &order}, p);
+    else
+      dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
+    dev.barrier();
+    radix_sort(dev, hashes, &order, n, KeyBits::k64);
+    dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&hashes, &run}, p);
+    dev.barrier();
+    record_scan(dev, scan, run, run);
+    dev.download(run, &r.distinct, 4, uint64_t{n} * 4);
+    r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
+    dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
+    dev.fill(collided, 0, 4);
+    dev.barrier();
+    if (symmetric)
+      dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
+                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.id, &r.rep, &collided}, p);
+    else
+      dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided},
+                   p);
+    uint32_t bad = 0;
+    dev.download(collided, &bad, 4);
+    if (!bad) break;
+    if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
   }
   if (symmetric) {
     r.tag = dev.alloc(uint64_t{n} * 4, "node tags");
-    r.idstab = dev.alloc(uint64_t{r.distinct} * 4, "class stabilizers");
-    dev.dispatch(dev.kernel("ssvdag_tags"), groups, kLocal, {&r.tstar, &stab, &r.id, &r.rep, &r.tag, &r.idstab}, p);
+    r.idnorm = dev.alloc(uint64_t{r.distinct} * 4, "class tag tables");
+    dev.dispatch(dev.kernel("ssvdag_tags"), groups, kLocal, {&r.tstar, &stab, &r.id, &r.rep, &r.tag, &r.idnorm}, p);
     dev.barrier();
   }
   return r;
@@ -151,11 +159,15 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
                   bool symmetric) {
   DagLevel out;
   const uint32_t n = r.distinct;
+  if (leaf && !r.class_mask.empty()) {  // reduced level 1: the class masks are the level
+    out.mask = fetch<uint32_t>(dev, r.class_mask, n);
+    return out;
+  }
   Buffer masks = dev.alloc(uint64_t{n} * 4, "DAG level masks");
   Buffer entries = leaf ? Buffer() : dev.alloc(uint64_t{n} * 64, "DAG level entries");
   MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0};
   dev.dispatch(dev.kernel("dag_emit"), dev.groups_for(n, kLocal), kLocal,
-               {&lv.mask, &lv.first, &below.id, &below.tag, &below.idstab, &r.tstar, &r.rep, &masks, &entries}, p);
+               {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.rep, &masks, &entries}, p);
   out.mask = fetch<uint32_t>(dev, masks, n);
   if (leaf) return out;
   std::vector<uint64_t> e = fetch<uint64_t>(dev, entries, size_t{n} * 8);
@@ -259,7 +271,7 @@ Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric
   const auto n = static_cast<uint32_t>(u.slot_node.size());
   Reduced slots;
   slots.distinct = merged.distinct;
-  slots.idstab = std::move(merged.idstab);
+  slots.idnorm = std::move(merged.idnorm);
   if (n == 0) return slots;
   Buffer node = dev.alloc(uint64_t{n} * 4, "merge slots");
   dev.upload(node, u.slot_node.data(), uint64_t{n} * 4);

@@ -15,134 +15,141 @@
 #include "dag.h"
 
 MV_INLINE mv_u32 mv_reflect_mask(mv_u32 m, mv_u32 t) {
-  mv_u32 r = 0u;
-  for (mv_u32 c = 0u; c < 8u; ++c)
-    if (((m >> c) & 1u) != 0u) r |= 1u << (c ^ t);
-  return r;
+  /* bit c moves to c ^ t: swap neighbouring bits (x), pairs (y), nibbles (z) */
+  if ((t & 1u) != 0u) m = ((m & 0x55u) << 1) | ((m >> 1) & 0x55u);
+  if ((t & 2u) != 0u) m = ((m & 0x33u) << 2) | ((m >> 2) & 0x33u);
+  if ((t & 4u) != 0u) m = ((m & 0x0fu) << 4) | ((m >> 4) & 0x0fu);
+  return m;
 }
 
-MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 stab) {
-  mv_u32 best = t;
-  for (mv_u32 s = 1u; s < 8u; ++s)
-    if (((stab >> s) & 1u) != 0u) best = MV_MIN(best, t ^ s);
-  return best;
+/* A class's stabilizer as a tag normalization table: 3 bits per tag k, norm(k) = min over s in stab of k ^ s.
+ * Pointers look their tag up instead of searching the stabilizer (kernels keep the table per class). */
+#define MV_NORM_IDENTITY 0xFAC688u /* the table of the trivial stabilizer {0}: norm(k) = k */
+
+MV_INLINE mv_u32 mv_norm_table(mv_u32 stab) {
+  if (stab == 1u) return MV_NORM_IDENTITY;
+  mv_u32 table = 0u;
+  for (mv_u32 k = 0u; k < 8u; ++k) {
+    mv_u32 best = k;
+    for (mv_u32 s = 1u; s < 8u; ++s)
+      if (((stab >> s) & 1u) != 0u) best = MV_MIN(best, k ^ s);
+    table |= best << (3u * k);
+  }
+  return table;
 }
+
+MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 table) { return (table >> (3u * t)) & 7u; }
 
 /* Entry o (octant) of n_T, as one comparable number: (child id << 3) | normalized tag; 0 if empty. */
-MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
+MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
                                     mv_u32 i, mv_u32 t, mv_u32 o) {
   mv_u32 m = MV_LD(mask, i);
   mv_u32 c = o ^ t;
   if (((m >> c) & 1u) == 0u) return MV_U64(0);
   mv_u32 j = MV_LD(first, i) + mv_popcount8(m & ((1u << c) - 1u));
   mv_u32 id = MV_LD(cid, j);
-  mv_u32 tag = mv_norm_tag(MV_LD(ctag, j) ^ t, MV_LD(cstab, id));
+  mv_u32 tag = mv_norm_tag(MV_LD(ctag, j) ^ t, MV_LD(cnorm, id));
   return (MV_U64(id) << 3) | MV_U64(tag);
 }
 
-/* T* (smallest key, ties to the smaller T) and stab of each node, comparing the reflected keys entry by
- * entry from the children's (id, tag, stab) read once. */
-MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab,
-                               MvBufU32 tstar, MvBufU32 stab, MvBufU64 canon, MvDagParams p, mv_u32 gid,
-                               mv_u32 stride) {
+/* T* (smallest key, ties to the smaller T) and stab of each node above level 1, comparing the reflected keys
+ * entry by entry from the children's (id, tag, tag table) read once, and the hash of the canonical key
+ * Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. */
+MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
+                               MvBufU32 tstar, MvBufU32 stab, MvBufU64 hashes, MvBufU32 order, MvDagParams p,
+                               mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
-    if (p.leaf != 0u) { /* a 2x2x2 node: its reflected masks are the whole key */
-      mv_u32 best = 0u, s = 1u, lowest = m;
-      for (mv_u32 t = 1u; t < 8u; ++t) {
-        mv_u32 r = mv_reflect_mask(m, t);
-        if (r < lowest) {
-          lowest = r;
-          best = t;
-        }
-        if (r == m) s |= 1u << t;
-      }
-      MV_ST(tstar, i, best);
-      MV_ST(stab, i, s);
-      continue;
-    }
     mv_u32 id[8], tag[8], cs[8];
-    mv_u32 j = p.leaf == 0u ? MV_LD(first, i) : 0u;
+    mv_u64 e0[8]; /* the unreflected key's entries */
+    mv_u32 j = MV_LD(first, i);
     for (mv_u32 c = 0u; c < 8u; ++c) {
       id[c] = 0u;
       tag[c] = 0u;
-      cs[c] = 1u;
-      if (p.leaf == 0u && ((m >> c) & 1u) != 0u) {
+      cs[c] = MV_NORM_IDENTITY;
+      e0[c] = MV_U64(0);
+      if (((m >> c) & 1u) != 0u) {
         id[c] = MV_LD(cid, j);
         tag[c] = MV_LD(ctag, j);
-        cs[c] = MV_LD(cstab, id[c]);
+        cs[c] = MV_LD(cnorm, id[c]);
+        e0[c] = (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c], cs[c]));
         j += 1u;
       }
     }
-    /* Compare the reflected keys entry by entry, computing entries from the children as needed. */
-    mv_u32 best = 0u;
+    /* Compare the reflected keys entry by entry; entries are needed only where the masks tie. */
+    mv_u32 best = 0u, mb = m;
     mv_u32 s = 1u;
     for (mv_u32 t = 1u; t < 8u; ++t) {
+      mv_u32 mt = mv_reflect_mask(m, t);
       mv_i32 vs_best = 0, vs_id = 0;
-      mv_u32 mt = mv_reflect_mask(m, t), mb = mv_reflect_mask(m, best);
       if (mt != mb) vs_best = mt < mb ? -1 : 1;
       if (mt != m) vs_id = mt < m ? -1 : 1;
       for (mv_u32 o = 0u; o < 8u && (vs_best == 0 || vs_id == 0); ++o) {
         mv_u32 c = o ^ t, cb = o ^ best;
         mv_u64 x = ((m >> c) & 1u) != 0u ? (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ t, cs[c])) : MV_U64(0);
-        mv_u64 xb = ((m >> cb) & 1u) != 0u ? (MV_U64(id[cb]) << 3) | MV_U64(mv_norm_tag(tag[cb] ^ best, cs[cb]))
-                                             : MV_U64(0);
-        mv_u64 x0 = ((m >> o) & 1u) != 0u ? (MV_U64(id[o]) << 3) | MV_U64(mv_norm_tag(tag[o], cs[o])) : MV_U64(0);
-        if (vs_best == 0 && x != xb) vs_best = x < xb ? -1 : 1;
-        if (vs_id == 0 && x != x0) vs_id = x < x0 ? -1 : 1;
+        if (vs_best == 0) {
+          mv_u64 xb = best == 0u ? e0[o]
+                      : ((m >> cb) & 1u) != 0u ? (MV_U64(id[cb]) << 3) | MV_U64(mv_norm_tag(tag[cb] ^ best, cs[cb]))
+                                               : MV_U64(0);
+          if (x != xb) vs_best = x < xb ? -1 : 1;
+        }
+        if (vs_id == 0 && x != e0[o]) vs_id = x < e0[o] ? -1 : 1;
       }
-      if (vs_best < 0) best = t;
+      if (vs_best < 0) {
+        best = t;
+        mb = mt;
+      }
       if (vs_id == 0) s |= 1u << t;
     }
     MV_ST(tstar, i, best);
     MV_ST(stab, i, s);
-    /* the canonical key, for hashing and verification: mask, then the entries of n_T* */
-    MV_ST(canon, 9u * i, MV_U64(mv_reflect_mask(m, best)));
+    /* hash of the canonical key: mask, then the entries of n_T* */
+    mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
+    h = mv_hash_mix(h, MV_U64(mb));
     for (mv_u32 o = 0u; o < 8u; ++o) {
       mv_u32 c = o ^ best;
-      MV_ST(canon, 9u * i + 1u + o,
-            ((m >> c) & 1u) != 0u ? (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ best, cs[c])) : MV_U64(0));
+      h = mv_hash_mix(h, ((m >> c) & 1u) != 0u ? (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ best, cs[c]))
+                                               : MV_U64(0));
     }
-  }
-}
-
-/* Hash of node i's canonical key (written by ssvdag_canon). */
-MV_INLINE void mv_ssvdag_hash(MvBufU64 canon, MvBufU64 hashes, MvBufU32 order, MvDagParams p, mv_u32 gid,
-                              mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
-    for (mv_u32 k = 0u; k < 9u; ++k) h = mv_hash_mix(h, MV_LD(canon, 9u * i + k));
     MV_ST(hashes, i, h);
     MV_ST(order, i, i);
   }
 }
 
-/* Canonical keys of node i and its run's representative equal? A mismatch is a hash collision. */
-MV_INLINE void mv_ssvdag_verify(MvBufU64 canon, MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p,
+/* Canonical keys of node i and its run's representative equal? A mismatch is a hash collision. The keys
+ * are rebuilt from the children and each node's T* (cheaper than storing nine words per node). */
+MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
+                                MvBufU32 tstar, MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p,
                                 mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 r = MV_LD(rep, MV_LD(id, i));
-    bool same = true;
-    for (mv_u32 k = 0u; k < 9u; ++k) same = same && MV_LD(canon, 9u * i + k) == MV_LD(canon, 9u * r + k);
+    if (r == i) continue;
+    mv_u32 ti = MV_LD(tstar, i), tr = MV_LD(tstar, r);
+    bool same = mv_reflect_mask(MV_LD(mask, i), ti) == mv_reflect_mask(MV_LD(mask, r), tr);
+    for (mv_u32 o = 0u; o < 8u && same; ++o)
+      same = mv_reflected_entry(mask, first, cid, ctag, cnorm, i, ti, o) ==
+             mv_reflected_entry(mask, first, cid, ctag, cnorm, r, tr, o);
     if (!same) MV_ST(collided, 0u, 1u);
   }
 }
 
 /* Each node's tag as its parent will see it, and each class's stab (from its representative). */
 MV_INLINE void mv_ssvdag_tags(MvBufU32 tstar, MvBufU32 stab, MvBufU32 id, MvBufU32 rep, MvBufU32 tag,
-                              MvBufU32 idstab, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+                              MvBufU32 idnorm, MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 s = MV_LD(stab, i);
-    MV_ST(tag, i, mv_norm_tag(MV_LD(tstar, i), s));
+    mv_u32 s = MV_LD(stab, i), t = MV_LD(tstar, i), best = t;
+    for (mv_u32 g = 1u; g < 8u && s != 1u; ++g)
+      if (((s >> g) & 1u) != 0u) best = MV_MIN(best, t ^ g);
+    MV_ST(tag, i, best);
     mv_u32 k = MV_LD(id, i);
-    if (MV_LD(rep, k) == i) MV_ST(idstab, k, s);
+    if (MV_LD(rep, k) == i) MV_ST(idnorm, k, mv_norm_table(s));
   }
 }
 
 /* The reduced level in id order, for the host: class r's stored mask (its representative reflected by T*)
  * and its 8 entries ((child id << 3) | tag, 0 = empty) in octant order. p.seed_lo = 1 with symmetry; without
- * it tstar, ctag and cstab are null and tags are 0. */
-MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cstab, MvBufU32 tstar,
+ * it tstar, ctag and cnorm are null and tags are 0. */
+MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm, MvBufU32 tstar,
                            MvBufU32 rep, MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p, mv_u32 gid,
                            mv_u32 stride) {
   for (mv_u32 r = gid; r < p.n; r += stride) {
@@ -153,7 +160,7 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
     mv_u32 m = MV_LD(mask, node);
     for (mv_u32 o = 0u; o < 8u; ++o) {
       mv_u64 e = MV_U64(0);
-      if (p.seed_lo != 0u) e = mv_reflected_entry(mask, first, cid, ctag, cstab, node, t, o);
+      if (p.seed_lo != 0u) e = mv_reflected_entry(mask, first, cid, ctag, cnorm, node, t, o);
       else if (((m >> o) & 1u) != 0u) e = MV_U64(MV_LD(cid, MV_LD(first, node) + mv_popcount8(m & ((1u << o) - 1u)))) << 3;
       MV_ST(out_entry, 8u * r + o, e);
     }
@@ -161,24 +168,59 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
 }
 
 /* Level 1 needs no hashing: a 2x2x2 node's class is its canonical mask (the mask itself without symmetry),
- * one of at most 256. leaf_present marks the masks that occur; their exclusive scan ranks them; leaf_ids
- * gives each node the rank of its mask as id (ids in mask order) and each id a representative (any member:
- * all give the same stored mask and stabilizer). tstar is null without symmetry. */
-MV_INLINE mv_u32 mv_leaf_class(MvBufU32 mask, MvBufU32 tstar, MvDagParams p, mv_u32 i) {
-  return p.leaf == 2u ? mv_reflect_mask(MV_LD(mask, i), MV_LD(tstar, i)) : MV_LD(mask, i);
+ * one of at most 256. leaf_table describes every mask once: word 2m = canonical mask | T* << 8 | tag << 11
+ * (the tag normalized by the mask's stabilizer), word 2m + 1 = its tag normalization table. leaf_present
+ * marks the classes that occur; their exclusive scan ranks them (ids in class order); leaf_classes gives
+ * each id its stored mask and, with symmetry (p.leaf == 2), its tag table; leaf_ids gives each node its id
+ * and, with symmetry, its tag. Nothing is written per node to shared addresses but the presence flags. */
+MV_INLINE void mv_leaf_table(MvBufU32 table, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 m = gid; m < 256u; m += stride) {
+    mv_u32 best = 0u, s = 1u, lowest = m;
+    for (mv_u32 t = 1u; t < 8u; ++t) {
+      mv_u32 r = mv_reflect_mask(m, t);
+      if (r < lowest) {
+        lowest = r;
+        best = t;
+      }
+      if (r == m) s |= 1u << t;
+    }
+    mv_u32 norm = mv_norm_table(s);
+    MV_ST(table, 2u * m, lowest | (best << 8) | (mv_norm_tag(best, norm) << 11));
+    MV_ST(table, 2u * m + 1u, norm);
+  }
 }
 
-MV_INLINE void mv_leaf_present(MvBufU32 mask, MvBufU32 tstar, MvBufU32 present, MvDagParams p, mv_u32 gid,
+MV_INLINE mv_u32 mv_leaf_class(MvBufU32 mask, MvBufU32 table, MvDagParams p, mv_u32 i) {
+  return p.leaf == 2u ? MV_LD(table, 2u * MV_LD(mask, i)) & 0xffu : MV_LD(mask, i);
+}
+
+MV_INLINE void mv_leaf_present(MvBufU32 mask, MvBufU32 table, MvBufU32 present, MvDagParams p, mv_u32 gid,
                                mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) MV_ST(present, mv_leaf_class(mask, tstar, p, i), 1u);
+  for (mv_u32 i = gid; i < p.n; i += stride) MV_ST(present, mv_leaf_class(mask, table, p, i), 1u);
 }
 
-MV_INLINE void mv_leaf_ids(MvBufU32 mask, MvBufU32 tstar, MvBufU32 rank, MvBufU32 id, MvBufU32 rep, MvDagParams p,
+/* rank: the exclusive scan of the 256 presence flags (257 entries): class c occurs iff rank[c + 1] > rank[c]. */
+MV_INLINE void mv_leaf_classes(MvBufU32 table, MvBufU32 rank, MvBufU32 class_mask, MvBufU32 idnorm, MvDagParams p,
+                               mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 c = gid; c < 256u; c += stride) {
+    mv_u32 r = MV_LD(rank, c);
+    if (MV_LD(rank, c + 1u) == r) continue;
+    MV_ST(class_mask, r, c);
+    if (p.leaf == 2u) MV_ST(idnorm, r, MV_LD(table, 2u * c + 1u)); /* a reflection keeps the stabilizer */
+  }
+}
+
+MV_INLINE void mv_leaf_ids(MvBufU32 mask, MvBufU32 table, MvBufU32 rank, MvBufU32 id, MvBufU32 tag, MvDagParams p,
                            mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 r = MV_LD(rank, mv_leaf_class(mask, tstar, p, i));
-    MV_ST(id, i, r);
-    MV_ST(rep, r, i);
+    mv_u32 m = MV_LD(mask, i);
+    if (p.leaf == 2u) {
+      mv_u32 e = MV_LD(table, 2u * m);
+      MV_ST(id, i, MV_LD(rank, e & 0xffu));
+      MV_ST(tag, i, (e >> 11) & 7u);
+    } else {
+      MV_ST(id, i, MV_LD(rank, m));
+    }
   }
 }
 

@@ -36,29 +36,41 @@ layout(push_constant) uniform Args {
 void main() { mv_dag_verify(a.mask, a.first, a.cid, a.id, a.rep, a.collided, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_canon)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU32 stab;
-  MvBufU64 canon; MvDagParams p;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar; MvBufU32 stab;
+  MvBufU64 hashes; MvBufU32 order; MvDagParams p;
 } a;
-void main() { mv_ssvdag_canon(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.stab, a.canon, a.p, MV_ID); }
-#elif defined(MV_ENTRY_ssvdag_hash)
-layout(push_constant) uniform Args { MvBufU64 canon; MvBufU64 hashes; MvBufU32 order; MvDagParams p; } a;
-void main() { mv_ssvdag_hash(a.canon, a.hashes, a.order, a.p, MV_ID); }
+void main() {
+  mv_ssvdag_canon(a.mask, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.stab, a.hashes, a.order, a.p, MV_ID);
+}
 #elif defined(MV_ENTRY_ssvdag_verify)
-layout(push_constant) uniform Args { MvBufU64 canon; MvBufU32 id; MvBufU32 rep; MvBufU32 collided; MvDagParams p; } a;
-void main() { mv_ssvdag_verify(a.canon, a.id, a.rep, a.collided, a.p, MV_ID); }
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar; MvBufU32 id;
+  MvBufU32 rep; MvBufU32 collided; MvDagParams p;
+} a;
+void main() {
+  mv_ssvdag_verify(a.mask, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.id, a.rep, a.collided, a.p, MV_ID);
+}
 #elif defined(MV_ENTRY_ssvdag_tags)
 layout(push_constant) uniform Args {
-  MvBufU32 tstar; MvBufU32 stab; MvBufU32 id; MvBufU32 rep; MvBufU32 tag; MvBufU32 idstab; MvDagParams p;
+  MvBufU32 tstar; MvBufU32 stab; MvBufU32 id; MvBufU32 rep; MvBufU32 tag; MvBufU32 idnorm; MvDagParams p;
 } a;
-void main() { mv_ssvdag_tags(a.tstar, a.stab, a.id, a.rep, a.tag, a.idstab, a.p, MV_ID); }
+void main() { mv_ssvdag_tags(a.tstar, a.stab, a.id, a.rep, a.tag, a.idnorm, a.p, MV_ID); }
+#elif defined(MV_ENTRY_leaf_table)
+layout(push_constant) uniform Args { MvBufU32 table; MvDagParams p; } a;
+void main() { mv_leaf_table(a.table, a.p, MV_ID); }
 #elif defined(MV_ENTRY_leaf_present)
-layout(push_constant) uniform Args { MvBufU32 mask; MvBufU32 tstar; MvBufU32 present; MvDagParams p; } a;
-void main() { mv_leaf_present(a.mask, a.tstar, a.present, a.p, MV_ID); }
+layout(push_constant) uniform Args { MvBufU32 mask; MvBufU32 table; MvBufU32 present; MvDagParams p; } a;
+void main() { mv_leaf_present(a.mask, a.table, a.present, a.p, MV_ID); }
+#elif defined(MV_ENTRY_leaf_classes)
+layout(push_constant) uniform Args {
+  MvBufU32 table; MvBufU32 rank; MvBufU32 class_mask; MvBufU32 idnorm; MvDagParams p;
+} a;
+void main() { mv_leaf_classes(a.table, a.rank, a.class_mask, a.idnorm, a.p, MV_ID); }
 #elif defined(MV_ENTRY_leaf_ids)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 tstar; MvBufU32 rank; MvBufU32 id; MvBufU32 rep; MvDagParams p;
+  MvBufU32 mask; MvBufU32 table; MvBufU32 rank; MvBufU32 id; MvBufU32 tag; MvDagParams p;
 } a;
-void main() { mv_leaf_ids(a.mask, a.tstar, a.rank, a.id, a.rep, a.p, MV_ID); }
+void main() { mv_leaf_ids(a.mask, a.table, a.rank, a.id, a.tag, a.p, MV_ID); }
 #elif defined(MV_ENTRY_gather_slots)
 layout(push_constant) uniform Args {
   MvBufU32 slot_node; MvBufU32 slot_tag; MvBufU32 id; MvBufU32 tag; MvBufU32 out_id; MvBufU32 out_tag; MvDagParams p;
@@ -66,11 +78,11 @@ layout(push_constant) uniform Args {
 void main() { mv_gather_slots(a.slot_node, a.slot_tag, a.id, a.tag, a.out_id, a.out_tag, a.p, MV_ID); }
 #elif defined(MV_ENTRY_dag_emit)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cstab; MvBufU32 tstar; MvBufU32 rep;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar; MvBufU32 rep;
   MvBufU32 out_mask; MvBufU64 out_entry; MvDagParams p;
 } a;
 void main() {
-  mv_dag_emit(a.mask, a.first, a.cid, a.ctag, a.cstab, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID);
+  mv_dag_emit(a.mask, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID);
 }
 #else
 #error "define one MV_ENTRY_<name>"

@@ -3,6 +3,7 @@
 #include <random>
 
 #include "host/ref/reference.h"
+#include "kernels/common/ssvdag.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
 #include "megavox/voxelize.h"
@@ -94,6 +95,25 @@ TEST_P(DagTest, VoxelizedMeshEndToEnd) {
   for (uint32_t l = 1; l <= 6; ++l) EXPECT_EQ(sym.nodes(l), sym_expect.dag[l]) << "level " << l;
   EXPECT_LT(sym.nodes(2), dag.nodes(2));  // the octahedron is symmetric: the SSVDAG must find it
   EXPECT_TRUE(decode_voxels(sym) == voxels);
+}
+
+// Level 2's exact keys: reflecting a 4x4x4 brick by T moves bit 8c + c' to 8(c ^ T) + (c' ^ T), and the
+// 2x2x2 masks by T move bit c to c ^ T (written here from that definition, bit by bit).
+TEST(DagBuild, BrickAndMaskReflectionsMoveEveryBit) {
+  std::mt19937_64 rng(7);
+  for (int k = 0; k < 200; ++k) {
+    const uint64_t b = rng();
+    for (uint32_t t = 0; t < 8; ++t) {
+      uint64_t expect = 0;
+      for (uint32_t bit = 0; bit < 64; ++bit)
+        if (b >> bit & 1) expect |= uint64_t{1} << (bit ^ (t | t << 3));
+      ASSERT_EQ(mv_reflect_brick(b, t), expect) << "T = " << t;
+      uint32_t mask = static_cast<uint32_t>(b & 0xff), mexpect = 0;
+      for (uint32_t c = 0; c < 8; ++c)
+        if (mask >> c & 1) mexpect |= 1u << (c ^ t);
+      ASSERT_EQ(mv_reflect_mask(mask, t), mexpect) << "T = " << t;
+    }
+  }
 }
 
 TEST(DagBuild, RejectsKeysOutsideTheGrid) {

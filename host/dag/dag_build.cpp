@@ -102,9 +102,14 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   const uint32_t groups = dev.groups_for(n, kLocal);
   MvDagParams p{n, 0, 0, 0x6d766f78u};
   ScanPlan scan = plan_scan(dev, n);
+  const bool brick = !below.class_mask.empty();  // level 2: 4x4x4 bricks are exact keys, nothing to verify
   for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
-    if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
+    if (brick)
+      dev.dispatch(dev.kernel("brick_keys"), groups, kLocal,
+                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.class_mask, &r.tstar, &stab, &hashes, &order},
+                   MvDagParams{n, symmetric ? 2u : 1u, 0, 0});
+    else if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
                    {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &stab, &hashes, &order}, p);
     else
@@ -117,6 +122,10 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     dev.download(run, &r.distinct, 4, uint64_t{n} * 4);
     r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
     dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
+    if (brick) {
+      dev.barrier();
+      break;
+    }
     dev.fill(collided, 0, 4);
     dev.barrier();
     if (symmetric)
@@ -272,6 +281,7 @@ Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric
   Reduced slots;
   slots.distinct = merged.distinct;
   slots.idnorm = std::move(merged.idnorm);
+  slots.class_mask = std::move(merged.class_mask);
   if (n == 0) return slots;
   Buffer node = dev.alloc(uint64_t{n} * 4, "merge slots");
   dev.upload(node, u.slot_node.data(), uint64_t{n} * 4);

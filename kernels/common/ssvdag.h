@@ -116,6 +116,66 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBu
   }
 }
 
+/* Level 2 needs no hash either: a node is a 4x4x4 brick, 64 bits (bit 8c + c' = octant c, then octant c' of
+ * that child), rebuilt from its children's class masks (cmask: level 1's stored masks; with symmetry a child
+ * (id, tag) is its class mask reflected by tag). The brick is an exact key: the sort groups equal bricks and
+ * no verification pass is needed. With symmetry the key is the smallest of the 8 reflected bricks (a
+ * reflection T flips the same axis bit in c and c'), T* its reflection (ties to the smaller T) and stab the
+ * reflections that leave the brick unchanged: exact like the stabilizer method, by another total order of
+ * keys. p.leaf = 2: symmetric (tstar, stab written). */
+MV_INLINE mv_u64 mv_brick_swap(mv_u64 b, mv_u64 m, mv_u32 shift) {
+  return ((b & m) << shift) | ((b >> shift) & m);
+}
+
+MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
+  if ((t & 1u) != 0u) { /* x: index bits 0 and 3 */
+    b = mv_brick_swap(b, MV_U64(0x5555555555555555UL), 1u);
+    b = mv_brick_swap(b, MV_U64(0x00ff00ff00ff00ffUL), 8u);
+  }
+  if ((t & 2u) != 0u) { /* y: index bits 1 and 4 */
+    b = mv_brick_swap(b, MV_U64(0x3333333333333333UL), 2u);
+    b = mv_brick_swap(b, MV_U64(0x0000ffff0000ffffUL), 16u);
+  }
+  if ((t & 4u) != 0u) { /* z: index bits 2 and 5 */
+    b = mv_brick_swap(b, MV_U64(0x0f0f0f0f0f0f0f0fUL), 4u);
+    b = mv_brick_swap(b, MV_U64(0x00000000ffffffffUL), 32u);
+  }
+  return b;
+}
+
+MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cmask,
+                             MvBufU32 tstar, MvBufU32 stab, MvBufU64 keys, MvBufU32 order, MvDagParams p, mv_u32 gid,
+                             mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 m = MV_LD(mask, i), j = MV_LD(first, i);
+    mv_u64 b = MV_U64(0);
+    for (mv_u32 c = 0u; c < 8u; ++c) {
+      if (((m >> c) & 1u) == 0u) continue;
+      mv_u32 child = MV_LD(cmask, MV_LD(cid, j));
+      if (p.leaf == 2u) child = mv_reflect_mask(child, MV_LD(ctag, j));
+      b |= MV_U64(child) << (8u * c);
+      j += 1u;
+    }
+    if (p.leaf == 2u) {
+      mv_u64 lowest = b;
+      mv_u32 best = 0u, s = 1u;
+      for (mv_u32 t = 1u; t < 8u; ++t) {
+        mv_u64 r = mv_reflect_brick(b, t);
+        if (r < lowest) {
+          lowest = r;
+          best = t;
+        }
+        if (r == b) s |= 1u << t;
+      }
+      MV_ST(tstar, i, best);
+      MV_ST(stab, i, s);
+      b = lowest;
+    }
+    MV_ST(keys, i, b);
+    MV_ST(order, i, i);
+  }
+}
+
 /* Canonical keys of node i and its run's representative equal? A mismatch is a hash collision. The keys
  * are rebuilt from the children and each node's T* (cheaper than storing nine words per node). */
 MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
@@ -173,7 +233,7 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
  * marks the classes that occur; their exclusive scan ranks them (ids in class order); leaf_classes gives
  * each id its stored mask and, with symmetry (p.leaf == 2), its tag table; leaf_ids gives each node its id
  * and, with symmetry, its tag. Nothing is written per node to shared addresses but the presence flags. */
-MV_INLINE void mv_leaf_table(MvBufU32 table, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 m = gid; m < 256u; m += stride) {
     mv_u32 best = 0u, s = 1u, lowest = m;
     for (mv_u32 t = 1u; t < 8u; ++t) {

@@ -42,6 +42,12 @@ layout(push_constant) uniform Args {
 void main() {
   mv_ssvdag_canon(a.mask, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.stab, a.hashes, a.order, a.p, MV_ID);
 }
+#elif defined(MV_ENTRY_brick_keys)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cmask; MvBufU32 tstar; MvBufU32 stab;
+  MvBufU64 keys; MvBufU32 order; MvDagParams p;
+} a;
+void main() { mv_brick_keys(a.mask, a.first, a.cid, a.ctag, a.cmask, a.tstar, a.stab, a.keys, a.order, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_verify)
 layout(push_constant) uniform Args {
   MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar; MvBufU32 id;
@@ -57,7 +63,7 @@ layout(push_constant) uniform Args {
 void main() { mv_ssvdag_tags(a.tstar, a.stab, a.id, a.rep, a.tag, a.idnorm, a.p, MV_ID); }
 #elif defined(MV_ENTRY_leaf_table)
 layout(push_constant) uniform Args { MvBufU32 table; MvDagParams p; } a;
-void main() { mv_leaf_table(a.table, a.p, MV_ID); }
+void main() { mv_leaf_table(a.table, MV_ID); }
 #elif defined(MV_ENTRY_leaf_present)
 layout(push_constant) uniform Args { MvBufU32 mask; MvBufU32 table; MvBufU32 present; MvDagParams p; } a;
 void main() { mv_leaf_present(a.mask, a.table, a.present, a.p, MV_ID); }

@@ -1,3 +1,4 @@
+#include <cstdlib>
 // megavox command line: parses, reports, and leaves the work to the host pipelines.
 #include <cstdio>
 #include <iostream>
@@ -18,6 +19,7 @@ void parse_vec3(const std::string& text, const char* what, double out[3]) {
 void print_kernel_totals(Device& dev) {
   std::map<std::string, std::pair<uint64_t, uint64_t>> totals;  // name -> (ns, dispatches)
   for (const auto& t : dev.take_timings()) {
+    if (std::getenv("MV_EACH")) std::fprintf(stderr, "  %s %.4f\n", t.kernel.c_str(), t.ns * 1e-9);
     totals[t.kernel].first += t.ns;
     totals[t.kernel].second += 1;
   }

@@ -97,6 +97,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   Buffer stab;
   if (symmetric) {
     r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
+    r.tag = dev.alloc(uint64_t{n} * 4, "node tags");
     stab = dev.alloc(uint64_t{n} * 4, "node stabilizers");
   }
   const uint32_t groups = dev.groups_for(n, kLocal);
@@ -107,11 +108,13 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     p.seed_lo = seed;
     if (brick)
       dev.dispatch(dev.kernel("brick_keys"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.class_mask, &r.tstar, &stab, &hashes, &order},
+                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.class_mask, &r.tstar, &r.tag, &stab, &hashes,
+                    &order},
                    MvDagParams{n, symmetric ? 2u : 1u, 0, 0});
     else if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &stab, &hashes, &order}, p);
+                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.tag, &stab, &hashes, &order},
+                   p);
     else
       dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
     dev.barrier();
@@ -140,9 +143,9 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
   }
   if (symmetric) {
-    r.tag = dev.alloc(uint64_t{n} * 4, "node tags");
     r.idnorm = dev.alloc(uint64_t{r.distinct} * 4, "class tag tables");
-    dev.dispatch(dev.kernel("ssvdag_tags"), groups, kLocal, {&r.tstar, &stab, &r.id, &r.rep, &r.tag, &r.idnorm}, p);
+    dev.dispatch(dev.kernel("class_norms"), dev.groups_for(r.distinct, kLocal), kLocal, {&r.rep, &stab, &r.idnorm},
+                 MvDagParams{r.distinct, 0, 0, 0});
     dev.barrier();
   }
   return r;

@@ -52,12 +52,22 @@ MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid,
   return (MV_U64(id) << 3) | MV_U64(tag);
 }
 
+/* Node i's orientation: T*, its stabilizer, and its tag as its parent will see it (T* normalized). */
+MV_INLINE void mv_store_orientation(MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, mv_u32 i, mv_u32 t, mv_u32 s) {
+  mv_u32 best = t;
+  for (mv_u32 g = 1u; g < 8u && s != 1u; ++g)
+    if (((s >> g) & 1u) != 0u) best = MV_MIN(best, t ^ g);
+  MV_ST(tstar, i, t);
+  MV_ST(tag, i, best);
+  MV_ST(stab, i, s);
+}
+
 /* T* (smallest key, ties to the smaller T) and stab of each node above level 1, comparing the reflected keys
  * entry by entry from the children's (id, tag, tag table) read once, and the hash of the canonical key
  * Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. */
 MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
-                               MvBufU32 tstar, MvBufU32 stab, MvBufU64 hashes, MvBufU32 order, MvDagParams p,
-                               mv_u32 gid, mv_u32 stride) {
+                               MvBufU32 tstar, MvBufU32 tag_out, MvBufU32 stab, MvBufU64 hashes, MvBufU32 order,
+                               MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
     mv_u32 id[8], tag[8], cs[8];
@@ -101,15 +111,14 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBu
       }
       if (vs_id == 0) s |= 1u << t;
     }
-    MV_ST(tstar, i, best);
-    MV_ST(stab, i, s);
-    /* hash of the canonical key: mask, then the entries of n_T* */
+    mv_store_orientation(tstar, tag_out, stab, i, best, s);
+    /* hash of the canonical key: mask, then the entries of n_T* in its present octants */
     mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
     h = mv_hash_mix(h, MV_U64(mb));
     for (mv_u32 o = 0u; o < 8u; ++o) {
       mv_u32 c = o ^ best;
-      h = mv_hash_mix(h, ((m >> c) & 1u) != 0u ? (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ best, cs[c]))
-                                               : MV_U64(0));
+      if (((m >> c) & 1u) != 0u)
+        h = mv_hash_mix(h, (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ best, cs[c])));
     }
     MV_ST(hashes, i, h);
     MV_ST(order, i, i);
@@ -144,8 +153,8 @@ MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
 }
 
 MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cmask,
-                             MvBufU32 tstar, MvBufU32 stab, MvBufU64 keys, MvBufU32 order, MvDagParams p, mv_u32 gid,
-                             mv_u32 stride) {
+                             MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, MvBufU64 keys, MvBufU32 order, MvDagParams p,
+                             mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i), j = MV_LD(first, i);
     mv_u64 b = MV_U64(0);
@@ -156,20 +165,20 @@ MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU
       b |= MV_U64(child) << (8u * c);
       j += 1u;
     }
-    if (p.leaf == 2u) {
-      mv_u64 lowest = b;
+    if (p.leaf == 2u) { /* the 7 reflections, each one step from an earlier one */
+      mv_u64 r[8];
+      r[0] = b;
+      r[1] = mv_reflect_brick(b, 1u);
+      r[2] = mv_reflect_brick(b, 2u);
+      r[3] = mv_reflect_brick(r[1], 2u);
+      for (mv_u32 t = 4u; t < 8u; ++t) r[t] = mv_reflect_brick(r[t - 4u], 4u);
       mv_u32 best = 0u, s = 1u;
       for (mv_u32 t = 1u; t < 8u; ++t) {
-        mv_u64 r = mv_reflect_brick(b, t);
-        if (r < lowest) {
-          lowest = r;
-          best = t;
-        }
-        if (r == b) s |= 1u << t;
+        if (r[t] < r[best]) best = t;
+        if (r[t] == b) s |= 1u << t;
       }
-      MV_ST(tstar, i, best);
-      MV_ST(stab, i, s);
-      b = lowest;
+      mv_store_orientation(tstar, tag, stab, i, best, s);
+      b = r[best];
     }
     MV_ST(keys, i, b);
     MV_ST(order, i, i);
@@ -193,17 +202,9 @@ MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvB
   }
 }
 
-/* Each node's tag as its parent will see it, and each class's stab (from its representative). */
-MV_INLINE void mv_ssvdag_tags(MvBufU32 tstar, MvBufU32 stab, MvBufU32 id, MvBufU32 rep, MvBufU32 tag,
-                              MvBufU32 idnorm, MvDagParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 s = MV_LD(stab, i), t = MV_LD(tstar, i), best = t;
-    for (mv_u32 g = 1u; g < 8u && s != 1u; ++g)
-      if (((s >> g) & 1u) != 0u) best = MV_MIN(best, t ^ g);
-    MV_ST(tag, i, best);
-    mv_u32 k = MV_LD(id, i);
-    if (MV_LD(rep, k) == i) MV_ST(idnorm, k, mv_norm_table(s));
-  }
+/* Each class's tag table, from its representative's stabilizer (p.n = classes). */
+MV_INLINE void mv_class_norms(MvBufU32 rep, MvBufU32 stab, MvBufU32 idnorm, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 k = gid; k < p.n; k += stride) MV_ST(idnorm, k, mv_norm_table(MV_LD(stab, MV_LD(rep, k))));
 }
 
 /* The reduced level in id order, for the host: class r's stored mask (its representative reflected by T*)

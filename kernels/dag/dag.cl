@@ -29,23 +29,22 @@ __kernel void dag_verify(__global uint* mask, __global uint* first, __global uin
 #include "common/ssvdag.h"
 
 __kernel void ssvdag_canon(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                           __global uint* cnorm, __global uint* tstar, __global uint* stab, __global ulong* hashes,
-                           __global uint* order, MvDagParams p) {
-  mv_ssvdag_canon(mask, first, cid, ctag, cnorm, tstar, stab, hashes, order, p, MV_ID);
+                           __global uint* cnorm, __global uint* tstar, __global uint* tag, __global uint* stab,
+                           __global ulong* hashes, __global uint* order, MvDagParams p) {
+  mv_ssvdag_canon(mask, first, cid, ctag, cnorm, tstar, tag, stab, hashes, order, p, MV_ID);
 }
 __kernel void brick_keys(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                         __global uint* cmask, __global uint* tstar, __global uint* stab, __global ulong* keys,
-                         __global uint* order, MvDagParams p) {
-  mv_brick_keys(mask, first, cid, ctag, cmask, tstar, stab, keys, order, p, MV_ID);
+                         __global uint* cmask, __global uint* tstar, __global uint* tag, __global uint* stab,
+                         __global ulong* keys, __global uint* order, MvDagParams p) {
+  mv_brick_keys(mask, first, cid, ctag, cmask, tstar, tag, stab, keys, order, p, MV_ID);
 }
 __kernel void ssvdag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
                             __global uint* cnorm, __global uint* tstar, __global uint* id, __global uint* rep,
                             __global uint* collided, MvDagParams p) {
   mv_ssvdag_verify(mask, first, cid, ctag, cnorm, tstar, id, rep, collided, p, MV_ID);
 }
-__kernel void ssvdag_tags(__global uint* tstar, __global uint* stab, __global uint* id, __global uint* rep,
-                          __global uint* tag, __global uint* idnorm, MvDagParams p) {
-  mv_ssvdag_tags(tstar, stab, id, rep, tag, idnorm, p, MV_ID);
+__kernel void class_norms(__global uint* rep, __global uint* stab, __global uint* idnorm, MvDagParams p) {
+  mv_class_norms(rep, stab, idnorm, p, MV_ID);
 }
 __kernel void leaf_table(__global uint* table, MvDagParams p) { mv_leaf_table(table, MV_ID); }
 __kernel void leaf_present(__global uint* mask, __global uint* table, __global uint* present, MvDagParams p) {

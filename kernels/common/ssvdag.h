@@ -152,6 +152,17 @@ MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
   return b;
 }
 
+/* Reflection t's brick r against the smallest so far (ties keep the smaller t) and the unreflected one. */
+#define MV_BRICK_CONSIDER(r, t)  \
+  {                              \
+    mv_u64 r_ = (r);             \
+    if (r_ < lowest) {           \
+      lowest = r_;               \
+      best = (t);                \
+    }                            \
+    if (r_ == b) s |= 1u << (t); \
+  }
+
 MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cmask,
                              MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, MvBufU64 keys, MvBufU32 order, MvDagParams p,
                              mv_u32 gid, mv_u32 stride) {
@@ -165,20 +176,19 @@ MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU
       b |= MV_U64(child) << (8u * c);
       j += 1u;
     }
-    if (p.leaf == 2u) { /* the 7 reflections, each one step from an earlier one */
-      mv_u64 r[8];
-      r[0] = b;
-      r[1] = mv_reflect_brick(b, 1u);
-      r[2] = mv_reflect_brick(b, 2u);
-      r[3] = mv_reflect_brick(r[1], 2u);
-      for (mv_u32 t = 4u; t < 8u; ++t) r[t] = mv_reflect_brick(r[t - 4u], 4u);
+    if (p.leaf == 2u) { /* the 7 reflections, each one step (two swaps) from an earlier one */
+      mv_u64 lowest = b;
       mv_u32 best = 0u, s = 1u;
-      for (mv_u32 t = 1u; t < 8u; ++t) {
-        if (r[t] < r[best]) best = t;
-        if (r[t] == b) s |= 1u << t;
-      }
+      mv_u64 r1 = mv_reflect_brick(b, 1u), r2 = mv_reflect_brick(b, 2u), r3 = mv_reflect_brick(r1, 2u);
+      MV_BRICK_CONSIDER(r1, 1u);
+      MV_BRICK_CONSIDER(r2, 2u);
+      MV_BRICK_CONSIDER(r3, 3u);
+      MV_BRICK_CONSIDER(mv_reflect_brick(b, 4u), 4u);
+      MV_BRICK_CONSIDER(mv_reflect_brick(r1, 4u), 5u);
+      MV_BRICK_CONSIDER(mv_reflect_brick(r2, 4u), 6u);
+      MV_BRICK_CONSIDER(mv_reflect_brick(r3, 4u), 7u);
       mv_store_orientation(tstar, tag, stab, i, best, s);
-      b = r[best];
+      b = lowest;
     }
     MV_ST(keys, i, b);
     MV_ST(order, i, i);
@@ -257,7 +267,10 @@ MV_INLINE mv_u32 mv_leaf_class(MvBufU32 mask, MvBufU32 table, MvDagParams p, mv_
 
 MV_INLINE void mv_leaf_present(MvBufU32 mask, MvBufU32 table, MvBufU32 present, MvDagParams p, mv_u32 gid,
                                mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) MV_ST(present, mv_leaf_class(mask, table, p, i), 1u);
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 c = mv_leaf_class(mask, table, p, i);
+    if (MV_LD(present, c) == 0u) MV_ST(present, c, 1u); /* read first: few classes, millions of nodes */
+  }
 }
 
 /* rank: the exclusive scan of the 256 presence flags (257 entries): class c occurs iff rank[c + 1] > rank[c]. */

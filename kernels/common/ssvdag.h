@@ -40,18 +40,6 @@ MV_INLINE mv_u32 mv_norm_table(mv_u32 stab) {
 
 MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 table) { return (table >> (3u * t)) & 7u; }
 
-/* Entry o (octant) of n_T, as one comparable number: (child id << 3) | normalized tag; 0 if empty. */
-MV_INLINE mv_u64 mv_reflected_entry(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
-                                    mv_u32 i, mv_u32 t, mv_u32 o) {
-  mv_u32 m = MV_LD(mask, i);
-  mv_u32 c = o ^ t;
-  if (((m >> c) & 1u) == 0u) return MV_U64(0);
-  mv_u32 j = MV_LD(first, i) + mv_popcount8(m & ((1u << c) - 1u));
-  mv_u32 id = MV_LD(cid, j);
-  mv_u32 tag = mv_norm_tag(MV_LD(ctag, j) ^ t, MV_LD(cnorm, id));
-  return (MV_U64(id) << 3) | MV_U64(tag);
-}
-
 /* Node i's orientation: T*, its stabilizer, and its tag as its parent will see it (T* normalized). */
 MV_INLINE void mv_store_orientation(MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, mv_u32 i, mv_u32 t, mv_u32 s) {
   mv_u32 best = t;
@@ -204,10 +192,17 @@ MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvB
     mv_u32 r = MV_LD(rep, MV_LD(id, i));
     if (r == i) continue;
     mv_u32 ti = MV_LD(tstar, i), tr = MV_LD(tstar, r);
-    bool same = mv_reflect_mask(MV_LD(mask, i), ti) == mv_reflect_mask(MV_LD(mask, r), tr);
-    for (mv_u32 o = 0u; o < 8u && same; ++o)
-      same = mv_reflected_entry(mask, first, cid, ctag, cnorm, i, ti, o) ==
-             mv_reflected_entry(mask, first, cid, ctag, cnorm, r, tr, o);
+    mv_u32 m = MV_LD(mask, i), mr = MV_LD(mask, r), j = MV_LD(first, i);
+    bool same = mv_reflect_mask(m, ti) == mv_reflect_mask(mr, tr);
+    for (mv_u32 c = 0u; c < 8u && same; ++c) { /* i's child c against the rep's child at the same octant */
+      if (((m >> c) & 1u) == 0u) continue;
+      mv_u32 id = MV_LD(cid, j);
+      mv_u32 cr = c ^ ti ^ tr, jr = MV_LD(first, r) + mv_popcount8(mr & ((1u << cr) - 1u));
+      mv_u32 idr = MV_LD(cid, jr);
+      same = id == idr && mv_norm_tag(MV_LD(ctag, j) ^ ti, MV_LD(cnorm, id)) ==
+                              mv_norm_tag(MV_LD(ctag, jr) ^ tr, MV_LD(cnorm, idr));
+      j += 1u;
+    }
     if (!same) MV_ST(collided, 0u, 1u);
   }
 }
@@ -228,12 +223,16 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
     mv_u32 t = p.seed_lo != 0u ? MV_LD(tstar, node) : 0u; /* seed_lo: 1 = symmetric */
     MV_ST(out_mask, r, mv_reflect_mask(MV_LD(mask, node), t));
     if (p.leaf != 0u) continue;
-    mv_u32 m = MV_LD(mask, node);
-    for (mv_u32 o = 0u; o < 8u; ++o) {
+    mv_u32 m = MV_LD(mask, node), j = MV_LD(first, node);
+    for (mv_u32 c = 0u; c < 8u; ++c) { /* child c lands at octant c ^ t; each child read once */
       mv_u64 e = MV_U64(0);
-      if (p.seed_lo != 0u) e = mv_reflected_entry(mask, first, cid, ctag, cnorm, node, t, o);
-      else if (((m >> o) & 1u) != 0u) e = MV_U64(MV_LD(cid, MV_LD(first, node) + mv_popcount8(m & ((1u << o) - 1u)))) << 3;
-      MV_ST(out_entry, 8u * r + o, e);
+      if (((m >> c) & 1u) != 0u) {
+        mv_u32 id = MV_LD(cid, j);
+        e = MV_U64(id) << 3;
+        if (p.seed_lo != 0u) e |= MV_U64(mv_norm_tag(MV_LD(ctag, j) ^ t, MV_LD(cnorm, id)));
+        j += 1u;
+      }
+      MV_ST(out_entry, 8u * r + (c ^ t), e);
     }
   }
 }

@@ -53,8 +53,16 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
 struct Reduced {
   uint32_t distinct = 0;
   Buffer id, rep, tag, idnorm, tstar;
-  Buffer class_mask;  // level 1: each class's stored mask (its canonical mask with symmetry)
+  Buffer class_mask;  // level 1: each class's stored mask (canonical with symmetry) and its 7 reflections
 };
+
+// Canonical form, T*, tag and stabilizer of every 8-bit mask (kernel leaf_table).
+Buffer mask_table(Device& dev) {
+  Buffer table = dev.alloc(512 * 4, "mask table");
+  dev.dispatch(dev.kernel("leaf_table"), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0});
+  dev.barrier();
+  return table;
+}
 
 // Level 1: classes are (canonical) masks, ranked without hashing (kernels: leaf_table, leaf_present,
 // leaf_classes, leaf_ids); with symmetry the 256-mask table also gives each node its tag, each class its
@@ -64,8 +72,7 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, bool symmetric) 
   Buffer table, present = dev.alloc(257 * 4, "leaf classes");
   dev.fill(present, 0, 257 * 4);
   if (symmetric) {
-    table = dev.alloc(512 * 4, "leaf mask table");
-    dev.dispatch(dev.kernel("leaf_table"), dev.groups_for(256, kLocal), kLocal, {&table}, p);
+    table = mask_table(dev);
     r.tag = dev.alloc(uint64_t{lv.n} * 4, "node tags");
   }
   dev.barrier();
@@ -74,7 +81,7 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, bool symmetric) 
   dev.barrier();
   exclusive_scan(dev, present, present, 256);
   dev.download(present, &r.distinct, 4, 256 * 4);
-  r.class_mask = dev.alloc(uint64_t{r.distinct} * 4, "leaf class masks");
+  r.class_mask = dev.alloc(uint64_t{r.distinct} * 32, "leaf class masks and their reflections");
   if (symmetric) r.idnorm = dev.alloc(uint64_t{r.distinct} * 4, "class tag tables");
   dev.dispatch(dev.kernel("leaf_classes"), dev.groups_for(256, kLocal), kLocal,
                {&table, &present, &r.class_mask, &r.idnorm}, p);
@@ -94,8 +101,10 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
   Buffer collided = dev.alloc(4, "hash collision flag");
-  Buffer stab;
+  const bool brick = !below.class_mask.empty();  // level 2: 4x4x4 bricks are exact keys, nothing to verify
+  Buffer stab, mtab;
   if (symmetric) {
+    mtab = mask_table(dev);
     r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
     r.tag = dev.alloc(uint64_t{n} * 4, "node tags");
     stab = dev.alloc(uint64_t{n} * 4, "node stabilizers");
@@ -103,17 +112,17 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   const uint32_t groups = dev.groups_for(n, kLocal);
   MvDagParams p{n, 0, 0, 0x6d766f78u};
   ScanPlan scan = plan_scan(dev, n);
-  const bool brick = !below.class_mask.empty();  // level 2: 4x4x4 bricks are exact keys, nothing to verify
   for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
     if (brick)
       dev.dispatch(dev.kernel("brick_keys"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.class_mask, &r.tstar, &r.tag, &stab, &hashes,
-                    &order},
+                   {&lv.mask, &mtab, &lv.first, &below.id, &below.tag, &below.class_mask, &r.tstar, &r.tag, &stab,
+                    &hashes, &order},
                    MvDagParams{n, symmetric ? 2u : 1u, 0, 0});
     else if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.tag, &stab, &hashes, &order},
+                   {&lv.mask, &mtab, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.tag, &stab, &hashes,
+                    &order},
                    p);
     else
       dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
@@ -172,7 +181,8 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
   DagLevel out;
   const uint32_t n = r.distinct;
   if (leaf && !r.class_mask.empty()) {  // reduced level 1: the class masks are the level
-    out.mask = fetch<uint32_t>(dev, r.class_mask, n);
+    std::vector<uint32_t> reflected = fetch<uint32_t>(dev, r.class_mask, size_t{n} * 8);
+    for (uint32_t k = 0; k < n; ++k) out.mask.push_back(reflected[8 * size_t{k}]);
     return out;
   }
   Buffer masks = dev.alloc(uint64_t{n} * 4, "DAG level masks");

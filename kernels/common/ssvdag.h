@@ -51,10 +51,11 @@ MV_INLINE void mv_store_orientation(MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab,
 }
 
 /* T* (smallest key, ties to the smaller T) and stab of each node above level 1, comparing the reflected keys
- * entry by entry from the children's (id, tag, tag table) read once, and the hash of the canonical key
+ * entry by entry from the children's (id, tag, tag table) read once (mtab: leaf_table, which describes every
+ * 8-bit mask), and the hash of the canonical key
  * Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. */
-MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
-                               MvBufU32 tstar, MvBufU32 tag_out, MvBufU32 stab, MvBufU64 hashes, MvBufU32 order,
+MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag,
+                               MvBufU32 cnorm, MvBufU32 tstar, MvBufU32 tag_out, MvBufU32 stab, MvBufU64 hashes, MvBufU32 order,
                                MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
@@ -74,30 +75,29 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBu
         j += 1u;
       }
     }
-    /* Compare the reflected keys entry by entry; entries are needed only where the masks tie. */
-    mv_u32 best = 0u, mb = m;
-    mv_u32 s = 1u;
-    for (mv_u32 t = 1u; t < 8u; ++t) {
-      mv_u32 mt = mv_reflect_mask(m, t);
-      mv_i32 vs_best = 0, vs_id = 0;
-      if (mt != mb) vs_best = mt < mb ? -1 : 1;
-      if (mt != m) vs_id = mt < m ? -1 : 1;
-      for (mv_u32 o = 0u; o < 8u && (vs_best == 0 || vs_id == 0); ++o) {
+    /* Only reflections that give the smallest mask can be T*, only those that fix the mask can fix the node:
+     * the mask table gives the mask's own T* (t0) and stabilizer (ms); asymmetric masks need no entries. */
+    mv_u32 info = MV_LD(mtab, 2u * m);
+    mv_u32 mb = info & 0xffu, t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu;
+    mv_u32 best = t0, s = 1u;
+    for (mv_u32 g = 1u; g < 8u; ++g) {
+      if (((ms >> g) & 1u) == 0u) continue;
+      mv_u32 t = t0 ^ g;
+      mv_i32 vs = 0; /* Key(n_t) against Key(n_best): same mask, so the same octants are present */
+      for (mv_u32 o = 0u; o < 8u && vs == 0; ++o) {
         mv_u32 c = o ^ t, cb = o ^ best;
-        mv_u64 x = ((m >> c) & 1u) != 0u ? (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ t, cs[c])) : MV_U64(0);
-        if (vs_best == 0) {
-          mv_u64 xb = best == 0u ? e0[o]
-                      : ((m >> cb) & 1u) != 0u ? (MV_U64(id[cb]) << 3) | MV_U64(mv_norm_tag(tag[cb] ^ best, cs[cb]))
-                                               : MV_U64(0);
-          if (x != xb) vs_best = x < xb ? -1 : 1;
-        }
-        if (vs_id == 0 && x != e0[o]) vs_id = x < e0[o] ? -1 : 1;
+        if (((m >> c) & 1u) == 0u) continue;
+        mv_u64 x = (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ t, cs[c]));
+        mv_u64 xb = (MV_U64(id[cb]) << 3) | MV_U64(mv_norm_tag(tag[cb] ^ best, cs[cb]));
+        if (x != xb) vs = x < xb ? -1 : 1;
       }
-      if (vs_best < 0) {
-        best = t;
-        mb = mt;
+      if (vs < 0 || (vs == 0 && t < best)) best = t;
+      bool same = true; /* Key(n_g) against Key(n_0) */
+      for (mv_u32 o = 0u; o < 8u && same; ++o) {
+        mv_u32 c = o ^ g;
+        if (((m >> c) & 1u) != 0u) same = ((MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ g, cs[c]))) == e0[o];
       }
-      if (vs_id == 0) s |= 1u << t;
+      if (same) s |= 1u << g;
     }
     mv_store_orientation(tstar, tag_out, stab, i, best, s);
     /* hash of the canonical key: mask, then the entries of n_T* in its present octants */
@@ -116,10 +116,11 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBu
 /* Level 2 needs no hash either: a node is a 4x4x4 brick, 64 bits (bit 8c + c' = octant c, then octant c' of
  * that child), rebuilt from its children's class masks (cmask: level 1's stored masks; with symmetry a child
  * (id, tag) is its class mask reflected by tag). The brick is an exact key: the sort groups equal bricks and
- * no verification pass is needed. With symmetry the key is the smallest of the 8 reflected bricks (a
- * reflection T flips the same axis bit in c and c'), T* its reflection (ties to the smaller T) and stab the
- * reflections that leave the brick unchanged: exact like the stabilizer method, by another total order of
- * keys. p.leaf = 2: symmetric (tstar, stab written). */
+ * no verification pass is needed. With symmetry the key is the brick reflected by T*, the reflection whose
+ * (node mask, brick) is smallest (a reflection T flips the same axis bit in c and c'; ties to the smaller T;
+ * only reflections giving the smallest mask are tried, from mtab), and stab the reflections that leave the
+ * brick unchanged: exact like the stabilizer method, by another total order of keys. p.leaf = 2: symmetric
+ * (tstar, tag, stab written). */
 MV_INLINE mv_u64 mv_brick_swap(mv_u64 b, mv_u64 m, mv_u32 shift) {
   return ((b & m) << shift) | ((b >> shift) & m);
 }
@@ -140,41 +141,31 @@ MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
   return b;
 }
 
-/* Reflection t's brick r against the smallest so far (ties keep the smaller t) and the unreflected one. */
-#define MV_BRICK_CONSIDER(r, t)  \
-  {                              \
-    mv_u64 r_ = (r);             \
-    if (r_ < lowest) {           \
-      lowest = r_;               \
-      best = (t);                \
-    }                            \
-    if (r_ == b) s |= 1u << (t); \
-  }
-
-MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cmask,
-                             MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, MvBufU64 keys, MvBufU32 order, MvDagParams p,
-                             mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag,
+                             MvBufU32 cmask, MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, MvBufU64 keys,
+                             MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i), j = MV_LD(first, i);
     mv_u64 b = MV_U64(0);
     for (mv_u32 c = 0u; c < 8u; ++c) {
       if (((m >> c) & 1u) == 0u) continue;
-      mv_u32 child = MV_LD(cmask, MV_LD(cid, j));
-      if (p.leaf == 2u) child = mv_reflect_mask(child, MV_LD(ctag, j));
+      mv_u32 child = MV_LD(cmask, 8u * MV_LD(cid, j) + (p.leaf == 2u ? MV_LD(ctag, j) : 0u));
       b |= MV_U64(child) << (8u * c);
       j += 1u;
     }
-    if (p.leaf == 2u) { /* the 7 reflections, each one step (two swaps) from an earlier one */
-      mv_u64 lowest = b;
-      mv_u32 best = 0u, s = 1u;
-      mv_u64 r1 = mv_reflect_brick(b, 1u), r2 = mv_reflect_brick(b, 2u), r3 = mv_reflect_brick(r1, 2u);
-      MV_BRICK_CONSIDER(r1, 1u);
-      MV_BRICK_CONSIDER(r2, 2u);
-      MV_BRICK_CONSIDER(r3, 3u);
-      MV_BRICK_CONSIDER(mv_reflect_brick(b, 4u), 4u);
-      MV_BRICK_CONSIDER(mv_reflect_brick(r1, 4u), 5u);
-      MV_BRICK_CONSIDER(mv_reflect_brick(r2, 4u), 6u);
-      MV_BRICK_CONSIDER(mv_reflect_brick(r3, 4u), 7u);
+    if (p.leaf == 2u) { /* order: the reflected node mask first, then the brick; see mv_ssvdag_canon */
+      mv_u32 info = MV_LD(mtab, 2u * m);
+      mv_u32 t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu, best = t0, s = 1u;
+      mv_u64 base = mv_reflect_brick(b, t0), lowest = base;
+      for (mv_u32 g = 1u; g < 8u; ++g) { /* the other reflections with the smallest mask: t0 ^ g, g in ms */
+        if (((ms >> g) & 1u) == 0u) continue;
+        mv_u64 r = mv_reflect_brick(base, g);
+        if (r < lowest || (r == lowest && (t0 ^ g) < best)) {
+          lowest = r;
+          best = t0 ^ g;
+        }
+        if (r == base) s |= 1u << g; /* g fixes the reflected brick, hence the brick */
+      }
       mv_store_orientation(tstar, tag, stab, i, best, s);
       b = lowest;
     }
@@ -239,9 +230,10 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
 
 /* Level 1 needs no hashing: a 2x2x2 node's class is its canonical mask (the mask itself without symmetry),
  * one of at most 256. leaf_table describes every mask once: word 2m = canonical mask | T* << 8 | tag << 11
- * (the tag normalized by the mask's stabilizer), word 2m + 1 = its tag normalization table. leaf_present
+ * (the tag normalized by the mask's stabilizer) | stabilizer << 16, word 2m + 1 = its tag normalization
+ * table. leaf_present
  * marks the classes that occur; their exclusive scan ranks them (ids in class order); leaf_classes gives
- * each id its stored mask and, with symmetry (p.leaf == 2), its tag table; leaf_ids gives each node its id
+ * each id its stored mask (word 8 id, then its 7 reflections, for level 2's bricks) and, with symmetry (p.leaf == 2), its tag table; leaf_ids gives each node its id
  * and, with symmetry, its tag. Nothing is written per node to shared addresses but the presence flags. */
 MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 m = gid; m < 256u; m += stride) {
@@ -255,7 +247,7 @@ MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
       if (r == m) s |= 1u << t;
     }
     mv_u32 norm = mv_norm_table(s);
-    MV_ST(table, 2u * m, lowest | (best << 8) | (mv_norm_tag(best, norm) << 11));
+    MV_ST(table, 2u * m, lowest | (best << 8) | (mv_norm_tag(best, norm) << 11) | (s << 16));
     MV_ST(table, 2u * m + 1u, norm);
   }
 }
@@ -278,7 +270,7 @@ MV_INLINE void mv_leaf_classes(MvBufU32 table, MvBufU32 rank, MvBufU32 class_mas
   for (mv_u32 c = gid; c < 256u; c += stride) {
     mv_u32 r = MV_LD(rank, c);
     if (MV_LD(rank, c + 1u) == r) continue;
-    MV_ST(class_mask, r, c);
+    for (mv_u32 t = 0u; t < 8u; ++t) MV_ST(class_mask, 8u * r + t, mv_reflect_mask(c, t));
     if (p.leaf == 2u) MV_ST(idnorm, r, MV_LD(table, 2u * c + 1u)); /* a reflection keeps the stabilizer */
   }
 }

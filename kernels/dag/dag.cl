@@ -28,15 +28,15 @@ __kernel void dag_verify(__global uint* mask, __global uint* first, __global uin
 
 #include "common/ssvdag.h"
 
-__kernel void ssvdag_canon(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                           __global uint* cnorm, __global uint* tstar, __global uint* tag, __global uint* stab,
-                           __global ulong* hashes, __global uint* order, MvDagParams p) {
-  mv_ssvdag_canon(mask, first, cid, ctag, cnorm, tstar, tag, stab, hashes, order, p, MV_ID);
+__kernel void ssvdag_canon(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
+                           __global uint* ctag, __global uint* cnorm, __global uint* tstar, __global uint* tag,
+                           __global uint* stab, __global ulong* hashes, __global uint* order, MvDagParams p) {
+  mv_ssvdag_canon(mask, mtab, first, cid, ctag, cnorm, tstar, tag, stab, hashes, order, p, MV_ID);
 }
-__kernel void brick_keys(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                         __global uint* cmask, __global uint* tstar, __global uint* tag, __global uint* stab,
-                         __global ulong* keys, __global uint* order, MvDagParams p) {
-  mv_brick_keys(mask, first, cid, ctag, cmask, tstar, tag, stab, keys, order, p, MV_ID);
+__kernel void brick_keys(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
+                         __global uint* ctag, __global uint* cmask, __global uint* tstar, __global uint* tag,
+                         __global uint* stab, __global ulong* keys, __global uint* order, MvDagParams p) {
+  mv_brick_keys(mask, mtab, first, cid, ctag, cmask, tstar, tag, stab, keys, order, p, MV_ID);
 }
 __kernel void ssvdag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
                             __global uint* cnorm, __global uint* tstar, __global uint* id, __global uint* rep,

@@ -36,19 +36,21 @@ layout(push_constant) uniform Args {
 void main() { mv_dag_verify(a.mask, a.first, a.cid, a.id, a.rep, a.collided, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_canon)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar; MvBufU32 tag;
-  MvBufU32 stab; MvBufU64 hashes; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar;
+  MvBufU32 tag; MvBufU32 stab; MvBufU64 hashes; MvBufU32 order; MvDagParams p;
 } a;
 void main() {
-  mv_ssvdag_canon(a.mask, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.tag, a.stab, a.hashes, a.order, a.p, MV_ID);
+  mv_ssvdag_canon(a.mask, a.mtab, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.tag, a.stab, a.hashes, a.order, a.p,
+                  MV_ID);
 }
 #elif defined(MV_ENTRY_brick_keys)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cmask; MvBufU32 tstar; MvBufU32 tag;
-  MvBufU32 stab; MvBufU64 keys; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cmask; MvBufU32 tstar;
+  MvBufU32 tag; MvBufU32 stab; MvBufU64 keys; MvBufU32 order; MvDagParams p;
 } a;
 void main() {
-  mv_brick_keys(a.mask, a.first, a.cid, a.ctag, a.cmask, a.tstar, a.tag, a.stab, a.keys, a.order, a.p, MV_ID);
+  mv_brick_keys(a.mask, a.mtab, a.first, a.cid, a.ctag, a.cmask, a.tstar, a.tag, a.stab, a.keys, a.order, a.p,
+                MV_ID);
 }
 #elif defined(MV_ENTRY_ssvdag_verify)
 layout(push_constant) uniform Args {

@@ -64,6 +64,7 @@ nlohmann::json report_json(const BuildReport& r) {
           {"format", r.format},       {"resolution", r.resolution},
           {"triangles", r.triangles}, {"voxels", r.voxels},
           {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
+          {"spilled_bytes", r.spilled_bytes},
           {"voxelize", r.voxelize},   {"grid_origin", r.grid_origin},
           {"grid", {{"origin", r.grid.origin}, {"voxel_size", r.grid.voxel_size}}},
           {"svo_nodes_per_level", r.svo_nodes},
@@ -115,7 +116,8 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       ->check(CLI::IsMember({"conservative", "thin"}))
       ->capture_default_str();
   cmd->add_option("--memory", a->memory,
-                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM); a build that would pass it stops with an\n"
+                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM); out of core, triangles past a quarter of it\n"
+                  "spill to a temporary file in $TMPDIR (or /tmp); a build that would still pass it stops with an\n"
                   "error naming what it needs");
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");

@@ -9,6 +9,7 @@
 #include "io/vdb_source.h"
 #include "build_steps.h"
 #include "megavox/build.h"
+#include "triangle_buckets.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
@@ -53,12 +54,17 @@ Voxelizer::Rule rule(const BuildOptions& o) {
 
 uint64_t memory_budget(const BuildOptions& o) { return o.memory ? o.memory : default_host_memory(); }
 
-// Fails early, before the heavy work, when a mesh's host-side arrays would pass the budget.
-void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh, bool all_triangles) {
+// Triangles read per batch: up to 1 Mi, at most an eighth of the budget (48 bytes each with the indices).
+size_t batch_triangles(const BuildOptions& o) {
+  return static_cast<size_t>(std::clamp<uint64_t>(memory_budget(o) / 8 / 48, 4096, kBatchTriangles));
+}
+
+// Fails early, before the heavy work, when a mesh's host-side arrays would pass the budget: the positions
+// and used-vertex flags, and one batch of triangles with its indices (out of core, the bucketed triangles
+// spill to disk past their share of the budget).
+void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh) {
   const uint64_t vertices = mesh.positions().size() / 3, triangles = mesh.triangles_hint();
-  // positions and the used-vertex flags; then either one batch of triangles or all of them in grid units
-  // with their indices and the per-cube bucket entries
-  uint64_t need = vertices * 13 + (all_triangles ? triangles * (12 + 36 + 4) : std::min<uint64_t>(triangles, kBatchTriangles) * 48);
+  const uint64_t need = vertices * 13 + std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
   if (need > memory_budget(o))
     throw Error(o.input + ": the mesh needs about " + std::to_string((need + (1 << 20) - 1) >> 20) +
                 " MiB of host memory, over --memory " + std::to_string(memory_budget(o) >> 20) + " MiB");
@@ -82,57 +88,52 @@ GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds
   return g;
 }
 
-// A mesh: bounds of the vertices the faces use (scans carry unreferenced vertices), the grid, then the
-// triangles voxelized in batches on the device.
+// Bounds of the vertices a mesh's faces use (scans carry unreferenced vertices): one streaming pass.
+Bounds used_vertex_bounds(const BuildOptions& o) {
+  Bounds bounds;
+  auto mesh = io::open_mesh(o.input);
+  check_mesh_memory(o, *mesh);
+  const auto& pos = mesh->positions();
+  std::vector<bool> used(pos.size() / 3, false);
+  std::vector<uint32_t> idx;
+  while (mesh->next_triangles(idx, batch_triangles(o)))
+    for (uint32_t i : idx) used[i] = true;
+  for (size_t i = 0; i < used.size(); ++i)
+    if (used[i]) bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+  return bounds;
+}
+
+// Streams a mesh's triangles in grid units, a batch at a time.
+void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
+                         const std::function<void(const std::vector<float>&, double)>& batch) {
+  auto mesh = io::open_mesh(o.input);
+  std::vector<uint32_t> idx;
+  std::vector<float> tris;
+  const double faces = std::max<double>(1, double(mesh->triangles_hint()));
+  while (mesh->next_triangles(idx, batch_triangles(o))) {
+    tris.clear();
+    triangles_to_grid(grid, mesh->positions(), idx.data(), idx.size() / 3, tris, clips(o));
+    triangles += tris.size() / 9;
+    batch(tris, std::min(1.0, double(triangles) / faces));
+  }
+}
+
+// A mesh: its bounds, the grid, then the triangles voxelized in batches on the device.
 Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                      const std::function<void(const std::string&, double)>& report) {
   Voxels v;
-  std::vector<uint32_t> idx;
-  {
-    auto mesh = io::open_mesh(o.input);
-    check_mesh_memory(o, *mesh, false);
-    const auto& pos = mesh->positions();
-    std::vector<bool> used(pos.size() / 3, false);
-    while (mesh->next_triangles(idx, kBatchTriangles))
-      for (uint32_t i : idx) used[i] = true;
-    for (size_t i = 0; i < used.size(); ++i)
-      if (used[i]) v.bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-  }
+  v.bounds = used_vertex_bounds(o);
   v.grid = place_mesh_grid(o, resolution, v.bounds);
-  auto mesh = io::open_mesh(o.input);
   Voxelizer vox(dev, resolution, rule(o));
   vox.limit_host_memory(memory_budget(o));
-  std::vector<float> tris;
-  const double faces = std::max<double>(1, double(mesh->triangles_hint()));
-  while (mesh->next_triangles(idx, kBatchTriangles)) {
-    tris.clear();
-    triangles_to_grid(v.grid, mesh->positions(), idx.data(), idx.size() / 3, tris, clips(o));
+  uint64_t triangles = 0;
+  for_each_grid_batch(o, v.grid, triangles, [&](const std::vector<float>& tris, double done) {
     vox.add(tris);
-    report("voxelize", std::min(1.0, double(vox.triangles()) / faces));
-  }
+    report("voxelize", done);
+  });
   v.keys = vox.take_keys();
   r.triangles = vox.triangles();
   return v;
-}
-
-// The mesh's triangles in grid units, all in memory (9 floats each), and the grid.
-struct GridMesh {
-  std::vector<float> tris;
-  GridTransform grid;
-  Bounds bounds;
-};
-
-GridMesh load_grid_mesh(const BuildOptions& o, uint32_t resolution) {
-  GridMesh m;
-  auto mesh = io::open_mesh(o.input);
-  check_mesh_memory(o, *mesh, true);
-  std::vector<uint32_t> idx, all;
-  while (mesh->next_triangles(idx, kBatchTriangles)) all.insert(all.end(), idx.begin(), idx.end());
-  const auto& pos = mesh->positions();
-  for (uint32_t v : all) m.bounds.extend(pos[3 * size_t{v}], pos[3 * size_t{v} + 1], pos[3 * size_t{v} + 2]);
-  m.grid = place_mesh_grid(o, resolution, m.bounds);
-  triangles_to_grid(m.grid, pos, all.data(), all.size() / 3, m.tris, clips(o));
-  return m;
 }
 
 using Lap = std::function<void(const std::string&)>;
@@ -154,44 +155,34 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
 }
 
 // A mesh at a resolution above the cube size: triangles are bucketed by the cubes their bounding boxes
-// meet, then each non-empty cube is voxelized and reduced alone and the partial DAGs merged
-// (build_dag_by_cubes): device memory holds one cube's voxels at a time. The triangles stay in host memory.
+// meet (spilling to a temporary file past a quarter of --memory), then each non-empty cube is voxelized and
+// reduced alone and the partial DAGs merged (build_dag_by_cubes): device memory holds one cube's voxels at a
+// time, host memory the vertex positions, a batch of triangles, a share of the buckets and one cube's keys.
 BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                               const Report& report, const Lap& lap) {
   if (o.cube < 8 || (o.cube & (o.cube - 1))) throw Error("--cube " + std::to_string(o.cube) + " must be a power of two >= 8");
-  GridMesh m = load_grid_mesh(o, resolution);
-  lap("read");
+  Bounds bounds = used_vertex_bounds(o);
+  const GridTransform grid = place_mesh_grid(o, resolution, bounds);
   r.resolution = resolution;
   r.cube = o.cube;
-  r.triangles = m.tris.size() / 9;
   const uint32_t per_axis = resolution / o.cube;
-  std::vector<std::vector<uint32_t>> bucket(size_t{per_axis} * per_axis * per_axis);
-  for (uint32_t t = 0; t < r.triangles; ++t) {
-    uint32_t lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      const float* v = &m.tris[9 * size_t{t}];
-      double mn = std::min({double(v[a]), double(v[3 + a]), double(v[6 + a])});
-      double mx = std::max({double(v[a]), double(v[3 + a]), double(v[6 + a])});
-      lo[a] = std::min<uint32_t>(per_axis - 1, static_cast<uint32_t>(std::max(0.0, std::floor(mn)) / o.cube));
-      hi[a] = std::min<uint32_t>(per_axis - 1, static_cast<uint32_t>(std::max(0.0, std::floor(mx)) / o.cube));
-    }
-    for (uint32_t x = lo[0]; x <= hi[0]; ++x)
-      for (uint32_t y = lo[1]; y <= hi[1]; ++y)
-        for (uint32_t z = lo[2]; z <= hi[2]; ++z) bucket[(size_t{z} * per_axis + y) * per_axis + x].push_back(t);
-  }
+  TriangleBuckets buckets(per_axis, o.cube, memory_budget(o) / 4);
+  for_each_grid_batch(o, grid, r.triangles, [&](const std::vector<float>& tris, double done) {
+    buckets.add(tris);
+    report("read", done);
+  });
+  r.spilled_bytes = buckets.spilled_bytes();
+  lap("read");
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
   const uint32_t cube_levels = static_cast<uint32_t>(std::lround(std::log2(double(o.cube))));
   uint64_t done = 0;
   const double cubes = double(per_axis) * per_axis * per_axis;
-  std::vector<float> tris;
   CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
     report("cubes", double(++done) / cubes);
-    const auto& ts = bucket[(size_t{z / size} * per_axis + y / size) * per_axis + x / size];
-    if (ts.empty()) return std::vector<uint64_t>();
-    tris.clear();
-    for (uint32_t t : ts) tris.insert(tris.end(), m.tris.begin() + 9 * size_t{t}, m.tris.begin() + 9 * size_t{t} + 9);
+    std::vector<float> tris = buckets.take(x / size, y / size, z / size);
+    if (tris.empty()) return std::vector<uint64_t>();
     Voxelizer v(dev, resolution, rule(o));
-    v.limit_host_memory(memory_budget(o));
+    v.limit_host_memory(memory_budget(o) - memory_budget(o) / 4);  // the buckets hold the other quarter
     v.restrict_to(x, y, z, size);
     v.add(tris);
     return v.take_keys();
@@ -203,7 +194,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   r.seconds.push_back({symmetric ? "merge ssvdag" : "merge svdag", times.reduce_seconds});
   lap("total dag");
   r.seconds.pop_back();
-  encode_and_write(dag, o, m.grid, m.bounds, r, lap);
+  encode_and_write(dag, o, grid, bounds, r, lap);
   return r;
 }
 

@@ -19,8 +19,7 @@ namespace fs = std::filesystem;
 std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("megavox_build_" + name)).string(); }
 
 // A bumpy closed mesh (a displaced icosphere-like grid on a sphere): vertices and triangles.
-void bumpy_sphere(std::vector<float>& pos, std::vector<uint32_t>& idx) {
-  const int rings = 24, segs = 48;
+void bumpy_sphere(std::vector<float>& pos, std::vector<uint32_t>& idx, int rings = 24, int segs = 48) {
   for (int r = 0; r <= rings; ++r)
     for (int s = 0; s < segs; ++s) {
       double th = M_PI * r / rings, ph = 2 * M_PI * s / segs;
@@ -126,6 +125,34 @@ TEST(BuildJob, HostMemoryBudgetIsEnforced) {
     EXPECT_GT(build_mvx(dev, o).voxels, 0u);
     fs::remove(o.output);
   }
+  fs::remove(ply);
+}
+
+// Out of core, triangles past a quarter of --memory spill to a temporary file; the file built is the same.
+TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
+  std::vector<float> pos;
+  std::vector<uint32_t> idx;
+  bumpy_sphere(pos, idx, 160, 320);  // 102,400 triangles: 3.7 MB in grid units
+  const std::string ply = temp_path("spill.ply");
+  write_ply(ply, pos, idx);
+  Device& dev = shared_device(all_devices().front());
+  BuildOptions o;
+  o.input = ply;
+  o.resolution = 256;
+  o.cube = 64;
+  o.format = "ssvdag";
+  std::vector<std::vector<char>> files;
+  for (uint64_t memory : {uint64_t{1} << 30, uint64_t{2} << 20}) {
+    o.memory = memory;
+    o.output = temp_path("spill_" + std::to_string(memory) + ".mvx");
+    BuildReport r = build_mvx(dev, o);
+    EXPECT_EQ(r.spilled_bytes > 0, memory < (uint64_t{1} << 30)) << memory << "-byte budget";
+    std::ifstream in(o.output, std::ios::binary);
+    files.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    fs::remove(o.output);
+  }
+  EXPECT_FALSE(files[0].empty());
+  EXPECT_TRUE(files[0] == files[1]);
   fs::remove(ply);
 }
 

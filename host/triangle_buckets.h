@@ -1,0 +1,40 @@
+// Triangles in grid units (9 floats each) bucketed by the out-of-core cubes their bounding boxes meet.
+// Buckets stay in host memory up to a budget; past it every bucket is appended to one temporary file
+// (created in $TMPDIR or /tmp and unlinked at once, so nothing is left behind) and read back one cube at a
+// time. A mesh whose triangles do not fit in RAM still builds; only its vertex positions must.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace mv {
+
+class TriangleBuckets {
+ public:
+  // per_axis^3 cubes of `cube` voxels per side; `budget`: bytes of triangles held in memory before spilling.
+  TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget);
+  ~TriangleBuckets();
+  TriangleBuckets(const TriangleBuckets&) = delete;
+  TriangleBuckets& operator=(const TriangleBuckets&) = delete;
+
+  void add(const std::vector<float>& grid_triangles);
+  // The triangles of cube (x, y, z) (in cubes), in no particular order; the bucket is emptied.
+  std::vector<float> take(uint32_t x, uint32_t y, uint32_t z);
+  uint64_t spilled_bytes() const { return file_bytes_; }
+
+ private:
+  struct Chunk {
+    uint64_t offset, floats;
+  };
+  void spill();
+  size_t bucket(uint32_t x, uint32_t y, uint32_t z) const { return (size_t{z} * per_axis_ + y) * per_axis_ + x; }
+
+  uint32_t per_axis_, cube_;
+  uint64_t budget_, held_ = 0;            // bytes of triangles in memory
+  std::vector<std::vector<float>> mem_;   // per bucket, not yet spilled
+  std::vector<std::vector<Chunk>> file_;  // per bucket, its chunks in the spill file
+  int fd_ = -1;
+  uint64_t file_bytes_ = 0;
+};
+
+}  // namespace mv

@@ -96,7 +96,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
                   "(device memory holds one cube's voxels); 0 = always in core")
       ->capture_default_str();
   cmd->add_option("--format", a->format,
-                  "Encoding: svo (the plain octree, in core only), svdag (the thesis / SymVox 32-bit layout),\n"
+                  "Encoding: svo (the plain octree, unreduced), svdag (the thesis / SymVox 32-bit layout),\n"
                   "ussvdag (symmetry-aware reduction, same layout with per-child mirror bits) or ssvdag\n"
                   "(symmetry-aware, compact 16-bit encoding)")
       ->check(CLI::IsMember({"svo", "svdag", "ussvdag", "ssvdag"}))

@@ -189,9 +189,11 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   };
   const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
   DagBuildTimes times;
-  Dag dag = build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times);
+  Dag dag = o.format == "svo" ? build_svo_by_cubes(dev, levels, cube_levels, voxels_of, &times)
+                               : build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times);
   r.seconds.push_back({"voxelize+cubes", times.svo_seconds});
-  r.seconds.push_back({symmetric ? "merge ssvdag" : "merge svdag", times.reduce_seconds});
+  r.seconds.push_back({o.format == "svo" ? "merge octree" : symmetric ? "merge ssvdag" : "merge svdag",
+                       times.reduce_seconds});
   lap("total dag");
   r.seconds.pop_back();
   encode_and_write(dag, o, grid, bounds, r, lap);
@@ -256,8 +258,6 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
     r.voxelize = o.voxelize;
   }
   if (!vdb && o.cube && mesh_resolution > o.cube) {
-    if (o.format == "svo")
-      throw Error("--format svo builds in core (the plain octree of the whole grid in device memory): add --cube 0");
     return build_out_of_core(dev, o, mesh_resolution, r, report, lap);
   }
   if (o.format == "ssvdag" && o.resolution && o.resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");

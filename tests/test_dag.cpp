@@ -159,6 +159,28 @@ TEST_P(DagTest, OutOfCoreEqualsInCore) {
   }
 }
 
+// The plain octree out of core: the same levels, node for node, as in core.
+TEST_P(DagTest, OctreeOutOfCoreEqualsInCore) {
+  Device& dev = shared_device(GetParam());
+  const uint32_t levels = 6, n = 1u << levels;
+  std::vector<float> tris = octahedron_grid_triangles(n, -1.3f);
+  Voxelizer all(dev, n);
+  all.add(tris);
+  Dag in_core = build_svo(dev, all.take_keys(), levels);
+  CubeVoxels cube = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
+    Voxelizer v(dev, n);
+    v.restrict_to(x, y, z, size);
+    v.add(tris);
+    return v.take_keys();
+  };
+  for (uint32_t cube_levels : {3u, 5u}) {
+    Dag ooc = build_svo_by_cubes(dev, levels, cube_levels, cube);
+    EXPECT_FALSE(ooc.reduced);
+    EXPECT_EQ(ooc.svo_nodes, in_core.svo_nodes);
+    EXPECT_TRUE(encode_svdag(ooc).words == encode_svdag(in_core).words) << "cubes of 2^" << cube_levels;
+  }
+}
+
 }  // namespace
 }  // namespace mv::test
 

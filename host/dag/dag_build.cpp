@@ -338,8 +338,11 @@ Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   return build_dag(dev, voxels, levels, false, times, false);
 }
 
-Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
-                       DagBuildTimes* times) {
+namespace {
+
+// Out of core, reduced (plain or symmetric) or not (the octree: every level is kept whole, in key order).
+Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, bool reduce,
+                   const CubeVoxels& voxels_of, DagBuildTimes* times) {
   if (cube_levels < 1 || cube_levels >= levels)
     throw Error("out-of-core build: cubes of 2^" + std::to_string(cube_levels) + " voxels must be smaller than the 2^" +
                 std::to_string(levels) + " grid");
@@ -347,6 +350,7 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
   Dag dag;
   dag.levels = levels;
   dag.symmetric = symmetric;
+  dag.reduced = reduce;
   dag.svo_nodes.assign(levels + 1, 0);
   dag.level.resize(levels + 1);
   // 1. Each cube on its own, in Morton order; its partial DAG joins the union, level by level.
@@ -369,7 +373,7 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
       if ((k >> (3 * cube_levels)) != c) throw Error("out-of-core build: a voxel lies outside its cube");
       k &= local_mask;
     }
-    Dag part = build_dag(dev, keys, cube_levels, symmetric, nullptr);
+    Dag part = build_dag(dev, keys, cube_levels, symmetric, nullptr, reduce);
     dag.voxels += part.voxels;
     for (uint32_t l = 0; l <= cube_levels; ++l) dag.svo_nodes[l] += part.svo_nodes[l];
     for (uint32_t l = 1; l <= cube_levels; ++l) {
@@ -398,7 +402,7 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
   for (uint32_t l = 1; l <= cube_levels; ++l) {
     SvoLevel lv = upload_level(dev, u[l]);
     Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric);
-    Reduced r = reduce_level(dev, lv, slots, l == 1, symmetric);
+    Reduced r = reduce ? reduce_level(dev, lv, slots, l == 1, symmetric) : identity_level(dev, lv);
     dag.level[l] = assemble(dev, lv, r, slots, l == 1, symmetric);
     below = std::move(r);
     u[l - 1] = UnionLevel();
@@ -415,13 +419,25 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
   for (uint32_t l = cube_levels + 1; l <= levels; ++l) {
     SvoLevel lv = build_parents(dev, roots.keys, roots.n);
     dag.svo_nodes[l] = lv.n;
-    Reduced r = reduce_level(dev, lv, slots, false, symmetric);
+    Reduced r = reduce ? reduce_level(dev, lv, slots, false, symmetric) : identity_level(dev, lv);
     dag.level[l] = assemble(dev, lv, r, slots, false, symmetric);
     roots = std::move(lv);
     slots = std::move(r);
   }
   finish_build(dev, dag, slots, t0, t1, times);
   return dag;
+}
+
+}  // namespace
+
+Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
+                       DagBuildTimes* times) {
+  return build_by_cubes(dev, levels, cube_levels, symmetric, true, voxels_of, times);
+}
+
+Dag build_svo_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, const CubeVoxels& voxels_of,
+                       DagBuildTimes* times) {
+  return build_by_cubes(dev, levels, cube_levels, false, false, voxels_of, times);
 }
 
 std::vector<uint64_t> decode_voxels(const Dag& dag) {

@@ -61,6 +61,11 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
 // The octree itself, unreduced, in the same form (each level's nodes in key order).
 Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
+// The octree out of core, cube by cube: the same as build_svo of all the voxels (host memory holds the whole
+// octree; the device one cube and one merged level at a time).
+Dag build_svo_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, const CubeVoxels& voxels_of,
+                       DagBuildTimes* times = nullptr);
+
 // Every voxel a DAG holds, as sorted Morton keys.
 std::vector<uint64_t> decode_voxels(const Dag& dag);
 

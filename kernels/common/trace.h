@@ -157,16 +157,46 @@ MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) 
 /* 16-bit word w of the ssvdag inner stream, stored two per 32-bit word, low half first. */
 MV_INLINE mv_u32 mv_inner16(MvBufU32 words, mv_u32 w) { return (MV_LD(words, w >> 1) >> ((w & 1u) * 16u)) & 0xffffu; }
 
-/* Is slot `slot` (stored Morton octant) of the current node full? */
-MV_INLINE bool mv_slot_full(mv_u32 enc, mv_u32 nl, mv_u32 hdr, mv_u64 brick, mv_u32 sub, mv_u32 slot) {
-  mv_u32 t8 = mv_thesis_octant(slot);
-  if (enc != MV_ENC_SSVDAG) return ((hdr >> t8) & 1u) != 0u;
-  if (nl >= 3u) return ((hdr >> (2u * t8)) & 3u) != 0u;
-  if (nl == 2u) /* the 2x2x2 sub-block `slot` of the brick: bits 16x + 4y + z, x, y, z in {2c, 2c + 1} */
-    return (brick & (MV_U64(0x330033u) << (32u * (slot & 1u) + 8u * ((slot >> 1) & 1u) + 2u * (slot >> 2)))) != MV_U64(0);
-  mv_u32 bx = 2u * (sub & 1u) + (slot & 1u), by = 2u * ((sub >> 1) & 1u) + ((slot >> 1) & 1u);
-  mv_u32 bz = 2u * (sub >> 2) + (slot >> 2);
-  return ((brick >> (16u * bx + 4u * by + bz)) & MV_U64(1)) != MV_U64(0);
+/* A node's 8 children as a mask over stored Morton slots (bit v = slot v full), computed once when the walk
+ * enters the node, so each step tests one bit whatever the encoding or level. */
+
+/* Thesis octant order (bit 4x + 2y + z) to Morton order (bit x + 2y + 4z): swap bits 1 <-> 4 and 3 <-> 6. */
+MV_INLINE mv_u32 mv_thesis_to_morton_mask(mv_u32 h) {
+  mv_u32 x = ((h >> 3) ^ h) & 0x0au;
+  return (h ^ x ^ (x << 3)) & 0xffu;
+}
+
+/* 32-bit word encodings: the child mask in the header's low byte. ssvdag inner nodes: 2-bit codes, 0 = empty. */
+MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
+  if (enc != MV_ENC_SSVDAG) return mv_thesis_to_morton_mask(hdr & 0xffu);
+  mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u; /* bit 2k: code k != 0; gather the even bits into 8 */
+  nz = (nz | (nz >> 1)) & 0x3333u;
+  nz = (nz | (nz >> 2)) & 0x0f0fu;
+  nz = (nz | (nz >> 4)) & 0x00ffu;
+  return mv_thesis_to_morton_mask(nz);
+}
+
+/* The bits of b at xs v_x + ys v_y + zs v_z as an 8-bit mask over slots v = v_x + 2 v_y + 4 v_z (straight-line:
+ * no per-lane loop on SIMD devices). */
+MV_INLINE mv_u32 mv_gather8(mv_u64 b, mv_u32 xs, mv_u32 ys, mv_u32 zs) {
+  return MV_U32(((b & MV_U64(1)) | (((b >> xs) & MV_U64(1)) << 1) | (((b >> ys) & MV_U64(1)) << 2) |
+                 (((b >> (xs + ys)) & MV_U64(1)) << 3) | (((b >> zs) & MV_U64(1)) << 4) |
+                 (((b >> (xs + zs)) & MV_U64(1)) << 5) | (((b >> (ys + zs)) & MV_U64(1)) << 6) |
+                 (((b >> (xs + ys + zs)) & MV_U64(1)) << 7)));
+}
+
+/* ssvdag 4^3 brick (bit 16x + 4y + z): sub-block v (x in {2v_x, 2v_x + 1}, ...) is full when any of its 8
+ * bits is: OR the z, y and x pairs onto each block's low corner (bit 32v_x + 8v_y + 2v_z), then gather. */
+MV_INLINE mv_u32 mv_brick_occupancy(mv_u64 brick) {
+  mv_u64 b = brick | (brick >> 1);
+  b = b | (b >> 4);
+  b = b | (b >> 16);
+  return mv_gather8(b, 32u, 8u, 2u);
+}
+
+/* The 2^3 sub-block `sub` of a brick: its voxels by slot. */
+MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u64 brick, mv_u32 sub) {
+  return mv_gather8(brick >> (32u * (sub & 1u) + 8u * ((sub >> 1) & 1u) + 2u * (sub >> 2)), 16u, 4u, 1u);
 }
 
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 L, MvRay r,
@@ -191,12 +221,13 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_u32 node_at[22];
   mv_u32 hdr_at[22];
   mv_u32 mir_at[22];
+  mv_u32 occ_at[22]; /* the node's full slots (see mv_node_occupancy) */
   mv_u64 brick = MV_U64(0);
-  mv_u32 sub = 0u; /* ssvdag level-1 node: the stored 2^3 sub-block of the brick */
   mv_u32 nl = L;
   node_at[L] = 0u;
   mir_at[L] = 0u;
   hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner16(words, 0u) : MV_LD(words, 0u);
+  occ_at[L] = mv_node_occupancy(enc, hdr_at[L]); /* an ssvdag has L >= 3: its root is an inner node */
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
   mv_f32 s = mv_cell_side(lc, L);
   mv_u32 idx[3];
@@ -211,7 +242,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
     }
     ++steps;
     mv_u32 slot = ((idx[0] & 1u) | ((idx[1] & 1u) << 1) | ((idx[2] & 1u) << 2)) ^ mir_at[nl];
-    if (mv_slot_full(enc, nl, hdr_at[nl], brick, sub, slot)) {
+    if (((occ_at[nl] >> slot) & 1u) != 0u) {
       if (lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t)) {
         status = MV_TRACE_HIT;
         break;
@@ -224,6 +255,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
         mv_u32 tag = ((hdr >> (8u + t8)) & 1u) | (((hdr >> (16u + t8)) & 1u) << 1) | (((hdr >> (24u + t8)) & 1u) << 2);
         node_at[nl - 1u] = child;
         hdr_at[nl - 1u] = MV_LD(words, child);
+        occ_at[nl - 1u] = mv_node_occupancy(enc, hdr_at[nl - 1u]);
         mir_at[nl - 1u] = mir_at[nl] ^ tag;
       } else if (nl >= 3u) {
         /* pointer position: 1 + sum over later children of min(code, 2) = [code != 0] + [code >= 2] words */
@@ -242,12 +274,14 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
         if (nl > 3u) {
           node_at[nl - 1u] = MV_LD(lvl_off, nl - 1u) + off;
           hdr_at[nl - 1u] = mv_inner16(words, node_at[nl - 1u]);
+          occ_at[nl - 1u] = mv_node_occupancy(enc, hdr_at[nl - 1u]);
         } else {
           node_at[2] = off;
           brick = MV_U64(MV_LD(bricks, 2u * off)) | (MV_U64(MV_LD(bricks, 2u * off + 1u)) << 32);
+          occ_at[2] = mv_brick_occupancy(brick);
         }
       } else { /* brick -> one of its 2^3 sub-blocks, same mirror mask */
-        sub = slot;
+        occ_at[1] = mv_sub_block_occupancy(brick, slot);
         mir_at[1] = mir_at[2];
       }
       nl -= 1u;

@@ -35,8 +35,10 @@ Progress progress_bar(bool enabled) {
 }
 
 void print_table(const BuildReport& r) {
+  std::string cubes = r.cube ? ", out of core in cubes of " + std::to_string(r.cube) + "^3" : "";
+  if (r.cube_retries) cubes += " (halved " + std::to_string(r.cube_retries) + "x to fit device memory)";
   std::printf("%s -> %s (%s, %u^3%s)\n", r.input.c_str(), r.output.c_str(), r.format.c_str(), r.resolution,
-              r.cube ? (", out of core in cubes of " + std::to_string(r.cube) + "^3").c_str() : "");
+              cubes.c_str());
   if (!r.vdb_grid.empty())
     std::printf("  grid '%s' (%s), voxels %llu\n", r.vdb_grid.c_str(), r.vdb_class.c_str(), (unsigned long long)r.voxels);
   else
@@ -64,7 +66,7 @@ nlohmann::json report_json(const BuildReport& r) {
           {"format", r.format},       {"resolution", r.resolution},
           {"triangles", r.triangles}, {"voxels", r.voxels},
           {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
-          {"spilled_bytes", r.spilled_bytes},
+          {"spilled_bytes", r.spilled_bytes}, {"cube_retries", r.cube_retries},
           {"voxelize", r.voxelize},   {"grid_origin", r.grid_origin},
           {"grid", {{"origin", r.grid.origin}, {"voxel_size", r.grid.voxel_size}}},
           {"svo_nodes_per_level", r.svo_nodes},
@@ -93,7 +95,8 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("--grid", a->grid, "The .vdb grid to read (default: the first)");
   cmd->add_option("--cube", a->cube,
                   "Meshes above this resolution build out of core, one cube of this many voxels per side at a time\n"
-                  "(device memory holds one cube's voxels); 0 = always in core")
+                  "(device memory holds one cube's voxels; a cube that does not fit --device-memory is retried at half\n"
+                  "the size, down to 64); 0 = always in core")
       ->capture_default_str();
   cmd->add_option("--format", a->format,
                   "Encoding: svo (the plain octree, unreduced), svdag (the thesis / SymVox 32-bit layout),\n"

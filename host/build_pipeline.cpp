@@ -229,7 +229,9 @@ uint64_t nodes_total(const MvxFile& file) {
   return total;
 }
 
-BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
+namespace {
+
+BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progress) {
   if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
     throw Error("--format " + o.format + ": choose svo, svdag, ussvdag or ssvdag");
   BuildReport r;
@@ -289,6 +291,33 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
   t = Clock::now();
   encode_and_write(dag, o, grid, bounds, r, lap);
   return r;
+}
+
+constexpr uint32_t kSmallestCube = 64;
+
+}  // namespace
+
+// A mesh whose cube (or whole grid, in core) runs out of device memory builds again in cubes half the size,
+// down to 64^3 (the file is the same whatever the cube size); `--cube 0` (always in core), .vdb inputs and
+// a merge that does not fit keep the error.
+BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
+  BuildOptions attempt = o;
+  const uint32_t resolution = o.resolution ? o.resolution : 1024;
+  for (uint32_t retries = 0;; ++retries) {
+    try {
+      BuildReport r = build_once(dev, attempt, progress);
+      r.cube_retries = retries;
+      return r;
+    } catch (const DeviceMemoryError& e) {
+      // only a cube (or the whole grid built in core) that did not fit: the merge would not get smaller
+      const bool in_core = !(attempt.cube && resolution > attempt.cube);
+      const bool cube_failed = in_core || dynamic_cast<const CubeMemoryError*>(&e) != nullptr;
+      const uint32_t cube = in_core ? resolution : attempt.cube;
+      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || io::is_vdb(o.input)) throw;
+      attempt.cube = cube / 2;
+      if (progress) progress("cubes of " + std::to_string(attempt.cube) + "^3 (device memory)", 0);
+    }
+  }
 }
 
 }  // namespace mv

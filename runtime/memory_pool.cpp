@@ -43,8 +43,8 @@ uint64_t MemoryPool::largest_free_run() const {
 MemoryPool::Range MemoryPool::allocate(uint64_t bytes, std::string_view what) {
   uint64_t pages = std::max<uint64_t>(1, (bytes + page_bytes_ - 1) / page_bytes_);
   uint64_t need = pages * page_bytes_;
-  auto fail = [&](const std::string& why) -> Error {
-    return Error("device memory: " + std::string(what) + " needs " + format_bytes(bytes) + ", " + why +
+  auto fail = [&](const std::string& why) -> DeviceMemoryError {
+    return DeviceMemoryError("device memory: " + std::string(what) + " needs " + format_bytes(bytes) + ", " + why +
                  " (budget " + format_bytes(budget_) + ", " + format_bytes(budget_ - used()) +
                  " left, largest free run " + format_bytes(largest_free_run()) +
                  "); raise --device-memory or use a smaller problem");

@@ -156,6 +156,39 @@ TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
   fs::remove(ply);
 }
 
+// A cube that does not fit --device-memory is retried at half the size; the file is the same.
+TEST(BuildJob, CubesShrinkToFitDeviceMemory) {
+  std::vector<float> pos;
+  std::vector<uint32_t> idx;
+  bumpy_sphere(pos, idx);
+  const std::string ply = temp_path("shrink.ply");
+  write_ply(ply, pos, idx);
+  BuildOptions o;
+  o.input = ply;
+  o.resolution = 1024;
+  o.cube = 512;
+  o.format = "ssvdag";
+  o.placement = parse_grid_bounds("-1.2,-1.2,-1.2,4.8");  // the sphere inside the first cube: cubes dwarf the merge
+  std::vector<std::vector<char>> files;
+  for (uint64_t budget : {uint64_t{0}, uint64_t{6} << 20}) {  // the default, then one a 512^3 cube overflows
+    auto dev = Device::open({all_devices().front().selector(), budget, false});
+    o.output = temp_path("shrink_" + std::to_string(budget) + ".mvx");
+    BuildReport r = build_mvx(*dev, o);
+    if (budget) {
+      EXPECT_GT(r.cube_retries, 0u);
+      EXPECT_LT(r.cube, 512u);
+    } else {
+      EXPECT_EQ(r.cube_retries, 0u);
+    }
+    std::ifstream in(o.output, std::ios::binary);
+    files.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    fs::remove(o.output);
+  }
+  EXPECT_FALSE(files[0].empty());
+  EXPECT_TRUE(files[0] == files[1]);
+  fs::remove(ply);
+}
+
 TEST(BuildJob, BadInputsAreClearErrorsAndWriteNothing) {
   Device& dev = shared_device(all_devices().front());
   BuildOptions o;

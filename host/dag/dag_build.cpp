@@ -367,13 +367,18 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
       y |= uint32_t(c >> (3 * b + 1) & 1) << b;
       z |= uint32_t(c >> (3 * b + 2) & 1) << b;
     }
-    std::vector<uint64_t> keys = voxels_of(x * side, y * side, z * side, side);
-    if (keys.empty()) continue;
-    for (uint64_t& k : keys) {
-      if ((k >> (3 * cube_levels)) != c) throw Error("out-of-core build: a voxel lies outside its cube");
-      k &= local_mask;
+    Dag part;
+    try {
+      std::vector<uint64_t> keys = voxels_of(x * side, y * side, z * side, side);
+      if (keys.empty()) continue;
+      for (uint64_t& k : keys) {
+        if ((k >> (3 * cube_levels)) != c) throw Error("out-of-core build: a voxel lies outside its cube");
+        k &= local_mask;
+      }
+      part = build_dag(dev, keys, cube_levels, symmetric, nullptr, reduce);
+    } catch (const DeviceMemoryError& e) {
+      throw CubeMemoryError(std::string(e.what()) + " (in a cube of " + std::to_string(side) + "^3)");
     }
-    Dag part = build_dag(dev, keys, cube_levels, symmetric, nullptr, reduce);
     dag.voxels += part.voxels;
     for (uint32_t l = 0; l <= cube_levels; ++l) dag.svo_nodes[l] += part.svo_nodes[l];
     for (uint32_t l = 1; l <= cube_levels; ++l) {

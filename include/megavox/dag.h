@@ -8,6 +8,8 @@
 #include <functional>
 #include <vector>
 
+#include "megavox/error.h"
+
 #include "megavox/device.h"
 
 namespace mv {
@@ -50,6 +52,13 @@ Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t leve
 
 // The sorted, unique voxel keys (global Morton keys) of the cube [x, x + size)^3... of the grid.
 using CubeVoxels = std::function<std::vector<uint64_t>(uint32_t x, uint32_t y, uint32_t z, uint32_t size)>;
+
+// Thrown by build_dag_by_cubes when one cube's voxels or partial DAG do not fit device memory (smaller cubes
+// may; the merge that follows needs memory for whole merged levels and fails with a plain DeviceMemoryError).
+class CubeMemoryError : public DeviceMemoryError {
+ public:
+  using DeviceMemoryError::DeviceMemoryError;
+};
 
 // Out-of-core: the grid is split into cubes of 2^cube_levels voxels per side, taken one at a time in Morton
 // order (only one cube's voxels are ever in memory), each reduced on its own; the partial DAGs are then

@@ -12,4 +12,11 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
+// The device memory budget (or the largest single allocation) cannot hold a buffer: a smaller problem
+// (smaller out-of-core cubes) may still fit.
+class DeviceMemoryError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace mv

@@ -1,37 +1,15 @@
 #include "triangle_buckets.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <string>
-
-#include "megavox/error.h"
 
 namespace mv {
-
-namespace {
-
-std::string spill_dir() {
-  const char* dir = std::getenv("TMPDIR");
-  return dir && *dir ? dir : "/tmp";
-}
-
-}  // namespace
 
 TriangleBuckets::TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget)
     : per_axis_(per_axis), cube_(cube), budget_(budget) {
   const size_t n = size_t{per_axis} * per_axis * per_axis;
   mem_.resize(n);
-  file_.resize(n);
-}
-
-TriangleBuckets::~TriangleBuckets() {
-  if (fd_ >= 0) ::close(fd_);
+  chunks_.resize(n);
 }
 
 void TriangleBuckets::add(const std::vector<float>& tris) {
@@ -55,28 +33,13 @@ void TriangleBuckets::add(const std::vector<float>& tris) {
 }
 
 void TriangleBuckets::spill() {
-  if (fd_ < 0) {
-    std::string path = spill_dir() + "/megavox-triangles-XXXXXX";
-    fd_ = ::mkstemp(path.data());
-    if (fd_ < 0)
-      throw Error("spilling triangles to " + spill_dir() + " (over --memory): " + std::strerror(errno) +
-                  "; set TMPDIR to a writable directory");
-    ::unlink(path.c_str());  // the file lives until it is closed
-  }
+  if (!spill_) spill_ = std::make_unique<io::TempFile>("spilling triangles (over --memory)");
   for (size_t b = 0; b < mem_.size(); ++b) {
     std::vector<float>& v = mem_[b];
     if (v.empty()) continue;
-    const uint64_t bytes = v.size() * sizeof(float);
-    const char* p = reinterpret_cast<const char*>(v.data());
-    for (uint64_t done = 0; done < bytes;) {
-      const ssize_t w = ::pwrite(fd_, p + done, bytes - done, static_cast<off_t>(file_bytes_ + done));
-      if (w < 0 && errno == EINTR) continue;
-      if (w <= 0)
-        throw Error("spilling triangles to " + spill_dir() + ": " + (w < 0 ? std::strerror(errno) : "disk full"));
-      done += static_cast<uint64_t>(w);
-    }
-    file_[b].push_back({file_bytes_, v.size()});
-    file_bytes_ += bytes;
+    spill_->write_at(v.data(), v.size() * sizeof(float), file_bytes_);
+    chunks_[b].push_back({file_bytes_, v.size()});
+    file_bytes_ += v.size() * sizeof(float);
     std::vector<float>().swap(v);  // give the memory back
   }
   held_ = 0;
@@ -86,24 +49,17 @@ std::vector<float> TriangleBuckets::take(uint32_t x, uint32_t y, uint32_t z) {
   const size_t b = bucket(x, y, z);
   std::vector<float> out;
   uint64_t floats = mem_[b].size();
-  for (const Chunk& c : file_[b]) floats += c.floats;
+  for (const Chunk& c : chunks_[b]) floats += c.floats;
   out.reserve(floats);
-  for (const Chunk& c : file_[b]) {
+  for (const Chunk& c : chunks_[b]) {
     const size_t at = out.size();
     out.resize(at + c.floats);
-    char* p = reinterpret_cast<char*>(out.data() + at);
-    const uint64_t bytes = c.floats * sizeof(float);
-    for (uint64_t done = 0; done < bytes;) {
-      const ssize_t r = ::pread(fd_, p + done, bytes - done, static_cast<off_t>(c.offset + done));
-      if (r < 0 && errno == EINTR) continue;
-      if (r <= 0) throw Error("reading spilled triangles back: " + std::string(r < 0 ? std::strerror(errno) : "short read"));
-      done += static_cast<uint64_t>(r);
-    }
+    spill_->read_at(out.data() + at, c.floats * sizeof(float), c.offset);
   }
   out.insert(out.end(), mem_[b].begin(), mem_[b].end());
   held_ -= mem_[b].size() * sizeof(float);
   std::vector<float>().swap(mem_[b]);
-  std::vector<Chunk>().swap(file_[b]);
+  std::vector<Chunk>().swap(chunks_[b]);
   return out;
 }
 

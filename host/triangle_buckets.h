@@ -5,7 +5,10 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
+
+#include "io/temp_file.h"
 
 namespace mv {
 
@@ -13,7 +16,6 @@ class TriangleBuckets {
  public:
   // per_axis^3 cubes of `cube` voxels per side; `budget`: bytes of triangles held in memory before spilling.
   TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget);
-  ~TriangleBuckets();
   TriangleBuckets(const TriangleBuckets&) = delete;
   TriangleBuckets& operator=(const TriangleBuckets&) = delete;
 
@@ -32,8 +34,8 @@ class TriangleBuckets {
   uint32_t per_axis_, cube_;
   uint64_t budget_, held_ = 0;            // bytes of triangles in memory
   std::vector<std::vector<float>> mem_;   // per bucket, not yet spilled
-  std::vector<std::vector<Chunk>> file_;  // per bucket, its chunks in the spill file
-  int fd_ = -1;
+  std::vector<std::vector<Chunk>> chunks_;  // per bucket, its chunks in the spill file
+  std::unique_ptr<io::TempFile> spill_;
   uint64_t file_bytes_ = 0;
 };
 

@@ -59,12 +59,18 @@ size_t batch_triangles(const BuildOptions& o) {
   return static_cast<size_t>(std::clamp<uint64_t>(memory_budget(o) / 8 / 48, 4096, kBatchTriangles));
 }
 
+// A PLY's vertex positions stay in RAM up to a quarter of the budget, past it in a mapped scratch file.
+std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o) {
+  return io::open_mesh(o.input, memory_budget(o) / 4);
+}
+
 // Fails early, before the heavy work, when a mesh's host-side arrays would pass the budget: the positions
-// and used-vertex flags, and one batch of triangles with its indices (out of core, the bucketed triangles
-// spill to disk past their share of the budget).
+// (at most their RAM share), the used-vertex flags, and one batch of triangles with its indices (out of
+// core, the bucketed triangles spill to disk past their share of the budget).
 void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh) {
   const uint64_t vertices = mesh.positions().size() / 3, triangles = mesh.triangles_hint();
-  const uint64_t need = vertices * 13 + std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
+  const uint64_t need = std::min(vertices * 12, memory_budget(o) / 4) + vertices +
+                        std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
   if (need > memory_budget(o))
     throw Error(o.input + ": the mesh needs about " + std::to_string((need + (1 << 20) - 1) >> 20) +
                 " MiB of host memory, over --memory " + std::to_string(memory_budget(o) >> 20) + " MiB");
@@ -91,7 +97,7 @@ GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds
 // Bounds of the vertices a mesh's faces use (scans carry unreferenced vertices): one streaming pass.
 Bounds used_vertex_bounds(const BuildOptions& o) {
   Bounds bounds;
-  auto mesh = io::open_mesh(o.input);
+  auto mesh = open_budgeted_mesh(o);
   check_mesh_memory(o, *mesh);
   const auto& pos = mesh->positions();
   std::vector<bool> used(pos.size() / 3, false);
@@ -106,7 +112,7 @@ Bounds used_vertex_bounds(const BuildOptions& o) {
 // Streams a mesh's triangles in grid units, a batch at a time.
 void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
                          const std::function<void(const std::vector<float>&, double)>& batch) {
-  auto mesh = io::open_mesh(o.input);
+  auto mesh = open_budgeted_mesh(o);
   std::vector<uint32_t> idx;
   std::vector<float> tris;
   const double faces = std::max<double>(1, double(mesh->triangles_hint()));

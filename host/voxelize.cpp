@@ -83,7 +83,7 @@ GridTransform grid_for_bounds(const Bounds& b, uint32_t resolution, const GridPl
   return g;
 }
 
-void triangles_to_grid(const GridTransform& grid, const std::vector<float>& positions, const uint32_t* indices,
+void triangles_to_grid(const GridTransform& grid, std::span<const float> positions, const uint32_t* indices,
                        size_t triangles, std::vector<float>& out, bool clip) {
   const double n = grid.resolution;
   const double inv = 1.0 / grid.voxel_size;

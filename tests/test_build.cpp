@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <random>
 
 #include "io/ply_reader.h"
@@ -47,7 +48,7 @@ void write_ply(const std::string& path, const std::vector<float>& pos, const std
   }
 }
 
-void write_obj(const std::string& path, const std::vector<float>& pos, const std::vector<uint32_t>& idx) {
+void write_obj(const std::string& path, std::span<const float> pos, const std::vector<uint32_t>& idx) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   for (size_t v = 0; v < pos.size(); v += 3) std::fprintf(f, "v %.9g %.9g %.9g\n", pos[v], pos[v + 1], pos[v + 2]);
   for (size_t t = 0; t < idx.size(); t += 3) std::fprintf(f, "f %u %u %u\n", idx[t] + 1, idx[t + 1] + 1, idx[t + 2] + 1);

@@ -209,9 +209,10 @@ struct Mesh {
   std::vector<uint32_t> triangles;
 };
 
-Mesh read_all(const std::string& path, size_t batch = 1000) {
-  PlyMeshReader r(path);
-  Mesh m{r.info(), r.positions(), {}};
+Mesh read_all(const std::string& path, size_t batch = 1000, uint64_t ram_bytes = UINT64_MAX) {
+  PlyMeshReader r(path, ram_bytes);
+  EXPECT_EQ(r.positions_mapped(), r.info().vertices * 12 > ram_bytes);
+  Mesh m{r.info(), {r.positions().begin(), r.positions().end()}, {}};
   std::vector<uint32_t> part;
   while (r.next_triangles(part, batch)) m.triangles.insert(m.triangles.end(), part.begin(), part.end());
   EXPECT_TRUE(part.empty());
@@ -280,6 +281,7 @@ TEST(Ply, RoundTripDoublesExtraPropertiesAndElements) {
       if (m.coord_type == "double" || m.coord_type == "float64") m.vertices[4] = {0.1, -1e-30, 123456.789};
       else m.vertices[4] = {2, -1, -3};  // integers only
       expect_mesh(read_all(write_file("rt.ply", make_ply(m, f))), m);
+      expect_mesh(read_all(write_file("rt.ply", make_ply(m, f)), 1000, 0), m);  // positions in a scratch file
     }
   }
 }

@@ -64,7 +64,7 @@ std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, co
   auto src = io::open_mesh(mesh);
   std::vector<uint32_t> indices, batch;
   while (src->next_triangles(batch, 1 << 20)) indices.insert(indices.end(), batch.begin(), batch.end());
-  const std::vector<float>& pos = src->positions();
+  std::span<const float> pos = src->positions();
   out.triangles = indices.size() / 3;
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) throw Error("bench trace: Embree could not create a device");

@@ -17,8 +17,8 @@ namespace {
 
 class PlySource final : public MeshSource {
  public:
-  explicit PlySource(const std::string& path) : reader_(path) {}
-  const std::vector<float>& positions() const override { return reader_.positions(); }
+  PlySource(const std::string& path, uint64_t ram_bytes) : reader_(path, ram_bytes) {}
+  std::span<const float> positions() const override { return reader_.positions(); }
   uint64_t triangles_hint() const override { return reader_.info().faces; }
   bool next_triangles(std::vector<uint32_t>& indices, size_t max) override {
     return reader_.next_triangles(indices, max);
@@ -53,7 +53,7 @@ class AssimpSource final : public MeshSource {
       }
     }
   }
-  const std::vector<float>& positions() const override { return positions_; }
+  std::span<const float> positions() const override { return positions_; }
   uint64_t triangles_hint() const override { return indices_.size() / 3; }
   bool next_triangles(std::vector<uint32_t>& indices, size_t max) override {
     indices.clear();
@@ -81,8 +81,8 @@ bool starts_with_ply(const std::string& path) {
 
 }  // namespace
 
-std::unique_ptr<MeshSource> open_mesh(const std::string& path) {
-  if (starts_with_ply(path)) return std::make_unique<PlySource>(path);
+std::unique_ptr<MeshSource> open_mesh(const std::string& path, uint64_t ram_bytes) {
+  if (starts_with_ply(path)) return std::make_unique<PlySource>(path, ram_bytes);
   return std::make_unique<AssimpSource>(path);
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -12,14 +13,14 @@ namespace mv::io {
 class MeshSource {
  public:
   virtual ~MeshSource() = default;
-  virtual const std::vector<float>& positions() const = 0;  // 3 floats per vertex
+  virtual std::span<const float> positions() const = 0;  // 3 floats per vertex
   virtual uint64_t triangles_hint() const = 0;               // for progress; may be approximate
   // Replaces `indices` with up to max_triangles triangles (3 indices each); false at the end.
   virtual bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) = 0;
 };
 
 // Chooses the reader by content (a PLY starts with "ply\n"), else by assimp. Throws mv::Error naming the file
-// and the fault.
-std::unique_ptr<MeshSource> open_mesh(const std::string& path);
+// and the fault. A PLY's vertex positions over `ram_bytes` go to a memory-mapped scratch file.
+std::unique_ptr<MeshSource> open_mesh(const std::string& path, uint64_t ram_bytes = UINT64_MAX);
 
 }  // namespace mv::io

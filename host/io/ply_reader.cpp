@@ -14,6 +14,7 @@
 
 #include "megavox/error.h"
 #include "ply_header.h"
+#include "temp_file.h"
 
 namespace mv::io {
 
@@ -259,7 +260,11 @@ struct PlyMeshReader::Impl {
   Source src;
   Header header;
   PlyInfo info;
-  std::vector<float> positions;
+  uint64_t ram_bytes;
+  std::vector<float> positions;        // in RAM, or
+  std::unique_ptr<TempFile> scratch;   // mapped from a scratch file past ram_bytes
+  float* mapped = nullptr;
+  std::span<float> pos;                // whichever holds them
 
   size_t vertex_el = kNone;
   size_t face_el = kNone;
@@ -275,7 +280,7 @@ struct PlyMeshReader::Impl {
   uint32_t poly_prev = 0;
   bool done = false;
 
-  explicit Impl(const std::string& path) : src(path), header(detail::parse_header(src)) {
+  Impl(const std::string& path, uint64_t ram) : src(path), header(detail::parse_header(src)), ram_bytes(ram) {
     check_counts();
     find_layout();
     info = {header.elements[vertex_el].count, face_el == kNone ? 0 : header.elements[face_el].count,
@@ -283,6 +288,8 @@ struct PlyMeshReader::Impl {
     vertex_limit = static_cast<double>(info.vertices);
     with_values([&](auto& v) { advance(v); });
   }
+
+  ~Impl() { TempFile::unmap(mapped, pos.size_bytes()); }
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(src.path() + ": " + what); }
   [[noreturn]] void fail_at(uint64_t line, const std::string& what) const { fail("line " + num(line) + ": " + what); }
@@ -436,11 +443,19 @@ struct PlyMeshReader::Impl {
   template <class V>
   void read_vertices(V& v) {
     const Element& e = header.elements[vertex_el];
-    positions.resize(3 * e.count);  // bounded by the file size (check_counts)
+    const uint64_t bytes = 12 * e.count;  // bounded by the file size (check_counts)
+    if (bytes > ram_bytes) {
+      scratch = std::make_unique<TempFile>(src.path() + ": vertex positions over the memory budget");
+      mapped = scratch->map_floats(bytes);
+      pos = {mapped, 3 * e.count};
+    } else {
+      positions.resize(3 * e.count);
+      pos = positions;
+    }
     if constexpr (V::kBinary) {
       if (size_t record = record_bytes(e)) return read_vertex_records(v, e, record);
     }
-    float* out = positions.data();
+    float* out = pos.data();
     uint64_t i = 0;
     try {
       for (; i < e.count; ++i, out += 3) {
@@ -465,7 +480,7 @@ struct PlyMeshReader::Impl {
       offset[vertex_role[k]] = at;
       prop[vertex_role[k]] = &e.props[k];
     }
-    float* out = positions.data();
+    float* out = pos.data();
     for (uint64_t i = 0; i < e.count;) {
       auto [begin, end] = src.window(record);
       uint64_t n = std::min<uint64_t>(e.count - i, static_cast<uint64_t>(end - begin) / record);
@@ -554,14 +569,16 @@ struct PlyMeshReader::Impl {
   }
 };
 
-PlyMeshReader::PlyMeshReader(const std::string& path) : impl_(std::make_unique<Impl>(path)) {}
+PlyMeshReader::PlyMeshReader(const std::string& path, uint64_t ram_bytes)
+    : impl_(std::make_unique<Impl>(path, ram_bytes)) {}
 PlyMeshReader::~PlyMeshReader() = default;
 PlyMeshReader::PlyMeshReader(PlyMeshReader&&) noexcept = default;
 PlyMeshReader& PlyMeshReader::operator=(PlyMeshReader&&) noexcept = default;
 
 const PlyInfo& PlyMeshReader::info() const { return impl_->info; }
 
-const std::vector<float>& PlyMeshReader::positions() const { return impl_->positions; }
+std::span<const float> PlyMeshReader::positions() const { return impl_->pos; }
+bool PlyMeshReader::positions_mapped() const { return impl_->mapped != nullptr; }
 
 bool PlyMeshReader::next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) {
   indices.clear();

@@ -1,7 +1,8 @@
 // Streaming PLY 1.0 mesh reader (ascii, binary_little_endian, binary_big_endian).
 //
-// Vertices are read on construction and held in RAM (12 bytes per vertex); faces are streamed in batches
-// with next_triangles(), so a mesh whose face list does not fit in RAM can still be processed.
+// Vertices are read on construction, 12 bytes each, in RAM or, past a byte limit, in a memory-mapped scratch
+// file the kernel pages to disk; faces are streamed in batches with next_triangles(). So a mesh larger than
+// RAM can still be processed.
 // Every fault -- missing file, malformed header, truncated data, bad index, non-finite coordinate, a
 // count larger than the file could hold -- throws mv::Error naming the file and the fault. After an error
 // from next_triangles the reader is spent: open the file again to retry.
@@ -18,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,8 +34,9 @@ struct PlyInfo {
 
 class PlyMeshReader {
  public:
-  // Opens `path`, parses the header and reads all vertices.
-  explicit PlyMeshReader(const std::string& path);
+  // Opens `path`, parses the header and reads all vertices; positions over `ram_bytes` go to a scratch file
+  // in $TMPDIR (or /tmp), mapped into memory.
+  explicit PlyMeshReader(const std::string& path, uint64_t ram_bytes = UINT64_MAX);
   ~PlyMeshReader();
   PlyMeshReader(PlyMeshReader&&) noexcept;
   PlyMeshReader& operator=(PlyMeshReader&&) noexcept;
@@ -41,7 +44,8 @@ class PlyMeshReader {
   const PlyInfo& info() const;
 
   // x, y, z of every vertex, 3 floats per vertex.
-  const std::vector<float>& positions() const;
+  std::span<const float> positions() const;
+  bool positions_mapped() const;  // in a scratch file (over ram_bytes)
 
   // Replaces `indices` with up to `max_triangles` triangles (3 vertex indices each) of the next faces; a
   // polygon may be split across calls. Returns false, with `indices` empty, once every face was read.

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <span>
 #include <vector>
 
 #include "megavox/device.h"
@@ -55,7 +56,7 @@ GridTransform grid_for_bounds(const Bounds& bounds, uint32_t resolution, const G
 // coordinates are clamped into [0, resolution], which only absorbs round-off. With `clip` true (an explicit
 // cube) coordinates are kept and triangles whose bounding box misses the grid are dropped; the voxelizer's
 // exact test cuts the rest at the grid's faces.
-void triangles_to_grid(const GridTransform& grid, const std::vector<float>& positions, const uint32_t* indices,
+void triangles_to_grid(const GridTransform& grid, std::span<const float> positions, const uint32_t* indices,
                        size_t triangles, std::vector<float>& out, bool clip = false);
 
 // Voxelizes triangle batches on a device, within its memory budget, and collects the voxels.

@@ -48,6 +48,16 @@ void write_ply(const std::string& path, const std::vector<float>& pos, const std
   }
 }
 
+// The bumpy sphere written as a binary PLY in the temp folder; returns its path.
+std::string sphere_ply(const std::string& name, int rings = 24, int segs = 48) {
+  std::vector<float> pos;
+  std::vector<uint32_t> idx;
+  bumpy_sphere(pos, idx, rings, segs);
+  const std::string ply = temp_path(name);
+  write_ply(ply, pos, idx);
+  return ply;
+}
+
 void write_obj(const std::string& path, std::span<const float> pos, const std::vector<uint32_t>& idx) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   for (size_t v = 0; v < pos.size(); v += 3) std::fprintf(f, "v %.9g %.9g %.9g\n", pos[v], pos[v + 1], pos[v + 2]);
@@ -102,11 +112,7 @@ TEST(BuildJob, SharedMeshAsObjMatchesItsPly) {
 }
 
 TEST(BuildJob, HostMemoryBudgetIsEnforced) {
-  std::vector<float> pos;
-  std::vector<uint32_t> idx;
-  bumpy_sphere(pos, idx);
-  const std::string ply = temp_path("budget.ply");
-  write_ply(ply, pos, idx);
+  const std::string ply = sphere_ply("budget.ply");
   Device& dev = shared_device(all_devices().front());
   BuildOptions o;
   o.input = ply;
@@ -129,13 +135,17 @@ TEST(BuildJob, HostMemoryBudgetIsEnforced) {
   fs::remove(ply);
 }
 
+// Builds o.output and returns its bytes (the file is removed).
+std::vector<char> built_file(Device& dev, const BuildOptions& o, BuildReport& r) {
+  r = build_mvx(dev, o);
+  std::vector<char> bytes = file_bytes(o.output);
+  fs::remove(o.output);
+  return bytes;
+}
+
 // Out of core, triangles past a quarter of --memory spill to a temporary file; the file built is the same.
 TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
-  std::vector<float> pos;
-  std::vector<uint32_t> idx;
-  bumpy_sphere(pos, idx, 160, 320);  // 102,400 triangles: 3.7 MB in grid units
-  const std::string ply = temp_path("spill.ply");
-  write_ply(ply, pos, idx);
+  const std::string ply = sphere_ply("spill.ply", 160, 320);  // 102,400 triangles: 3.7 MB in grid units
   Device& dev = shared_device(all_devices().front());
   BuildOptions o;
   o.input = ply;
@@ -146,11 +156,9 @@ TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
   for (uint64_t memory : {uint64_t{1} << 30, uint64_t{2} << 20}) {
     o.memory = memory;
     o.output = temp_path("spill_" + std::to_string(memory) + ".mvx");
-    BuildReport r = build_mvx(dev, o);
+    BuildReport r;
+    files.push_back(built_file(dev, o, r));
     EXPECT_EQ(r.spilled_bytes > 0, memory < (uint64_t{1} << 30)) << memory << "-byte budget";
-    std::ifstream in(o.output, std::ios::binary);
-    files.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    fs::remove(o.output);
   }
   EXPECT_FALSE(files[0].empty());
   EXPECT_TRUE(files[0] == files[1]);
@@ -159,11 +167,7 @@ TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
 
 // A cube that does not fit --device-memory is retried at half the size; the file is the same.
 TEST(BuildJob, CubesShrinkToFitDeviceMemory) {
-  std::vector<float> pos;
-  std::vector<uint32_t> idx;
-  bumpy_sphere(pos, idx);
-  const std::string ply = temp_path("shrink.ply");
-  write_ply(ply, pos, idx);
+  const std::string ply = sphere_ply("shrink.ply");
   BuildOptions o;
   o.input = ply;
   o.resolution = 1024;
@@ -174,16 +178,14 @@ TEST(BuildJob, CubesShrinkToFitDeviceMemory) {
   for (uint64_t budget : {uint64_t{0}, uint64_t{6} << 20}) {  // the default, then one a 512^3 cube overflows
     auto dev = Device::open({all_devices().front().selector(), budget, false});
     o.output = temp_path("shrink_" + std::to_string(budget) + ".mvx");
-    BuildReport r = build_mvx(*dev, o);
+    BuildReport r;
+    files.push_back(built_file(*dev, o, r));
     if (budget) {
       EXPECT_GT(r.cube_retries, 0u);
       EXPECT_LT(r.cube, 512u);
     } else {
       EXPECT_EQ(r.cube_retries, 0u);
     }
-    std::ifstream in(o.output, std::ios::binary);
-    files.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    fs::remove(o.output);
   }
   EXPECT_FALSE(files[0].empty());
   EXPECT_TRUE(files[0] == files[1]);

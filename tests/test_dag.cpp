@@ -128,20 +128,23 @@ MV_INSTANTIATE_ON_ALL_DEVICES(DagTest);
 namespace mv::test {
 namespace {
 
-// Out-of-core (cube by cube, then merged) gives the in-core DAG exactly: the same encoded bytes.
-TEST_P(DagTest, OutOfCoreEqualsInCore) {
-  Device& dev = shared_device(GetParam());
-  const uint32_t levels = 7, n = 1u << levels;
-  std::vector<float> tris = octahedron_grid_triangles(n, -1.3f);
-  Voxelizer all(dev, n);
-  all.add(tris);
-  std::vector<uint64_t> voxels = all.take_keys();
-  CubeVoxels cube = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
+// The voxels of each cube of `tris` on an n^3 grid, voxelized on demand as the out-of-core builds ask.
+CubeVoxels voxelized_cubes(Device& dev, uint32_t n, const std::vector<float>& tris) {
+  return [&dev, n, &tris](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
     Voxelizer v(dev, n);
     v.restrict_to(x, y, z, size);
     v.add(tris);
     return v.take_keys();
   };
+}
+
+// Out-of-core (cube by cube, then merged) gives the in-core DAG exactly: the same encoded bytes.
+TEST_P(DagTest, OutOfCoreEqualsInCore) {
+  Device& dev = shared_device(GetParam());
+  const uint32_t levels = 7, n = 1u << levels;
+  std::vector<float> tris = octahedron_grid_triangles(n, -1.3f);
+  std::vector<uint64_t> voxels = voxelized_cubes(dev, n, tris)(0, 0, 0, n);
+  CubeVoxels cube = voxelized_cubes(dev, n, tris);
   for (bool symmetric : {false, true}) {
     Dag in_core = symmetric ? build_ssvdag(dev, voxels, levels) : build_svdag(dev, voxels, levels);
     for (uint32_t cube_levels : {4u, 6u}) {
@@ -164,15 +167,8 @@ TEST_P(DagTest, OctreeOutOfCoreEqualsInCore) {
   Device& dev = shared_device(GetParam());
   const uint32_t levels = 6, n = 1u << levels;
   std::vector<float> tris = octahedron_grid_triangles(n, -1.3f);
-  Voxelizer all(dev, n);
-  all.add(tris);
-  Dag in_core = build_svo(dev, all.take_keys(), levels);
-  CubeVoxels cube = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
-    Voxelizer v(dev, n);
-    v.restrict_to(x, y, z, size);
-    v.add(tris);
-    return v.take_keys();
-  };
+  CubeVoxels cube = voxelized_cubes(dev, n, tris);
+  Dag in_core = build_svo(dev, cube(0, 0, 0, n), levels);  // the whole grid as one cube
   for (uint32_t cube_levels : {3u, 5u}) {
     Dag ooc = build_svo_by_cubes(dev, levels, cube_levels, cube);
     EXPECT_FALSE(ooc.reduced);

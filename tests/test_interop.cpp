@@ -26,10 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("megavox_interop_" + name)).string(); }
 
-std::vector<char> slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 void spit(const std::string& path, const std::vector<char>& bytes) {
   std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
@@ -110,7 +106,7 @@ void walk16(const Compact& f, uint64_t node, uint32_t level, uint32_t m, uint32_
 
 // Voxels of a SymVox-family file, read the way SymVox's viewer reads it.
 std::vector<uint64_t> symvox_viewer_voxels(const std::string& path) {
-  std::vector<char> b = slurp(path);
+  std::vector<char> b = file_bytes(path);
   const uint32_t levels = at<uint32_t>(b, 28);
   std::vector<uint64_t> keys;
   Emit emit = [&](uint32_t x, uint32_t y, uint32_t z) { keys.push_back(ref::morton3(x, y, z, 21)); };
@@ -214,7 +210,7 @@ TEST(SymVox, VoxcomFilesAreRecognisedAndUntransposed) {
   write_mvx(mvx, mvx_for_dag(build_dag_for_format(dev, swapped, 5, "svdag"), "svdag", g, b));
   // A voxcom header: bbox from 0, root side = the resolution.
   export_mvx(dev, {mvx, temp_path("vc.svdag"), "symvox-svdag"});
-  std::vector<char> bytes = slurp(temp_path("vc.svdag"));
+  std::vector<char> bytes = file_bytes(temp_path("vc.svdag"));
   const float box[7] = {0, 0, 0, 32, 20, 30, 32};
   std::memcpy(bytes.data(), box, sizeof box);
   spit(temp_path("vc.svdag"), bytes);
@@ -239,7 +235,7 @@ TEST(SymVox, CorruptAndTruncatedFilesAreClearErrors) {
   for (const char* layout : kLayouts) {
     const std::string good = temp_path("good.bin"), bad = temp_path("bad.bin");
     export_mvx(dev, {mvx, good, layout});
-    const std::vector<char> bytes = slurp(good);
+    const std::vector<char> bytes = file_bytes(good);
     auto outcome = [&](const std::vector<char>& b) {
       spit(bad, b);
       try {
@@ -265,7 +261,7 @@ TEST(SymVox, CorruptAndTruncatedFilesAreClearErrors) {
   }
   // A pointer back to the root (a cycle) and one past the end.
   export_mvx(dev, {mvx, temp_path("p.svdag"), "symvox-svdag"});
-  std::vector<char> b = slurp(temp_path("p.svdag"));
+  std::vector<char> b = file_bytes(temp_path("p.svdag"));
   for (uint32_t target : {0u, 0x7fffffffu}) {
     std::vector<char> c = b;
     std::memcpy(c.data() + 48, &target, 4);  // the root's first pointer

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 
@@ -18,6 +20,11 @@ namespace mv::test {
 const std::vector<DeviceInfo>& all_devices() {
   static const std::vector<DeviceInfo> devices = list_devices();
   return devices;
+}
+
+std::vector<char> file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 Device& shared_device(const DeviceInfo& info) {

@@ -19,6 +19,9 @@ const std::vector<DeviceInfo>& all_devices();
 // The device for `info`, opened on first use with the default budget and kept for the process.
 Device& shared_device(const DeviceInfo& info);
 
+// Every byte of a file (empty when it cannot be read).
+std::vector<char> file_bytes(const std::string& path);
+
 // "pocl_ocl0", "llvmpipe_vk0": a gtest-safe name that carries the backend.
 std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& info);
 

@@ -8,8 +8,10 @@
  * and each T, the reflected node n_T has child[c ^ T] = child[c] with tag norm(tag[c] ^ T). n's class is
  * keyed by Key(n_T*) with T* = argmin_T Key(n_T) (lexicographic: mask, then (id, tag) by octant), stab(n) =
  * {S : Key(n_S) == Key(n_0)}, and the parent's pointer to n becomes (class, norm(T*)). Level-1 nodes (2x2x2
- * masks) are keyed by the mask alone. Exact: two subtrees get the same key iff one is a reflection of the
- * other, so no symmetry is missed. The hash / sort / runs / verify pipeline of dag.h then assigns ids. */
+ * masks) are keyed by the mask alone (a 256-entry table), level-2 nodes by their 4x4x4 brick (64 exact bits,
+ * ordered by (mask, brick): another total order, as exact). Exact: two subtrees get the same key iff one is a
+ * reflection of the other, so no symmetry is missed. The hash / sort / runs / verify pipeline of dag.h then
+ * assigns ids (bricks need no hash and no verification). */
 #ifndef MV_SSVDAG_H
 #define MV_SSVDAG_H
 #include "dag.h"
@@ -50,13 +52,13 @@ MV_INLINE void mv_store_orientation(MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab,
   MV_ST(stab, i, s);
 }
 
-/* T* (smallest key, ties to the smaller T) and stab of each node above level 1, comparing the reflected keys
+/* T* (smallest key, ties to the smaller T) and stab of each node above level 2, comparing the reflected keys
  * entry by entry from the children's (id, tag, tag table) read once (mtab: leaf_table, which describes every
- * 8-bit mask), and the hash of the canonical key
- * Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. */
+ * 8-bit mask), and the hash of the canonical key Key(n_T*) (seeded by p.seed_lo) for the sort that groups
+ * equal keys. */
 MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag,
-                               MvBufU32 cnorm, MvBufU32 tstar, MvBufU32 tag_out, MvBufU32 stab, MvBufU64 hashes, MvBufU32 order,
-                               MvDagParams p, mv_u32 gid, mv_u32 stride) {
+                               MvBufU32 cnorm, MvBufU32 tstar, MvBufU32 tag_out, MvBufU32 stab, MvBufU64 hashes,
+                               MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
     mv_u32 id[8], tag[8], cs[8];
@@ -231,10 +233,10 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
 /* Level 1 needs no hashing: a 2x2x2 node's class is its canonical mask (the mask itself without symmetry),
  * one of at most 256. leaf_table describes every mask once: word 2m = canonical mask | T* << 8 | tag << 11
  * (the tag normalized by the mask's stabilizer) | stabilizer << 16, word 2m + 1 = its tag normalization
- * table. leaf_present
- * marks the classes that occur; their exclusive scan ranks them (ids in class order); leaf_classes gives
- * each id its stored mask (word 8 id, then its 7 reflections, for level 2's bricks) and, with symmetry (p.leaf == 2), its tag table; leaf_ids gives each node its id
- * and, with symmetry, its tag. Nothing is written per node to shared addresses but the presence flags. */
+ * table. leaf_present marks the classes that occur; their exclusive scan ranks them (ids in class order);
+ * leaf_classes gives each id its stored mask (word 8 id, then its 7 reflections, for level 2's bricks) and,
+ * with symmetry (p.leaf == 2), its tag table; leaf_ids gives each node its id and, with symmetry, its tag.
+ * Nothing is written per node to shared addresses but the presence flags. */
 MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 m = gid; m < 256u; m += stride) {
     mv_u32 best = 0u, s = 1u, lowest = m;

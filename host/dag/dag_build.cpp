@@ -64,15 +64,29 @@ Buffer mask_table(Device& dev) {
   return table;
 }
 
+// How a build reduces its levels: plainly, or up to reflections with the mask table made once per build.
+struct Reduction {
+  bool symmetric = false;
+  Buffer mask_table;  // symmetric only
+};
+
+Reduction make_reduction(Device& dev, bool symmetric) {
+  Reduction red;
+  red.symmetric = symmetric;
+  if (symmetric) red.mask_table = mask_table(dev);
+  return red;
+}
+
 // Level 1: classes are (canonical) masks, ranked without hashing (kernels: leaf_table, leaf_present,
 // leaf_classes, leaf_ids); with symmetry the 256-mask table also gives each node its tag, each class its
 // tag table.
-void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, bool symmetric) {
+void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction& red) {
+  const bool symmetric = red.symmetric;
+  const Buffer& table = red.mask_table;
   MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0};
-  Buffer table, present = dev.alloc(257 * 4, "leaf classes");
+  Buffer present = dev.alloc(257 * 4, "leaf classes");
   dev.fill(present, 0, 257 * 4);
   if (symmetric) {
-    table = mask_table(dev);
     r.tag = dev.alloc(uint64_t{lv.n} * 4, "node tags");
   }
   dev.barrier();
@@ -89,12 +103,13 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, bool symmetric) 
   dev.barrier();
 }
 
-Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, bool symmetric) {
+Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red) {
+  const bool symmetric = red.symmetric;
   const uint32_t n = lv.n;
   Reduced r;
   r.id = dev.alloc(uint64_t{n} * 4, "node ids");
   if (leaf) {
-    reduce_leaves(dev, lv, r, symmetric);
+    reduce_leaves(dev, lv, r, red);
     return r;
   }
   Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
@@ -102,9 +117,9 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
   Buffer collided = dev.alloc(4, "hash collision flag");
   const bool brick = !below.class_mask.empty();  // level 2: 4x4x4 bricks are exact keys, nothing to verify
-  Buffer stab, mtab;
+  Buffer stab;
+  const Buffer& mtab = red.mask_table;
   if (symmetric) {
-    mtab = mask_table(dev);
     r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
     r.tag = dev.alloc(uint64_t{n} * 4, "node tags");
     stab = dev.alloc(uint64_t{n} * 4, "node stabilizers");
@@ -270,10 +285,11 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   dev.finish();
   auto t1 = Clock::now();
 
+  const Reduction red = make_reduction(dev, reduce && symmetric);
   Reduced below;
   for (uint32_t l = 1; l <= levels; ++l) {
     const bool leaf = l == 1;
-    Reduced r = reduce ? reduce_level(dev, svo[l], below, leaf, symmetric) : identity_level(dev, svo[l]);
+    Reduced r = reduce ? reduce_level(dev, svo[l], below, leaf, red) : identity_level(dev, svo[l]);
     dag.level[l] = assemble(dev, svo[l], r, below, leaf, symmetric);
     below = std::move(r);
     svo[l - 1] = SvoLevel();
@@ -403,11 +419,12 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
 
   // 2. Reduce the union again, bottom-up, exactly as an in-core build reduces its octree levels: the same
   // hashes of the same (mask, child class, tag) give the same classes, ids and stored orientations.
+  const Reduction red = make_reduction(dev, reduce && symmetric);
   Reduced below;
   for (uint32_t l = 1; l <= cube_levels; ++l) {
     SvoLevel lv = upload_level(dev, u[l]);
     Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric);
-    Reduced r = reduce ? reduce_level(dev, lv, slots, l == 1, symmetric) : identity_level(dev, lv);
+    Reduced r = reduce ? reduce_level(dev, lv, slots, l == 1, red) : identity_level(dev, lv);
     dag.level[l] = assemble(dev, lv, r, slots, l == 1, symmetric);
     below = std::move(r);
     u[l - 1] = UnionLevel();
@@ -424,7 +441,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   for (uint32_t l = cube_levels + 1; l <= levels; ++l) {
     SvoLevel lv = build_parents(dev, roots.keys, roots.n);
     dag.svo_nodes[l] = lv.n;
-    Reduced r = reduce ? reduce_level(dev, lv, slots, false, symmetric) : identity_level(dev, lv);
+    Reduced r = reduce ? reduce_level(dev, lv, slots, false, red) : identity_level(dev, lv);
     dag.level[l] = assemble(dev, lv, r, slots, false, symmetric);
     roots = std::move(lv);
     slots = std::move(r);

@@ -62,18 +62,18 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
     mv_u32 id[8], tag[8], cs[8];
-    mv_u64 e0[8]; /* the unreflected key's entries */
+    mv_u32 tg0[8]; /* the unreflected key's normalized tags (its entries: (id, tg0) by octant) */
     mv_u32 j = MV_LD(first, i);
     for (mv_u32 c = 0u; c < 8u; ++c) {
       id[c] = 0u;
       tag[c] = 0u;
       cs[c] = MV_NORM_IDENTITY;
-      e0[c] = MV_U64(0);
+      tg0[c] = 0u;
       if (((m >> c) & 1u) != 0u) {
         id[c] = MV_LD(cid, j);
         tag[c] = MV_LD(ctag, j);
         cs[c] = MV_LD(cnorm, id[c]);
-        e0[c] = (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c], cs[c]));
+        tg0[c] = mv_norm_tag(tag[c], cs[c]);
         j += 1u;
       }
     }
@@ -85,19 +85,22 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
     for (mv_u32 g = 1u; g < 8u; ++g) {
       if (((ms >> g) & 1u) == 0u) continue;
       mv_u32 t = t0 ^ g;
-      mv_i32 vs = 0; /* Key(n_t) against Key(n_best): same mask, so the same octants are present */
+      mv_i32 vs = 0; /* Key(n_t) against Key(n_best), entry (id, tag) by entry: same mask, same octants present */
       for (mv_u32 o = 0u; o < 8u && vs == 0; ++o) {
         mv_u32 c = o ^ t, cb = o ^ best;
         if (((m >> c) & 1u) == 0u) continue;
-        mv_u64 x = (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ t, cs[c]));
-        mv_u64 xb = (MV_U64(id[cb]) << 3) | MV_U64(mv_norm_tag(tag[cb] ^ best, cs[cb]));
-        if (x != xb) vs = x < xb ? -1 : 1;
+        if (id[c] != id[cb]) {
+          vs = id[c] < id[cb] ? -1 : 1;
+        } else {
+          mv_u32 x = mv_norm_tag(tag[c] ^ t, cs[c]), xb = mv_norm_tag(tag[cb] ^ best, cs[cb]);
+          if (x != xb) vs = x < xb ? -1 : 1;
+        }
       }
       if (vs < 0 || (vs == 0 && t < best)) best = t;
       bool same = true; /* Key(n_g) against Key(n_0) */
       for (mv_u32 o = 0u; o < 8u && same; ++o) {
         mv_u32 c = o ^ g;
-        if (((m >> c) & 1u) != 0u) same = ((MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ g, cs[c]))) == e0[o];
+        if (((m >> c) & 1u) != 0u) same = id[c] == id[o] && mv_norm_tag(tag[c] ^ g, cs[c]) == tg0[o];
       }
       if (same) s |= 1u << g;
     }

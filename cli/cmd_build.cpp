@@ -119,9 +119,9 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       ->check(CLI::IsMember({"conservative", "thin"}))
       ->capture_default_str();
   cmd->add_option("--memory", a->memory,
-                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM); out of core, triangles past a quarter of it\n"
-                  "spill to a temporary file in $TMPDIR (or /tmp); a build that would still pass it stops with an\n"
-                  "error naming what it needs");
+                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM). PLY vertex positions past a quarter of it,\n"
+                  "and out of core the triangles past another quarter, go to scratch files in $TMPDIR (or /tmp); a\n"
+                  "build that would still pass it stops with an error naming what it needs");
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
   cmd->callback([&g, a] {

@@ -95,11 +95,12 @@ GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds
 }
 
 // Bounds of the vertices a mesh's faces use (scans carry unreferenced vertices): one streaming pass.
-Bounds used_vertex_bounds(const BuildOptions& o) {
+Bounds used_vertex_bounds(const BuildOptions& o, BuildReport& r) {
   Bounds bounds;
   auto mesh = open_budgeted_mesh(o);
   check_mesh_memory(o, *mesh);
   const auto& pos = mesh->positions();
+  r.vertex_scratch_bytes = mesh->positions_mapped() ? pos.size_bytes() : 0;
   std::vector<bool> used(pos.size() / 3, false);
   std::vector<uint32_t> idx;
   while (mesh->next_triangles(idx, batch_triangles(o)))
@@ -128,7 +129,7 @@ void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint6
 Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                      const std::function<void(const std::string&, double)>& report) {
   Voxels v;
-  v.bounds = used_vertex_bounds(o);
+  v.bounds = used_vertex_bounds(o, r);
   v.grid = place_mesh_grid(o, resolution, v.bounds);
   Voxelizer vox(dev, resolution, rule(o));
   vox.limit_host_memory(memory_budget(o));
@@ -167,7 +168,7 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
 BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                               const Report& report, const Lap& lap) {
   if (o.cube < 8 || (o.cube & (o.cube - 1))) throw Error("--cube " + std::to_string(o.cube) + " must be a power of two >= 8");
-  Bounds bounds = used_vertex_bounds(o);
+  Bounds bounds = used_vertex_bounds(o, r);
   const GridTransform grid = place_mesh_grid(o, resolution, bounds);
   r.resolution = resolution;
   r.cube = o.cube;

@@ -146,6 +146,7 @@ std::vector<char> built_file(Device& dev, const BuildOptions& o, BuildReport& r)
 // Out of core, triangles past a quarter of --memory spill to a temporary file; the file built is the same.
 TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
   const std::string ply = sphere_ply("spill.ply", 160, 320);  // 102,400 triangles: 3.7 MB in grid units
+  const uint64_t pos_bytes = 161 * 320 * 12;                    // over the 2 MiB budget's 512 KiB share
   Device& dev = shared_device(all_devices().front());
   BuildOptions o;
   o.input = ply;
@@ -159,6 +160,7 @@ TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
     BuildReport r;
     files.push_back(built_file(dev, o, r));
     EXPECT_EQ(r.spilled_bytes > 0, memory < (uint64_t{1} << 30)) << memory << "-byte budget";
+    EXPECT_EQ(r.vertex_scratch_bytes, memory < (uint64_t{1} << 30) ? pos_bytes : 0u);  // 51,520 vertices
   }
   EXPECT_FALSE(files[0].empty());
   EXPECT_TRUE(files[0] == files[1]);

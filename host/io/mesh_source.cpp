@@ -19,6 +19,7 @@ class PlySource final : public MeshSource {
  public:
   PlySource(const std::string& path, uint64_t ram_bytes) : reader_(path, ram_bytes) {}
   std::span<const float> positions() const override { return reader_.positions(); }
+  bool positions_mapped() const override { return reader_.positions_mapped(); }
   uint64_t triangles_hint() const override { return reader_.info().faces; }
   bool next_triangles(std::vector<uint32_t>& indices, size_t max) override {
     return reader_.next_triangles(indices, max);

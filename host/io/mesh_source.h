@@ -14,6 +14,7 @@ class MeshSource {
  public:
   virtual ~MeshSource() = default;
   virtual std::span<const float> positions() const = 0;  // 3 floats per vertex
+  virtual bool positions_mapped() const { return false; }  // in a mapped scratch file (over the RAM limit)
   virtual uint64_t triangles_hint() const = 0;               // for progress; may be approximate
   // Replaces `indices` with up to max_triangles triangles (3 indices each); false at the end.
   virtual bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) = 0;

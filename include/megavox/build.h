@@ -34,6 +34,7 @@ struct BuildReport {
   std::string vdb_grid, vdb_class;  // the .vdb grid read and its class
   uint32_t cube = 0;                // out of core: the cube side used; 0 = in core
   uint64_t spilled_bytes = 0;       // out of core: triangle bytes spilled to a temporary file (over --memory)
+  uint64_t vertex_scratch_bytes = 0;  // PLY vertex positions kept in a mapped scratch file (over --memory)
   uint32_t cube_retries = 0;        // times the cubes were halved because a cube did not fit device memory
   std::string grid_origin, voxelize;  // meshes: the placement and voxelization rule used
   GridTransform grid;                 // world -> grid, as stored in the .mvx

@@ -176,27 +176,30 @@ MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
   return mv_thesis_to_morton_mask(nz);
 }
 
-/* The bits of b at xs v_x + ys v_y + zs v_z as an 8-bit mask over slots v = v_x + 2 v_y + 4 v_z (straight-line:
- * no per-lane loop on SIMD devices). */
-MV_INLINE mv_u32 mv_gather8(mv_u64 b, mv_u32 xs, mv_u32 ys, mv_u32 zs) {
-  return MV_U32(((b & MV_U64(1)) | (((b >> xs) & MV_U64(1)) << 1) | (((b >> ys) & MV_U64(1)) << 2) |
-                 (((b >> (xs + ys)) & MV_U64(1)) << 3) | (((b >> zs) & MV_U64(1)) << 4) |
-                 (((b >> (xs + zs)) & MV_U64(1)) << 5) | (((b >> (ys + zs)) & MV_U64(1)) << 6) |
-                 (((b >> (xs + ys + zs)) & MV_U64(1)) << 7)));
+/* The bits of w at xs v_x + ys v_y + zs v_z (at most bit 31) as an 8-bit mask over slots v = v_x + 2 v_y + 4 v_z
+ * (straight-line, 32-bit: no per-lane loop or 64-bit lanes on SIMD devices). */
+MV_INLINE mv_u32 mv_gather8(mv_u32 w, mv_u32 xs, mv_u32 ys, mv_u32 zs) {
+  return (w & 1u) | (((w >> xs) & 1u) << 1) | (((w >> ys) & 1u) << 2) | (((w >> (xs + ys)) & 1u) << 3) |
+         (((w >> zs) & 1u) << 4) | (((w >> (xs + zs)) & 1u) << 5) | (((w >> (ys + zs)) & 1u) << 6) |
+         (((w >> (xs + ys + zs)) & 1u) << 7);
 }
 
-/* ssvdag 4^3 brick (bit 16x + 4y + z): sub-block v (x in {2v_x, 2v_x + 1}, ...) is full when any of its 8
- * bits is: OR the z, y and x pairs onto each block's low corner (bit 32v_x + 8v_y + 2v_z), then gather. */
-MV_INLINE mv_u32 mv_brick_occupancy(mv_u64 brick) {
-  mv_u64 b = brick | (brick >> 1);
-  b = b | (b >> 4);
-  b = b | (b >> 16);
-  return mv_gather8(b, 32u, 8u, 2u);
+/* An ssvdag 4^3 brick (bit 16x + 4y + z) is held as two 32-bit halves: lo has x in {0, 1}, hi x in {2, 3}.
+ * Sub-block v (x in {2v_x, 2v_x + 1}, ...) lies in half v_x and is full when any of its 8 bits is: OR the z,
+ * y and x pairs onto each block's low corner (bit 8v_y + 2v_z of the half), then gather. */
+MV_INLINE mv_u32 mv_half_corners(mv_u32 h) {
+  mv_u32 t = h | (h >> 1);
+  t = t | (t >> 4);
+  t = t | (t >> 16);
+  return (t & 1u) | (((t >> 8) & 1u) << 2) | (((t >> 2) & 1u) << 4) | (((t >> 10) & 1u) << 6);
 }
+
+MV_INLINE mv_u32 mv_brick_occupancy(mv_u32 lo, mv_u32 hi) { return mv_half_corners(lo) | (mv_half_corners(hi) << 1); }
 
 /* The 2^3 sub-block `sub` of a brick: its voxels by slot. */
-MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u64 brick, mv_u32 sub) {
-  return mv_gather8(brick >> (32u * (sub & 1u) + 8u * ((sub >> 1) & 1u) + 2u * (sub >> 2)), 16u, 4u, 1u);
+MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u32 lo, mv_u32 hi, mv_u32 sub) {
+  mv_u32 h = (sub & 1u) != 0u ? hi : lo;
+  return mv_gather8(h >> (8u * ((sub >> 1) & 1u) + 2u * (sub >> 2)), 16u, 4u, 1u);
 }
 
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 L, MvRay r,
@@ -222,7 +225,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_u32 hdr_at[22];
   mv_u32 mir_at[22];
   mv_u32 occ_at[22]; /* the node's full slots (see mv_node_occupancy) */
-  mv_u64 brick = MV_U64(0);
+  mv_u32 brick_lo = 0u, brick_hi = 0u; /* the current ssvdag brick's halves */
   mv_u32 nl = L;
   node_at[L] = 0u;
   mir_at[L] = 0u;
@@ -277,11 +280,12 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
           occ_at[nl - 1u] = mv_node_occupancy(enc, hdr_at[nl - 1u]);
         } else {
           node_at[2] = off;
-          brick = MV_U64(MV_LD(bricks, 2u * off)) | (MV_U64(MV_LD(bricks, 2u * off + 1u)) << 32);
-          occ_at[2] = mv_brick_occupancy(brick);
+          brick_lo = MV_LD(bricks, 2u * off);
+          brick_hi = MV_LD(bricks, 2u * off + 1u);
+          occ_at[2] = mv_brick_occupancy(brick_lo, brick_hi);
         }
       } else { /* brick -> one of its 2^3 sub-blocks, same mirror mask */
-        occ_at[1] = mv_sub_block_occupancy(brick, slot);
+        occ_at[1] = mv_sub_block_occupancy(brick_lo, brick_hi, slot);
         mir_at[1] = mir_at[2];
       }
       nl -= 1u;

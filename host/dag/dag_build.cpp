@@ -115,8 +115,8 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
   Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
-  Buffer collided = dev.alloc(4, "hash collision flag");
   const bool brick = !below.class_mask.empty();  // level 2: 4x4x4 bricks are exact keys, nothing to verify
+  Buffer collided = brick ? Buffer() : dev.alloc(4, "hash collision flag");
   Buffer stab;
   const Buffer& mtab = red.mask_table;
   if (symmetric) {
@@ -256,8 +256,9 @@ void finish_build(Device& dev, Dag& dag, const Reduced& root, Clock::time_point 
   }
 }
 
+// `shared`: a Reduction made by the caller for many builds (the out-of-core cubes); else one is made here.
 Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
-              DagBuildTimes* times, bool reduce = true) {
+              DagBuildTimes* times, bool reduce = true, const Reduction* shared = nullptr) {
   if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
   if (voxels.size() > UINT32_MAX) throw Error("DAG build: more than 2^32-1 voxels in one build");
   if (!voxels.empty() && voxels.back() >> (3 * levels))
@@ -285,7 +286,9 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   dev.finish();
   auto t1 = Clock::now();
 
-  const Reduction red = make_reduction(dev, reduce && symmetric);
+  Reduction own;
+  if (!shared) own = make_reduction(dev, reduce && symmetric);
+  const Reduction& red = shared ? *shared : own;
   Reduced below;
   for (uint32_t l = 1; l <= levels; ++l) {
     const bool leaf = l == 1;
@@ -369,6 +372,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   dag.reduced = reduce;
   dag.svo_nodes.assign(levels + 1, 0);
   dag.level.resize(levels + 1);
+  const Reduction red = make_reduction(dev, reduce && symmetric);  // shared by the cubes and the merge
   // 1. Each cube on its own, in Morton order; its partial DAG joins the union, level by level.
   std::vector<UnionLevel> u(cube_levels + 1);
   std::vector<uint64_t> root_keys;   // Morton key of each non-empty cube at level cube_levels
@@ -391,7 +395,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
         if ((k >> (3 * cube_levels)) != c) throw Error("out-of-core build: a voxel lies outside its cube");
         k &= local_mask;
       }
-      part = build_dag(dev, keys, cube_levels, symmetric, nullptr, reduce);
+      part = build_dag(dev, keys, cube_levels, symmetric, nullptr, reduce, &red);
     } catch (const DeviceMemoryError& e) {
       throw CubeMemoryError(std::string(e.what()) + " (in a cube of " + std::to_string(side) + "^3)");
     }
@@ -419,7 +423,6 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
 
   // 2. Reduce the union again, bottom-up, exactly as an in-core build reduces its octree levels: the same
   // hashes of the same (mask, child class, tag) give the same classes, ids and stored orientations.
-  const Reduction red = make_reduction(dev, reduce && symmetric);
   Reduced below;
   for (uint32_t l = 1; l <= cube_levels; ++l) {
     SvoLevel lv = upload_level(dev, u[l]);

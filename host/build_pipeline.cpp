@@ -59,9 +59,14 @@ size_t batch_triangles(const BuildOptions& o) {
   return static_cast<size_t>(std::clamp<uint64_t>(memory_budget(o) / 8 / 48, 4096, kBatchTriangles));
 }
 
-// A PLY's vertex positions stay in RAM up to a quarter of the budget, past it in a mapped scratch file.
+// How the host budget is shared: a PLY's vertex positions stay in RAM up to a quarter of it (past it, in a
+// mapped scratch file), out of core the triangle buckets another quarter (past it, spilled); voxel keys get
+// the rest.
+uint64_t vertex_share(const BuildOptions& o) { return memory_budget(o) / 4; }
+uint64_t bucket_share(const BuildOptions& o) { return memory_budget(o) / 4; }
+
 std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o) {
-  return io::open_mesh(o.input, memory_budget(o) / 4);
+  return io::open_mesh(o.input, vertex_share(o));
 }
 
 // Fails early, before the heavy work, when a mesh's host-side arrays would pass the budget: the positions
@@ -69,7 +74,7 @@ std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o) {
 // core, the bucketed triangles spill to disk past their share of the budget).
 void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh) {
   const uint64_t vertices = mesh.positions().size() / 3, triangles = mesh.triangles_hint();
-  const uint64_t need = std::min(vertices * 12, memory_budget(o) / 4) + vertices +
+  const uint64_t need = std::min(vertices * 12, vertex_share(o)) + vertices +
                         std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
   if (need > memory_budget(o))
     throw Error(o.input + ": the mesh needs about " + std::to_string((need + (1 << 20) - 1) >> 20) +
@@ -132,7 +137,7 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
   v.bounds = used_vertex_bounds(o, r);
   v.grid = place_mesh_grid(o, resolution, v.bounds);
   Voxelizer vox(dev, resolution, rule(o));
-  vox.limit_host_memory(memory_budget(o));
+  vox.limit_host_memory(memory_budget(o) - vertex_share(o));
   uint64_t triangles = 0;
   for_each_grid_batch(o, v.grid, triangles, [&](const std::vector<float>& tris, double done) {
     vox.add(tris);
@@ -173,7 +178,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   r.resolution = resolution;
   r.cube = o.cube;
   const uint32_t per_axis = resolution / o.cube;
-  TriangleBuckets buckets(per_axis, o.cube, memory_budget(o) / 4);
+  TriangleBuckets buckets(per_axis, o.cube, bucket_share(o));
   for_each_grid_batch(o, grid, r.triangles, [&](const std::vector<float>& tris, double done) {
     buckets.add(tris);
     report("read", done);
@@ -189,7 +194,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     std::vector<float> tris = buckets.take(x / size, y / size, z / size);
     if (tris.empty()) return std::vector<uint64_t>();
     Voxelizer v(dev, resolution, rule(o));
-    v.limit_host_memory(memory_budget(o) - memory_budget(o) / 4);  // the buckets hold the other quarter
+    v.limit_host_memory(memory_budget(o) - vertex_share(o) - bucket_share(o));
     v.restrict_to(x, y, z, size);
     v.add(tris);
     return v.take_keys();

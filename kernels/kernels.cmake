@@ -26,7 +26,6 @@ mv_kernel(dag_verify            dag/dag.cl           dag/dag.comp             MV
 mv_kernel(ssvdag_canon          dag/dag.cl           dag/dag.comp             MV_ENTRY_ssvdag_canon)
 mv_kernel(brick_keys            dag/dag.cl           dag/dag.comp             MV_ENTRY_brick_keys)
 mv_kernel(ssvdag_verify         dag/dag.cl           dag/dag.comp             MV_ENTRY_ssvdag_verify)
-mv_kernel(class_norms           dag/dag.cl           dag/dag.comp             MV_ENTRY_class_norms)
 mv_kernel(leaf_table            dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_table)
 mv_kernel(leaf_present          dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_present)
 mv_kernel(leaf_classes          dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_classes)

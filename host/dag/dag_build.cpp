@@ -49,16 +49,17 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
 }
 
 // Distinct subtrees of one level: id per node, the representative node of each id and, for the SSVDAG,
-// each node's tag (as its parent will point to it) and each id's tag normalization table (its stabilizer).
+// each node's T* and tag (as its parent will point to it) as a tag row: field k = that tag seen through
+// reflection k, normalized by the node's stabilizer (kernels/common/ssvdag.h).
 struct Reduced {
   uint32_t distinct = 0;
-  Buffer id, rep, tag, idnorm, tstar;
+  Buffer id, rep, row, tstar;
   Buffer class_mask;  // level 1: each class's stored mask (canonical with symmetry) and its 7 reflections
 };
 
-// Canonical form, T*, tag and stabilizer of every 8-bit mask (kernel leaf_table).
+// Canonical form, T*, stabilizer and tag row of every 8-bit mask (kernel leaf_table).
 Buffer mask_table(Device& dev) {
-  Buffer table = dev.alloc(512 * 4, "mask table");
+  Buffer table = dev.alloc(768 * 4, "mask table");
   dev.dispatch(dev.kernel("leaf_table"), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0});
   dev.barrier();
   return table;
@@ -78,8 +79,7 @@ Reduction make_reduction(Device& dev, bool symmetric) {
 }
 
 // Level 1: classes are (canonical) masks, ranked without hashing (kernels: leaf_table, leaf_present,
-// leaf_classes, leaf_ids); with symmetry the 256-mask table also gives each node its tag, each class its
-// tag table.
+// leaf_classes, leaf_ids); with symmetry the 256-mask table also gives each node its tag row.
 void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction& red) {
   const bool symmetric = red.symmetric;
   const Buffer& table = red.mask_table;
@@ -87,7 +87,7 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction&
   Buffer present = dev.alloc(257 * 4, "leaf classes");
   dev.fill(present, 0, 257 * 4);
   if (symmetric) {
-    r.tag = dev.alloc(uint64_t{lv.n} * 4, "node tags");
+    r.row = dev.alloc(uint64_t{lv.n} * 4, "node tag rows");
   }
   dev.barrier();
   const uint32_t groups = dev.groups_for(lv.n, kLocal);
@@ -96,10 +96,8 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction&
   exclusive_scan(dev, present, present, 256);
   dev.download(present, &r.distinct, 4, 256 * 4);
   r.class_mask = dev.alloc(uint64_t{r.distinct} * 32, "leaf class masks and their reflections");
-  if (symmetric) r.idnorm = dev.alloc(uint64_t{r.distinct} * 4, "class tag tables");
-  dev.dispatch(dev.kernel("leaf_classes"), dev.groups_for(256, kLocal), kLocal,
-               {&table, &present, &r.class_mask, &r.idnorm}, p);
-  dev.dispatch(dev.kernel("leaf_ids"), groups, kLocal, {&lv.mask, &table, &present, &r.id, &r.tag}, p);
+  dev.dispatch(dev.kernel("leaf_classes"), dev.groups_for(256, kLocal), kLocal, {&present, &r.class_mask}, p);
+  dev.dispatch(dev.kernel("leaf_ids"), groups, kLocal, {&lv.mask, &table, &present, &r.id, &r.row}, p);
   dev.barrier();
 }
 
@@ -117,12 +115,10 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
   const bool brick = !below.class_mask.empty();  // level 2: 4x4x4 bricks are exact keys, nothing to verify
   Buffer collided = brick ? Buffer() : dev.alloc(4, "hash collision flag");
-  Buffer stab;
   const Buffer& mtab = red.mask_table;
   if (symmetric) {
     r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
-    r.tag = dev.alloc(uint64_t{n} * 4, "node tags");
-    stab = dev.alloc(uint64_t{n} * 4, "node stabilizers");
+    r.row = dev.alloc(uint64_t{n} * 4, "node tag rows");
   }
   const uint32_t groups = dev.groups_for(n, kLocal);
   MvDagParams p{n, 0, 0, 0x6d766f78u};
@@ -131,13 +127,12 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     p.seed_lo = seed;
     if (brick)
       dev.dispatch(dev.kernel("brick_keys"), groups, kLocal,
-                   {&lv.mask, &mtab, &lv.first, &below.id, &below.tag, &below.class_mask, &r.tstar, &r.tag, &stab,
-                    &hashes, &order},
+                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &below.class_mask, &r.tstar, &r.row, &hashes,
+                    &order},
                    MvDagParams{n, symmetric ? 2u : 1u, 0, 0});
     else if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                   {&lv.mask, &mtab, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.tag, &stab, &hashes,
-                    &order},
+                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &r.tstar, &r.row, &hashes, &order},
                    p);
     else
       dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
@@ -157,7 +152,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     dev.barrier();
     if (symmetric)
       dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.id, &r.rep, &collided}, p);
+                   {&lv.mask, &lv.first, &below.id, &below.row, &r.tstar, &r.id, &r.rep, &collided}, p);
     else
       dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided},
                    p);
@@ -165,12 +160,6 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     dev.download(collided, &bad, 4);
     if (!bad) break;
     if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
-  }
-  if (symmetric) {
-    r.idnorm = dev.alloc(uint64_t{r.distinct} * 4, "class tag tables");
-    dev.dispatch(dev.kernel("class_norms"), dev.groups_for(r.distinct, kLocal), kLocal, {&r.rep, &stab, &r.idnorm},
-                 MvDagParams{r.distinct, 0, 0, 0});
-    dev.barrier();
   }
   return r;
 }
@@ -204,7 +193,7 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
   Buffer entries = leaf ? Buffer() : dev.alloc(uint64_t{n} * 64, "DAG level entries");
   MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0};
   dev.dispatch(dev.kernel("dag_emit"), dev.groups_for(n, kLocal), kLocal,
-               {&lv.mask, &lv.first, &below.id, &below.tag, &below.idnorm, &r.tstar, &r.rep, &masks, &entries}, p);
+               {&lv.mask, &lv.first, &below.id, &below.row, &r.tstar, &r.rep, &masks, &entries}, p);
   out.mask = fetch<uint32_t>(dev, masks, n);
   if (leaf) return out;
   std::vector<uint64_t> e = fetch<uint64_t>(dev, entries, size_t{n} * 8);
@@ -246,10 +235,10 @@ void store_root_unreflected(Dag& dag, uint32_t t) {
 // After the root level: wait, store the root unreflected, report the times.
 void finish_build(Device& dev, Dag& dag, const Reduced& root, Clock::time_point t0, Clock::time_point t1,
                   DagBuildTimes* times) {
-  uint32_t root_tag = 0;
-  if (dag.symmetric) dev.download(root.tag, &root_tag, 4);
+  uint32_t root_row = 0;  // field 0: the root's tag
+  if (dag.symmetric) dev.download(root.row, &root_row, 4);
   dev.finish();
-  store_root_unreflected(dag, root_tag);
+  store_root_unreflected(dag, root_row & 7);
   if (times) {
     times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
     times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
@@ -312,7 +301,6 @@ Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric
   const auto n = static_cast<uint32_t>(u.slot_node.size());
   Reduced slots;
   slots.distinct = merged.distinct;
-  slots.idnorm = std::move(merged.idnorm);
   slots.class_mask = std::move(merged.class_mask);
   if (n == 0) return slots;
   Buffer node = dev.alloc(uint64_t{n} * 4, "merge slots");
@@ -321,12 +309,12 @@ Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric
   if (symmetric) {
     tag = dev.alloc(uint64_t{n} * 4, "merge slot tags");
     dev.upload(tag, u.slot_tag.data(), uint64_t{n} * 4);
-    slots.tag = dev.alloc(uint64_t{n} * 4, "merged slot tags");
+    slots.row = dev.alloc(uint64_t{n} * 4, "merged slot tag rows");
   }
   slots.id = dev.alloc(uint64_t{n} * 4, "merged slot ids");
   MvDagParams p{n, symmetric ? 1u : 0u, 0, 0};
   dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(n, kLocal), kLocal,
-               {&node, &tag, &merged.id, &merged.tag, &slots.id, &slots.tag}, p);
+               {&node, &tag, &merged.id, &merged.row, &slots.id, &slots.row}, p);
   dev.barrier();
   return slots;
 }

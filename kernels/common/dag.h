@@ -114,15 +114,23 @@ MV_INLINE void mv_dag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU
     if (!mv_same_node(mask, first, cid, p, i, MV_LD(rep, MV_LD(id, i)))) MV_ST(collided, 0u, 1u);
 }
 
+/* Eight 3-bit fields with fields k and k ^ t swapped (field k of the result = field k ^ t of x). */
+MV_INLINE mv_u32 mv_xor_fields(mv_u32 x, mv_u32 t) {
+  if ((t & 1u) != 0u) x = ((x & 0x1c71c7u) << 3) | ((x >> 3) & 0x1c71c7u);
+  if ((t & 2u) != 0u) x = ((x & 0x03f03fu) << 6) | ((x >> 6) & 0x03f03fu);
+  if ((t & 4u) != 0u) x = ((x & 0x000fffu) << 12) | ((x >> 12) & 0x000fffu);
+  return x;
+}
+
 /* Out-of-core merge: a union of partial DAGs is reduced again like an octree level whose "children" are
- * pointer slots. Each slot takes the class id of the node it points to and, with symmetry, the XOR of its
- * own tag and that node's tag (p.leaf = 1 marks symmetric input here). */
-MV_INLINE void mv_gather_slots(MvBufU32 slot_node, MvBufU32 slot_tag, MvBufU32 id, MvBufU32 tag, MvBufU32 out_id,
-                               MvBufU32 out_tag, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+ * pointer slots. Each slot takes the class id of the node it points to and, with symmetry (p.leaf = 1), the
+ * tag row of its own tag composed with that node's (row field k = norm(slot tag ^ node tag ^ k); ssvdag.h). */
+MV_INLINE void mv_gather_slots(MvBufU32 slot_node, MvBufU32 slot_tag, MvBufU32 id, MvBufU32 row, MvBufU32 out_id,
+                               MvBufU32 out_row, MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 s = gid; s < p.n; s += stride) {
     mv_u32 node = MV_LD(slot_node, s);
     MV_ST(out_id, s, MV_LD(id, node));
-    if (p.leaf != 0u) MV_ST(out_tag, s, MV_LD(slot_tag, s) ^ MV_LD(tag, node));
+    if (p.leaf != 0u) MV_ST(out_row, s, mv_xor_fields(MV_LD(row, node), MV_LD(slot_tag, s)));
   }
 }
 

@@ -6,8 +6,10 @@
  * stab = the set of reflections that leave it unchanged (an 8-bit set); a tag t on a pointer to it is
  * normalized to min over s in stab of t ^ s, so equal subtrees always get equal (id, tag) pairs. For node n
  * and each T, the reflected node n_T has child[c ^ T] = child[c] with tag norm(tag[c] ^ T). n's class is
- * keyed by Key(n_T*) with T* = argmin_T Key(n_T) (lexicographic: mask, then (id, tag) by octant), stab(n) =
- * {S : Key(n_S) == Key(n_0)}, and the parent's pointer to n becomes (class, norm(T*)). Level-1 nodes (2x2x2
+ * keyed by Key(n_T*) with T* = argmin_T Key(n_T) (mask, then tags by octant, then ids by octant), stab(n) =
+ * {S : Key(n_S) == Key(n_0)}, and the parent's pointer to n becomes (class, norm(T*)). Each node keeps that
+ * tag as a row: field k = norm(tag ^ k), the tag seen through reflection k, so its parent never looks up the
+ * child class's stabilizer (a random read per child). Level-1 nodes (2x2x2
  * masks) are keyed by the mask alone (a 256-entry table), level-2 nodes by their 4x4x4 brick (64 exact bits,
  * ordered by (mask, brick): another total order, as exact). Exact: two subtrees get the same key iff one is a
  * reflection of the other, so no symmetry is missed. The hash / sort / runs / verify pipeline of dag.h then
@@ -24,8 +26,7 @@ MV_INLINE mv_u32 mv_reflect_mask(mv_u32 m, mv_u32 t) {
   return m;
 }
 
-/* A class's stabilizer as a tag normalization table: 3 bits per tag k, norm(k) = min over s in stab of k ^ s.
- * Pointers look their tag up instead of searching the stabilizer (kernels keep the table per class). */
+/* A stabilizer as a tag normalization table: 3 bits per tag k, norm(k) = min over s in stab of k ^ s. */
 #define MV_NORM_IDENTITY 0xFAC688u /* the table of the trivial stabilizer {0}: norm(k) = k */
 
 MV_INLINE mv_u32 mv_norm_table(mv_u32 stab) {
@@ -42,76 +43,81 @@ MV_INLINE mv_u32 mv_norm_table(mv_u32 stab) {
 
 MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 table) { return (table >> (3u * t)) & 7u; }
 
-/* Node i's orientation: T*, its stabilizer, and its tag as its parent will see it (T* normalized). */
-MV_INLINE void mv_store_orientation(MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, mv_u32 i, mv_u32 t, mv_u32 s) {
-  mv_u32 best = t;
-  for (mv_u32 g = 1u; g < 8u && s != 1u; ++g)
-    if (((s >> g) & 1u) != 0u) best = MV_MIN(best, t ^ g);
+/* The row of a pointer tagged t to a node with this tag table: field k = norm(t ^ k). */
+MV_INLINE mv_u32 mv_tag_row(mv_u32 table, mv_u32 t) { return mv_xor_fields(table, t); }
+
+/* Node i's orientation: T*, and its tag as its parent will see it (T* normalized by its stabilizer s) as a row;
+ * mtab (leaf_table) holds the tag table of every stabilizer. */
+MV_INLINE void mv_store_orientation(MvBufU32 mtab, MvBufU32 tstar, MvBufU32 row, mv_u32 i, mv_u32 t, mv_u32 s) {
   MV_ST(tstar, i, t);
-  MV_ST(tag, i, best);
-  MV_ST(stab, i, s);
+  MV_ST(row, i, mv_tag_row(MV_LD(mtab, 512u + s), t));
 }
 
-/* T* (smallest key, ties to the smaller T) and stab of each node above level 2, comparing the reflected keys
- * entry by entry from the children's (id, tag, tag table) read once (mtab: leaf_table, which describes every
- * 8-bit mask), and the hash of the canonical key Key(n_T*) (seeded by p.seed_lo) for the sort that groups
- * equal keys. */
-MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag,
-                               MvBufU32 cnorm, MvBufU32 tstar, MvBufU32 tag_out, MvBufU32 stab, MvBufU64 hashes,
-                               MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+/* T* (smallest key, ties to the smaller T) and stabilizer of each node above level 2 from its children's
+ * (id, tag row) read once (mtab: leaf_table, which describes every 8-bit mask), and the hash of the canonical
+ * key Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. */
+MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
+                               MvBufU32 tstar, MvBufU32 row_out, MvBufU64 hashes, MvBufU32 order, MvDagParams p,
+                               mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
-    mv_u32 id[8], tag[8], cs[8];
-    mv_u32 tg0[8]; /* the unreflected key's normalized tags (its entries: (id, tg0) by octant) */
+    mv_u32 id[8], row[8]; /* row[c] field k: child c's tag seen through reflection k */
     mv_u32 j = MV_LD(first, i);
     for (mv_u32 c = 0u; c < 8u; ++c) {
       id[c] = 0u;
-      tag[c] = 0u;
-      cs[c] = MV_NORM_IDENTITY;
-      tg0[c] = 0u;
+      row[c] = 0u;
       if (((m >> c) & 1u) != 0u) {
         id[c] = MV_LD(cid, j);
-        tag[c] = MV_LD(ctag, j);
-        cs[c] = MV_LD(cnorm, id[c]);
-        tg0[c] = mv_norm_tag(tag[c], cs[c]);
+        row[c] = MV_LD(crow, j);
         j += 1u;
       }
     }
     /* Only reflections that give the smallest mask can be T*, only those that fix the mask can fix the node:
-     * the mask table gives the mask's own T* (t0) and stabilizer (ms); asymmetric masks need no entries. */
+     * the mask table gives the mask's own T* (t0) and stabilizer (ms); asymmetric masks need no entries. The
+     * candidates n_t, t = t0 ^ g for g in ms, share the mask; they are ordered by their tags (octant 0's
+     * first: 3 bits each, packed, so they compare as integers), then by their ids; n_t equals n_t0 iff
+     * t0 ^ t fixes n. */
     mv_u32 info = MV_LD(mtab, 2u * m);
     mv_u32 mb = info & 0xffu, t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu;
     mv_u32 best = t0, s = 1u;
-    for (mv_u32 g = 1u; g < 8u; ++g) {
-      if (((ms >> g) & 1u) == 0u) continue;
-      mv_u32 t = t0 ^ g;
-      mv_i32 vs = 0; /* Key(n_t) against Key(n_best), entry (id, tag) by entry: same mask, same octants present */
-      for (mv_u32 o = 0u; o < 8u && vs == 0; ++o) {
-        mv_u32 c = o ^ t, cb = o ^ best;
-        if (((m >> c) & 1u) == 0u) continue;
-        if (id[c] != id[cb]) {
-          vs = id[c] < id[cb] ? -1 : 1;
-        } else {
-          mv_u32 x = mv_norm_tag(tag[c] ^ t, cs[c]), xb = mv_norm_tag(tag[cb] ^ best, cs[cb]);
-          if (x != xb) vs = x < xb ? -1 : 1;
+    if (ms != 1u) {
+      mv_u32 first_id = id[MV_FIND_MSB(m)]; /* flat faces: often one child subtree */
+      bool one_id = true;
+      for (mv_u32 c = 0u; c < 8u; ++c) one_id = one_id && (((m >> c) & 1u) == 0u || id[c] == first_id);
+      mv_u32 base = 0u, lowest = 0u;
+      for (mv_u32 g = 0u; g < 8u; ++g) {
+        if (((ms >> g) & 1u) == 0u) continue;
+        mv_u32 t = t0 ^ g, k = 0u;
+        for (mv_u32 c = 0u; c < 8u; ++c) k |= ((row[c] >> (3u * t)) & 7u) << (3u * (7u - c));
+        k = mv_xor_fields(k, t); /* octant o's field moves to o ^ t */
+        if (g == 0u) {
+          base = k;
+          lowest = k;
+          continue;
         }
+        mv_i32 vs = k < lowest ? -1 : (k > lowest ? 1 : 0); /* n_t against n_best */
+        bool same = k == base;                               /* n_t against n_t0 */
+        for (mv_u32 o = 0u; o < 8u && !one_id && (vs == 0 || same); ++o) { /* equal tags: the ids decide */
+          mv_u32 c = o ^ t;
+          if (((m >> c) & 1u) == 0u) continue;
+          if (vs == 0 && id[c] != id[o ^ best]) vs = id[c] < id[o ^ best] ? -1 : 1;
+          if (same && id[c] != id[o ^ t0]) same = false;
+        }
+        if (vs < 0 || (vs == 0 && t < best)) {
+          lowest = k;
+          best = t;
+        }
+        if (same) s |= 1u << g;
       }
-      if (vs < 0 || (vs == 0 && t < best)) best = t;
-      bool same = true; /* Key(n_g) against Key(n_0) */
-      for (mv_u32 o = 0u; o < 8u && same; ++o) {
-        mv_u32 c = o ^ g;
-        if (((m >> c) & 1u) != 0u) same = id[c] == id[o] && mv_norm_tag(tag[c] ^ g, cs[c]) == tg0[o];
-      }
-      if (same) s |= 1u << g;
     }
-    mv_store_orientation(tstar, tag_out, stab, i, best, s);
+    mv_store_orientation(mtab, tstar, row_out, i, best, s);
     /* hash of the canonical key: mask, then the entries of n_T* in its present octants */
     mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
     h = mv_hash_mix(h, MV_U64(mb));
     for (mv_u32 o = 0u; o < 8u; ++o) {
       mv_u32 c = o ^ best;
       if (((m >> c) & 1u) != 0u)
-        h = mv_hash_mix(h, (MV_U64(id[c]) << 3) | MV_U64(mv_norm_tag(tag[c] ^ best, cs[c])));
+        h = mv_hash_mix(h, (MV_U64(id[c]) << 3) | MV_U64((row[c] >> (3u * best)) & 7u));
     }
     MV_ST(hashes, i, h);
     MV_ST(order, i, i);
@@ -125,7 +131,7 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
  * (node mask, brick) is smallest (a reflection T flips the same axis bit in c and c'; ties to the smaller T;
  * only reflections giving the smallest mask are tried, from mtab), and stab the reflections that leave the
  * brick unchanged: exact like the stabilizer method, by another total order of keys. p.leaf = 2: symmetric
- * (tstar, tag, stab written). */
+ * (tstar, row written). */
 MV_INLINE mv_u64 mv_brick_swap(mv_u64 b, mv_u64 m, mv_u32 shift) {
   return ((b & m) << shift) | ((b >> shift) & m);
 }
@@ -146,33 +152,35 @@ MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
   return b;
 }
 
-MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag,
-                             MvBufU32 cmask, MvBufU32 tstar, MvBufU32 tag, MvBufU32 stab, MvBufU64 keys,
-                             MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
+                             MvBufU32 cmask, MvBufU32 tstar, MvBufU32 row, MvBufU64 keys, MvBufU32 order,
+                             MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i), j = MV_LD(first, i);
+    /* symmetric: the brick built reflected by the mask's T* (t0) at once: child c's mask reflected by its tag
+     * and t0 (one of its class's 8 stored reflections) lands in slot c ^ t0 */
+    mv_u32 info = p.leaf == 2u ? MV_LD(mtab, 2u * m) : 0u;
+    mv_u32 t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu;
     mv_u64 b = MV_U64(0);
     for (mv_u32 c = 0u; c < 8u; ++c) {
       if (((m >> c) & 1u) == 0u) continue;
-      mv_u32 child = MV_LD(cmask, 8u * MV_LD(cid, j) + (p.leaf == 2u ? MV_LD(ctag, j) : 0u));
-      b |= MV_U64(child) << (8u * c);
+      mv_u32 child = MV_LD(cmask, 8u * MV_LD(cid, j) + (p.leaf == 2u ? (MV_LD(crow, j) & 7u) ^ t0 : 0u));
+      b |= MV_U64(child) << (8u * (c ^ t0));
       j += 1u;
     }
     if (p.leaf == 2u) { /* order: the reflected node mask first, then the brick; see mv_ssvdag_canon */
-      mv_u32 info = MV_LD(mtab, 2u * m);
-      mv_u32 t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu, best = t0, s = 1u;
-      mv_u64 base = mv_reflect_brick(b, t0), lowest = base;
-      for (mv_u32 g = 1u; g < 8u; ++g) { /* the other reflections with the smallest mask: t0 ^ g, g in ms */
+      mv_u32 best = t0, s = 1u;
+      mv_u64 base = b;
+      for (mv_u32 g = 1u; g < 8u && ms != 1u; ++g) { /* the other reflections with the smallest mask: t0 ^ g */
         if (((ms >> g) & 1u) == 0u) continue;
         mv_u64 r = mv_reflect_brick(base, g);
-        if (r < lowest || (r == lowest && (t0 ^ g) < best)) {
-          lowest = r;
+        if (r < b || (r == b && (t0 ^ g) < best)) {
+          b = r;
           best = t0 ^ g;
         }
         if (r == base) s |= 1u << g; /* g fixes the reflected brick, hence the brick */
       }
-      mv_store_orientation(tstar, tag, stab, i, best, s);
-      b = lowest;
+      mv_store_orientation(mtab, tstar, row, i, best, s);
     }
     MV_ST(keys, i, b);
     MV_ST(order, i, i);
@@ -181,9 +189,9 @@ MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBuf
 
 /* Canonical keys of node i and its run's representative equal? A mismatch is a hash collision. The keys
  * are rebuilt from the children and each node's T* (cheaper than storing nine words per node). */
-MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm,
-                                MvBufU32 tstar, MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p,
-                                mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 tstar,
+                                MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p, mv_u32 gid,
+                                mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 r = MV_LD(rep, MV_LD(id, i));
     if (r == i) continue;
@@ -195,25 +203,18 @@ MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvB
       mv_u32 id = MV_LD(cid, j);
       mv_u32 cr = c ^ ti ^ tr, jr = MV_LD(first, r) + mv_popcount8(mr & ((1u << cr) - 1u));
       mv_u32 idr = MV_LD(cid, jr);
-      same = id == idr && mv_norm_tag(MV_LD(ctag, j) ^ ti, MV_LD(cnorm, id)) ==
-                              mv_norm_tag(MV_LD(ctag, jr) ^ tr, MV_LD(cnorm, idr));
+      same = id == idr && mv_norm_tag(ti, MV_LD(crow, j)) == mv_norm_tag(tr, MV_LD(crow, jr));
       j += 1u;
     }
     if (!same) MV_ST(collided, 0u, 1u);
   }
 }
 
-/* Each class's tag table, from its representative's stabilizer (p.n = classes). */
-MV_INLINE void mv_class_norms(MvBufU32 rep, MvBufU32 stab, MvBufU32 idnorm, MvDagParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 k = gid; k < p.n; k += stride) MV_ST(idnorm, k, mv_norm_table(MV_LD(stab, MV_LD(rep, k))));
-}
-
 /* The reduced level in id order, for the host: class r's stored mask (its representative reflected by T*)
  * and its 8 entries ((child id << 3) | tag, 0 = empty) in octant order. p.seed_lo = 1 with symmetry; without
- * it tstar, ctag and cnorm are null and tags are 0. */
-MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 ctag, MvBufU32 cnorm, MvBufU32 tstar,
-                           MvBufU32 rep, MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p, mv_u32 gid,
-                           mv_u32 stride) {
+ * it tstar and crow are null and tags are 0. */
+MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 tstar, MvBufU32 rep,
+                           MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 r = gid; r < p.n; r += stride) {
     mv_u32 node = MV_LD(rep, r);
     mv_u32 t = p.seed_lo != 0u ? MV_LD(tstar, node) : 0u; /* seed_lo: 1 = symmetric */
@@ -225,7 +226,7 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
       if (((m >> c) & 1u) != 0u) {
         mv_u32 id = MV_LD(cid, j);
         e = MV_U64(id) << 3;
-        if (p.seed_lo != 0u) e |= MV_U64(mv_norm_tag(MV_LD(ctag, j) ^ t, MV_LD(cnorm, id)));
+        if (p.seed_lo != 0u) e |= MV_U64(mv_norm_tag(t, MV_LD(crow, j)));
         j += 1u;
       }
       MV_ST(out_entry, 8u * r + (c ^ t), e);
@@ -234,12 +235,12 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
 }
 
 /* Level 1 needs no hashing: a 2x2x2 node's class is its canonical mask (the mask itself without symmetry),
- * one of at most 256. leaf_table describes every mask once: word 2m = canonical mask | T* << 8 | tag << 11
- * (the tag normalized by the mask's stabilizer) | stabilizer << 16, word 2m + 1 = its tag normalization
- * table. leaf_present marks the classes that occur; their exclusive scan ranks them (ids in class order);
- * leaf_classes gives each id its stored mask (word 8 id, then its 7 reflections, for level 2's bricks) and,
- * with symmetry (p.leaf == 2), its tag table; leaf_ids gives each node its id and, with symmetry, its tag.
- * Nothing is written per node to shared addresses but the presence flags. */
+ * one of at most 256. leaf_table describes every mask once: word 2m = canonical mask | T* << 8 | stabilizer
+ * << 16, word 2m + 1 = the row of its tag (T* normalized by the stabilizer), and word 512 + s = the tag table of
+ * the reflection set s (meaningful for the subgroups: stabilizers). leaf_present marks the classes
+ * that occur; their exclusive scan ranks them (ids in class order); leaf_classes gives each id its stored mask
+ * (word 8 id, then its 7 reflections, for level 2's bricks); leaf_ids gives each node its id and, with
+ * symmetry (p.leaf == 2), its tag row. Nothing is written per node to shared addresses but the presence flags. */
 MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 m = gid; m < 256u; m += stride) {
     mv_u32 best = 0u, s = 1u, lowest = m;
@@ -251,9 +252,9 @@ MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
       }
       if (r == m) s |= 1u << t;
     }
-    mv_u32 norm = mv_norm_table(s);
-    MV_ST(table, 2u * m, lowest | (best << 8) | (mv_norm_tag(best, norm) << 11) | (s << 16));
-    MV_ST(table, 2u * m + 1u, norm);
+    MV_ST(table, 2u * m, lowest | (best << 8) | (s << 16));
+    MV_ST(table, 2u * m + 1u, mv_tag_row(mv_norm_table(s), best));
+    MV_ST(table, 512u + m, mv_norm_table(m));
   }
 }
 
@@ -270,24 +271,21 @@ MV_INLINE void mv_leaf_present(MvBufU32 mask, MvBufU32 table, MvBufU32 present, 
 }
 
 /* rank: the exclusive scan of the 256 presence flags (257 entries): class c occurs iff rank[c + 1] > rank[c]. */
-MV_INLINE void mv_leaf_classes(MvBufU32 table, MvBufU32 rank, MvBufU32 class_mask, MvBufU32 idnorm, MvDagParams p,
-                               mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_leaf_classes(MvBufU32 rank, MvBufU32 class_mask, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 c = gid; c < 256u; c += stride) {
     mv_u32 r = MV_LD(rank, c);
     if (MV_LD(rank, c + 1u) == r) continue;
     for (mv_u32 t = 0u; t < 8u; ++t) MV_ST(class_mask, 8u * r + t, mv_reflect_mask(c, t));
-    if (p.leaf == 2u) MV_ST(idnorm, r, MV_LD(table, 2u * c + 1u)); /* a reflection keeps the stabilizer */
   }
 }
 
-MV_INLINE void mv_leaf_ids(MvBufU32 mask, MvBufU32 table, MvBufU32 rank, MvBufU32 id, MvBufU32 tag, MvDagParams p,
+MV_INLINE void mv_leaf_ids(MvBufU32 mask, MvBufU32 table, MvBufU32 rank, MvBufU32 id, MvBufU32 row, MvDagParams p,
                            mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
     if (p.leaf == 2u) {
-      mv_u32 e = MV_LD(table, 2u * m);
-      MV_ST(id, i, MV_LD(rank, e & 0xffu));
-      MV_ST(tag, i, (e >> 11) & 7u);
+      MV_ST(id, i, MV_LD(rank, MV_LD(table, 2u * m) & 0xffu));
+      MV_ST(row, i, MV_LD(table, 2u * m + 1u));
     } else {
       MV_ST(id, i, MV_LD(rank, m));
     }

@@ -29,41 +29,37 @@ __kernel void dag_verify(__global uint* mask, __global uint* first, __global uin
 #include "common/ssvdag.h"
 
 __kernel void ssvdag_canon(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
-                           __global uint* ctag, __global uint* cnorm, __global uint* tstar, __global uint* tag,
-                           __global uint* stab, __global ulong* hashes, __global uint* order, MvDagParams p) {
-  mv_ssvdag_canon(mask, mtab, first, cid, ctag, cnorm, tstar, tag, stab, hashes, order, p, MV_ID);
+                           __global uint* crow, __global uint* tstar, __global uint* row, __global ulong* hashes,
+                           __global uint* order, MvDagParams p) {
+  mv_ssvdag_canon(mask, mtab, first, cid, crow, tstar, row, hashes, order, p, MV_ID);
 }
 __kernel void brick_keys(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
-                         __global uint* ctag, __global uint* cmask, __global uint* tstar, __global uint* tag,
-                         __global uint* stab, __global ulong* keys, __global uint* order, MvDagParams p) {
-  mv_brick_keys(mask, mtab, first, cid, ctag, cmask, tstar, tag, stab, keys, order, p, MV_ID);
+                         __global uint* crow, __global uint* cmask, __global uint* tstar, __global uint* row,
+                         __global ulong* keys, __global uint* order, MvDagParams p) {
+  mv_brick_keys(mask, mtab, first, cid, crow, cmask, tstar, row, keys, order, p, MV_ID);
 }
-__kernel void ssvdag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                            __global uint* cnorm, __global uint* tstar, __global uint* id, __global uint* rep,
-                            __global uint* collided, MvDagParams p) {
-  mv_ssvdag_verify(mask, first, cid, ctag, cnorm, tstar, id, rep, collided, p, MV_ID);
-}
-__kernel void class_norms(__global uint* rep, __global uint* stab, __global uint* idnorm, MvDagParams p) {
-  mv_class_norms(rep, stab, idnorm, p, MV_ID);
+__kernel void ssvdag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* crow,
+                            __global uint* tstar, __global uint* id, __global uint* rep, __global uint* collided,
+                            MvDagParams p) {
+  mv_ssvdag_verify(mask, first, cid, crow, tstar, id, rep, collided, p, MV_ID);
 }
 __kernel void leaf_table(__global uint* table, MvDagParams p) { mv_leaf_table(table, MV_ID); }
 __kernel void leaf_present(__global uint* mask, __global uint* table, __global uint* present, MvDagParams p) {
   mv_leaf_present(mask, table, present, p, MV_ID);
 }
-__kernel void leaf_classes(__global uint* table, __global uint* rank, __global uint* class_mask,
-                           __global uint* idnorm, MvDagParams p) {
-  mv_leaf_classes(table, rank, class_mask, idnorm, p, MV_ID);
+__kernel void leaf_classes(__global uint* rank, __global uint* class_mask, MvDagParams p) {
+  mv_leaf_classes(rank, class_mask, MV_ID);
 }
 __kernel void leaf_ids(__global uint* mask, __global uint* table, __global uint* rank, __global uint* id,
-                       __global uint* tag, MvDagParams p) {
-  mv_leaf_ids(mask, table, rank, id, tag, p, MV_ID);
+                       __global uint* row, MvDagParams p) {
+  mv_leaf_ids(mask, table, rank, id, row, p, MV_ID);
 }
-__kernel void gather_slots(__global uint* slot_node, __global uint* slot_tag, __global uint* id, __global uint* tag,
-                           __global uint* out_id, __global uint* out_tag, MvDagParams p) {
-  mv_gather_slots(slot_node, slot_tag, id, tag, out_id, out_tag, p, MV_ID);
+__kernel void gather_slots(__global uint* slot_node, __global uint* slot_tag, __global uint* id, __global uint* row,
+                           __global uint* out_id, __global uint* out_row, MvDagParams p) {
+  mv_gather_slots(slot_node, slot_tag, id, row, out_id, out_row, p, MV_ID);
 }
-__kernel void dag_emit(__global uint* mask, __global uint* first, __global uint* cid, __global uint* ctag,
-                       __global uint* cnorm, __global uint* tstar, __global uint* rep, __global uint* out_mask,
-                       __global ulong* out_entry, MvDagParams p) {
-  mv_dag_emit(mask, first, cid, ctag, cnorm, tstar, rep, out_mask, out_entry, p, MV_ID);
+__kernel void dag_emit(__global uint* mask, __global uint* first, __global uint* cid, __global uint* crow,
+                       __global uint* tstar, __global uint* rep, __global uint* out_mask, __global ulong* out_entry,
+                       MvDagParams p) {
+  mv_dag_emit(mask, first, cid, crow, tstar, rep, out_mask, out_entry, p, MV_ID);
 }

@@ -36,33 +36,26 @@ layout(push_constant) uniform Args {
 void main() { mv_dag_verify(a.mask, a.first, a.cid, a.id, a.rep, a.collided, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_canon)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar;
-  MvBufU32 tag; MvBufU32 stab; MvBufU64 hashes; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 tstar; MvBufU32 row;
+  MvBufU64 hashes; MvBufU32 order; MvDagParams p;
 } a;
 void main() {
-  mv_ssvdag_canon(a.mask, a.mtab, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.tag, a.stab, a.hashes, a.order, a.p,
-                  MV_ID);
+  mv_ssvdag_canon(a.mask, a.mtab, a.first, a.cid, a.crow, a.tstar, a.row, a.hashes, a.order, a.p, MV_ID);
 }
 #elif defined(MV_ENTRY_brick_keys)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cmask; MvBufU32 tstar;
-  MvBufU32 tag; MvBufU32 stab; MvBufU64 keys; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 cmask; MvBufU32 tstar;
+  MvBufU32 row; MvBufU64 keys; MvBufU32 order; MvDagParams p;
 } a;
 void main() {
-  mv_brick_keys(a.mask, a.mtab, a.first, a.cid, a.ctag, a.cmask, a.tstar, a.tag, a.stab, a.keys, a.order, a.p,
-                MV_ID);
+  mv_brick_keys(a.mask, a.mtab, a.first, a.cid, a.crow, a.cmask, a.tstar, a.row, a.keys, a.order, a.p, MV_ID);
 }
 #elif defined(MV_ENTRY_ssvdag_verify)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar; MvBufU32 id;
-  MvBufU32 rep; MvBufU32 collided; MvDagParams p;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 tstar; MvBufU32 id; MvBufU32 rep;
+  MvBufU32 collided; MvDagParams p;
 } a;
-void main() {
-  mv_ssvdag_verify(a.mask, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.id, a.rep, a.collided, a.p, MV_ID);
-}
-#elif defined(MV_ENTRY_class_norms)
-layout(push_constant) uniform Args { MvBufU32 rep; MvBufU32 stab; MvBufU32 idnorm; MvDagParams p; } a;
-void main() { mv_class_norms(a.rep, a.stab, a.idnorm, a.p, MV_ID); }
+void main() { mv_ssvdag_verify(a.mask, a.first, a.cid, a.crow, a.tstar, a.id, a.rep, a.collided, a.p, MV_ID); }
 #elif defined(MV_ENTRY_leaf_table)
 layout(push_constant) uniform Args { MvBufU32 table; MvDagParams p; } a;
 void main() { mv_leaf_table(a.table, MV_ID); }
@@ -70,28 +63,24 @@ void main() { mv_leaf_table(a.table, MV_ID); }
 layout(push_constant) uniform Args { MvBufU32 mask; MvBufU32 table; MvBufU32 present; MvDagParams p; } a;
 void main() { mv_leaf_present(a.mask, a.table, a.present, a.p, MV_ID); }
 #elif defined(MV_ENTRY_leaf_classes)
-layout(push_constant) uniform Args {
-  MvBufU32 table; MvBufU32 rank; MvBufU32 class_mask; MvBufU32 idnorm; MvDagParams p;
-} a;
-void main() { mv_leaf_classes(a.table, a.rank, a.class_mask, a.idnorm, a.p, MV_ID); }
+layout(push_constant) uniform Args { MvBufU32 rank; MvBufU32 class_mask; MvDagParams p; } a;
+void main() { mv_leaf_classes(a.rank, a.class_mask, MV_ID); }
 #elif defined(MV_ENTRY_leaf_ids)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 table; MvBufU32 rank; MvBufU32 id; MvBufU32 tag; MvDagParams p;
+  MvBufU32 mask; MvBufU32 table; MvBufU32 rank; MvBufU32 id; MvBufU32 row; MvDagParams p;
 } a;
-void main() { mv_leaf_ids(a.mask, a.table, a.rank, a.id, a.tag, a.p, MV_ID); }
+void main() { mv_leaf_ids(a.mask, a.table, a.rank, a.id, a.row, a.p, MV_ID); }
 #elif defined(MV_ENTRY_gather_slots)
 layout(push_constant) uniform Args {
-  MvBufU32 slot_node; MvBufU32 slot_tag; MvBufU32 id; MvBufU32 tag; MvBufU32 out_id; MvBufU32 out_tag; MvDagParams p;
+  MvBufU32 slot_node; MvBufU32 slot_tag; MvBufU32 id; MvBufU32 row; MvBufU32 out_id; MvBufU32 out_row; MvDagParams p;
 } a;
-void main() { mv_gather_slots(a.slot_node, a.slot_tag, a.id, a.tag, a.out_id, a.out_tag, a.p, MV_ID); }
+void main() { mv_gather_slots(a.slot_node, a.slot_tag, a.id, a.row, a.out_id, a.out_row, a.p, MV_ID); }
 #elif defined(MV_ENTRY_dag_emit)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 ctag; MvBufU32 cnorm; MvBufU32 tstar; MvBufU32 rep;
-  MvBufU32 out_mask; MvBufU64 out_entry; MvDagParams p;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 tstar; MvBufU32 rep; MvBufU32 out_mask;
+  MvBufU64 out_entry; MvDagParams p;
 } a;
-void main() {
-  mv_dag_emit(a.mask, a.first, a.cid, a.ctag, a.cnorm, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID);
-}
+void main() { mv_dag_emit(a.mask, a.first, a.cid, a.crow, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID); }
 #else
 #error "define one MV_ENTRY_<name>"
 #endif

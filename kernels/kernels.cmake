@@ -25,6 +25,8 @@ mv_kernel(dag_assign            dag/dag.cl           dag/dag.comp             MV
 mv_kernel(dag_verify            dag/dag.cl           dag/dag.comp             MV_ENTRY_dag_verify)
 mv_kernel(ssvdag_canon          dag/dag.cl           dag/dag.comp             MV_ENTRY_ssvdag_canon)
 mv_kernel(brick_keys            dag/dag.cl           dag/dag.comp             MV_ENTRY_brick_keys)
+mv_kernel(brick_canon           dag/dag.cl           dag/dag.comp             MV_ENTRY_brick_canon)
+mv_kernel(brick_orient          dag/dag.cl           dag/dag.comp             MV_ENTRY_brick_orient)
 mv_kernel(ssvdag_verify         dag/dag.cl           dag/dag.comp             MV_ENTRY_ssvdag_verify)
 mv_kernel(leaf_table            dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_table)
 mv_kernel(leaf_present          dag/dag.cl           dag/dag.comp             MV_ENTRY_leaf_present)

@@ -101,6 +101,63 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction&
   dev.barrier();
 }
 
+// Equal keys grouped: sort (keys, order), mark runs, rank them: id per item, the first item of each run as
+// its representative; returns the number of runs.
+uint32_t group_keys(Device& dev, Buffer& keys, Buffer& order, uint32_t n, Buffer& id, Buffer& rep) {
+  Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "key runs");
+  const uint32_t groups = dev.groups_for(n, kLocal);
+  const MvDagParams p{n, 0, 0, 0};
+  radix_sort(dev, keys, &order, n, KeyBits::k64);
+  dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&keys, &run}, p);
+  dev.barrier();
+  ScanPlan scan = plan_scan(dev, n);
+  record_scan(dev, scan, run, run);
+  uint32_t distinct = 0;
+  dev.download(run, &distinct, 4, uint64_t{n} * 4);
+  rep = dev.alloc(uint64_t{distinct} * 4, "representatives");
+  dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&keys, &order, &run, &id, &rep}, p);
+  dev.barrier();
+  return distinct;
+}
+
+// Level 2: 4x4x4 bricks are exact 64-bit keys, nothing to verify. With symmetry equal bricks are grouped
+// first (the plain reduction's work), then only those classes, few, are canonicalized (kernel brick_canon)
+// and grouped again up to reflection; each node takes its class's id, T* and tag row (brick_orient).
+void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduced& r, const Reduction& red) {
+  const uint32_t n = lv.n;
+  Buffer keys = dev.alloc(uint64_t{n} * 8, "bricks");
+  Buffer order = dev.alloc(uint64_t{n} * 4, "brick order");
+  const MvDagParams p{n, red.symmetric ? 2u : 1u, 0, 0};
+  dev.dispatch(dev.kernel("brick_keys"), dev.groups_for(n, kLocal), kLocal,
+               {&lv.mask, &lv.first, &below.id, &below.row, &below.class_mask, &keys, &order}, p);
+  dev.barrier();
+  r.distinct = group_keys(dev, keys, order, n, r.id, r.rep);
+  if (!red.symmetric) return;
+  const uint32_t raw = r.distinct;
+  Buffer raw_rep = std::move(r.rep);
+  Buffer ckeys = dev.alloc(uint64_t{raw} * 8, "canonical bricks");
+  Buffer corder = dev.alloc(uint64_t{raw} * 4, "canonical brick order");
+  Buffer ctstar = dev.alloc(uint64_t{raw} * 4, "brick class reflections");
+  Buffer crow = dev.alloc(uint64_t{raw} * 4, "brick class tag rows");
+  dev.dispatch(dev.kernel("brick_canon"), dev.groups_for(raw, kLocal), kLocal,
+               {&lv.mask, &red.mask_table, &lv.first, &below.id, &below.row, &below.class_mask, &raw_rep, &ckeys,
+                &ctstar, &crow, &corder},
+               MvDagParams{raw, 0, 0, 0});
+  dev.barrier();
+  Buffer cls = dev.alloc(uint64_t{raw} * 4, "brick classes");
+  Buffer rep_class;
+  r.distinct = group_keys(dev, ckeys, corder, raw, cls, rep_class);
+  r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
+  Buffer none;
+  dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(r.distinct, kLocal), kLocal,
+               {&rep_class, &none, &raw_rep, &none, &r.rep, &none}, MvDagParams{r.distinct, 0, 0, 0});
+  r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
+  r.row = dev.alloc(uint64_t{n} * 4, "node tag rows");
+  dev.dispatch(dev.kernel("brick_orient"), dev.groups_for(n, kLocal), kLocal,
+               {&r.id, &cls, &ctstar, &crow, &r.tstar, &r.row}, p);
+  dev.barrier();
+}
+
 Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red) {
   const bool symmetric = red.symmetric;
   const uint32_t n = lv.n;
@@ -110,11 +167,13 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     reduce_leaves(dev, lv, r, red);
     return r;
   }
+  if (!below.class_mask.empty()) {
+    reduce_bricks(dev, lv, below, r, red);
+    return r;
+  }
   Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
   Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
-  Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "node runs");
-  const bool brick = !below.class_mask.empty();  // level 2: 4x4x4 bricks are exact keys, nothing to verify
-  Buffer collided = brick ? Buffer() : dev.alloc(4, "hash collision flag");
+  Buffer collided = dev.alloc(4, "hash collision flag");
   const Buffer& mtab = red.mask_table;
   if (symmetric) {
     r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
@@ -122,32 +181,15 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   }
   const uint32_t groups = dev.groups_for(n, kLocal);
   MvDagParams p{n, 0, 0, 0x6d766f78u};
-  ScanPlan scan = plan_scan(dev, n);
   for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
-    if (brick)
-      dev.dispatch(dev.kernel("brick_keys"), groups, kLocal,
-                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &below.class_mask, &r.tstar, &r.row, &hashes,
-                    &order},
-                   MvDagParams{n, symmetric ? 2u : 1u, 0, 0});
-    else if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
+    if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &r.tstar, &r.row, &hashes, &order},
-                   p);
+                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &r.tstar, &r.row, &hashes, &order}, p);
     else
       dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
     dev.barrier();
-    radix_sort(dev, hashes, &order, n, KeyBits::k64);
-    dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&hashes, &run}, p);
-    dev.barrier();
-    record_scan(dev, scan, run, run);
-    dev.download(run, &r.distinct, 4, uint64_t{n} * 4);
-    r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
-    dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&hashes, &order, &run, &r.id, &r.rep}, p);
-    if (brick) {
-      dev.barrier();
-      break;
-    }
+    r.distinct = group_keys(dev, hashes, order, n, r.id, r.rep);
     dev.fill(collided, 0, 4);
     dev.barrier();
     if (symmetric)

@@ -125,13 +125,30 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
 }
 
 /* Level 2 needs no hash either: a node is a 4x4x4 brick, 64 bits (bit 8c + c' = octant c, then octant c' of
- * that child), rebuilt from its children's class masks (cmask: level 1's stored masks; with symmetry a child
- * (id, tag) is its class mask reflected by tag). The brick is an exact key: the sort groups equal bricks and
- * no verification pass is needed. With symmetry the key is the brick reflected by T*, the reflection whose
- * (node mask, brick) is smallest (a reflection T flips the same axis bit in c and c'; ties to the smaller T;
- * only reflections giving the smallest mask are tried, from mtab), and stab the reflections that leave the
- * brick unchanged: exact like the stabilizer method, by another total order of keys. p.leaf = 2: symmetric
- * (tstar, row written). */
+ * that child), rebuilt from its children's class masks (cmask: level 1's stored masks and their reflections;
+ * with symmetry a child (id, tag) is its class mask reflected by its tag: p.leaf == 2). The brick is an exact
+ * key: the sort groups equal bricks and no verification pass is needed. */
+MV_INLINE mv_u64 mv_brick(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 cmask, bool tagged,
+                          mv_u32 i) {
+  mv_u32 m = MV_LD(mask, i), j = MV_LD(first, i);
+  mv_u64 b = MV_U64(0);
+  for (mv_u32 c = 0u; c < 8u; ++c) {
+    if (((m >> c) & 1u) == 0u) continue;
+    mv_u32 child = MV_LD(cmask, 8u * MV_LD(cid, j) + (tagged ? MV_LD(crow, j) & 7u : 0u));
+    b |= MV_U64(child) << (8u * c);
+    j += 1u;
+  }
+  return b;
+}
+
+MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 cmask,
+                             MvBufU64 keys, MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    MV_ST(keys, i, mv_brick(mask, first, cid, crow, cmask, p.leaf == 2u, i));
+    MV_ST(order, i, i);
+  }
+}
+
 MV_INLINE mv_u64 mv_brick_swap(mv_u64 b, mv_u64 m, mv_u32 shift) {
   return ((b & m) << shift) | ((b >> shift) & m);
 }
@@ -152,38 +169,42 @@ MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
   return b;
 }
 
-MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
-                             MvBufU32 cmask, MvBufU32 tstar, MvBufU32 row, MvBufU64 keys, MvBufU32 order,
-                             MvDagParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 m = MV_LD(mask, i), j = MV_LD(first, i);
-    /* symmetric: the brick built reflected by the mask's T* (t0) at once: child c's mask reflected by its tag
-     * and t0 (one of its class's 8 stored reflections) lands in slot c ^ t0 */
-    mv_u32 info = p.leaf == 2u ? MV_LD(mtab, 2u * m) : 0u;
-    mv_u32 t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu;
-    mv_u64 b = MV_U64(0);
-    for (mv_u32 c = 0u; c < 8u; ++c) {
-      if (((m >> c) & 1u) == 0u) continue;
-      mv_u32 child = MV_LD(cmask, 8u * MV_LD(cid, j) + (p.leaf == 2u ? (MV_LD(crow, j) & 7u) ^ t0 : 0u));
-      b |= MV_U64(child) << (8u * (c ^ t0));
-      j += 1u;
-    }
-    if (p.leaf == 2u) { /* order: the reflected node mask first, then the brick; see mv_ssvdag_canon */
-      mv_u32 best = t0, s = 1u;
-      mv_u64 base = b;
-      for (mv_u32 g = 1u; g < 8u && ms != 1u; ++g) { /* the other reflections with the smallest mask: t0 ^ g */
-        if (((ms >> g) & 1u) == 0u) continue;
-        mv_u64 r = mv_reflect_brick(base, g);
-        if (r < b || (r == b && (t0 ^ g) < best)) {
-          b = r;
-          best = t0 ^ g;
-        }
-        if (r == base) s |= 1u << g; /* g fixes the reflected brick, hence the brick */
+/* With symmetry, for each class k of equal bricks (its representative node rep[k]; p.n = classes): the key
+ * is the brick reflected by T*, the reflection whose (node mask, brick) is smallest (a reflection T flips
+ * the same axis bit in c and c'; ties to the smaller T; only reflections giving the smallest mask are tried,
+ * from mtab), and stab the reflections that leave the brick unchanged: exact like the stabilizer method, by
+ * another total order of keys. Writes the key, T* and tag row per class. */
+MV_INLINE void mv_brick_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
+                              MvBufU32 cmask, MvBufU32 rep, MvBufU64 keys, MvBufU32 tstar, MvBufU32 row,
+                              MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 k = gid; k < p.n; k += stride) {
+    mv_u32 i = MV_LD(rep, k), info = MV_LD(mtab, 2u * MV_LD(mask, i));
+    mv_u32 t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu, best = t0, s = 1u;
+    mv_u64 base = mv_reflect_brick(mv_brick(mask, first, cid, crow, cmask, true, i), t0), lowest = base;
+    for (mv_u32 g = 1u; g < 8u; ++g) { /* the other reflections with the smallest mask: t0 ^ g, g in ms */
+      if (((ms >> g) & 1u) == 0u) continue;
+      mv_u64 r = mv_reflect_brick(base, g);
+      if (r < lowest || (r == lowest && (t0 ^ g) < best)) {
+        lowest = r;
+        best = t0 ^ g;
       }
-      mv_store_orientation(mtab, tstar, row, i, best, s);
+      if (r == base) s |= 1u << g; /* g fixes the reflected brick, hence the brick */
     }
-    MV_ST(keys, i, b);
-    MV_ST(order, i, i);
+    mv_store_orientation(mtab, tstar, row, k, best, s);
+    MV_ST(keys, k, lowest);
+    MV_ST(order, k, k);
+  }
+}
+
+/* Each node takes the id, T* and tag row of its class of equal bricks (id: in, then out: the class's id up to
+ * reflection, cls). */
+MV_INLINE void mv_brick_orient(MvBufU32 id, MvBufU32 cls, MvBufU32 ctstar, MvBufU32 crow, MvBufU32 tstar,
+                               MvBufU32 row, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 k = MV_LD(id, i);
+    MV_ST(id, i, MV_LD(cls, k));
+    MV_ST(tstar, i, MV_LD(ctstar, k));
+    MV_ST(row, i, MV_LD(crow, k));
   }
 }
 

@@ -33,10 +33,18 @@ __kernel void ssvdag_canon(__global uint* mask, __global uint* mtab, __global ui
                            __global uint* order, MvDagParams p) {
   mv_ssvdag_canon(mask, mtab, first, cid, crow, tstar, row, hashes, order, p, MV_ID);
 }
-__kernel void brick_keys(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
-                         __global uint* crow, __global uint* cmask, __global uint* tstar, __global uint* row,
-                         __global ulong* keys, __global uint* order, MvDagParams p) {
-  mv_brick_keys(mask, mtab, first, cid, crow, cmask, tstar, row, keys, order, p, MV_ID);
+__kernel void brick_keys(__global uint* mask, __global uint* first, __global uint* cid, __global uint* crow,
+                         __global uint* cmask, __global ulong* keys, __global uint* order, MvDagParams p) {
+  mv_brick_keys(mask, first, cid, crow, cmask, keys, order, p, MV_ID);
+}
+__kernel void brick_canon(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
+                          __global uint* crow, __global uint* cmask, __global uint* rep, __global ulong* keys,
+                          __global uint* tstar, __global uint* row, __global uint* order, MvDagParams p) {
+  mv_brick_canon(mask, mtab, first, cid, crow, cmask, rep, keys, tstar, row, order, p, MV_ID);
+}
+__kernel void brick_orient(__global uint* id, __global uint* cls, __global uint* ctstar, __global uint* crow,
+                           __global uint* tstar, __global uint* row, MvDagParams p) {
+  mv_brick_orient(id, cls, ctstar, crow, tstar, row, p, MV_ID);
 }
 __kernel void ssvdag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* crow,
                             __global uint* tstar, __global uint* id, __global uint* rep, __global uint* collided,

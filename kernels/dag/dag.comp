@@ -44,12 +44,24 @@ void main() {
 }
 #elif defined(MV_ENTRY_brick_keys)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 cmask; MvBufU32 tstar;
-  MvBufU32 row; MvBufU64 keys; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 cmask; MvBufU64 keys; MvBufU32 order;
+  MvDagParams p;
+} a;
+void main() { mv_brick_keys(a.mask, a.first, a.cid, a.crow, a.cmask, a.keys, a.order, a.p, MV_ID); }
+#elif defined(MV_ENTRY_brick_canon)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 cmask; MvBufU32 rep;
+  MvBufU64 keys; MvBufU32 tstar; MvBufU32 row; MvBufU32 order; MvDagParams p;
 } a;
 void main() {
-  mv_brick_keys(a.mask, a.mtab, a.first, a.cid, a.crow, a.cmask, a.tstar, a.row, a.keys, a.order, a.p, MV_ID);
+  mv_brick_canon(a.mask, a.mtab, a.first, a.cid, a.crow, a.cmask, a.rep, a.keys, a.tstar, a.row, a.order, a.p,
+                 MV_ID);
 }
+#elif defined(MV_ENTRY_brick_orient)
+layout(push_constant) uniform Args {
+  MvBufU32 id; MvBufU32 cls; MvBufU32 ctstar; MvBufU32 crow; MvBufU32 tstar; MvBufU32 row; MvDagParams p;
+} a;
+void main() { mv_brick_orient(a.id, a.cls, a.ctstar, a.crow, a.tstar, a.row, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_verify)
 layout(push_constant) uniform Args {
   MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 tstar; MvBufU32 id; MvBufU32 rep;

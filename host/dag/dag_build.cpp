@@ -54,7 +54,10 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
 struct Reduced {
   uint32_t distinct = 0;
   Buffer id, rep, row, tstar;
-  Buffer class_mask;  // level 1: each class's stored mask (canonical with symmetry) and its 7 reflections
+  // Reduced level 1 keeps no ids per node: level 2 reads its children's masks (child_mask: one per node, or
+  // per merge slot), and its emit ranks them (class_rank: the rank of each 8-bit class, 257 entries).
+  Buffer class_mask;  // each class's stored mask (canonical with symmetry)
+  Buffer class_rank, child_mask;
 };
 
 // Canonical form, T*, stabilizer and tag row of every 8-bit mask (kernel leaf_table).
@@ -79,25 +82,22 @@ Reduction make_reduction(Device& dev, bool symmetric) {
 }
 
 // Level 1: classes are (canonical) masks, ranked without hashing (kernels: leaf_table, leaf_present,
-// leaf_classes, leaf_ids); with symmetry the 256-mask table also gives each node its tag row.
+// leaf_classes); nothing is written per node.
 void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction& red) {
   const bool symmetric = red.symmetric;
   const Buffer& table = red.mask_table;
   MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0};
-  Buffer present = dev.alloc(257 * 4, "leaf classes");
+  Buffer& present = r.class_rank;
+  present = dev.alloc(257 * 4, "leaf classes");
   dev.fill(present, 0, 257 * 4);
-  if (symmetric) {
-    r.row = dev.alloc(uint64_t{lv.n} * 4, "node tag rows");
-  }
   dev.barrier();
   const uint32_t groups = dev.groups_for(lv.n, kLocal);
   dev.dispatch(dev.kernel("leaf_present"), groups, kLocal, {&lv.mask, &table, &present}, p);
   dev.barrier();
   exclusive_scan(dev, present, present, 256);
   dev.download(present, &r.distinct, 4, 256 * 4);
-  r.class_mask = dev.alloc(uint64_t{r.distinct} * 32, "leaf class masks and their reflections");
+  r.class_mask = dev.alloc(uint64_t{r.distinct} * 4, "leaf class masks");
   dev.dispatch(dev.kernel("leaf_classes"), dev.groups_for(256, kLocal), kLocal, {&present, &r.class_mask}, p);
-  dev.dispatch(dev.kernel("leaf_ids"), groups, kLocal, {&lv.mask, &table, &present, &r.id, &r.row}, p);
   dev.barrier();
 }
 
@@ -129,7 +129,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer order = dev.alloc(uint64_t{n} * 4, "brick order");
   const MvDagParams p{n, red.symmetric ? 2u : 1u, 0, 0};
   dev.dispatch(dev.kernel("brick_keys"), dev.groups_for(n, kLocal), kLocal,
-               {&lv.mask, &lv.first, &below.id, &below.row, &below.class_mask, &keys, &order}, p);
+               {&lv.mask, &lv.first, &below.child_mask, &keys, &order}, p);
   dev.barrier();
   r.distinct = group_keys(dev, keys, order, n, r.id, r.rep);
   if (!red.symmetric) return;
@@ -140,8 +140,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer ctstar = dev.alloc(uint64_t{raw} * 4, "brick class reflections");
   Buffer crow = dev.alloc(uint64_t{raw} * 4, "brick class tag rows");
   dev.dispatch(dev.kernel("brick_canon"), dev.groups_for(raw, kLocal), kLocal,
-               {&lv.mask, &red.mask_table, &lv.first, &below.id, &below.row, &below.class_mask, &raw_rep, &ckeys,
-                &ctstar, &crow, &corder},
+               {&lv.mask, &red.mask_table, &lv.first, &below.child_mask, &raw_rep, &ckeys, &ctstar, &crow, &corder},
                MvDagParams{raw, 0, 0, 0});
   dev.barrier();
   Buffer cls = dev.alloc(uint64_t{raw} * 4, "brick classes");
@@ -162,12 +161,12 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   const bool symmetric = red.symmetric;
   const uint32_t n = lv.n;
   Reduced r;
-  r.id = dev.alloc(uint64_t{n} * 4, "node ids");
   if (leaf) {
     reduce_leaves(dev, lv, r, red);
     return r;
   }
-  if (!below.class_mask.empty()) {
+  r.id = dev.alloc(uint64_t{n} * 4, "node ids");
+  if (!below.child_mask.empty()) {
     reduce_bricks(dev, lv, below, r, red);
     return r;
   }
@@ -223,19 +222,25 @@ Reduced identity_level(Device& dev, const SvoLevel& lv) {
 // SSVDAG) with its children's (id, tag) in octant order; gathered on the device (kernel dag_emit) and read
 // back sequentially (gathering on the host was the slowest part of a reduction: random reads).
 DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduced& below, bool leaf,
-                  bool symmetric) {
+                  const Reduction& red) {
   DagLevel out;
+  const bool symmetric = red.symmetric;
   const uint32_t n = r.distinct;
   if (leaf && !r.class_mask.empty()) {  // reduced level 1: the class masks are the level
-    std::vector<uint32_t> reflected = fetch<uint32_t>(dev, r.class_mask, size_t{n} * 8);
-    for (uint32_t k = 0; k < n; ++k) out.mask.push_back(reflected[8 * size_t{k}]);
+    out.mask = fetch<uint32_t>(dev, r.class_mask, n);
     return out;
   }
   Buffer masks = dev.alloc(uint64_t{n} * 4, "DAG level masks");
   Buffer entries = leaf ? Buffer() : dev.alloc(uint64_t{n} * 64, "DAG level entries");
   MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0};
-  dev.dispatch(dev.kernel("dag_emit"), dev.groups_for(n, kLocal), kLocal,
-               {&lv.mask, &lv.first, &below.id, &below.row, &r.tstar, &r.rep, &masks, &entries}, p);
+  if (!below.child_mask.empty())  // reduced level 2: children (id, tag) from their masks
+    dev.dispatch(dev.kernel("brick_emit"), dev.groups_for(n, kLocal), kLocal,
+                 {&lv.mask, &lv.first, &below.child_mask, &red.mask_table, &below.class_rank, &r.tstar, &r.rep,
+                  &masks, &entries},
+                 p);
+  else
+    dev.dispatch(dev.kernel("dag_emit"), dev.groups_for(n, kLocal), kLocal,
+                 {&lv.mask, &lv.first, &below.id, &below.row, &r.tstar, &r.rep, &masks, &entries}, p);
   out.mask = fetch<uint32_t>(dev, masks, n);
   if (leaf) return out;
   std::vector<uint64_t> e = fetch<uint64_t>(dev, entries, size_t{n} * 8);
@@ -275,10 +280,16 @@ void store_root_unreflected(Dag& dag, uint32_t t) {
 }
 
 // After the root level: wait, store the root unreflected, report the times.
-void finish_build(Device& dev, Dag& dag, const Reduced& root, Clock::time_point t0, Clock::time_point t1,
-                  DagBuildTimes* times) {
+void finish_build(Device& dev, Dag& dag, const Reduced& root, const Reduction& red, Clock::time_point t0,
+                  Clock::time_point t1, DagBuildTimes* times) {
   uint32_t root_row = 0;  // field 0: the root's tag
-  if (dag.symmetric) dev.download(root.row, &root_row, 4);
+  if (dag.symmetric && !root.row.empty()) {
+    dev.download(root.row, &root_row, 4);
+  } else if (dag.symmetric) {  // a level-1 root: its mask's row in the mask table
+    uint32_t m = 0;
+    dev.download(root.child_mask, &m, 4);
+    dev.download(red.mask_table, &root_row, 4, (2 * uint64_t{m} + 1) * 4);
+  }
   dev.finish();
   store_root_unreflected(dag, root_row & 7);
   if (times) {
@@ -324,11 +335,12 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
   for (uint32_t l = 1; l <= levels; ++l) {
     const bool leaf = l == 1;
     Reduced r = reduce ? reduce_level(dev, svo[l], below, leaf, red) : identity_level(dev, svo[l]);
-    dag.level[l] = assemble(dev, svo[l], r, below, leaf, symmetric);
+    dag.level[l] = assemble(dev, svo[l], r, below, leaf, red);
+    if (leaf && reduce) r.child_mask = std::move(svo[1].mask);
     below = std::move(r);
     svo[l - 1] = SvoLevel();
   }
-  finish_build(dev, dag, below, t0, t1, times);
+  finish_build(dev, dag, below, red, t0, t1, times);
   return dag;
 }
 
@@ -339,12 +351,24 @@ struct UnionLevel {
 };
 
 // Merged classes of one union level (or of the cube roots): per slot, the class id and tag it points to.
-Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric) {
+// Above a reduced level 1, each slot's 2x2x2 mask as it lies instead (its node's stored mask, from
+// below_masks, reflected by the slot's tag), as level 2 reads them.
+Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric,
+               const std::vector<uint32_t>& below_masks) {
   const auto n = static_cast<uint32_t>(u.slot_node.size());
   Reduced slots;
   slots.distinct = merged.distinct;
   slots.class_mask = std::move(merged.class_mask);
   if (n == 0) return slots;
+  if (!merged.class_rank.empty()) {
+    std::vector<uint32_t> masks(n);
+    for (uint32_t i = 0; i < n; ++i)
+      masks[i] = mv_reflect_mask(below_masks[u.slot_node[i]], symmetric ? u.slot_tag[i] : 0);
+    slots.child_mask = dev.alloc(uint64_t{n} * 4, "merge slot masks");
+    dev.upload(slots.child_mask, masks.data(), uint64_t{n} * 4);
+    slots.class_rank = std::move(merged.class_rank);
+    return slots;
+  }
   Buffer node = dev.alloc(uint64_t{n} * 4, "merge slots");
   dev.upload(node, u.slot_node.data(), uint64_t{n} * 4);
   Buffer tag;
@@ -456,9 +480,9 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   Reduced below;
   for (uint32_t l = 1; l <= cube_levels; ++l) {
     SvoLevel lv = upload_level(dev, u[l]);
-    Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric);
+    Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric, u[l - 1].mask);
     Reduced r = reduce ? reduce_level(dev, lv, slots, l == 1, red) : identity_level(dev, lv);
-    dag.level[l] = assemble(dev, lv, r, slots, l == 1, symmetric);
+    dag.level[l] = assemble(dev, lv, r, slots, l == 1, red);
     below = std::move(r);
     u[l - 1] = UnionLevel();
   }
@@ -470,16 +494,16 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   UnionLevel root_slots;
   root_slots.slot_node = root_node;
   root_slots.slot_tag.assign(root_node.size(), 0);
-  Reduced slots = gather(dev, root_slots, below, symmetric);
+  Reduced slots = gather(dev, root_slots, below, symmetric, u[cube_levels].mask);
   for (uint32_t l = cube_levels + 1; l <= levels; ++l) {
     SvoLevel lv = build_parents(dev, roots.keys, roots.n);
     dag.svo_nodes[l] = lv.n;
     Reduced r = reduce ? reduce_level(dev, lv, slots, false, red) : identity_level(dev, lv);
-    dag.level[l] = assemble(dev, lv, r, slots, false, symmetric);
+    dag.level[l] = assemble(dev, lv, r, slots, false, red);
     roots = std::move(lv);
     slots = std::move(r);
   }
-  finish_build(dev, dag, slots, t0, t1, times);
+  finish_build(dev, dag, slots, red, t0, t1, times);
   return dag;
 }
 

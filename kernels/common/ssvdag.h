@@ -125,26 +125,24 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
 }
 
 /* Level 2 needs no hash either: a node is a 4x4x4 brick, 64 bits (bit 8c + c' = octant c, then octant c' of
- * that child), rebuilt from its children's class masks (cmask: level 1's stored masks and their reflections;
- * with symmetry a child (id, tag) is its class mask reflected by its tag: p.leaf == 2). The brick is an exact
- * key: the sort groups equal bricks and no verification pass is needed. */
-MV_INLINE mv_u64 mv_brick(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 cmask, bool tagged,
-                          mv_u32 i) {
+ * that child), its children's 2x2x2 masks as they lie (cmask: one per child slot, level 1's own masks). The
+ * brick is an exact key: the sort groups equal bricks and no verification pass is needed. Level 1's ids and
+ * tags are needed only where the DAG is written out (mv_brick_emit). */
+MV_INLINE mv_u64 mv_brick(MvBufU32 mask, MvBufU32 first, MvBufU32 cmask, mv_u32 i) {
   mv_u32 m = MV_LD(mask, i), j = MV_LD(first, i);
   mv_u64 b = MV_U64(0);
   for (mv_u32 c = 0u; c < 8u; ++c) {
     if (((m >> c) & 1u) == 0u) continue;
-    mv_u32 child = MV_LD(cmask, 8u * MV_LD(cid, j) + (tagged ? MV_LD(crow, j) & 7u : 0u));
-    b |= MV_U64(child) << (8u * c);
+    b |= MV_U64(MV_LD(cmask, j)) << (8u * c);
     j += 1u;
   }
   return b;
 }
 
-MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 cmask,
-                             MvBufU64 keys, MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_brick_keys(MvBufU32 mask, MvBufU32 first, MvBufU32 cmask, MvBufU64 keys, MvBufU32 order,
+                             MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    MV_ST(keys, i, mv_brick(mask, first, cid, crow, cmask, p.leaf == 2u, i));
+    MV_ST(keys, i, mv_brick(mask, first, cmask, i));
     MV_ST(order, i, i);
   }
 }
@@ -174,13 +172,13 @@ MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
  * the same axis bit in c and c'; ties to the smaller T; only reflections giving the smallest mask are tried,
  * from mtab), and stab the reflections that leave the brick unchanged: exact like the stabilizer method, by
  * another total order of keys. Writes the key, T* and tag row per class. */
-MV_INLINE void mv_brick_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
-                              MvBufU32 cmask, MvBufU32 rep, MvBufU64 keys, MvBufU32 tstar, MvBufU32 row,
-                              MvBufU32 order, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_brick_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cmask, MvBufU32 rep,
+                              MvBufU64 keys, MvBufU32 tstar, MvBufU32 row, MvBufU32 order, MvDagParams p,
+                              mv_u32 gid, mv_u32 stride) {
   for (mv_u32 k = gid; k < p.n; k += stride) {
     mv_u32 i = MV_LD(rep, k), info = MV_LD(mtab, 2u * MV_LD(mask, i));
     mv_u32 t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu, best = t0, s = 1u;
-    mv_u64 base = mv_reflect_brick(mv_brick(mask, first, cid, crow, cmask, true, i), t0), lowest = base;
+    mv_u64 base = mv_reflect_brick(mv_brick(mask, first, cmask, i), t0), lowest = base;
     for (mv_u32 g = 1u; g < 8u; ++g) { /* the other reflections with the smallest mask: t0 ^ g, g in ms */
       if (((ms >> g) & 1u) == 0u) continue;
       mv_u64 r = mv_reflect_brick(base, g);
@@ -255,13 +253,39 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
   }
 }
 
+/* dag_emit for level 2: a child's (id, tag) come from its 2x2x2 mask (cmask, per child slot): its class is
+ * its canonical mask (the mask itself without symmetry: p.seed_lo = 0), ranked by crank (leaf_present's
+ * scan), its tag row from mtab (leaf_table). */
+MV_INLINE void mv_brick_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cmask, MvBufU32 mtab, MvBufU32 crank,
+                             MvBufU32 tstar, MvBufU32 rep, MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p,
+                             mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 r = gid; r < p.n; r += stride) {
+    mv_u32 node = MV_LD(rep, r);
+    mv_u32 t = p.seed_lo != 0u ? MV_LD(tstar, node) : 0u;
+    mv_u32 m = MV_LD(mask, node), j = MV_LD(first, node);
+    MV_ST(out_mask, r, mv_reflect_mask(m, t));
+    for (mv_u32 c = 0u; c < 8u; ++c) {
+      mv_u64 e = MV_U64(0);
+      if (((m >> c) & 1u) != 0u) {
+        mv_u32 cm = MV_LD(cmask, j);
+        if (p.seed_lo != 0u)
+          e = (MV_U64(MV_LD(crank, MV_LD(mtab, 2u * cm) & 0xffu)) << 3) |
+              MV_U64(mv_norm_tag(t, MV_LD(mtab, 2u * cm + 1u)));
+        else
+          e = MV_U64(MV_LD(crank, cm)) << 3;
+        j += 1u;
+      }
+      MV_ST(out_entry, 8u * r + (c ^ t), e);
+    }
+  }
+}
+
 /* Level 1 needs no hashing: a 2x2x2 node's class is its canonical mask (the mask itself without symmetry),
  * one of at most 256. leaf_table describes every mask once: word 2m = canonical mask | T* << 8 | stabilizer
  * << 16, word 2m + 1 = the row of its tag (T* normalized by the stabilizer), and word 512 + s = the tag table of
  * the reflection set s (meaningful for the subgroups: stabilizers). leaf_present marks the classes
- * that occur; their exclusive scan ranks them (ids in class order); leaf_classes gives each id its stored mask
- * (word 8 id, then its 7 reflections, for level 2's bricks); leaf_ids gives each node its id and, with
- * symmetry (p.leaf == 2), its tag row. Nothing is written per node to shared addresses but the presence flags. */
+ * that occur; their exclusive scan ranks them (ids in class order); leaf_classes gives each id its stored
+ * mask. Nothing is written per node: level 2 reads its children's masks. */
 MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 m = gid; m < 256u; m += stride) {
     mv_u32 best = 0u, s = 1u, lowest = m;
@@ -293,24 +317,8 @@ MV_INLINE void mv_leaf_present(MvBufU32 mask, MvBufU32 table, MvBufU32 present, 
 
 /* rank: the exclusive scan of the 256 presence flags (257 entries): class c occurs iff rank[c + 1] > rank[c]. */
 MV_INLINE void mv_leaf_classes(MvBufU32 rank, MvBufU32 class_mask, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 c = gid; c < 256u; c += stride) {
-    mv_u32 r = MV_LD(rank, c);
-    if (MV_LD(rank, c + 1u) == r) continue;
-    for (mv_u32 t = 0u; t < 8u; ++t) MV_ST(class_mask, 8u * r + t, mv_reflect_mask(c, t));
-  }
-}
-
-MV_INLINE void mv_leaf_ids(MvBufU32 mask, MvBufU32 table, MvBufU32 rank, MvBufU32 id, MvBufU32 row, MvDagParams p,
-                           mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 m = MV_LD(mask, i);
-    if (p.leaf == 2u) {
-      MV_ST(id, i, MV_LD(rank, MV_LD(table, 2u * m) & 0xffu));
-      MV_ST(row, i, MV_LD(table, 2u * m + 1u));
-    } else {
-      MV_ST(id, i, MV_LD(rank, m));
-    }
-  }
+  for (mv_u32 c = gid; c < 256u; c += stride)
+    if (MV_LD(rank, c + 1u) != MV_LD(rank, c)) MV_ST(class_mask, MV_LD(rank, c), c);
 }
 
 #endif

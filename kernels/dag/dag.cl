@@ -33,14 +33,19 @@ __kernel void ssvdag_canon(__global uint* mask, __global uint* mtab, __global ui
                            __global uint* order, MvDagParams p) {
   mv_ssvdag_canon(mask, mtab, first, cid, crow, tstar, row, hashes, order, p, MV_ID);
 }
-__kernel void brick_keys(__global uint* mask, __global uint* first, __global uint* cid, __global uint* crow,
-                         __global uint* cmask, __global ulong* keys, __global uint* order, MvDagParams p) {
-  mv_brick_keys(mask, first, cid, crow, cmask, keys, order, p, MV_ID);
+__kernel void brick_keys(__global uint* mask, __global uint* first, __global uint* cmask, __global ulong* keys,
+                         __global uint* order, MvDagParams p) {
+  mv_brick_keys(mask, first, cmask, keys, order, p, MV_ID);
 }
-__kernel void brick_canon(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
-                          __global uint* crow, __global uint* cmask, __global uint* rep, __global ulong* keys,
-                          __global uint* tstar, __global uint* row, __global uint* order, MvDagParams p) {
-  mv_brick_canon(mask, mtab, first, cid, crow, cmask, rep, keys, tstar, row, order, p, MV_ID);
+__kernel void brick_canon(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cmask,
+                          __global uint* rep, __global ulong* keys, __global uint* tstar, __global uint* row,
+                          __global uint* order, MvDagParams p) {
+  mv_brick_canon(mask, mtab, first, cmask, rep, keys, tstar, row, order, p, MV_ID);
+}
+__kernel void brick_emit(__global uint* mask, __global uint* first, __global uint* cmask, __global uint* mtab,
+                         __global uint* crank, __global uint* tstar, __global uint* rep, __global uint* out_mask,
+                         __global ulong* out_entry, MvDagParams p) {
+  mv_brick_emit(mask, first, cmask, mtab, crank, tstar, rep, out_mask, out_entry, p, MV_ID);
 }
 __kernel void brick_orient(__global uint* id, __global uint* cls, __global uint* ctstar, __global uint* crow,
                            __global uint* tstar, __global uint* row, MvDagParams p) {
@@ -57,10 +62,6 @@ __kernel void leaf_present(__global uint* mask, __global uint* table, __global u
 }
 __kernel void leaf_classes(__global uint* rank, __global uint* class_mask, MvDagParams p) {
   mv_leaf_classes(rank, class_mask, MV_ID);
-}
-__kernel void leaf_ids(__global uint* mask, __global uint* table, __global uint* rank, __global uint* id,
-                       __global uint* row, MvDagParams p) {
-  mv_leaf_ids(mask, table, rank, id, row, p, MV_ID);
 }
 __kernel void gather_slots(__global uint* slot_node, __global uint* slot_tag, __global uint* id, __global uint* row,
                            __global uint* out_id, __global uint* out_row, MvDagParams p) {

@@ -44,18 +44,24 @@ void main() {
 }
 #elif defined(MV_ENTRY_brick_keys)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 cmask; MvBufU64 keys; MvBufU32 order;
-  MvDagParams p;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cmask; MvBufU64 keys; MvBufU32 order; MvDagParams p;
 } a;
-void main() { mv_brick_keys(a.mask, a.first, a.cid, a.crow, a.cmask, a.keys, a.order, a.p, MV_ID); }
+void main() { mv_brick_keys(a.mask, a.first, a.cmask, a.keys, a.order, a.p, MV_ID); }
 #elif defined(MV_ENTRY_brick_canon)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 cmask; MvBufU32 rep;
-  MvBufU64 keys; MvBufU32 tstar; MvBufU32 row; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cmask; MvBufU32 rep; MvBufU64 keys; MvBufU32 tstar;
+  MvBufU32 row; MvBufU32 order; MvDagParams p;
 } a;
 void main() {
-  mv_brick_canon(a.mask, a.mtab, a.first, a.cid, a.crow, a.cmask, a.rep, a.keys, a.tstar, a.row, a.order, a.p,
-                 MV_ID);
+  mv_brick_canon(a.mask, a.mtab, a.first, a.cmask, a.rep, a.keys, a.tstar, a.row, a.order, a.p, MV_ID);
+}
+#elif defined(MV_ENTRY_brick_emit)
+layout(push_constant) uniform Args {
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cmask; MvBufU32 mtab; MvBufU32 crank; MvBufU32 tstar; MvBufU32 rep;
+  MvBufU32 out_mask; MvBufU64 out_entry; MvDagParams p;
+} a;
+void main() {
+  mv_brick_emit(a.mask, a.first, a.cmask, a.mtab, a.crank, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID);
 }
 #elif defined(MV_ENTRY_brick_orient)
 layout(push_constant) uniform Args {
@@ -77,11 +83,6 @@ void main() { mv_leaf_present(a.mask, a.table, a.present, a.p, MV_ID); }
 #elif defined(MV_ENTRY_leaf_classes)
 layout(push_constant) uniform Args { MvBufU32 rank; MvBufU32 class_mask; MvDagParams p; } a;
 void main() { mv_leaf_classes(a.rank, a.class_mask, MV_ID); }
-#elif defined(MV_ENTRY_leaf_ids)
-layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 table; MvBufU32 rank; MvBufU32 id; MvBufU32 row; MvDagParams p;
-} a;
-void main() { mv_leaf_ids(a.mask, a.table, a.rank, a.id, a.row, a.p, MV_ID); }
 #elif defined(MV_ENTRY_gather_slots)
 layout(push_constant) uniform Args {
   MvBufU32 slot_node; MvBufU32 slot_tag; MvBufU32 id; MvBufU32 row; MvBufU32 out_id; MvBufU32 out_row; MvDagParams p;

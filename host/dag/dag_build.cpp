@@ -49,11 +49,11 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
 }
 
 // Distinct subtrees of one level: id per node, the representative node of each id and, for the SSVDAG,
-// each node's T* and tag (as its parent will point to it) as a tag row: field k = that tag seen through
-// reflection k, normalized by the node's stabilizer (kernels/common/ssvdag.h).
+// each node's orientation (row): its tag as its parent will point to it as a tag row (field k = that tag
+// seen through reflection k, normalized by the node's stabilizer) and its T* (kernels/common/ssvdag.h).
 struct Reduced {
   uint32_t distinct = 0;
-  Buffer id, rep, row, tstar;
+  Buffer id, rep, row;
   // Reduced level 1 keeps no ids per node: level 2 reads its children's masks (child_mask: one per node, or
   // per merge slot), and its emit ranks them (class_rank: the rank of each 8-bit class, 257 entries).
   Buffer class_mask;  // each class's stored mask (canonical with symmetry)
@@ -137,10 +137,9 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer raw_rep = std::move(r.rep);
   Buffer ckeys = dev.alloc(uint64_t{raw} * 8, "canonical bricks");
   Buffer corder = dev.alloc(uint64_t{raw} * 4, "canonical brick order");
-  Buffer ctstar = dev.alloc(uint64_t{raw} * 4, "brick class reflections");
-  Buffer crow = dev.alloc(uint64_t{raw} * 4, "brick class tag rows");
+  Buffer crow = dev.alloc(uint64_t{raw} * 4, "brick class orientations");
   dev.dispatch(dev.kernel("brick_canon"), dev.groups_for(raw, kLocal), kLocal,
-               {&lv.mask, &red.mask_table, &lv.first, &below.child_mask, &raw_rep, &ckeys, &ctstar, &crow, &corder},
+               {&lv.mask, &red.mask_table, &lv.first, &below.child_mask, &raw_rep, &ckeys, &crow, &corder},
                MvDagParams{raw, 0, 0, 0});
   dev.barrier();
   Buffer cls = dev.alloc(uint64_t{raw} * 4, "brick classes");
@@ -150,10 +149,8 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer none;
   dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(r.distinct, kLocal), kLocal,
                {&rep_class, &none, &raw_rep, &none, &r.rep, &none}, MvDagParams{r.distinct, 0, 0, 0});
-  r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
-  r.row = dev.alloc(uint64_t{n} * 4, "node tag rows");
-  dev.dispatch(dev.kernel("brick_orient"), dev.groups_for(n, kLocal), kLocal,
-               {&r.id, &cls, &ctstar, &crow, &r.tstar, &r.row}, p);
+  r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
+  dev.dispatch(dev.kernel("brick_orient"), dev.groups_for(n, kLocal), kLocal, {&r.id, &cls, &crow, &r.row}, p);
   dev.barrier();
 }
 
@@ -174,17 +171,14 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   Buffer order = dev.alloc(uint64_t{n} * 4, "node order");
   Buffer collided = dev.alloc(4, "hash collision flag");
   const Buffer& mtab = red.mask_table;
-  if (symmetric) {
-    r.tstar = dev.alloc(uint64_t{n} * 4, "node reflections");
-    r.row = dev.alloc(uint64_t{n} * 4, "node tag rows");
-  }
+  if (symmetric) r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
   const uint32_t groups = dev.groups_for(n, kLocal);
   MvDagParams p{n, 0, 0, 0x6d766f78u};
   for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
     if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &r.tstar, &r.row, &hashes, &order}, p);
+                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &r.row, &hashes, &order}, p);
     else
       dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
     dev.barrier();
@@ -193,7 +187,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     dev.barrier();
     if (symmetric)
       dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
-                   {&lv.mask, &lv.first, &below.id, &below.row, &r.tstar, &r.id, &r.rep, &collided}, p);
+                   {&lv.mask, &lv.first, &below.id, &below.row, &r.row, &r.id, &r.rep, &collided}, p);
     else
       dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided},
                    p);
@@ -235,12 +229,12 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
   MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0};
   if (!below.child_mask.empty())  // reduced level 2: children (id, tag) from their masks
     dev.dispatch(dev.kernel("brick_emit"), dev.groups_for(n, kLocal), kLocal,
-                 {&lv.mask, &lv.first, &below.child_mask, &red.mask_table, &below.class_rank, &r.tstar, &r.rep,
+                 {&lv.mask, &lv.first, &below.child_mask, &red.mask_table, &below.class_rank, &r.row, &r.rep,
                   &masks, &entries},
                  p);
   else
     dev.dispatch(dev.kernel("dag_emit"), dev.groups_for(n, kLocal), kLocal,
-                 {&lv.mask, &lv.first, &below.id, &below.row, &r.tstar, &r.rep, &masks, &entries}, p);
+                 {&lv.mask, &lv.first, &below.id, &below.row, &r.row, &r.rep, &masks, &entries}, p);
   out.mask = fetch<uint32_t>(dev, masks, n);
   if (leaf) return out;
   std::vector<uint64_t> e = fetch<uint64_t>(dev, entries, size_t{n} * 8);

@@ -46,18 +46,19 @@ MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 table) { return (table >> (3u * t)
 /* The row of a pointer tagged t to a node with this tag table: field k = norm(t ^ k). */
 MV_INLINE mv_u32 mv_tag_row(mv_u32 table, mv_u32 t) { return mv_xor_fields(table, t); }
 
-/* Node i's orientation: T*, and its tag as its parent will see it (T* normalized by its stabilizer s) as a row;
- * mtab (leaf_table) holds the tag table of every stabilizer. */
-MV_INLINE void mv_store_orientation(MvBufU32 mtab, MvBufU32 tstar, MvBufU32 row, mv_u32 i, mv_u32 t, mv_u32 s) {
-  MV_ST(tstar, i, t);
-  MV_ST(row, i, mv_tag_row(MV_LD(mtab, 512u + s), t));
+/* Node i's orientation in one word: its tag as its parent will see it (T* normalized by its stabilizer s) as
+ * a row in bits 0..23, T* itself in bits 24..26; mtab (leaf_table) holds the tag table of every stabilizer. */
+MV_INLINE void mv_store_orientation(MvBufU32 mtab, MvBufU32 row, mv_u32 i, mv_u32 t, mv_u32 s) {
+  MV_ST(row, i, mv_tag_row(MV_LD(mtab, 512u + s), t) | (t << 24));
 }
+
+MV_INLINE mv_u32 mv_row_tstar(mv_u32 row) { return (row >> 24) & 7u; }
 
 /* T* (smallest key, ties to the smaller T) and stabilizer of each node above level 2 from its children's
  * (id, tag row) read once (mtab: leaf_table, which describes every 8-bit mask), and the hash of the canonical
  * key Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. */
 MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
-                               MvBufU32 tstar, MvBufU32 row_out, MvBufU64 hashes, MvBufU32 order, MvDagParams p,
+                               MvBufU32 row_out, MvBufU64 hashes, MvBufU32 order, MvDagParams p,
                                mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 m = MV_LD(mask, i);
@@ -110,7 +111,7 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
         if (same) s |= 1u << g;
       }
     }
-    mv_store_orientation(mtab, tstar, row_out, i, best, s);
+    mv_store_orientation(mtab, row_out, i, best, s);
     /* hash of the canonical key: mask, then the entries of n_T* in its present octants */
     mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
     h = mv_hash_mix(h, MV_U64(mb));
@@ -171,9 +172,9 @@ MV_INLINE mv_u64 mv_reflect_brick(mv_u64 b, mv_u32 t) {
  * is the brick reflected by T*, the reflection whose (node mask, brick) is smallest (a reflection T flips
  * the same axis bit in c and c'; ties to the smaller T; only reflections giving the smallest mask are tried,
  * from mtab), and stab the reflections that leave the brick unchanged: exact like the stabilizer method, by
- * another total order of keys. Writes the key, T* and tag row per class. */
+ * another total order of keys. Writes the key and the orientation (row: T* and tag row) per class. */
 MV_INLINE void mv_brick_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cmask, MvBufU32 rep,
-                              MvBufU64 keys, MvBufU32 tstar, MvBufU32 row, MvBufU32 order, MvDagParams p,
+                              MvBufU64 keys, MvBufU32 row, MvBufU32 order, MvDagParams p,
                               mv_u32 gid, mv_u32 stride) {
   for (mv_u32 k = gid; k < p.n; k += stride) {
     mv_u32 i = MV_LD(rep, k), info = MV_LD(mtab, 2u * MV_LD(mask, i));
@@ -188,33 +189,32 @@ MV_INLINE void mv_brick_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBu
       }
       if (r == base) s |= 1u << g; /* g fixes the reflected brick, hence the brick */
     }
-    mv_store_orientation(mtab, tstar, row, k, best, s);
+    mv_store_orientation(mtab, row, k, best, s);
     MV_ST(keys, k, lowest);
     MV_ST(order, k, k);
   }
 }
 
-/* Each node takes the id, T* and tag row of its class of equal bricks (id: in, then out: the class's id up to
+/* Each node takes the id and orientation (row) of its class of equal bricks (id: in, then out: the class's id up to
  * reflection, cls). */
-MV_INLINE void mv_brick_orient(MvBufU32 id, MvBufU32 cls, MvBufU32 ctstar, MvBufU32 crow, MvBufU32 tstar,
-                               MvBufU32 row, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_brick_orient(MvBufU32 id, MvBufU32 cls, MvBufU32 crow, MvBufU32 row, MvDagParams p, mv_u32 gid,
+                               mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 k = MV_LD(id, i);
     MV_ST(id, i, MV_LD(cls, k));
-    MV_ST(tstar, i, MV_LD(ctstar, k));
     MV_ST(row, i, MV_LD(crow, k));
   }
 }
 
 /* Canonical keys of node i and its run's representative equal? A mismatch is a hash collision. The keys
  * are rebuilt from the children and each node's T* (cheaper than storing nine words per node). */
-MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 tstar,
+MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 row,
                                 MvBufU32 id, MvBufU32 rep, MvBufU32 collided, MvDagParams p, mv_u32 gid,
                                 mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 r = MV_LD(rep, MV_LD(id, i));
     if (r == i) continue;
-    mv_u32 ti = MV_LD(tstar, i), tr = MV_LD(tstar, r);
+    mv_u32 ti = mv_row_tstar(MV_LD(row, i)), tr = mv_row_tstar(MV_LD(row, r));
     mv_u32 m = MV_LD(mask, i), mr = MV_LD(mask, r), j = MV_LD(first, i);
     bool same = mv_reflect_mask(m, ti) == mv_reflect_mask(mr, tr);
     for (mv_u32 c = 0u; c < 8u && same; ++c) { /* i's child c against the rep's child at the same octant */
@@ -231,12 +231,12 @@ MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvB
 
 /* The reduced level in id order, for the host: class r's stored mask (its representative reflected by T*)
  * and its 8 entries ((child id << 3) | tag, 0 = empty) in octant order. p.seed_lo = 1 with symmetry; without
- * it tstar and crow are null and tags are 0. */
-MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 tstar, MvBufU32 rep,
+ * it row and crow are null and tags are 0. */
+MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 row, MvBufU32 rep,
                            MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 r = gid; r < p.n; r += stride) {
     mv_u32 node = MV_LD(rep, r);
-    mv_u32 t = p.seed_lo != 0u ? MV_LD(tstar, node) : 0u; /* seed_lo: 1 = symmetric */
+    mv_u32 t = p.seed_lo != 0u ? mv_row_tstar(MV_LD(row, node)) : 0u; /* seed_lo: 1 = symmetric */
     MV_ST(out_mask, r, mv_reflect_mask(MV_LD(mask, node), t));
     if (p.leaf != 0u) continue;
     mv_u32 m = MV_LD(mask, node), j = MV_LD(first, node);
@@ -257,11 +257,11 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
  * its canonical mask (the mask itself without symmetry: p.seed_lo = 0), ranked by crank (leaf_present's
  * scan), its tag row from mtab (leaf_table). */
 MV_INLINE void mv_brick_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cmask, MvBufU32 mtab, MvBufU32 crank,
-                             MvBufU32 tstar, MvBufU32 rep, MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p,
+                             MvBufU32 row, MvBufU32 rep, MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p,
                              mv_u32 gid, mv_u32 stride) {
   for (mv_u32 r = gid; r < p.n; r += stride) {
     mv_u32 node = MV_LD(rep, r);
-    mv_u32 t = p.seed_lo != 0u ? MV_LD(tstar, node) : 0u;
+    mv_u32 t = p.seed_lo != 0u ? mv_row_tstar(MV_LD(row, node)) : 0u;
     mv_u32 m = MV_LD(mask, node), j = MV_LD(first, node);
     MV_ST(out_mask, r, mv_reflect_mask(m, t));
     for (mv_u32 c = 0u; c < 8u; ++c) {

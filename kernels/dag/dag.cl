@@ -29,32 +29,32 @@ __kernel void dag_verify(__global uint* mask, __global uint* first, __global uin
 #include "common/ssvdag.h"
 
 __kernel void ssvdag_canon(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cid,
-                           __global uint* crow, __global uint* tstar, __global uint* row, __global ulong* hashes,
-                           __global uint* order, MvDagParams p) {
-  mv_ssvdag_canon(mask, mtab, first, cid, crow, tstar, row, hashes, order, p, MV_ID);
+                           __global uint* crow, __global uint* row, __global ulong* hashes, __global uint* order,
+                           MvDagParams p) {
+  mv_ssvdag_canon(mask, mtab, first, cid, crow, row, hashes, order, p, MV_ID);
 }
 __kernel void brick_keys(__global uint* mask, __global uint* first, __global uint* cmask, __global ulong* keys,
                          __global uint* order, MvDagParams p) {
   mv_brick_keys(mask, first, cmask, keys, order, p, MV_ID);
 }
 __kernel void brick_canon(__global uint* mask, __global uint* mtab, __global uint* first, __global uint* cmask,
-                          __global uint* rep, __global ulong* keys, __global uint* tstar, __global uint* row,
-                          __global uint* order, MvDagParams p) {
-  mv_brick_canon(mask, mtab, first, cmask, rep, keys, tstar, row, order, p, MV_ID);
+                          __global uint* rep, __global ulong* keys, __global uint* row, __global uint* order,
+                          MvDagParams p) {
+  mv_brick_canon(mask, mtab, first, cmask, rep, keys, row, order, p, MV_ID);
 }
 __kernel void brick_emit(__global uint* mask, __global uint* first, __global uint* cmask, __global uint* mtab,
-                         __global uint* crank, __global uint* tstar, __global uint* rep, __global uint* out_mask,
+                         __global uint* crank, __global uint* row, __global uint* rep, __global uint* out_mask,
                          __global ulong* out_entry, MvDagParams p) {
-  mv_brick_emit(mask, first, cmask, mtab, crank, tstar, rep, out_mask, out_entry, p, MV_ID);
+  mv_brick_emit(mask, first, cmask, mtab, crank, row, rep, out_mask, out_entry, p, MV_ID);
 }
-__kernel void brick_orient(__global uint* id, __global uint* cls, __global uint* ctstar, __global uint* crow,
-                           __global uint* tstar, __global uint* row, MvDagParams p) {
-  mv_brick_orient(id, cls, ctstar, crow, tstar, row, p, MV_ID);
+__kernel void brick_orient(__global uint* id, __global uint* cls, __global uint* crow, __global uint* row,
+                           MvDagParams p) {
+  mv_brick_orient(id, cls, crow, row, p, MV_ID);
 }
 __kernel void ssvdag_verify(__global uint* mask, __global uint* first, __global uint* cid, __global uint* crow,
-                            __global uint* tstar, __global uint* id, __global uint* rep, __global uint* collided,
+                            __global uint* row, __global uint* id, __global uint* rep, __global uint* collided,
                             MvDagParams p) {
-  mv_ssvdag_verify(mask, first, cid, crow, tstar, id, rep, collided, p, MV_ID);
+  mv_ssvdag_verify(mask, first, cid, crow, row, id, rep, collided, p, MV_ID);
 }
 __kernel void leaf_table(__global uint* table, MvDagParams p) { mv_leaf_table(table, MV_ID); }
 __kernel void leaf_present(__global uint* mask, __global uint* table, __global uint* present, MvDagParams p) {
@@ -68,7 +68,7 @@ __kernel void gather_slots(__global uint* slot_node, __global uint* slot_tag, __
   mv_gather_slots(slot_node, slot_tag, id, row, out_id, out_row, p, MV_ID);
 }
 __kernel void dag_emit(__global uint* mask, __global uint* first, __global uint* cid, __global uint* crow,
-                       __global uint* tstar, __global uint* rep, __global uint* out_mask, __global ulong* out_entry,
+                       __global uint* row, __global uint* rep, __global uint* out_mask, __global ulong* out_entry,
                        MvDagParams p) {
-  mv_dag_emit(mask, first, cid, crow, tstar, rep, out_mask, out_entry, p, MV_ID);
+  mv_dag_emit(mask, first, cid, crow, row, rep, out_mask, out_entry, p, MV_ID);
 }

@@ -36,12 +36,10 @@ layout(push_constant) uniform Args {
 void main() { mv_dag_verify(a.mask, a.first, a.cid, a.id, a.rep, a.collided, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_canon)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 tstar; MvBufU32 row;
-  MvBufU64 hashes; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 row; MvBufU64 hashes;
+  MvBufU32 order; MvDagParams p;
 } a;
-void main() {
-  mv_ssvdag_canon(a.mask, a.mtab, a.first, a.cid, a.crow, a.tstar, a.row, a.hashes, a.order, a.p, MV_ID);
-}
+void main() { mv_ssvdag_canon(a.mask, a.mtab, a.first, a.cid, a.crow, a.row, a.hashes, a.order, a.p, MV_ID); }
 #elif defined(MV_ENTRY_brick_keys)
 layout(push_constant) uniform Args {
   MvBufU32 mask; MvBufU32 first; MvBufU32 cmask; MvBufU64 keys; MvBufU32 order; MvDagParams p;
@@ -49,31 +47,29 @@ layout(push_constant) uniform Args {
 void main() { mv_brick_keys(a.mask, a.first, a.cmask, a.keys, a.order, a.p, MV_ID); }
 #elif defined(MV_ENTRY_brick_canon)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cmask; MvBufU32 rep; MvBufU64 keys; MvBufU32 tstar;
-  MvBufU32 row; MvBufU32 order; MvDagParams p;
+  MvBufU32 mask; MvBufU32 mtab; MvBufU32 first; MvBufU32 cmask; MvBufU32 rep; MvBufU64 keys; MvBufU32 row;
+  MvBufU32 order; MvDagParams p;
 } a;
-void main() {
-  mv_brick_canon(a.mask, a.mtab, a.first, a.cmask, a.rep, a.keys, a.tstar, a.row, a.order, a.p, MV_ID);
-}
+void main() { mv_brick_canon(a.mask, a.mtab, a.first, a.cmask, a.rep, a.keys, a.row, a.order, a.p, MV_ID); }
 #elif defined(MV_ENTRY_brick_emit)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cmask; MvBufU32 mtab; MvBufU32 crank; MvBufU32 tstar; MvBufU32 rep;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cmask; MvBufU32 mtab; MvBufU32 crank; MvBufU32 row; MvBufU32 rep;
   MvBufU32 out_mask; MvBufU64 out_entry; MvDagParams p;
 } a;
 void main() {
-  mv_brick_emit(a.mask, a.first, a.cmask, a.mtab, a.crank, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID);
+  mv_brick_emit(a.mask, a.first, a.cmask, a.mtab, a.crank, a.row, a.rep, a.out_mask, a.out_entry, a.p, MV_ID);
 }
 #elif defined(MV_ENTRY_brick_orient)
 layout(push_constant) uniform Args {
-  MvBufU32 id; MvBufU32 cls; MvBufU32 ctstar; MvBufU32 crow; MvBufU32 tstar; MvBufU32 row; MvDagParams p;
+  MvBufU32 id; MvBufU32 cls; MvBufU32 crow; MvBufU32 row; MvDagParams p;
 } a;
-void main() { mv_brick_orient(a.id, a.cls, a.ctstar, a.crow, a.tstar, a.row, a.p, MV_ID); }
+void main() { mv_brick_orient(a.id, a.cls, a.crow, a.row, a.p, MV_ID); }
 #elif defined(MV_ENTRY_ssvdag_verify)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 tstar; MvBufU32 id; MvBufU32 rep;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 row; MvBufU32 id; MvBufU32 rep;
   MvBufU32 collided; MvDagParams p;
 } a;
-void main() { mv_ssvdag_verify(a.mask, a.first, a.cid, a.crow, a.tstar, a.id, a.rep, a.collided, a.p, MV_ID); }
+void main() { mv_ssvdag_verify(a.mask, a.first, a.cid, a.crow, a.row, a.id, a.rep, a.collided, a.p, MV_ID); }
 #elif defined(MV_ENTRY_leaf_table)
 layout(push_constant) uniform Args { MvBufU32 table; MvDagParams p; } a;
 void main() { mv_leaf_table(a.table, MV_ID); }
@@ -90,10 +86,10 @@ layout(push_constant) uniform Args {
 void main() { mv_gather_slots(a.slot_node, a.slot_tag, a.id, a.row, a.out_id, a.out_row, a.p, MV_ID); }
 #elif defined(MV_ENTRY_dag_emit)
 layout(push_constant) uniform Args {
-  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 tstar; MvBufU32 rep; MvBufU32 out_mask;
+  MvBufU32 mask; MvBufU32 first; MvBufU32 cid; MvBufU32 crow; MvBufU32 row; MvBufU32 rep; MvBufU32 out_mask;
   MvBufU64 out_entry; MvDagParams p;
 } a;
-void main() { mv_dag_emit(a.mask, a.first, a.cid, a.crow, a.tstar, a.rep, a.out_mask, a.out_entry, a.p, MV_ID); }
+void main() { mv_dag_emit(a.mask, a.first, a.cid, a.crow, a.row, a.rep, a.out_mask, a.out_entry, a.p, MV_ID); }
 #else
 #error "define one MV_ENTRY_<name>"
 #endif

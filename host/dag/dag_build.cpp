@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "../launch_shape.h"
 #include "../scan_plan.h"
 #include "megavox/dag.h"
 #include "megavox/error.h"
@@ -154,6 +155,21 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   dev.barrier();
 }
 
+// The canonical pass of a level above 2. CPU devices give each work-item a contiguous block of nodes, so a
+// run of equal nodes (flat faces) is canonicalized once; GPUs keep one node per work-item (coalesced reads).
+void dispatch_canon(Device& dev, const SvoLevel& lv, const Reduced& below, const Buffer& mtab, Buffer& row,
+                    Buffer& hashes, Buffer& order, MvDagParams p) {
+  uint32_t groups = dev.groups_for(lv.n, kLocal), local = kLocal;
+  if (dev.info().type != "gpu") {
+    BlockShape shape = block_shape(dev.info(), lv.n);
+    p.block = shape.block_size;
+    groups = shape.groups;
+    local = shape.local_size;
+  }
+  dev.dispatch(dev.kernel("ssvdag_canon"), groups, local,
+               {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &row, &hashes, &order}, p);
+}
+
 Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red) {
   const bool symmetric = red.symmetric;
   const uint32_t n = lv.n;
@@ -177,8 +193,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
     if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
-      dev.dispatch(dev.kernel("ssvdag_canon"), groups, kLocal,
-                   {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &r.row, &hashes, &order}, p);
+      dispatch_canon(dev, lv, below, mtab, r.row, hashes, order, p);
     else
       dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
     dev.barrier();

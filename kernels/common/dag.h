@@ -18,6 +18,7 @@ MV_STRUCT_BEGIN(MvDagParams)
   mv_u32 leaf;  /* nonzero: level-1 nodes, whose identity is the mask alone (2: with symmetry) */
   mv_u32 seed_lo;
   mv_u32 seed_hi;
+  mv_u32 block; /* ssvdag_canon: nodes per work-item, contiguous (CPU devices); 0 = grid-stride */
 MV_STRUCT_END(MvDagParams)
 
 MV_INLINE mv_u32 mv_popcount8(mv_u32 m) {

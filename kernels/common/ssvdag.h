@@ -9,11 +9,11 @@
  * keyed by Key(n_T*) with T* = argmin_T Key(n_T) (mask, then tags by octant, then ids by octant), stab(n) =
  * {S : Key(n_S) == Key(n_0)}, and the parent's pointer to n becomes (class, norm(T*)). Each node keeps that
  * tag as a row: field k = norm(tag ^ k), the tag seen through reflection k, so its parent never looks up the
- * child class's stabilizer (a random read per child). Level-1 nodes (2x2x2
- * masks) are keyed by the mask alone (a 256-entry table), level-2 nodes by their 4x4x4 brick (64 exact bits,
- * ordered by (mask, brick): another total order, as exact). Exact: two subtrees get the same key iff one is a
- * reflection of the other, so no symmetry is missed. The hash / sort / runs / verify pipeline of dag.h then
- * assigns ids (bricks need no hash and no verification). */
+ * child class's stabilizer (a random read per child). Level-1 nodes (2x2x2 masks) are keyed by the mask
+ * alone (a 256-entry table), level-2 nodes by their 4x4x4 brick (64 exact bits, ordered by (mask, brick):
+ * another total order, as exact; equal bricks are grouped before one per group is canonicalized). Exact: two
+ * subtrees get the same key iff one is a reflection of the other, so no symmetry is missed. The hash / sort /
+ * runs / verify pipeline of dag.h then assigns ids (bricks need no hash and no verification). */
 #ifndef MV_SSVDAG_H
 #define MV_SSVDAG_H
 #include "dag.h"
@@ -46,24 +46,35 @@ MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 table) { return (table >> (3u * t)
 /* The row of a pointer tagged t to a node with this tag table: field k = norm(t ^ k). */
 MV_INLINE mv_u32 mv_tag_row(mv_u32 table, mv_u32 t) { return mv_xor_fields(table, t); }
 
-/* Node i's orientation in one word: its tag as its parent will see it (T* normalized by its stabilizer s) as
+/* A node's orientation in one word: its tag as its parent will see it (T* normalized by its stabilizer s) as
  * a row in bits 0..23, T* itself in bits 24..26; mtab (leaf_table) holds the tag table of every stabilizer. */
-MV_INLINE void mv_store_orientation(MvBufU32 mtab, MvBufU32 row, mv_u32 i, mv_u32 t, mv_u32 s) {
-  MV_ST(row, i, mv_tag_row(MV_LD(mtab, 512u + s), t) | (t << 24));
+MV_INLINE mv_u32 mv_orientation(MvBufU32 mtab, mv_u32 t, mv_u32 s) {
+  return mv_tag_row(MV_LD(mtab, 512u + s), t) | (t << 24);
 }
 
 MV_INLINE mv_u32 mv_row_tstar(mv_u32 row) { return (row >> 24) & 7u; }
 
 /* T* (smallest key, ties to the smaller T) and stabilizer of each node above level 2 from its children's
  * (id, tag row) read once (mtab: leaf_table, which describes every 8-bit mask), and the hash of the canonical
- * key Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. */
+ * key Key(n_T*) (seeded by p.seed_lo) for the sort that groups equal keys. With contiguous blocks (p.block), a
+ * node equal to the one before it (flat faces repeat node after node) takes its results without the search. */
 MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
                                MvBufU32 row_out, MvBufU64 hashes, MvBufU32 order, MvDagParams p,
                                mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
+  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
+  mv_u32 end = p.block != 0u ? MV_MIN(p.n, begin + p.block) : p.n;
+  mv_u32 step = p.block != 0u ? 1u : stride;
+  mv_u32 pm = 0u, pid[8], prow[8], orient = 0u; /* the previous node (pm = 0: none) and its results */
+  mv_u64 h = MV_U64(0);
+  for (mv_u32 c = 0u; c < 8u; ++c) {
+    pid[c] = 0u;
+    prow[c] = 0u;
+  }
+  for (mv_u32 i = begin; i < end; i += step) {
     mv_u32 m = MV_LD(mask, i);
     mv_u32 id[8], row[8]; /* row[c] field k: child c's tag seen through reflection k */
     mv_u32 j = MV_LD(first, i);
+    bool again = m == pm;
     for (mv_u32 c = 0u; c < 8u; ++c) {
       id[c] = 0u;
       row[c] = 0u;
@@ -72,6 +83,18 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
         row[c] = MV_LD(crow, j);
         j += 1u;
       }
+      again = again && id[c] == pid[c] && row[c] == prow[c];
+    }
+    if (again) {
+      MV_ST(row_out, i, orient);
+      MV_ST(hashes, i, h);
+      MV_ST(order, i, i);
+      continue;
+    }
+    pm = m;
+    for (mv_u32 c = 0u; c < 8u; ++c) {
+      pid[c] = id[c];
+      prow[c] = row[c];
     }
     /* Only reflections that give the smallest mask can be T*, only those that fix the mask can fix the node:
      * the mask table gives the mask's own T* (t0) and stabilizer (ms); asymmetric masks need no entries. The
@@ -111,9 +134,10 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
         if (same) s |= 1u << g;
       }
     }
-    mv_store_orientation(mtab, row_out, i, best, s);
+    orient = mv_orientation(mtab, best, s);
+    MV_ST(row_out, i, orient);
     /* hash of the canonical key: mask, then the entries of n_T* in its present octants */
-    mv_u64 h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
+    h = (MV_U64(p.seed_hi) << 32) | MV_U64(p.seed_lo);
     h = mv_hash_mix(h, MV_U64(mb));
     for (mv_u32 o = 0u; o < 8u; ++o) {
       mv_u32 c = o ^ best;
@@ -189,7 +213,7 @@ MV_INLINE void mv_brick_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBu
       }
       if (r == base) s |= 1u << g; /* g fixes the reflected brick, hence the brick */
     }
-    mv_store_orientation(mtab, row, k, best, s);
+    MV_ST(row, k, mv_orientation(mtab, best, s));
     MV_ST(keys, k, lowest);
     MV_ST(order, k, k);
   }

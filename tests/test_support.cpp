@@ -91,7 +91,7 @@ std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t l
   const uint32_t n = 1u << levels;
   std::mt19937_64 rng(levels);
   std::vector<std::pair<std::string, std::vector<uint64_t>>> sets;
-  std::vector<uint64_t> random, shell, tiled;
+  std::vector<uint64_t> random, shell, tiled, planes;
   for (int i = 0; i < 3000; ++i) random.push_back(ref::morton3(rng() % n, rng() % n, rng() % n, 21));
   const double c = n / 2.0, r = n * 0.4;
   for (uint32_t x = 0; x < n; ++x)
@@ -100,10 +100,13 @@ std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t l
         double d = std::sqrt((x + .5 - c) * (x + .5 - c) + (y + .5 - c) * (y + .5 - c) + (z + .5 - c) * (z + .5 - c));
         if (std::abs(d - r) < 0.9) shell.push_back(ref::morton3(x, y, z, 21));
         if (((x ^ y ^ z) & 3) == 0 && (x % 8) < 5) tiled.push_back(ref::morton3(x, y, z, 21));
+        // axis-aligned faces, as in CAD parts: runs of equal nodes with symmetric masks
+        if (x == n / 4 || y == 3 % n || (z == n - 2 && x < n / 2)) planes.push_back(ref::morton3(x, y, z, 21));
       }
   sets.push_back({"random", sorted_unique(random)});
   sets.push_back({"shell", sorted_unique(shell)});
   sets.push_back({"tiled", sorted_unique(tiled)});
+  sets.push_back({"planes", sorted_unique(planes)});
   sets.push_back({"one voxel", {ref::morton3(n - 1, 0, n / 2, 21)}});
   return sets;
 }

@@ -156,11 +156,13 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
 }
 
 // The canonical pass of a level above 2. CPU devices give each work-item a contiguous block of nodes, so a
-// run of equal nodes (flat faces) is canonicalized once; GPUs keep one node per work-item (coalesced reads).
+// run of equal nodes (flat faces) is canonicalized once; GPUs keep one node per work-item (coalesced reads),
+// and so do drivers that cap loop iterations (llvmpipe counts the inner loops' iterations over the whole
+// block).
 void dispatch_canon(Device& dev, const SvoLevel& lv, const Reduced& below, const Buffer& mtab, Buffer& row,
                     Buffer& hashes, Buffer& order, MvDagParams p) {
   uint32_t groups = dev.groups_for(lv.n, kLocal), local = kLocal;
-  if (dev.info().type != "gpu") {
+  if (dev.info().type != "gpu" && dev.info().max_loop_iterations == 0) {
     BlockShape shape = block_shape(dev.info(), lv.n);
     p.block = shape.block_size;
     groups = shape.groups;

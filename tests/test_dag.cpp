@@ -162,6 +162,25 @@ TEST_P(DagTest, OutOfCoreEqualsInCore) {
   }
 }
 
+// The smallest cubes: roots at level 1 (the octree above them starts at the bricks) and at level 2.
+TEST_P(DagTest, OutOfCoreTinyCubesEqualInCore) {
+  Device& dev = shared_device(GetParam());
+  const uint32_t levels = 4, n = 1u << levels;
+  std::vector<float> tris = octahedron_grid_triangles(n, -1.3f);
+  std::vector<uint64_t> voxels = voxelized_cubes(dev, n, tris)(0, 0, 0, n);
+  CubeVoxels cube = voxelized_cubes(dev, n, tris);
+  for (bool symmetric : {false, true}) {
+    Dag in_core = symmetric ? build_ssvdag(dev, voxels, levels) : build_svdag(dev, voxels, levels);
+    for (uint32_t cube_levels : {1u, 2u}) {
+      SCOPED_TRACE((symmetric ? "symmetric, cubes of 2^" : "plain, cubes of 2^") + std::to_string(cube_levels));
+      Dag ooc = build_dag_by_cubes(dev, levels, cube_levels, symmetric, cube);
+      EXPECT_TRUE(encode_svdag(ooc).words == encode_svdag(in_core).words);
+      if (symmetric) EXPECT_TRUE(encode_ssvdag(ooc).inner == encode_ssvdag(in_core).inner);
+      EXPECT_TRUE(decode_voxels(ooc) == voxels);
+    }
+  }
+}
+
 // The plain octree out of core: the same levels, node for node, as in core.
 TEST_P(DagTest, OctreeOutOfCoreEqualsInCore) {
   Device& dev = shared_device(GetParam());

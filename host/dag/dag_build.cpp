@@ -128,7 +128,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   const uint32_t n = lv.n;
   Buffer keys = dev.alloc(uint64_t{n} * 8, "bricks");
   Buffer order = dev.alloc(uint64_t{n} * 4, "brick order");
-  const MvDagParams p{n, red.symmetric ? 2u : 1u, 0, 0};
+  const MvDagParams p{n, 0, 0, 0};
   dev.dispatch(dev.kernel("brick_keys"), dev.groups_for(n, kLocal), kLocal,
                {&lv.mask, &lv.first, &below.child_mask, &keys, &order}, p);
   dev.barrier();

@@ -80,7 +80,7 @@ std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom) 
   return tris;
 }
 
-static std::vector<uint64_t> sorted_unique(std::vector<uint64_t> k) {
+std::vector<uint64_t> sorted_unique(std::vector<uint64_t> k) {
   std::sort(k.begin(), k.end());
   k.erase(std::unique(k.begin(), k.end()), k.end());
   return k;

@@ -40,6 +40,9 @@ std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom =
 // "random" (3000 random voxels), "shell" (a sphere's shell), "tiled" (a repeating pattern), "one voxel".
 std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t levels);
 
+// Morton keys sorted, each once.
+std::vector<uint64_t> sorted_unique(std::vector<uint64_t> keys);
+
 // Deterministic random data.
 std::vector<uint32_t> random_u32(size_t n, uint64_t seed);
 std::vector<uint64_t> random_u64(size_t n, uint64_t seed);

@@ -133,15 +133,20 @@ TEST_P(TraceTest, EveryEncodingHitsWhatTheReferenceDdaHits) {
         if (e == Encoding::ssvdag && levels < 3) continue;
         MvxFile file = encoded_file(dev, voxels, levels, e);
         Tracer tracer(dev, file);
-        std::vector<RayHit> got = tracer.trace(rays);
-        for (size_t i = 0; i < rays.size(); ++i) {
-          expect_same(got[i], want[i], i);
-          if (got[i].hit && got[i].level == 0) {
-            EXPECT_TRUE(std::binary_search(voxels.begin(), voxels.end(),
-                                           ref::morton3(got[i].cell[0], got[i].cell[1], got[i].cell[2], 21)));
+        // ssvdag twice: level starts from the parameters, then from memory (the kernel for deep trees)
+        for (int pass = 0; pass < (e == Encoding::ssvdag ? 2 : 1); ++pass) {
+          SCOPED_TRACE(pass ? "level offsets from memory" : "level offsets from the parameters");
+          if (pass) tracer.engine().read_level_offsets_from_memory();
+          std::vector<RayHit> got = tracer.trace(rays);
+          for (size_t i = 0; i < rays.size(); ++i) {
+            expect_same(got[i], want[i], i);
+            if (got[i].hit && got[i].level == 0) {
+              EXPECT_TRUE(std::binary_search(voxels.begin(), voxels.end(),
+                                             ref::morton3(got[i].cell[0], got[i].cell[1], got[i].cell[2], 21)));
+            }
+            hits += got[i].hit;
+            if (HasFatalFailure() || HasFailure()) return;
           }
-          hits += got[i].hit;
-          if (HasFatalFailure() || HasFailure()) return;
         }
       }
       EXPECT_GT(hits, 0u) << name;
@@ -216,6 +221,55 @@ TEST_P(TraceTest, LevelOfDetailStopsWhereTheReferenceStops) {
       }
     }
   }
+}
+
+// A tree deeper than the trace parameters hold level starts for (32768^3: the ssvdag kernel that reads them
+// from memory) walks exactly like the svdag: clusters of voxels far apart, rays aimed at them.
+TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
+  Device& dev = shared_device(GetParam());
+  const uint32_t levels = 15, n = 1u << levels;
+  ASSERT_TRUE(mv_trace_offsets_in_memory(levels));
+  std::mt19937_64 rng(15);
+  std::vector<uint64_t> voxels;
+  for (int c = 0; c < 40; ++c) {  // 40 blobs of about 100 voxels
+    uint32_t cx = rng() % (n - 16), cy = rng() % (n - 16), cz = rng() % (n - 16);
+    for (int i = 0; i < 120; ++i) voxels.push_back(ref::morton3(cx + rng() % 8, cy + rng() % 8, cz + rng() % 8, 21));
+  }
+  voxels = sorted_unique(voxels);
+  std::vector<Ray> rays;
+  std::uniform_real_distribution<float> sym(-1.0f, 1.0f);
+  for (int i = 0; i < 600; ++i) {  // from far outside or from inside the grid, toward a voxel's neighbourhood
+    uint64_t k = voxels[rng() % voxels.size()];
+    float t[3];
+    for (int a = 0; a < 3; ++a) {
+      uint32_t c = 0;
+      for (int b = 0; b < 21; ++b) c |= uint32_t(k >> (3 * b + a) & 1) << b;
+      t[a] = c + 0.5f + sym(rng) * 3.0f;
+    }
+    Ray r;
+    for (int a = 0; a < 3; ++a) {
+      r.origin[a] = i % 2 ? t[a] + sym(rng) * 2000.0f : float(n) * (0.5f + sym(rng) * 1.2f);
+      r.direction[a] = t[a] - r.origin[a];
+    }
+    rays.push_back(r);
+  }
+  MvxFile sv = encoded_file(dev, voxels, levels, Encoding::svdag), ss = encoded_file(dev, voxels, levels, Encoding::ssvdag);
+  std::vector<RayHit> want = Tracer(dev, sv).trace(rays), got = Tracer(dev, ss).trace(rays);
+  size_t hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    SCOPED_TRACE("ray " + std::to_string(i));
+    ASSERT_FALSE(want[i].gave_up);
+    ASSERT_EQ(got[i].hit, want[i].hit);
+    ASSERT_EQ(got[i].steps, want[i].steps);
+    if (!want[i].hit) continue;
+    ++hits;
+    ASSERT_EQ(MV_FBITS(got[i].t), MV_FBITS(want[i].t));
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_EQ(got[i].cell[a], want[i].cell[a]);
+      ASSERT_EQ(got[i].normal[a], want[i].normal[a]);
+    }
+  }
+  EXPECT_GT(hits, rays.size() / 4);
 }
 
 TEST_P(TraceTest, BadRaysAreRefused) {

@@ -34,7 +34,7 @@ std::vector<T> fetch(Device& dev, const Buffer& b, size_t n) {
 SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
   SvoLevel up;
   Buffer pos = dev.alloc((uint64_t{n} + 1) * 4, "octree parent positions");
-  MvDagParams p{n, 0, 0, 0};
+  MvDagParams p{n, 0, 0, 0, 0};
   dev.dispatch(dev.kernel("svo_flags"), dev.groups_for(n, kLocal), kLocal, {&keys, &pos}, p);
   dev.barrier();
   ScanPlan scan = plan_scan(dev, n);
@@ -64,7 +64,7 @@ struct Reduced {
 // Canonical form, T*, stabilizer and tag row of every 8-bit mask (kernel leaf_table).
 Buffer mask_table(Device& dev) {
   Buffer table = dev.alloc(768 * 4, "mask table");
-  dev.dispatch(dev.kernel("leaf_table"), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0});
+  dev.dispatch(dev.kernel("leaf_table"), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0, 0});
   dev.barrier();
   return table;
 }
@@ -87,7 +87,7 @@ Reduction make_reduction(Device& dev, bool symmetric) {
 void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction& red) {
   const bool symmetric = red.symmetric;
   const Buffer& table = red.mask_table;
-  MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0};
+  MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0, 0};
   Buffer& present = r.class_rank;
   present = dev.alloc(257 * 4, "leaf classes");
   dev.fill(present, 0, 257 * 4);
@@ -107,7 +107,7 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction&
 uint32_t group_keys(Device& dev, Buffer& keys, Buffer& order, uint32_t n, Buffer& id, Buffer& rep) {
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "key runs");
   const uint32_t groups = dev.groups_for(n, kLocal);
-  const MvDagParams p{n, 0, 0, 0};
+  const MvDagParams p{n, 0, 0, 0, 0};
   radix_sort(dev, keys, &order, n, KeyBits::k64);
   dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&keys, &run}, p);
   dev.barrier();
@@ -128,7 +128,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   const uint32_t n = lv.n;
   Buffer keys = dev.alloc(uint64_t{n} * 8, "bricks");
   Buffer order = dev.alloc(uint64_t{n} * 4, "brick order");
-  const MvDagParams p{n, 0, 0, 0};
+  const MvDagParams p{n, 0, 0, 0, 0};
   dev.dispatch(dev.kernel("brick_keys"), dev.groups_for(n, kLocal), kLocal,
                {&lv.mask, &lv.first, &below.child_mask, &keys, &order}, p);
   dev.barrier();
@@ -141,7 +141,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer crow = dev.alloc(uint64_t{raw} * 4, "brick class orientations");
   dev.dispatch(dev.kernel("brick_canon"), dev.groups_for(raw, kLocal), kLocal,
                {&lv.mask, &red.mask_table, &lv.first, &below.child_mask, &raw_rep, &ckeys, &crow, &corder},
-               MvDagParams{raw, 0, 0, 0});
+               MvDagParams{raw, 0, 0, 0, 0});
   dev.barrier();
   Buffer cls = dev.alloc(uint64_t{raw} * 4, "brick classes");
   Buffer rep_class;
@@ -149,7 +149,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
   Buffer none;
   dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(r.distinct, kLocal), kLocal,
-               {&rep_class, &none, &raw_rep, &none, &r.rep, &none}, MvDagParams{r.distinct, 0, 0, 0});
+               {&rep_class, &none, &raw_rep, &none, &r.rep, &none}, MvDagParams{r.distinct, 0, 0, 0, 0});
   r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
   dev.dispatch(dev.kernel("brick_orient"), dev.groups_for(n, kLocal), kLocal, {&r.id, &cls, &crow, &r.row}, p);
   dev.barrier();
@@ -191,7 +191,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   const Buffer& mtab = red.mask_table;
   if (symmetric) r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
   const uint32_t groups = dev.groups_for(n, kLocal);
-  MvDagParams p{n, 0, 0, 0x6d766f78u};
+  MvDagParams p{n, 0, 0, 0x6d766f78u, 0};
   for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
     if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
@@ -243,7 +243,7 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
   }
   Buffer masks = dev.alloc(uint64_t{n} * 4, "DAG level masks");
   Buffer entries = leaf ? Buffer() : dev.alloc(uint64_t{n} * 64, "DAG level entries");
-  MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0};
+  MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0, 0};
   if (!below.child_mask.empty())  // reduced level 2: children (id, tag) from their masks
     dev.dispatch(dev.kernel("brick_emit"), dev.groups_for(n, kLocal), kLocal,
                  {&lv.mask, &lv.first, &below.child_mask, &red.mask_table, &below.class_rank, &r.row, &r.rep,
@@ -389,7 +389,7 @@ Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric
     slots.row = dev.alloc(uint64_t{n} * 4, "merged slot tag rows");
   }
   slots.id = dev.alloc(uint64_t{n} * 4, "merged slot ids");
-  MvDagParams p{n, symmetric ? 1u : 0u, 0, 0};
+  MvDagParams p{n, symmetric ? 1u : 0u, 0, 0, 0};
   dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(n, kLocal), kLocal,
                {&node, &tag, &merged.id, &merged.row, &slots.id, &slots.row}, p);
   dev.barrier();

@@ -2,36 +2,35 @@
 // host memory: the CPU build of the kernel, for heat-map references and as a benchmark baseline.
 #pragma once
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 #include "../../kernels/common/trace.h"
 #include "megavox/encode.h"
+#include "trace_layout.h"
 
 namespace mv {
 
 class HostTracer {
  public:
-  explicit HostTracer(const EncodedDag& dag) : enc_(uint32_t(dag.encoding)), levels_(dag.levels) {
-    if (dag.encoding == Encoding::ssvdag) {
-      std::vector<uint16_t> inner = dag.inner;
-      if (inner.size() % 2) inner.push_back(0);
-      words_.resize(inner.size() / 2);
-      std::memcpy(words_.data(), inner.data(), inner.size() * 2);
-      bricks_.resize(dag.bricks.size() * 2);
-      std::memcpy(bricks_.data(), dag.bricks.data(), dag.bricks.size() * 8);
-      for (uint64_t o : dag.level_offset) offsets_.push_back(uint32_t(o));
-    } else {
-      words_ = dag.words;
-    }
+  explicit HostTracer(const EncodedDag& dag)
+      : enc_(dag.encoding == Encoding::ssvdag ? MV_ENC_SSVDAG : MV_ENC_SVDAG),
+        mem_(dag.encoding == Encoding::ssvdag ? mv_trace_offsets_in_memory(dag.levels) : 0u),
+        words_(trace_words(dag)),
+        bricks_(trace_bricks(dag)),
+        offsets_(trace_level_offsets(dag)) {
+    set_trace_levels(params_, dag);
   }
   MvHit trace(const MvRay& r, float proj, uint32_t max_steps) {
-    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), enc_, levels_, r, proj, max_steps);
+    MvTraceParams p = params_;
+    p.proj = proj;
+    p.max_steps = max_steps;
+    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), enc_, mem_, r, p);
   }
 
  private:
-  uint32_t enc_, levels_;
+  uint32_t enc_, mem_;
   std::vector<uint32_t> words_, bricks_, offsets_;
+  MvTraceParams params_{};
 };
 
 }  // namespace mv

@@ -8,31 +8,28 @@
 
 #include "megavox/error.h"
 #include "megavox/trace.h"
+#include "trace/trace_layout.h"
 
 namespace mv {
 
 TraceEngine::TraceEngine(Device& dev, const EncodedDag& dag) : dev_(dev), levels_(dag.levels) {
   encoding_ = static_cast<uint32_t>(dag.encoding);
   if (dag.levels == 0 || dag.levels > 21) throw Error("trace: the DAG has " + std::to_string(dag.levels) + " levels");
-  if (dag.encoding == Encoding::ssvdag) {
-    if (dag.inner.empty()) throw Error("trace: the DAG is empty");
-    if (dag.inner.size() >= (uint64_t{1} << 32)) throw Error("trace: the ssvdag stream exceeds 2^32 words");
-    std::vector<uint16_t> inner = dag.inner;
-    if (inner.size() % 2) inner.push_back(0);
-    words_ = dev.alloc(inner.size() * 2, "ssvdag inner nodes");
-    dev.upload(words_, inner.data(), inner.size() * 2);
-    bricks_ = dev.alloc(std::max<size_t>(dag.bricks.size(), 1) * 8, "ssvdag bricks");
-    if (!dag.bricks.empty()) dev.upload(bricks_, dag.bricks.data(), dag.bricks.size() * 8);
-    std::vector<uint32_t> offsets(dag.levels + 1, 0);
-    for (uint32_t l = 0; l <= dag.levels && l < dag.level_offset.size(); ++l)
-      offsets[l] = static_cast<uint32_t>(dag.level_offset[l]);
-    level_offsets_ = dev.alloc(offsets.size() * 4, "ssvdag level offsets");
-    dev.upload(level_offsets_, offsets.data(), offsets.size() * 4);
-  } else {
-    if (dag.words.empty()) throw Error("trace: the DAG is empty");
-    words_ = dev.alloc(dag.words.size() * 4, "DAG words");
-    dev.upload(words_, dag.words.data(), dag.words.size() * 4);
+  const bool ssvdag = dag.encoding == Encoding::ssvdag;
+  if (ssvdag ? dag.inner.empty() : dag.words.empty()) throw Error("trace: the DAG is empty");
+  if (ssvdag && dag.inner.size() >= (uint64_t{1} << 32)) throw Error("trace: the ssvdag stream exceeds 2^32 words");
+  auto upload = [&](const std::vector<uint32_t>& v, const char* what) {
+    Buffer b = dev.alloc(std::max<size_t>(v.size(), 1) * 4, what);
+    if (!v.empty()) dev.upload(b, v.data(), v.size() * 4);
+    return b;
+  };
+  words_ = upload(trace_words(dag), ssvdag ? "ssvdag inner nodes" : "DAG words");
+  if (ssvdag) {
+    bricks_ = upload(trace_bricks(dag), "ssvdag bricks");
+    level_offsets_ = upload(trace_level_offsets(dag), "ssvdag level offsets");
+    offsets_in_memory_ = mv_trace_offsets_in_memory(dag.levels) != 0;
   }
+  set_trace_levels(params_, dag);
 }
 
 uint32_t TraceEngine::step_limit(uint32_t wanted) const {
@@ -70,15 +67,13 @@ void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
 void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count, uint32_t width, float proj,
                         uint32_t max_steps, bool occlusion, Buffer& results) {
   const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
-  Kernel& k = dev_.kernel(bricks ? "trace_rays_ssvdag" : "trace_rays");
+  Kernel& k = dev_.kernel(!bricks ? "trace_rays" : offsets_in_memory_ ? "trace_rays_ssvdag_deep" : "trace_rays_ssvdag");
   const Buffer* offsets = bricks ? &level_offsets_ : nullptr;
   for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
-    MvTraceParams p{};
+    MvTraceParams p = params_;
     p.block = block;
     p.first = first;
     p.count = n;
-    p.levels = levels_;
-    p.encoding = encoding_;
     p.camera = camera ? 1u : 0u;
     p.occlusion = occlusion ? 1u : 0u;
     p.width = width;

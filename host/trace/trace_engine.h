@@ -15,6 +15,9 @@ class TraceEngine {
 
   Device& device() { return dev_; }
   uint32_t levels() const { return levels_; }
+  // ssvdag: read every level's start from memory (the kernel for trees deeper than the parameters hold) even
+  // when the parameters would do; for tests of that kernel on small trees.
+  void read_level_offsets_from_memory() { offsets_in_memory_ = true; }
   // A step limit the device can run (lavapipe ends loops at 65535 iterations).
   uint32_t step_limit(uint32_t wanted) const;
 
@@ -35,6 +38,8 @@ class TraceEngine {
   uint32_t levels_ = 0;
   uint32_t encoding_ = 0;
   Buffer words_, bricks_, level_offsets_;
+  bool offsets_in_memory_ = false;
+  MvTraceParams params_{};  // levels and ssvdag level starts
 };
 
 }  // namespace mv

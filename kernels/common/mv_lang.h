@@ -3,6 +3,8 @@
  * per-language entry points (the .cl and .comp files of each kernel family) stay thin. The PNanoVDB.h pattern.
  *
  * Buffers are typed references: MvBufU32 / MvBufU64, read with MV_LD(buf, i), written with MV_ST(buf, i, v).
+ * MV_LD_PAIR(buf, i) reads 32-bit words i and i + 1 of a MvBufU32 as one 64-bit value (word i low), i of any
+ * parity: one load on Vulkan, where lavapipe pays a per-lane loop for each load instruction.
  * On Vulkan they are buffer-device-address references (no 128 MiB descriptor limit); on OpenCL global
  * pointers; on the host plain pointers. */
 #ifndef MV_LANG_H
@@ -123,8 +125,13 @@ typedef const float* MvBufF32;
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32 { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufU64 { uint64_t v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufF32 { float v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair { uint64_t v; };
 #define MV_LD(buf, i) ((buf).v[i])
 #define MV_ST(buf, i, v_) ((buf).v[i] = (v_))
+#define MV_LD_PAIR(buf, i) (MvBufU32Pair(uint64_t(buf) + 4ul * uint64_t(i)).v)
+#endif
+#if !defined(MV_GLSL)
+#define MV_LD_PAIR(buf, i) ((mv_u64)(buf)[i] | ((mv_u64)(buf)[(i) + 1] << 32))
 #endif
 
 /* ---- a private 256-entry array passed to a helper: a pointer in C and OpenCL, an inout array in GLSL ---- */

@@ -18,7 +18,13 @@
  * A ray stops at the first full cell that is a voxel, or (LOD) whose side s satisfies s * proj < t + lod_t
  * (proj = 0: voxels only). A ray starting inside the cube starts in the cell it is in just before t = 0
  * (on a boundary: the cell behind it), so it reports a hit at t = 0 without a face only when it starts in a
- * full voxel. */
+ * full voxel.
+ *
+ * The loop body is written for SIMD devices that run every branch under a mask: lavapipe executes each
+ * load and each indexed access to the per-level arrays as a loop over its lanes whether any lane takes
+ * the branch or not, so the ssvdag descent has one straight path with two loads (the pointer's two
+ * 16-bit halves as one 64-bit read, then the child's header or brick as another), and level offsets
+ * come from the parameters. */
 #ifndef MV_TRACE_H
 #define MV_TRACE_H
 #include "mv_lang.h"
@@ -32,6 +38,8 @@
 #define MV_RAY_FLOATS 8u    /* ox oy oz dx dy dz tmax lod_t */
 #define MV_HIT_WORDS 6u     /* t (float bits) x y z info steps */
 #define MV_CAMERA_FLOATS 16u
+#define MV_TRACE_NEAR_LEVELS 11u /* ssvdag levels 3 .. 13 (every tree up to 16K^3) start at offsets held in
+                                    the parameters; the push constants hold no more (128 bytes) */
 
 /* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 */
 #define MV_INFO_STATUS(i) ((i) & 3u)
@@ -43,7 +51,6 @@ MV_STRUCT_BEGIN(MvTraceParams)
   mv_u32 first;     /* rays [first, first + count) in this dispatch */
   mv_u32 count;
   mv_u32 levels;    /* L: the root cube is 2^L voxels per axis */
-  mv_u32 encoding;  /* Encoding: 1 svo, 2 svdag, 3 ussvdag (32-bit words), 4 ssvdag (16-bit words + bricks) */
   mv_u32 camera;    /* 0: rays from the ray buffer; 1: camera rays (camera buffer, ray index = pixel) */
   mv_u32 occlusion; /* 0: hit records; 1: occlusion counts (count[i] += 1 when ray i hits) */
   mv_u32 width;     /* camera rays: image width */
@@ -51,6 +58,7 @@ MV_STRUCT_BEGIN(MvTraceParams)
   mv_f32 proj;      /* LOD factor, see above; 0 = voxels only */
   mv_u32 block;     /* rays per work-item, contiguous (CPU devices: neighbouring rays share cache lines); 0 =
                        grid-stride */
+  mv_u32 level_base[MV_TRACE_NEAR_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream */
 MV_STRUCT_END(MvTraceParams)
 
 MV_STRUCT_BEGIN(MvRay)
@@ -202,8 +210,34 @@ MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u32 lo, mv_u32 hi, mv_u32 sub) {
   return mv_gather8(h >> (8u * ((sub >> 1) & 1u) + 2u * (sub >> 2)), 16u, 4u, 1u);
 }
 
-MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 L, MvRay r,
-                         mv_f32 proj, mv_u32 max_steps) {
+/* Where ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words). From the parameters as a chain
+ * of selects, not an indexed read (see the top: no load); `mem` = 1 reads the level-offset buffer instead: the
+ * kernel for trees deeper than the parameters hold (a kernel of its own, so the others carry no load for it). */
+MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 mem) {
+  if (mem != 0u) return MV_LD(lvl_off, lv);
+  mv_u32 b = p.level_base[0];
+  b = lv == 4u ? p.level_base[1] : b;
+  b = lv == 5u ? p.level_base[2] : b;
+  b = lv == 6u ? p.level_base[3] : b;
+  b = lv == 7u ? p.level_base[4] : b;
+  b = lv == 8u ? p.level_base[5] : b;
+  b = lv == 9u ? p.level_base[6] : b;
+  b = lv == 10u ? p.level_base[7] : b;
+  b = lv == 11u ? p.level_base[8] : b;
+  b = lv == 12u ? p.level_base[9] : b;
+  b = lv == 13u ? p.level_base[10] : b;
+  return b;
+}
+
+/* Does a tree of L levels need the level-offset buffer (mv_level_base's `mem`)? */
+MV_INLINE mv_u32 mv_trace_offsets_in_memory(mv_u32 L) { return L > 3u + MV_TRACE_NEAR_LEVELS ? 1u : 0u; }
+
+/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; `mem`: see mv_level_base). */
+MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 mem, MvRay r,
+                         MvTraceParams p) {
+  const mv_u32 L = p.levels;
+  const mv_f32 proj = p.proj;
+  const mv_u32 max_steps = p.max_steps;
   MvHit h;
   h.t = 0.0f;
   h.x = 0u; h.y = 0u; h.z = 0u;
@@ -260,33 +294,35 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
         hdr_at[nl - 1u] = MV_LD(words, child);
         occ_at[nl - 1u] = mv_node_occupancy(enc, hdr_at[nl - 1u]);
         mir_at[nl - 1u] = mir_at[nl] ^ tag;
-      } else if (nl >= 3u) {
-        /* pointer position: 1 + sum over later children of min(code, 2) = [code != 0] + [code >= 2] words */
-        mv_u32 later = hdr >> (2u * (t8 + 1u));
-        mv_u32 at = node_at[nl] + 1u + MV_POPCOUNT((later | (later >> 1)) & 0x5555u) + MV_POPCOUNT((later >> 1) & 0x5555u);
-        mv_u32 code = (hdr >> (2u * t8)) & 3u;
-        mv_u32 first = mv_inner16(words, at);
-        mv_u32 off = first & 0x1fffu;
-        mv_u32 tag = first >> 13;
-        if (code != 1u) {
-          mv_u32 word = (first << 16) | mv_inner16(words, at + 1u);
-          off = (word & 0x1fffffffu) | ((code & 1u) << 29);
-          tag = word >> 29;
+      } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
+        mv_u32 lv = nl - 1u;
+        mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
+        if (nl >= 3u) {
+          /* pointer position: 1 + sum over later children of min(code, 2): bit 2k of the OR counts code k != 0,
+           * bit 2k + 1 code k >= 2 */
+          mv_u32 later = hdr >> (2u * (t8 + 1u));
+          mv_u32 at = node_at[nl] + 1u + MV_POPCOUNT(((later | (later >> 1)) & 0x5555u) | (later & 0xaaaau));
+          mv_u32 code = (hdr >> (2u * t8)) & 3u;
+          mv_u32 pair = MV_U32(MV_LD_PAIR(words, at >> 1) >> ((at & 1u) * 16u)); /* words at, at + 1 */
+          mv_u32 first = pair & 0xffffu;
+          mv_u32 word = (first << 16) | (pair >> 16);
+          mv_u32 off = code == 1u ? first & 0x1fffu : (word & 0x1fffffffu) | ((code & 1u) << 29);
+          tag = code == 1u ? first >> 13 : word >> 29;
+          bool inner = nl > 3u;
+          child = mv_level_base(p, lvl_off, lv, mem) + off;
+          mv_u64 data = MV_LD_PAIR(inner ? words : bricks, inner ? child >> 1 : 2u * off);
+          mv_u32 lo = MV_U32(data), hi = MV_U32(data >> 32);
+          child_hdr = (lo >> ((child & 1u) * 16u)) & 0xffffu;
+          brick_lo = inner ? brick_lo : lo;
+          brick_hi = inner ? brick_hi : hi;
+          child_occ = inner ? mv_node_occupancy(enc, child_hdr) : mv_brick_occupancy(lo, hi);
+        } else { /* the same mirror mask */
+          child_occ = mv_sub_block_occupancy(brick_lo, brick_hi, slot);
         }
-        mir_at[nl - 1u] = mir_at[nl] ^ tag;
-        if (nl > 3u) {
-          node_at[nl - 1u] = MV_LD(lvl_off, nl - 1u) + off;
-          hdr_at[nl - 1u] = mv_inner16(words, node_at[nl - 1u]);
-          occ_at[nl - 1u] = mv_node_occupancy(enc, hdr_at[nl - 1u]);
-        } else {
-          node_at[2] = off;
-          brick_lo = MV_LD(bricks, 2u * off);
-          brick_hi = MV_LD(bricks, 2u * off + 1u);
-          occ_at[2] = mv_brick_occupancy(brick_lo, brick_hi);
-        }
-      } else { /* brick -> one of its 2^3 sub-blocks, same mirror mask */
-        occ_at[1] = mv_sub_block_occupancy(brick_lo, brick_hi, slot);
-        mir_at[1] = mir_at[2];
+        node_at[lv] = child;
+        hdr_at[lv] = child_hdr;
+        occ_at[lv] = child_occ;
+        mir_at[lv] = mir_at[nl] ^ tag;
       }
       nl -= 1u;
       lc -= 1u;
@@ -363,17 +399,17 @@ MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTra
 }
 
 #if !defined(MV_CPP)
-/* One work-item's share of a trace dispatch. `enc` is a constant of the entry point (MV_ENC_SVDAG for every
- * 32-bit word encoding, or MV_ENC_SSVDAG), so each kernel compiles only its encoding's decode. */
+/* One work-item's share of a trace dispatch. `enc` and `mem` are constants of the entry point (`enc`:
+ * MV_ENC_SVDAG for every 32-bit word encoding, or MV_ENC_SSVDAG; `mem`: see mv_level_base), so each kernel
+ * compiles only its own decode. */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
-                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc) {
+                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc, mv_u32 mem) {
   mv_u32 begin = p.block != 0u ? gid * p.block : gid;
   mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
   mv_u32 stride = p.block != 0u ? 1u : gsize;
   for (mv_u32 j = begin; j < end; j += stride) {
     mv_u32 i = p.first + j;
-    MvHit h = mv_trace(words, bricks, lvl_off, enc, p.levels, mv_trace_source_ray(rays, cam, i, p), p.proj,
-                       p.max_steps);
+    MvHit h = mv_trace(words, bricks, lvl_off, enc, mem, mv_trace_source_ray(rays, cam, i, p), p);
     if (p.occlusion == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {

@@ -1,0 +1,26 @@
+// What the traversal kernel (kernels/common/trace.h) reads of an encoded DAG, shared by the device engine and
+// the host build of the kernel, so both walk the same bytes.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "../../kernels/common/trace.h"
+#include "megavox/encode.h"
+
+namespace mv {
+
+// The stream as 32-bit words: svo / svdag / ussvdag as stored; the ssvdag inner stream (16-bit words, two
+// per 32-bit word, low half first) followed by one spare word, as the kernel reads 16-bit words in pairs.
+std::vector<uint32_t> trace_words(const EncodedDag& dag);
+
+// ssvdag: the bricks as 32-bit halves (low half first); empty for the other encodings.
+std::vector<uint32_t> trace_bricks(const EncodedDag& dag);
+
+// ssvdag: where each level starts in the inner stream (index = level), for trees deeper than the
+// parameters hold (mv_trace_offsets_in_memory); empty for the other encodings.
+std::vector<uint32_t> trace_level_offsets(const EncodedDag& dag);
+
+// Sets p.levels and the ssvdag level starts the parameters carry.
+void set_trace_levels(MvTraceParams& p, const EncodedDag& dag);
+
+}  // namespace mv

@@ -133,10 +133,12 @@ TEST_P(TraceTest, EveryEncodingHitsWhatTheReferenceDdaHits) {
         if (e == Encoding::ssvdag && levels < 3) continue;
         MvxFile file = encoded_file(dev, voxels, levels, e);
         Tracer tracer(dev, file);
-        // ssvdag twice: level starts from the parameters, then from memory (the kernel for deep trees)
+        // ssvdag twice: level starts from memory, then from the parameters (both kernels on every device)
         for (int pass = 0; pass < (e == Encoding::ssvdag ? 2 : 1); ++pass) {
-          SCOPED_TRACE(pass ? "level offsets from memory" : "level offsets from the parameters");
-          if (pass) tracer.engine().read_level_offsets_from_memory();
+          SCOPED_TRACE(pass ? "level starts from the parameters" : "level starts from memory");
+          if (e == Encoding::ssvdag)
+            tracer.engine().set_level_starts(pass ? TraceEngine::LevelStarts::parameters
+                                                  : TraceEngine::LevelStarts::memory);
           std::vector<RayHit> got = tracer.trace(rays);
           for (size_t i = 0; i < rays.size(); ++i) {
             expect_same(got[i], want[i], i);
@@ -223,12 +225,12 @@ TEST_P(TraceTest, LevelOfDetailStopsWhereTheReferenceStops) {
   }
 }
 
-// A tree deeper than the trace parameters hold level starts for (32768^3: the ssvdag kernel that reads them
-// from memory) walks exactly like the svdag: clusters of voxels far apart, rays aimed at them.
+// A tree deeper than the trace parameters hold level starts for (32768^3: the ssvdag kernel reads them from
+// memory on every device) walks exactly like the svdag: clusters of voxels far apart, rays aimed at them.
 TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
   Device& dev = shared_device(GetParam());
   const uint32_t levels = 15, n = 1u << levels;
-  ASSERT_TRUE(mv_trace_offsets_in_memory(levels));
+  ASSERT_FALSE(mv_trace_params_hold_levels(levels));
   std::mt19937_64 rng(15);
   std::vector<uint64_t> voxels;
   for (int c = 0; c < 40; ++c) {  // 40 blobs of about 100 voxels
@@ -255,6 +257,7 @@ TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
   }
   MvxFile sv = encoded_file(dev, voxels, levels, Encoding::svdag), ss = encoded_file(dev, voxels, levels, Encoding::ssvdag);
   std::vector<RayHit> want = Tracer(dev, sv).trace(rays), got = Tracer(dev, ss).trace(rays);
+  EXPECT_THROW(Tracer(dev, ss).engine().set_level_starts(TraceEngine::LevelStarts::parameters), Error);
   size_t hits = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     SCOPED_TRACE("ray " + std::to_string(i));

@@ -14,7 +14,6 @@ class HostTracer {
  public:
   explicit HostTracer(const EncodedDag& dag)
       : enc_(dag.encoding == Encoding::ssvdag ? MV_ENC_SSVDAG : MV_ENC_SVDAG),
-        mem_(dag.encoding == Encoding::ssvdag ? mv_trace_offsets_in_memory(dag.levels) : 0u),
         words_(trace_words(dag)),
         bricks_(trace_bricks(dag)),
         offsets_(trace_level_offsets(dag)) {
@@ -24,11 +23,11 @@ class HostTracer {
     MvTraceParams p = params_;
     p.proj = proj;
     p.max_steps = max_steps;
-    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), enc_, mem_, r, p);
+    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), enc_, 0u, r, p);  // level starts from memory
   }
 
  private:
-  uint32_t enc_, mem_;
+  uint32_t enc_;
   std::vector<uint32_t> words_, bricks_, offsets_;
   MvTraceParams params_{};
 };

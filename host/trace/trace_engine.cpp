@@ -27,9 +27,19 @@ TraceEngine::TraceEngine(Device& dev, const EncodedDag& dag) : dev_(dev), levels
   if (ssvdag) {
     bricks_ = upload(trace_bricks(dag), "ssvdag bricks");
     level_offsets_ = upload(trace_level_offsets(dag), "ssvdag level offsets");
-    offsets_in_memory_ = mv_trace_offsets_in_memory(dag.levels) != 0;
   }
   set_trace_levels(params_, dag);
+  set_level_starts(LevelStarts::automatic);
+}
+
+void TraceEngine::set_level_starts(LevelStarts where) {
+  const DeviceInfo& info = dev_.info();
+  const bool fits = mv_trace_params_hold_levels(levels_);
+  if (where == LevelStarts::parameters && !fits)
+    throw Error("trace: the parameters hold level starts for at most " +
+                std::to_string(3 + MV_TRACE_PARAM_LEVELS) + " levels");
+  starts_in_params_ = where == LevelStarts::parameters ||
+                      (where == LevelStarts::automatic && fits && info.backend == "vulkan" && info.type == "cpu");
 }
 
 uint32_t TraceEngine::step_limit(uint32_t wanted) const {
@@ -67,7 +77,7 @@ void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
 void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count, uint32_t width, float proj,
                         uint32_t max_steps, bool occlusion, Buffer& results) {
   const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
-  Kernel& k = dev_.kernel(!bricks ? "trace_rays" : offsets_in_memory_ ? "trace_rays_ssvdag_deep" : "trace_rays_ssvdag");
+  Kernel& k = dev_.kernel(!bricks ? "trace_rays" : starts_in_params_ ? "trace_rays_ssvdag_params" : "trace_rays_ssvdag");
   const Buffer* offsets = bricks ? &level_offsets_ : nullptr;
   for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
     MvTraceParams p = params_;

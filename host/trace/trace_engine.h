@@ -15,9 +15,11 @@ class TraceEngine {
 
   Device& device() { return dev_; }
   uint32_t levels() const { return levels_; }
-  // ssvdag: read every level's start from memory (the kernel for trees deeper than the parameters hold) even
-  // when the parameters would do; for tests of that kernel on small trees.
-  void read_level_offsets_from_memory() { offsets_in_memory_ = true; }
+  // Where the ssvdag kernel finds each level's start (mv_level_base): by default from the parameters on
+  // lavapipe when they hold every level (each load costs a loop over the SIMD lanes there), else from memory.
+  // Tests pick each kernel on every device; parameters need a tree of at most 3 + MV_TRACE_PARAM_LEVELS levels.
+  enum class LevelStarts { automatic, memory, parameters };
+  void set_level_starts(LevelStarts where);
   // A step limit the device can run (lavapipe ends loops at 65535 iterations).
   uint32_t step_limit(uint32_t wanted) const;
 
@@ -38,7 +40,7 @@ class TraceEngine {
   uint32_t levels_ = 0;
   uint32_t encoding_ = 0;
   Buffer words_, bricks_, level_offsets_;
-  bool offsets_in_memory_ = false;
+  bool starts_in_params_ = false;
   MvTraceParams params_{};  // levels and ssvdag level starts
 };
 

@@ -16,8 +16,7 @@ std::vector<uint32_t> trace_words(const EncodedDag& dag);
 // ssvdag: the bricks as 32-bit halves (low half first); empty for the other encodings.
 std::vector<uint32_t> trace_bricks(const EncodedDag& dag);
 
-// ssvdag: where each level starts in the inner stream (index = level), for trees deeper than the
-// parameters hold (mv_trace_offsets_in_memory); empty for the other encodings.
+// ssvdag: where each level starts in the inner stream (index = level); empty for the other encodings.
 std::vector<uint32_t> trace_level_offsets(const EncodedDag& dag);
 
 // Sets p.levels and the ssvdag level starts the parameters carry.

@@ -24,7 +24,7 @@
  * load and each indexed access to the per-level arrays as a loop over its lanes whether any lane takes
  * the branch or not, so the ssvdag descent has one straight path with two loads (the pointer's two
  * 16-bit halves as one 64-bit read, then the child's header or brick as another), and level offsets
- * come from the parameters. */
+ * may come from the parameters (mv_level_base). */
 #ifndef MV_TRACE_H
 #define MV_TRACE_H
 #include "mv_lang.h"
@@ -38,8 +38,8 @@
 #define MV_RAY_FLOATS 8u    /* ox oy oz dx dy dz tmax lod_t */
 #define MV_HIT_WORDS 6u     /* t (float bits) x y z info steps */
 #define MV_CAMERA_FLOATS 16u
-#define MV_TRACE_NEAR_LEVELS 11u /* ssvdag levels 3 .. 13 (every tree up to 16K^3) start at offsets held in
-                                    the parameters; the push constants hold no more (128 bytes) */
+#define MV_TRACE_PARAM_LEVELS 11u /* the parameters can hold where ssvdag levels 3 .. 13 start (every tree up
+                                     to 16K^3); the push constants hold no more (128 bytes) */
 
 /* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 */
 #define MV_INFO_STATUS(i) ((i) & 3u)
@@ -58,7 +58,7 @@ MV_STRUCT_BEGIN(MvTraceParams)
   mv_f32 proj;      /* LOD factor, see above; 0 = voxels only */
   mv_u32 block;     /* rays per work-item, contiguous (CPU devices: neighbouring rays share cache lines); 0 =
                        grid-stride */
-  mv_u32 level_base[MV_TRACE_NEAR_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream */
+  mv_u32 level_base[MV_TRACE_PARAM_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream */
 MV_STRUCT_END(MvTraceParams)
 
 MV_STRUCT_BEGIN(MvRay)
@@ -165,6 +165,12 @@ MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) 
 /* 16-bit word w of the ssvdag inner stream, stored two per 32-bit word, low half first. */
 MV_INLINE mv_u32 mv_inner16(MvBufU32 words, mv_u32 w) { return (MV_LD(words, w >> 1) >> ((w & 1u) * 16u)) & 0xffffu; }
 
+/* x with the bits under mask m and those s above them exchanged (a delta swap). */
+MV_INLINE mv_u32 mv_delta_swap(mv_u32 x, mv_u32 m, mv_u32 s) {
+  mv_u32 t = ((x >> s) ^ x) & m;
+  return x ^ t ^ (t << s);
+}
+
 /* A node's 8 children as a mask over stored Morton slots (bit v = slot v full), computed once when the walk
  * enters the node, so each step tests one bit whatever the encoding or level. */
 
@@ -177,44 +183,41 @@ MV_INLINE mv_u32 mv_thesis_to_morton_mask(mv_u32 h) {
 /* 32-bit word encodings: the child mask in the header's low byte. ssvdag inner nodes: 2-bit codes, 0 = empty. */
 MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
   if (enc != MV_ENC_SSVDAG) return mv_thesis_to_morton_mask(hdr & 0xffu);
-  mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u; /* bit 2k: code k != 0; gather the even bits into 8 */
-  nz = (nz | (nz >> 1)) & 0x3333u;
-  nz = (nz | (nz >> 2)) & 0x0f0fu;
-  nz = (nz | (nz >> 4)) & 0x00ffu;
-  return mv_thesis_to_morton_mask(nz);
-}
-
-/* The bits of w at xs v_x + ys v_y + zs v_z (at most bit 31) as an 8-bit mask over slots v = v_x + 2 v_y + 4 v_z
- * (straight-line, 32-bit: no per-lane loop or 64-bit lanes on SIMD devices). */
-MV_INLINE mv_u32 mv_gather8(mv_u32 w, mv_u32 xs, mv_u32 ys, mv_u32 zs) {
-  return (w & 1u) | (((w >> xs) & 1u) << 1) | (((w >> ys) & 1u) << 2) | (((w >> (xs + ys)) & 1u) << 3) |
-         (((w >> zs) & 1u) << 4) | (((w >> (xs + zs)) & 1u) << 5) | (((w >> (ys + zs)) & 1u) << 6) |
-         (((w >> (xs + ys + zs)) & 1u) << 7);
+  /* bit 2k (k = 4x + 2y + z): code k != 0; the x = 1 byte onto the odd bits gives bit x + 2z + 4y; then swap
+   * the y and z bits (2 <-> 4, 3 <-> 5) for x + 2y + 4z */
+  mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u;
+  return mv_delta_swap((nz & 0x55u) | ((nz >> 7) & 0xaau), 0x0cu, 2u);
 }
 
 /* An ssvdag 4^3 brick (bit 16x + 4y + z) is held as two 32-bit halves: lo has x in {0, 1}, hi x in {2, 3}.
  * Sub-block v (x in {2v_x, 2v_x + 1}, ...) lies in half v_x and is full when any of its 8 bits is: OR the z,
- * y and x pairs onto each block's low corner (bit 8v_y + 2v_z of the half), then gather. */
+ * y and x pairs onto each block's low corner (bit 8v_y + 2v_z of the half), put the hi half's corners one bit
+ * up (bit v_x + 2v_z + 8v_y), close the gap (v_x + 2v_z + 4v_y) and swap the y and z bits. Straight-line
+ * 32-bit code: no per-lane loop or 64-bit lanes on SIMD devices. */
 MV_INLINE mv_u32 mv_half_corners(mv_u32 h) {
   mv_u32 t = h | (h >> 1);
   t = t | (t >> 4);
-  t = t | (t >> 16);
-  return (t & 1u) | (((t >> 8) & 1u) << 2) | (((t >> 2) & 1u) << 4) | (((t >> 10) & 1u) << 6);
+  return (t | (t >> 16)) & 0x0505u;
 }
 
-MV_INLINE mv_u32 mv_brick_occupancy(mv_u32 lo, mv_u32 hi) { return mv_half_corners(lo) | (mv_half_corners(hi) << 1); }
+MV_INLINE mv_u32 mv_brick_occupancy(mv_u32 lo, mv_u32 hi) {
+  mv_u32 u = mv_half_corners(lo) | (mv_half_corners(hi) << 1);
+  return mv_delta_swap((u & 0x0fu) | ((u >> 4) & 0xf0u), 0x0cu, 2u);
+}
 
-/* The 2^3 sub-block `sub` of a brick: its voxels by slot. */
+/* The 2^3 sub-block `sub` of a brick: its voxels by slot. Its bits sit at 16x + 4y + z above the block's
+ * corner; the x = 1 ones move down beside them (bit z + 2x + 4y), then two delta swaps give x + 2y + 4z. */
 MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u32 lo, mv_u32 hi, mv_u32 sub) {
-  mv_u32 h = (sub & 1u) != 0u ? hi : lo;
-  return mv_gather8(h >> (8u * ((sub >> 1) & 1u) + 2u * (sub >> 2)), 16u, 4u, 1u);
+  mv_u32 g = (((sub & 1u) != 0u ? hi : lo) >> (8u * ((sub >> 1) & 1u) + 2u * (sub >> 2))) & 0x330033u;
+  return mv_delta_swap(mv_delta_swap((g | (g >> 14)) & 0xffu, 0x22u, 1u), 0x0cu, 2u);
 }
 
-/* Where ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words). From the parameters as a chain
- * of selects, not an indexed read (see the top: no load); `mem` = 1 reads the level-offset buffer instead: the
- * kernel for trees deeper than the parameters hold (a kernel of its own, so the others carry no load for it). */
-MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 mem) {
-  if (mem != 0u) return MV_LD(lvl_off, lv);
+/* Where ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words): read from the level-offset
+ * buffer (in_params = 0: one cached load, the cheapest where loads are cheap), or taken from the parameters by
+ * a chain of selects (in_params = 1, trees up to 16K^3: no load and no indexed array, for lavapipe, see the
+ * top; an index into the parameter array would put it in per-lane scratch memory there). */
+MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 in_params) {
+  if (in_params == 0u) return MV_LD(lvl_off, lv);
   mv_u32 b = p.level_base[0];
   b = lv == 4u ? p.level_base[1] : b;
   b = lv == 5u ? p.level_base[2] : b;
@@ -229,11 +232,11 @@ MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_
   return b;
 }
 
-/* Does a tree of L levels need the level-offset buffer (mv_level_base's `mem`)? */
-MV_INLINE mv_u32 mv_trace_offsets_in_memory(mv_u32 L) { return L > 3u + MV_TRACE_NEAR_LEVELS ? 1u : 0u; }
+/* Can the parameters hold where every level of a tree of L levels starts (mv_level_base's in_params)? */
+MV_INLINE bool mv_trace_params_hold_levels(mv_u32 L) { return L <= 3u + MV_TRACE_PARAM_LEVELS; }
 
-/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; `mem`: see mv_level_base). */
-MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 mem, MvRay r,
+/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). */
+MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 in_params, MvRay r,
                          MvTraceParams p) {
   const mv_u32 L = p.levels;
   const mv_f32 proj = p.proj;
@@ -254,12 +257,12 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_f32 te = e.t;
   mv_u32 ae = e.axis;
 
-  /* Per node level: the node (word index, ssvdag brick index), its header and its mirror mask. */
+  /* Per node level: the node (word index; an ssvdag brick: its low half), its header (a brick: its high
+   * half), its mirror mask and its full slots (see mv_node_occupancy). */
   mv_u32 node_at[22];
   mv_u32 hdr_at[22];
   mv_u32 mir_at[22];
-  mv_u32 occ_at[22]; /* the node's full slots (see mv_node_occupancy) */
-  mv_u32 brick_lo = 0u, brick_hi = 0u; /* the current ssvdag brick's halves */
+  mv_u32 occ_at[22];
   mv_u32 nl = L;
   node_at[L] = 0u;
   mir_at[L] = 0u;
@@ -286,9 +289,10 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
       }
       /* descend into the child at `slot` */
       mv_u32 t8 = mv_thesis_octant(slot);
+      mv_u32 node = node_at[nl];
       mv_u32 hdr = hdr_at[nl];
       if (enc != MV_ENC_SSVDAG) {
-        mv_u32 child = MV_LD(words, node_at[nl] + 1u + MV_POPCOUNT((hdr & 0xffu) >> (t8 + 1u)));
+        mv_u32 child = MV_LD(words, node + 1u + MV_POPCOUNT((hdr & 0xffu) >> (t8 + 1u)));
         mv_u32 tag = ((hdr >> (8u + t8)) & 1u) | (((hdr >> (16u + t8)) & 1u) << 1) | (((hdr >> (24u + t8)) & 1u) << 2);
         node_at[nl - 1u] = child;
         hdr_at[nl - 1u] = MV_LD(words, child);
@@ -301,7 +305,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
           /* pointer position: 1 + sum over later children of min(code, 2): bit 2k of the OR counts code k != 0,
            * bit 2k + 1 code k >= 2 */
           mv_u32 later = hdr >> (2u * (t8 + 1u));
-          mv_u32 at = node_at[nl] + 1u + MV_POPCOUNT(((later | (later >> 1)) & 0x5555u) | (later & 0xaaaau));
+          mv_u32 at = node + 1u + MV_POPCOUNT(((later | (later >> 1)) & 0x5555u) | (later & 0xaaaau));
           mv_u32 code = (hdr >> (2u * t8)) & 3u;
           mv_u32 pair = MV_U32(MV_LD_PAIR(words, at >> 1) >> ((at & 1u) * 16u)); /* words at, at + 1 */
           mv_u32 first = pair & 0xffffu;
@@ -309,15 +313,18 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
           mv_u32 off = code == 1u ? first & 0x1fffu : (word & 0x1fffffffu) | ((code & 1u) << 29);
           tag = code == 1u ? first >> 13 : word >> 29;
           bool inner = nl > 3u;
-          child = mv_level_base(p, lvl_off, lv, mem) + off;
+          child = mv_level_base(p, lvl_off, lv, in_params) + off;
           mv_u64 data = MV_LD_PAIR(inner ? words : bricks, inner ? child >> 1 : 2u * off);
-          mv_u32 lo = MV_U32(data), hi = MV_U32(data >> 32);
-          child_hdr = (lo >> ((child & 1u) * 16u)) & 0xffffu;
-          brick_lo = inner ? brick_lo : lo;
-          brick_hi = inner ? brick_hi : hi;
-          child_occ = inner ? mv_node_occupancy(enc, child_hdr) : mv_brick_occupancy(lo, hi);
-        } else { /* the same mirror mask */
-          child_occ = mv_sub_block_occupancy(brick_lo, brick_hi, slot);
+          if (inner) {
+            child_hdr = (MV_U32(data) >> ((child & 1u) * 16u)) & 0xffffu;
+            child_occ = mv_node_occupancy(enc, child_hdr);
+          } else {
+            child = MV_U32(data);
+            child_hdr = MV_U32(data >> 32);
+            child_occ = mv_brick_occupancy(child, child_hdr);
+          }
+        } else { /* the brick's halves; the same mirror mask */
+          child_occ = mv_sub_block_occupancy(node, hdr, slot);
         }
         node_at[lv] = child;
         hdr_at[lv] = child_hdr;
@@ -399,17 +406,17 @@ MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTra
 }
 
 #if !defined(MV_CPP)
-/* One work-item's share of a trace dispatch. `enc` and `mem` are constants of the entry point (`enc`:
- * MV_ENC_SVDAG for every 32-bit word encoding, or MV_ENC_SSVDAG; `mem`: see mv_level_base), so each kernel
+/* One work-item's share of a trace dispatch. `enc` and `in_params` are constants of the entry point (`enc`:
+ * MV_ENC_SVDAG for every 32-bit word encoding, or MV_ENC_SSVDAG; `in_params`: see mv_level_base), so each kernel
  * compiles only its own decode. */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
-                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc, mv_u32 mem) {
+                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc, mv_u32 in_params) {
   mv_u32 begin = p.block != 0u ? gid * p.block : gid;
   mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
   mv_u32 stride = p.block != 0u ? 1u : gsize;
   for (mv_u32 j = begin; j < end; j += stride) {
     mv_u32 i = p.first + j;
-    MvHit h = mv_trace(words, bricks, lvl_off, enc, mem, mv_trace_source_ray(rays, cam, i, p), p);
+    MvHit h = mv_trace(words, bricks, lvl_off, enc, in_params, mv_trace_source_ray(rays, cam, i, p), p);
     if (p.occlusion == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {

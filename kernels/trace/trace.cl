@@ -2,7 +2,7 @@
 #include "common/secondary.h"
 
 // One kernel per encoding family, the encoding a constant: svo / svdag / ussvdag (32-bit words) and ssvdag
-// (level offsets in the parameters, or for trees deeper than 16K^3 in memory: mv_level_base).
+// (level starts read from memory, or taken from the parameters: mv_level_base).
 __kernel void trace_rays(__global float* rays, __global float* cam, __global uint* words, __global uint* bricks,
                          __global uint* lvl_off, __global uint* out, MvTraceParams p) {
   mv_trace_rays(rays, cam, words, bricks, lvl_off, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SVDAG, 0u);
@@ -13,9 +13,9 @@ __kernel void trace_rays_ssvdag(__global float* rays, __global float* cam, __glo
   mv_trace_rays(rays, cam, words, bricks, lvl_off, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG, 0u);
 }
 
-__kernel void trace_rays_ssvdag_deep(__global float* rays, __global float* cam, __global uint* words,
-                                     __global uint* bricks, __global uint* lvl_off, __global uint* out,
-                                     MvTraceParams p) {
+__kernel void trace_rays_ssvdag_params(__global float* rays, __global float* cam, __global uint* words,
+                                       __global uint* bricks, __global uint* lvl_off, __global uint* out,
+                                       MvTraceParams p) {
   mv_trace_rays(rays, cam, words, bricks, lvl_off, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG, 1u);
 }
 

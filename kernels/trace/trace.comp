@@ -6,12 +6,12 @@
 #include "common/secondary.h"
 
 #if defined(MV_ENTRY_trace_rays)
-/* MV_TRACE_ENC: the encoding family, MV_TRACE_MEM: level offsets in memory; constants (see trace.cl) */
+/* MV_TRACE_ENC: the encoding family, MV_TRACE_PARAMS: level starts from the parameters; constants (see trace.cl) */
 layout(push_constant) uniform Args {
   MvBufF32 rays; MvBufF32 cam; MvBufU32 words; MvBufU32 bricks; MvBufU32 lvl_off; MvBufU32 out_; MvTraceParams p;
 } a;
 void main() {
-  mv_trace_rays(a.rays, a.cam, a.words, a.bricks, a.lvl_off, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC, MV_TRACE_MEM);
+  mv_trace_rays(a.rays, a.cam, a.words, a.bricks, a.lvl_off, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC, MV_TRACE_PARAMS);
 }
 #elif defined(MV_ENTRY_secondary_rays)
 layout(push_constant) uniform Args {

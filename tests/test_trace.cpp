@@ -255,7 +255,8 @@ TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
     }
     rays.push_back(r);
   }
-  MvxFile sv = encoded_file(dev, voxels, levels, Encoding::svdag), ss = encoded_file(dev, voxels, levels, Encoding::ssvdag);
+  MvxFile sv = encoded_file(dev, voxels, levels, Encoding::svdag);
+  MvxFile ss = encoded_file(dev, voxels, levels, Encoding::ssvdag);
   std::vector<RayHit> want = Tracer(dev, sv).trace(rays), got = Tracer(dev, ss).trace(rays);
   EXPECT_THROW(Tracer(dev, ss).engine().set_level_starts(TraceEngine::LevelStarts::parameters), Error);
   size_t hits = 0;

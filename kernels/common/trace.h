@@ -410,7 +410,8 @@ MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTra
  * MV_ENC_SVDAG for every 32-bit word encoding, or MV_ENC_SSVDAG; `in_params`: see mv_level_base), so each kernel
  * compiles only its own decode. */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
-                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc, mv_u32 in_params) {
+                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc,
+                             mv_u32 in_params) {
   mv_u32 begin = p.block != 0u ? gid * p.block : gid;
   mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
   mv_u32 stride = p.block != 0u ? 1u : gsize;

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "host/ref/reference.h"
+#include "kernels/common/morton.h"
 #include "host/ref/trace_reference.h"
 #include "host/trace/trace_engine.h"
 #include "megavox/dag.h"
@@ -80,9 +81,8 @@ std::vector<Ray> test_rays(const std::vector<uint64_t>& voxels, uint32_t n, uint
   }
   for (size_t i = 0; i < std::min<size_t>(voxels.size(), 100); ++i) {  // from inside full voxels
     uint64_t k = voxels[(i * 7919) % voxels.size()];
-    uint32_t c[3] = {0, 0, 0};
-    for (int b = 0; b < 21; ++b)
-      for (int a = 0; a < 3; ++a) c[a] |= uint32_t(k >> (3 * b + a) & 1) << b;
+    uint32_t c[3];
+    for (uint32_t a = 0; a < 3; ++a) c[a] = mv_morton3_64_axis(k, a);
     add({c[0] + 0.5f, c[1] + 0.25f, c[2] + 0.75f}, {sym(rng), sym(rng), sym(rng)});
   }
   for (int i = 0; i < 200; ++i) {  // short tmax
@@ -243,11 +243,7 @@ TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
   for (int i = 0; i < 600; ++i) {  // from far outside or from inside the grid, toward a voxel's neighbourhood
     uint64_t k = voxels[rng() % voxels.size()];
     float t[3];
-    for (int a = 0; a < 3; ++a) {
-      uint32_t c = 0;
-      for (int b = 0; b < 21; ++b) c |= uint32_t(k >> (3 * b + a) & 1) << b;
-      t[a] = c + 0.5f + sym(rng) * 3.0f;
-    }
+    for (uint32_t a = 0; a < 3; ++a) t[a] = mv_morton3_64_axis(k, a) + 0.5f + sym(rng) * 3.0f;
     Ray r;
     for (int a = 0; a < 3; ++a) {
       r.origin[a] = i % 2 ? t[a] + sym(rng) * 2000.0f : float(n) * (0.5f + sym(rng) * 1.2f);

@@ -1,8 +1,18 @@
 #!/usr/bin/env bash
 # Installs megavox's build and test dependencies from Debian 12 packages (idempotent, non-interactive).
-#   scripts/setup.sh          what building and testing need
-#   scripts/setup.sh --bench  also the baseline-only libraries the benchmarks compare against
+#   scripts/setup.sh                          what building and testing need
+#   scripts/setup.sh --bench                  also the baseline-only libraries the benchmarks compare against
+#   scripts/setup.sh --print-packages [--bench]   print that package list, one per line; install nothing
 set -euo pipefail
+
+bench=0 print=0
+for arg in "$@"; do
+  case $arg in
+    --bench) bench=1 ;;
+    --print-packages) print=1 ;;
+    *) echo "setup: unknown option '$arg' (use --bench, --print-packages)" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake ninja-build pkg-config git
@@ -10,13 +20,20 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslang-tools vulkan-tools   # Vulkan, lavapipe, GLSL -> SPIR-V
   libcli11-dev nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libxxhash-dev
   libassimp-dev libopenvdb-dev libimath-dev                     # OBJ, glTF, FBX, STL, ... meshes; .vdb volumes
+  libboost-dev                                                  # OpenVDB's headers include Boost (not a dependency of libopenvdb-dev)
   libnanovdb-dev                                                # NanoVDB export
   libpng-dev                                                    # rendered pictures
   libgmp-dev                                                    # tests: exact rational voxelization oracle
 )
-if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(libboost-dev)    # boost::sort::block_indirect_sort, the parallel CPU sort baseline
+if ((bench)); then
+  # Baseline-only libraries: built into the megavox_baselines target only (CMake option MEGAVOX_BASELINES).
+  # Boost.Sort (block_indirect_sort) comes with libboost-dev above.
   packages+=(libembree-dev)   # Embree 3, the triangle ray-tracing baseline of bench trace
+fi
+
+if ((print)); then
+  printf '%s\n' "${packages[@]}"
+  exit 0
 fi
 
 missing=()

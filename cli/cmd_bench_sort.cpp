@@ -36,6 +36,7 @@ void print_table(const bench::SortBenchResult& r, const std::vector<KernelTiming
   std::printf("  floor: %u passes x 2 x n x %d B / memcpy %.1f GB/s = %.4f s -> floor_fraction %.2f\n", r.passes,
               r.key_bits / 8 + (r.pairs ? 4 : 0), r.copy_gb_per_s, r.floor_seconds, r.floor_fraction);
   for (const auto& t : totals) std::printf("  kernel %-28s %10.4f s\n", t.kernel.c_str(), t.ns * 1e-9);
+  for (const auto& m : r.missing_baselines) std::printf("  %s\n", m.c_str());
 }
 
 }  // namespace
@@ -91,6 +92,7 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
                           {"floor_seconds", r.floor_seconds},
                           {"floor_fraction", r.floor_fraction},
                           {"verified", r.verified},
+                          {"missing_baselines", r.missing_baselines},
                           {"kernel_seconds", kernels}};
       std::cout << j.dump(2) << "\n";
     } else {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "baselines/baselines.h"
 #include "bench/trace_bench.h"
 #include "cli_common.h"
 #include "megavox/error.h"
@@ -81,7 +82,7 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
                   (unsigned long long)r.triangles, r.embree_build_seconds, r.embree_mrays,
                   (unsigned long long)r.embree_hits);
     else if (!a->mesh.empty())
-      std::printf("  Embree: not built in (scripts/setup.sh --bench installs libembree-dev; rebuild)\n");
+      std::printf("  %s\n", mv::baseline::missing_note(mv::baseline::embree()).c_str());
     if (r.ssvdag_over_svdag > 0)
       std::printf("  SSVDAG/SVDAG trace time: %.3f (median of back-to-back renders); primary pass, best times: %.3f\n",
                   r.ssvdag_over_svdag, r.ssvdag_over_svdag_primary);

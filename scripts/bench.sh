@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh --bench
-scripts/build.sh >/dev/null
+scripts/build.sh -DMEGAVOX_BASELINES=AUTO >/dev/null
 out=${1:-/dev/null}
 : >"$out"
 run() {

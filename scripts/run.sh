@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh --bench
-scripts/build.sh
+scripts/build.sh -DMEGAVOX_BASELINES=AUTO
 scripts/bunny.sh
 build/megavox devices
 build/megavox build build/bunny.ply --resolution 2K --format ssvdag -o build/bunny.mvx

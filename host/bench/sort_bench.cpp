@@ -6,12 +6,12 @@
 #include <chrono>
 #include <cstring>
 #include <map>
+#include <span>
+#include <type_traits>
 
+#include "baselines/baselines.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
-#ifdef MEGAVOX_HAVE_BOOST_SORT
-#include <boost/sort/sort.hpp>
-#endif
 
 #include "stopwatch.h"
 
@@ -28,10 +28,7 @@ uint64_t splitmix64(uint64_t& state) {
 }
 
 template <class Key>
-struct Pair {
-  Key key;
-  uint32_t value;
-};
+using Pair = std::conditional_t<sizeof(Key) == 8, baseline::Pair64, baseline::Pair32>;
 
 template <class Key>
 struct ByKey {
@@ -126,16 +123,18 @@ SortBenchResult run(Device& dev, const SortBenchOptions& o) {
   tbb::parallel_sort(pairs.begin(), pairs.end(), ByKey<Key>{});
   r.parallel_sort_seconds = since(t0);
   r.parallel_sort_name = "tbb::parallel_sort";
-#ifdef MEGAVOX_HAVE_BOOST_SORT
-  load();
-  t0 = Clock::now();
-  boost::sort::block_indirect_sort(pairs.begin(), pairs.end(), ByKey<Key>{});
-  double boost_s = since(t0);
-  if (boost_s < r.parallel_sort_seconds) {
-    r.parallel_sort_seconds = boost_s;
-    r.parallel_sort_name = "boost::sort::block_indirect_sort";
+  if (baseline::boost_sort().built_in) {
+    load();
+    t0 = Clock::now();
+    baseline::block_indirect_sort(std::span(pairs));
+    double boost_s = since(t0);
+    if (boost_s < r.parallel_sort_seconds) {
+      r.parallel_sort_seconds = boost_s;
+      r.parallel_sort_name = baseline::boost_sort().name;
+    }
+  } else {
+    r.missing_baselines.push_back(baseline::missing_note(baseline::boost_sort()));
   }
-#endif
   pairs = {};
 
   r.keys_per_s = n / r.seconds;

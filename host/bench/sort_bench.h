@@ -38,6 +38,7 @@ struct SortBenchResult {
   double floor_fraction = 0;     // floor_seconds / seconds
   bool verified = false;         // output is the stable sort of the input (checked in full)
   std::vector<KernelTiming> kernel_totals;  // per kernel over the best run (with profiling)
+  std::vector<std::string> missing_baselines;  // one line per baseline not built in (baselines/baselines.h)
 };
 
 // Throws mv::Error when the device cannot hold the data (the message says how much it needs).

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <memory>
 
+#include "baselines/baselines.h"
 #include "io/mesh_source.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
@@ -18,10 +19,6 @@
 #include "ref/trace_reference.h"
 #include "render/frame.h"
 #include "trace/host_trace.h"
-
-#if MEGAVOX_HAVE_EMBREE
-#include <embree3/rtcore.h>
-#endif
 
 #include "stopwatch.h"
 
@@ -56,67 +53,30 @@ double cpu_rate(const FrameSetup& s, uint32_t every, Trace&& trace) {
   return double(rays) / since(t0) / 1e6;
 }
 
-#if MEGAVOX_HAVE_EMBREE
-// Embree 3 over the source triangles: the scene build, then rtcIntersect1 for every camera ray (world units),
-// rows spread over all threads. Returns per-pixel hit flags.
+// Embree over the source triangles with the kernel's primary rays (world units). Returns per-pixel hit flags.
 std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, const FrameSetup& s,
                                   uint32_t repeats, TraceBenchResult& out) {
   auto src = io::open_mesh(mesh);
   std::vector<uint32_t> indices, batch;
   while (src->next_triangles(batch, 1 << 20)) indices.insert(indices.end(), batch.begin(), batch.end());
-  std::span<const float> pos = src->positions();
   out.triangles = indices.size() / 3;
-  RTCDevice device = rtcNewDevice(nullptr);
-  if (!device) throw Error("bench trace: Embree could not create a device");
-  auto t0 = Clock::now();
-  RTCScene scene = rtcNewScene(device);
-  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  float* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), pos.size() / 3));
-  std::copy(pos.begin(), pos.end(), v);
-  uint32_t* tri = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(uint32_t), indices.size() / 3));
-  std::copy(indices.begin(), indices.end(), tri);
-  rtcCommitGeometry(geom);
-  rtcAttachGeometry(scene, geom);
-  rtcReleaseGeometry(geom);
-  rtcCommitScene(scene);
-  out.embree_build_seconds = since(t0);
-  const uint32_t n = s.width * s.height;
-  std::vector<uint8_t> hit(n);
-  out.embree_seconds = INFINITY;
-  for (uint32_t rep = 0; rep < repeats; ++rep) {
-    auto t1 = Clock::now();
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, s.height), [&](const tbb::blocked_range<uint32_t>& rows) {
-      RTCIntersectContext ctx;
-      rtcInitIntersectContext(&ctx);
-      for (uint32_t y = rows.begin(); y < rows.end(); ++y)
-        for (uint32_t x = 0; x < s.width; ++x) {
-          RTCRayHit rh{};
-          rh.ray.org_x = float(cam.eye[0]);
-          rh.ray.org_y = float(cam.eye[1]);
-          rh.ray.org_z = float(cam.eye[2]);
-          rh.ray.dir_x = s.camera[3] + x * s.camera[6] + y * s.camera[9];
-          rh.ray.dir_y = s.camera[4] + x * s.camera[7] + y * s.camera[10];
-          rh.ray.dir_z = s.camera[5] + x * s.camera[8] + y * s.camera[11];
-          rh.ray.tnear = 0;
-          rh.ray.tfar = INFINITY;
-          rh.ray.mask = ~0u;
-          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-          rtcIntersect1(scene, &ctx, &rh);
-          hit[size_t{y} * s.width + x] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-        }
-    });
-    out.embree_seconds = std::min(out.embree_seconds, since(t1));
+  baseline::EmbreeFrame f;
+  f.width = s.width;
+  f.height = s.height;
+  for (int a = 0; a < 3; ++a) {
+    f.eye[a] = float(cam.eye[a]);
+    f.dir0[a] = s.camera[3 + a];
+    f.dx[a] = s.camera[6 + a];
+    f.dy[a] = s.camera[9 + a];
   }
-  rtcReleaseScene(scene);
-  rtcReleaseDevice(device);
+  baseline::EmbreeResult e = baseline::embree_primary_hits(src->positions(), indices, f, repeats);
   out.have_embree = true;
-  out.embree_mrays = n / out.embree_seconds / 1e6;
-  for (uint8_t h : hit) out.embree_hits += h;
-  return hit;
+  out.embree_build_seconds = e.build_seconds;
+  out.embree_seconds = e.trace_seconds;
+  out.embree_mrays = double(f.width) * f.height / e.trace_seconds / 1e6;
+  for (uint8_t h : e.hit) out.embree_hits += h;
+  return std::move(e.hit);
 }
-#endif
 
 }  // namespace
 
@@ -181,8 +141,7 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
       ref::Occupancy occ(decode_encoded(file.dag), file.dag.levels);
       e.reference_mrays = cpu_rate(s, 61, [&](const MvRay& r) { return ref::trace(occ, r, s.proj); });
     }
-#if MEGAVOX_HAVE_EMBREE
-    if (!mesh.empty()) {
+    if (!mesh.empty() && baseline::embree().built_in) {
       if (embree_hit.empty()) embree_hit = embree_trace(mesh, cam, s, o.repeats, out);
       // Silhouettes: the kernel's hit flags (its host build gives the same bytes) against Embree's.
       uint64_t agree = 0;
@@ -193,7 +152,6 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
       e.silhouette_agreement = double(agree) / n;
       e.over_embree = e.primary_mrays / out.embree_mrays;
     }
-#endif
   }
   int sv = -1, ss = -1;
   for (size_t f = 0; f < files.size(); ++f) {

@@ -1,0 +1,22 @@
+// What this build of the baselines holds (compile definitions of the megavox_baselines target).
+#include "baselines/baselines.h"
+
+namespace mv::baseline {
+
+#ifndef MEGAVOX_HAVE_BOOST_SORT
+#define MEGAVOX_HAVE_BOOST_SORT 0
+#endif
+#ifndef MEGAVOX_HAVE_EMBREE
+#define MEGAVOX_HAVE_EMBREE 0
+#endif
+
+Baseline boost_sort() { return {"boost::sort::block_indirect_sort", "libboost-dev", MEGAVOX_HAVE_BOOST_SORT != 0}; }
+Baseline embree() { return {"Embree 3", "libembree-dev", MEGAVOX_HAVE_EMBREE != 0}; }
+
+std::string missing_note(const Baseline& b) {
+  return std::string(b.name) + ": not built in (needs " + b.package +
+         ", which scripts/setup.sh --bench installs, and a build with -DMEGAVOX_BASELINES=AUTO, "
+         "as scripts/run.sh and scripts/bench.sh make)";
+}
+
+}  // namespace mv::baseline

@@ -1,0 +1,54 @@
+// Baselines the benchmarks compare megavox against: libraries a user would pick instead (Boost.Sort's
+// parallel sort, Embree's triangle ray tracing). They live in their own target (megavox_baselines), linked
+// only into the CLI, so the core library and the tests never depend on them. Whether each is built in is
+// decided at configure time (CMake option MEGAVOX_BASELINES and whether the package is installed); a
+// benchmark asks here and, when one is missing, prints missing_note() instead of a figure.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mv::baseline {
+
+struct Baseline {
+  const char* name;     // what the benchmark column is called
+  const char* package;  // the Debian package that brings it
+  bool built_in;        // compiled into this build
+};
+
+Baseline boost_sort();
+Baseline embree();
+
+// One line for a benchmark whose baseline is missing: what, which package brings it, how to build it in.
+std::string missing_note(const Baseline& b);
+
+// (key, value) records as a C++ user would sort them.
+struct Pair32 {
+  uint32_t key, value;
+};
+struct Pair64 {
+  uint64_t key;
+  uint32_t value;
+};
+
+// boost::sort::block_indirect_sort by key on all threads. Returns false (and leaves the data) when not built in.
+bool block_indirect_sort(std::span<Pair32> pairs);
+bool block_indirect_sort(std::span<Pair64> pairs);
+
+// Embree 3 over triangles (xyz float positions, 3 indices each): builds the scene, then traces one primary
+// ray per pixel (origin `eye`, direction dir0 + x * dx + y * dy), rows over all threads, best of `repeats`.
+struct EmbreeFrame {
+  uint32_t width = 0, height = 0;
+  float eye[3] = {0, 0, 0};
+  float dir0[3] = {0, 0, 0}, dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+};
+struct EmbreeResult {
+  double build_seconds = 0, trace_seconds = 0;  // scene build; best pass over all pixels
+  std::vector<uint8_t> hit;                     // per pixel, rows top to bottom
+};
+// Throws mv::Error when Embree is not built in (check embree().built_in first) or cannot start.
+EmbreeResult embree_primary_hits(std::span<const float> positions, std::span<const uint32_t> indices,
+                                 const EmbreeFrame& frame, uint32_t repeats);
+
+}  // namespace mv::baseline

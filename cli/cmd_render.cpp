@@ -7,6 +7,7 @@
 #include "cli_common.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
+#include "megavox/trace.h"
 
 namespace mv::cli {
 

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "host/ref/reference.h"
+#include "megavox/dag.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "test_support.h"

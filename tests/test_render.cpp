@@ -10,6 +10,7 @@
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
+#include "megavox/trace.h"
 #include "host/build_steps.h"
 #include "test_support.h"
 

@@ -16,6 +16,7 @@
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "megavox/render.h"
+#include "megavox/trace.h"
 #include "ref/trace_reference.h"
 #include "render/frame.h"
 #include "trace/host_trace.h"

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "megavox/voxelize.h"
+#include "megavox/grid.h"
 
 namespace mv::io {
 

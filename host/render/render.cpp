@@ -4,6 +4,7 @@
 
 #include "megavox/error.h"
 #include "megavox/render.h"
+#include "megavox/trace.h"
 #include "render/frame.h"
 #include "trace/trace_engine.h"
 

@@ -10,30 +10,10 @@
 
 #include "megavox/error.h"
 
+#include "megavox/dag_types.h"
 #include "megavox/device.h"
 
 namespace mv {
-
-// One level of a DAG, nodes in id order. Node i has child mask `mask[i]`; above level 1 its children's ids
-// (into the level below) are children[first[i] .. first[i] + popcount(mask[i])), in octant order.
-// In an SSVDAG, tags[j] is the reflection (bit 0 = x, 1 = y, 2 = z) on the pointer children[j]: that child
-// subtree is the stored node mirrored across those axes (octant c becomes c ^ tag). Empty for an SVDAG.
-struct DagLevel {
-  std::vector<uint32_t> mask;
-  std::vector<uint32_t> first;
-  std::vector<uint32_t> children;
-  std::vector<uint32_t> tags;
-};
-
-struct Dag {
-  uint32_t levels = 0;              // L
-  bool symmetric = false;           // SSVDAG: pointers carry reflection tags
-  bool reduced = true;              // false: the plain octree (build_svo), every subtree stored once per use
-  uint64_t voxels = 0;
-  std::vector<uint64_t> svo_nodes;  // index = level: nodes of the sparse octree (level 0 = voxels)
-  std::vector<DagLevel> level;      // index = level, 1..L (level[0] stays empty)
-  uint64_t nodes(uint32_t l) const { return level[l].mask.size(); }
-};
 
 struct DagBuildTimes {
   double svo_seconds = 0;     // voxels -> SVO levels
@@ -75,7 +55,5 @@ Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
 Dag build_svo_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, const CubeVoxels& voxels_of,
                        DagBuildTimes* times = nullptr);
 
-// Every voxel a DAG holds, as sorted Morton keys.
-std::vector<uint64_t> decode_voxels(const Dag& dag);
 
 }  // namespace mv

@@ -6,6 +6,11 @@
 // dispatch/fill/copy may overlap until barrier(); finish() waits for everything; upload/download wait
 // for earlier work first.
 #pragma once
+// File readers (host/io) and reference code (host/ref) are built with MEGAVOX_NO_DEVICE: they use the plain
+// types (grid.h, dag_types.h, ray.h, encode.h, mvx.h) alone, and this stops any path to device types.
+#ifdef MEGAVOX_NO_DEVICE
+#error "megavox/device.h reached from code built with MEGAVOX_NO_DEVICE (host/io, host/ref): include plain headers"
+#endif
 #include <cstdint>
 #include <initializer_list>
 #include <memory>

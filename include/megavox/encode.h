@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "megavox/dag.h"
+#include "megavox/dag_types.h"
 
 namespace mv {
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "megavox/encode.h"
-#include "megavox/voxelize.h"
+#include "megavox/grid.h"
 
 namespace mv {
 

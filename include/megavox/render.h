@@ -6,9 +6,10 @@
 #include <vector>
 
 #include "megavox/mvx.h"
-#include "megavox/trace.h"
 
 namespace mv {
+
+class Tracer;  // megavox/trace.h
 
 enum class Shading {
   shaded,  // diffuse light with hard shadows and ambient occlusion

@@ -27,6 +27,11 @@ nlohmann::json to_json(const DeviceInfo& d, bool selected) {
           {"subgroup_size", d.subgroup_size},
           {"fp64", d.fp64},
           {"int64", d.int64},
+          {"max_loop_iterations", d.max_loop_iterations},
+          {"massively_parallel", d.massively_parallel},
+          {"simd_width", d.simd_width},
+          {"preferred_work_group_size", d.preferred_work_group_size},
+          {"cheap_parameter_loads", d.cheap_parameter_loads},
           {"selected", selected}};
 }
 

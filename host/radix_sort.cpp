@@ -105,7 +105,7 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
   Buffer values_alt = values ? dev.alloc(uint64_t{n} * 4, "radix sort scratch values") : Buffer();
 
   bool hybrid = strategy == SortStrategy::Hybrid ||
-                (strategy == SortStrategy::Auto && info.type == "cpu" && vary.size() >= 2);
+                (strategy == SortStrategy::Auto && !info.massively_parallel && vary.size() >= 2);
   if (hybrid) {
     run.count(keys, vary.back());
     uint32_t largest = largest_bucket(dev, run.hist, s.blocks);

@@ -162,7 +162,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
 void dispatch_canon(Device& dev, const SvoLevel& lv, const Reduced& below, const Buffer& mtab, Buffer& row,
                     Buffer& hashes, Buffer& order, MvDagParams p) {
   uint32_t groups = dev.groups_for(lv.n, kLocal), local = kLocal;
-  if (dev.info().type != "gpu" && dev.info().max_loop_iterations == 0) {
+  if (!dev.info().massively_parallel && dev.info().max_loop_iterations == 0) {
     BlockShape shape = block_shape(dev.info(), lv.n);
     p.block = shape.block_size;
     groups = shape.groups;

@@ -39,7 +39,7 @@ void TraceEngine::set_level_starts(LevelStarts where) {
     throw Error("trace: the parameters hold level starts for at most " +
                 std::to_string(3 + MV_TRACE_PARAM_LEVELS) + " levels");
   starts_in_params_ = where == LevelStarts::parameters ||
-                      (where == LevelStarts::automatic && fits && info.backend == "vulkan" && info.type == "cpu");
+                      (where == LevelStarts::automatic && fits && !info.cheap_parameter_loads);
 }
 
 uint32_t TraceEngine::step_limit(uint32_t wanted) const {
@@ -55,8 +55,8 @@ uint32_t TraceEngine::step_limit(uint32_t wanted) const {
 template <class F>
 void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
   const DeviceInfo& info = dev_.info();
-  const bool gpu = info.type == "gpu";
-  const uint32_t local = gpu ? 64 : info.backend == "vulkan" ? 8 : 1;
+  const bool gpu = info.massively_parallel;
+  const uint32_t local = std::max<uint32_t>(info.preferred_work_group_size, 1);
   const uint64_t max_groups = std::max<uint32_t>(info.max_groups, 1);
   const uint64_t per_dispatch = info.max_loop_iterations ? max_groups * local : count;
   const uint32_t threads = std::max<uint32_t>({info.compute_units, std::thread::hardware_concurrency(), 1u});

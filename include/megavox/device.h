@@ -51,6 +51,15 @@ struct DeviceInfo {
   // 0 = no limit. llvmpipe (lavapipe) silently ends a shader loop once it has run 65535 iterations in the
   // invocation, so block-per-work-item kernels keep their blocks (and nested loops) below that.
   uint32_t max_loop_iterations = 0;
+  // How to shape launches, filled by the backend (host code reads these, never backend or type names):
+  bool massively_parallel = false;         // a GPU: thousands of work-items in flight; else a few CPU threads,
+                                           // each best on a contiguous block of items
+  uint32_t simd_width = 1;                 // work-items run in lock step: Vulkan's subgroup size (lavapipe 8);
+                                           // OpenCL CPUs their native int vector width; OpenCL GPUs 32 (unsaid)
+  uint32_t preferred_work_group_size = 1;  // for block-per-work-item and grid-stride kernels: GPUs 64, lavapipe
+                                           // its SIMD width, PoCL 1 (it runs a work-group's items as a loop)
+  bool cheap_parameter_loads = true;       // a uniform value read from device memory costs about one load; false
+                                           // on lavapipe, which runs each global load as a loop over the lanes
 
   std::string selector() const { return (backend == "opencl" ? "ocl:" : "vk:") + std::to_string(index); }
 };

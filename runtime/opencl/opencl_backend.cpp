@@ -108,6 +108,10 @@ DeviceInfo describe(const ClDevice& d, int index) {
   info.subgroup_size = 0;
   info.fp64 = device_value<cl_device_fp_config>(d.device, CL_DEVICE_DOUBLE_FP_CONFIG) != 0;
   info.int64 = true;  // 64-bit integers are core OpenCL C
+  info.massively_parallel = info.type == "gpu";
+  const cl_uint int_lanes = device_value<cl_uint>(d.device, CL_DEVICE_NATIVE_VECTOR_WIDTH_INT);
+  info.simd_width = info.massively_parallel ? 32 : std::max<cl_uint>(1, int_lanes);
+  info.preferred_work_group_size = info.massively_parallel ? 64 : 1;
   return info;
 }
 

@@ -144,6 +144,11 @@ DeviceInfo describe(const DeviceQuery& q, int index) {
   info.vendor = info.platform;
   // llvmpipe's shader compiler ends every loop after 65535 iterations (a guard against hangs), without error.
   if (q.driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE) info.max_loop_iterations = 65535;
+  info.massively_parallel = info.type == "gpu";
+  info.simd_width = std::max<uint32_t>(1, info.subgroup_size);
+  info.preferred_work_group_size = info.massively_parallel ? 64 : info.simd_width;
+  // llvmpipe runs every global load as a loop over the SIMD lanes, and every branch under a lane mask.
+  info.cheap_parameter_loads = q.driver.driverID != VK_DRIVER_ID_MESA_LLVMPIPE;
   return info;
 }
 

@@ -1,5 +1,5 @@
 // PLY header: scalar types, element and property descriptions, and the parser that reads and validates the
-// header lines of a PLY 1.0 file. Internal to host/io (used by ply_reader.cpp); not a public API.
+// header lines of a PLY 1.0 file. Internal to host/io (used by the PLY reader); not a public API.
 #pragma once
 #include <cstddef>
 #include <cstdint>

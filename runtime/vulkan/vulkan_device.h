@@ -1,5 +1,5 @@
 // Vulkan instance, physical-device queries and error reporting shared by enumerate_vulkan() and the
-// backend (runtime/vulkan/vulkan_backend.cpp).
+// backend (runtime/vulkan/vulkan_backend.h).
 #pragma once
 #include <vulkan/vulkan.h>
 

@@ -1,0 +1,177 @@
+// Out-of-core DAG build: the grid cut into cubes, each built on its own (in core), their partial DAGs joined
+// level by level and reduced again as one, then an octree over the cube roots up to the full grid.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dag_build_steps.h"
+#include "megavox/dag.h"
+#include "megavox/error.h"
+
+namespace mv {
+
+namespace {
+
+using namespace detail;
+
+// The union of the cubes' partial DAGs at one level: nodes in their stored orientation, and one slot per
+// child pointer (the union node it points to, the pointer's tag).
+struct UnionLevel {
+  std::vector<uint32_t> mask, first, slot_node, slot_tag;
+};
+
+// Merged classes of one union level (or of the cube roots): per slot, the class id and tag it points to.
+// Above a reduced level 1, each slot's 2x2x2 mask as it lies instead (its node's stored mask, from
+// below_masks, reflected by the slot's tag), as level 2 reads them.
+Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric,
+               const std::vector<uint32_t>& below_masks) {
+  const auto n = static_cast<uint32_t>(u.slot_node.size());
+  Reduced slots;
+  slots.distinct = merged.distinct;
+  slots.class_mask = std::move(merged.class_mask);
+  if (n == 0) return slots;
+  if (!merged.class_rank.empty()) {
+    std::vector<uint32_t> masks(n);
+    for (uint32_t i = 0; i < n; ++i)
+      masks[i] = mv_reflect_mask(below_masks[u.slot_node[i]], symmetric ? u.slot_tag[i] : 0);
+    slots.child_mask = dev.alloc(uint64_t{n} * 4, "merge slot masks");
+    dev.upload(slots.child_mask, masks.data(), uint64_t{n} * 4);
+    slots.class_rank = std::move(merged.class_rank);
+    return slots;
+  }
+  Buffer node = dev.alloc(uint64_t{n} * 4, "merge slots");
+  dev.upload(node, u.slot_node.data(), uint64_t{n} * 4);
+  Buffer tag;
+  if (symmetric) {
+    tag = dev.alloc(uint64_t{n} * 4, "merge slot tags");
+    dev.upload(tag, u.slot_tag.data(), uint64_t{n} * 4);
+    slots.row = dev.alloc(uint64_t{n} * 4, "merged slot tag rows");
+  }
+  slots.id = dev.alloc(uint64_t{n} * 4, "merged slot ids");
+  MvDagParams p{n, symmetric ? 1u : 0u, 0, 0, 0};
+  dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(n, kLocal), kLocal,
+               {&node, &tag, &merged.id, &merged.row, &slots.id, &slots.row}, p);
+  dev.barrier();
+  return slots;
+}
+
+SvoLevel upload_level(Device& dev, const UnionLevel& u) {
+  SvoLevel lv;
+  lv.n = static_cast<uint32_t>(u.mask.size());
+  lv.mask = dev.alloc(uint64_t{lv.n} * 4, "merge masks");
+  dev.upload(lv.mask, u.mask.data(), uint64_t{lv.n} * 4);
+  if (!u.first.empty()) {
+    lv.first = dev.alloc(uint64_t{lv.n} * 4, "merge first slots");
+    dev.upload(lv.first, u.first.data(), uint64_t{lv.n} * 4);
+  }
+  return lv;
+}
+
+// Out of core, reduced (plain or symmetric) or not (the octree: every level is kept whole, in key order).
+Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, bool reduce,
+                   const CubeVoxels& voxels_of, DagBuildTimes* times) {
+  if (cube_levels < 1 || cube_levels >= levels)
+    throw Error("out-of-core build: cubes of 2^" + std::to_string(cube_levels) + " voxels must be smaller than the 2^" +
+                std::to_string(levels) + " grid");
+  auto t0 = Clock::now();
+  Dag dag;
+  dag.levels = levels;
+  dag.symmetric = symmetric;
+  dag.reduced = reduce;
+  dag.svo_nodes.assign(levels + 1, 0);
+  dag.level.resize(levels + 1);
+  const Reduction red = make_reduction(dev, reduce && symmetric);  // shared by the cubes and the merge
+  // 1. Each cube on its own, in Morton order; its partial DAG joins the union, level by level.
+  std::vector<UnionLevel> u(cube_levels + 1);
+  std::vector<uint64_t> root_keys;   // Morton key of each non-empty cube at level cube_levels
+  std::vector<uint32_t> root_node;   // its root in the union's top level
+  const uint32_t side = 1u << cube_levels;
+  const uint64_t cubes = uint64_t{1} << (3 * (levels - cube_levels));
+  const uint64_t local_mask = (uint64_t{1} << (3 * cube_levels)) - 1;
+  for (uint64_t c = 0; c < cubes; ++c) {
+    uint32_t x = 0, y = 0, z = 0;
+    for (uint32_t b = 0; b < levels - cube_levels; ++b) {
+      x |= uint32_t(c >> (3 * b) & 1) << b;
+      y |= uint32_t(c >> (3 * b + 1) & 1) << b;
+      z |= uint32_t(c >> (3 * b + 2) & 1) << b;
+    }
+    Dag part;
+    try {
+      std::vector<uint64_t> keys = voxels_of(x * side, y * side, z * side, side);
+      if (keys.empty()) continue;
+      for (uint64_t& k : keys) {
+        if ((k >> (3 * cube_levels)) != c) throw Error("out-of-core build: a voxel lies outside its cube");
+        k &= local_mask;
+      }
+      part = build_dag(dev, keys, cube_levels, symmetric, nullptr, reduce, &red);
+    } catch (const DeviceMemoryError& e) {
+      throw CubeMemoryError(std::string(e.what()) + " (in a cube of " + std::to_string(side) + "^3)");
+    }
+    dag.voxels += part.voxels;
+    for (uint32_t l = 0; l <= cube_levels; ++l) dag.svo_nodes[l] += part.svo_nodes[l];
+    for (uint32_t l = 1; l <= cube_levels; ++l) {
+      const DagLevel& p = part.level[l];
+      UnionLevel& ul = u[l];
+      const auto below_base = l > 1 ? static_cast<uint32_t>(u[l - 1].mask.size() - part.level[l - 1].mask.size()) : 0;
+      for (size_t i = 0; i < p.mask.size(); ++i) {
+        ul.mask.push_back(p.mask[i]);
+        if (l == 1) continue;
+        ul.first.push_back(static_cast<uint32_t>(ul.slot_node.size()));
+        for (uint32_t k = 0; k < static_cast<uint32_t>(__builtin_popcount(p.mask[i])); ++k) {
+          ul.slot_node.push_back(below_base + p.children[p.first[i] + k]);
+          ul.slot_tag.push_back(p.tags.empty() ? 0 : p.tags[p.first[i] + k]);
+        }
+      }
+    }
+    root_keys.push_back(c);
+    root_node.push_back(static_cast<uint32_t>(u[cube_levels].mask.size() - 1));
+  }
+  if (root_keys.empty()) return dag;
+  auto t1 = Clock::now();
+
+  // 2. Reduce the union again, bottom-up, exactly as an in-core build reduces its octree levels: the same
+  // hashes of the same (mask, child class, tag) give the same classes, ids and stored orientations.
+  Reduced below;
+  for (uint32_t l = 1; l <= cube_levels; ++l) {
+    SvoLevel lv = upload_level(dev, u[l]);
+    Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric, u[l - 1].mask);
+    Reduced r = reduce ? reduce_level(dev, lv, slots, l == 1, red) : identity_level(dev, lv);
+    dag.level[l] = assemble(dev, lv, r, slots, l == 1, red);
+    below = std::move(r);
+    u[l - 1] = UnionLevel();
+  }
+  // 3. Above the cubes: an octree over the cube roots, whose slots point at the roots' classes.
+  SvoLevel roots;
+  roots.n = static_cast<uint32_t>(root_keys.size());
+  roots.keys = dev.alloc(uint64_t{roots.n} * 8, "cube keys");
+  dev.upload(roots.keys, root_keys.data(), uint64_t{roots.n} * 8);
+  UnionLevel root_slots;
+  root_slots.slot_node = root_node;
+  root_slots.slot_tag.assign(root_node.size(), 0);
+  Reduced slots = gather(dev, root_slots, below, symmetric, u[cube_levels].mask);
+  for (uint32_t l = cube_levels + 1; l <= levels; ++l) {
+    SvoLevel lv = build_parents(dev, roots.keys, roots.n);
+    dag.svo_nodes[l] = lv.n;
+    Reduced r = reduce ? reduce_level(dev, lv, slots, false, red) : identity_level(dev, lv);
+    dag.level[l] = assemble(dev, lv, r, slots, false, red);
+    roots = std::move(lv);
+    slots = std::move(r);
+  }
+  finish_build(dev, dag, slots, red, t0, t1, times);
+  return dag;
+}
+
+}  // namespace
+
+Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
+                       DagBuildTimes* times) {
+  return build_by_cubes(dev, levels, cube_levels, symmetric, true, voxels_of, times);
+}
+
+Dag build_svo_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, const CubeVoxels& voxels_of,
+                       DagBuildTimes* times) {
+  return build_by_cubes(dev, levels, cube_levels, false, false, voxels_of, times);
+}
+
+}  // namespace mv

@@ -1,0 +1,59 @@
+// The PLY reader's buffered input (ply_source.h), its cold parts: opening the file, refilling the buffer and
+// reading header lines.
+#include "ply_source.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "megavox/error.h"
+
+namespace mv::io::detail {
+
+Source::Source(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
+  if (!file_) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  std::error_code ec;
+  // The size bounds every count in the header; a pipe or directory has none.
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": not a regular file");
+  size_ = std::filesystem::file_size(path, ec);
+  if (ec) throw Error(path + ": cannot read its size: " + ec.message());
+  std::setvbuf(file_.get(), nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
+  capacity_ = std::clamp<uint64_t>(size_, 4096, kBufferBytes);
+  buffer_ = std::make_unique_for_overwrite<char[]>(capacity_);
+  pos_ = end_ = buffer_.get();
+}
+
+bool Source::header_line(std::string& out, size_t max_chars) {
+  out.clear();
+  for (;;) {
+    if (pos_ == end_ && !fill(1)) throw EndOfData{};
+    char c = *pos_++;
+    if (c == '\n') break;
+    if (out.size() == max_chars) return false;
+    out.push_back(c);
+  }
+  ++line_;
+  if (!out.empty() && out.back() == '\r') out.pop_back();
+  return true;
+}
+
+bool Source::fill(size_t n) {
+  size_t have = static_cast<size_t>(end_ - pos_);
+  std::memmove(buffer_.get(), pos_, have);
+  pos_ = buffer_.get();
+  end_ = pos_ + have;
+  while (have < n) {
+    size_t got = std::fread(end_, 1, capacity_ - have, file_.get());
+    if (got == 0) {
+      if (std::ferror(file_.get())) throw Error(path_ + ": read error: " + std::strerror(errno));
+      return false;
+    }
+    end_ += got;
+    have += got;
+    read_ += got;
+  }
+  return true;
+}
+
+}  // namespace mv::io::detail

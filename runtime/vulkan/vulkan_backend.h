@@ -1,0 +1,146 @@
+// The Vulkan compute backend's class and the objects it hands out, declared once for the files that
+// implement it: vulkan_backend.cpp (device setup), vulkan_memory.cpp (arenas, buffers, transfers),
+// vulkan_pipelines.cpp (kernels and their pipelines) and vulkan_commands.cpp (recording, submission,
+// timestamps). Internal to runtime/vulkan; everything else reaches it through open_vulkan() (backend.h).
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "backend.h"
+#include "vulkan_device.h"
+
+namespace mv::rt::vulkan {
+
+// A VkBuffer bound to its own VkDeviceMemory: arenas, and the staging buffers of unmappable arenas.
+struct VulkanArena final : BackendArena {
+  VkDevice device = VK_NULL_HANDLE;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  void* mapped = nullptr;  // set when the memory is host-visible and coherent: transfers are plain memcpy
+  VkDeviceAddress address = 0;
+  uint64_t bytes = 0;
+
+  explicit VulkanArena(VkDevice d) : device(d) {}
+  VulkanArena(const VulkanArena&) = delete;
+  VulkanArena& operator=(const VulkanArena&) = delete;
+  // The owner destroys arenas only after finish(): no recorded or running command may still use them.
+  ~VulkanArena() override {
+    if (mapped) vkUnmapMemory(device, memory);
+    vkDestroyBuffer(device, buffer, nullptr);
+    vkFreeMemory(device, memory, nullptr);
+  }
+};
+
+struct VulkanBuffer final : BackendBuffer {
+  VulkanArena* arena = nullptr;
+  uint64_t offset = 0;
+  uint64_t bytes = 0;
+  VkDeviceAddress address = 0;
+};
+
+struct VulkanKernel final : BackendKernel {
+  VkDevice device;
+  std::string name;
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  std::unordered_map<uint32_t, VkPipeline> pipelines;  // by local size
+
+  VulkanKernel(VkDevice d, std::string n) : device(d), name(std::move(n)) {}
+  VulkanKernel(const VulkanKernel&) = delete;
+  VulkanKernel& operator=(const VulkanKernel&) = delete;
+  ~VulkanKernel() override {
+    for (const auto& [size, pipeline] : pipelines) vkDestroyPipeline(device, pipeline, nullptr);
+    vkDestroyPipelineLayout(device, layout, nullptr);
+    vkDestroyShaderModule(device, module, nullptr);
+  }
+};
+
+inline VulkanBuffer& as_vk(BackendBuffer& b) { return static_cast<VulkanBuffer&>(b); }
+
+class VulkanBackend final : public Backend {
+ public:
+  explicit VulkanBackend(int index) {
+    try {
+      init(index);
+    } catch (...) {
+      release();
+      throw;
+    }
+  }
+  ~VulkanBackend() override { release(); }
+  VulkanBackend(const VulkanBackend&) = delete;
+  VulkanBackend& operator=(const VulkanBackend&) = delete;
+
+  const DeviceInfo& info() const override { return info_; }
+
+  // vulkan_memory.cpp
+  std::unique_ptr<BackendArena> create_arena(uint64_t bytes) override;
+  std::unique_ptr<BackendBuffer> create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) override;
+  void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override;
+  void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) override;
+  void fill(BackendBuffer& dst, uint64_t offset, uint64_t bytes, uint32_t pattern) override;
+  void copy(BackendBuffer& src, uint64_t src_offset, BackendBuffer& dst, uint64_t dst_offset, uint64_t bytes) override;
+
+  // vulkan_pipelines.cpp
+  BackendKernel& kernel(const KernelDesc& desc) override;
+
+  // vulkan_commands.cpp
+  void dispatch(BackendKernel& k, uint32_t groups, uint32_t local_size, std::span<BackendBuffer* const> buffers,
+                const void* params, size_t params_bytes) override;
+  void barrier() override;
+  void finish() override;
+  void set_profiling(bool on) override;
+  std::vector<KernelTiming> take_timings() override { return std::exchange(timings_, {}); }
+
+ private:
+  // vulkan_backend.cpp
+  void init(int index);
+  // Also undoes a partial init(): every handle is either valid or null.
+  void release() noexcept;
+
+  // vulkan_memory.cpp
+  std::unique_ptr<VulkanArena> allocate(uint64_t bytes, VkBufferUsageFlags usage,
+                                        std::initializer_list<VkMemoryPropertyFlags> preferences);
+  static void check_range(const VulkanBuffer& b, uint64_t offset, uint64_t bytes, const char* what);
+  // Exactly one of `from_host` (upload) and `to_host` (download) is set.
+  void transfer(VulkanBuffer& b, uint64_t offset, uint64_t bytes, const void* from_host, void* to_host);
+
+  // vulkan_pipelines.cpp
+  VkPipeline pipeline_for(VulkanKernel& kernel, uint32_t local_size);
+
+  // vulkan_commands.cpp
+  VkCommandBuffer recording();
+  void collect_timings(uint32_t queries, const std::vector<std::string>& names);
+
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  bool recording_ = false;
+
+  DeviceInfo info_;
+  VkPhysicalDeviceMemoryProperties memory_{};
+  uint32_t max_local_size_ = 0;
+  std::unordered_map<std::string, std::unique_ptr<VulkanKernel>> kernels_;
+
+  bool profiling_ = false;
+  uint32_t timestamp_bits_ = 0;
+  float timestamp_period_ = 1.0f;
+  VkQueryPool query_pool_ = VK_NULL_HANDLE;
+  uint32_t queries_used_ = 0;
+  std::vector<std::string> query_names_;  // kernel of each timestamp pair in the current recording
+  std::vector<KernelTiming> timings_;
+};
+
+}  // namespace mv::rt::vulkan

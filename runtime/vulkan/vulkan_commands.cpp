@@ -1,0 +1,129 @@
+// Vulkan backend commands: the one command buffer recorded lazily (dispatches with their push constants,
+// barriers), submitted and waited for by finish(), and the timestamp queries that time profiled dispatches.
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "vulkan_backend.h"
+#include "vulkan_device.h"
+
+namespace mv::rt::vulkan {
+
+namespace {
+
+constexpr uint32_t kTimestampQueries = 8192;                      // two per profiled dispatch
+constexpr uint64_t kFenceTimeoutNs = 30ull * 60 * 1000000000ull;  // 30 minutes
+constexpr VkPipelineStageFlags kWorkStages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+
+}  // namespace
+
+VkCommandBuffer VulkanBackend::recording() {
+  if (!recording_) {
+    auto bi = vk<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+    recording_ = true;
+  }
+  return cmd_;
+}
+
+void VulkanBackend::dispatch(BackendKernel& k, uint32_t groups, uint32_t local_size,
+                             std::span<BackendBuffer* const> buffers, const void* params, size_t params_bytes) {
+  auto& kernel = static_cast<VulkanKernel&>(k);
+  if (groups == 0) return;
+  if (groups > info_.max_groups)
+    fail("kernel '" + kernel.name + "': " + std::to_string(groups) + " groups exceed the device limit of " +
+         std::to_string(info_.max_groups));
+  const size_t push_bytes = 8 * buffers.size() + params_bytes;
+  if (push_bytes > kMaxPushBytes)
+    fail("kernel '" + kernel.name + "': " + std::to_string(buffers.size()) + " buffers and " +
+         std::to_string(params_bytes) + " parameter bytes exceed the " + std::to_string(kMaxPushBytes) +
+         "-byte push-constant limit");
+  std::array<unsigned char, kMaxPushBytes> push{};
+  for (size_t i = 0; i < buffers.size(); ++i) {
+    // A null (empty) buffer passes address 0, as OpenCL passes a null cl_mem: the kernel must not touch it.
+    const VkDeviceAddress address = buffers[i] ? as_vk(*buffers[i]).address : 0;
+    std::memcpy(push.data() + 8 * i, &address, sizeof(address));
+  }
+  if (params_bytes) std::memcpy(push.data() + 8 * buffers.size(), params, params_bytes);
+
+  const VkPipeline pipeline = pipeline_for(kernel, local_size);
+  const bool timed = profiling_;
+  if (timed && queries_used_ + 2 > kTimestampQueries) finish();
+  const VkCommandBuffer cmd = recording();
+  if (timed) {
+    if (queries_used_ == 0) vkCmdResetQueryPool(cmd, query_pool_, 0, kTimestampQueries);
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool_, queries_used_++);
+  }
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+  if (push_bytes)  // Vulkan wants a multiple of 4; the padding is zero and still within kMaxPushBytes
+    vkCmdPushConstants(cmd, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                       static_cast<uint32_t>((push_bytes + 3) & ~size_t{3}), push.data());
+  vkCmdDispatch(cmd, groups, 1, 1);
+  if (timed) {
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, queries_used_++);
+    query_names_.push_back(kernel.name);
+  }
+}
+
+void VulkanBackend::barrier() {
+  auto mb = vk<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                     VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(recording(), kWorkStages, kWorkStages, 0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+void VulkanBackend::finish() {
+  if (!recording_) return;
+  recording_ = false;
+  // Taken now so that a failed submission cannot leave stale queries behind for the next recording.
+  const uint32_t queries = std::exchange(queries_used_, 0);
+  const std::vector<std::string> names = std::exchange(query_names_, {});
+
+  // A fence wait alone does not make device writes visible to the host; this barrier does.
+  auto to_host = vk<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd_, kWorkStages, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0, nullptr, 0, nullptr);
+  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+
+  auto si = vk<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd_;
+  check(vkQueueSubmit(queue_, 1, &si, fence_), "vkQueueSubmit");
+  const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, kFenceTimeoutNs);
+  if (waited == VK_TIMEOUT) fail("device work did not finish within 30 minutes on " + info_.name);
+  check(waited, "vkWaitForFences");
+  check(vkResetFences(device_, 1, &fence_), "vkResetFences");
+  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+  if (queries) collect_timings(queries, names);
+}
+
+void VulkanBackend::set_profiling(bool on) {
+  profiling_ = on && timestamp_bits_ > 0;  // a queue family without timestamps yields no timings
+  if (profiling_ && !query_pool_) {
+    auto qi = vk<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+    qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qi.queryCount = kTimestampQueries;
+    check(vkCreateQueryPool(device_, &qi, nullptr, &query_pool_), "vkCreateQueryPool");
+  }
+}
+
+void VulkanBackend::collect_timings(uint32_t queries, const std::vector<std::string>& names) {
+  std::vector<uint64_t> ticks(queries);
+  check(vkGetQueryPoolResults(device_, query_pool_, 0, queries, ticks.size() * sizeof(uint64_t), ticks.data(),
+                              sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        "vkGetQueryPoolResults");
+  const uint64_t mask = timestamp_bits_ >= 64 ? ~uint64_t{0} : (uint64_t{1} << timestamp_bits_) - 1;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const uint64_t delta = (ticks[2 * i + 1] - ticks[2 * i]) & mask;  // the mask absorbs counter wrap-around
+    timings_.push_back({names[i], static_cast<uint64_t>(static_cast<double>(delta) * timestamp_period_)});
+  }
+}
+
+}  // namespace mv::rt::vulkan

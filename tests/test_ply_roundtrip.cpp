@@ -1,0 +1,170 @@
+// PLY reader: well-formed files read back exactly -- round trips in all three formats and every scalar
+// type, fan triangulation, batching, a file larger than the reader's buffer -- and the staged real meshes
+// (skipped when the shared data directory is absent).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ply_fixture.h"
+
+#ifndef MEGAVOX_SOURCE_DIR
+#define MEGAVOX_SOURCE_DIR "."
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using mv::io::PlyMeshReader;
+using namespace mv::test::ply;
+
+TEST(Ply, RoundTripAllFormats) {
+  for (Fmt f : kAllFormats) {
+    SCOPED_TRACE(fmt_name(f));
+    MeshSpec m = small_mesh();
+    std::string path = write_file("rt.ply", make_ply(m, f));
+    Mesh got = read_all(path);
+    expect_mesh(got, m);
+    EXPECT_EQ(got.info.format, fmt_name(f));
+    EXPECT_EQ(got.info.comments, std::vector<std::string>{"made by test_ply"});
+  }
+}
+
+TEST(Ply, RoundTripDoublesExtraPropertiesAndElements) {
+  for (Fmt f : kAllFormats) {
+    for (const char* coord : {"double", "float64", "short", "int8"}) {
+      SCOPED_TRACE(std::string(fmt_name(f)) + " " + coord);
+      MeshSpec m = small_mesh();
+      m.extras = true;
+      m.vertex_list = coord[0] == 'i' || coord[0] == 'd';  // half the cases leave the binary fast path
+      m.coord_type = coord;
+      if (m.coord_type == "double" || m.coord_type == "float64") m.vertices[4] = {0.1, -1e-30, 123456.789};
+      else m.vertices[4] = {2, -1, -3};  // integers only
+      expect_mesh(read_all(write_file("rt.ply", make_ply(m, f))), m);
+      expect_mesh(read_all(write_file("rt.ply", make_ply(m, f)), 1000, 0), m);  // positions in a scratch file
+    }
+  }
+}
+
+TEST(Ply, RoundTripIndexTypes) {
+  const char* types[][2] = {{"uchar", "int"}, {"int", "int"}, {"uint8", "uint32"}, {"ushort", "short"},
+                            {"int32", "uchar"}, {"char", "ushort"}, {"uint", "uint"}};
+  for (Fmt f : kAllFormats) {
+    for (auto [count, index] : types) {
+      SCOPED_TRACE(std::string(fmt_name(f)) + " list " + count + " " + index);
+      MeshSpec m = small_mesh();
+      m.count_type = count;
+      m.index_type = index;
+      m.faces.push_back({0, 1, 2, 3, 4, 0, 2});  // a heptagon: 5 fan triangles
+      expect_mesh(read_all(write_file("rt.ply", make_ply(m, f))), m);
+    }
+  }
+}
+
+TEST(Ply, QuadsAreFanTriangulated) {
+  MeshSpec m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 2, 2}};
+  m.faces = {{0, 1, 2, 3}, {4, 3, 2, 1, 0}};
+  Mesh got = read_all(write_file("quad.ply", make_ply(m, Fmt::le)));
+  EXPECT_EQ(got.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 4, 3, 2, 4, 2, 1, 4, 1, 0}));
+}
+
+TEST(Ply, PointCloudWithoutFacesIsAnEmptyMesh) {
+  for (Fmt f : kAllFormats) {
+    MeshSpec m = small_mesh();
+    m.with_faces = false;
+    m.extras = true;
+    expect_mesh(read_all(write_file("points.ply", make_ply(m, f))), m);
+  }
+}
+
+TEST(Ply, EmptyFaceElement) {
+  MeshSpec m = small_mesh();
+  m.faces.clear();
+  expect_mesh(read_all(write_file("noface.ply", make_ply(m, Fmt::ascii))), m);
+}
+
+// Batches of 1, 2 and 1000 triangles, on the generic face walker (extras) and the binary fast path.
+TEST(Ply, Batching) {
+  for (Fmt f : kAllFormats) {
+    for (bool extras : {false, true}) {
+      MeshSpec m = small_mesh();
+      m.extras = extras;
+      m.faces.push_back({4, 3, 2, 1, 0});  // 3 triangles: split across batches of 2
+      m.faces.push_back({0, 1, 2});
+      const std::vector<uint32_t> want = fan(m.faces);
+      std::string path = write_file("batch.ply", make_ply(m, f));
+      for (size_t batch : {1, 2, 1000}) {
+        SCOPED_TRACE(std::string(fmt_name(f)) + (extras ? " extras" : "") + " batch " + std::to_string(batch));
+        PlyMeshReader r(path);
+        std::vector<uint32_t> all, part;
+        size_t calls = 0;
+        while (r.next_triangles(part, batch)) {
+          ++calls;
+          ASSERT_LE(part.size(), 3 * batch);
+          if (all.size() + part.size() < want.size()) {
+            EXPECT_EQ(part.size(), 3 * batch);  // only the last batch may be short
+          }
+          all.insert(all.end(), part.begin(), part.end());
+        }
+        EXPECT_EQ(all, want);
+        EXPECT_EQ(calls, (want.size() / 3 + batch - 1) / batch);
+        EXPECT_FALSE(r.next_triangles(part, batch));  // stays at the end
+        EXPECT_TRUE(part.empty());
+      }
+    }
+  }
+}
+
+// A file larger than the reader's 1 MiB buffer: records and polygons straddle refills.
+TEST(Ply, LargerThanTheBuffer) {
+  MeshSpec m;
+  for (int i = 0; i < 40000; ++i) m.vertices.push_back({i * 0.5, -i * 0.25, static_cast<double>(i % 7)});
+  for (int i = 0; i < 70000; ++i) {
+    std::vector<double> face;
+    for (int k = 0; k < 3 + i % 4; ++k) face.push_back((i * 31 + k * 977) % 40000);
+    m.faces.push_back(face);
+  }
+  for (Fmt f : {Fmt::le, Fmt::be}) {
+    std::string path = write_file("large.ply", make_ply(m, f));
+    ASSERT_GT(fs::file_size(path), 1u << 20);
+    for (size_t batch : {7, 100000}) {
+      SCOPED_TRACE(std::string(fmt_name(f)) + " batch " + std::to_string(batch));
+      expect_mesh(read_all(path, batch), m);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Staged real meshes, counts from shared/data/README.md.
+
+TEST(PlySharedData, StagedMeshesMatchTheReadme) {
+  const char* env = std::getenv("MEGAVOX_TEST_DATA");
+  fs::path root = env && *env ? fs::path(env) : fs::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
+  if (!fs::is_directory(root)) {
+    GTEST_SKIP() << "shared data not found at " << root.string() << " (set MEGAVOX_TEST_DATA)";
+  }
+  struct Staged {
+    const char* file;
+    uint64_t vertices, triangles;
+  };
+  const Staged staged[] = {{"meshes_stanford/bunny_npm_small.ply", 1839, 3674},
+                           {"meshes_stanford/stanford_bunny.ply", 35947, 69451},
+                           {"meshes_misc/spot.ply", 2930, 5856},
+                           {"pointcloud_autzen/autzen_trim.ply", 110000, 0}};
+  for (const Staged& s : staged) {
+    SCOPED_TRACE(s.file);
+    Mesh m = read_all((root / s.file).string(), 4096);
+    EXPECT_EQ(m.info.format, "binary_little_endian");
+    EXPECT_EQ(m.info.vertices, s.vertices);
+    EXPECT_EQ(m.info.faces, s.triangles);
+    EXPECT_EQ(m.triangles.size(), 3 * s.triangles);
+    EXPECT_FALSE(m.info.comments.empty());  // each staged file names its source
+    for (uint32_t i : m.triangles) ASSERT_LT(i, s.vertices);
+  }
+}
+
+}  // namespace

@@ -12,7 +12,7 @@ void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint32_t n, Key
     throw Error("morton_encode: buffers too small for " + std::to_string(n) + " points");
   MvMortonParams p{n, 0};
   const uint32_t local = 64;
-  Kernel& k = dev.kernel(bits == KeyBits::k64 ? "morton_encode64" : "morton_encode32");
+  Kernel& k = dev.kernel(bits == KeyBits::k64 ? KernelId::morton_encode64 : KernelId::morton_encode32);
   dev.dispatch(k, dev.groups_for(n, local), local, {&xyz, &keys}, p);
 }
 

@@ -76,8 +76,7 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
 
   const DeviceInfo& info = dev.info();
   BlockShape s = block_shape(info, n);
-  const std::string sfx = k64 ? "_k64" : "_k32";
-  Kernel& or_and = dev.kernel("radix_or_and" + sfx);
+  Kernel& or_and = dev.kernel(k64 ? KernelId::radix_or_and_k64 : KernelId::radix_or_and_k32);
 
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
   MvRadixParams p{n, s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
@@ -96,9 +95,9 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
   SortRun run{dev,
               s,
               p,
-              dev.kernel("radix_histogram" + sfx),
-              dev.kernel("radix_scatter" + sfx),
-              dev.kernel("radix_local_sort" + sfx),
+              dev.kernel(k64 ? KernelId::radix_histogram_k64 : KernelId::radix_histogram_k32),
+              dev.kernel(k64 ? KernelId::radix_scatter_k64 : KernelId::radix_scatter_k32),
+              dev.kernel(k64 ? KernelId::radix_local_sort_k64 : KernelId::radix_local_sort_k32),
               dev.alloc((uint64_t{s.blocks} * MV_RADIX_BUCKETS + 1) * 4, "radix sort histograms"),
               plan_scan(dev, s.blocks * MV_RADIX_BUCKETS)};
   Buffer keys_alt = dev.alloc(uint64_t{n} * key_bytes, "radix sort scratch keys");

@@ -24,12 +24,12 @@ void record_scan(Device& dev, ScanPlan& plan, const Buffer& src, Buffer& dst) {
     throw Error("exclusive_scan: buffers too small for " + std::to_string(n) + " values");
   const BlockShape& s = plan.shape;
   MvScanParams p{n, s.blocks, s.block_size, 0};
-  dev.dispatch(dev.kernel("scan_reduce"), s.groups, s.local_size, {&src, &plan.sums}, p);
+  dev.dispatch(dev.kernel(KernelId::scan_reduce), s.groups, s.local_size, {&src, &plan.sums}, p);
   dev.barrier();
   MvScanParams small{s.blocks, 1, s.blocks, 0};
-  dev.dispatch(dev.kernel("scan_small"), 1, 1, {&plan.sums}, small);
+  dev.dispatch(dev.kernel(KernelId::scan_small), 1, 1, {&plan.sums}, small);
   dev.barrier();
-  dev.dispatch(dev.kernel("scan_apply"), s.groups, s.local_size, {&src, &dst, &plan.sums}, p);
+  dev.dispatch(dev.kernel(KernelId::scan_apply), s.groups, s.local_size, {&src, &dst, &plan.sums}, p);
   dev.copy(plan.sums, dst, 4, uint64_t{s.blocks} * 4, uint64_t{n} * 4);
   dev.barrier();
 }

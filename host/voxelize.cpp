@@ -156,7 +156,7 @@ void Voxelizer::add(const std::vector<float>& tris) {
   dev_.upload(tri_of, item_tri.data(), uint64_t{items} * 4);
   dev_.upload(col_of, item_col.data(), uint64_t{items} * 4);
 
-  Kernel& k = dev_.kernel("voxelize");
+  Kernel& k = dev_.kernel(KernelId::voxelize);
   const uint32_t thin = rule_ == Rule::kThin ? 1u : 0u;
   const uint32_t local = 64;
   MvVoxelizeParams p{0, items, resolution_, kColumnsPerItem, 0, box_size_, box_[0], box_[1], box_[2], thin};

@@ -19,6 +19,7 @@ struct KernelDesc {
   const char* cl_source = nullptr;
   const uint32_t* spirv = nullptr;  // one SPIR-V module per kernel, entry "main"
   size_t spirv_words = 0;
+  bool args_in_buffer = false;  // Vulkan: the module reads its arguments from a parameter buffer (MV_ARGS_BUFFER)
 };
 
 // One large device allocation; the memory pool carves pages out of it.
@@ -77,6 +78,9 @@ class Backend {
 };
 
 inline constexpr size_t kMaxPushBytes = 128;  // Vulkan's guaranteed minimum push-constant size
+// Most argument bytes (8 per buffer, then the parameters) one dispatch takes: past the push constants they go
+// through a parameter buffer on Vulkan (MV_ARGS_BUFFER); within OpenCL's guaranteed 1 KiB of kernel arguments.
+inline constexpr size_t kMaxArgBytes = 1024;
 
 // Discovery. Each list is in the API's enumeration order; index i opens the i-th entry.
 std::vector<DeviceInfo> enumerate_opencl();

@@ -137,31 +137,61 @@ void Device::copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_o
   if (bytes) impl_->backend->copy(*src.impl_, src_offset, *dst.impl_, dst_offset, bytes);
 }
 
-Kernel& Device::kernel(std::string_view name) {
-  if (auto it = impl_->kernels.find(name); it != impl_->kernels.end()) return *it->second;
-  const rt::EmbeddedKernel* e = rt::find_embedded_kernel(name);
-  if (!e) throw Error("no embedded kernel named '" + std::string(name) + "'");
-  return kernel_from_source(e->name, e->cl_source, e->spirv, e->spirv_words);
+Kernel& Device::kernel(KernelId id) {
+  const rt::EmbeddedKernel* e = rt::find_embedded_kernel(id);
+  if (!e) throw Error("no embedded kernel with id " + std::to_string(static_cast<uint32_t>(id)));
+  if (auto it = impl_->kernels.find(e->name); it != impl_->kernels.end()) return *it->second;
+  rt::KernelDesc desc;
+  desc.name = e->name;
+  desc.cl_program = e->cl_program;  // kernels of one program share its build
+  desc.cl_source = e->cl_source;
+  desc.spirv = e->spirv;
+  desc.spirv_words = e->spirv_words;
+  desc.args_in_buffer = e->signature.args_in_buffer;
+  Kernel& k = add_kernel(desc);
+  k.checked_ = true;
+  k.buffers_ = e->signature.buffers;
+  k.params_type_ = e->signature.params;
+  k.params_bytes_ = e->signature.params_bytes;
+  k.params_name_ = e->signature.params_name;
+  return k;
 }
 
 Kernel& Device::kernel_from_source(const std::string& name, const char* cl_source, const uint32_t* spirv,
-                                   size_t spirv_words) {
+                                   size_t spirv_words, bool args_in_buffer) {
   rt::KernelDesc desc;
   desc.name = name;
   desc.cl_program = name;
-  if (const rt::EmbeddedKernel* e = rt::find_embedded_kernel(name); e && e->cl_source == cl_source)
-    desc.cl_program = e->cl_program;  // embedded kernels share their program's build
   desc.cl_source = cl_source;
   desc.spirv = spirv;
   desc.spirv_words = spirv_words;
+  desc.args_in_buffer = args_in_buffer;
+  return add_kernel(desc);
+}
+
+Kernel& Device::add_kernel(const rt::KernelDesc& desc) {
+  if (auto it = impl_->kernels.find(desc.name); it != impl_->kernels.end()) return *it->second;
   auto k = std::make_unique<Kernel>();
-  k->name_ = name;
+  k->name_ = desc.name;
   k->impl_ = &impl_->backend->kernel(desc);
-  return *impl_->kernels.emplace(name, std::move(k)).first->second;
+  return *impl_->kernels.emplace(desc.name, std::move(k)).first->second;
 }
 
 void Device::dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size,
-                          std::initializer_list<const Buffer*> buffers, const void* params, size_t params_bytes) {
+                          std::initializer_list<const Buffer*> buffers, const void* params, size_t params_bytes,
+                          const std::type_info* params_type) {
+  if (k.checked_) {
+    if (buffers.size() != k.buffers_)
+      throw Error("kernel '" + k.name() + "': dispatched with " + std::to_string(buffers.size()) +
+                  " buffers, but kernels/kernels.cmake declares " + std::to_string(k.buffers_));
+    if (params_type && *params_type != *k.params_type_)
+      throw Error("kernel '" + k.name() + "': dispatched with parameters of another type (" +
+                  std::to_string(params_bytes) + " bytes) than the " + k.params_name_ + " (" +
+                  std::to_string(k.params_bytes_) + " bytes) kernels/kernels.cmake declares");
+    if (params_bytes != k.params_bytes_)
+      throw Error("kernel '" + k.name() + "': dispatched with " + std::to_string(params_bytes) +
+                  " parameter bytes, but its " + k.params_name_ + " has " + std::to_string(k.params_bytes_));
+  }
   if (local_size == 0 || local_size > info().max_work_group_size)
     throw Error("kernel '" + k.name() + "': work-group size " + std::to_string(local_size) + " is not in [1, " +
                 std::to_string(info().max_work_group_size) + "]");

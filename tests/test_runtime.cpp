@@ -1,6 +1,7 @@
 // Device discovery, selection and kernel build errors.
 #include <cstdlib>
 
+#include "kernels/common/morton.h"
 #include "megavox/error.h"
 #include "test_support.h"
 
@@ -100,7 +101,39 @@ TEST_P(RuntimeTest, UploadFillCopyDownload) {
   EXPECT_THROW(d.download(a, got.data(), 8, data.size() * 4), Error);  // out of range
 }
 
-TEST_P(RuntimeTest, UnknownKernelIsAnError) { EXPECT_THROW(dev().kernel("no_such_kernel"), Error); }
+TEST_P(RuntimeTest, UnknownKernelIsAnError) { EXPECT_THROW(dev().kernel(static_cast<KernelId>(kKernelCount)), Error); }
+
+// A dispatch whose buffer count or parameter struct differs from kernels/kernels.cmake fails before it
+// reaches the backend, with the kernel's name, on every backend.
+TEST_P(RuntimeTest, DispatchChecksTheDeclaredSignature) {
+  Device& d = dev();
+  Kernel& k = d.kernel(KernelId::morton_encode64);
+  Buffer a = d.alloc(64, "a");
+  auto message = [&](auto&& dispatch) {
+    try {
+      dispatch();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const MvMortonParams p{0, 0};
+  std::string wrong_count = message([&] { d.dispatch(k, 1, 1, {&a}, p); });
+  EXPECT_NE(wrong_count.find("kernel 'morton_encode64': dispatched with 1 buffers"), std::string::npos) << wrong_count;
+  EXPECT_NE(wrong_count.find("declares 2"), std::string::npos) << wrong_count;
+  struct SameSizeOtherType {
+    uint32_t a, b;
+  } other{0, 0};
+  std::string wrong_type = message([&] { d.dispatch(k, 1, 1, {&a, &a}, other); });
+  EXPECT_NE(wrong_type.find("kernel 'morton_encode64'"), std::string::npos) << wrong_type;
+  EXPECT_NE(wrong_type.find("MvMortonParams"), std::string::npos) << wrong_type;
+  const uint32_t too_small = 0;
+  std::string wrong_size = message([&] { d.dispatch_raw(k, 1, 1, {&a, &a}, &too_small, sizeof(too_small)); });
+  EXPECT_NE(wrong_size.find("kernel 'morton_encode64': dispatched with 4 parameter bytes"), std::string::npos)
+      << wrong_size;
+  d.dispatch(k, 1, 1, {&a, &a}, p);  // the declared signature goes through
+  d.finish();
+}
 
 TEST_P(RuntimeTest, BuildErrorsNameTheKernel) {
   Device& d = dev();
@@ -126,10 +159,8 @@ TEST_P(RuntimeTest, ProfilingReportsKernelTimes) {
   std::vector<uint32_t> xyz(3 * 1000, 7);
   Buffer pts = d->alloc(xyz.size() * 4, "points");
   d->upload(pts, xyz.data(), xyz.size() * 4);
-  struct P {
-    uint32_t n, pad;
-  } p{1000, 0};
-  d->dispatch(d->kernel("morton_encode64"), 16, 64, {&pts, &kb}, p);
+  MvMortonParams p{1000, 0};
+  d->dispatch(d->kernel(KernelId::morton_encode64), 16, 64, {&pts, &kb}, p);
   d->finish();
   auto t = d->take_timings();
   ASSERT_EQ(t.size(), 1u);

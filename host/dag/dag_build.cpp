@@ -51,7 +51,7 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
   SvoLevel up;
   Buffer pos = dev.alloc((uint64_t{n} + 1) * 4, "octree parent positions");
   MvDagParams p{n, 0, 0, 0, 0};
-  dev.dispatch(dev.kernel("svo_flags"), dev.groups_for(n, kLocal), kLocal, {&keys, &pos}, p);
+  dev.dispatch(dev.kernel(KernelId::svo_flags), dev.groups_for(n, kLocal), kLocal, {&keys, &pos}, p);
   dev.barrier();
   ScanPlan scan = plan_scan(dev, n);
   record_scan(dev, scan, pos, pos);
@@ -59,7 +59,7 @@ SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
   up.keys = dev.alloc(uint64_t{up.n} * 8, "octree node keys");
   up.mask = dev.alloc(uint64_t{up.n} * 4, "octree node masks");
   up.first = dev.alloc(uint64_t{up.n} * 4, "octree first children");
-  dev.dispatch(dev.kernel("svo_parents"), dev.groups_for(n, kLocal), kLocal,
+  dev.dispatch(dev.kernel(KernelId::svo_parents), dev.groups_for(n, kLocal), kLocal,
                {&keys, &pos, &up.keys, &up.mask, &up.first}, p);
   dev.barrier();
   return up;
@@ -81,12 +81,12 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
   Buffer entries = leaf ? Buffer() : dev.alloc(uint64_t{n} * 64, "DAG level entries");
   MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0, 0};
   if (!below.child_mask.empty())  // reduced level 2: children (id, tag) from their masks
-    dev.dispatch(dev.kernel("brick_emit"), dev.groups_for(n, kLocal), kLocal,
+    dev.dispatch(dev.kernel(KernelId::brick_emit), dev.groups_for(n, kLocal), kLocal,
                  {&lv.mask, &lv.first, &below.child_mask, &red.mask_table, &below.class_rank, &r.row, &r.rep,
                   &masks, &entries},
                  p);
   else
-    dev.dispatch(dev.kernel("dag_emit"), dev.groups_for(n, kLocal), kLocal,
+    dev.dispatch(dev.kernel(KernelId::dag_emit), dev.groups_for(n, kLocal), kLocal,
                  {&lv.mask, &lv.first, &below.id, &below.row, &r.row, &r.rep, &masks, &entries}, p);
   out.mask = fetch<uint32_t>(dev, masks, n);
   if (leaf) return out;

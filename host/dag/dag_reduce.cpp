@@ -18,7 +18,7 @@ namespace {
 // Canonical form, T*, stabilizer and tag row of every 8-bit mask (kernel leaf_table).
 Buffer mask_table(Device& dev) {
   Buffer table = dev.alloc(768 * 4, "mask table");
-  dev.dispatch(dev.kernel("leaf_table"), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0, 0});
+  dev.dispatch(dev.kernel(KernelId::leaf_table), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0, 0});
   dev.barrier();
   return table;
 }
@@ -34,12 +34,12 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction&
   dev.fill(present, 0, 257 * 4);
   dev.barrier();
   const uint32_t groups = dev.groups_for(lv.n, kLocal);
-  dev.dispatch(dev.kernel("leaf_present"), groups, kLocal, {&lv.mask, &table, &present}, p);
+  dev.dispatch(dev.kernel(KernelId::leaf_present), groups, kLocal, {&lv.mask, &table, &present}, p);
   dev.barrier();
   exclusive_scan(dev, present, present, 256);
   dev.download(present, &r.distinct, 4, 256 * 4);
   r.class_mask = dev.alloc(uint64_t{r.distinct} * 4, "leaf class masks");
-  dev.dispatch(dev.kernel("leaf_classes"), dev.groups_for(256, kLocal), kLocal, {&present, &r.class_mask}, p);
+  dev.dispatch(dev.kernel(KernelId::leaf_classes), dev.groups_for(256, kLocal), kLocal, {&present, &r.class_mask}, p);
   dev.barrier();
 }
 
@@ -50,14 +50,14 @@ uint32_t group_keys(Device& dev, Buffer& keys, Buffer& order, uint32_t n, Buffer
   const uint32_t groups = dev.groups_for(n, kLocal);
   const MvDagParams p{n, 0, 0, 0, 0};
   radix_sort(dev, keys, &order, n, KeyBits::k64);
-  dev.dispatch(dev.kernel("dag_runs"), groups, kLocal, {&keys, &run}, p);
+  dev.dispatch(dev.kernel(KernelId::dag_runs), groups, kLocal, {&keys, &run}, p);
   dev.barrier();
   ScanPlan scan = plan_scan(dev, n);
   record_scan(dev, scan, run, run);
   uint32_t distinct = 0;
   dev.download(run, &distinct, 4, uint64_t{n} * 4);
   rep = dev.alloc(uint64_t{distinct} * 4, "representatives");
-  dev.dispatch(dev.kernel("dag_assign"), groups, kLocal, {&keys, &order, &run, &id, &rep}, p);
+  dev.dispatch(dev.kernel(KernelId::dag_assign), groups, kLocal, {&keys, &order, &run, &id, &rep}, p);
   dev.barrier();
   return distinct;
 }
@@ -70,7 +70,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer keys = dev.alloc(uint64_t{n} * 8, "bricks");
   Buffer order = dev.alloc(uint64_t{n} * 4, "brick order");
   const MvDagParams p{n, 0, 0, 0, 0};
-  dev.dispatch(dev.kernel("brick_keys"), dev.groups_for(n, kLocal), kLocal,
+  dev.dispatch(dev.kernel(KernelId::brick_keys), dev.groups_for(n, kLocal), kLocal,
                {&lv.mask, &lv.first, &below.child_mask, &keys, &order}, p);
   dev.barrier();
   r.distinct = group_keys(dev, keys, order, n, r.id, r.rep);
@@ -80,7 +80,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer ckeys = dev.alloc(uint64_t{raw} * 8, "canonical bricks");
   Buffer corder = dev.alloc(uint64_t{raw} * 4, "canonical brick order");
   Buffer crow = dev.alloc(uint64_t{raw} * 4, "brick class orientations");
-  dev.dispatch(dev.kernel("brick_canon"), dev.groups_for(raw, kLocal), kLocal,
+  dev.dispatch(dev.kernel(KernelId::brick_canon), dev.groups_for(raw, kLocal), kLocal,
                {&lv.mask, &red.mask_table, &lv.first, &below.child_mask, &raw_rep, &ckeys, &crow, &corder},
                MvDagParams{raw, 0, 0, 0, 0});
   dev.barrier();
@@ -89,10 +89,10 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   r.distinct = group_keys(dev, ckeys, corder, raw, cls, rep_class);
   r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
   Buffer none;
-  dev.dispatch(dev.kernel("gather_slots"), dev.groups_for(r.distinct, kLocal), kLocal,
+  dev.dispatch(dev.kernel(KernelId::gather_slots), dev.groups_for(r.distinct, kLocal), kLocal,
                {&rep_class, &none, &raw_rep, &none, &r.rep, &none}, MvDagParams{r.distinct, 0, 0, 0, 0});
   r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
-  dev.dispatch(dev.kernel("brick_orient"), dev.groups_for(n, kLocal), kLocal, {&r.id, &cls, &crow, &r.row}, p);
+  dev.dispatch(dev.kernel(KernelId::brick_orient), dev.groups_for(n, kLocal), kLocal, {&r.id, &cls, &crow, &r.row}, p);
   dev.barrier();
 }
 
@@ -109,7 +109,7 @@ void dispatch_canon(Device& dev, const SvoLevel& lv, const Reduced& below, const
     groups = shape.groups;
     local = shape.local_size;
   }
-  dev.dispatch(dev.kernel("ssvdag_canon"), groups, local,
+  dev.dispatch(dev.kernel(KernelId::ssvdag_canon), groups, local,
                {&lv.mask, &mtab, &lv.first, &below.id, &below.row, &row, &hashes, &order}, p);
 }
 
@@ -147,16 +147,16 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
     if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dispatch_canon(dev, lv, below, mtab, r.row, hashes, order, p);
     else
-      dev.dispatch(dev.kernel("dag_hash"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
+      dev.dispatch(dev.kernel(KernelId::dag_hash), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
     dev.barrier();
     r.distinct = group_keys(dev, hashes, order, n, r.id, r.rep);
     dev.fill(collided, 0, 4);
     dev.barrier();
     if (symmetric)
-      dev.dispatch(dev.kernel("ssvdag_verify"), groups, kLocal,
+      dev.dispatch(dev.kernel(KernelId::ssvdag_verify), groups, kLocal,
                    {&lv.mask, &lv.first, &below.id, &below.row, &r.row, &r.id, &r.rep, &collided}, p);
     else
-      dev.dispatch(dev.kernel("dag_verify"), groups, kLocal, {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided},
+      dev.dispatch(dev.kernel(KernelId::dag_verify), groups, kLocal, {&lv.mask, &lv.first, &below.id, &r.id, &r.rep, &collided},
                    p);
     uint32_t bad = 0;
     dev.download(collided, &bad, 4);

@@ -77,9 +77,9 @@ void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
 void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count, uint32_t width, float proj,
                         uint32_t max_steps, bool occlusion, Buffer& results) {
   const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
-  Kernel& k = dev_.kernel(!bricks              ? "trace_rays"
-                          : starts_in_params_ ? "trace_rays_ssvdag_params"
-                                              : "trace_rays_ssvdag");
+  Kernel& k = dev_.kernel(!bricks              ? KernelId::trace_rays
+                          : starts_in_params_ ? KernelId::trace_rays_ssvdag_params
+                                              : KernelId::trace_rays_ssvdag);
   const Buffer* offsets = bricks ? &level_offsets_ : nullptr;
   for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
     MvTraceParams p = params_;
@@ -98,7 +98,7 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count
 
 void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table,
                             uint32_t count, MvSecondaryParams p, Buffer& out) {
-  Kernel& k = dev_.kernel("secondary_rays");
+  Kernel& k = dev_.kernel(KernelId::secondary_rays);
   p.levels = levels_;
   p.camera = camera ? 1u : 0u;
   for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t) {

@@ -17,7 +17,10 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <typeinfo>
 #include <vector>
+
+#include "megavox/kernel_ids.h"  // generated from kernels/kernels.cmake
 
 namespace mv {
 
@@ -26,6 +29,7 @@ class Backend;
 class BackendBuffer;
 class BackendKernel;
 class MemoryPool;
+struct KernelDesc;
 }  // namespace rt
 
 struct DeviceInfo {
@@ -112,7 +116,8 @@ class Buffer {
   std::unique_ptr<rt::BackendBuffer, ImplDeleter> impl_;
 };
 
-// A built kernel; owned by its Device, valid while the Device lives.
+// A built kernel; owned by its Device, valid while the Device lives. Embedded kernels carry the signature
+// kernels/kernels.cmake declares (buffer count, parameter struct), and every dispatch is checked against it.
 class Kernel {
  public:
   const std::string& name() const { return name_; }
@@ -121,6 +126,11 @@ class Kernel {
   friend class Device;
   std::string name_;
   rt::BackendKernel* impl_ = nullptr;
+  bool checked_ = false;  // false for kernels built from explicit sources (runtime tests)
+  uint32_t buffers_ = 0;
+  const std::type_info* params_type_ = nullptr;
+  size_t params_bytes_ = 0;
+  const char* params_name_ = "";
 };
 
 struct DeviceOptions {
@@ -149,19 +159,22 @@ class Device {
   void fill(Buffer& dst, uint32_t pattern, uint64_t bytes, uint64_t offset = 0);
   void copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_offset = 0, uint64_t dst_offset = 0);
 
-  // Kernels embedded at build time, by entry name; built on first use, once per Device.
-  Kernel& kernel(std::string_view name);
+  // Kernels embedded at build time (kernels/kernels.cmake); built on first use, once per Device.
+  Kernel& kernel(KernelId id);
 
   // Records a dispatch of `groups` work-groups of `local_size` items. Kernel arguments: the buffers in
   // order, then `params` (a trivially copyable struct from kernels/common, shared with the kernel source).
+  // Throws mv::Error naming the kernel when the buffer count or the parameter type differs from its
+  // declaration in kernels/kernels.cmake.
   template <class Params>
   void dispatch(Kernel& k, uint32_t groups, uint32_t local_size, std::initializer_list<const Buffer*> buffers,
                 const Params& params) {
     static_assert(std::is_trivially_copyable_v<Params>);
-    dispatch_raw(k, groups, local_size, buffers, &params, sizeof(Params));
+    dispatch_raw(k, groups, local_size, buffers, &params, sizeof(Params), &typeid(Params));
   }
+  // `params_type` nullptr: not checked (kernels built from explicit sources take any bytes).
   void dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size, std::initializer_list<const Buffer*> buffers,
-                    const void* params, size_t params_bytes);
+                    const void* params, size_t params_bytes, const std::type_info* params_type = nullptr);
   void barrier();
   void finish();
 
@@ -172,10 +185,12 @@ class Device {
   uint32_t groups_for(uint64_t items, uint32_t local_size) const;
 
   // For runtime tests: build a kernel from explicit sources (bypassing the embedded registry).
+  // `args_in_buffer`: the SPIR-V reads its arguments through a parameter buffer (compiled with MV_ARGS_BUFFER).
   Kernel& kernel_from_source(const std::string& name, const char* cl_source, const uint32_t* spirv,
-                             size_t spirv_words);
+                             size_t spirv_words, bool args_in_buffer = false);
 
  private:
+  Kernel& add_kernel(const rt::KernelDesc& desc);
   Device() = default;
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -52,6 +52,7 @@ struct VulkanKernel final : BackendKernel {
   std::string name;
   VkShaderModule module = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
+  bool args_in_buffer = false;  // push one address; the arguments sit in a parameter buffer (MV_ARGS_BUFFER)
   std::unordered_map<uint32_t, VkPipeline> pipelines;  // by local size
 
   VulkanKernel(VkDevice d, std::string n) : device(d), name(std::move(n)) {}
@@ -120,6 +121,9 @@ class VulkanBackend final : public Backend {
   // vulkan_commands.cpp
   VkCommandBuffer recording();
   void collect_timings(uint32_t queries, const std::vector<std::string>& names);
+  // Copies one dispatch's arguments into the parameter buffers and returns their device address; valid
+  // until finish() (recorded work runs no later), after which the space is reused.
+  VkDeviceAddress argument_block(const void* bytes, size_t size);
 
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
@@ -141,6 +145,12 @@ class VulkanBackend final : public Backend {
   uint32_t queries_used_ = 0;
   std::vector<std::string> query_names_;  // kernel of each timestamp pair in the current recording
   std::vector<KernelTiming> timings_;
+
+  // Parameter buffers for kernels whose arguments exceed the push constants: host-visible chunks filled
+  // front to back during a recording. A few KiB per recording, outside the page pool's budget.
+  std::vector<std::unique_ptr<VulkanArena>> arg_chunks_;
+  size_t arg_chunk_ = 0;
+  uint64_t arg_used_ = 0;
 };
 
 }  // namespace mv::rt::vulkan

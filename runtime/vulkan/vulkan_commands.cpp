@@ -38,18 +38,29 @@ void VulkanBackend::dispatch(BackendKernel& k, uint32_t groups, uint32_t local_s
   if (groups > info_.max_groups)
     fail("kernel '" + kernel.name + "': " + std::to_string(groups) + " groups exceed the device limit of " +
          std::to_string(info_.max_groups));
-  const size_t push_bytes = 8 * buffers.size() + params_bytes;
-  if (push_bytes > kMaxPushBytes)
+  // The arguments, laid out as the shader's Args block (std430): buffer addresses, then the parameters.
+  const size_t arg_bytes = 8 * buffers.size() + params_bytes;
+  if (arg_bytes > kMaxArgBytes)
+    fail("kernel '" + kernel.name + "': " + std::to_string(arg_bytes) + " argument bytes exceed " +
+         std::to_string(kMaxArgBytes));
+  if (arg_bytes > kMaxPushBytes && !kernel.args_in_buffer)
     fail("kernel '" + kernel.name + "': " + std::to_string(buffers.size()) + " buffers and " +
          std::to_string(params_bytes) + " parameter bytes exceed the " + std::to_string(kMaxPushBytes) +
-         "-byte push-constant limit");
-  std::array<unsigned char, kMaxPushBytes> push{};
+         "-byte push-constant limit (declare it with MV_ARGS_BUFFER in kernels/kernels.cmake)");
+  std::array<unsigned char, kMaxArgBytes> args{};
   for (size_t i = 0; i < buffers.size(); ++i) {
     // A null (empty) buffer passes address 0, as OpenCL passes a null cl_mem: the kernel must not touch it.
     const VkDeviceAddress address = buffers[i] ? as_vk(*buffers[i]).address : 0;
-    std::memcpy(push.data() + 8 * i, &address, sizeof(address));
+    std::memcpy(args.data() + 8 * i, &address, sizeof(address));
   }
-  if (params_bytes) std::memcpy(push.data() + 8 * buffers.size(), params, params_bytes);
+  if (params_bytes) std::memcpy(args.data() + 8 * buffers.size(), params, params_bytes);
+  size_t push_bytes = arg_bytes;
+  if (kernel.args_in_buffer) {  // push only the address of a copy in a parameter buffer
+    const VkDeviceAddress block = argument_block(args.data(), arg_bytes);
+    std::memcpy(args.data(), &block, sizeof(block));
+    push_bytes = sizeof(block);
+  }
+  const auto& push = args;
 
   const VkPipeline pipeline = pipeline_for(kernel, local_size);
   const bool timed = profiling_;
@@ -68,6 +79,29 @@ void VulkanBackend::dispatch(BackendKernel& k, uint32_t groups, uint32_t local_s
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, queries_used_++);
     query_names_.push_back(kernel.name);
   }
+}
+
+VkDeviceAddress VulkanBackend::argument_block(const void* bytes, size_t size) {
+  constexpr uint64_t kChunkBytes = 64 << 10;
+  const uint64_t need = (size + 15) & ~uint64_t{15};  // 16-byte aligned blocks (std430 alignment of any field)
+  if (arg_chunk_ < arg_chunks_.size() && arg_used_ + need > arg_chunks_[arg_chunk_]->bytes) {
+    ++arg_chunk_;
+    arg_used_ = 0;
+  }
+  if (arg_chunk_ == arg_chunks_.size()) {
+    arg_chunks_.push_back(allocate(kChunkBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                                    VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                   {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                        VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                    VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
+    if (!arg_chunks_.back()->mapped) fail("no host-visible memory for kernel parameter buffers on " + info_.name);
+    arg_used_ = 0;
+  }
+  VulkanArena& chunk = *arg_chunks_[arg_chunk_];
+  std::memcpy(static_cast<unsigned char*>(chunk.mapped) + arg_used_, bytes, size);
+  const VkDeviceAddress address = chunk.address + arg_used_;
+  arg_used_ += need;
+  return address;
 }
 
 void VulkanBackend::barrier() {
@@ -101,6 +135,8 @@ void VulkanBackend::finish() {
   check(waited, "vkWaitForFences");
   check(vkResetFences(device_, 1, &fence_), "vkResetFences");
   check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+  arg_chunk_ = 0;  // the recorded work that read the parameter buffers is done
+  arg_used_ = 0;
   if (queries) collect_timings(queries, names);
 }
 

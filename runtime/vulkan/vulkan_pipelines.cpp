@@ -25,6 +25,7 @@ BackendKernel& VulkanBackend::kernel(const KernelDesc& desc) {
   }
 
   auto k = std::make_unique<VulkanKernel>(device_, desc.name);
+  k->args_in_buffer = desc.args_in_buffer;
   auto mi = vk<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
   mi.codeSize = desc.spirv_words * sizeof(uint32_t);
   mi.pCode = desc.spirv;

@@ -11,6 +11,8 @@
 #include <map>
 #include <memory>
 
+#include <unistd.h>
+
 #include "host/io/mesh_source.h"
 #include "host/ref/reference.h"
 #include "megavox/voxelize.h"
@@ -25,6 +27,20 @@ const std::vector<DeviceInfo>& all_devices() {
 std::vector<char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string temp_path(const std::string& name) {
+  namespace fs = std::filesystem;
+  struct Folder {
+    fs::path path = fs::temp_directory_path() / ("megavox_test_" + std::to_string(::getpid()));
+    Folder() { fs::create_directories(path); }
+    ~Folder() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  };
+  static const Folder folder;
+  return (folder.path / name).string();
 }
 
 Device& shared_device(const DeviceInfo& info) {

@@ -22,6 +22,10 @@ Device& shared_device(const DeviceInfo& info);
 // Every byte of a file (empty when it cannot be read).
 std::vector<char> file_bytes(const std::string& path);
 
+// A path for `name` in this test process's own temporary folder, removed at exit: ctest runs a test's
+// instances for the different devices at the same time.
+std::string temp_path(const std::string& name);
+
 // "pocl_ocl0", "llvmpipe_vk0": a gtest-safe name that carries the backend.
 std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& info);
 

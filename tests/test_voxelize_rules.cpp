@@ -94,14 +94,16 @@ TEST(ThinRule, AxisAlignedTriangleIsOneLayerThick) {
   for (uint64_t k : top) EXPECT_EQ(ref::morton3(0, 0, 7, 21), k & ref::morton3(0, 0, 0x1fffff, 21));
 }
 
-TEST(ThinRule, WithinConservativeAndThinner) {
+class ThinRuleTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(ThinRuleTest, WithinConservativeAndThinner) {
   std::vector<std::pair<std::string, std::vector<float>>> cases = {{"octahedron", octahedron_grid_triangles(128)},
                                                                    {"random", test_triangles(64, 7)}};
   for (const char* mesh : {"meshes_stanford/bunny_npm_small.ply", "meshes_misc/fandisk.ply", "meshes_misc/spot.ply"}) {
     std::string path = shared_data_file(mesh);
     if (!path.empty()) cases.push_back({mesh, mesh_grid_triangles(path, 256, parse_grid_origin("min"))});
   }
-  Device& dev = shared_device(all_devices().front());
+  Device& dev = shared_device(GetParam());
   for (auto& [name, tris] : cases) {
     const uint32_t n = name == "random" ? 64 : name == "octahedron" ? 128 : 256;
     Voxelizer cons(dev, n), thin(dev, n, Voxelizer::Rule::kThin);
@@ -113,6 +115,8 @@ TEST(ThinRule, WithinConservativeAndThinner) {
     EXPECT_GT(t.size(), c.size() / 4) << name;
   }
 }
+
+MV_INSTANTIATE_ON_ALL_DEVICES(ThinRuleTest);
 
 TEST(VoxelRules, MovingByWholeVoxelsMovesTheVoxels) {
   // Vertices on a 1/64 lattice, so adding whole voxels is exact in float.

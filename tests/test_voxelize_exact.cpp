@@ -79,7 +79,9 @@ std::vector<uint64_t> exact_voxels(const std::vector<float>& tris, uint32_t n) {
   return keys;
 }
 
-TEST(ConservativeVoxelization, MatchesAnExactRationalCount) {
+class ConservativeVoxelizationTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(ConservativeVoxelizationTest, MatchesAnExactRationalCount) {
   // random triangles (large ones too, hence the small grid), a closed solid and real meshes
   std::vector<std::pair<std::string, std::vector<float>>> cases = {{"random", test_triangles(16, 21)},
                                                                    {"octahedron", octahedron_grid_triangles(64)}};
@@ -90,17 +92,16 @@ TEST(ConservativeVoxelization, MatchesAnExactRationalCount) {
   for (auto& [name, tris] : cases) {
     const uint32_t n = name == "random" ? 16 : 64;
     const std::vector<uint64_t> exact = exact_voxels(tris, n);
-    for (const DeviceInfo& d : all_devices()) {
-      Voxelizer vox(shared_device(d), n);
-      vox.add(tris);
-      std::vector<uint64_t> got = vox.take_keys(), diff;
-      std::set_symmetric_difference(got.begin(), got.end(), exact.begin(), exact.end(), std::back_inserter(diff));
-      std::printf("%s on %s: %zu voxels, exact count %zu, %zu differ\n", name.c_str(), d.selector().c_str(),
-                  got.size(), exact.size(), diff.size());
-      EXPECT_LE(double(diff.size()), 0.0005 * double(exact.size())) << name << " on " << d.selector();
-    }
+    Voxelizer vox(shared_device(GetParam()), n);
+    vox.add(tris);
+    std::vector<uint64_t> got = vox.take_keys(), diff;
+    std::set_symmetric_difference(got.begin(), got.end(), exact.begin(), exact.end(), std::back_inserter(diff));
+    std::printf("%s: %zu voxels, exact count %zu, %zu differ\n", name.c_str(), got.size(), exact.size(), diff.size());
+    EXPECT_LE(double(diff.size()), 0.0005 * double(exact.size())) << name;
   }
 }
+
+MV_INSTANTIATE_ON_ALL_DEVICES(ConservativeVoxelizationTest);
 
 }  // namespace
 }  // namespace mv::test

@@ -94,20 +94,15 @@ TEST_P(BuildJobTest, ObjAndPlyGiveTheSameVoxels) {
 }
 
 TEST_P(BuildJobTest, SharedMeshAsObjMatchesItsPly) {
-  const char* env = std::getenv("MEGAVOX_TEST_DATA");
-  fs::path data = env ? fs::path(env) : fs::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
-  fs::path ply = data / "meshes_misc" / "spot.ply";
-  if (!fs::exists(ply)) {
-    std::printf("shared data not found at %s: skipping the shared-mesh OBJ check\n", data.string().c_str());
-    return;
-  }
-  io::PlyMeshReader reader(ply.string());
+  MV_SKIP_WITHOUT_SHARED_DATA("meshes_misc/spot.ply");
+  const std::string ply = shared_data_file("meshes_misc/spot.ply");
+  io::PlyMeshReader reader(ply);
   std::vector<uint32_t> idx, all;
   while (reader.next_triangles(idx, 1 << 20)) all.insert(all.end(), idx.begin(), idx.end());
   const std::string obj = temp_path("spot.obj");
   write_obj(obj, reader.positions(), all);
   Device& dev = shared_device(GetParam());
-  EXPECT_TRUE(built_words(dev, ply.string(), "ssvdag") == built_words(dev, obj, "ssvdag"));
+  EXPECT_TRUE(built_words(dev, ply, "ssvdag") == built_words(dev, obj, "ssvdag"));
   fs::remove(obj);
 }
 

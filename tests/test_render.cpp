@@ -109,7 +109,7 @@ TEST_P(RenderTest, BadCamerasAndOptionsAreErrors) {
 MV_INSTANTIATE_ON_ALL_DEVICES(RenderTest);
 
 TEST(Render, DevicesGiveTheSameBytes) {
-  if (all_devices().size() < 2) GTEST_SKIP() << "one device";
+  if (all_devices().size() < 2) GTEST_SKIP() << "fewer than two devices to compare";
   RenderOptions o;
   o.width = 64;
   o.height = 48;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -64,14 +63,16 @@ std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& p) {
   return tag + "_" + d.backend + "_" + sel;
 }
 
-std::string shared_data_file(const std::string& relative) {
+std::string shared_data_path(const std::string& relative) {
   const char* env = std::getenv("MEGAVOX_TEST_DATA");
   std::filesystem::path data =
-      env ? std::filesystem::path(env) : std::filesystem::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
-  std::filesystem::path file = data / relative;
-  if (std::filesystem::exists(file)) return file.string();
-  std::printf("shared data not found at %s: skipping the checks on %s\n", data.string().c_str(), relative.c_str());
-  return "";
+      env && *env ? std::filesystem::path(env) : std::filesystem::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
+  return (data / relative).lexically_normal().string();
+}
+
+std::string shared_data_file(const std::string& relative) {
+  std::string path = shared_data_path(relative);
+  return std::filesystem::exists(path) ? path : "";
 }
 
 std::vector<float> mesh_grid_triangles(const std::string& path, uint32_t resolution, const GridPlacement& placement) {

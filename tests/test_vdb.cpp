@@ -108,17 +108,12 @@ TEST(Vdb, DamagedFileIsAClearError) {
 }
 
 TEST(Vdb, SharedSamples) {
-  const char* env = std::getenv("MEGAVOX_TEST_DATA");
-  fs::path data = env ? fs::path(env) : fs::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
-  fs::path sphere = data / "openvdb_samples" / "sphere.vdb";
-  if (!fs::exists(sphere)) {
-    std::printf("shared data not found at %s: skipping the OpenVDB sample checks\n", data.string().c_str());
-    return;
-  }
-  io::VdbVoxels s = io::read_vdb(sphere.string(), "", 0);
+  MV_SKIP_WITHOUT_SHARED_DATA("openvdb_samples/sphere.vdb");
+  MV_SKIP_WITHOUT_SHARED_DATA("openvdb_samples/smoke.vdb");
+  io::VdbVoxels s = io::read_vdb(shared_data_file("openvdb_samples/sphere.vdb"), "", 0);
   EXPECT_EQ(s.grid_name, "ls_sphere");
   EXPECT_GT(s.keys.size(), 10000u);
-  io::VdbVoxels smoke = io::read_vdb((data / "openvdb_samples" / "smoke.vdb").string(), "density", 0);
+  io::VdbVoxels smoke = io::read_vdb(shared_data_file("openvdb_samples/smoke.vdb"), "density", 0);
   EXPECT_EQ(smoke.grid_class, "fog volume");
   EXPECT_GT(smoke.keys.size(), 100000u);
 }

@@ -56,17 +56,17 @@ std::vector<uint64_t> random_u64(size_t n, uint64_t seed);
 
 // Parameterizes `suite` over every device. With none found the suite has no tests, which is allowed here:
 // Environment.SomeDeviceIsFound fails instead, saying what to install.
-#define MV_INSTANTIATE_ON_ALL_DEVICES(suite)                                                                       \
-  INSTANTIATE_TEST_SUITE_P(Devices, suite, ::testing::ValuesIn(::mv::test::all_devices()),                         \
-                           ::mv::test::device_test_name);                                                          \
+#define MV_INSTANTIATE_ON_ALL_DEVICES(suite)                                                                          \
+  INSTANTIATE_TEST_SUITE_P(Devices, suite, ::testing::ValuesIn(::mv::test::all_devices()),                            \
+                           ::mv::test::device_test_name);                                                             \
   GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(suite)
 
 // Skips the running test, with one line naming the missing file, unless the shared test data holds `relative`.
-#define MV_SKIP_WITHOUT_SHARED_DATA(relative)                                                                  \
-  do {                                                                                                         \
-    if (::mv::test::shared_data_file(relative).empty())                                                        \
-      GTEST_SKIP() << "shared data not found: " << ::mv::test::shared_data_path(relative)                      \
-                   << " (stage ../shared/data or set MEGAVOX_TEST_DATA)";                                      \
+#define MV_SKIP_WITHOUT_SHARED_DATA(relative)                                                                         \
+  do {                                                                                                                \
+    if (::mv::test::shared_data_file(relative).empty())                                                               \
+      GTEST_SKIP() << "shared data not found: " << ::mv::test::shared_data_path(relative)                             \
+                   << " (stage ../shared/data or set MEGAVOX_TEST_DATA)";                                             \
   } while (0)
 
 namespace mv {

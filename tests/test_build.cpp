@@ -17,8 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("megavox_build_" + name)).string(); }
-
 // A bumpy closed mesh (a displaced icosphere-like grid on a sphere): vertices and triangles.
 void bumpy_sphere(std::vector<float>& pos, std::vector<uint32_t>& idx, int rings = 24, int segs = 48) {
   for (int r = 0; r <= rings; ++r)
@@ -77,14 +75,16 @@ std::vector<uint32_t> built_words(Device& dev, const std::string& input, const s
   return f.dag.words;
 }
 
-TEST(BuildJob, ObjAndPlyGiveTheSameVoxels) {
+class BuildJobTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(BuildJobTest, ObjAndPlyGiveTheSameVoxels) {
   std::vector<float> pos;
   std::vector<uint32_t> idx;
   bumpy_sphere(pos, idx);
   const std::string ply = temp_path("mesh.ply"), obj = temp_path("mesh.obj");
   write_ply(ply, pos, idx);
   write_obj(obj, pos, idx);
-  Device& dev = shared_device(all_devices().front());
+  Device& dev = shared_device(GetParam());
   auto a = built_words(dev, ply, "svdag");
   auto b = built_words(dev, obj, "svdag");
   EXPECT_FALSE(a.empty());
@@ -93,27 +93,22 @@ TEST(BuildJob, ObjAndPlyGiveTheSameVoxels) {
   fs::remove(obj);
 }
 
-TEST(BuildJob, SharedMeshAsObjMatchesItsPly) {
-  const char* env = std::getenv("MEGAVOX_TEST_DATA");
-  fs::path data = env ? fs::path(env) : fs::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
-  fs::path ply = data / "meshes_misc" / "spot.ply";
-  if (!fs::exists(ply)) {
-    std::printf("shared data not found at %s: skipping the shared-mesh OBJ check\n", data.string().c_str());
-    return;
-  }
-  io::PlyMeshReader reader(ply.string());
+TEST_P(BuildJobTest, SharedMeshAsObjMatchesItsPly) {
+  MV_SKIP_WITHOUT_SHARED_DATA("meshes_misc/spot.ply");
+  const std::string ply = shared_data_file("meshes_misc/spot.ply");
+  io::PlyMeshReader reader(ply);
   std::vector<uint32_t> idx, all;
   while (reader.next_triangles(idx, 1 << 20)) all.insert(all.end(), idx.begin(), idx.end());
   const std::string obj = temp_path("spot.obj");
   write_obj(obj, reader.positions(), all);
-  Device& dev = shared_device(all_devices().front());
-  EXPECT_TRUE(built_words(dev, ply.string(), "ssvdag") == built_words(dev, obj, "ssvdag"));
+  Device& dev = shared_device(GetParam());
+  EXPECT_TRUE(built_words(dev, ply, "ssvdag") == built_words(dev, obj, "ssvdag"));
   fs::remove(obj);
 }
 
-TEST(BuildJob, HostMemoryBudgetIsEnforced) {
+TEST_P(BuildJobTest, HostMemoryBudgetIsEnforced) {
   const std::string ply = sphere_ply("budget.ply");
-  Device& dev = shared_device(all_devices().front());
+  Device& dev = shared_device(GetParam());
   BuildOptions o;
   o.input = ply;
   o.output = temp_path("budget.mvx");
@@ -144,10 +139,10 @@ std::vector<char> built_file(Device& dev, const BuildOptions& o, BuildReport& r)
 }
 
 // Out of core, triangles past a quarter of --memory spill to a temporary file; the file built is the same.
-TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
+TEST_P(BuildJobTest, SpilledTrianglesGiveTheSameFile) {
   const std::string ply = sphere_ply("spill.ply", 160, 320);  // 102,400 triangles: 3.7 MB in grid units
   const uint64_t pos_bytes = 161 * 320 * 12;                    // over the 2 MiB budget's 512 KiB share
-  Device& dev = shared_device(all_devices().front());
+  Device& dev = shared_device(GetParam());
   BuildOptions o;
   o.input = ply;
   o.resolution = 256;
@@ -168,7 +163,7 @@ TEST(BuildJob, SpilledTrianglesGiveTheSameFile) {
 }
 
 // A cube that does not fit --device-memory is retried at half the size; the file is the same.
-TEST(BuildJob, CubesShrinkToFitDeviceMemory) {
+TEST_P(BuildJobTest, CubesShrinkToFitDeviceMemory) {
   const std::string ply = sphere_ply("shrink.ply");
   BuildOptions o;
   o.input = ply;
@@ -178,7 +173,7 @@ TEST(BuildJob, CubesShrinkToFitDeviceMemory) {
   o.placement = parse_grid_bounds("-1.2,-1.2,-1.2,4.8");  // the sphere inside the first cube: cubes dwarf the merge
   std::vector<std::vector<char>> files;
   for (uint64_t budget : {uint64_t{0}, uint64_t{6} << 20}) {  // the default, then one a 512^3 cube overflows
-    auto dev = Device::open({all_devices().front().selector(), budget, false});
+    auto dev = Device::open({GetParam().selector(), budget, false});
     o.output = temp_path("shrink_" + std::to_string(budget) + ".mvx");
     BuildReport r;
     files.push_back(built_file(*dev, o, r));
@@ -194,8 +189,8 @@ TEST(BuildJob, CubesShrinkToFitDeviceMemory) {
   fs::remove(ply);
 }
 
-TEST(BuildJob, BadInputsAreClearErrorsAndWriteNothing) {
-  Device& dev = shared_device(all_devices().front());
+TEST_P(BuildJobTest, BadInputsAreClearErrorsAndWriteNothing) {
+  Device& dev = shared_device(GetParam());
   BuildOptions o;
   o.output = temp_path("never.mvx");
   o.resolution = 64;
@@ -225,6 +220,8 @@ TEST(BuildJob, BadInputsAreClearErrorsAndWriteNothing) {
   fs::remove(bad_obj);
   fs::remove(bad_ply);
 }
+
+MV_INSTANTIATE_ON_ALL_DEVICES(BuildJobTest);
 
 }  // namespace
 }  // namespace mv::test

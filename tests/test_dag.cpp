@@ -117,8 +117,8 @@ TEST(DagBuild, BrickAndMaskReflectionsMoveEveryBit) {
   }
 }
 
-TEST(DagBuild, RejectsKeysOutsideTheGrid) {
-  EXPECT_THROW(build_svdag(shared_device(all_devices().front()), {ref::morton3(8, 0, 0, 21)}, 3), Error);
+TEST_P(DagTest, RejectsKeysOutsideTheGrid) {
+  EXPECT_THROW(build_svdag(shared_device(GetParam()), {ref::morton3(8, 0, 0, 21)}, 3), Error);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(DagTest);

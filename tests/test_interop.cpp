@@ -7,7 +7,6 @@
 #include <openvdb/openvdb.h>
 
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -22,10 +21,6 @@
 
 namespace mv::test {
 namespace {
-
-namespace fs = std::filesystem;
-std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("megavox_interop_" + name)).string(); }
-
 
 void spit(const std::string& path, const std::vector<char>& bytes) {
   std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
@@ -151,8 +146,11 @@ std::string write_mvx_of(Device& dev, const std::vector<uint64_t>& keys, uint32_
 
 const char* kLayouts[] = {"symvox-svdag", "symvox-ussvdag", "symvox-ssvdag"};
 
-TEST(SymVox, ExportsReadLikeSymVoxAndRoundTrip) {
-  Device& dev = shared_device(all_devices().front());
+class SymVoxTest : public ::testing::TestWithParam<DeviceInfo> {};
+class VdbExportTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(SymVoxTest, ExportsReadLikeSymVoxAndRoundTrip) {
+  Device& dev = shared_device(GetParam());
   for (auto& [name, keys] : voxel_sets(6)) {
     for (const char* from : {"svdag", "ssvdag"}) {
       const std::string mvx = write_mvx_of(dev, keys, 6, from, "in.mvx");
@@ -174,9 +172,9 @@ TEST(SymVox, ExportsReadLikeSymVoxAndRoundTrip) {
   }
 }
 
-TEST(SymVox, MirrorBitsAreUsed) {
+TEST_P(SymVoxTest, MirrorBitsAreUsed) {
   // The shell is full of mirror images: the .ussvdag must carry mirror bits and still read back exactly.
-  Device& dev = shared_device(all_devices().front());
+  Device& dev = shared_device(GetParam());
   auto sets = voxel_sets(6);
   const std::string mvx = write_mvx_of(dev, sets[1].second, 6, "ssvdag", "shell.mvx");
   export_mvx(dev, {mvx, temp_path("shell.ussvdag"), "symvox-ussvdag"});
@@ -185,10 +183,10 @@ TEST(SymVox, MirrorBitsAreUsed) {
   EXPECT_EQ(f.levels, 6u);
 }
 
-TEST(SymVox, VoxcomFilesAreRecognisedAndUntransposed) {
+TEST_P(SymVoxTest, VoxcomFilesAreRecognisedAndUntransposed) {
   // voxcom writes the 32-bit layout with Morton child order (x + 2y + 4z) and the cube at the bbox's min
   // corner in voxel units: read with SymVox's order that is the model with x and z swapped.
-  Device& dev = shared_device(all_devices().front());
+  Device& dev = shared_device(GetParam());
   auto keys = voxel_sets(5)[0].second;
   std::vector<uint64_t> swapped;
   for (uint64_t k : keys) {
@@ -227,8 +225,8 @@ TEST(SymVox, VoxcomFilesAreRecognisedAndUntransposed) {
   EXPECT_FALSE(as_symvox == keys);
 }
 
-TEST(SymVox, CorruptAndTruncatedFilesAreClearErrors) {
-  Device& dev = shared_device(all_devices().front());
+TEST_P(SymVoxTest, CorruptAndTruncatedFilesAreClearErrors) {
+  Device& dev = shared_device(GetParam());
   auto keys = voxel_sets(5)[1].second;
   const std::string mvx = write_mvx_of(dev, keys, 5, "ssvdag", "bad.mvx");
   std::mt19937 rng(9);
@@ -273,8 +271,8 @@ TEST(SymVox, CorruptAndTruncatedFilesAreClearErrors) {
   EXPECT_THROW(io::read_symvox(temp_path("text.svdag")), Error);
 }
 
-TEST(VdbExport, OpenVdbAndNanoVdbHoldTheSameActiveVoxels) {
-  Device& dev = shared_device(all_devices().front());
+TEST_P(VdbExportTest, OpenVdbAndNanoVdbHoldTheSameActiveVoxels) {
+  Device& dev = shared_device(GetParam());
   auto keys = voxel_sets(6)[1].second;
   const std::string mvx = write_mvx_of(dev, keys, 6, "svdag", "v.mvx");
   export_mvx(dev, {mvx, temp_path("v.vdb"), "vdb"});
@@ -321,6 +319,9 @@ TEST(VdbExport, OpenVdbAndNanoVdbHoldTheSameActiveVoxels) {
   EXPECT_EQ(r.vdb_class, "mask");
   EXPECT_THROW(export_mvx(dev, {mvx, temp_path("x"), "obj"}), Error);
 }
+
+MV_INSTANTIATE_ON_ALL_DEVICES(SymVoxTest);
+MV_INSTANTIATE_ON_ALL_DEVICES(VdbExportTest);
 
 }  // namespace
 }  // namespace mv::test

@@ -18,18 +18,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Dag sample_dag(std::vector<uint64_t>* voxels_out = nullptr) {
+Dag sample_dag(Device& dev, std::vector<uint64_t>* voxels_out = nullptr) {
   std::mt19937_64 rng(9);
   std::vector<uint64_t> v;
   for (int i = 0; i < 2000; ++i) v.push_back(ref::morton3(rng() % 64, rng() % 64, (rng() % 8) * 8, 21));
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
   if (voxels_out) *voxels_out = v;
-  return build_svdag(shared_device(all_devices().front()), v, 6);
+  return build_svdag(dev, v, 6);
 }
 
-MvxFile sample_file(std::vector<uint64_t>* voxels = nullptr) {
-  Dag dag = sample_dag(voxels);
+MvxFile sample_file(Device& dev, std::vector<uint64_t>* voxels = nullptr) {
+  Dag dag = sample_dag(dev, voxels);
   MvxFile f;
   f.grid.resolution = 64;
   f.grid.voxel_size = 0.5;
@@ -44,20 +44,16 @@ MvxFile sample_file(std::vector<uint64_t>* voxels = nullptr) {
   return f;
 }
 
-std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("megavox_test_" + name)).string(); }
-
-std::vector<char> read_all(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::vector<char>(std::istreambuf_iterator<char>(in), {});
-}
-
 void write_all(const std::string& p, const std::vector<char>& bytes) {
   std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-TEST(Svdag, EncodesAndDecodesExactly) {
+class SvdagTest : public ::testing::TestWithParam<DeviceInfo> {};
+class MvxTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(SvdagTest, EncodesAndDecodesExactly) {
   std::vector<uint64_t> voxels;
-  Dag dag = sample_dag(&voxels);
+  Dag dag = sample_dag(shared_device(GetParam()), &voxels);
   EncodedDag enc = encode_svdag(dag);
   uint64_t expect_words = dag.nodes(1);
   for (uint32_t l = 2; l <= dag.levels; ++l) expect_words += dag.nodes(l) + dag.level[l].children.size();
@@ -68,8 +64,8 @@ TEST(Svdag, EncodesAndDecodesExactly) {
   EXPECT_EQ(thesis_octant(2), 2u);
 }
 
-TEST(Svdag, RejectsBadPointersAndHeaders) {
-  EncodedDag enc = encode_svdag(sample_dag());
+TEST_P(SvdagTest, RejectsBadPointersAndHeaders) {
+  EncodedDag enc = encode_svdag(sample_dag(shared_device(GetParam())));
   EncodedDag bad = enc;
   bad.words[1] = bad.words[1] + 1;  // the root's first pointer: no longer a node start
   EXPECT_THROW(validate_svdag(bad), Error);
@@ -84,9 +80,9 @@ TEST(Svdag, RejectsBadPointersAndHeaders) {
   EXPECT_THROW(validate_svdag(bad), Error);
 }
 
-TEST(Mvx, RoundTrip) {
+TEST_P(MvxTest, RoundTrip) {
   std::vector<uint64_t> voxels;
-  MvxFile f = sample_file(&voxels);
+  MvxFile f = sample_file(shared_device(GetParam()), &voxels);
   const std::string p = temp_path("roundtrip.mvx");
   write_mvx(p, f);
   EXPECT_FALSE(fs::exists(p + ".tmp"));
@@ -102,11 +98,11 @@ TEST(Mvx, RoundTrip) {
   fs::remove(p);
 }
 
-TEST(Mvx, DamageIsAClearError) {
-  MvxFile f = sample_file();
+TEST_P(MvxTest, DamageIsAClearError) {
+  MvxFile f = sample_file(shared_device(GetParam()));
   const std::string p = temp_path("damage.mvx");
   write_mvx(p, f);
-  const std::vector<char> good = read_all(p);
+  const std::vector<char> good = file_bytes(p);
   const std::string q = temp_path("damaged.mvx");
   auto expect_error = [&](const std::vector<char>& bytes, const std::string& words) {
     write_all(q, bytes);
@@ -152,8 +148,8 @@ TEST(Mvx, DamageIsAClearError) {
   fs::remove(q);
 }
 
-TEST(Mvx, ValidChecksumsButBadPointersAreCaught) {
-  MvxFile f = sample_file();
+TEST_P(MvxTest, ValidChecksumsButBadPointersAreCaught) {
+  MvxFile f = sample_file(shared_device(GetParam()));
   f.dag.words[1] = 0;  // a cycle, written with correct checksums
   const std::string p = temp_path("cycle.mvx");
   write_mvx(p, f);
@@ -166,10 +162,13 @@ TEST(Mvx, ValidChecksumsButBadPointersAreCaught) {
   fs::remove(p);
 }
 
-TEST(Mvx, UnwritablePathIsAnErrorAndLeavesNothing) {
-  EXPECT_THROW(write_mvx("/nonexistent-dir/x.mvx", sample_file()), Error);
+TEST_P(MvxTest, UnwritablePathIsAnErrorAndLeavesNothing) {
+  EXPECT_THROW(write_mvx("/nonexistent-dir/x.mvx", sample_file(shared_device(GetParam()))), Error);
   EXPECT_FALSE(fs::exists("/nonexistent-dir/x.mvx.tmp"));
 }
+
+MV_INSTANTIATE_ON_ALL_DEVICES(SvdagTest);
+MV_INSTANTIATE_ON_ALL_DEVICES(MvxTest);
 
 }  // namespace
 }  // namespace mv::test
@@ -177,7 +176,9 @@ TEST(Mvx, UnwritablePathIsAnErrorAndLeavesNothing) {
 namespace mv::test {
 namespace {
 
-TEST(Ussvdag, EncodesAndDecodesExactly) {
+class UssvdagTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(UssvdagTest, EncodesAndDecodesExactly) {
   std::mt19937_64 rng(4);
   std::vector<uint64_t> v;
   for (int i = 0; i < 3000; ++i) {  // a model mirrored in x: many mirrored subtrees
@@ -187,7 +188,7 @@ TEST(Ussvdag, EncodesAndDecodesExactly) {
   }
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
-  Device& dev = shared_device(all_devices().front());
+  Device& dev = shared_device(GetParam());
   Dag sym = build_ssvdag(dev, v, 6);
   Dag plain = build_svdag(dev, v, 6);
   EncodedDag enc = encode_svdag(sym);
@@ -214,14 +215,18 @@ TEST(Ussvdag, EncodesAndDecodesExactly) {
   std::filesystem::remove(p);
 }
 
+MV_INSTANTIATE_ON_ALL_DEVICES(UssvdagTest);
+
 }  // namespace
 }  // namespace mv::test
 
 namespace mv::test {
 namespace {
 
-TEST(Ssvdag, CompactEncodingDecodesExactly) {
-  Device& dev = shared_device(all_devices().front());
+class SsvdagTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(SsvdagTest, CompactEncodingDecodesExactly) {
+  Device& dev = shared_device(GetParam());
   std::mt19937_64 rng(12);
   for (uint32_t levels : {3u, 5u, 7u}) {
     const uint32_t n = 1u << levels;
@@ -251,8 +256,8 @@ TEST(Ssvdag, CompactEncodingDecodesExactly) {
   }
 }
 
-TEST(Ssvdag, RejectsDamage) {
-  Device& dev = shared_device(all_devices().front());
+TEST_P(SsvdagTest, RejectsDamage) {
+  Device& dev = shared_device(GetParam());
   std::vector<uint64_t> v;
   for (uint32_t x = 0; x < 64; x += 3) v.push_back(ref::morton3(x, x / 2, 63 - x, 21));
   std::sort(v.begin(), v.end());
@@ -269,6 +274,8 @@ TEST(Ssvdag, RejectsDamage) {
   EXPECT_THROW(encode_ssvdag(build_ssvdag(dev, {0}, 2)), Error);
 }
 
+MV_INSTANTIATE_ON_ALL_DEVICES(SsvdagTest);
+
 }  // namespace
 }  // namespace mv::test
 
@@ -279,6 +286,7 @@ namespace {
 // At 512^3 the levels above 2 hold several thousand nodes: PoCL walks them in contiguous blocks (reusing a
 // run's results), lavapipe one node per invocation.
 TEST(Build, EveryDeviceWritesTheSameBytes) {
+  if (all_devices().empty()) GTEST_SKIP() << "no device (see Environment.SomeDeviceIsFound)";
   std::vector<float> tris = octahedron_grid_triangles(512);
   std::vector<std::vector<uint32_t>> svdag, ussvdag;
   std::vector<std::vector<uint16_t>> ssvdag;
@@ -303,6 +311,7 @@ TEST(Build, EveryDeviceWritesTheSameBytes) {
 // differing children, so candidate reflections are compared entry by entry (long inner loops per node, in
 // blocks on PoCL; llvmpipe caps a loop's iterations per invocation).
 TEST(Build, EveryDeviceReducesLargeHoledPlanesAlike) {
+  if (all_devices().empty()) GTEST_SKIP() << "no device (see Environment.SomeDeviceIsFound)";
   const uint32_t n = 512;
   std::mt19937 rng(7);
   std::vector<uint64_t> voxels;

@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <memory>
+
+#include <unistd.h>
 
 #include "host/io/mesh_source.h"
 #include "host/ref/reference.h"
@@ -25,6 +26,20 @@ const std::vector<DeviceInfo>& all_devices() {
 std::vector<char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string temp_path(const std::string& name) {
+  namespace fs = std::filesystem;
+  struct Folder {
+    fs::path path = fs::temp_directory_path() / ("megavox_test_" + std::to_string(::getpid()));
+    Folder() { fs::create_directories(path); }
+    ~Folder() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  };
+  static const Folder folder;
+  return (folder.path / name).string();
 }
 
 Device& shared_device(const DeviceInfo& info) {
@@ -48,14 +63,16 @@ std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& p) {
   return tag + "_" + d.backend + "_" + sel;
 }
 
-std::string shared_data_file(const std::string& relative) {
+std::string shared_data_path(const std::string& relative) {
   const char* env = std::getenv("MEGAVOX_TEST_DATA");
   std::filesystem::path data =
-      env ? std::filesystem::path(env) : std::filesystem::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
-  std::filesystem::path file = data / relative;
-  if (std::filesystem::exists(file)) return file.string();
-  std::printf("shared data not found at %s: skipping the checks on %s\n", data.string().c_str(), relative.c_str());
-  return "";
+      env && *env ? std::filesystem::path(env) : std::filesystem::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
+  return (data / relative).lexically_normal().string();
+}
+
+std::string shared_data_file(const std::string& relative) {
+  std::string path = shared_data_path(relative);
+  return std::filesystem::exists(path) ? path : "";
 }
 
 std::vector<float> mesh_grid_triangles(const std::string& path, uint32_t resolution, const GridPlacement& placement) {

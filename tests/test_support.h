@@ -13,7 +13,7 @@
 
 namespace mv::test {
 
-// All devices megavox sees. Read once.
+// All devices megavox sees. Read once. May be empty (see MV_INSTANTIATE_ON_ALL_DEVICES).
 const std::vector<DeviceInfo>& all_devices();
 
 // The device for `info`, opened on first use with the default budget and kept for the process.
@@ -22,18 +22,23 @@ Device& shared_device(const DeviceInfo& info);
 // Every byte of a file (empty when it cannot be read).
 std::vector<char> file_bytes(const std::string& path);
 
+// A path for `name` in this test process's own temporary folder, removed at exit: ctest runs a test's
+// instances for the different devices at the same time.
+std::string temp_path(const std::string& name);
+
 // "pocl_ocl0", "llvmpipe_vk0": a gtest-safe name that carries the backend.
 std::string device_test_name(const ::testing::TestParamInfo<DeviceInfo>& info);
 
-// An octahedron (8 triangles; its bottom vertex at y = `bottom`) placed on a grid of `resolution` voxels
-// per axis and given in grid units (9 floats per triangle), ready for a Voxelizer.
-// A file under the shared test data (${MEGAVOX_TEST_DATA:-<source>/../shared/data}), or "" after printing one
-// line when it is absent (a user's machine has no shared data).
+// Where a file of the shared test data (${MEGAVOX_TEST_DATA:-<source>/../shared/data}) is or would be.
+std::string shared_data_path(const std::string& relative);
+// That file, or "" when it is absent (a user's machine has no shared data; see MV_SKIP_WITHOUT_SHARED_DATA).
 std::string shared_data_file(const std::string& relative);
 
 // The triangles of a mesh file in grid units (9 floats each) on a grid placed by `placement`.
 std::vector<float> mesh_grid_triangles(const std::string& path, uint32_t resolution, const GridPlacement& placement = {});
 
+// An octahedron (8 triangles; its bottom vertex at y = `bottom`) placed on a grid of `resolution` voxels
+// per axis and given in grid units (9 floats per triangle), ready for a Voxelizer.
 std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom = -1.0f);
 
 // Voxel sets (sorted unique 64-bit Morton keys of a 2^levels grid) with little, some and much sharing:
@@ -49,9 +54,20 @@ std::vector<uint64_t> random_u64(size_t n, uint64_t seed);
 
 }  // namespace mv::test
 
-// Parameterizes `suite` over every device.
-#define MV_INSTANTIATE_ON_ALL_DEVICES(suite) \
-  INSTANTIATE_TEST_SUITE_P(Devices, suite, ::testing::ValuesIn(::mv::test::all_devices()), ::mv::test::device_test_name)
+// Parameterizes `suite` over every device. With none found the suite has no tests, which is allowed here:
+// Environment.SomeDeviceIsFound fails instead, saying what to install.
+#define MV_INSTANTIATE_ON_ALL_DEVICES(suite)                                                                          \
+  INSTANTIATE_TEST_SUITE_P(Devices, suite, ::testing::ValuesIn(::mv::test::all_devices()),                            \
+                           ::mv::test::device_test_name);                                                             \
+  GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(suite)
+
+// Skips the running test, with one line naming the missing file, unless the shared test data holds `relative`.
+#define MV_SKIP_WITHOUT_SHARED_DATA(relative)                                                                         \
+  do {                                                                                                                \
+    if (::mv::test::shared_data_file(relative).empty())                                                               \
+      GTEST_SKIP() << "shared data not found: " << ::mv::test::shared_data_path(relative)                             \
+                   << " (stage ../shared/data or set MEGAVOX_TEST_DATA)";                                             \
+  } while (0)
 
 namespace mv {
 // gtest prints parameters with this instead of a byte dump.

@@ -17,9 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("megavox_vdb_" + name)).string(); }
-
-TEST(Vdb, LevelSetSurfaceAndFogVoxels) {
+// A level-set sphere ("ball") and a fog volume ("density") with two voxels > 0, written to `path`; returns the
+// sphere.
+openvdb::FloatGrid::Ptr write_ball_and_fog(const std::string& path) {
   openvdb::initialize();
   auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(10.0f, openvdb::Vec3f(3, -2, 5), 0.5f);
   sphere->setName("ball");
@@ -29,12 +29,21 @@ TEST(Vdb, LevelSetSurfaceAndFogVoxels) {
   fog->tree().setValue(openvdb::Coord(1, 2, 3), 0.5f);
   fog->tree().setValue(openvdb::Coord(-4, 2, 3), 1.0f);
   fog->tree().setValue(openvdb::Coord(0, 0, 0), 0.0f);  // active but not > 0: not a voxel
-  const std::string path = temp_path("test.vdb");
   openvdb::io::File(path).write({sphere, fog});
+  return sphere;
+}
 
-  uint64_t expect = 0;
-  for (auto it = sphere->cbeginValueOn(); it; ++it)
-    if (std::abs(*it) <= 0.25f) ++expect;  // half of the 0.5 voxel size
+// The sphere's surface voxels: within half of the 0.5 voxel size.
+uint64_t surface_voxels(const openvdb::FloatGrid& sphere) {
+  uint64_t n = 0;
+  for (auto it = sphere.cbeginValueOn(); it; ++it)
+    if (std::abs(*it) <= 0.25f) ++n;
+  return n;
+}
+
+TEST(Vdb, LevelSetSurfaceAndFogVoxels) {
+  const std::string path = temp_path("test.vdb");
+  const uint64_t expect = surface_voxels(*write_ball_and_fog(path));
   io::VdbVoxels ball = io::read_vdb(path, "", 0);
   EXPECT_EQ(ball.grid_name, "ball");
   EXPECT_EQ(ball.grid_class, "level set");
@@ -65,19 +74,27 @@ TEST(Vdb, LevelSetSurfaceAndFogVoxels) {
   expect_small.erase(std::unique(expect_small.begin(), expect_small.end()), expect_small.end());
   EXPECT_TRUE(small.keys == expect_small);
   EXPECT_LT(small.keys.size(), ball.keys.size());
+  fs::remove(path);
+}
 
-  // Through the whole job: the file holds exactly those voxels.
-  Device& dev = shared_device(all_devices().front());
+class VdbTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+// Through the whole job: the file holds exactly the level set's surface voxels.
+TEST_P(VdbTest, BuildKeepsTheLevelSetSurface) {
+  const std::string path = temp_path("test.vdb");
+  const uint64_t expect = surface_voxels(*write_ball_and_fog(path));
   BuildOptions o;
   o.input = path;
   o.output = temp_path("ball.mvx");
   o.format = "ssvdag";
-  BuildReport r = build_mvx(dev, o);
+  BuildReport r = build_mvx(shared_device(GetParam()), o);
   EXPECT_EQ(r.voxels, expect);
-  EXPECT_TRUE(decode_encoded(read_mvx(o.output).dag) == ball.keys);
+  EXPECT_TRUE(decode_encoded(read_mvx(o.output).dag) == io::read_vdb(path, "", 0).keys);
   fs::remove(o.output);
   fs::remove(path);
 }
+
+MV_INSTANTIATE_ON_ALL_DEVICES(VdbTest);
 
 TEST(Vdb, DamagedFileIsAClearError) {
   const std::string path = temp_path("damaged.vdb");
@@ -91,17 +108,12 @@ TEST(Vdb, DamagedFileIsAClearError) {
 }
 
 TEST(Vdb, SharedSamples) {
-  const char* env = std::getenv("MEGAVOX_TEST_DATA");
-  fs::path data = env ? fs::path(env) : fs::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";
-  fs::path sphere = data / "openvdb_samples" / "sphere.vdb";
-  if (!fs::exists(sphere)) {
-    std::printf("shared data not found at %s: skipping the OpenVDB sample checks\n", data.string().c_str());
-    return;
-  }
-  io::VdbVoxels s = io::read_vdb(sphere.string(), "", 0);
+  MV_SKIP_WITHOUT_SHARED_DATA("openvdb_samples/sphere.vdb");
+  MV_SKIP_WITHOUT_SHARED_DATA("openvdb_samples/smoke.vdb");
+  io::VdbVoxels s = io::read_vdb(shared_data_file("openvdb_samples/sphere.vdb"), "", 0);
   EXPECT_EQ(s.grid_name, "ls_sphere");
   EXPECT_GT(s.keys.size(), 10000u);
-  io::VdbVoxels smoke = io::read_vdb((data / "openvdb_samples" / "smoke.vdb").string(), "density", 0);
+  io::VdbVoxels smoke = io::read_vdb(shared_data_file("openvdb_samples/smoke.vdb"), "density", 0);
   EXPECT_EQ(smoke.grid_class, "fog volume");
   EXPECT_GT(smoke.keys.size(), 100000u);
 }

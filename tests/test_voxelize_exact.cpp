@@ -79,28 +79,34 @@ std::vector<uint64_t> exact_voxels(const std::vector<float>& tris, uint32_t n) {
   return keys;
 }
 
-TEST(ConservativeVoxelization, MatchesAnExactRationalCount) {
-  // random triangles (large ones too, hence the small grid), a closed solid and real meshes
-  std::vector<std::pair<std::string, std::vector<float>>> cases = {{"random", test_triangles(16, 21)},
-                                                                   {"octahedron", octahedron_grid_triangles(64)}};
-  for (const char* mesh : {"meshes_stanford/bunny_npm_small.ply", "meshes_misc/fandisk.ply"}) {
-    std::string path = shared_data_file(mesh);
-    if (!path.empty()) cases.push_back({mesh, mesh_grid_triangles(path, 64, parse_grid_origin("min"))});
-  }
-  for (auto& [name, tris] : cases) {
-    const uint32_t n = name == "random" ? 16 : 64;
-    const std::vector<uint64_t> exact = exact_voxels(tris, n);
-    for (const DeviceInfo& d : all_devices()) {
-      Voxelizer vox(shared_device(d), n);
-      vox.add(tris);
-      std::vector<uint64_t> got = vox.take_keys(), diff;
-      std::set_symmetric_difference(got.begin(), got.end(), exact.begin(), exact.end(), std::back_inserter(diff));
-      std::printf("%s on %s: %zu voxels, exact count %zu, %zu differ\n", name.c_str(), d.selector().c_str(),
-                  got.size(), exact.size(), diff.size());
-      EXPECT_LE(double(diff.size()), 0.0005 * double(exact.size())) << name << " on " << d.selector();
-    }
-  }
+// The device's conservative voxels of `tris` (grid units, n voxels per axis) against the exact count.
+void expect_exact_count(Device& dev, const std::string& name, const std::vector<float>& tris, uint32_t n) {
+  const std::vector<uint64_t> exact = exact_voxels(tris, n);
+  Voxelizer vox(dev, n);
+  vox.add(tris);
+  std::vector<uint64_t> got = vox.take_keys(), diff;
+  std::set_symmetric_difference(got.begin(), got.end(), exact.begin(), exact.end(), std::back_inserter(diff));
+  std::printf("%s: %zu voxels, exact count %zu, %zu differ\n", name.c_str(), got.size(), exact.size(), diff.size());
+  EXPECT_LE(double(diff.size()), 0.0005 * double(exact.size())) << name;
 }
+
+class ConservativeVoxelizationTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+// Random triangles (large ones too, hence the small grid) and a closed solid.
+TEST_P(ConservativeVoxelizationTest, MatchesAnExactRationalCount) {
+  expect_exact_count(shared_device(GetParam()), "random", test_triangles(16, 21), 16);
+  expect_exact_count(shared_device(GetParam()), "octahedron", octahedron_grid_triangles(64), 64);
+}
+
+TEST_P(ConservativeVoxelizationTest, SharedMeshesMatchAnExactRationalCount) {
+  const char* meshes[] = {"meshes_stanford/bunny_npm_small.ply", "meshes_misc/fandisk.ply"};
+  for (const char* mesh : meshes) MV_SKIP_WITHOUT_SHARED_DATA(mesh);
+  for (const char* mesh : meshes)
+    expect_exact_count(shared_device(GetParam()), mesh,
+                       mesh_grid_triangles(shared_data_file(mesh), 64, parse_grid_origin("min")), 64);
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(ConservativeVoxelizationTest);
 
 }  // namespace
 }  // namespace mv::test

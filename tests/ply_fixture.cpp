@@ -4,8 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <bit>
 #include <cstdio>
@@ -14,6 +12,7 @@
 #include <fstream>
 
 #include "megavox/error.h"
+#include "test_support.h"
 
 namespace mv::test::ply {
 
@@ -21,16 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using mv::io::PlyMeshReader;
-
-// One directory per test process (ctest runs tests in parallel processes), removed at exit.
-struct TempDir {
-  fs::path dir = fs::temp_directory_path() / ("megavox_test_ply_" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(dir); }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
 
 // Appends values of a PLY body in one format.
 class BodyWriter {
@@ -85,10 +74,7 @@ const char* fmt_name(Fmt f) {
   return f == Fmt::ascii ? "ascii" : f == Fmt::le ? "binary_little_endian" : "binary_big_endian";
 }
 
-std::string temp_file(const std::string& name) {
-  static TempDir temp;
-  return (temp.dir / name).string();
-}
+std::string temp_file(const std::string& name) { return temp_path("ply_" + name); }
 
 std::string write_file(const std::string& name, const std::string& bytes) {
   std::string path = temp_file(name);

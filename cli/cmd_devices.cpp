@@ -28,6 +28,8 @@ nlohmann::json to_json(const DeviceInfo& d, bool selected) {
           {"fp64", d.fp64},
           {"int64", d.int64},
           {"max_loop_iterations", d.max_loop_iterations},
+          {"atomics64", d.atomics64},
+          {"shared_atomics64", d.shared_atomics64},
           {"massively_parallel", d.massively_parallel},
           {"simd_width", d.simd_width},
           {"preferred_work_group_size", d.preferred_work_group_size},

@@ -51,13 +51,19 @@ function(mv_params_header params out_var)
 endfunction()
 
 # mv_kernel(name program.cl entry.comp buffers params [GLSL defines...]); MV_ARGS_BUFFER among the defines
-# makes Vulkan pass the arguments through a parameter buffer instead of push constants (see mv_lang.h).
+# makes Vulkan pass the arguments through a parameter buffer instead of push constants (mv_glsl_prelude.h);
+# NEEDS_<FEATURE> (not passed to glslang) names a device feature the kernel needs (kernel_table.h).
 macro(mv_kernel name cl comp buffers params)
   mv_cl_program(${cl})
   string(MAKE_C_IDENTIFIER ${cl} _cl_id)
   set(_defs "")
   set(_args_in_buffer false)
+  set(_needs "0")
   foreach(d ${ARGN})
+    if(d MATCHES "^NEEDS_(.*)$")  # a device feature the kernel's family needs (KernelNeeds in kernel_table.h)
+      string(APPEND _needs " | kNeeds${CMAKE_MATCH_1}")
+      continue()
+    endif()
     list(APPEND _defs -D${d})
     if(d STREQUAL "MV_ARGS_BUFFER")
       set(_args_in_buffer true)
@@ -78,7 +84,7 @@ macro(mv_kernel name cl comp buffers params)
   string(APPEND MV_KERNEL_INCLUDES "#include \"spv_${name}.h\"\n")
   string(APPEND MV_KERNEL_ENTRIES
     "  {\"${name}\", \"${cl}\", mv_cl_${_cl_id}, mv_spv_${name}, sizeof(mv_spv_${name}) / sizeof(uint32_t),\n"
-    "   {${buffers}, &typeid(${params}), sizeof(${params}), \"${params}\", ${_args_in_buffer}}},\n")
+    "   {${buffers}, &typeid(${params}), sizeof(${params}), \"${params}\", ${_args_in_buffer}, ${_needs}}},\n")
   string(APPEND MV_KERNEL_IDS "  ${name},\n")
   math(EXPR MV_KERNEL_COUNT "${MV_KERNEL_COUNT} + 1")
 endmacro()

@@ -66,9 +66,10 @@ class Backend {
   // Arguments: the buffers in order (null for an empty Buffer, which the kernel must not touch), then one
   // trivially-copyable parameter struct (may be empty).
   // OpenCL: kernel(global T* b0, ..., global T* bk, Params p). Vulkan: push constants
-  // { uint64_t address of b0 .. bk; Params p; } (at most kMaxPushBytes in all).
-  virtual void dispatch(BackendKernel& kernel, uint32_t groups, uint32_t local_size,
-                        std::span<BackendBuffer* const> buffers, const void* params, size_t params_bytes) = 0;
+  // { uint64_t address of b0 .. bk; Params p; } (at most kMaxPushBytes in all), or for kernels built with
+  // MV_ARGS_BUFFER that block in a parameter buffer and its address pushed (at most kMaxArgBytes).
+  virtual void dispatch(BackendKernel& kernel, const LaunchGrid& grid, std::span<BackendBuffer* const> buffers,
+                        const void* params, size_t params_bytes) = 0;
   virtual void barrier() = 0;
   virtual void finish() = 0;
 

@@ -141,6 +141,9 @@ Kernel& Device::kernel(KernelId id) {
   const rt::EmbeddedKernel* e = rt::find_embedded_kernel(id);
   if (!e) throw Error("no embedded kernel with id " + std::to_string(static_cast<uint32_t>(id)));
   if (auto it = impl_->kernels.find(e->name); it != impl_->kernels.end()) return *it->second;
+  if (std::string lacks = rt::missing_features(info(), e->signature.needs); !lacks.empty())
+    throw Error("device '" + info().name + "' (" + info().selector() + ") is unsuitable for kernel '" + e->name +
+                "' (program " + e->cl_program + "): it lacks " + lacks);
   rt::KernelDesc desc;
   desc.name = e->name;
   desc.cl_program = e->cl_program;  // kernels of one program share its build
@@ -177,9 +180,8 @@ Kernel& Device::add_kernel(const rt::KernelDesc& desc) {
   return *impl_->kernels.emplace(desc.name, std::move(k)).first->second;
 }
 
-void Device::dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size,
-                          std::initializer_list<const Buffer*> buffers, const void* params, size_t params_bytes,
-                          const std::type_info* params_type) {
+void Device::dispatch_raw(Kernel& k, const LaunchGrid& grid, std::initializer_list<const Buffer*> buffers,
+                          const void* params, size_t params_bytes, const std::type_info* params_type) {
   if (k.checked_) {
     if (buffers.size() != k.buffers_)
       throw Error("kernel '" + k.name() + "': dispatched with " + std::to_string(buffers.size()) +
@@ -192,13 +194,18 @@ void Device::dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size,
       throw Error("kernel '" + k.name() + "': dispatched with " + std::to_string(params_bytes) +
                   " parameter bytes, but its " + k.params_name_ + " has " + std::to_string(k.params_bytes_));
   }
-  if (local_size == 0 || local_size > info().max_work_group_size)
-    throw Error("kernel '" + k.name() + "': work-group size " + std::to_string(local_size) + " is not in [1, " +
-                std::to_string(info().max_work_group_size) + "]");
+  const uint64_t items = uint64_t{grid.local[0]} * grid.local[1];
+  if (grid.local[0] == 0 || grid.local[1] == 0 || items > info().max_work_group_size)
+    throw Error("kernel '" + k.name() + "': work-group size " + std::to_string(grid.local[0]) + "x" +
+                std::to_string(grid.local[1]) + " is not in [1, " + std::to_string(info().max_work_group_size) +
+                "] items");
+  if (grid.groups[1] > std::max<uint32_t>(info().max_groups_y, 1))
+    throw Error("kernel '" + k.name() + "': " + std::to_string(grid.groups[1]) + " groups along y exceed the device "
+                "limit of " + std::to_string(info().max_groups_y));
   std::vector<rt::BackendBuffer*> bufs;
   bufs.reserve(buffers.size());
   for (const Buffer* b : buffers) bufs.push_back(b ? b->impl_.get() : nullptr);
-  impl_->backend->dispatch(*k.impl_, groups, local_size, bufs, params, params_bytes);
+  impl_->backend->dispatch(*k.impl_, grid, bufs, params, params_bytes);
 }
 
 void Device::barrier() { impl_->backend->barrier(); }
@@ -213,4 +220,17 @@ uint32_t Device::groups_for(uint64_t items, uint32_t local_size) const {
   return static_cast<uint32_t>(std::clamp<uint64_t>(groups, 1, info().max_groups));
 }
 
+namespace rt {
+
+std::string missing_features(const DeviceInfo& info, uint32_t needs) {
+  std::string lacks;
+  auto need = [&](uint32_t bit, bool has, const char* what) {
+    if ((needs & bit) && !has) lacks += (lacks.empty() ? "" : ", ") + std::string(what);
+  };
+  need(kNeedsATOMICS64, info.atomics64, "64-bit atomics on global memory");
+  need(kNeedsSHARED_ATOMICS64, info.shared_atomics64, "64-bit atomics on work-group shared memory");
+  return lacks;
+}
+
+}  // namespace rt
 }  // namespace mv

@@ -2,11 +2,21 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <typeinfo>
 
-#include "megavox/kernel_ids.h"
+#include "megavox/device.h"
 
 namespace mv::rt {
+
+// Device features beyond the base every kernel uses, as NEEDS_<NAME> in kernels/kernels.cmake.
+enum KernelNeeds : uint32_t {
+  kNeedsATOMICS64 = 1u << 0,         // DeviceInfo::atomics64
+  kNeedsSHARED_ATOMICS64 = 1u << 1,  // DeviceInfo::shared_atomics64
+};
+
+// Empty when the device has every feature in `needs`, else what it lacks, e.g. "64-bit atomics on global memory".
+std::string missing_features(const DeviceInfo& info, uint32_t needs);
 
 // What a kernel takes, as kernels/kernels.cmake declares it; Device checks every dispatch against it.
 struct KernelSignature {
@@ -15,6 +25,7 @@ struct KernelSignature {
   size_t params_bytes = 0;
   const char* params_name = "";
   bool args_in_buffer = false;              // Vulkan: arguments through a parameter buffer (MV_ARGS_BUFFER)
+  uint32_t needs = 0;                       // KernelNeeds
 };
 
 struct EmbeddedKernel {

@@ -42,7 +42,7 @@ class CountingBackend : public rt::Backend {
   void fill(rt::BackendBuffer&, uint64_t, uint64_t, uint32_t) override { unused(); }
   void copy(rt::BackendBuffer&, uint64_t, rt::BackendBuffer&, uint64_t, uint64_t) override { unused(); }
   rt::BackendKernel& kernel(const rt::KernelDesc&) override { unused(); }
-  void dispatch(rt::BackendKernel&, uint32_t, uint32_t, std::span<rt::BackendBuffer* const>, const void*,
+  void dispatch(rt::BackendKernel&, const LaunchGrid&, std::span<rt::BackendBuffer* const>, const void*,
                 size_t) override {
     unused();
   }

@@ -47,7 +47,8 @@ struct DeviceInfo {
   uint64_t max_binding_bytes = 0;  // largest single buffer binding (Vulkan storage range; OpenCL: max alloc)
   uint64_t local_memory_bytes = 0;
   uint32_t max_work_group_size = 0;
-  uint32_t max_groups = 0;         // largest group count in one dimension of a dispatch
+  uint32_t max_groups = 0;         // largest group count along x of a dispatch
+  uint32_t max_groups_y = 0;       // ... along y
   uint32_t subgroup_size = 0;      // 0 when the API does not say
   bool fp64 = false;
   bool int64 = false;
@@ -55,6 +56,9 @@ struct DeviceInfo {
   // 0 = no limit. llvmpipe (lavapipe) silently ends a shader loop once it has run 65535 iterations in the
   // invocation, so block-per-work-item kernels keep their blocks (and nested loops) below that.
   uint32_t max_loop_iterations = 0;
+  // Kernel-language features beyond the base every kernel uses (32-bit atomics, shared memory, barriers):
+  bool atomics64 = false;         // 64-bit atomics on global memory
+  bool shared_atomics64 = false;  // 64-bit atomics on work-group shared memory
   // How to shape launches, filled by the backend (host code reads these, never backend or type names):
   bool massively_parallel = false;         // a GPU: thousands of work-items in flight; else a few CPU threads,
                                            // each best on a contiguous block of items
@@ -66,6 +70,13 @@ struct DeviceInfo {
                                            // on lavapipe, which runs each global load as a loop over the lanes
 
   std::string selector() const { return (backend == "opencl" ? "ocl:" : "vk:") + std::to_string(index); }
+};
+
+// The work-group grid of one dispatch: groups[d] work-groups of local[d] work-items along x (0) and y (1).
+// 1-D dispatches leave y at 1; 2-D ones cover image grids (MV_GLOBAL_ID_D(1) in kernels).
+struct LaunchGrid {
+  uint32_t groups[2] = {1, 1};
+  uint32_t local[2] = {1, 1};
 };
 
 struct KernelTiming {
@@ -169,12 +180,21 @@ class Device {
   template <class Params>
   void dispatch(Kernel& k, uint32_t groups, uint32_t local_size, std::initializer_list<const Buffer*> buffers,
                 const Params& params) {
+    dispatch(k, LaunchGrid{{groups, 1}, {local_size, 1}}, buffers, params);
+  }
+  // The same over a 2-D grid of work-groups.
+  template <class Params>
+  void dispatch(Kernel& k, const LaunchGrid& grid, std::initializer_list<const Buffer*> buffers, const Params& params) {
     static_assert(std::is_trivially_copyable_v<Params>);
-    dispatch_raw(k, groups, local_size, buffers, &params, sizeof(Params), &typeid(Params));
+    dispatch_raw(k, grid, buffers, &params, sizeof(Params), &typeid(Params));
   }
   // `params_type` nullptr: not checked (kernels built from explicit sources take any bytes).
-  void dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size, std::initializer_list<const Buffer*> buffers,
+  void dispatch_raw(Kernel& k, const LaunchGrid& grid, std::initializer_list<const Buffer*> buffers,
                     const void* params, size_t params_bytes, const std::type_info* params_type = nullptr);
+  void dispatch_raw(Kernel& k, uint32_t groups, uint32_t local_size, std::initializer_list<const Buffer*> buffers,
+                    const void* params, size_t params_bytes, const std::type_info* params_type = nullptr) {
+    dispatch_raw(k, LaunchGrid{{groups, 1}, {local_size, 1}}, buffers, params, params_bytes, params_type);
+  }
   void barrier();
   void finish();
 

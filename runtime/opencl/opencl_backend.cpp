@@ -105,9 +105,15 @@ DeviceInfo describe(const ClDevice& d, int index) {
   info.local_memory_bytes = device_value<cl_ulong>(d.device, CL_DEVICE_LOCAL_MEM_SIZE);
   info.max_work_group_size = static_cast<uint32_t>(device_value<size_t>(d.device, CL_DEVICE_MAX_WORK_GROUP_SIZE));
   info.max_groups = 0x7fffffff;  // OpenCL bounds the global size only by size_t
+  info.max_groups_y = 0x7fffffff;
   info.subgroup_size = 0;
   info.fp64 = device_value<cl_device_fp_config>(d.device, CL_DEVICE_DOUBLE_FP_CONFIG) != 0;
   info.int64 = true;  // 64-bit integers are core OpenCL C
+  // cl_khr_int64_*_atomics cover __global and __local alike; both halves give add, min, max, or, xchg, cmpxchg.
+  const std::string extensions = " " + device_string(d.device, CL_DEVICE_EXTENSIONS) + " ";
+  info.atomics64 = extensions.find(" cl_khr_int64_base_atomics ") != std::string::npos &&
+                   extensions.find(" cl_khr_int64_extended_atomics ") != std::string::npos;
+  info.shared_atomics64 = info.atomics64;
   info.massively_parallel = info.type == "gpu";
   const cl_uint int_lanes = device_value<cl_uint>(d.device, CL_DEVICE_NATIVE_VECTOR_WIDTH_INT);
   info.simd_width = info.massively_parallel ? 32 : std::max<cl_uint>(1, int_lanes);
@@ -210,9 +216,9 @@ class OpenCLBackend final : public Backend {
     return *kernels_.emplace(desc.name, std::move(k)).first->second;
   }
 
-  void dispatch(BackendKernel& kernel, uint32_t groups, uint32_t local_size, std::span<BackendBuffer* const> buffers,
+  void dispatch(BackendKernel& kernel, const LaunchGrid& grid, std::span<BackendBuffer* const> buffers,
                 const void* params, size_t params_bytes) override {
-    if (groups == 0) return;
+    if (grid.groups[0] == 0 || grid.groups[1] == 0) return;
     auto& k = static_cast<ClKernel&>(kernel);
     cl_uint arg = 0;
     for (BackendBuffer* b : buffers) {
@@ -221,10 +227,11 @@ class OpenCLBackend final : public Backend {
     }
     if (params_bytes > 0)
       check(clSetKernelArg(k.kernel, arg, params_bytes, params), "setting the parameters of '" + k.name + "'");
-    size_t local = local_size;
-    size_t global = static_cast<size_t>(groups) * local;
+    const size_t local[2] = {grid.local[0], grid.local[1]};
+    const size_t global[2] = {size_t{grid.groups[0]} * grid.local[0], size_t{grid.groups[1]} * grid.local[1]};
+    const cl_uint dims = grid.groups[1] > 1 || grid.local[1] > 1 ? 2 : 1;
     cl_event event = nullptr;
-    check(clEnqueueNDRangeKernel(queue_, k.kernel, 1, nullptr, &global, &local, 0, nullptr,
+    check(clEnqueueNDRangeKernel(queue_, k.kernel, dims, nullptr, global, local, 0, nullptr,
                                  profiling_ ? &event : nullptr),
           "launching '" + k.name + "'");
     if (event) pending_.push_back({k.name, event});

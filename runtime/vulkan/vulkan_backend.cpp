@@ -30,6 +30,7 @@ void VulkanBackend::init(int index) {
   memory_ = q.memory;
   max_local_size_ =
       std::min(q.props.limits.maxComputeWorkGroupInvocations, q.props.limits.maxComputeWorkGroupSize[0]);
+  max_local_size_y_ = q.props.limits.maxComputeWorkGroupSize[1];
   timestamp_period_ = q.props.limits.timestampPeriod;
   if (!q.features12.bufferDeviceAddress)
     fail("device '" + info_.name + "' lacks bufferDeviceAddress (Vulkan 1.2), which every megavox kernel uses");
@@ -52,6 +53,8 @@ void VulkanBackend::init(int index) {
   qi.pQueuePriorities = &priority;
   auto features12 = vk<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
   features12.bufferDeviceAddress = VK_TRUE;
+  features12.shaderBufferInt64Atomics = q.features12.shaderBufferInt64Atomics;  // DeviceInfo::atomics64
+  features12.shaderSharedInt64Atomics = q.features12.shaderSharedInt64Atomics;
   auto features = vk<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12);
   features.features.shaderInt64 = VK_TRUE;
   features.features.shaderFloat64 = q.features.shaderFloat64;
@@ -91,6 +94,7 @@ void VulkanBackend::release() noexcept {
   if (device_) {
     vkDeviceWaitIdle(device_);
     kernels_.clear();
+    arg_chunks_.clear();  // their memory belongs to device_
     vkDestroyQueryPool(device_, query_pool_, nullptr);
     vkDestroyFence(device_, fence_, nullptr);
     vkDestroyCommandPool(device_, pool_, nullptr);  // frees cmd_

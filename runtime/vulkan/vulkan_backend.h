@@ -53,7 +53,7 @@ struct VulkanKernel final : BackendKernel {
   VkShaderModule module = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   bool args_in_buffer = false;  // push one address; the arguments sit in a parameter buffer (MV_ARGS_BUFFER)
-  std::unordered_map<uint32_t, VkPipeline> pipelines;  // by local size
+  std::unordered_map<uint64_t, VkPipeline> pipelines;  // by work-group size: x | y << 32
 
   VulkanKernel(VkDevice d, std::string n) : device(d), name(std::move(n)) {}
   VulkanKernel(const VulkanKernel&) = delete;
@@ -95,7 +95,7 @@ class VulkanBackend final : public Backend {
   BackendKernel& kernel(const KernelDesc& desc) override;
 
   // vulkan_commands.cpp
-  void dispatch(BackendKernel& k, uint32_t groups, uint32_t local_size, std::span<BackendBuffer* const> buffers,
+  void dispatch(BackendKernel& k, const LaunchGrid& grid, std::span<BackendBuffer* const> buffers,
                 const void* params, size_t params_bytes) override;
   void barrier() override;
   void finish() override;
@@ -116,7 +116,7 @@ class VulkanBackend final : public Backend {
   void transfer(VulkanBuffer& b, uint64_t offset, uint64_t bytes, const void* from_host, void* to_host);
 
   // vulkan_pipelines.cpp
-  VkPipeline pipeline_for(VulkanKernel& kernel, uint32_t local_size);
+  VkPipeline pipeline_for(VulkanKernel& kernel, uint32_t local_x, uint32_t local_y);
 
   // vulkan_commands.cpp
   VkCommandBuffer recording();
@@ -135,7 +135,8 @@ class VulkanBackend final : public Backend {
 
   DeviceInfo info_;
   VkPhysicalDeviceMemoryProperties memory_{};
-  uint32_t max_local_size_ = 0;
+  uint32_t max_local_size_ = 0;    // work-group items, and x extent
+  uint32_t max_local_size_y_ = 0;
   std::unordered_map<std::string, std::unique_ptr<VulkanKernel>> kernels_;
 
   bool profiling_ = false;

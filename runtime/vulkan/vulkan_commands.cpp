@@ -31,13 +31,14 @@ VkCommandBuffer VulkanBackend::recording() {
   return cmd_;
 }
 
-void VulkanBackend::dispatch(BackendKernel& k, uint32_t groups, uint32_t local_size,
-                             std::span<BackendBuffer* const> buffers, const void* params, size_t params_bytes) {
+void VulkanBackend::dispatch(BackendKernel& k, const LaunchGrid& grid, std::span<BackendBuffer* const> buffers,
+                             const void* params, size_t params_bytes) {
   auto& kernel = static_cast<VulkanKernel&>(k);
-  if (groups == 0) return;
-  if (groups > info_.max_groups)
-    fail("kernel '" + kernel.name + "': " + std::to_string(groups) + " groups exceed the device limit of " +
-         std::to_string(info_.max_groups));
+  if (grid.groups[0] == 0 || grid.groups[1] == 0) return;
+  if (grid.groups[0] > info_.max_groups || grid.groups[1] > info_.max_groups_y)
+    fail("kernel '" + kernel.name + "': " + std::to_string(grid.groups[0]) + "x" + std::to_string(grid.groups[1]) +
+         " groups exceed the device limit of " + std::to_string(info_.max_groups) + "x" +
+         std::to_string(info_.max_groups_y));
   // The arguments, laid out as the shader's Args block (std430): buffer addresses, then the parameters.
   const size_t arg_bytes = 8 * buffers.size() + params_bytes;
   if (arg_bytes > kMaxArgBytes)
@@ -62,7 +63,7 @@ void VulkanBackend::dispatch(BackendKernel& k, uint32_t groups, uint32_t local_s
   }
   const auto& push = args;
 
-  const VkPipeline pipeline = pipeline_for(kernel, local_size);
+  const VkPipeline pipeline = pipeline_for(kernel, grid.local[0], grid.local[1]);
   const bool timed = profiling_;
   if (timed && queries_used_ + 2 > kTimestampQueries) finish();
   const VkCommandBuffer cmd = recording();
@@ -74,7 +75,7 @@ void VulkanBackend::dispatch(BackendKernel& k, uint32_t groups, uint32_t local_s
   if (push_bytes)  // Vulkan wants a multiple of 4; the padding is zero and still within kMaxPushBytes
     vkCmdPushConstants(cmd, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                        static_cast<uint32_t>((push_bytes + 3) & ~size_t{3}), push.data());
-  vkCmdDispatch(cmd, groups, 1, 1);
+  vkCmdDispatch(cmd, grid.groups[0], grid.groups[1], 1);
   if (timed) {
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, queries_used_++);
     query_names_.push_back(kernel.name);

@@ -138,9 +138,12 @@ DeviceInfo describe(const DeviceQuery& q, int index) {
   info.local_memory_bytes = limits.maxComputeSharedMemorySize;
   info.max_work_group_size = limits.maxComputeWorkGroupInvocations;
   info.max_groups = limits.maxComputeWorkGroupCount[0];
+  info.max_groups_y = limits.maxComputeWorkGroupCount[1];
   info.subgroup_size = q.subgroup.subgroupSize;
   info.fp64 = q.features.shaderFloat64;
   info.int64 = q.features.shaderInt64;
+  info.atomics64 = q.features12.shaderBufferInt64Atomics;
+  info.shared_atomics64 = q.features12.shaderSharedInt64Atomics;
   info.vendor = info.platform;
   // llvmpipe's shader compiler ends every loop after 65535 iterations (a guard against hangs), without error.
   if (q.driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE) info.max_loop_iterations = 65535;

@@ -1,5 +1,5 @@
 // Vulkan backend kernels: a shader module and pipeline layout per kernel, checked when the kernel is asked
-// for, and one compute pipeline per local size (specialization constant 0), made at first dispatch.
+// for, and one compute pipeline per work-group size (specialization constants 0 and 1), made at first dispatch.
 #include <vulkan/vulkan.h>
 
 #include <cstdio>
@@ -39,13 +39,18 @@ BackendKernel& VulkanBackend::kernel(const KernelDesc& desc) {
   return *kernels_.emplace(desc.name, std::move(k)).first->second;
 }
 
-VkPipeline VulkanBackend::pipeline_for(VulkanKernel& kernel, uint32_t local_size) {
-  if (auto it = kernel.pipelines.find(local_size); it != kernel.pipelines.end()) return it->second;
-  if (local_size == 0 || local_size > max_local_size_)
-    fail("kernel '" + kernel.name + "': local size " + std::to_string(local_size) +
-         " is outside the device range 1.." + std::to_string(max_local_size_));
-  const VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};  // constant_id 0 = local_size_x
-  const VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &local_size};
+VkPipeline VulkanBackend::pipeline_for(VulkanKernel& kernel, uint32_t local_x, uint32_t local_y) {
+  const uint64_t key = local_x | uint64_t{local_y} << 32;
+  if (auto it = kernel.pipelines.find(key); it != kernel.pipelines.end()) return it->second;
+  if (local_x == 0 || local_x > max_local_size_ || local_y == 0 || local_y > max_local_size_y_ ||
+      uint64_t{local_x} * local_y > max_local_size_)
+    fail("kernel '" + kernel.name + "': work-group size " + std::to_string(local_x) + "x" + std::to_string(local_y) +
+         " is outside the device's (x up to " + std::to_string(max_local_size_) + ", y up to " +
+         std::to_string(max_local_size_y_) + ", " + std::to_string(max_local_size_) + " items)");
+  // constant_id 0 = local_size_x, 1 = local_size_y (mv_glsl_prelude.h)
+  const uint32_t sizes[2] = {local_x, local_y};
+  const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)}, {1, sizeof(uint32_t), sizeof(uint32_t)}};
+  const VkSpecializationInfo spec{2, entries, sizeof(sizes), sizes};
   auto ci = vk<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
   ci.stage = vk<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -55,8 +60,9 @@ VkPipeline VulkanBackend::pipeline_for(VulkanKernel& kernel, uint32_t local_size
   ci.layout = kernel.layout;
   VkPipeline pipeline = VK_NULL_HANDLE;
   check(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline),
-        "kernel '" + kernel.name + "': vkCreateComputePipelines for local size " + std::to_string(local_size));
-  kernel.pipelines.emplace(local_size, pipeline);
+        "kernel '" + kernel.name + "': vkCreateComputePipelines for work-group size " + std::to_string(local_x) +
+            "x" + std::to_string(local_y));
+  kernel.pipelines.emplace(key, pipeline);
   return pipeline;
 }
 

@@ -5,6 +5,7 @@
 #include <thread>
 #include <utility>
 
+#include "chunking.h"
 #include "launch_shape.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
@@ -66,12 +67,13 @@ uint32_t largest_bucket(Device& dev, const Buffer& hist, uint32_t blocks) {
 
 }  // namespace
 
-SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits, SortStrategy strategy) {
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy) {
   SortReport report;
   if (n <= 1) return report;
+  detail::check_device_items("radix_sort", n);
   const bool k64 = bits == KeyBits::k64;
   const uint64_t key_bytes = k64 ? 8 : 4;
-  if (keys.bytes() < n * key_bytes || (values && values->bytes() < uint64_t{n} * 4))
+  if (keys.bytes() < n * key_bytes || (values && values->bytes() < n * 4))
     throw Error("radix_sort: buffers too small for " + std::to_string(n) + " keys");
 
   const DeviceInfo& info = dev.info();
@@ -80,7 +82,7 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
   Kernel& or_and = dev.kernel("radix_or_and" + sfx);
 
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
-  MvRadixParams p{n, s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
+  MvRadixParams p{static_cast<uint32_t>(n), s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
   dev.dispatch(or_and, s.groups, s.local_size, {&keys, &red}, p);
   dev.barrier();
   uint64_t varying = k64 ? varying_bits<uint64_t>(dev, red, s.blocks) : varying_bits<uint32_t>(dev, red, s.blocks);
@@ -101,8 +103,8 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
               dev.kernel("radix_local_sort" + sfx),
               dev.alloc((uint64_t{s.blocks} * MV_RADIX_BUCKETS + 1) * 4, "radix sort histograms"),
               plan_scan(dev, s.blocks * MV_RADIX_BUCKETS)};
-  Buffer keys_alt = dev.alloc(uint64_t{n} * key_bytes, "radix sort scratch keys");
-  Buffer values_alt = values ? dev.alloc(uint64_t{n} * 4, "radix sort scratch values") : Buffer();
+  Buffer keys_alt = dev.alloc(n * key_bytes, "radix sort scratch keys");
+  Buffer values_alt = values ? dev.alloc(n * 4, "radix sort scratch values") : Buffer();
 
   bool hybrid = strategy == SortStrategy::Hybrid ||
                 (strategy == SortStrategy::Auto && !info.massively_parallel && vary.size() >= 2);
@@ -151,21 +153,21 @@ namespace {
 template <class Key>
 SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>* values, SortStrategy strategy) {
   if (values && values->size() != keys.size()) throw Error("radix_sort: keys and values differ in length");
-  if (keys.size() > UINT32_MAX) throw Error("radix_sort: more than 2^32-1 keys");
-  auto n = static_cast<uint32_t>(keys.size());
+  const uint64_t n = keys.size();
   if (n <= 1) return {};
-  Buffer kb = dev.alloc(uint64_t{n} * sizeof(Key), "keys");
-  dev.upload(kb, keys.data(), uint64_t{n} * sizeof(Key));
+  detail::check_device_items("radix_sort", n);
+  Buffer kb = dev.alloc(n * sizeof(Key), "keys");
+  dev.upload(kb, keys.data(), n * sizeof(Key));
   Buffer vb;
   if (values) {
-    vb = dev.alloc(uint64_t{n} * 4, "values");
-    dev.upload(vb, values->data(), uint64_t{n} * 4);
+    vb = dev.alloc(n * 4, "values");
+    dev.upload(vb, values->data(), n * 4);
   }
   SortReport r = radix_sort(dev, kb, values ? &vb : nullptr, n, sizeof(Key) == 8 ? KeyBits::k64 : KeyBits::k32,
                             strategy);
   dev.finish();
-  dev.download(kb, keys.data(), uint64_t{n} * sizeof(Key));
-  if (values) dev.download(vb, values->data(), uint64_t{n} * 4);
+  dev.download(kb, keys.data(), n * sizeof(Key));
+  if (values) dev.download(vb, values->data(), n * 4);
   return r;
 }
 

@@ -14,7 +14,8 @@ struct ScanPlan {
   Buffer sums;  // shape.blocks + 1 values
 };
 
-ScanPlan plan_scan(Device& dev, uint32_t n);
+// n at most kMaxDeviceItems (mv::Error beyond).
+ScanPlan plan_scan(Device& dev, uint64_t n);
 
 // dst[i] = src[0] + ... + src[i-1], dst[n] = total; src may equal dst. Recorded, ends with a barrier.
 void record_scan(Device& dev, ScanPlan& plan, const Buffer& src, Buffer& dst);

@@ -41,6 +41,13 @@ TEST_P(ScanTest, InPlace) {
   EXPECT_EQ(got, expect);
 }
 
+TEST_P(ScanTest, OneDeviceCallIsCappedAtMaxDeviceItems) {
+  Device& dev = shared_device(GetParam());
+  Buffer small = dev.alloc(8, "scan data");
+  std::string msg = error_message([&] { exclusive_scan(dev, small, small, kMaxDeviceItems + 1); });
+  EXPECT_NE(msg.find(std::to_string(kMaxDeviceItems)), std::string::npos) << msg;
+}
+
 MV_INSTANTIATE_ON_ALL_DEVICES(ScanTest);
 
 }  // namespace

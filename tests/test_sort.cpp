@@ -125,6 +125,12 @@ TEST_P(SortTest, HybridRunsWhereBucketsFit) {
   EXPECT_TRUE(keys == expect);
 }
 
+TEST_P(SortTest, OneDeviceCallIsCappedAtMaxDeviceItems) {
+  Buffer keys = dev().alloc(8, "keys");
+  std::string msg = error_message([&] { radix_sort(dev(), keys, nullptr, kMaxDeviceItems + 1, KeyBits::k64); });
+  EXPECT_NE(msg.find(std::to_string(kMaxDeviceItems)), std::string::npos) << msg;
+}
+
 MV_INSTANTIATE_ON_ALL_DEVICES(SortTest);
 
 }  // namespace

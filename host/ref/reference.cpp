@@ -140,4 +140,11 @@ std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in) {
   return out;
 }
 
+std::vector<uint64_t> unique_sorted(const std::vector<uint64_t>& sorted) {
+  std::vector<uint64_t> out;
+  for (uint64_t k : sorted)
+    if (out.empty() || out.back() != k) out.push_back(k);
+  return out;
+}
+
 }  // namespace mv::ref

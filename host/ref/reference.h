@@ -30,6 +30,9 @@ DagCounts ssvdag_counts(const std::vector<uint64_t>& voxels, uint32_t levels);
 // out[i] = sum of in[0..i), out[n] = total.
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in);
 
+// The sorted keys with each run of equal keys kept once.
+std::vector<uint64_t> unique_sorted(const std::vector<uint64_t>& sorted);
+
 // std::stable_sort of (key, value) pairs by key; values may be null (keys only).
 template <class Key>
 void stable_sort(std::vector<Key>& keys, std::vector<uint32_t>* values) {

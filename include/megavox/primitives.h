@@ -1,6 +1,10 @@
 // megavox — data-parallel primitives on a Device: Morton encoding, exclusive scan, stable radix sort.
 // These are the shared pieces later stages (DAG reduction, point hierarchies, the page cache's LRU) build on.
 // Every function records work on the device's stream and returns without waiting, except where noted.
+//
+// Counts are 64-bit. A call on device buffers covers at most kMaxDeviceItems items (the kernels index with 32
+// bits, which Vulkan reads as signed) and what its buffers hold, so the device's memory is what bounds it in
+// practice (PoCL: 1 GiB per buffer); more throws mv::Error.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -9,19 +13,22 @@
 
 namespace mv {
 
+inline constexpr uint64_t kMaxDeviceItems = (uint64_t{1} << 31) - 1;
+
 enum class KeyBits { k32 = 32, k64 = 64 };
 
 // keys[i] = Morton code of (xyz[3i], xyz[3i+1], xyz[3i+2]); x in the lowest bit. 64-bit keys interleave
 // 3 x 21 bits, 32-bit keys 3 x 10 bits; higher coordinate bits are ignored.
-void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint32_t n, KeyBits bits);
+void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint64_t n, KeyBits bits);
 
-// dst[i] = src[0] + ... + src[i-1] for i < n, and dst[n] = the total (dst holds n + 1 values).
-// src and dst may be the same buffer.
-void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint32_t n);
+// dst[i] = src[0] + ... + src[i-1] for i < n, and dst[n] = the total (dst holds n + 1 values), as 32-bit
+// sums: mod 2^32 once a prefix passes 2^32. src and dst may be the same buffer.
+void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint64_t n);
 
-// Removes repeats from n sorted 64-bit keys: `out` receives the distinct keys in order (it may be `keys`
-// must be another buffer of n keys). Returns how many there are (waits once, to read the count).
-uint32_t unique_sorted(Device& dev, const Buffer& keys, Buffer& out, uint32_t n);
+// Removes repeats from n sorted 64-bit keys: `out` (another buffer of n keys) receives the distinct keys in
+// order. Returns how many there are (waits once, to read the count). Output positions are 32-bit on the device,
+// within the one call.
+uint64_t unique_sorted(Device& dev, const Buffer& keys, Buffer& out, uint64_t n);
 
 struct SortReport {
   uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
@@ -38,7 +45,7 @@ enum class SortStrategy { Auto, Lsd, Hybrid };
 // Stable LSD radix sort of n keys (32- or 64-bit), with 32-bit values moved along when `values` is not null.
 // Waits once, to learn which digits vary. On return `keys` (and `*values`) hold the sorted data; the Buffer
 // objects may have been swapped with scratch buffers of the same size, so keep using these objects.
-SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits,
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits,
                       SortStrategy strategy = SortStrategy::Auto);
 
 // Host convenience: upload, sort, download (keys-only when values is null). Waits.

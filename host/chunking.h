@@ -1,6 +1,9 @@
-// Counts past what one device call of a primitive covers: the check every device-buffer entry makes.
+// Counts past what one device call of a primitive covers: the check every device-buffer entry makes, and the
+// host-driven chunked paths (host arrays of any length over device-sized chunks) with the chunk size as a
+// parameter: the public overloads take it from the device's memory, tests shrink it to put seams anywhere.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "megavox/error.h"
@@ -14,5 +17,12 @@ inline void check_device_items(const char* what, uint64_t n) {
     throw Error(std::string(what) + ": " + std::to_string(n) + " items in one call on device buffers, over the " +
                 std::to_string(kMaxDeviceItems) + " its 32-bit kernel indices reach; split the work into chunks");
 }
+
+// Items per chunk when each costs `item_bytes` of device memory, `largest_bytes` of them in its largest buffer:
+// half of what is left of the budget (room for small buffers and fragmentation), within the largest allocation
+// and kMaxDeviceItems. Throws mv::DeviceMemoryError when not even one item fits.
+uint64_t device_chunk(const Device& dev, const char* what, uint64_t item_bytes, uint64_t largest_bytes);
+
+uint64_t exclusive_scan_chunked(Device& dev, std::span<const uint32_t> in, std::span<uint64_t> out, uint64_t chunk);
 
 }  // namespace mv::detail

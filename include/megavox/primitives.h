@@ -4,9 +4,12 @@
 //
 // Counts are 64-bit. A call on device buffers covers at most kMaxDeviceItems items (the kernels index with 32
 // bits, which Vulkan reads as signed) and what its buffers hold, so the device's memory is what bounds it in
-// practice (PoCL: 1 GiB per buffer); more throws mv::Error.
+// practice (PoCL: 1 GiB per buffer); more throws mv::Error. Larger inputs, such as a point cloud past 4 G
+// points, take the overloads on host arrays: host-driven loops over device-sized chunks that carry 64-bit state
+// (a running total, an output position, the key at the seam) from one chunk to the next.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "megavox/device.h"
@@ -24,6 +27,15 @@ void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint64_t n, Key
 // dst[i] = src[0] + ... + src[i-1] for i < n, and dst[n] = the total (dst holds n + 1 values), as 32-bit
 // sums: mod 2^32 once a prefix passes 2^32. src and dst may be the same buffer.
 void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint64_t n);
+
+// The same into exact 64-bit sums from `start`: dst holds n + 1 uint64_t values, dst[i] = start + src[0] + ...
+// + src[i-1]. src and dst must be different buffers.
+void exclusive_scan64(Device& dev, const Buffer& src, Buffer& dst, uint64_t n, uint64_t start = 0);
+
+// Host arrays of any length: out[i] = in[0] + ... + in[i-1] in 64 bits, out[n] = the total, which is returned
+// (out holds in.size() + 1 values). Chunks that fit the device are scanned there with exclusive_scan64, each
+// from the running total of the chunks before it. Waits.
+uint64_t exclusive_scan(Device& dev, std::span<const uint32_t> in, std::span<uint64_t> out);
 
 // Removes repeats from n sorted 64-bit keys: `out` (another buffer of n keys) receives the distinct keys in
 // order. Returns how many there are (waits once, to read the count). Output positions are 32-bit on the device,

@@ -24,5 +24,6 @@ inline void check_device_items(const char* what, uint64_t n) {
 uint64_t device_chunk(const Device& dev, const char* what, uint64_t item_bytes, uint64_t largest_bytes);
 
 uint64_t exclusive_scan_chunked(Device& dev, std::span<const uint32_t> in, std::span<uint64_t> out, uint64_t chunk);
+uint64_t unique_sorted_chunked(Device& dev, std::span<const uint64_t> keys, std::span<uint64_t> out, uint64_t chunk);
 
 }  // namespace mv::detail

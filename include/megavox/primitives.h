@@ -42,6 +42,12 @@ uint64_t exclusive_scan(Device& dev, std::span<const uint32_t> in, std::span<uin
 // within the one call.
 uint64_t unique_sorted(Device& dev, const Buffer& keys, Buffer& out, uint64_t n);
 
+// Host arrays of any length: the distinct keys of sorted `keys`, in order, to the front of `out` (at least as
+// long as keys; it may be keys' own storage). Returns how many. Chunks that fit the device are made unique
+// there; a chunk's first key equal to the last key kept (a run across the seam, or a chunk all of one key) is
+// dropped on the host, and output positions count in 64 bits. Waits.
+uint64_t unique_sorted(Device& dev, std::span<const uint64_t> keys, std::span<uint64_t> out);
+
 struct SortReport {
   uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
   uint32_t digits_skipped = 0;  // digits constant over all keys

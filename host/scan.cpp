@@ -61,8 +61,13 @@ uint64_t exclusive_scan(Device& dev, std::span<const uint32_t> in, std::span<uin
 
 namespace detail {
 
-uint64_t device_chunk(const Device& dev, const char* what, uint64_t item_bytes, uint64_t largest_bytes) {
-  const uint64_t left = dev.memory_budget() - std::min(dev.memory_used(), dev.memory_budget());
+uint64_t memory_left(Device& dev, bool wait) {
+  if (wait) dev.finish();
+  return dev.memory_budget() - std::min(dev.memory_used(), dev.memory_budget());
+}
+
+uint64_t device_chunk(Device& dev, const char* what, uint64_t item_bytes, uint64_t largest_bytes) {
+  const uint64_t left = memory_left(dev, true);
   const uint64_t chunk = std::min({left / 2 / item_bytes, dev.info().max_allocation_bytes / largest_bytes,
                                    kMaxDeviceItems});
   if (chunk == 0)

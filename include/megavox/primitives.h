@@ -52,6 +52,8 @@ struct SortReport {
   uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
   uint32_t digits_skipped = 0;  // digits constant over all keys
   bool hybrid = false;          // one global pass on the top digit, then each bucket sorted in cache
+  uint64_t runs = 1;            // host vectors: runs sorted on the device and merged on the host; with more than
+                                // one, the most passes, the fewest skipped digits and whether any run was hybrid
 };
 
 // Lsd: one global pass per varying digit (any device). Hybrid: one global pass on the most significant
@@ -63,10 +65,16 @@ enum class SortStrategy { Auto, Lsd, Hybrid };
 // Stable LSD radix sort of n keys (32- or 64-bit), with 32-bit values moved along when `values` is not null.
 // Waits once, to learn which digits vary. On return `keys` (and `*values`) hold the sorted data; the Buffer
 // objects may have been swapped with scratch buffers of the same size, so keep using these objects.
+// n is bounded by device memory: keys, values and a scratch copy of each sit on the device at once, and when
+// the scratch does not fit what is left of the budget this throws mv::DeviceMemoryError naming what it needs.
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits,
                       SortStrategy strategy = SortStrategy::Auto);
 
-// Host convenience: upload, sort, download (keys-only when values is null). Waits.
+// Host convenience: upload, sort, download (keys-only when values is null). Waits. Any length: keys the device
+// cannot hold at once are sorted there in runs it can, merged on the host (which takes a second copy of keys
+// and values in host memory), stably: equal keys keep their input order across runs. Values stay 32-bit
+// payloads, so past 2^32 keys they cannot index every key: such callers sort chunk-relative indices, or keys
+// that carry their own.
 SortReport radix_sort(Device& dev, std::vector<uint32_t>& keys, std::vector<uint32_t>* values,
                       SortStrategy strategy = SortStrategy::Auto);
 SortReport radix_sort(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values,

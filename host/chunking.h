@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "megavox/error.h"
 #include "megavox/primitives.h"

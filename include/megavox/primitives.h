@@ -1,4 +1,4 @@
-// megavox — data-parallel primitives on a Device: Morton encoding, exclusive scan, stable radix sort.
+// megavox — data-parallel primitives on a Device: Morton encoding, exclusive scan, unique, stable radix sort.
 // These are the shared pieces later stages (DAG reduction, point hierarchies, the page cache's LRU) build on.
 // Every function records work on the device's stream and returns without waiting, except where noted.
 //

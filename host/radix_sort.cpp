@@ -1,10 +1,13 @@
 // Host side of the stable radix sort (kernels: kernels/common/radix_sort_body.h).
 #include "../kernels/common/radix_sort.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <thread>
 #include <utility>
 
+#include "chunking.h"
 #include "launch_shape.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
@@ -64,14 +67,25 @@ uint32_t largest_bucket(Device& dev, const Buffer& hist, uint32_t blocks) {
   return largest;
 }
 
+// Device memory the passes allocate: scratch copies of keys and values, the histograms and their scan, in whole
+// pages as the pool hands them out.
+uint64_t scratch_bytes(Device& dev, const BlockShape& s, uint64_t n, uint64_t key_bytes, bool values) {
+  const uint64_t page = dev.page_bytes();
+  auto pages = [&](uint64_t bytes) { return (bytes + page - 1) / page * page; };
+  const uint64_t hist = uint64_t{s.blocks} * MV_RADIX_BUCKETS;
+  return pages(n * key_bytes) + (values ? pages(n * 4) : 0) + pages((hist + 1) * 4) +
+         pages((uint64_t{block_shape(dev.info(), hist).blocks} + 1) * 8);
+}
+
 }  // namespace
 
-SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits, SortStrategy strategy) {
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy) {
   SortReport report;
   if (n <= 1) return report;
+  detail::check_device_items("radix_sort", n);
   const bool k64 = bits == KeyBits::k64;
   const uint64_t key_bytes = k64 ? 8 : 4;
-  if (keys.bytes() < n * key_bytes || (values && values->bytes() < uint64_t{n} * 4))
+  if (keys.bytes() < n * key_bytes || (values && values->bytes() < n * 4))
     throw Error("radix_sort: buffers too small for " + std::to_string(n) + " keys");
 
   const DeviceInfo& info = dev.info();
@@ -79,7 +93,7 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
   Kernel& or_and = dev.kernel(k64 ? KernelId::radix_or_and_k64 : KernelId::radix_or_and_k32);
 
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
-  MvRadixParams p{n, s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
+  MvRadixParams p{static_cast<uint32_t>(n), s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
   dev.dispatch(or_and, s.groups, s.local_size, {&keys, &red}, p);
   dev.barrier();
   uint64_t varying = k64 ? varying_bits<uint64_t>(dev, red, s.blocks) : varying_bits<uint32_t>(dev, red, s.blocks);
@@ -92,6 +106,15 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
   }
   if (vary.empty()) return report;
 
+  // Name the whole need up front rather than the first scratch buffer that fails.
+  const uint64_t scratch = scratch_bytes(dev, s, n, key_bytes, values != nullptr);
+  if (scratch > detail::memory_left(dev, false) && scratch > detail::memory_left(dev, true))
+    throw DeviceMemoryError("radix_sort: " + std::to_string(n) + " keys need " + format_bytes(scratch) +
+                            " of device scratch beside their data, but " +
+                            format_bytes(detail::memory_left(dev, false)) + " of the budget " +
+                            format_bytes(dev.memory_budget()) +
+                            " is left; raise --device-memory, or sort host vectors (they run in pieces that fit)");
+
   SortRun run{dev,
               s,
               p,
@@ -100,8 +123,8 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
               dev.kernel(k64 ? KernelId::radix_local_sort_k64 : KernelId::radix_local_sort_k32),
               dev.alloc((uint64_t{s.blocks} * MV_RADIX_BUCKETS + 1) * 4, "radix sort histograms"),
               plan_scan(dev, s.blocks * MV_RADIX_BUCKETS)};
-  Buffer keys_alt = dev.alloc(uint64_t{n} * key_bytes, "radix sort scratch keys");
-  Buffer values_alt = values ? dev.alloc(uint64_t{n} * 4, "radix sort scratch values") : Buffer();
+  Buffer keys_alt = dev.alloc(n * key_bytes, "radix sort scratch keys");
+  Buffer values_alt = values ? dev.alloc(n * 4, "radix sort scratch values") : Buffer();
 
   bool hybrid = strategy == SortStrategy::Hybrid ||
                 (strategy == SortStrategy::Auto && !info.massively_parallel && vary.size() >= 2);
@@ -147,25 +170,62 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, Key
 
 namespace {
 
+// Merges consecutive sorted runs of `run` keys (the last may be shorter) pairwise into one sorted sequence.
+// Of equal keys the earlier run's go first, so the result is the stable sort of the whole input.
+template <class Key>
+void merge_runs(std::vector<Key>& keys, std::vector<uint32_t>* values, uint64_t run) {
+  const uint64_t n = keys.size();
+  std::vector<Key> k(n);
+  std::vector<uint32_t> v(values ? n : 0);
+  for (uint64_t width = run; width < n; width *= 2) {
+    tbb::parallel_for(uint64_t{0}, (n + 2 * width - 1) / (2 * width), [&](uint64_t pair) {
+      const uint64_t lo = pair * 2 * width, mid = std::min(lo + width, n), hi = std::min(lo + 2 * width, n);
+      for (uint64_t o = lo, a = lo, b = mid; o < hi; ++o) {
+        const uint64_t from = b == hi || (a < mid && !(keys[b] < keys[a])) ? a++ : b++;
+        k[o] = keys[from];
+        if (values) v[o] = (*values)[from];
+      }
+    });
+    keys.swap(k);
+    if (values) values->swap(v);
+  }
+}
+
+template <class Key>
+SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>* values, SortStrategy strategy,
+                     uint64_t chunk) {
+  if (values && values->size() != keys.size()) throw Error("radix_sort: keys and values differ in length");
+  const uint64_t n = keys.size();
+  if (n <= 1) return {};
+  const uint64_t run = std::clamp<uint64_t>(chunk, 1, n);
+  const KeyBits bits = sizeof(Key) == 8 ? KeyBits::k64 : KeyBits::k32;
+  Buffer kb = dev.alloc(run * sizeof(Key), "keys");
+  Buffer vb = values ? dev.alloc(run * 4, "values") : Buffer();
+  SortReport report;
+  report.runs = (n + run - 1) / run;
+  for (uint64_t first = 0; first < n; first += run) {
+    const uint64_t m = std::min(run, n - first);
+    dev.upload(kb, keys.data() + first, m * sizeof(Key));
+    if (values) dev.upload(vb, values->data() + first, m * 4);
+    SortReport r = radix_sort(dev, kb, values ? &vb : nullptr, m, bits, strategy);
+    dev.finish();
+    dev.download(kb, keys.data() + first, m * sizeof(Key));
+    if (values) dev.download(vb, values->data() + first, m * 4);
+    if (m < 2) continue;  // a lone key reports nothing
+    report.passes = std::max(report.passes, r.passes);
+    report.digits_skipped = first == 0 ? r.digits_skipped : std::min(report.digits_skipped, r.digits_skipped);
+    report.hybrid |= r.hybrid;
+  }
+  if (report.runs > 1) merge_runs(keys, values, run);
+  return report;
+}
+
+// Runs as long as the device holds: per key, the key and its value and a scratch copy of each.
 template <class Key>
 SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>* values, SortStrategy strategy) {
-  if (values && values->size() != keys.size()) throw Error("radix_sort: keys and values differ in length");
-  if (keys.size() > UINT32_MAX) throw Error("radix_sort: more than 2^32-1 keys");
-  auto n = static_cast<uint32_t>(keys.size());
-  if (n <= 1) return {};
-  Buffer kb = dev.alloc(uint64_t{n} * sizeof(Key), "keys");
-  dev.upload(kb, keys.data(), uint64_t{n} * sizeof(Key));
-  Buffer vb;
-  if (values) {
-    vb = dev.alloc(uint64_t{n} * 4, "values");
-    dev.upload(vb, values->data(), uint64_t{n} * 4);
-  }
-  SortReport r = radix_sort(dev, kb, values ? &vb : nullptr, n, sizeof(Key) == 8 ? KeyBits::k64 : KeyBits::k32,
-                            strategy);
-  dev.finish();
-  dev.download(kb, keys.data(), uint64_t{n} * sizeof(Key));
-  if (values) dev.download(vb, values->data(), uint64_t{n} * 4);
-  return r;
+  const uint64_t item = 2 * (sizeof(Key) + (values ? 4 : 0));
+  return sort_host(dev, keys, values, strategy,
+                   keys.size() > 1 ? detail::device_chunk(dev, "radix_sort", item, sizeof(Key)) : 1);
 }
 
 }  // namespace
@@ -176,5 +236,18 @@ SortReport radix_sort(Device& dev, std::vector<uint32_t>& keys, std::vector<uint
 SortReport radix_sort(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values, SortStrategy strategy) {
   return sort_host(dev, keys, values, strategy);
 }
+
+namespace detail {
+
+SortReport radix_sort_chunked(Device& dev, std::vector<uint32_t>& keys, std::vector<uint32_t>* values,
+                              SortStrategy strategy, uint64_t chunk) {
+  return sort_host(dev, keys, values, strategy, chunk);
+}
+SortReport radix_sort_chunked(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values,
+                              SortStrategy strategy, uint64_t chunk) {
+  return sort_host(dev, keys, values, strategy, chunk);
+}
+
+}  // namespace detail
 
 }  // namespace mv

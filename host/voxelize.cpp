@@ -173,11 +173,11 @@ void Voxelizer::add(const std::vector<float>& tris) {
   while (first < items) {
     uint64_t total = 0;
     uint32_t last = first;
-    while (last < items && (last == first || total + n[last] <= std::min<uint64_t>(room, UINT32_MAX))) {
+    while (last < items && (last == first || total + n[last] <= std::min(room, kMaxDeviceItems))) {
       offsets[last] = static_cast<uint32_t>(total);
       total += n[last++];
     }
-    if (total > UINT32_MAX) throw Error("voxelize: one triangle hits more than 2^32 voxels");
+    if (total > kMaxDeviceItems) throw Error("voxelize: one work item hits more than 2^31 voxels");
     hits_ += total;
     if (total > 0) {
       dev_.upload(counts, offsets.data() + first, uint64_t{last - first} * 4, uint64_t{first} * 4);
@@ -185,12 +185,11 @@ void Voxelizer::add(const std::vector<float>& tris) {
       p = {first, last - first, resolution_, kColumnsPerItem, 1, box_size_, box_[0], box_[1], box_[2], thin};
       dev_.dispatch(k, dev_.groups_for(last - first, local), local, {&tri_buf, &tri_of, &col_of, &counts, &keys}, p);
       dev_.barrier();
-      auto n_keys = static_cast<uint32_t>(total);
-      radix_sort(dev_, keys, nullptr, n_keys, KeyBits::k64);
+      radix_sort(dev_, keys, nullptr, total, KeyBits::k64);
       Buffer unique = dev_.alloc(total * 8, "unique voxel keys");
-      uint32_t m = unique_sorted(dev_, keys, unique, n_keys);
+      uint64_t m = unique_sorted(dev_, keys, unique, total);
       std::vector<uint64_t> chunk(m);
-      dev_.download(unique, chunk.data(), uint64_t{m} * 8);
+      dev_.download(unique, chunk.data(), m * 8);
       merge(std::move(chunk));
     }
     first = last;

@@ -50,6 +50,14 @@ TEST_P(MortonTest, EmptyInputIsANoOp) {
   EXPECT_EQ(k, 0xababababababababull);
 }
 
+TEST_P(MortonTest, OneDeviceCallIsCappedAtMaxDeviceItems) {
+  Device& dev = shared_device(GetParam());
+  Buffer points = dev.alloc(12, "points");
+  Buffer keys = dev.alloc(8, "keys");
+  std::string msg = error_message([&] { morton_encode(dev, points, keys, kMaxDeviceItems + 1, KeyBits::k64); });
+  EXPECT_NE(msg.find(std::to_string(kMaxDeviceItems)), std::string::npos) << msg;
+}
+
 MV_INSTANTIATE_ON_ALL_DEVICES(MortonTest);
 
 }  // namespace

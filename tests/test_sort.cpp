@@ -1,6 +1,9 @@
-// Radix sort on every device vs std::stable_sort, byte for byte, keys-only and (key, value) pairs.
+// Radix sort on every device vs std::stable_sort, byte for byte, keys-only and (key, value) pairs; host vectors
+// in runs merged on the host.
 #include <algorithm>
+#include <numeric>
 
+#include "host/chunking.h"
 #include "host/ref/reference.h"
 #include "megavox/primitives.h"
 #include "test_support.h"
@@ -123,6 +126,66 @@ TEST_P(SortTest, HybridRunsWhereBucketsFit) {
   EXPECT_TRUE(values == expect_values);
   EXPECT_EQ(r.passes, 8u);
   EXPECT_TRUE(keys == expect);
+}
+
+// Host vectors through the chunked path with small runs: runs of one key, of a few, one run longer than the
+// input. Equal keys spread over several runs keep their input order (values = input index).
+TEST_P(SortTest, HostVectorsInRunsMergeStably) {
+  for (uint64_t run : {1u, 2u, 3u, 7u, 1000u, 5000u}) {
+    const size_t n = run <= 7 ? 30 * run : 3001;  // about 30 runs or more (a device sort each)
+    std::vector<uint64_t> r = random_u64(n, run);
+    std::vector<uint64_t> ties = r, equal(n, 42), reversed(n);
+    for (auto& k : ties) k &= 0xf00000000000000full;
+    std::iota(reversed.rbegin(), reversed.rend(), uint64_t{1} << 40);
+    for (const auto* shape : {&r, &ties, &equal, &reversed}) {
+      SCOPED_TRACE("run " + std::to_string(run));
+      std::vector<uint64_t> keys = *shape, expect_keys = *shape;
+      std::vector<uint32_t> values(n), expect_values(n);
+      std::iota(values.begin(), values.end(), 0u);
+      std::iota(expect_values.begin(), expect_values.end(), 0u);
+      ref::stable_sort<uint64_t>(expect_keys, &expect_values);
+      SortReport rep = detail::radix_sort_chunked(dev(), keys, &values, SortStrategy::Auto, run);
+      EXPECT_EQ(rep.runs, (n + run - 1) / run);
+      ASSERT_TRUE(keys == expect_keys);
+      ASSERT_TRUE(values == expect_values);
+    }
+    std::vector<uint32_t> keys32 = random_u32(n, run), expect32 = keys32;  // keys only, 32-bit
+    for (auto& k : keys32) k &= 0xff0000ffu;
+    expect32 = keys32;
+    ref::stable_sort<uint32_t>(expect32, nullptr);
+    detail::radix_sort_chunked(dev(), keys32, nullptr, SortStrategy::Auto, run);
+    ASSERT_TRUE(keys32 == expect32) << "run " << run;
+  }
+}
+
+// A sort of device buffers whose scratch does not fit what the budget has left names the memory it needs; the
+// host overload on the same device sorts those keys in runs that fit and merges them.
+TEST_P(SortTest, OverTheBudgetNamesTheNeedOrRunsInPieces) {
+  auto small = Device::open({GetParam().selector(), 8u << 20, false});
+  const size_t n = size_t{640} << 10;  // 5 MiB of 64-bit keys: their scratch copy is more than the 3 MiB left
+  std::vector<uint64_t> keys = random_u64(n, 12);
+  {
+    Buffer kb = small->alloc(n * 8, "keys");
+    small->upload(kb, keys.data(), n * 8);
+    std::string msg = error_message([&] { radix_sort(*small, kb, nullptr, n, KeyBits::k64); });
+    EXPECT_NE(msg.find("radix_sort: 655360 keys need 5."), std::string::npos) << msg;
+    EXPECT_NE(msg.find("budget 8.0 MiB"), std::string::npos) << msg;
+  }
+  std::vector<uint32_t> values(n), expect_values(n);
+  std::iota(values.begin(), values.end(), 0u);
+  std::iota(expect_values.begin(), expect_values.end(), 0u);
+  std::vector<uint64_t> expect_keys = keys;
+  ref::stable_sort<uint64_t>(expect_keys, &expect_values);
+  SortReport rep = radix_sort(*small, keys, &values);
+  EXPECT_GT(rep.runs, 1u);
+  EXPECT_TRUE(keys == expect_keys);
+  EXPECT_TRUE(values == expect_values);
+}
+
+TEST_P(SortTest, OneDeviceCallIsCappedAtMaxDeviceItems) {
+  Buffer keys = dev().alloc(8, "keys");
+  std::string msg = error_message([&] { radix_sort(dev(), keys, nullptr, kMaxDeviceItems + 1, KeyBits::k64); });
+  EXPECT_NE(msg.find(std::to_string(kMaxDeviceItems)), std::string::npos) << msg;
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(SortTest);

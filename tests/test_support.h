@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/error.h"
 #include "megavox/voxelize.h"
 
 namespace mv::test {
@@ -47,6 +48,17 @@ std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t l
 
 // Morton keys sorted, each once.
 std::vector<uint64_t> sorted_unique(std::vector<uint64_t> keys);
+
+// The message of the mv::Error `f` throws ("" when it throws none).
+template <class F>
+std::string error_message(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
 
 // Deterministic random data.
 std::vector<uint32_t> random_u32(size_t n, uint64_t seed);

@@ -59,7 +59,7 @@ bool verify(const std::vector<Key>& input, const std::vector<Key>& keys, const s
 
 template <class Key>
 SortBenchResult run(Device& dev, const SortBenchOptions& o) {
-  if (o.n == 0 || o.n > UINT32_MAX) throw Error("bench sort: --n must be in [1, 2^32-1]");
+  if (o.n == 0 || o.n > kMaxDeviceItems) throw Error("bench sort: --n must be in [1, 2^31-1]");
   const auto n = static_cast<uint32_t>(o.n);
   SortBenchResult r;
   r.device = dev.info();

@@ -7,6 +7,7 @@
 #include "dag_build_steps.h"
 #include "megavox/dag.h"
 #include "megavox/error.h"
+#include "megavox/primitives.h"
 
 namespace mv {
 
@@ -126,7 +127,8 @@ void finish_build(Device& dev, Dag& dag, const Reduced& root, const Reduction& r
 Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
               DagBuildTimes* times, bool reduce, const Reduction* shared) {
   if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
-  if (voxels.size() > UINT32_MAX) throw Error("DAG build: more than 2^32-1 voxels in one build");
+  if (voxels.size() > kMaxDeviceItems)  // the level steps are single device calls of the primitives
+    throw Error("DAG build: more than " + std::to_string(kMaxDeviceItems) + " voxels in one build; build in cubes");
   if (!voxels.empty() && voxels.back() >> (3 * levels))
     throw Error("DAG build: a voxel key lies outside the 2^" + std::to_string(levels) + " grid");
   Dag dag;

@@ -140,4 +140,17 @@ std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in) {
   return out;
 }
 
+std::vector<uint64_t> exclusive_scan64(const std::vector<uint32_t>& in, uint64_t start) {
+  std::vector<uint64_t> out(in.size() + 1, start);
+  for (size_t i = 0; i < in.size(); ++i) out[i + 1] = out[i] + in[i];
+  return out;
+}
+
+std::vector<uint64_t> unique_sorted(const std::vector<uint64_t>& sorted) {
+  std::vector<uint64_t> out;
+  for (uint64_t k : sorted)
+    if (out.empty() || out.back() != k) out.push_back(k);
+  return out;
+}
+
 }  // namespace mv::ref

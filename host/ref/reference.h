@@ -29,6 +29,11 @@ DagCounts ssvdag_counts(const std::vector<uint64_t>& voxels, uint32_t levels);
 
 // out[i] = sum of in[0..i), out[n] = total.
 std::vector<uint32_t> exclusive_scan(const std::vector<uint32_t>& in);
+// The same in 64 bits, from `start`.
+std::vector<uint64_t> exclusive_scan64(const std::vector<uint32_t>& in, uint64_t start = 0);
+
+// The sorted keys with each run of equal keys kept once.
+std::vector<uint64_t> unique_sorted(const std::vector<uint64_t>& sorted);
 
 // std::stable_sort of (key, value) pairs by key; values may be null (keys only).
 template <class Key>

@@ -1,32 +1,59 @@
-// megavox — data-parallel primitives on a Device: Morton encoding, exclusive scan, stable radix sort.
+// megavox — data-parallel primitives on a Device: Morton encoding, exclusive scan, unique, stable radix sort.
 // These are the shared pieces later stages (DAG reduction, point hierarchies, the page cache's LRU) build on.
 // Every function records work on the device's stream and returns without waiting, except where noted.
+//
+// Counts are 64-bit. A call on device buffers covers at most kMaxDeviceItems items (the kernels index with 32
+// bits, which Vulkan reads as signed) and what its buffers hold, so the device's memory is what bounds it in
+// practice (PoCL: 1 GiB per buffer); more throws mv::Error. Larger inputs, such as a point cloud past 4 G
+// points, take the overloads on host arrays: host-driven loops over device-sized chunks that carry 64-bit state
+// (a running total, an output position, the key at the seam) from one chunk to the next.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "megavox/device.h"
 
 namespace mv {
 
+inline constexpr uint64_t kMaxDeviceItems = (uint64_t{1} << 31) - 1;
+
 enum class KeyBits { k32 = 32, k64 = 64 };
 
 // keys[i] = Morton code of (xyz[3i], xyz[3i+1], xyz[3i+2]); x in the lowest bit. 64-bit keys interleave
 // 3 x 21 bits, 32-bit keys 3 x 10 bits; higher coordinate bits are ignored.
-void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint32_t n, KeyBits bits);
+void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint64_t n, KeyBits bits);
 
-// dst[i] = src[0] + ... + src[i-1] for i < n, and dst[n] = the total (dst holds n + 1 values).
-// src and dst may be the same buffer.
-void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint32_t n);
+// dst[i] = src[0] + ... + src[i-1] for i < n, and dst[n] = the total (dst holds n + 1 values), as 32-bit
+// sums: mod 2^32 once a prefix passes 2^32. src and dst may be the same buffer.
+void exclusive_scan(Device& dev, const Buffer& src, Buffer& dst, uint64_t n);
 
-// Removes repeats from n sorted 64-bit keys: `out` receives the distinct keys in order (it may be `keys`
-// must be another buffer of n keys). Returns how many there are (waits once, to read the count).
-uint32_t unique_sorted(Device& dev, const Buffer& keys, Buffer& out, uint32_t n);
+// The same into exact 64-bit sums from `start`: dst holds n + 1 uint64_t values, dst[i] = start + src[0] + ...
+// + src[i-1]. src and dst must be different buffers.
+void exclusive_scan64(Device& dev, const Buffer& src, Buffer& dst, uint64_t n, uint64_t start = 0);
+
+// Host arrays of any length: out[i] = in[0] + ... + in[i-1] in 64 bits, out[n] = the total, which is returned
+// (out holds in.size() + 1 values). Chunks that fit the device are scanned there with exclusive_scan64, each
+// from the running total of the chunks before it. Waits.
+uint64_t exclusive_scan(Device& dev, std::span<const uint32_t> in, std::span<uint64_t> out);
+
+// Removes repeats from n sorted 64-bit keys: `out` (another buffer of n keys) receives the distinct keys in
+// order. Returns how many there are (waits once, to read the count). Output positions are 32-bit on the device,
+// within the one call.
+uint64_t unique_sorted(Device& dev, const Buffer& keys, Buffer& out, uint64_t n);
+
+// Host arrays of any length: the distinct keys of sorted `keys`, in order, to the front of `out` (at least as
+// long as keys; it may be keys' own storage). Returns how many. Chunks that fit the device are made unique
+// there; a chunk's first key equal to the last key kept (a run across the seam, or a chunk all of one key) is
+// dropped on the host, and output positions count in 64 bits. Waits.
+uint64_t unique_sorted(Device& dev, std::span<const uint64_t> keys, std::span<uint64_t> out);
 
 struct SortReport {
   uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
   uint32_t digits_skipped = 0;  // digits constant over all keys
   bool hybrid = false;          // one global pass on the top digit, then each bucket sorted in cache
+  uint64_t runs = 1;            // host vectors: runs sorted on the device and merged on the host; with more than
+                                // one, the most passes, the fewest skipped digits and whether any run was hybrid
 };
 
 // Lsd: one global pass per varying digit (any device). Hybrid: one global pass on the most significant
@@ -38,10 +65,16 @@ enum class SortStrategy { Auto, Lsd, Hybrid };
 // Stable LSD radix sort of n keys (32- or 64-bit), with 32-bit values moved along when `values` is not null.
 // Waits once, to learn which digits vary. On return `keys` (and `*values`) hold the sorted data; the Buffer
 // objects may have been swapped with scratch buffers of the same size, so keep using these objects.
-SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint32_t n, KeyBits bits,
+// n is bounded by device memory: keys, values and a scratch copy of each sit on the device at once, and when
+// the scratch does not fit what is left of the budget this throws mv::DeviceMemoryError naming what it needs.
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits,
                       SortStrategy strategy = SortStrategy::Auto);
 
-// Host convenience: upload, sort, download (keys-only when values is null). Waits.
+// Host convenience: upload, sort, download (keys-only when values is null). Waits. Any length: keys the device
+// cannot hold at once are sorted there in runs it can, merged on the host (which takes a second copy of keys
+// and values in host memory), stably: equal keys keep their input order across runs. Values stay 32-bit
+// payloads, so past 2^32 keys they cannot index every key: such callers sort chunk-relative indices, or keys
+// that carry their own.
 SortReport radix_sort(Device& dev, std::vector<uint32_t>& keys, std::vector<uint32_t>* values,
                       SortStrategy strategy = SortStrategy::Auto);
 SortReport radix_sort(Device& dev, std::vector<uint64_t>& keys, std::vector<uint32_t>* values,

@@ -51,15 +51,19 @@ MV_INLINE mv_u32 mv_morton3_32(mv_u32 x, mv_u32 y, mv_u32 z) {
   return mv_morton_spread10(x) | (mv_morton_spread10(y) << 1) | (mv_morton_spread10(z) << 2);
 }
 
-/* Grid-stride over points: xyz holds 3n coordinates. */
+/* Grid-stride over points: xyz holds 3n coordinates, so their index is 64-bit (3i passes 2^31 at 716 M points). */
 MV_INLINE void mv_morton_encode64(MvBufU32 xyz, MvBufU64 keys, MvMortonParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride)
-    MV_ST(keys, i, mv_morton3_64(MV_LD(xyz, 3u * i), MV_LD(xyz, 3u * i + 1u), MV_LD(xyz, 3u * i + 2u)));
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u64 j = MV_U64(3u) * MV_U64(i);
+    MV_ST(keys, i, mv_morton3_64(MV_LD_FAR(xyz, j), MV_LD_FAR(xyz, j + MV_U64(1u)), MV_LD_FAR(xyz, j + MV_U64(2u))));
+  }
 }
 
 MV_INLINE void mv_morton_encode32(MvBufU32 xyz, MvBufU32 keys, MvMortonParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride)
-    MV_ST(keys, i, mv_morton3_32(MV_LD(xyz, 3u * i), MV_LD(xyz, 3u * i + 1u), MV_LD(xyz, 3u * i + 2u)));
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u64 j = MV_U64(3u) * MV_U64(i);
+    MV_ST(keys, i, mv_morton3_32(MV_LD_FAR(xyz, j), MV_LD_FAR(xyz, j + MV_U64(1u)), MV_LD_FAR(xyz, j + MV_U64(2u))));
+  }
 }
 
 #endif

@@ -3,10 +3,15 @@
  * per-language entry points (the .cl and .comp files of each kernel family) stay thin. The PNanoVDB.h pattern.
  *
  * Buffers are typed references: MvBufU32 / MvBufU64, read with MV_LD(buf, i), written with MV_ST(buf, i, v).
+ * MV_LD_FAR(buf, i) reads element i of a MvBufU32 at a 64-bit index i, for index arithmetic that passes 2^31.
+ * MV_ST_U64(buf, i, v) writes element i of a MvBufU32 viewed as 64-bit words (words 2i and 2i + 1, 8-byte
+ * aligned), for an output whose width a parameter picks.
  * MV_LD_PAIR(buf, i) reads 32-bit words i and i + 1 of a MvBufU32 as one 64-bit value (word i low), i of any
  * parity: one load on Vulkan, where lavapipe pays a per-lane loop for each load instruction.
  * On Vulkan they are buffer-device-address references (no 128 MiB descriptor limit); on OpenCL global
- * pointers; on the host plain pointers. */
+ * pointers; on the host plain pointers.
+ * Indices are 32-bit and stay below 2^31 in every dispatch (Vulkan access chains read them as signed): the host
+ * keeps one call of a primitive to MV_MAX_ITEMS items (kMaxDeviceItems in primitives.h). */
 #ifndef MV_LANG_H
 #define MV_LANG_H
 
@@ -129,10 +134,19 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair
 #define MV_LD(buf, i) ((buf).v[i])
 #define MV_ST(buf, i, v_) ((buf).v[i] = (v_))
 #define MV_LD_PAIR(buf, i) (MvBufU32Pair(uint64_t(buf) + 4ul * uint64_t(i)).v)
+#define MV_LD_FAR(buf, i) (MvBufU32(uint64_t(buf) + 4ul * (i)).v[0])
+#define MV_ST_U64(buf, i, v_) (MvBufU64(uint64_t(buf)).v[i] = (v_))
 #endif
 #if !defined(MV_GLSL)
 #define MV_LD_PAIR(buf, i) ((mv_u64)(buf)[i] | ((mv_u64)(buf)[(i) + 1] << 32))
+#define MV_LD_FAR(buf, i) ((buf)[i])
 #endif
+#if defined(MV_OPENCL)
+#define MV_ST_U64(buf, i, v) (((__global ulong*)(buf))[i] = (v))
+#elif defined(MV_CPP)
+#define MV_ST_U64(buf, i, v) (((mv_u64*)(buf))[i] = (v))
+#endif
+#define MV_MAX_ITEMS 0x7fffffffu /* items one call of a primitive covers */
 
 /* ---- a private 256-entry array passed to a helper: a pointer in C and OpenCL, an inout array in GLSL ---- */
 #if defined(MV_GLSL)

@@ -20,6 +20,7 @@ struct KernelDesc {
   const uint32_t* spirv = nullptr;  // one SPIR-V module per kernel, entry "main"
   size_t spirv_words = 0;
   bool args_in_buffer = false;  // Vulkan: the module reads its arguments from a parameter buffer (MV_ARGS_BUFFER)
+  int declared_args = -1;       // buffers + 1 as kernels/kernels.cmake declares; OpenCL checks it (-1: unchecked)
 };
 
 // One large device allocation; the memory pool carves pages out of it.

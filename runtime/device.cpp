@@ -151,6 +151,7 @@ Kernel& Device::kernel(KernelId id) {
   desc.spirv = e->spirv;
   desc.spirv_words = e->spirv_words;
   desc.args_in_buffer = e->signature.args_in_buffer;
+  desc.declared_args = static_cast<int>(e->signature.buffers) + 1;
   Kernel& k = add_kernel(desc);
   k.checked_ = true;
   k.buffers_ = e->signature.buffers;

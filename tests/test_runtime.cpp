@@ -113,6 +113,19 @@ TEST_P(RuntimeTest, UploadFillCopyDownload) {
 
 TEST_P(RuntimeTest, UnknownKernelIsAnError) { EXPECT_THROW(dev().kernel(static_cast<KernelId>(kKernelCount)), Error); }
 
+// Every kernel kernels/kernels.cmake lists builds on every device that has what it needs, and its OpenCL
+// source takes the arguments the list declares (the backend compares them when the kernel is built).
+TEST_P(RuntimeTest, EveryKernelBuildsWithItsDeclaredSignature) {
+  for (uint32_t id = 0; id < kKernelCount; ++id) {
+    try {
+      dev().kernel(static_cast<KernelId>(id));
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("is unsuitable for kernel"), std::string::npos) << msg;  // only a missing feature
+    }
+  }
+}
+
 // A dispatch whose buffer count or parameter struct differs from kernels/kernels.cmake fails before it
 // reaches the backend, with the kernel's name, on every backend.
 TEST_P(RuntimeTest, DispatchChecksTheDeclaredSignature) {

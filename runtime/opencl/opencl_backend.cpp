@@ -213,6 +213,15 @@ class OpenCLBackend final : public Backend {
     cl_int err = CL_SUCCESS;
     k->kernel = clCreateKernel(program, desc.name.c_str(), &err);
     check(err, "creating kernel '" + desc.name + "' from program '" + desc.cl_program + "'");
+    if (desc.declared_args >= 0) {  // the source agrees with kernels/kernels.cmake: its buffers, then one struct
+      cl_uint args = 0;
+      check(clGetKernelInfo(k->kernel, CL_KERNEL_NUM_ARGS, sizeof(args), &args, nullptr),
+            "reading the arguments of '" + desc.name + "'");
+      if (args != static_cast<cl_uint>(desc.declared_args))
+        throw Error("kernel '" + desc.name + "' takes " + std::to_string(args) + " arguments in " + desc.cl_program +
+                    ", but kernels/kernels.cmake declares " + std::to_string(desc.declared_args - 1) +
+                    " buffers and a parameter struct");
+    }
     return *kernels_.emplace(desc.name, std::move(k)).first->second;
   }
 

@@ -86,6 +86,17 @@ typedef double mv_f64;
 #define MV_PRECISE
 #endif
 
+/* ---- layout contracts ----
+ * Each struct the host shares with kernels (parameters, records) states its size and field offsets right after
+ * its declaration, checked by the host compiler; tests/test_layout.cpp probes each device's view of the same
+ * structs (kernels/common/layout_probe.h). Fields are 4 bytes and structs 4-aligned: the host packs the
+ * parameters right after the buffer addresses (8 bytes each) and GLSL's std430 push constants agree. */
+#if defined(MV_CPP)
+#include <cstddef>
+#define MV_LAYOUT_SIZE(T, bytes) static_assert(sizeof(T) == (bytes) && alignof(T) == 4, #T ": size")
+#define MV_LAYOUT_AT(T, field, offset) static_assert(offsetof(T, field) == (offset), #T "." #field ": offset")
+#endif
+
 /* ---- bit operations and float bit casts ---- */
 #if defined(MV_CPP)
 #include <bit>

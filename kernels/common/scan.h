@@ -13,6 +13,11 @@ MV_STRUCT_BEGIN(MvScanParams)
   mv_u32 block_size; /* values per block */
   mv_u32 pad0;
 MV_STRUCT_END(MvScanParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvScanParams, 16);
+MV_LAYOUT_AT(MvScanParams, n, 0); MV_LAYOUT_AT(MvScanParams, blocks, 4); MV_LAYOUT_AT(MvScanParams, block_size, 8);
+MV_LAYOUT_AT(MvScanParams, pad0, 12);
+#endif
 
 MV_INLINE void mv_scan_reduce(MvBufU32 src, MvBufU32 sums, MvScanParams p, mv_u32 b) {
   mv_u32 begin = b * p.block_size;

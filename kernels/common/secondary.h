@@ -27,6 +27,17 @@ MV_STRUCT_BEGIN(MvSecondaryParams)
   mv_f32 lead;   /* start this many hit cells along the ray: steps past the voxel staircase of the surface */
   mv_u32 pad1; mv_u32 pad2;
 MV_STRUCT_END(MvSecondaryParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvSecondaryParams, 64);
+MV_LAYOUT_AT(MvSecondaryParams, first, 0); MV_LAYOUT_AT(MvSecondaryParams, count, 4);
+MV_LAYOUT_AT(MvSecondaryParams, levels, 8); MV_LAYOUT_AT(MvSecondaryParams, camera, 12);
+MV_LAYOUT_AT(MvSecondaryParams, width, 16); MV_LAYOUT_AT(MvSecondaryParams, kind, 20);
+MV_LAYOUT_AT(MvSecondaryParams, sample_k, 24); MV_LAYOUT_AT(MvSecondaryParams, stride, 28);
+MV_LAYOUT_AT(MvSecondaryParams, mask, 32); MV_LAYOUT_AT(MvSecondaryParams, lx, 36);
+MV_LAYOUT_AT(MvSecondaryParams, ly, 40); MV_LAYOUT_AT(MvSecondaryParams, lz, 44);
+MV_LAYOUT_AT(MvSecondaryParams, tmax, 48); MV_LAYOUT_AT(MvSecondaryParams, lead, 52);
+MV_LAYOUT_AT(MvSecondaryParams, pad1, 56); MV_LAYOUT_AT(MvSecondaryParams, pad2, 60);
+#endif
 
 MV_INLINE mv_u32 mv_hash32(mv_u32 x) {
   x ^= x >> 16;

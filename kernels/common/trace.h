@@ -60,6 +60,14 @@ MV_STRUCT_BEGIN(MvTraceParams)
                        grid-stride */
   mv_u32 level_base[MV_TRACE_PARAM_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream */
 MV_STRUCT_END(MvTraceParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvTraceParams, 80);
+MV_LAYOUT_AT(MvTraceParams, first, 0); MV_LAYOUT_AT(MvTraceParams, count, 4); MV_LAYOUT_AT(MvTraceParams, levels, 8);
+MV_LAYOUT_AT(MvTraceParams, camera, 12); MV_LAYOUT_AT(MvTraceParams, occlusion, 16);
+MV_LAYOUT_AT(MvTraceParams, width, 20); MV_LAYOUT_AT(MvTraceParams, max_steps, 24);
+MV_LAYOUT_AT(MvTraceParams, proj, 28); MV_LAYOUT_AT(MvTraceParams, block, 32);
+MV_LAYOUT_AT(MvTraceParams, level_base, 36);
+#endif
 
 MV_STRUCT_BEGIN(MvRay)
   mv_f32 ox; mv_f32 oy; mv_f32 oz;
@@ -67,6 +75,11 @@ MV_STRUCT_BEGIN(MvRay)
   mv_f32 tmax;
   mv_f32 lod_t; /* added to t in the LOD test: a secondary ray keeps the LOD of its primary */
 MV_STRUCT_END(MvRay)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvRay, 4 * MV_RAY_FLOATS); /* the ray record: its fields in order */
+MV_LAYOUT_AT(MvRay, ox, 0); MV_LAYOUT_AT(MvRay, oy, 4); MV_LAYOUT_AT(MvRay, oz, 8); MV_LAYOUT_AT(MvRay, dx, 12);
+MV_LAYOUT_AT(MvRay, dy, 16); MV_LAYOUT_AT(MvRay, dz, 20); MV_LAYOUT_AT(MvRay, tmax, 24); MV_LAYOUT_AT(MvRay, lod_t, 28);
+#endif
 
 MV_STRUCT_BEGIN(MvHit)
   mv_f32 t;
@@ -74,6 +87,11 @@ MV_STRUCT_BEGIN(MvHit)
   mv_u32 info;
   mv_u32 steps;
 MV_STRUCT_END(MvHit)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvHit, 4 * MV_HIT_WORDS); /* the hit record: its fields in order (t as float bits) */
+MV_LAYOUT_AT(MvHit, t, 0); MV_LAYOUT_AT(MvHit, x, 4); MV_LAYOUT_AT(MvHit, y, 8); MV_LAYOUT_AT(MvHit, z, 12);
+MV_LAYOUT_AT(MvHit, info, 16); MV_LAYOUT_AT(MvHit, steps, 20);
+#endif
 
 /* 1 / x for |x| in [1e-20, 1e20], identical on every device (not always correctly rounded). */
 MV_INLINE mv_f32 mv_rcp(mv_f32 x) {

@@ -1,10 +1,10 @@
-// What the traversal kernel (kernels/common/trace.h) reads of an encoded DAG, shared by the device engine and
+// What the traversal kernel (kernels/common/trace_nodes.h) reads of an encoded DAG, shared by the device engine and
 // the host build of the kernel, so both walk the same bytes.
 #pragma once
 #include <cstdint>
 #include <vector>
 
-#include "../../kernels/common/trace.h"
+#include "../../kernels/common/trace_types.h"
 #include "megavox/encode.h"
 
 namespace mv {

@@ -1,11 +1,8 @@
-/* Ray traversal of the encoded voxel DAGs, written once for the host, OpenCL C and GLSL.
+/* Ray traversal of the encoded voxel DAGs, written once for the host, OpenCL C and GLSL: the loop. Records
+ * and parameters are in trace_types.h, what it reads of each node in trace_nodes.h.
  *
- * Encodings (include/megavox/encode.h): svo / svdag / ussvdag are one stream of 32-bit words (header word with
- * the child mask and, for ussvdag, per-child mirror bits; one 32-bit absolute pointer per child; one-word 2^3
- * leaves); ssvdag is the compact stream of 16-bit words (2-bit child codes, 16/32-bit pointers with mirror
- * tags, offsets relative to the child level) over 64-bit 4^3 bricks. The traversal is the thesis's
- * "transform the geometry" multi-level DDA (notes 1.10): the ray stays fixed, a 3-bit mirror mask M is
- * accumulated along the path, and the child seen in octant v is stored at slot v ^ M.
+ * The traversal is the thesis's "transform the geometry" multi-level DDA (notes 1.10): the ray stays fixed, a
+ * 3-bit mirror mask M is accumulated along the path, and the child seen in octant v is stored at slot v ^ M.
  *
  * Coordinates: the root cube is [0, 1)^3 (host maps world to this cube); a cell of level l has side
  * 2^(l - L). Every decision is a comparison of crossing times t = (b - o) * inv_d, where b is a cell
@@ -27,71 +24,7 @@
  * may come from the parameters (mv_level_base). */
 #ifndef MV_TRACE_H
 #define MV_TRACE_H
-#include "mv_lang.h"
-
-#define MV_ENC_SVDAG 2u  /* also stands for svo and ussvdag: the same 32-bit word decode */
-#define MV_ENC_SSVDAG 4u
-#define MV_TRACE_MISS 0u
-#define MV_TRACE_HIT 1u
-#define MV_TRACE_GAVE_UP 2u /* max_steps reached */
-#define MV_AXIS_NONE 3u     /* hit at the ray's origin: no face */
-#define MV_RAY_FLOATS 8u    /* ox oy oz dx dy dz tmax lod_t */
-#define MV_HIT_WORDS 6u     /* t (float bits) x y z info steps */
-#define MV_CAMERA_FLOATS 16u
-#define MV_TRACE_PARAM_LEVELS 11u /* the parameters can hold where ssvdag levels 3 .. 13 start (every tree up
-                                     to 16K^3); the push constants hold no more (128 bytes) */
-
-/* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 */
-#define MV_INFO_STATUS(i) ((i) & 3u)
-#define MV_INFO_AXIS(i) (((i) >> 2) & 3u)
-#define MV_INFO_NEGATIVE(i) (((i) >> 4) & 1u)
-#define MV_INFO_LEVEL(i) (((i) >> 8) & 31u)
-
-MV_STRUCT_BEGIN(MvTraceParams)
-  mv_u32 first;     /* rays [first, first + count) in this dispatch */
-  mv_u32 count;
-  mv_u32 levels;    /* L: the root cube is 2^L voxels per axis */
-  mv_u32 camera;    /* 0: rays from the ray buffer; 1: camera rays (camera buffer, ray index = pixel) */
-  mv_u32 occlusion; /* 0: hit records; 1: occlusion counts (count[i] += 1 when ray i hits) */
-  mv_u32 width;     /* camera rays: image width */
-  mv_u32 max_steps; /* give up after this many loop steps (the same on every device) */
-  mv_f32 proj;      /* LOD factor, see above; 0 = voxels only */
-  mv_u32 block;     /* rays per work-item, contiguous (CPU devices: neighbouring rays share cache lines); 0 =
-                       grid-stride */
-  mv_u32 level_base[MV_TRACE_PARAM_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream */
-MV_STRUCT_END(MvTraceParams)
-#if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvTraceParams, 80);
-MV_LAYOUT_AT(MvTraceParams, first, 0); MV_LAYOUT_AT(MvTraceParams, count, 4); MV_LAYOUT_AT(MvTraceParams, levels, 8);
-MV_LAYOUT_AT(MvTraceParams, camera, 12); MV_LAYOUT_AT(MvTraceParams, occlusion, 16);
-MV_LAYOUT_AT(MvTraceParams, width, 20); MV_LAYOUT_AT(MvTraceParams, max_steps, 24);
-MV_LAYOUT_AT(MvTraceParams, proj, 28); MV_LAYOUT_AT(MvTraceParams, block, 32);
-MV_LAYOUT_AT(MvTraceParams, level_base, 36);
-#endif
-
-MV_STRUCT_BEGIN(MvRay)
-  mv_f32 ox; mv_f32 oy; mv_f32 oz;
-  mv_f32 dx; mv_f32 dy; mv_f32 dz;
-  mv_f32 tmax;
-  mv_f32 lod_t; /* added to t in the LOD test: a secondary ray keeps the LOD of its primary */
-MV_STRUCT_END(MvRay)
-#if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvRay, 4 * MV_RAY_FLOATS); /* the ray record: its fields in order */
-MV_LAYOUT_AT(MvRay, ox, 0); MV_LAYOUT_AT(MvRay, oy, 4); MV_LAYOUT_AT(MvRay, oz, 8); MV_LAYOUT_AT(MvRay, dx, 12);
-MV_LAYOUT_AT(MvRay, dy, 16); MV_LAYOUT_AT(MvRay, dz, 20); MV_LAYOUT_AT(MvRay, tmax, 24); MV_LAYOUT_AT(MvRay, lod_t, 28);
-#endif
-
-MV_STRUCT_BEGIN(MvHit)
-  mv_f32 t;
-  mv_u32 x; mv_u32 y; mv_u32 z; /* the cell at the hit level */
-  mv_u32 info;
-  mv_u32 steps;
-MV_STRUCT_END(MvHit)
-#if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvHit, 4 * MV_HIT_WORDS); /* the hit record: its fields in order (t as float bits) */
-MV_LAYOUT_AT(MvHit, t, 0); MV_LAYOUT_AT(MvHit, x, 4); MV_LAYOUT_AT(MvHit, y, 8); MV_LAYOUT_AT(MvHit, z, 12);
-MV_LAYOUT_AT(MvHit, info, 16); MV_LAYOUT_AT(MvHit, steps, 20);
-#endif
+#include "trace_nodes.h"
 
 /* 1 / x for |x| in [1e-20, 1e20], identical on every device (not always correctly rounded). */
 MV_INLINE mv_f32 mv_rcp(mv_f32 x) {
@@ -176,82 +109,6 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
   if (e.t > tmax) e.enters = 0u;
   return e;
 }
-
-/* Thesis octant index (4x + 2y + z) of a Morton octant (x + 2y + 4z); its own inverse. */
-MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) | ((m >> 2) & 1u); }
-
-/* 16-bit word w of the ssvdag inner stream, stored two per 32-bit word, low half first. */
-MV_INLINE mv_u32 mv_inner16(MvBufU32 words, mv_u32 w) { return (MV_LD(words, w >> 1) >> ((w & 1u) * 16u)) & 0xffffu; }
-
-/* x with the bits under mask m and those s above them exchanged (a delta swap). */
-MV_INLINE mv_u32 mv_delta_swap(mv_u32 x, mv_u32 m, mv_u32 s) {
-  mv_u32 t = ((x >> s) ^ x) & m;
-  return x ^ t ^ (t << s);
-}
-
-/* A node's 8 children as a mask over stored Morton slots (bit v = slot v full), computed once when the walk
- * enters the node, so each step tests one bit whatever the encoding or level. */
-
-/* Thesis octant order (bit 4x + 2y + z) to Morton order (bit x + 2y + 4z): swap bits 1 <-> 4 and 3 <-> 6. */
-MV_INLINE mv_u32 mv_thesis_to_morton_mask(mv_u32 h) {
-  mv_u32 x = ((h >> 3) ^ h) & 0x0au;
-  return (h ^ x ^ (x << 3)) & 0xffu;
-}
-
-/* 32-bit word encodings: the child mask in the header's low byte. ssvdag inner nodes: 2-bit codes, 0 = empty. */
-MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
-  if (enc != MV_ENC_SSVDAG) return mv_thesis_to_morton_mask(hdr & 0xffu);
-  /* bit 2k (k = 4x + 2y + z): code k != 0; the x = 1 byte onto the odd bits gives bit x + 2z + 4y; then swap
-   * the y and z bits (2 <-> 4, 3 <-> 5) for x + 2y + 4z */
-  mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u;
-  return mv_delta_swap((nz & 0x55u) | ((nz >> 7) & 0xaau), 0x0cu, 2u);
-}
-
-/* An ssvdag 4^3 brick (bit 16x + 4y + z) is held as two 32-bit halves: lo has x in {0, 1}, hi x in {2, 3}.
- * Sub-block v (x in {2v_x, 2v_x + 1}, ...) lies in half v_x and is full when any of its 8 bits is: OR the z,
- * y and x pairs onto each block's low corner (bit 8v_y + 2v_z of the half), put the hi half's corners one bit
- * up (bit v_x + 2v_z + 8v_y), close the gap (v_x + 2v_z + 4v_y) and swap the y and z bits. Straight-line
- * 32-bit code: no per-lane loop or 64-bit lanes on SIMD devices. */
-MV_INLINE mv_u32 mv_half_corners(mv_u32 h) {
-  mv_u32 t = h | (h >> 1);
-  t = t | (t >> 4);
-  return (t | (t >> 16)) & 0x0505u;
-}
-
-MV_INLINE mv_u32 mv_brick_occupancy(mv_u32 lo, mv_u32 hi) {
-  mv_u32 u = mv_half_corners(lo) | (mv_half_corners(hi) << 1);
-  return mv_delta_swap((u & 0x0fu) | ((u >> 4) & 0xf0u), 0x0cu, 2u);
-}
-
-/* The 2^3 sub-block `sub` of a brick: its voxels by slot. Its bits sit at 16x + 4y + z above the block's
- * corner; the x = 1 ones move down beside them (bit z + 2x + 4y), then two delta swaps give x + 2y + 4z. */
-MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u32 lo, mv_u32 hi, mv_u32 sub) {
-  mv_u32 g = (((sub & 1u) != 0u ? hi : lo) >> (8u * ((sub >> 1) & 1u) + 2u * (sub >> 2))) & 0x330033u;
-  return mv_delta_swap(mv_delta_swap((g | (g >> 14)) & 0xffu, 0x22u, 1u), 0x0cu, 2u);
-}
-
-/* Where ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words): read from the level-offset
- * buffer (in_params = 0: one cached load, the cheapest where loads are cheap), or taken from the parameters by
- * a chain of selects (in_params = 1, trees up to 16K^3: no load and no indexed array, for lavapipe, see the
- * top; an index into the parameter array would put it in per-lane scratch memory there). */
-MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 in_params) {
-  if (in_params == 0u) return MV_LD(lvl_off, lv);
-  mv_u32 b = p.level_base[0];
-  b = lv == 4u ? p.level_base[1] : b;
-  b = lv == 5u ? p.level_base[2] : b;
-  b = lv == 6u ? p.level_base[3] : b;
-  b = lv == 7u ? p.level_base[4] : b;
-  b = lv == 8u ? p.level_base[5] : b;
-  b = lv == 9u ? p.level_base[6] : b;
-  b = lv == 10u ? p.level_base[7] : b;
-  b = lv == 11u ? p.level_base[8] : b;
-  b = lv == 12u ? p.level_base[9] : b;
-  b = lv == 13u ? p.level_base[10] : b;
-  return b;
-}
-
-/* Can the parameters hold where every level of a tree of L levels starts (mv_level_base's in_params)? */
-MV_INLINE bool mv_trace_params_hold_levels(mv_u32 L) { return L <= 3u + MV_TRACE_PARAM_LEVELS; }
 
 /* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). */
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 in_params, MvRay r,
@@ -390,37 +247,6 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_u32 negative = ae != MV_AXIS_NONE && inv[ae] > 0.0f ? 1u : 0u;
   h.info = MV_TRACE_HIT | (ae << 2) | (negative << 4) | (lc << 8);
   return h;
-}
-
-/* Ray i of a ray buffer (MV_RAY_FLOATS per ray). */
-MV_INLINE MvRay mv_load_ray(MvBufF32 rays, mv_u32 i) {
-  MvRay r;
-  mv_u32 b = MV_RAY_FLOATS * i;
-  r.ox = MV_LD(rays, b); r.oy = MV_LD(rays, b + 1u); r.oz = MV_LD(rays, b + 2u);
-  r.dx = MV_LD(rays, b + 3u); r.dy = MV_LD(rays, b + 4u); r.dz = MV_LD(rays, b + 5u);
-  r.tmax = MV_LD(rays, b + 6u);
-  r.lod_t = MV_LD(rays, b + 7u);
-  return r;
-}
-
-/* The camera ray of a pixel (row 0 at the top): camera buffer = eye[3], base[3], du[3], dv[3], tmax, where
- * the direction is base + x du + y dv (not normalized: its component along the view axis is 1, so t is
- * depth along the view axis). */
-MV_INLINE MvRay mv_camera_ray(MvBufF32 cam, mv_u32 pixel, mv_u32 width) {
-  MvRay r;
-  mv_f32 fx = MV_F32(pixel % width), fy = MV_F32(pixel / width);
-  r.ox = MV_LD(cam, 0u); r.oy = MV_LD(cam, 1u); r.oz = MV_LD(cam, 2u);
-  MV_PRECISE mv_f32 dx = MV_LD(cam, 3u) + fx * MV_LD(cam, 6u) + fy * MV_LD(cam, 9u);
-  MV_PRECISE mv_f32 dy = MV_LD(cam, 4u) + fx * MV_LD(cam, 7u) + fy * MV_LD(cam, 10u);
-  MV_PRECISE mv_f32 dz = MV_LD(cam, 5u) + fx * MV_LD(cam, 8u) + fy * MV_LD(cam, 11u);
-  r.dx = dx; r.dy = dy; r.dz = dz;
-  r.tmax = MV_LD(cam, 12u);
-  r.lod_t = 0.0f;
-  return r;
-}
-
-MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTraceParams p) {
-  return p.camera == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);
 }
 
 #if !defined(MV_CPP)

@@ -10,7 +10,8 @@
 namespace mv {
 
 // The stream as 32-bit words: svo / svdag / ussvdag as stored; the ssvdag inner stream (16-bit words, two
-// per 32-bit word, low half first) followed by one spare word, as the kernel reads 16-bit words in pairs.
+// per 32-bit word, low half first) followed by one spare word (two words at least), as the kernel reads 16-bit
+// words in pairs (mv_node_load).
 std::vector<uint32_t> trace_words(const EncodedDag& dag);
 
 // ssvdag: the bricks as 32-bit halves (low half first); empty for the other encodings.

@@ -21,7 +21,8 @@
  * load and each indexed access to the per-level arrays as a loop over its lanes whether any lane takes
  * the branch or not, so the ssvdag descent has one straight path with two loads (the pointer's two
  * 16-bit halves as one 64-bit read, then the child's header or brick as another), and level offsets
- * may come from the parameters (mv_level_base). */
+ * may come from the parameters (mv_level_base). Every read of the node streams is an mv_node_load
+ * (trace_nodes.h), the seam where a paged address layer goes. */
 #ifndef MV_TRACE_H
 #define MV_TRACE_H
 #include "trace_nodes.h"
@@ -141,8 +142,9 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_u32 nl = L;
   node_at[L] = 0u;
   mir_at[L] = 0u;
-  hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner16(words, 0u) : MV_LD(words, 0u);
-  occ_at[L] = mv_node_occupancy(enc, hdr_at[L]); /* an ssvdag has L >= 3: its root is an inner node */
+  mv_u64 root = mv_node_load(words, bricks, enc, L, 0u); /* an ssvdag has L >= 3: its root is an inner node */
+  hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner_word(root, 0u) : MV_U32(root);
+  occ_at[L] = mv_node_occupancy(enc, hdr_at[L]);
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
   mv_f32 s = mv_cell_side(lc, L);
   mv_u32 idx[3];
@@ -162,36 +164,31 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
         status = MV_TRACE_HIT;
         break;
       }
-      /* descend into the child at `slot` */
+      /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
       mv_u32 t8 = mv_thesis_octant(slot);
       mv_u32 node = node_at[nl];
       mv_u32 hdr = hdr_at[nl];
+      mv_u32 lv = nl - 1u;
       if (enc != MV_ENC_SSVDAG) {
-        mv_u32 child = MV_LD(words, node + 1u + MV_POPCOUNT((hdr & 0xffu) >> (t8 + 1u)));
-        mv_u32 tag = ((hdr >> (8u + t8)) & 1u) | (((hdr >> (16u + t8)) & 1u) << 1) | (((hdr >> (24u + t8)) & 1u) << 2);
-        node_at[nl - 1u] = child;
-        hdr_at[nl - 1u] = MV_LD(words, child);
-        occ_at[nl - 1u] = mv_node_occupancy(enc, hdr_at[nl - 1u]);
-        mir_at[nl - 1u] = mir_at[nl] ^ tag;
+        mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
+        mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
+        node_at[lv] = child;
+        hdr_at[lv] = child_hdr;
+        occ_at[lv] = mv_node_occupancy(enc, child_hdr);
+        mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
       } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
-        mv_u32 lv = nl - 1u;
         mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
         if (nl >= 3u) {
-          /* pointer position: 1 + sum over later children of min(code, 2): bit 2k of the OR counts code k != 0,
-           * bit 2k + 1 code k >= 2 */
-          mv_u32 later = hdr >> (2u * (t8 + 1u));
-          mv_u32 at = node + 1u + MV_POPCOUNT(((later | (later >> 1)) & 0x5555u) | (later & 0xaaaau));
-          mv_u32 code = (hdr >> (2u * t8)) & 3u;
-          mv_u32 pair = MV_U32(MV_LD_PAIR(words, at >> 1) >> ((at & 1u) * 16u)); /* words at, at + 1 */
-          mv_u32 first = pair & 0xffffu;
-          mv_u32 word = (first << 16) | (pair >> 16);
-          mv_u32 off = code == 1u ? first & 0x1fffu : (word & 0x1fffffffu) | ((code & 1u) << 29);
-          tag = code == 1u ? first >> 13 : word >> 29;
-          bool inner = nl > 3u;
+          mv_u32 at = mv_ssvdag_child_at(node, hdr, t8);
+          mv_u32 code = mv_ssvdag_child_code(hdr, t8);
+          mv_u32 ptr = mv_inner_words(mv_node_load(words, bricks, enc, nl, at), at);
+          mv_u32 off = mv_ssvdag_offset(ptr, code);
+          tag = mv_ssvdag_tag(ptr);
+          bool inner = lv > 2u;
           child = mv_level_base(p, lvl_off, lv, in_params) + off;
-          mv_u64 data = MV_LD_PAIR(inner ? words : bricks, inner ? child >> 1 : 2u * off);
+          mv_u64 data = mv_node_load(words, bricks, enc, lv, inner ? child : off);
           if (inner) {
-            child_hdr = (MV_U32(data) >> ((child & 1u) * 16u)) & 0xffffu;
+            child_hdr = mv_inner_word(data, child);
             child_occ = mv_node_occupancy(enc, child_hdr);
           } else {
             child = MV_U32(data);

@@ -12,8 +12,53 @@
 /* Thesis octant index (4x + 2y + z) of a Morton octant (x + 2y + 4z); its own inverse. */
 MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) | ((m >> 2) & 1u); }
 
-/* 16-bit word w of the ssvdag inner stream, stored two per 32-bit word, low half first. */
-MV_INLINE mv_u32 mv_inner16(MvBufU32 words, mv_u32 w) { return (MV_LD(words, w >> 1) >> ((w & 1u) * 16u)) & 0xffffu; }
+/* The walk's one read of the node streams: every header, pointer and brick it reads comes from here, by the
+ * level of the node read, so a paged address layer can take its place. 32-bit word encodings: word `addr`.
+ * ssvdag inner levels (lv > 2; 16-bit words stored two per 32-bit word, low half first): the two 32-bit words
+ * from the one holding 16-bit word `addr`, so a header or both words of a pointer come in one read (any
+ * parity; the stream ends with a spare word); ssvdag level 2: brick `addr`, low half first. One load whatever
+ * the level: buffer and index are picked by selects, as lavapipe pays per load instruction (see trace.h). */
+MV_INLINE mv_u64 mv_node_load(MvBufU32 words, MvBufU32 bricks, mv_u32 enc, mv_u32 lv, mv_u32 addr) {
+  if (enc != MV_ENC_SSVDAG) return MV_U64(MV_LD(words, addr));
+  bool inner = lv > 2u;
+  return MV_LD_PAIR(inner ? words : bricks, inner ? addr >> 1 : 2u * addr);
+}
+
+/* Of an ssvdag inner-level read at `addr` (mv_node_load): the 16-bit word at addr (a header), and the 16-bit
+ * words addr and addr + 1 as one 32-bit value, addr's in the low half (a pointer). */
+MV_INLINE mv_u32 mv_inner_word(mv_u64 data, mv_u32 addr) { return (MV_U32(data) >> ((addr & 1u) * 16u)) & 0xffffu; }
+MV_INLINE mv_u32 mv_inner_words(mv_u64 data, mv_u32 addr) { return MV_U32(data >> ((addr & 1u) * 16u)); }
+
+/* 32-bit word encodings: where the pointer to thesis child t8 of the node at word `node` is (the pointers
+ * follow the header in descending child order), and that child's mirror tag (ussvdag header bits 8 + t8,
+ * 16 + t8, 24 + t8 for x, y, z). */
+MV_INLINE mv_u32 mv_word_child_at(mv_u32 node, mv_u32 hdr, mv_u32 t8) {
+  return node + 1u + MV_POPCOUNT((hdr & 0xffu) >> (t8 + 1u));
+}
+
+MV_INLINE mv_u32 mv_word_child_tag(mv_u32 hdr, mv_u32 t8) {
+  return ((hdr >> (8u + t8)) & 1u) | (((hdr >> (16u + t8)) & 1u) << 1) | (((hdr >> (24u + t8)) & 1u) << 2);
+}
+
+/* ssvdag inner node at 16-bit word `node`: thesis child t8's 2-bit code, and where its pointer is: 1 + the sum
+ * over later children of min(code, 2) (bit 2k of the OR counts code k != 0, bit 2k + 1 code k >= 2). */
+MV_INLINE mv_u32 mv_ssvdag_child_code(mv_u32 hdr, mv_u32 t8) { return (hdr >> (2u * t8)) & 3u; }
+
+MV_INLINE mv_u32 mv_ssvdag_child_at(mv_u32 node, mv_u32 hdr, mv_u32 t8) {
+  mv_u32 later = hdr >> (2u * (t8 + 1u));
+  return node + 1u + MV_POPCOUNT(((later | (later >> 1)) & 0x5555u) | (later & 0xaaaau));
+}
+
+/* An ssvdag pointer from its two 16-bit words w (mv_inner_words) and its child's code: code 1 is one word, the
+ * mirror tag in bits 15..13 and a 13-bit offset; codes 2 and 3 are two words, high first, the tag in bits
+ * 31..29, offset bits 28..0 and offset bit 29 = code & 1. Either way the tag leads the first word. Offsets
+ * count from the start of the child's level (16-bit words; bricks for a brick). */
+MV_INLINE mv_u32 mv_ssvdag_offset(mv_u32 w, mv_u32 code) {
+  mv_u32 first = w & 0xffffu;
+  return code == 1u ? first & 0x1fffu : ((((first << 16) | (w >> 16)) & 0x1fffffffu) | ((code & 1u) << 29));
+}
+
+MV_INLINE mv_u32 mv_ssvdag_tag(mv_u32 w) { return (w & 0xffffu) >> 13; }
 
 /* x with the bits under mask m and those s above them exchanged (a delta swap). */
 MV_INLINE mv_u32 mv_delta_swap(mv_u32 x, mv_u32 m, mv_u32 s) {
@@ -64,8 +109,8 @@ MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u32 lo, mv_u32 hi, mv_u32 sub) {
 
 /* Where ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words): read from the level-offset
  * buffer (in_params = 0: one cached load, the cheapest where loads are cheap), or taken from the parameters by
- * a chain of selects (in_params = 1, trees up to 16K^3: no load and no indexed array, for lavapipe, see the
- * top; an index into the parameter array would put it in per-lane scratch memory there). */
+ * a chain of selects (in_params = 1, trees up to 16K^3: no load and no indexed array, for lavapipe, see
+ * trace.h; an index into the parameter array would put it in per-lane scratch memory there). */
 MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 in_params) {
   if (in_params == 0u) return MV_LD(lvl_off, lv);
   mv_u32 b = p.level_base[0];

@@ -4,7 +4,9 @@
  *
  * Buffers are typed references: MvBufU32 / MvBufU64, read with MV_LD(buf, i), written with MV_ST(buf, i, v).
  * MV_LD_PAIR(buf, i) reads 32-bit words i and i + 1 of a MvBufU32 as one 64-bit value (word i low), i of any
- * parity: one load on Vulkan, where lavapipe pays a per-lane loop for each load instruction.
+ * parity: one load on Vulkan, where lavapipe pays a per-lane loop for each load instruction. MvBufConstU32 is a
+ * MvBufU32 only read from (a const pointer on the host, so host code reads const data through the same
+ * accessors as the kernels).
  * On Vulkan they are buffer-device-address references (no 128 MiB descriptor limit); on OpenCL global
  * pointers; on the host plain pointers. */
 #ifndef MV_LANG_H
@@ -122,12 +124,14 @@ typedef double mv_f64;
 /* ---- buffers ---- */
 #if defined(MV_CPP)
 typedef mv_u32* MvBufU32;
+typedef const mv_u32* MvBufConstU32;
 typedef mv_u64* MvBufU64;
 typedef const float* MvBufF32;
 #define MV_LD(buf, i) ((buf)[i])
 #define MV_ST(buf, i, v) ((buf)[i] = (v))
 #elif defined(MV_OPENCL)
 #define MvBufU32 __global uint*
+#define MvBufConstU32 __global const uint*
 #define MvBufU64 __global ulong*
 #define MvBufF32 __global float*
 #define MV_LD(buf, i) ((buf)[i])
@@ -137,6 +141,7 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32 { u
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufU64 { uint64_t v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufF32 { float v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair { uint64_t v; };
+#define MvBufConstU32 MvBufU32
 #define MV_LD(buf, i) ((buf).v[i])
 #define MV_ST(buf, i, v_) ((buf).v[i] = (v_))
 #define MV_LD_PAIR(buf, i) (MvBufU32Pair(uint64_t(buf) + 4ul * uint64_t(i)).v)

@@ -94,24 +94,6 @@ MV_INLINE MvRay mv_secondary_ray(MvRay pr, MvHit h, mv_u32 L, mv_u32 in_face_fra
   return r;
 }
 
-MV_INLINE MvHit mv_load_hit(MvBufU32 hits, mv_u32 i) {
-  MvHit h;
-  mv_u32 b = MV_HIT_WORDS * i;
-  h.t = MV_BITSF(MV_LD(hits, b));
-  h.x = MV_LD(hits, b + 1u); h.y = MV_LD(hits, b + 2u); h.z = MV_LD(hits, b + 3u);
-  h.info = MV_LD(hits, b + 4u);
-  h.steps = MV_LD(hits, b + 5u);
-  return h;
-}
-
-MV_INLINE void mv_store_ray(MvBufU32 dst, mv_u32 i, MvRay r) {
-  mv_u32 b = MV_RAY_FLOATS * i;
-  MV_ST(dst, b, MV_FBITS(r.ox)); MV_ST(dst, b + 1u, MV_FBITS(r.oy)); MV_ST(dst, b + 2u, MV_FBITS(r.oz));
-  MV_ST(dst, b + 3u, MV_FBITS(r.dx)); MV_ST(dst, b + 4u, MV_FBITS(r.dy)); MV_ST(dst, b + 5u, MV_FBITS(r.dz));
-  MV_ST(dst, b + 6u, MV_FBITS(r.tmax));
-  MV_ST(dst, b + 7u, MV_FBITS(r.lod_t));
-}
-
 /* The secondary ray of pixel / ray i for the parameters' kind and sample. */
 MV_INLINE MvRay mv_make_secondary(MvRay pr, MvHit h, MvBufF32 table, mv_u32 i, MvSecondaryParams p) {
   if (p.kind == MV_SECONDARY_SHADOW) return mv_secondary_ray(pr, h, p.levels, 0u, p.lx, p.ly, p.lz, p.tmax, p.lead);

@@ -262,13 +262,7 @@ MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU
     if (p.occlusion == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {
-      mv_u32 b = MV_HIT_WORDS * i;
-      MV_ST(results, b, MV_FBITS(h.t));
-      MV_ST(results, b + 1u, h.x);
-      MV_ST(results, b + 2u, h.y);
-      MV_ST(results, b + 3u, h.z);
-      MV_ST(results, b + 4u, h.info);
-      MV_ST(results, b + 5u, h.steps);
+      mv_store_hit(results, i, h);
     }
   }
 }

@@ -14,6 +14,12 @@
 #define MV_RAY_FLOATS 8u    /* ox oy oz dx dy dz tmax lod_t */
 #define MV_HIT_WORDS 6u     /* t (float bits) x y z info steps */
 #define MV_CAMERA_FLOATS 16u
+/* The camera record (mv_camera_ray): where each of its vectors starts, then tmax */
+#define MV_CAMERA_EYE 0u
+#define MV_CAMERA_BASE 3u
+#define MV_CAMERA_DU 6u
+#define MV_CAMERA_DV 9u
+#define MV_CAMERA_TMAX 12u
 #define MV_TRACE_PARAM_LEVELS 11u /* the parameters can hold where ssvdag levels 3 .. 13 start (every tree up
                                      to 16K^3); the push constants hold no more (128 bytes) */
 
@@ -69,7 +75,7 @@ MV_LAYOUT_AT(MvHit, t, 0); MV_LAYOUT_AT(MvHit, x, 4); MV_LAYOUT_AT(MvHit, y, 8);
 MV_LAYOUT_AT(MvHit, info, 16); MV_LAYOUT_AT(MvHit, steps, 20);
 #endif
 
-/* Ray i of a ray buffer (MV_RAY_FLOATS per ray). */
+/* Ray i of a ray buffer (MV_RAY_FLOATS per ray, MvRay's fields in order), read and written. */
 MV_INLINE MvRay mv_load_ray(MvBufF32 rays, mv_u32 i) {
   MvRay r;
   mv_u32 b = MV_RAY_FLOATS * i;
@@ -80,18 +86,50 @@ MV_INLINE MvRay mv_load_ray(MvBufF32 rays, mv_u32 i) {
   return r;
 }
 
-/* The camera ray of a pixel (row 0 at the top): camera buffer = eye[3], base[3], du[3], dv[3], tmax, where
- * the direction is base + x du + y dv (not normalized: its component along the view axis is 1, so t is
- * depth along the view axis). */
+MV_INLINE void mv_store_ray(MvBufU32 dst, mv_u32 i, MvRay r) {
+  mv_u32 b = MV_RAY_FLOATS * i;
+  MV_ST(dst, b, MV_FBITS(r.ox)); MV_ST(dst, b + 1u, MV_FBITS(r.oy)); MV_ST(dst, b + 2u, MV_FBITS(r.oz));
+  MV_ST(dst, b + 3u, MV_FBITS(r.dx)); MV_ST(dst, b + 4u, MV_FBITS(r.dy)); MV_ST(dst, b + 5u, MV_FBITS(r.dz));
+  MV_ST(dst, b + 6u, MV_FBITS(r.tmax));
+  MV_ST(dst, b + 7u, MV_FBITS(r.lod_t));
+}
+
+/* Hit record i of a result buffer (MV_HIT_WORDS per ray, MvHit's fields in order, t as its bits), written and
+ * read. */
+MV_INLINE void mv_store_hit(MvBufU32 hits, mv_u32 i, MvHit h) {
+  mv_u32 b = MV_HIT_WORDS * i;
+  MV_ST(hits, b, MV_FBITS(h.t));
+  MV_ST(hits, b + 1u, h.x);
+  MV_ST(hits, b + 2u, h.y);
+  MV_ST(hits, b + 3u, h.z);
+  MV_ST(hits, b + 4u, h.info);
+  MV_ST(hits, b + 5u, h.steps);
+}
+
+MV_INLINE MvHit mv_load_hit(MvBufConstU32 hits, mv_u32 i) {
+  MvHit h;
+  mv_u32 b = MV_HIT_WORDS * i;
+  h.t = MV_BITSF(MV_LD(hits, b));
+  h.x = MV_LD(hits, b + 1u); h.y = MV_LD(hits, b + 2u); h.z = MV_LD(hits, b + 3u);
+  h.info = MV_LD(hits, b + 4u);
+  h.steps = MV_LD(hits, b + 5u);
+  return h;
+}
+
+/* The camera ray of a pixel (row 0 at the top): camera buffer = eye[3], base[3], du[3], dv[3], tmax (the
+ * MV_CAMERA_* offsets), where the direction is base + x du + y dv (not normalized: its component along the
+ * view axis is 1, so t is depth along the view axis). */
 MV_INLINE MvRay mv_camera_ray(MvBufF32 cam, mv_u32 pixel, mv_u32 width) {
   MvRay r;
   mv_f32 fx = MV_F32(pixel % width), fy = MV_F32(pixel / width);
-  r.ox = MV_LD(cam, 0u); r.oy = MV_LD(cam, 1u); r.oz = MV_LD(cam, 2u);
-  MV_PRECISE mv_f32 dx = MV_LD(cam, 3u) + fx * MV_LD(cam, 6u) + fy * MV_LD(cam, 9u);
-  MV_PRECISE mv_f32 dy = MV_LD(cam, 4u) + fx * MV_LD(cam, 7u) + fy * MV_LD(cam, 10u);
-  MV_PRECISE mv_f32 dz = MV_LD(cam, 5u) + fx * MV_LD(cam, 8u) + fy * MV_LD(cam, 11u);
+  r.ox = MV_LD(cam, MV_CAMERA_EYE); r.oy = MV_LD(cam, MV_CAMERA_EYE + 1u); r.oz = MV_LD(cam, MV_CAMERA_EYE + 2u);
+  MV_PRECISE mv_f32 dx = MV_LD(cam, MV_CAMERA_BASE) + fx * MV_LD(cam, MV_CAMERA_DU) + fy * MV_LD(cam, MV_CAMERA_DV);
+  MV_PRECISE mv_f32 dy =
+      MV_LD(cam, MV_CAMERA_BASE + 1u) + fx * MV_LD(cam, MV_CAMERA_DU + 1u) + fy * MV_LD(cam, MV_CAMERA_DV + 1u);
+  MV_PRECISE mv_f32 dz =
+      MV_LD(cam, MV_CAMERA_BASE + 2u) + fx * MV_LD(cam, MV_CAMERA_DU + 2u) + fy * MV_LD(cam, MV_CAMERA_DV + 2u);
   r.dx = dx; r.dy = dy; r.dz = dz;
-  r.tmax = MV_LD(cam, 12u);
+  r.tmax = MV_LD(cam, MV_CAMERA_TMAX);
   r.lod_t = 0.0f;
   return r;
 }

@@ -69,15 +69,16 @@ MV_INLINE mv_u32 mv_delta_swap(mv_u32 x, mv_u32 m, mv_u32 s) {
 /* A node's 8 children as a mask over stored Morton slots (bit v = slot v full), computed once when the walk
  * enters the node, so each step tests one bit whatever the encoding or level. */
 
-/* Thesis octant order (bit 4x + 2y + z) to Morton order (bit x + 2y + 4z): swap bits 1 <-> 4 and 3 <-> 6. */
-MV_INLINE mv_u32 mv_thesis_to_morton_mask(mv_u32 h) {
+/* An 8-bit child mask from thesis octant order (bit 4x + 2y + z) to Morton order (bit x + 2y + 4z), and back
+ * (mv_thesis_octant on every bit): swap bits 1 <-> 4 and 3 <-> 6. */
+MV_INLINE mv_u32 mv_thesis_mask(mv_u32 h) {
   mv_u32 x = ((h >> 3) ^ h) & 0x0au;
   return (h ^ x ^ (x << 3)) & 0xffu;
 }
 
 /* 32-bit word encodings: the child mask in the header's low byte. ssvdag inner nodes: 2-bit codes, 0 = empty. */
 MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
-  if (enc != MV_ENC_SSVDAG) return mv_thesis_to_morton_mask(hdr & 0xffu);
+  if (enc != MV_ENC_SSVDAG) return mv_thesis_mask(hdr & 0xffu);
   /* bit 2k (k = 4x + 2y + z): code k != 0; the x = 1 byte onto the odd bits gives bit x + 2z + 4y; then swap
    * the y and z bits (2 <-> 4, 3 <-> 5) for x + 2y + 4z */
   mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u;

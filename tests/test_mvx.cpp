@@ -8,6 +8,7 @@
 #include <random>
 
 #include "host/ref/reference.h"
+#include "kernels/common/trace_nodes.h"
 #include "megavox/dag.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
@@ -59,9 +60,15 @@ TEST_P(SvdagTest, EncodesAndDecodesExactly) {
   for (uint32_t l = 2; l <= dag.levels; ++l) expect_words += dag.nodes(l) + dag.level[l].children.size();
   EXPECT_EQ(enc.words.size(), expect_words);
   EXPECT_TRUE(decode_svdag(enc) == voxels);
-  EXPECT_EQ(thesis_octant(1), 4u);  // Morton x bit -> thesis octant 4x + 2y + z
-  EXPECT_EQ(thesis_octant(4), 1u);
-  EXPECT_EQ(thesis_octant(2), 2u);
+  EXPECT_EQ(mv_thesis_octant(1), 4u);  // Morton x bit -> thesis octant 4x + 2y + z
+  EXPECT_EQ(mv_thesis_octant(4), 1u);
+  EXPECT_EQ(mv_thesis_octant(2), 2u);
+  for (uint32_t m = 0; m < 256; ++m) {  // masks: each bit to its thesis octant, and back
+    uint32_t t = 0;
+    for (uint32_t c = 0; c < 8; ++c) t |= (m >> c & 1) << mv_thesis_octant(c);
+    ASSERT_EQ(mv_thesis_mask(m), t) << "mask " << m;
+    ASSERT_EQ(mv_thesis_mask(t), m) << "mask " << m;
+  }
 }
 
 TEST_P(SvdagTest, RejectsBadPointersAndHeaders) {

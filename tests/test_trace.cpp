@@ -189,13 +189,13 @@ TEST_P(TraceTest, LevelOfDetailStopsWhereTheReferenceStops) {
   for (auto& [name, voxels] : voxel_sets(levels)) {
     ref::Occupancy occ(voxels, levels);
     std::vector<Ray> rays = test_rays(voxels, n, 11);
-    std::vector<float> cube;
+    std::vector<uint32_t> cube;
     std::vector<MvHit> want;
     const float proj = 40.0f;
     for (size_t i = 0; i < rays.size(); ++i) {
       MvRay r = cube_ray(rays[i], n, (i % 3) * 0.25f);
-      const float* f = &r.ox;
-      cube.insert(cube.end(), f, f + MV_RAY_FLOATS);
+      cube.resize(cube.size() + MV_RAY_FLOATS);
+      mv_store_ray(cube.data(), uint32_t(i), r);
       want.push_back(ref::trace(occ, r, proj));
     }
     for (Encoding e : kEncodings) {
@@ -209,14 +209,14 @@ TEST_P(TraceTest, LevelOfDetailStopsWhereTheReferenceStops) {
       dev.download(hb, words.data(), words.size() * 4);
       size_t coarse = 0;
       for (size_t i = 0; i < want.size(); ++i) {
-        const uint32_t* w = &words[i * MV_HIT_WORDS];
-        ASSERT_EQ(w[4], want[i].info) << "ray " << i;
-        if (MV_INFO_STATUS(w[4]) != MV_TRACE_HIT) continue;
-        ASSERT_EQ(w[0], MV_FBITS(want[i].t)) << "ray " << i;
-        ASSERT_EQ(w[1], want[i].x);
-        ASSERT_EQ(w[2], want[i].y);
-        ASSERT_EQ(w[3], want[i].z);
-        coarse += MV_INFO_LEVEL(w[4]) > 0;
+        const MvHit got = mv_load_hit(words.data(), uint32_t(i));
+        ASSERT_EQ(got.info, want[i].info) << "ray " << i;
+        if (MV_INFO_STATUS(got.info) != MV_TRACE_HIT) continue;
+        ASSERT_EQ(MV_FBITS(got.t), MV_FBITS(want[i].t)) << "ray " << i;
+        ASSERT_EQ(got.x, want[i].x);
+        ASSERT_EQ(got.y, want[i].y);
+        ASSERT_EQ(got.z, want[i].z);
+        coarse += MV_INFO_LEVEL(got.info) > 0;
       }
       if (name != "one voxel") {
         EXPECT_GT(coarse, 0u);

@@ -66,9 +66,9 @@ std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, co
   f.height = s.height;
   for (int a = 0; a < 3; ++a) {
     f.eye[a] = float(cam.eye[a]);
-    f.dir0[a] = s.camera[3 + a];
-    f.dx[a] = s.camera[6 + a];
-    f.dy[a] = s.camera[9 + a];
+    f.dir0[a] = s.camera[MV_CAMERA_BASE + a];
+    f.dx[a] = s.camera[MV_CAMERA_DU + a];
+    f.dy[a] = s.camera[MV_CAMERA_DV + a];
   }
   baseline::EmbreeResult e = baseline::embree_primary_hits(src->positions(), indices, f, repeats);
   out.have_embree = true;

@@ -97,8 +97,8 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
     out.first[i] = static_cast<uint32_t>(out.children.size());
     for (uint32_t o = 0; o < 8; ++o) {
       if (!(out.mask[i] >> o & 1)) continue;
-      out.children.push_back(static_cast<uint32_t>(e[8 * size_t{i} + o] >> 3));
-      if (symmetric) out.tags.push_back(static_cast<uint32_t>(e[8 * size_t{i} + o] & 7));
+      out.children.push_back(mv_entry_id(e[8 * size_t{i} + o]));
+      if (symmetric) out.tags.push_back(mv_entry_tag(e[8 * size_t{i} + o]));
     }
   }
   return out;
@@ -107,16 +107,16 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
 // After the root level: wait, store the root unreflected, report the times.
 void finish_build(Device& dev, Dag& dag, const Reduced& root, const Reduction& red, Clock::time_point t0,
                   Clock::time_point t1, DagBuildTimes* times) {
-  uint32_t root_row = 0;  // field 0: the root's tag
+  uint32_t root_row = 0;
   if (dag.symmetric && !root.row.empty()) {
     dev.download(root.row, &root_row, 4);
   } else if (dag.symmetric) {  // a level-1 root: its mask's row in the mask table
     uint32_t m = 0;
     dev.download(root.child_mask, &m, 4);
-    dev.download(red.mask_table, &root_row, 4, (2 * uint64_t{m} + 1) * 4);
+    dev.download(red.mask_table, &root_row, 4, uint64_t{mv_mask_row_at(m)} * 4);
   }
   dev.finish();
-  store_root_unreflected(dag, root_row & 7);
+  store_root_unreflected(dag, mv_row_field(root_row, 0));
   if (times) {
     times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
     times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();

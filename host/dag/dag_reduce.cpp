@@ -17,7 +17,7 @@ namespace {
 
 // Canonical form, T*, stabilizer and tag row of every 8-bit mask (kernel leaf_table).
 Buffer mask_table(Device& dev) {
-  Buffer table = dev.alloc(768 * 4, "mask table");
+  Buffer table = dev.alloc(MV_MASK_TABLE_WORDS * 4, "mask table");
   dev.dispatch(dev.kernel(KernelId::leaf_table), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0, 0});
   dev.barrier();
   return table;

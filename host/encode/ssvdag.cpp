@@ -3,6 +3,8 @@
 #include <numeric>
 #include <string>
 
+#include "../../kernels/common/ssvdag.h"
+#include "../../kernels/common/trace_nodes.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
 
@@ -13,13 +15,6 @@ namespace {
 // Bit of voxel (x, y, z), each 0..3, in a 4x4x4 brick.
 constexpr uint32_t brick_bit(uint32_t x, uint32_t y, uint32_t z) { return 16 * x + 4 * y + z; }
 
-uint32_t reflect_mask(uint32_t m, uint32_t t) {
-  uint32_t r = 0;
-  for (uint32_t c = 0; c < 8; ++c)
-    if (m >> c & 1) r |= 1u << (c ^ t);
-  return r;
-}
-
 // The 64-bit brick of level-2 node i: its 2x2x2 children, each mirrored by its tag, at their octants.
 uint64_t make_brick(const Dag& dag, uint32_t i) {
   const DagLevel& lv = dag.level[2];
@@ -27,7 +22,7 @@ uint64_t make_brick(const Dag& dag, uint32_t i) {
   for (uint32_t c = 0, k = 0; c < 8; ++c) {
     if (!(lv.mask[i] >> c & 1)) continue;
     uint32_t j = lv.first[i] + k++;
-    uint32_t m = reflect_mask(dag.level[1].mask[lv.children[j]], lv.tags.empty() ? 0 : lv.tags[j]);
+    uint32_t m = mv_reflect_mask(dag.level[1].mask[lv.children[j]], lv.tags.empty() ? 0 : lv.tags[j]);
     for (uint32_t v = 0; v < 8; ++v)
       if (m >> v & 1)
         brick |= uint64_t{1} << brick_bit(2 * (c & 1) + (v & 1), 2 * (c >> 1 & 1) + (v >> 1 & 1),
@@ -82,7 +77,7 @@ EncodedDag encode_ssvdag(const Dag& dag) {
       for (uint32_t c = 0, k = 0; c < 8; ++c) {
         if (!(lv.mask[i] >> c & 1)) continue;
         uint32_t j = lv.first[i] + k++;
-        uint32_t t = thesis_octant(c);
+        uint32_t t = mv_thesis_octant(c);
         uint64_t off = offset[l - 1][lv.children[j]];
         if (off >= (uint64_t{1} << 30)) throw Error("ssvdag: an offset needs more than 30 bits");
         child_off[t] = static_cast<uint32_t>(off);
@@ -191,7 +186,7 @@ std::vector<uint64_t> decode_ssvdag(const EncodedDag& enc) {
     Item it = stack.back();
     stack.pop_back();
     read_node(enc.inner, enc.level_offset[it.level] + it.offset, [&](uint32_t t, Pointer p) {
-      uint64_t key = it.prefix << 3 | (thesis_octant(t) ^ it.reflect);
+      uint64_t key = it.prefix << 3 | (mv_thesis_octant(t) ^ it.reflect);
       uint32_t reflect = it.reflect ^ p.tag;
       if (it.level > 3) {
         stack.push_back({it.level - 1, p.offset, reflect, key});

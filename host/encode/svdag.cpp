@@ -2,17 +2,11 @@
 #include <algorithm>
 #include <string>
 
+#include "../../kernels/common/trace_nodes.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
 
 namespace mv {
-
-uint32_t thesis_mask(uint32_t m) {
-  uint32_t out = 0;
-  for (uint32_t c = 0; c < 8; ++c)
-    if (m >> c & 1) out |= 1u << thesis_octant(c);
-  return out;
-}
 
 EncodedDag encode_svdag(const Dag& dag) {
   EncodedDag enc;
@@ -37,7 +31,7 @@ EncodedDag encode_svdag(const Dag& dag) {
   for (uint32_t l = dag.levels; l >= 1; --l) {
     const DagLevel& lv = dag.level[l];
     for (size_t i = 0; i < lv.mask.size(); ++i) {
-      uint32_t tm = thesis_mask(lv.mask[i]);
+      uint32_t tm = mv_thesis_mask(lv.mask[i]);
       if (l == 1) {
         enc.words.push_back(tm);
         continue;
@@ -47,7 +41,7 @@ EncodedDag encode_svdag(const Dag& dag) {
       for (uint32_t c = 0, k = 0; c < 8; ++c) {
         if (!(lv.mask[i] >> c & 1)) continue;
         uint32_t j = lv.first[i] + k++;
-        uint32_t t = thesis_octant(c);
+        uint32_t t = mv_thesis_octant(c);
         child_at[t] = static_cast<uint32_t>(at[l - 1][lv.children[j]]);
         uint32_t tag = lv.tags.empty() ? 0 : lv.tags[j];
         header |= (tag & 1) << (8 + t) | (tag >> 1 & 1) << (16 + t) | (tag >> 2 & 1) << (24 + t);
@@ -111,7 +105,7 @@ std::vector<uint64_t> decode_svdag(const EncodedDag& enc) {
     uint32_t ptr = it.word + 1;
     for (int t = 7; t >= 0; --t) {
       if (!(header >> t & 1)) continue;
-      uint64_t key = it.prefix << 3 | (thesis_octant(uint32_t(t)) ^ it.reflect);
+      uint64_t key = it.prefix << 3 | (mv_thesis_octant(uint32_t(t)) ^ it.reflect);
       if (it.level == 1) {
         out.push_back(key);
         continue;

@@ -8,20 +8,6 @@
 
 namespace mv {
 
-namespace {
-
-void store(std::vector<uint32_t>& hits, uint32_t i, const MvHit& h) {
-  uint32_t* w = &hits[uint64_t{i} * MV_HIT_WORDS];
-  w[0] = MV_FBITS(h.t);
-  w[1] = h.x;
-  w[2] = h.y;
-  w[3] = h.z;
-  w[4] = h.info;
-  w[5] = h.steps;
-}
-
-}  // namespace
-
 RenderResult render_reference(const MvxFile& file, const Camera& camera, const RenderOptions& options) {
   const FrameSetup s = frame_setup(file.grid, file.dag.levels, camera, options);
   const uint32_t n = s.width * s.height;
@@ -37,7 +23,7 @@ RenderResult render_reference(const MvxFile& file, const Camera& camera, const R
     primary[i] = mv_camera_ray(s.camera, i, s.width);
     first[i] = options.shading == Shading::heat ? host.trace(primary[i], s.proj, options.max_steps)
                                                 : ref::trace(occ, primary[i], s.proj);
-    store(res.hits, i, first[i]);
+    mv_store_hit(res.hits.data(), i, first[i]);
   });
   RenderResult out;
   for (const MvHit& h : first) out.hits += MV_INFO_STATUS(h.info) == MV_TRACE_HIT;

@@ -98,12 +98,12 @@ FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera&
   Vec dv = mul(upv, -2 * tan_h / o.height);
   Vec base = add(fwd, add(mul(right, tan_h * aspect * (1.0 / o.width - 1)), mul(upv, tan_h * (1 - 1.0 / o.height))));
   for (int a = 0; a < 3; ++a) {
-    s.camera[a] = static_cast<float>((eye[a] - grid.origin[a]) / side);
-    s.camera[3 + a] = static_cast<float>(base[a]);
-    s.camera[6 + a] = static_cast<float>(du[a]);
-    s.camera[9 + a] = static_cast<float>(dv[a]);
+    s.camera[MV_CAMERA_EYE + a] = static_cast<float>((eye[a] - grid.origin[a]) / side);
+    s.camera[MV_CAMERA_BASE + a] = static_cast<float>(base[a]);
+    s.camera[MV_CAMERA_DU + a] = static_cast<float>(du[a]);
+    s.camera[MV_CAMERA_DV + a] = static_cast<float>(dv[a]);
   }
-  s.camera[12] = 1e30f;
+  s.camera[MV_CAMERA_TMAX] = 1e30f;
   s.proj = o.lod_pixels > 0 ? static_cast<float>(o.height / (2 * tan_h * o.lod_pixels)) : 0.0f;
 
   // Light from over the viewer's left shoulder.
@@ -158,10 +158,12 @@ bool depth_normal(const FrameSetup& s, const FrameResults& res, uint32_t x, uint
   const int reach = 2;
   auto point = [&](int px, int py, Vec& p, float& t) {
     if (px < 0 || py < 0 || px >= int(s.width) || py >= int(s.height)) return false;
-    const uint32_t* w = &res.hits[(size_t(py) * s.width + px) * MV_HIT_WORDS];
-    if (MV_INFO_STATUS(w[4]) != MV_TRACE_HIT) return false;
-    t = MV_BITSF(w[0]);
-    for (int a = 0; a < 3; ++a) p[a] = s.camera[a] + t * (s.camera[3 + a] + px * s.camera[6 + a] + py * s.camera[9 + a]);
+    const MvHit h = mv_load_hit(res.hits.data(), uint32_t(py) * s.width + uint32_t(px));
+    if (MV_INFO_STATUS(h.info) != MV_TRACE_HIT) return false;
+    t = h.t;
+    for (int a = 0; a < 3; ++a)
+      p[a] = s.camera[MV_CAMERA_EYE + a] +
+             t * (s.camera[MV_CAMERA_BASE + a] + px * s.camera[MV_CAMERA_DU + a] + py * s.camera[MV_CAMERA_DV + a]);
     return true;
   };
   Vec c{};
@@ -182,8 +184,9 @@ bool depth_normal(const FrameSetup& s, const FrameResults& res, uint32_t x, uint
   Vec nn = cross(axes[1], axes[0]);
   double len = std::sqrt(dot(nn, nn));
   if (!(len > 0)) return false;
-  Vec view = {s.camera[3] + x * s.camera[6] + y * s.camera[9], s.camera[4] + x * s.camera[7] + y * s.camera[10],
-              s.camera[5] + x * s.camera[8] + y * s.camera[11]};
+  Vec view;
+  for (int a = 0; a < 3; ++a)
+    view[a] = s.camera[MV_CAMERA_BASE + a] + x * s.camera[MV_CAMERA_DU + a] + y * s.camera[MV_CAMERA_DV + a];
   if (dot(nn, view) > 0) len = -len;
   for (int a = 0; a < 3; ++a) n[a] = nn[a] / len;
   return true;
@@ -204,17 +207,17 @@ Image shade(const FrameSetup& s, const RenderOptions& o, const FrameResults& res
   float near = INFINITY, far = 0;
   uint32_t max_steps = 1;
   for (size_t i = 0; i < n; ++i) {
-    const uint32_t* w = &res.hits[i * MV_HIT_WORDS];
-    max_steps = std::max(max_steps, w[5]);
-    if (MV_INFO_STATUS(w[4]) != MV_TRACE_HIT) continue;
-    near = std::min(near, MV_BITSF(w[0]));
-    far = std::max(far, MV_BITSF(w[0]));
+    const MvHit h = mv_load_hit(res.hits.data(), uint32_t(i));
+    max_steps = std::max(max_steps, h.steps);
+    if (MV_INFO_STATUS(h.info) != MV_TRACE_HIT) continue;
+    near = std::min(near, h.t);
+    far = std::max(far, h.t);
   }
   static const Rgb palette[] = {{0.90, 0.90, 0.90}, {0.95, 0.55, 0.25}, {0.30, 0.70, 0.35}, {0.30, 0.50, 0.90},
                                 {0.85, 0.30, 0.60}, {0.95, 0.85, 0.30}, {0.35, 0.80, 0.85}, {0.60, 0.40, 0.25}};
   for (size_t i = 0; i < n; ++i) {
-    const uint32_t* w = &res.hits[i * MV_HIT_WORDS];
-    const uint32_t info = w[4];
+    const MvHit h = mv_load_hit(res.hits.data(), uint32_t(i));
+    const uint32_t info = h.info;
     const double row = double(i / s.width) / std::max<uint32_t>(s.height - 1, 1);
     Rgb c = mix({0.93, 0.95, 0.98}, {0.72, 0.76, 0.83}, row);  // background
     const bool hit = MV_INFO_STATUS(info) == MV_TRACE_HIT;
@@ -241,7 +244,7 @@ Image shade(const FrameSetup& s, const RenderOptions& o, const FrameResults& res
         break;
       case Shading::depth:
         if (hit) {
-          double v = far > near ? (MV_BITSF(w[0]) - near) / (far - near) : 0.0;
+          double v = far > near ? (h.t - near) / (far - near) : 0.0;
           c = {1 - 0.85 * v, 1 - 0.85 * v, 1 - 0.85 * v};
         }
         break;
@@ -253,7 +256,7 @@ Image shade(const FrameSetup& s, const RenderOptions& o, const FrameResults& res
         }
         break;
       case Shading::heat:
-        c = heat_ramp(std::log2(double(std::max<uint32_t>(w[5], 1))) / std::log2(double(std::max<uint32_t>(max_steps, 2))));
+        c = heat_ramp(std::log2(double(std::max<uint32_t>(h.steps, 1))) / std::log2(double(std::max<uint32_t>(max_steps, 2))));
         break;
     }
     img.rgb[3 * i] = to_byte(c.r);

@@ -11,7 +11,7 @@ namespace mv {
 
 struct FrameSetup {
   uint32_t width = 0, height = 0, levels = 0;
-  float camera[MV_CAMERA_FLOATS] = {};  // kernels/common/trace.h: mv_camera_ray
+  float camera[MV_CAMERA_FLOATS] = {};  // kernels/common/trace_types.h: mv_camera_ray
   float proj = 0;                        // LOD factor
   MvSecondaryParams shadow{};            // kind, light direction, tmax
   MvSecondaryParams ao{};                // kind, stride, mask, radius (sample_k set per pass)

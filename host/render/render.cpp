@@ -32,7 +32,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   pass("primary", n, [&] { engine.trace(nullptr, &cam, n, s.width, s.proj, options.max_steps, false, hits); });
   res.hits.resize(uint64_t{n} * MV_HIT_WORDS);
   dev.download(hits, res.hits.data(), res.hits.size() * 4);
-  for (uint32_t i = 0; i < n; ++i) out.hits += MV_INFO_STATUS(res.hits[uint64_t{i} * MV_HIT_WORDS + 4]) == MV_TRACE_HIT;
+  for (uint32_t i = 0; i < n; ++i) out.hits += MV_INFO_STATUS(mv_load_hit(res.hits.data(), i).info) == MV_TRACE_HIT;
 
   if (options.shading == Shading::shaded && out.hits) {
     Buffer rays = dev.alloc(uint64_t{n} * MV_RAY_FLOATS * 4, "secondary rays");

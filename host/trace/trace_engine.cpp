@@ -122,10 +122,11 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
   if (rays.size() > UINT32_MAX / MV_HIT_WORDS) throw Error("trace: too many rays in one batch");
   // World to the root cube [0, 1)^3: a translation and one scale, so t keeps its meaning.
   const double side = grid_.voxel_size * grid_.resolution;
-  std::vector<float> cube(rays.size() * MV_RAY_FLOATS);
-  for (size_t i = 0; i < rays.size(); ++i) {
+  const uint32_t n = static_cast<uint32_t>(rays.size());
+  std::vector<uint32_t> cube(uint64_t{n} * MV_RAY_FLOATS);
+  for (uint32_t i = 0; i < n; ++i) {
     const Ray& r = rays[i];
-    float* c = &cube[i * MV_RAY_FLOATS];
+    float c[6];
     for (int a = 0; a < 3; ++a) {
       if (!std::isfinite(r.origin[a]) || !std::isfinite(r.direction[a]))
         throw Error("trace: ray " + std::to_string(i) + " has a non-finite origin or direction");
@@ -133,10 +134,8 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
       c[3 + a] = static_cast<float>(double(r.direction[a]) / side);
     }
     if (std::isnan(r.tmax)) throw Error("trace: ray " + std::to_string(i) + " has a NaN tmax");
-    c[6] = std::min(r.tmax, 1e30f);
-    c[7] = 0;
+    mv_store_ray(cube.data(), i, MvRay{c[0], c[1], c[2], c[3], c[4], c[5], std::min(r.tmax, 1e30f), 0.0f});
   }
-  const uint32_t n = static_cast<uint32_t>(rays.size());
   Device& dev = engine_->device();
   Buffer ray_buf = dev.alloc(cube.size() * 4, "rays");
   dev.upload(ray_buf, cube.data(), cube.size() * 4);
@@ -145,20 +144,19 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
   std::vector<uint32_t> words(uint64_t{n} * MV_HIT_WORDS);
   dev.download(hit_buf, words.data(), words.size() * 4);
   for (uint32_t i = 0; i < n; ++i) {
-    const uint32_t* w = &words[uint64_t{i} * MV_HIT_WORDS];
+    const MvHit w = mv_load_hit(words.data(), i);
     RayHit& h = out[i];
-    uint32_t info = w[4];
-    h.hit = MV_INFO_STATUS(info) == MV_TRACE_HIT;
-    h.gave_up = MV_INFO_STATUS(info) == MV_TRACE_GAVE_UP;
-    h.steps = w[5];
+    h.hit = MV_INFO_STATUS(w.info) == MV_TRACE_HIT;
+    h.gave_up = MV_INFO_STATUS(w.info) == MV_TRACE_GAVE_UP;
+    h.steps = w.steps;
     if (!h.hit) continue;
-    h.t = MV_BITSF(w[0]);
-    h.level = MV_INFO_LEVEL(info);
-    h.cell[0] = w[1];
-    h.cell[1] = w[2];
-    h.cell[2] = w[3];
-    uint32_t axis = MV_INFO_AXIS(info);
-    if (axis != MV_AXIS_NONE) h.normal[axis] = MV_INFO_NEGATIVE(info) ? -1 : 1;
+    h.t = w.t;
+    h.level = MV_INFO_LEVEL(w.info);
+    h.cell[0] = w.x;
+    h.cell[1] = w.y;
+    h.cell[2] = w.z;
+    uint32_t axis = MV_INFO_AXIS(w.info);
+    if (axis != MV_AXIS_NONE) h.normal[axis] = MV_INFO_NEGATIVE(w.info) ? -1 : 1;
   }
   return out;
 }

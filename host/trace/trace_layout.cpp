@@ -1,12 +1,13 @@
 #include "trace/trace_layout.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace mv {
 
 std::vector<uint32_t> trace_words(const EncodedDag& dag) {
   if (dag.encoding != Encoding::ssvdag) return dag.words;
-  std::vector<uint32_t> words((dag.inner.size() + 1) / 2 + 1, 0);
+  std::vector<uint32_t> words(std::max<size_t>((dag.inner.size() + 1) / 2, 1) + 1, 0);  // an empty one too
   if (!dag.inner.empty()) std::memcpy(words.data(), dag.inner.data(), dag.inner.size() * 2);
   return words;
 }

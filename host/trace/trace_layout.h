@@ -1,16 +1,17 @@
-// What the traversal kernel (kernels/common/trace.h) reads of an encoded DAG, shared by the device engine and
+// What the traversal kernel (kernels/common/trace_nodes.h) reads of an encoded DAG, shared by the device engine and
 // the host build of the kernel, so both walk the same bytes.
 #pragma once
 #include <cstdint>
 #include <vector>
 
-#include "../../kernels/common/trace.h"
+#include "../../kernels/common/trace_types.h"
 #include "megavox/encode.h"
 
 namespace mv {
 
 // The stream as 32-bit words: svo / svdag / ussvdag as stored; the ssvdag inner stream (16-bit words, two
-// per 32-bit word, low half first) followed by one spare word, as the kernel reads 16-bit words in pairs.
+// per 32-bit word, low half first) followed by one spare word (two words at least), as the kernel reads 16-bit
+// words in pairs (mv_node_load).
 std::vector<uint32_t> trace_words(const EncodedDag& dag);
 
 // ssvdag: the bricks as 32-bit halves (low half first); empty for the other encodings.

@@ -28,10 +28,6 @@ namespace mv {
 // svo: the plain octree (build_svo) in the svdag layout, each subtree stored once per use.
 enum class Encoding : uint32_t { svo = 1, svdag = 2, ussvdag = 3, ssvdag = 4 };
 
-// Thesis octant index of a Morton octant (and back: the map is its own inverse).
-constexpr uint32_t thesis_octant(uint32_t morton) { return ((morton & 1) << 2) | (morton & 2) | ((morton >> 2) & 1); }
-uint32_t thesis_mask(uint32_t morton_mask);  // permutes mask bits the same way
-
 struct EncodedDag {
   Encoding encoding = Encoding::svdag;
   uint32_t levels = 0;

@@ -20,6 +20,11 @@ MV_STRUCT_BEGIN(MvDagParams)
   mv_u32 seed_hi;
   mv_u32 block; /* ssvdag_canon: nodes per work-item, contiguous (CPU devices); 0 = grid-stride */
 MV_STRUCT_END(MvDagParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvDagParams, 20);
+MV_LAYOUT_AT(MvDagParams, n, 0); MV_LAYOUT_AT(MvDagParams, leaf, 4); MV_LAYOUT_AT(MvDagParams, seed_lo, 8);
+MV_LAYOUT_AT(MvDagParams, seed_hi, 12); MV_LAYOUT_AT(MvDagParams, block, 16);
+#endif
 
 MV_INLINE mv_u32 mv_popcount8(mv_u32 m) {
   m = m - ((m >> 1) & 0x55u);

@@ -14,6 +14,11 @@ MV_STRUCT_BEGIN(MvLangParams)
   mv_u32 height;
   mv_u32 pad0;
 MV_STRUCT_END(MvLangParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvLangParams, 16);
+MV_LAYOUT_AT(MvLangParams, n, 0); MV_LAYOUT_AT(MvLangParams, width, 4); MV_LAYOUT_AT(MvLangParams, height, 8);
+MV_LAYOUT_AT(MvLangParams, pad0, 12);
+#endif
 
 /* More argument bytes than Vulkan's 128 push-constant bytes (6 buffers + 96 bytes): a parameter buffer. */
 #define MV_LANG_ARG_WORDS 23u
@@ -21,6 +26,10 @@ MV_STRUCT_BEGIN(MvLangArgsParams)
   mv_u32 slot;
   mv_u32 words[23];
 MV_STRUCT_END(MvLangArgsParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvLangArgsParams, 96);
+MV_LAYOUT_AT(MvLangArgsParams, slot, 0); MV_LAYOUT_AT(MvLangArgsParams, words, 4);
+#endif
 
 #define MV_LANG_SLOTS 6u  /* add count, min, max, or, exchange chain, compare-exchange sum */
 #define MV_LANG_BINS 256u

@@ -9,6 +9,10 @@ MV_STRUCT_BEGIN(MvMortonParams)
   mv_u32 n; /* number of points (x, y, z triples of 32-bit grid coordinates) */
   mv_u32 pad0;
 MV_STRUCT_END(MvMortonParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvMortonParams, 8);
+MV_LAYOUT_AT(MvMortonParams, n, 0); MV_LAYOUT_AT(MvMortonParams, pad0, 4);
+#endif
 
 MV_INLINE mv_u64 mv_morton_spread21(mv_u64 v) {
   v &= 0x1fffffUL;

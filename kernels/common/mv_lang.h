@@ -7,7 +7,9 @@
  * MV_ST_U64(buf, i, v) writes element i of a MvBufU32 viewed as 64-bit words (words 2i and 2i + 1, 8-byte
  * aligned), for an output whose width a parameter picks.
  * MV_LD_PAIR(buf, i) reads 32-bit words i and i + 1 of a MvBufU32 as one 64-bit value (word i low), i of any
- * parity: one load on Vulkan, where lavapipe pays a per-lane loop for each load instruction.
+ * parity: one load on Vulkan, where lavapipe pays a per-lane loop for each load instruction. MvBufConstU32 is a
+ * MvBufU32 only read from (a const pointer on the host, so host code reads const data through the same
+ * accessors as the kernels).
  * On Vulkan they are buffer-device-address references (no 128 MiB descriptor limit); on OpenCL global
  * pointers; on the host plain pointers.
  * Indices are 32-bit and stay below 2^31 in every dispatch (Vulkan access chains read them as signed): the host
@@ -91,6 +93,17 @@ typedef double mv_f64;
 #define MV_PRECISE
 #endif
 
+/* ---- layout contracts ----
+ * Each struct the host shares with kernels (parameters, records) states its size and field offsets right after
+ * its declaration, checked by the host compiler; tests/test_layout.cpp probes each device's view of the same
+ * structs (kernels/common/layout_probe.h). Fields are 4 bytes and structs 4-aligned: the host packs the
+ * parameters right after the buffer addresses (8 bytes each) and GLSL's std430 push constants agree. */
+#if defined(MV_CPP)
+#include <cstddef>
+#define MV_LAYOUT_SIZE(T, bytes) static_assert(sizeof(T) == (bytes) && alignof(T) == 4, #T ": size")
+#define MV_LAYOUT_AT(T, field, offset) static_assert(offsetof(T, field) == (offset), #T "." #field ": offset")
+#endif
+
 /* ---- bit operations and float bit casts ---- */
 #if defined(MV_CPP)
 #include <bit>
@@ -116,12 +129,14 @@ typedef double mv_f64;
 /* ---- buffers ---- */
 #if defined(MV_CPP)
 typedef mv_u32* MvBufU32;
+typedef const mv_u32* MvBufConstU32;
 typedef mv_u64* MvBufU64;
 typedef const float* MvBufF32;
 #define MV_LD(buf, i) ((buf)[i])
 #define MV_ST(buf, i, v) ((buf)[i] = (v))
 #elif defined(MV_OPENCL)
 #define MvBufU32 __global uint*
+#define MvBufConstU32 __global const uint*
 #define MvBufU64 __global ulong*
 #define MvBufF32 __global float*
 #define MV_LD(buf, i) ((buf)[i])
@@ -131,6 +146,7 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32 { u
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufU64 { uint64_t v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufF32 { float v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair { uint64_t v; };
+#define MvBufConstU32 MvBufU32
 #define MV_LD(buf, i) ((buf).v[i])
 #define MV_ST(buf, i, v_) ((buf).v[i] = (v_))
 #define MV_LD_PAIR(buf, i) (MvBufU32Pair(uint64_t(buf) + 4ul * uint64_t(i)).v)

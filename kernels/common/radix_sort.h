@@ -26,5 +26,11 @@ MV_STRUCT_BEGIN(MvRadixParams)
   mv_u32 has_values; /* nonzero: move 32-bit values along with the keys */
   mv_u32 local_digits; /* radix_local_sort: bit j set = sort on digit j */
 MV_STRUCT_END(MvRadixParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvRadixParams, 24);
+MV_LAYOUT_AT(MvRadixParams, n, 0); MV_LAYOUT_AT(MvRadixParams, blocks, 4); MV_LAYOUT_AT(MvRadixParams, block_size, 8);
+MV_LAYOUT_AT(MvRadixParams, shift, 12); MV_LAYOUT_AT(MvRadixParams, has_values, 16);
+MV_LAYOUT_AT(MvRadixParams, local_digits, 20);
+#endif
 
 #endif

@@ -18,6 +18,11 @@ MV_STRUCT_BEGIN(MvScanParams)
   mv_u32 start_lo;   /* scan_small: the first sum, low and high word */
   mv_u32 start_hi;
 MV_STRUCT_END(MvScanParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvScanParams, 24);
+MV_LAYOUT_AT(MvScanParams, n, 0); MV_LAYOUT_AT(MvScanParams, blocks, 4); MV_LAYOUT_AT(MvScanParams, block_size, 8);
+MV_LAYOUT_AT(MvScanParams, wide, 12); MV_LAYOUT_AT(MvScanParams, start_lo, 16); MV_LAYOUT_AT(MvScanParams, start_hi, 20);
+#endif
 
 MV_INLINE void mv_scan_reduce(MvBufU32 src, MvBufU64 sums, MvScanParams p, mv_u32 b) {
   mv_u32 begin = b * p.block_size;

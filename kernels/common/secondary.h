@@ -27,6 +27,17 @@ MV_STRUCT_BEGIN(MvSecondaryParams)
   mv_f32 lead;   /* start this many hit cells along the ray: steps past the voxel staircase of the surface */
   mv_u32 pad1; mv_u32 pad2;
 MV_STRUCT_END(MvSecondaryParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvSecondaryParams, 64);
+MV_LAYOUT_AT(MvSecondaryParams, first, 0); MV_LAYOUT_AT(MvSecondaryParams, count, 4);
+MV_LAYOUT_AT(MvSecondaryParams, levels, 8); MV_LAYOUT_AT(MvSecondaryParams, camera, 12);
+MV_LAYOUT_AT(MvSecondaryParams, width, 16); MV_LAYOUT_AT(MvSecondaryParams, kind, 20);
+MV_LAYOUT_AT(MvSecondaryParams, sample_k, 24); MV_LAYOUT_AT(MvSecondaryParams, stride, 28);
+MV_LAYOUT_AT(MvSecondaryParams, mask, 32); MV_LAYOUT_AT(MvSecondaryParams, lx, 36);
+MV_LAYOUT_AT(MvSecondaryParams, ly, 40); MV_LAYOUT_AT(MvSecondaryParams, lz, 44);
+MV_LAYOUT_AT(MvSecondaryParams, tmax, 48); MV_LAYOUT_AT(MvSecondaryParams, lead, 52);
+MV_LAYOUT_AT(MvSecondaryParams, pad1, 56); MV_LAYOUT_AT(MvSecondaryParams, pad2, 60);
+#endif
 
 MV_INLINE mv_u32 mv_hash32(mv_u32 x) {
   x ^= x >> 16;
@@ -81,24 +92,6 @@ MV_INLINE MvRay mv_secondary_ray(MvRay pr, MvHit h, mv_u32 L, mv_u32 in_face_fra
   MV_PRECISE mv_f32 lod = pr.lod_t + h.t;
   r.lod_t = lod;
   return r;
-}
-
-MV_INLINE MvHit mv_load_hit(MvBufU32 hits, mv_u32 i) {
-  MvHit h;
-  mv_u32 b = MV_HIT_WORDS * i;
-  h.t = MV_BITSF(MV_LD(hits, b));
-  h.x = MV_LD(hits, b + 1u); h.y = MV_LD(hits, b + 2u); h.z = MV_LD(hits, b + 3u);
-  h.info = MV_LD(hits, b + 4u);
-  h.steps = MV_LD(hits, b + 5u);
-  return h;
-}
-
-MV_INLINE void mv_store_ray(MvBufU32 dst, mv_u32 i, MvRay r) {
-  mv_u32 b = MV_RAY_FLOATS * i;
-  MV_ST(dst, b, MV_FBITS(r.ox)); MV_ST(dst, b + 1u, MV_FBITS(r.oy)); MV_ST(dst, b + 2u, MV_FBITS(r.oz));
-  MV_ST(dst, b + 3u, MV_FBITS(r.dx)); MV_ST(dst, b + 4u, MV_FBITS(r.dy)); MV_ST(dst, b + 5u, MV_FBITS(r.dz));
-  MV_ST(dst, b + 6u, MV_FBITS(r.tmax));
-  MV_ST(dst, b + 7u, MV_FBITS(r.lod_t));
 }
 
 /* The secondary ray of pixel / ray i for the parameters' kind and sample. */

@@ -46,10 +46,33 @@ MV_INLINE mv_u32 mv_norm_tag(mv_u32 t, mv_u32 table) { return (table >> (3u * t)
 /* The row of a pointer tagged t to a node with this tag table: field k = norm(t ^ k). */
 MV_INLINE mv_u32 mv_tag_row(mv_u32 table, mv_u32 t) { return mv_xor_fields(table, t); }
 
+/* Field k of a row: the tag seen through reflection k (field 0: the tag itself, normalized). */
+MV_INLINE mv_u32 mv_row_field(mv_u32 row, mv_u32 k) { return (row >> (3u * k)) & 7u; }
+
+/* The mask table (mv_leaf_table), MV_MASK_TABLE_WORDS words: per 8-bit mask m an info word (canonical mask, its
+ * T* and its stabilizer) and the row of its tag; per reflection set s its tag table. */
+#define MV_MASK_TABLE_WORDS 768u
+MV_INLINE mv_u32 mv_mask_info_at(mv_u32 m) { return 2u * m; }
+MV_INLINE mv_u32 mv_mask_row_at(mv_u32 m) { return 2u * m + 1u; }
+MV_INLINE mv_u32 mv_tag_table_at(mv_u32 s) { return 512u + s; }
+
+MV_INLINE mv_u32 mv_mask_info(mv_u32 canonical, mv_u32 tstar, mv_u32 stab) {
+  return canonical | (tstar << 8) | (stab << 16);
+}
+MV_INLINE mv_u32 mv_mask_canonical(mv_u32 info) { return info & 0xffu; }
+MV_INLINE mv_u32 mv_mask_tstar(mv_u32 info) { return (info >> 8) & 7u; }
+MV_INLINE mv_u32 mv_mask_stabilizer(mv_u32 info) { return (info >> 16) & 0xffu; }
+
+/* An entry of an emitted level (mv_dag_emit, mv_brick_emit): a child's id and tag (empty octants: 0); the
+ * canonical keys hash children the same way. */
+MV_INLINE mv_u64 mv_entry(mv_u32 id, mv_u32 tag) { return (MV_U64(id) << 3) | MV_U64(tag); }
+MV_INLINE mv_u32 mv_entry_id(mv_u64 e) { return MV_U32(e >> 3); }
+MV_INLINE mv_u32 mv_entry_tag(mv_u64 e) { return MV_U32(e) & 7u; }
+
 /* A node's orientation in one word: its tag as its parent will see it (T* normalized by its stabilizer s) as
  * a row in bits 0..23, T* itself in bits 24..26; mtab (leaf_table) holds the tag table of every stabilizer. */
 MV_INLINE mv_u32 mv_orientation(MvBufU32 mtab, mv_u32 t, mv_u32 s) {
-  return mv_tag_row(MV_LD(mtab, 512u + s), t) | (t << 24);
+  return mv_tag_row(MV_LD(mtab, mv_tag_table_at(s)), t) | (t << 24);
 }
 
 MV_INLINE mv_u32 mv_row_tstar(mv_u32 row) { return (row >> 24) & 7u; }
@@ -101,8 +124,8 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
      * candidates n_t, t = t0 ^ g for g in ms, share the mask; they are ordered by their tags (octant 0's
      * first: 3 bits each, packed, so they compare as integers), then by their ids; n_t equals n_t0 iff
      * t0 ^ t fixes n. */
-    mv_u32 info = MV_LD(mtab, 2u * m);
-    mv_u32 mb = info & 0xffu, t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu;
+    mv_u32 info = MV_LD(mtab, mv_mask_info_at(m));
+    mv_u32 mb = mv_mask_canonical(info), t0 = mv_mask_tstar(info), ms = mv_mask_stabilizer(info);
     mv_u32 best = t0, s = 1u;
     if (ms != 1u) {
       mv_u32 first_id = id[MV_FIND_MSB(m)]; /* flat faces: often one child subtree */
@@ -112,7 +135,7 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
       for (mv_u32 g = 0u; g < 8u; ++g) {
         if (((ms >> g) & 1u) == 0u) continue;
         mv_u32 t = t0 ^ g, k = 0u;
-        for (mv_u32 c = 0u; c < 8u; ++c) k |= ((row[c] >> (3u * t)) & 7u) << (3u * (7u - c));
+        for (mv_u32 c = 0u; c < 8u; ++c) k |= mv_row_field(row[c], t) << (3u * (7u - c));
         k = mv_xor_fields(k, t); /* octant o's field moves to o ^ t */
         if (g == 0u) {
           base = k;
@@ -142,7 +165,7 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
     for (mv_u32 o = 0u; o < 8u; ++o) {
       mv_u32 c = o ^ best;
       if (((m >> c) & 1u) != 0u)
-        h = mv_hash_mix(h, (MV_U64(id[c]) << 3) | MV_U64((row[c] >> (3u * best)) & 7u));
+        h = mv_hash_mix(h, mv_entry(id[c], mv_row_field(row[c], best)));
     }
     MV_ST(hashes, i, h);
     MV_ST(order, i, i);
@@ -201,8 +224,8 @@ MV_INLINE void mv_brick_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBu
                               MvBufU64 keys, MvBufU32 row, MvBufU32 order, MvDagParams p,
                               mv_u32 gid, mv_u32 stride) {
   for (mv_u32 k = gid; k < p.n; k += stride) {
-    mv_u32 i = MV_LD(rep, k), info = MV_LD(mtab, 2u * MV_LD(mask, i));
-    mv_u32 t0 = (info >> 8) & 7u, ms = (info >> 16) & 0xffu, best = t0, s = 1u;
+    mv_u32 i = MV_LD(rep, k), info = MV_LD(mtab, mv_mask_info_at(MV_LD(mask, i)));
+    mv_u32 t0 = mv_mask_tstar(info), ms = mv_mask_stabilizer(info), best = t0, s = 1u;
     mv_u64 base = mv_reflect_brick(mv_brick(mask, first, cmask, i), t0), lowest = base;
     for (mv_u32 g = 1u; g < 8u; ++g) { /* the other reflections with the smallest mask: t0 ^ g, g in ms */
       if (((ms >> g) & 1u) == 0u) continue;
@@ -254,7 +277,7 @@ MV_INLINE void mv_ssvdag_verify(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvB
 }
 
 /* The reduced level in id order, for the host: class r's stored mask (its representative reflected by T*)
- * and its 8 entries ((child id << 3) | tag, 0 = empty) in octant order. p.seed_lo = 1 with symmetry; without
+ * and its 8 entries (mv_entry) in octant order. p.seed_lo = 1 with symmetry; without
  * it row and crow are null and tags are 0. */
 MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32 crow, MvBufU32 row, MvBufU32 rep,
                            MvBufU32 out_mask, MvBufU64 out_entry, MvDagParams p, mv_u32 gid, mv_u32 stride) {
@@ -267,9 +290,9 @@ MV_INLINE void mv_dag_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvBufU32
     for (mv_u32 c = 0u; c < 8u; ++c) { /* child c lands at octant c ^ t; each child read once */
       mv_u64 e = MV_U64(0);
       if (((m >> c) & 1u) != 0u) {
-        mv_u32 id = MV_LD(cid, j);
-        e = MV_U64(id) << 3;
-        if (p.seed_lo != 0u) e |= MV_U64(mv_norm_tag(t, MV_LD(crow, j)));
+        mv_u32 tag = 0u;
+        if (p.seed_lo != 0u) tag = mv_norm_tag(t, MV_LD(crow, j));
+        e = mv_entry(MV_LD(cid, j), tag);
         j += 1u;
       }
       MV_ST(out_entry, 8u * r + (c ^ t), e);
@@ -293,10 +316,10 @@ MV_INLINE void mv_brick_emit(MvBufU32 mask, MvBufU32 first, MvBufU32 cmask, MvBu
       if (((m >> c) & 1u) != 0u) {
         mv_u32 cm = MV_LD(cmask, j);
         if (p.seed_lo != 0u)
-          e = (MV_U64(MV_LD(crank, MV_LD(mtab, 2u * cm) & 0xffu)) << 3) |
-              MV_U64(mv_norm_tag(t, MV_LD(mtab, 2u * cm + 1u)));
+          e = mv_entry(MV_LD(crank, mv_mask_canonical(MV_LD(mtab, mv_mask_info_at(cm)))),
+                       mv_norm_tag(t, MV_LD(mtab, mv_mask_row_at(cm))));
         else
-          e = MV_U64(MV_LD(crank, cm)) << 3;
+          e = mv_entry(MV_LD(crank, cm), 0u);
         j += 1u;
       }
       MV_ST(out_entry, 8u * r + (c ^ t), e);
@@ -321,14 +344,14 @@ MV_INLINE void mv_leaf_table(MvBufU32 table, mv_u32 gid, mv_u32 stride) {
       }
       if (r == m) s |= 1u << t;
     }
-    MV_ST(table, 2u * m, lowest | (best << 8) | (s << 16));
-    MV_ST(table, 2u * m + 1u, mv_tag_row(mv_norm_table(s), best));
-    MV_ST(table, 512u + m, mv_norm_table(m));
+    MV_ST(table, mv_mask_info_at(m), mv_mask_info(lowest, best, s));
+    MV_ST(table, mv_mask_row_at(m), mv_tag_row(mv_norm_table(s), best));
+    MV_ST(table, mv_tag_table_at(m), mv_norm_table(m));
   }
 }
 
 MV_INLINE mv_u32 mv_leaf_class(MvBufU32 mask, MvBufU32 table, MvDagParams p, mv_u32 i) {
-  return p.leaf == 2u ? MV_LD(table, 2u * MV_LD(mask, i)) & 0xffu : MV_LD(mask, i);
+  return p.leaf == 2u ? mv_mask_canonical(MV_LD(table, mv_mask_info_at(MV_LD(mask, i)))) : MV_LD(mask, i);
 }
 
 MV_INLINE void mv_leaf_present(MvBufU32 mask, MvBufU32 table, MvBufU32 present, MvDagParams p, mv_u32 gid,

@@ -1,11 +1,8 @@
-/* Ray traversal of the encoded voxel DAGs, written once for the host, OpenCL C and GLSL.
+/* Ray traversal of the encoded voxel DAGs, written once for the host, OpenCL C and GLSL: the loop. Records
+ * and parameters are in trace_types.h, what it reads of each node in trace_nodes.h.
  *
- * Encodings (include/megavox/encode.h): svo / svdag / ussvdag are one stream of 32-bit words (header word with
- * the child mask and, for ussvdag, per-child mirror bits; one 32-bit absolute pointer per child; one-word 2^3
- * leaves); ssvdag is the compact stream of 16-bit words (2-bit child codes, 16/32-bit pointers with mirror
- * tags, offsets relative to the child level) over 64-bit 4^3 bricks. The traversal is the thesis's
- * "transform the geometry" multi-level DDA (notes 1.10): the ray stays fixed, a 3-bit mirror mask M is
- * accumulated along the path, and the child seen in octant v is stored at slot v ^ M.
+ * The traversal is the thesis's "transform the geometry" multi-level DDA (notes 1.10): the ray stays fixed, a
+ * 3-bit mirror mask M is accumulated along the path, and the child seen in octant v is stored at slot v ^ M.
  *
  * Coordinates: the root cube is [0, 1)^3 (host maps world to this cube); a cell of level l has side
  * 2^(l - L). Every decision is a comparison of crossing times t = (b - o) * inv_d, where b is a cell
@@ -24,56 +21,11 @@
  * load and each indexed access to the per-level arrays as a loop over its lanes whether any lane takes
  * the branch or not, so the ssvdag descent has one straight path with two loads (the pointer's two
  * 16-bit halves as one 64-bit read, then the child's header or brick as another), and level offsets
- * may come from the parameters (mv_level_base). */
+ * may come from the parameters (mv_level_base). Every read of the node streams is an mv_node_load
+ * (trace_nodes.h), the seam where a paged address layer goes. */
 #ifndef MV_TRACE_H
 #define MV_TRACE_H
-#include "mv_lang.h"
-
-#define MV_ENC_SVDAG 2u  /* also stands for svo and ussvdag: the same 32-bit word decode */
-#define MV_ENC_SSVDAG 4u
-#define MV_TRACE_MISS 0u
-#define MV_TRACE_HIT 1u
-#define MV_TRACE_GAVE_UP 2u /* max_steps reached */
-#define MV_AXIS_NONE 3u     /* hit at the ray's origin: no face */
-#define MV_RAY_FLOATS 8u    /* ox oy oz dx dy dz tmax lod_t */
-#define MV_HIT_WORDS 6u     /* t (float bits) x y z info steps */
-#define MV_CAMERA_FLOATS 16u
-#define MV_TRACE_PARAM_LEVELS 11u /* the parameters can hold where ssvdag levels 3 .. 13 start (every tree up
-                                     to 16K^3); the push constants hold no more (128 bytes) */
-
-/* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 */
-#define MV_INFO_STATUS(i) ((i) & 3u)
-#define MV_INFO_AXIS(i) (((i) >> 2) & 3u)
-#define MV_INFO_NEGATIVE(i) (((i) >> 4) & 1u)
-#define MV_INFO_LEVEL(i) (((i) >> 8) & 31u)
-
-MV_STRUCT_BEGIN(MvTraceParams)
-  mv_u32 first;     /* rays [first, first + count) in this dispatch */
-  mv_u32 count;
-  mv_u32 levels;    /* L: the root cube is 2^L voxels per axis */
-  mv_u32 camera;    /* 0: rays from the ray buffer; 1: camera rays (camera buffer, ray index = pixel) */
-  mv_u32 occlusion; /* 0: hit records; 1: occlusion counts (count[i] += 1 when ray i hits) */
-  mv_u32 width;     /* camera rays: image width */
-  mv_u32 max_steps; /* give up after this many loop steps (the same on every device) */
-  mv_f32 proj;      /* LOD factor, see above; 0 = voxels only */
-  mv_u32 block;     /* rays per work-item, contiguous (CPU devices: neighbouring rays share cache lines); 0 =
-                       grid-stride */
-  mv_u32 level_base[MV_TRACE_PARAM_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream */
-MV_STRUCT_END(MvTraceParams)
-
-MV_STRUCT_BEGIN(MvRay)
-  mv_f32 ox; mv_f32 oy; mv_f32 oz;
-  mv_f32 dx; mv_f32 dy; mv_f32 dz;
-  mv_f32 tmax;
-  mv_f32 lod_t; /* added to t in the LOD test: a secondary ray keeps the LOD of its primary */
-MV_STRUCT_END(MvRay)
-
-MV_STRUCT_BEGIN(MvHit)
-  mv_f32 t;
-  mv_u32 x; mv_u32 y; mv_u32 z; /* the cell at the hit level */
-  mv_u32 info;
-  mv_u32 steps;
-MV_STRUCT_END(MvHit)
+#include "trace_nodes.h"
 
 /* 1 / x for |x| in [1e-20, 1e20], identical on every device (not always correctly rounded). */
 MV_INLINE mv_f32 mv_rcp(mv_f32 x) {
@@ -159,82 +111,6 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
   return e;
 }
 
-/* Thesis octant index (4x + 2y + z) of a Morton octant (x + 2y + 4z); its own inverse. */
-MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) | ((m >> 2) & 1u); }
-
-/* 16-bit word w of the ssvdag inner stream, stored two per 32-bit word, low half first. */
-MV_INLINE mv_u32 mv_inner16(MvBufU32 words, mv_u32 w) { return (MV_LD(words, w >> 1) >> ((w & 1u) * 16u)) & 0xffffu; }
-
-/* x with the bits under mask m and those s above them exchanged (a delta swap). */
-MV_INLINE mv_u32 mv_delta_swap(mv_u32 x, mv_u32 m, mv_u32 s) {
-  mv_u32 t = ((x >> s) ^ x) & m;
-  return x ^ t ^ (t << s);
-}
-
-/* A node's 8 children as a mask over stored Morton slots (bit v = slot v full), computed once when the walk
- * enters the node, so each step tests one bit whatever the encoding or level. */
-
-/* Thesis octant order (bit 4x + 2y + z) to Morton order (bit x + 2y + 4z): swap bits 1 <-> 4 and 3 <-> 6. */
-MV_INLINE mv_u32 mv_thesis_to_morton_mask(mv_u32 h) {
-  mv_u32 x = ((h >> 3) ^ h) & 0x0au;
-  return (h ^ x ^ (x << 3)) & 0xffu;
-}
-
-/* 32-bit word encodings: the child mask in the header's low byte. ssvdag inner nodes: 2-bit codes, 0 = empty. */
-MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
-  if (enc != MV_ENC_SSVDAG) return mv_thesis_to_morton_mask(hdr & 0xffu);
-  /* bit 2k (k = 4x + 2y + z): code k != 0; the x = 1 byte onto the odd bits gives bit x + 2z + 4y; then swap
-   * the y and z bits (2 <-> 4, 3 <-> 5) for x + 2y + 4z */
-  mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u;
-  return mv_delta_swap((nz & 0x55u) | ((nz >> 7) & 0xaau), 0x0cu, 2u);
-}
-
-/* An ssvdag 4^3 brick (bit 16x + 4y + z) is held as two 32-bit halves: lo has x in {0, 1}, hi x in {2, 3}.
- * Sub-block v (x in {2v_x, 2v_x + 1}, ...) lies in half v_x and is full when any of its 8 bits is: OR the z,
- * y and x pairs onto each block's low corner (bit 8v_y + 2v_z of the half), put the hi half's corners one bit
- * up (bit v_x + 2v_z + 8v_y), close the gap (v_x + 2v_z + 4v_y) and swap the y and z bits. Straight-line
- * 32-bit code: no per-lane loop or 64-bit lanes on SIMD devices. */
-MV_INLINE mv_u32 mv_half_corners(mv_u32 h) {
-  mv_u32 t = h | (h >> 1);
-  t = t | (t >> 4);
-  return (t | (t >> 16)) & 0x0505u;
-}
-
-MV_INLINE mv_u32 mv_brick_occupancy(mv_u32 lo, mv_u32 hi) {
-  mv_u32 u = mv_half_corners(lo) | (mv_half_corners(hi) << 1);
-  return mv_delta_swap((u & 0x0fu) | ((u >> 4) & 0xf0u), 0x0cu, 2u);
-}
-
-/* The 2^3 sub-block `sub` of a brick: its voxels by slot. Its bits sit at 16x + 4y + z above the block's
- * corner; the x = 1 ones move down beside them (bit z + 2x + 4y), then two delta swaps give x + 2y + 4z. */
-MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u32 lo, mv_u32 hi, mv_u32 sub) {
-  mv_u32 g = (((sub & 1u) != 0u ? hi : lo) >> (8u * ((sub >> 1) & 1u) + 2u * (sub >> 2))) & 0x330033u;
-  return mv_delta_swap(mv_delta_swap((g | (g >> 14)) & 0xffu, 0x22u, 1u), 0x0cu, 2u);
-}
-
-/* Where ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words): read from the level-offset
- * buffer (in_params = 0: one cached load, the cheapest where loads are cheap), or taken from the parameters by
- * a chain of selects (in_params = 1, trees up to 16K^3: no load and no indexed array, for lavapipe, see the
- * top; an index into the parameter array would put it in per-lane scratch memory there). */
-MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 in_params) {
-  if (in_params == 0u) return MV_LD(lvl_off, lv);
-  mv_u32 b = p.level_base[0];
-  b = lv == 4u ? p.level_base[1] : b;
-  b = lv == 5u ? p.level_base[2] : b;
-  b = lv == 6u ? p.level_base[3] : b;
-  b = lv == 7u ? p.level_base[4] : b;
-  b = lv == 8u ? p.level_base[5] : b;
-  b = lv == 9u ? p.level_base[6] : b;
-  b = lv == 10u ? p.level_base[7] : b;
-  b = lv == 11u ? p.level_base[8] : b;
-  b = lv == 12u ? p.level_base[9] : b;
-  b = lv == 13u ? p.level_base[10] : b;
-  return b;
-}
-
-/* Can the parameters hold where every level of a tree of L levels starts (mv_level_base's in_params)? */
-MV_INLINE bool mv_trace_params_hold_levels(mv_u32 L) { return L <= 3u + MV_TRACE_PARAM_LEVELS; }
-
 /* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). */
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 in_params, MvRay r,
                          MvTraceParams p) {
@@ -266,8 +142,9 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_u32 nl = L;
   node_at[L] = 0u;
   mir_at[L] = 0u;
-  hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner16(words, 0u) : MV_LD(words, 0u);
-  occ_at[L] = mv_node_occupancy(enc, hdr_at[L]); /* an ssvdag has L >= 3: its root is an inner node */
+  mv_u64 root = mv_node_load(words, bricks, enc, L, 0u); /* an ssvdag has L >= 3: its root is an inner node */
+  hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner_word(root, 0u) : MV_U32(root);
+  occ_at[L] = mv_node_occupancy(enc, hdr_at[L]);
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
   mv_f32 s = mv_cell_side(lc, L);
   mv_u32 idx[3];
@@ -287,36 +164,31 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
         status = MV_TRACE_HIT;
         break;
       }
-      /* descend into the child at `slot` */
+      /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
       mv_u32 t8 = mv_thesis_octant(slot);
       mv_u32 node = node_at[nl];
       mv_u32 hdr = hdr_at[nl];
+      mv_u32 lv = nl - 1u;
       if (enc != MV_ENC_SSVDAG) {
-        mv_u32 child = MV_LD(words, node + 1u + MV_POPCOUNT((hdr & 0xffu) >> (t8 + 1u)));
-        mv_u32 tag = ((hdr >> (8u + t8)) & 1u) | (((hdr >> (16u + t8)) & 1u) << 1) | (((hdr >> (24u + t8)) & 1u) << 2);
-        node_at[nl - 1u] = child;
-        hdr_at[nl - 1u] = MV_LD(words, child);
-        occ_at[nl - 1u] = mv_node_occupancy(enc, hdr_at[nl - 1u]);
-        mir_at[nl - 1u] = mir_at[nl] ^ tag;
+        mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
+        mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
+        node_at[lv] = child;
+        hdr_at[lv] = child_hdr;
+        occ_at[lv] = mv_node_occupancy(enc, child_hdr);
+        mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
       } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
-        mv_u32 lv = nl - 1u;
         mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
         if (nl >= 3u) {
-          /* pointer position: 1 + sum over later children of min(code, 2): bit 2k of the OR counts code k != 0,
-           * bit 2k + 1 code k >= 2 */
-          mv_u32 later = hdr >> (2u * (t8 + 1u));
-          mv_u32 at = node + 1u + MV_POPCOUNT(((later | (later >> 1)) & 0x5555u) | (later & 0xaaaau));
-          mv_u32 code = (hdr >> (2u * t8)) & 3u;
-          mv_u32 pair = MV_U32(MV_LD_PAIR(words, at >> 1) >> ((at & 1u) * 16u)); /* words at, at + 1 */
-          mv_u32 first = pair & 0xffffu;
-          mv_u32 word = (first << 16) | (pair >> 16);
-          mv_u32 off = code == 1u ? first & 0x1fffu : (word & 0x1fffffffu) | ((code & 1u) << 29);
-          tag = code == 1u ? first >> 13 : word >> 29;
-          bool inner = nl > 3u;
+          mv_u32 at = mv_ssvdag_child_at(node, hdr, t8);
+          mv_u32 code = mv_ssvdag_child_code(hdr, t8);
+          mv_u32 ptr = mv_inner_words(mv_node_load(words, bricks, enc, nl, at), at);
+          mv_u32 off = mv_ssvdag_offset(ptr, code);
+          tag = mv_ssvdag_tag(ptr);
+          bool inner = lv > 2u;
           child = mv_level_base(p, lvl_off, lv, in_params) + off;
-          mv_u64 data = MV_LD_PAIR(inner ? words : bricks, inner ? child >> 1 : 2u * off);
+          mv_u64 data = mv_node_load(words, bricks, enc, lv, inner ? child : off);
           if (inner) {
-            child_hdr = (MV_U32(data) >> ((child & 1u) * 16u)) & 0xffffu;
+            child_hdr = mv_inner_word(data, child);
             child_occ = mv_node_occupancy(enc, child_hdr);
           } else {
             child = MV_U32(data);
@@ -374,37 +246,6 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   return h;
 }
 
-/* Ray i of a ray buffer (MV_RAY_FLOATS per ray). */
-MV_INLINE MvRay mv_load_ray(MvBufF32 rays, mv_u32 i) {
-  MvRay r;
-  mv_u32 b = MV_RAY_FLOATS * i;
-  r.ox = MV_LD(rays, b); r.oy = MV_LD(rays, b + 1u); r.oz = MV_LD(rays, b + 2u);
-  r.dx = MV_LD(rays, b + 3u); r.dy = MV_LD(rays, b + 4u); r.dz = MV_LD(rays, b + 5u);
-  r.tmax = MV_LD(rays, b + 6u);
-  r.lod_t = MV_LD(rays, b + 7u);
-  return r;
-}
-
-/* The camera ray of a pixel (row 0 at the top): camera buffer = eye[3], base[3], du[3], dv[3], tmax, where
- * the direction is base + x du + y dv (not normalized: its component along the view axis is 1, so t is
- * depth along the view axis). */
-MV_INLINE MvRay mv_camera_ray(MvBufF32 cam, mv_u32 pixel, mv_u32 width) {
-  MvRay r;
-  mv_f32 fx = MV_F32(pixel % width), fy = MV_F32(pixel / width);
-  r.ox = MV_LD(cam, 0u); r.oy = MV_LD(cam, 1u); r.oz = MV_LD(cam, 2u);
-  MV_PRECISE mv_f32 dx = MV_LD(cam, 3u) + fx * MV_LD(cam, 6u) + fy * MV_LD(cam, 9u);
-  MV_PRECISE mv_f32 dy = MV_LD(cam, 4u) + fx * MV_LD(cam, 7u) + fy * MV_LD(cam, 10u);
-  MV_PRECISE mv_f32 dz = MV_LD(cam, 5u) + fx * MV_LD(cam, 8u) + fy * MV_LD(cam, 11u);
-  r.dx = dx; r.dy = dy; r.dz = dz;
-  r.tmax = MV_LD(cam, 12u);
-  r.lod_t = 0.0f;
-  return r;
-}
-
-MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTraceParams p) {
-  return p.camera == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);
-}
-
 #if !defined(MV_CPP)
 /* One work-item's share of a trace dispatch. `enc` and `in_params` are constants of the entry point (`enc`:
  * MV_ENC_SVDAG for every 32-bit word encoding, or MV_ENC_SSVDAG; `in_params`: see mv_level_base), so each kernel
@@ -421,13 +262,7 @@ MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU
     if (p.occlusion == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {
-      mv_u32 b = MV_HIT_WORDS * i;
-      MV_ST(results, b, MV_FBITS(h.t));
-      MV_ST(results, b + 1u, h.x);
-      MV_ST(results, b + 2u, h.y);
-      MV_ST(results, b + 3u, h.z);
-      MV_ST(results, b + 4u, h.info);
-      MV_ST(results, b + 5u, h.steps);
+      mv_store_hit(results, i, h);
     }
   }
 }

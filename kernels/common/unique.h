@@ -10,6 +10,10 @@ MV_STRUCT_BEGIN(MvUniqueParams)
   mv_u32 n;
   mv_u32 pad0;
 MV_STRUCT_END(MvUniqueParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvUniqueParams, 8);
+MV_LAYOUT_AT(MvUniqueParams, n, 0); MV_LAYOUT_AT(MvUniqueParams, pad0, 4);
+#endif
 
 MV_INLINE bool mv_run_starts(MvBufU64 keys, mv_u32 i) { return i == 0u || MV_LD(keys, i) != MV_LD(keys, i - 1u); }
 

@@ -29,6 +29,14 @@ MV_STRUCT_BEGIN(MvVoxelizeParams)
   mv_u32 box_z;
   mv_u32 thin;             /* 0: conservative (tri_box.h); 1: thin, 6-separating (tri_thin.h) */
 MV_STRUCT_END(MvVoxelizeParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvVoxelizeParams, 40);
+MV_LAYOUT_AT(MvVoxelizeParams, first_item, 0); MV_LAYOUT_AT(MvVoxelizeParams, items, 4);
+MV_LAYOUT_AT(MvVoxelizeParams, grid, 8); MV_LAYOUT_AT(MvVoxelizeParams, columns_per_item, 12);
+MV_LAYOUT_AT(MvVoxelizeParams, emit, 16); MV_LAYOUT_AT(MvVoxelizeParams, box_size, 20);
+MV_LAYOUT_AT(MvVoxelizeParams, box_x, 24); MV_LAYOUT_AT(MvVoxelizeParams, box_y, 28);
+MV_LAYOUT_AT(MvVoxelizeParams, box_z, 32); MV_LAYOUT_AT(MvVoxelizeParams, thin, 36);
+#endif
 
 /* Where a triangle's walk goes: the dominant axis d (0 = x, 1 = y, 2 = z; ties go to the later axis) with
  * the two others u < v, and the voxel range of its bounding box, clamped to the grid and to the box

@@ -1,0 +1,90 @@
+/* Layout probes: each struct the host shares with kernels as a device sees it (mv_lang.h: layout contracts).
+ *
+ * The host fills word k of a struct with MV_PROBE_WORD(k) and passes it as a probe kernel's parameters (push
+ * constants on Vulkan, a by-value argument on OpenCL). The probe writes every field back, in declaration
+ * order, as one 32-bit word (floats as their bits): a field the device places at another offset reads another
+ * word. The host runs the same probe on its own struct (tests/test_layout.cpp) and compares the words. Where
+ * the language has sizeof and addresses (host, OpenCL C) it also writes the struct's size and each field's
+ * offset; GLSL has neither, so there the values alone tell.
+ *
+ * Output words: 0 = fields written, 1 = sizeof (0 in GLSL), 2 + k = field k, 2 + MV_PROBE_FIELDS + k = field k's
+ * byte offset (not written in GLSL). */
+#ifndef MV_LAYOUT_PROBE_H
+#define MV_LAYOUT_PROBE_H
+#include "dag.h"
+#include "radix_sort.h"
+#include "scan.h"
+#include "lang_probe.h"
+#include "secondary.h"
+#include "unique.h"
+#include "voxelize.h"
+
+#define MV_PROBE_FIELDS 32u /* at most, per struct */
+#define MV_PROBE_WORDS (2u + 2u * MV_PROBE_FIELDS)
+/* Distinct words that are also normal floats near 1, so a float field carries them unchanged. */
+#define MV_PROBE_WORD(k) (0x3f800000u + (k))
+
+/* The fields of each shared struct in declaration order: X(conversion to a 32-bit word, field). */
+#define MV_FIELDS_MORTON(X) X(MV_U32, n) X(MV_U32, pad0)
+#define MV_FIELDS_RADIX(X)                                                                                             \
+  X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, has_values) X(MV_U32, local_digits)
+#define MV_FIELDS_SCAN(X) X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, wide) X(MV_U32, start_lo) \
+  X(MV_U32, start_hi)
+#define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)
+#define MV_FIELDS_LANG(X) X(MV_U32, n) X(MV_U32, width) X(MV_U32, height) X(MV_U32, pad0)
+#define MV_FIELDS_VOXELIZE(X)                                                                                          \
+  X(MV_U32, first_item) X(MV_U32, items) X(MV_U32, grid) X(MV_U32, columns_per_item) X(MV_U32, emit)                   \
+  X(MV_U32, box_size) X(MV_U32, box_x) X(MV_U32, box_y) X(MV_U32, box_z) X(MV_U32, thin)
+#define MV_FIELDS_DAG(X) X(MV_U32, n) X(MV_U32, leaf) X(MV_U32, seed_lo) X(MV_U32, seed_hi) X(MV_U32, block)
+#define MV_FIELDS_TRACE(X)                                                                                             \
+  X(MV_U32, first) X(MV_U32, count) X(MV_U32, levels) X(MV_U32, camera) X(MV_U32, occlusion) X(MV_U32, width)          \
+  X(MV_U32, max_steps) X(MV_FBITS, proj) X(MV_U32, block) X(MV_U32, level_base[0]) X(MV_U32, level_base[1])            \
+  X(MV_U32, level_base[2]) X(MV_U32, level_base[3]) X(MV_U32, level_base[4]) X(MV_U32, level_base[5])                  \
+  X(MV_U32, level_base[6]) X(MV_U32, level_base[7]) X(MV_U32, level_base[8]) X(MV_U32, level_base[9])                  \
+  X(MV_U32, level_base[10])
+#define MV_FIELDS_SECONDARY(X)                                                                                         \
+  X(MV_U32, first) X(MV_U32, count) X(MV_U32, levels) X(MV_U32, camera) X(MV_U32, width) X(MV_U32, kind)               \
+  X(MV_U32, sample_k) X(MV_U32, stride) X(MV_U32, mask) X(MV_FBITS, lx) X(MV_FBITS, ly) X(MV_FBITS, lz)                \
+  X(MV_FBITS, tmax) X(MV_FBITS, lead) X(MV_U32, pad1) X(MV_U32, pad2)
+#define MV_FIELDS_RAY(X)                                                                                               \
+  X(MV_FBITS, ox) X(MV_FBITS, oy) X(MV_FBITS, oz) X(MV_FBITS, dx) X(MV_FBITS, dy) X(MV_FBITS, dz)                      \
+  X(MV_FBITS, tmax) X(MV_FBITS, lod_t)
+#define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
+
+#define MV_PROBE_VALUE(word, f)                                                                                        \
+  MV_ST(dst, 2u + k, word(p.f));                                                                                       \
+  k += 1u;
+#if defined(MV_GLSL)
+#define MV_PROBE_OFFSETS(FIELDS) MV_ST(dst, 1u, 0u);
+#else
+#define MV_PROBE_OFFSET(word, f)                                                                                       \
+  MV_ST(dst, 2u + MV_PROBE_FIELDS + k, MV_U32((char*)&p.f - (char*)&p));                                               \
+  k += 1u;
+#define MV_PROBE_OFFSETS(FIELDS)                                                                                       \
+  MV_ST(dst, 1u, MV_U32(sizeof(p)));                                                                                   \
+  k = 0u;                                                                                                              \
+  FIELDS(MV_PROBE_OFFSET)
+#endif
+
+/* mv_probe_<name>(dst, p): the probe of struct T, whose fields FIELDS lists. */
+#define MV_PROBE(name, T, FIELDS)                                                                                      \
+  MV_INLINE void mv_probe_##name(MvBufU32 dst, T p) {                                                                  \
+    mv_u32 k = 0u;                                                                                                     \
+    FIELDS(MV_PROBE_VALUE)                                                                                             \
+    MV_ST(dst, 0u, k);                                                                                                 \
+    MV_PROBE_OFFSETS(FIELDS)                                                                                           \
+  }
+
+MV_PROBE(morton_params, MvMortonParams, MV_FIELDS_MORTON)
+MV_PROBE(radix_params, MvRadixParams, MV_FIELDS_RADIX)
+MV_PROBE(scan_params, MvScanParams, MV_FIELDS_SCAN)
+MV_PROBE(unique_params, MvUniqueParams, MV_FIELDS_UNIQUE)
+MV_PROBE(lang_params, MvLangParams, MV_FIELDS_LANG)
+MV_PROBE(voxelize_params, MvVoxelizeParams, MV_FIELDS_VOXELIZE)
+MV_PROBE(dag_params, MvDagParams, MV_FIELDS_DAG)
+MV_PROBE(trace_params, MvTraceParams, MV_FIELDS_TRACE)
+MV_PROBE(secondary_params, MvSecondaryParams, MV_FIELDS_SECONDARY)
+MV_PROBE(ray, MvRay, MV_FIELDS_RAY)
+MV_PROBE(hit, MvHit, MV_FIELDS_HIT)
+
+#endif /* MV_LAYOUT_PROBE_H */

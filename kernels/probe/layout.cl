@@ -1,0 +1,16 @@
+// OpenCL entry points of the layout probes, one per shared struct (bodies: common/layout_probe.h).
+#include "common/layout_probe.h"
+
+#define MV_PROBE_ENTRY(name, T) \
+  __kernel void probe_##name(__global uint* dst, T p) { if (MV_GLOBAL_ID() == 0u) mv_probe_##name(dst, p); }
+MV_PROBE_ENTRY(morton_params, MvMortonParams)
+MV_PROBE_ENTRY(radix_params, MvRadixParams)
+MV_PROBE_ENTRY(scan_params, MvScanParams)
+MV_PROBE_ENTRY(unique_params, MvUniqueParams)
+MV_PROBE_ENTRY(lang_params, MvLangParams)
+MV_PROBE_ENTRY(voxelize_params, MvVoxelizeParams)
+MV_PROBE_ENTRY(dag_params, MvDagParams)
+MV_PROBE_ENTRY(trace_params, MvTraceParams)
+MV_PROBE_ENTRY(secondary_params, MvSecondaryParams)
+MV_PROBE_ENTRY(ray, MvRay)
+MV_PROBE_ENTRY(hit, MvHit)

@@ -1,0 +1,48 @@
+// Vulkan entry points of the layout probes, one module per -DMV_ENTRY_<name> (bodies: common/layout_probe.h):
+// the struct arrives in push constants after one buffer address, as parameters do in every kernel.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common/mv_glsl_prelude.h"
+#include "common/layout_probe.h"
+
+#if defined(MV_ENTRY_probe_morton_params)
+#define MV_PROBE_T MvMortonParams
+#define MV_PROBE_FN mv_probe_morton_params
+#elif defined(MV_ENTRY_probe_radix_params)
+#define MV_PROBE_T MvRadixParams
+#define MV_PROBE_FN mv_probe_radix_params
+#elif defined(MV_ENTRY_probe_scan_params)
+#define MV_PROBE_T MvScanParams
+#define MV_PROBE_FN mv_probe_scan_params
+#elif defined(MV_ENTRY_probe_unique_params)
+#define MV_PROBE_T MvUniqueParams
+#define MV_PROBE_FN mv_probe_unique_params
+#elif defined(MV_ENTRY_probe_lang_params)
+#define MV_PROBE_T MvLangParams
+#define MV_PROBE_FN mv_probe_lang_params
+#elif defined(MV_ENTRY_probe_voxelize_params)
+#define MV_PROBE_T MvVoxelizeParams
+#define MV_PROBE_FN mv_probe_voxelize_params
+#elif defined(MV_ENTRY_probe_dag_params)
+#define MV_PROBE_T MvDagParams
+#define MV_PROBE_FN mv_probe_dag_params
+#elif defined(MV_ENTRY_probe_trace_params)
+#define MV_PROBE_T MvTraceParams
+#define MV_PROBE_FN mv_probe_trace_params
+#elif defined(MV_ENTRY_probe_secondary_params)
+#define MV_PROBE_T MvSecondaryParams
+#define MV_PROBE_FN mv_probe_secondary_params
+#elif defined(MV_ENTRY_probe_ray)
+#define MV_PROBE_T MvRay
+#define MV_PROBE_FN mv_probe_ray
+#elif defined(MV_ENTRY_probe_hit)
+#define MV_PROBE_T MvHit
+#define MV_PROBE_FN mv_probe_hit
+#else
+#error "define MV_ENTRY_probe_<struct>"
+#endif
+
+layout(push_constant) uniform Args { MvBufU32 dst; MV_PROBE_T p; } a;
+void main() {
+  if (MV_GLOBAL_ID() == 0u) MV_PROBE_FN(a.dst, a.p);
+}

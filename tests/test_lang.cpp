@@ -152,10 +152,8 @@ TEST_P(LangTest, TwoDimensionalLaunch) {
 }
 
 // 6 buffers and 96 parameter bytes: past Vulkan's 128 push-constant bytes, so a parameter buffer carries them.
-// A thousand dispatches in one recording fill several of its chunks.
-TEST_P(LangTest, ArgumentsPastThePushConstants) {
-  Device& d = dev();
-  const uint32_t dispatches = 1000;
+// `dispatches` of them in one recording fill several of its chunks.
+void check_arguments_past_the_push_constants(Device& d, uint32_t dispatches) {
   std::vector<Buffer> in;
   std::vector<uint32_t> first;
   for (uint32_t b = 0; b < 5; ++b) {
@@ -173,6 +171,15 @@ TEST_P(LangTest, ArgumentsPastThePushConstants) {
     mv_lang_args(expect.data(), &first[0], &first[1], &first[2], &first[3], &first[4], p);  // the same body
   }
   EXPECT_EQ(download<uint32_t>(d, out, dispatches), expect);
+}
+
+TEST_P(LangTest, ArgumentsPastThePushConstants) { check_arguments_past_the_push_constants(dev(), 1000); }
+
+// Profiling submits the recording when its timestamp queries run out (every 4096 dispatches on Vulkan), which
+// hands the parameter buffers out again: the arguments stay right across those submissions.
+TEST_P(LangTest, ArgumentsPastThePushConstantsWhileProfiling) {
+  auto d = Device::open({GetParam().selector(), 64u << 20, true});
+  check_arguments_past_the_push_constants(*d, 4500);
 }
 
 TEST(LangFeatures, MissingFeaturesAreNamed) {

@@ -55,17 +55,17 @@ void VulkanBackend::dispatch(BackendKernel& k, const LaunchGrid& grid, std::span
     std::memcpy(args.data() + 8 * i, &address, sizeof(address));
   }
   if (params_bytes) std::memcpy(args.data() + 8 * buffers.size(), params, params_bytes);
+  const bool timed = profiling_;
+  if (timed && queries_used_ + 2 > kTimestampQueries) finish();  // before the parameter buffers are written:
+                                                                  // finish() hands their space out again
   size_t push_bytes = arg_bytes;
   if (kernel.args_in_buffer) {  // push only the address of a copy in a parameter buffer
     const VkDeviceAddress block = argument_block(args.data(), arg_bytes);
     std::memcpy(args.data(), &block, sizeof(block));
     push_bytes = sizeof(block);
   }
-  const auto& push = args;
 
   const VkPipeline pipeline = pipeline_for(kernel, grid.local[0], grid.local[1]);
-  const bool timed = profiling_;
-  if (timed && queries_used_ + 2 > kTimestampQueries) finish();
   const VkCommandBuffer cmd = recording();
   if (timed) {
     if (queries_used_ == 0) vkCmdResetQueryPool(cmd, query_pool_, 0, kTimestampQueries);
@@ -74,7 +74,7 @@ void VulkanBackend::dispatch(BackendKernel& k, const LaunchGrid& grid, std::span
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
   if (push_bytes)  // Vulkan wants a multiple of 4; the padding is zero and still within kMaxPushBytes
     vkCmdPushConstants(cmd, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                       static_cast<uint32_t>((push_bytes + 3) & ~size_t{3}), push.data());
+                       static_cast<uint32_t>((push_bytes + 3) & ~size_t{3}), args.data());
   vkCmdDispatch(cmd, grid.groups[0], grid.groups[1], 1);
   if (timed) {
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, queries_used_++);

@@ -43,7 +43,7 @@ uint32_t parse_resolution(const std::string& text) {
 namespace {
 
 struct Voxels {
-  std::vector<uint64_t> keys;
+  Bricks bricks;
   GridTransform grid;
   Bounds bounds;
 };
@@ -143,7 +143,7 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
     vox.add(tris);
     report("voxelize", done);
   });
-  v.keys = vox.take_keys();
+  v.bricks = vox.take_bricks();
   r.triangles = vox.triangles();
   return v;
 }
@@ -192,12 +192,12 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
     report("cubes", double(++done) / cubes);
     std::vector<float> tris = buckets.take(x / size, y / size, z / size);
-    if (tris.empty()) return std::vector<uint64_t>();
+    if (tris.empty()) return Bricks();
     Voxelizer v(dev, resolution, rule(o));
     v.limit_host_memory(memory_budget(o) - vertex_share(o) - bucket_share(o));
     v.restrict_to(x, y, z, size);
     v.add(tris);
-    return v.take_keys();
+    return v.take_bricks();
   };
   const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
   DagBuildTimes times;
@@ -214,13 +214,25 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
 
 }  // namespace
 
+namespace {
+template <class Voxels>
+Dag dag_for_format(Device& dev, const Voxels& voxels, uint32_t levels, const std::string& format, DagBuildTimes* times) {
+  if (format == "ssvdag" && levels < 3) throw Error("--format ssvdag needs a resolution of at least 8");
+  if (format == "svo") return build_svo(dev, voxels, levels, times);
+  if (format == "ussvdag" || format == "ssvdag") return build_ssvdag(dev, voxels, levels, times);
+  if (format == "svdag") return build_svdag(dev, voxels, levels, times);
+  throw Error("--format " + format + ": choose svo, svdag, ussvdag or ssvdag");
+}
+}  // namespace
+
+Dag build_dag_for_format(Device& dev, const Bricks& bricks, uint32_t levels, const std::string& format,
+                         DagBuildTimes* times) {
+  return dag_for_format(dev, bricks, levels, format, times);
+}
+
 Dag build_dag_for_format(Device& dev, const std::vector<uint64_t>& keys, uint32_t levels, const std::string& format,
                          DagBuildTimes* times) {
-  if (format == "ssvdag" && levels < 3) throw Error("--format ssvdag needs a resolution of at least 8");
-  if (format == "svo") return build_svo(dev, keys, levels, times);
-  if (format == "ussvdag" || format == "ssvdag") return build_ssvdag(dev, keys, levels, times);
-  if (format == "svdag") return build_svdag(dev, keys, levels, times);
-  throw Error("--format " + format + ": choose svo, svdag, ussvdag or ssvdag");
+  return dag_for_format(dev, keys, levels, format, times);
 }
 
 MvxFile mvx_for_dag(const Dag& dag, const std::string& format, const GridTransform& grid, const Bounds& bounds) {
@@ -280,7 +292,8 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
     r.vdb_grid = vdb.grid_name;
     r.vdb_class = vdb.grid_class;
-    voxels = {std::move(vdb.keys), vdb.grid, vdb.bounds};
+    voxels = {bricks_from_keys(vdb.keys), vdb.grid, vdb.bounds};
+    vdb.keys = {};
     lap("read");
   } else {
     voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report);
@@ -290,13 +303,13 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   if (o.format == "ssvdag" && resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
   const uint32_t levels = static_cast<uint32_t>(std::log2(double(resolution)) + 0.5);
   r.resolution = resolution;
-  r.voxels = voxels.keys.size();
+  r.voxels = voxels.bricks.voxels();
   const GridTransform grid = voxels.grid;
   const Bounds bounds = voxels.bounds;
 
   const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
   DagBuildTimes times;
-  Dag dag = build_dag_for_format(dev, voxels.keys, levels, o.format, &times);
+  Dag dag = build_dag_for_format(dev, voxels.bricks, levels, o.format, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
   r.seconds.push_back({o.format == "svo" ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});

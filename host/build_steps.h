@@ -9,7 +9,10 @@
 
 namespace mv {
 
-// The DAG of sorted unique Morton keys in a 2^levels grid for `format` (svo, svdag, ussvdag or ssvdag).
+// The DAG of bricks, or of sorted unique Morton keys, in a 2^levels grid for `format` (svo, svdag, ussvdag or
+// ssvdag).
+Dag build_dag_for_format(Device& dev, const Bricks& bricks, uint32_t levels, const std::string& format,
+                         DagBuildTimes* times = nullptr);
 Dag build_dag_for_format(Device& dev, const std::vector<uint64_t>& keys, uint32_t levels, const std::string& format,
                          DagBuildTimes* times = nullptr);
 

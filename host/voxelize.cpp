@@ -11,11 +11,12 @@
 
 #include "megavox/error.h"
 #include "megavox/primitives.h"
+#include "../kernels/common/dag.h"
 
 namespace mv {
 
 namespace {
-constexpr uint32_t kColumnsPerItem = 256;
+constexpr uint32_t kColumnsPerItem = 16;  // brick columns: 256 voxel columns
 }
 
 void Bounds::extend(double x, double y, double z) {
@@ -131,89 +132,102 @@ void Voxelizer::add(const std::vector<float>& tris) {
   if (count > UINT32_MAX / 9) throw Error("voxelize: too many triangles in one batch");
   triangles_ += count;
 
-  // Work items: runs of at most kColumnsPerItem columns of each triangle's walk.
-  std::vector<uint32_t> item_tri, item_col;
+  // Work items: runs of at most kColumnsPerItem brick columns of each triangle's walk, with an estimate of
+  // their bricks (two a column: the plane crosses most columns of its bounding box in one or two layers, and
+  // misses many) that sizes the output; a run that finds more is emitted again with room for all.
+  std::vector<uint32_t> item_tri, item_col, item_guess;
   for (uint32_t t = 0; t < count; ++t) {
     const float* v = &tris[9 * size_t{t}];
     MvTriFrame f = mv_tri_frame(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], resolution_, box_[0], box_[1],
                                 box_[2], box_size_);
     if (f.empty) continue;
-    uint64_t columns = uint64_t{mv_frame_hi(f, f.u) - mv_frame_lo(f, f.u) + 1} *
-                       (mv_frame_hi(f, f.v) - mv_frame_lo(f, f.v) + 1);
-    if (columns > UINT32_MAX - kColumnsPerItem) throw Error("voxelize: triangle " + std::to_string(t) + " is too large");
+    const uint64_t columns = mv_frame_columns(f);
     for (uint64_t c = 0; c < columns; c += kColumnsPerItem) {
       item_tri.push_back(t);
       item_col.push_back(static_cast<uint32_t>(c));
+      item_guess.push_back(2 * static_cast<uint32_t>(std::min<uint64_t>(kColumnsPerItem, columns - c)));
     }
   }
+  if (item_tri.size() > kMaxDeviceItems) throw Error("voxelize: too many work items in one batch");
   const auto items = static_cast<uint32_t>(item_tri.size());
   if (items == 0) return;
-  Buffer tri_buf = dev_.alloc(tris.size() * 4, "voxelizer triangles");
-  Buffer tri_of = dev_.alloc(uint64_t{items} * 4, "voxelizer work items");
-  Buffer col_of = dev_.alloc(uint64_t{items} * 4, "voxelizer work items");
-  Buffer counts = dev_.alloc(uint64_t{items} * 4, "voxelizer counts");
-  dev_.upload(tri_buf, tris.data(), tris.size() * 4);
-  dev_.upload(tri_of, item_tri.data(), uint64_t{items} * 4);
-  dev_.upload(col_of, item_col.data(), uint64_t{items} * 4);
+  Emission e{dev_.alloc(tris.size() * 4, "voxelizer triangles"), dev_.alloc(uint64_t{items} * 4, "voxelizer work items"),
+             dev_.alloc(uint64_t{items} * 4, "voxelizer work items"), dev_.alloc(4, "voxelizer brick counter")};
+  dev_.upload(e.tris, tris.data(), tris.size() * 4);
+  dev_.upload(e.item_tri, item_tri.data(), uint64_t{items} * 4);
+  dev_.upload(e.item_col, item_col.data(), uint64_t{items} * 4);
 
-  Kernel& k = dev_.kernel(KernelId::voxelize);
-  const uint32_t thin = rule_ == Rule::kThin ? 1u : 0u;
-  const uint32_t local = 64;
-  MvVoxelizeParams p{0, items, resolution_, kColumnsPerItem, 0, box_size_, box_[0], box_[1], box_[2], thin};
-  Buffer none;
-  dev_.dispatch(k, dev_.groups_for(items, local), local, {&tri_buf, &tri_of, &col_of, &counts, &none}, p);
-  std::vector<uint32_t> n(items);
-  dev_.download(counts, n.data(), uint64_t{items} * 4);
-
-  // Emit in chunks of items whose keys (with sort scratch and unique output: 4 copies) fit the budget.
-  const uint64_t room = (dev_.memory_budget() - dev_.memory_used()) / 2 / (4 * 8);
-  if (room == 0) throw Error("voxelize: no device memory left for voxel keys");
-  std::vector<uint32_t> offsets(items);
-  uint32_t first = 0;
-  while (first < items) {
-    uint64_t total = 0;
+  // Bricks in flight: keys and masks (8 + 8 bytes), the sort's order and scratch (8 + 4 + 4), the gathered
+  // masks (8): 40 bytes each; half the free memory, for the sort's slack.
+  const uint64_t room = std::min((dev_.memory_budget() - dev_.memory_used()) / 2 / 40, kMaxDeviceItems);
+  if (room == 0) throw Error("voxelize: no device memory left for voxel bricks");
+  for (uint32_t first = 0; first < items;) {
+    uint64_t guess = 0;
     uint32_t last = first;
-    while (last < items && (last == first || total + n[last] <= std::min(room, kMaxDeviceItems))) {
-      offsets[last] = static_cast<uint32_t>(total);
-      total += n[last++];
-    }
-    if (total > kMaxDeviceItems) throw Error("voxelize: one work item hits more than 2^31 voxels");
-    hits_ += total;
-    if (total > 0) {
-      dev_.upload(counts, offsets.data() + first, uint64_t{last - first} * 4, uint64_t{first} * 4);
-      Buffer keys = dev_.alloc(total * 8, "voxel keys");
-      p = {first, last - first, resolution_, kColumnsPerItem, 1, box_size_, box_[0], box_[1], box_[2], thin};
-      dev_.dispatch(k, dev_.groups_for(last - first, local), local, {&tri_buf, &tri_of, &col_of, &counts, &keys}, p);
-      dev_.barrier();
-      radix_sort(dev_, keys, nullptr, total, KeyBits::k64);
-      Buffer unique = dev_.alloc(total * 8, "unique voxel keys");
-      uint64_t m = unique_sorted(dev_, keys, unique, total);
-      std::vector<uint64_t> chunk(m);
-      dev_.download(unique, chunk.data(), m * 8);
-      merge(std::move(chunk));
-    }
+    while (last < items && (last == first || guess + item_guess[last] <= room)) guess += item_guess[last++];
+    emit(e, first, last, std::clamp<uint64_t>(guess, 1024, room), room);
     first = last;
   }
   dev_.finish();
 }
 
-void Voxelizer::merge(std::vector<uint64_t>&& chunk) {
-  // the merge holds the old keys, the chunk and the union at once
-  const uint64_t need = 8 * (2 * (keys_.size() + chunk.size()));
-  if (host_budget_ && need > host_budget_)
-    throw Error("voxelize: the voxel keys need " + std::to_string((need + (1 << 20) - 1) >> 20) +
-                " MiB of host memory, over --memory " + std::to_string(host_budget_ >> 20) +
-                " MiB; raise --memory, or lower --cube so the build runs out of core in smaller cubes");
-  if (keys_.empty()) {
-    keys_ = std::move(chunk);
+// Items [first, last) into at most `capacity` bricks; past it, again with room for the count found, or split
+// in halves when that is more than `room`.
+void Voxelizer::emit(Emission& e, uint32_t first, uint32_t last, uint64_t capacity, uint64_t room) {
+  const uint32_t local = 64, zero = 0;
+  Buffer keys = dev_.alloc(capacity * 8, "voxel brick keys");
+  Buffer masks = dev_.alloc(capacity * 8, "voxel brick masks");
+  dev_.upload(e.counter, &zero, 4);
+  const MvVoxelizeParams p{first,    last - first, resolution_, kColumnsPerItem, static_cast<uint32_t>(capacity),
+                           box_size_, box_[0],      box_[1],     box_[2],         rule_ == Rule::kThin ? 1u : 0u};
+  dev_.dispatch(dev_.kernel(KernelId::voxelize), dev_.groups_for(last - first, local), local,
+                {&e.tris, &e.item_tri, &e.item_col, &e.counter, &keys, &masks}, p);
+  uint32_t found = 0;
+  dev_.download(e.counter, &found, 4);
+  if (found > capacity) {
+    keys = Buffer();
+    masks = Buffer();
+    if (found <= room) return emit(e, first, last, found, room);
+    if (last - first == 1) throw Error("voxelize: one work item meets more bricks than device memory holds");
+    const uint32_t mid = first + (last - first) / 2;
+    emit(e, first, mid, capacity, room);
+    emit(e, mid, last, capacity, room);
     return;
   }
-  std::vector<uint64_t> merged;
-  merged.reserve(keys_.size() + chunk.size());
-  std::set_union(keys_.begin(), keys_.end(), chunk.begin(), chunk.end(), std::back_inserter(merged));
-  keys_.swap(merged);
+  hits_ += found;
+  if (found == 0) return;
+  // Sort the keys with their slots, gather the masks in that order; repeats are OR-ed on the host (a brick
+  // meets a few triangles at most, so there are few).
+  std::vector<uint32_t> iota(found);
+  for (uint32_t i = 0; i < found; ++i) iota[i] = i;
+  Buffer order = dev_.alloc(uint64_t{found} * 4, "voxel brick order");
+  dev_.upload(order, iota.data(), uint64_t{found} * 4);
+  radix_sort(dev_, keys, &order, found, KeyBits::k64);
+  Buffer sorted = dev_.alloc(uint64_t{found} * 8, "sorted brick masks");
+  const MvDagParams g{found, 0, 0, 0, 0};
+  dev_.dispatch(dev_.kernel(KernelId::brick_gather), dev_.groups_for(found, local), local, {&masks, &order, &sorted}, g);
+  std::vector<uint64_t> hk(found), hm(found);
+  dev_.download(keys, hk.data(), uint64_t{found} * 8);
+  dev_.download(sorted, hm.data(), uint64_t{found} * 8);
+  Bricks chunk;
+  append_or_merged(hk, hm, chunk);
+  merge(std::move(chunk));
 }
 
-std::vector<uint64_t> Voxelizer::take_keys() { return std::exchange(keys_, {}); }
+void Voxelizer::merge(Bricks&& chunk) {
+  // the merge holds the old bricks, the chunk and the union at once
+  const uint64_t need = 16 * (2 * (bricks_.size() + chunk.size()));
+  if (host_budget_ && need > host_budget_)
+    throw Error("voxelize: the voxel bricks need " + std::to_string((need + (1 << 20) - 1) >> 20) +
+                " MiB of host memory, over --memory " + std::to_string(host_budget_ >> 20) +
+                " MiB; raise --memory, or lower --cube so the build runs out of core in smaller cubes");
+  if (bricks_.empty()) {
+    bricks_ = std::move(chunk);
+    return;
+  }
+  bricks_ = merge_bricks(bricks_, chunk);
+}
+
+Bricks Voxelizer::take_bricks() { return std::exchange(bricks_, {}); }
 
 }  // namespace mv

@@ -172,7 +172,7 @@ TEST_P(BuildJobTest, CubesShrinkToFitDeviceMemory) {
   o.format = "ssvdag";
   o.placement = parse_grid_bounds("-1.2,-1.2,-1.2,4.8");  // the sphere inside the first cube: cubes dwarf the merge
   std::vector<std::vector<char>> files;
-  for (uint64_t budget : {uint64_t{0}, uint64_t{6} << 20}) {  // the default, then one a 512^3 cube overflows
+  for (uint64_t budget : {uint64_t{0}, uint64_t{3} << 20}) {  // the default, then one a 512^3 cube overflows
     auto dev = Device::open({GetParam().selector(), budget, false});
     o.output = temp_path("shrink_" + std::to_string(budget) + ".mvx");
     BuildReport r;

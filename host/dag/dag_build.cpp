@@ -123,30 +123,66 @@ void finish_build(Device& dev, Dag& dag, const Reduced& root, const Reduction& r
   }
 }
 
+namespace {
+
+// Levels 1 and 2 from the bricks (kernels brick_levels, brick_leaves): level 2 is the bricks, level 1 their
+// non-zero bytes. A 2^1 grid has no level 2: its one brick's first byte is the root.
+void bottom_levels(Device& dev, const Bricks& bricks, uint32_t levels, std::vector<SvoLevel>& svo) {
+  const auto n = static_cast<uint32_t>(bricks.size());
+  if (levels == 1) {
+    const uint32_t root = static_cast<uint32_t>(bricks.masks[0] & 0xff);
+    svo[1].n = 1;
+    svo[1].mask = dev.alloc(4, "octree node masks");
+    dev.upload(svo[1].mask, &root, 4);
+    return;
+  }
+  SvoLevel& two = svo[2];
+  two.n = n;
+  two.keys = dev.alloc(uint64_t{n} * 8, "brick keys");
+  dev.upload(two.keys, bricks.keys.data(), uint64_t{n} * 8);
+  Buffer masks = dev.alloc(uint64_t{n} * 8, "brick masks");
+  dev.upload(masks, bricks.masks.data(), uint64_t{n} * 8);
+  two.mask = dev.alloc(uint64_t{n} * 4, "octree node masks");
+  two.first = dev.alloc((uint64_t{n} + 1) * 4, "octree first children");
+  const MvDagParams p{n, 0, 0, 0, 0};
+  dev.dispatch(dev.kernel(KernelId::brick_levels), dev.groups_for(n, kLocal), kLocal, {&masks, &two.mask, &two.first},
+               p);
+  dev.barrier();
+  ScanPlan scan = plan_scan(dev, n);
+  record_scan(dev, scan, two.first, two.first);
+  dev.download(two.first, &svo[1].n, 4, uint64_t{n} * 4);
+  svo[1].mask = dev.alloc(uint64_t{svo[1].n} * 4, "octree node masks");
+  dev.dispatch(dev.kernel(KernelId::brick_leaves), dev.groups_for(n, kLocal), kLocal, {&masks, &two.first, &svo[1].mask},
+               p);
+  dev.barrier();
+}
+
+}  // namespace
+
 // `shared`: a Reduction made by the caller for many builds (the out-of-core cubes); else one is made here.
-Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
-              DagBuildTimes* times, bool reduce, const Reduction* shared) {
+Dag build_dag(Device& dev, const Bricks& bricks, uint32_t levels, bool symmetric, DagBuildTimes* times, bool reduce,
+              const Reduction* shared) {
   if (levels < 1 || levels > 21) throw Error("DAG build: " + std::to_string(levels) + " levels is outside [1, 21]");
-  if (voxels.size() > kMaxDeviceItems)  // the level steps are single device calls of the primitives
-    throw Error("DAG build: more than " + std::to_string(kMaxDeviceItems) + " voxels in one build; build in cubes");
-  if (!voxels.empty() && voxels.back() >> (3 * levels))
-    throw Error("DAG build: a voxel key lies outside the 2^" + std::to_string(levels) + " grid");
+  if (bricks.size() > kMaxDeviceItems / 8)  // level 1 (up to 8 nodes a brick) is indexed by single device calls
+    throw Error("DAG build: more than " + std::to_string(kMaxDeviceItems / 8) + " bricks in one build; build in cubes");
+  const uint32_t brick_levels = levels < 2 ? 0 : levels - 2;
+  if (!bricks.empty() && (bricks.keys.back() >> (3 * brick_levels) || (levels == 1 && bricks.masks[0] >> 8)))
+    throw Error("DAG build: a voxel lies outside the 2^" + std::to_string(levels) + " grid");
   Dag dag;
   dag.levels = levels;
   dag.symmetric = symmetric;
   dag.reduced = reduce;
-  dag.voxels = voxels.size();
+  dag.voxels = bricks.voxels();
   dag.svo_nodes.assign(levels + 1, 0);
   dag.level.resize(levels + 1);
-  dag.svo_nodes[0] = voxels.size();
-  if (voxels.empty()) return dag;
+  dag.svo_nodes[0] = dag.voxels;
+  if (bricks.empty()) return dag;
 
   auto t0 = Clock::now();
   std::vector<SvoLevel> svo(levels + 1);
-  svo[0].n = static_cast<uint32_t>(voxels.size());
-  svo[0].keys = dev.alloc(voxels.size() * 8, "voxel keys");
-  dev.upload(svo[0].keys, voxels.data(), voxels.size() * 8);
-  for (uint32_t l = 1; l <= levels; ++l) {
+  bottom_levels(dev, bricks, levels, svo);
+  for (uint32_t l = 1; l <= std::min(levels, 2u); ++l) dag.svo_nodes[l] = svo[l].n;
+  for (uint32_t l = 3; l <= levels; ++l) {
     svo[l] = build_parents(dev, svo[l - 1].keys, svo[l - 1].n);
     svo[l - 1].keys = Buffer();  // keys are only needed to find parents
     dag.svo_nodes[l] = svo[l].n;
@@ -174,16 +210,39 @@ Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
 
 using detail::build_dag;
 
+namespace {
+// Voxel keys as the key-based builds take them: sorted, unique, inside the grid.
+Bricks checked_bricks(const std::vector<uint64_t>& voxels, uint32_t levels) {
+  for (size_t i = 1; i < voxels.size(); ++i)
+    if (voxels[i] <= voxels[i - 1]) throw Error("DAG build: the voxel keys are not sorted and unique");
+  if (levels <= 21 && !voxels.empty() && voxels.back() >> (3 * levels))
+    throw Error("DAG build: a voxel key lies outside the 2^" + std::to_string(levels) + " grid");
+  return bricks_from_keys(voxels);
+}
+}  // namespace
+
+Dag build_svdag(Device& dev, const Bricks& bricks, uint32_t levels, DagBuildTimes* times) {
+  return build_dag(dev, bricks, levels, false, times);
+}
+
+Dag build_ssvdag(Device& dev, const Bricks& bricks, uint32_t levels, DagBuildTimes* times) {
+  return build_dag(dev, bricks, levels, true, times);
+}
+
+Dag build_svo(Device& dev, const Bricks& bricks, uint32_t levels, DagBuildTimes* times) {
+  return build_dag(dev, bricks, levels, false, times, false);
+}
+
 Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
-  return build_dag(dev, voxels, levels, false, times);
+  return build_svdag(dev, checked_bricks(voxels, levels), levels, times);
 }
 
 Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
-  return build_dag(dev, voxels, levels, true, times);
+  return build_ssvdag(dev, checked_bricks(voxels, levels), levels, times);
 }
 
 Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times) {
-  return build_dag(dev, voxels, levels, false, times, false);
+  return build_svo(dev, checked_bricks(voxels, levels), levels, times);
 }
 
 std::vector<uint64_t> decode_voxels(const Dag& dag) {

@@ -64,9 +64,9 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
 void finish_build(Device& dev, Dag& dag, const Reduced& root, const Reduction& red, Clock::time_point t0,
                   Clock::time_point t1, DagBuildTimes* times);
 
-// The whole build of `voxels` in core; `shared`: a Reduction made by the caller for many builds (the
+// The whole build of `bricks` in core; `shared`: a Reduction made by the caller for many builds (the
 // out-of-core cubes), else one is made here.
-Dag build_dag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, bool symmetric,
+Dag build_dag(Device& dev, const Bricks& bricks, uint32_t levels, bool symmetric,
               DagBuildTimes* times, bool reduce = true, const Reduction* shared = nullptr);
 
 }  // namespace mv::detail

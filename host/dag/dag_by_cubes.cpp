@@ -71,9 +71,9 @@ SvoLevel upload_level(Device& dev, const UnionLevel& u) {
 // Out of core, reduced (plain or symmetric) or not (the octree: every level is kept whole, in key order).
 Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, bool reduce,
                    const CubeVoxels& voxels_of, DagBuildTimes* times) {
-  if (cube_levels < 1 || cube_levels >= levels)
-    throw Error("out-of-core build: cubes of 2^" + std::to_string(cube_levels) + " voxels must be smaller than the 2^" +
-                std::to_string(levels) + " grid");
+  if (cube_levels < 2 || cube_levels >= levels)
+    throw Error("out-of-core build: cubes of 2^" + std::to_string(cube_levels) +
+                " voxels must hold a 4^3 brick and be smaller than the 2^" + std::to_string(levels) + " grid");
   auto t0 = Clock::now();
   Dag dag;
   dag.levels = levels;
@@ -88,7 +88,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   std::vector<uint32_t> root_node;   // its root in the union's top level
   const uint32_t side = 1u << cube_levels;
   const uint64_t cubes = uint64_t{1} << (3 * (levels - cube_levels));
-  const uint64_t local_mask = (uint64_t{1} << (3 * cube_levels)) - 1;
+  const uint64_t local_mask = (uint64_t{1} << (3 * (cube_levels - 2))) - 1;  // brick keys in the cube
   for (uint64_t c = 0; c < cubes; ++c) {
     uint32_t x = 0, y = 0, z = 0;
     for (uint32_t b = 0; b < levels - cube_levels; ++b) {
@@ -98,13 +98,13 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     }
     Dag part;
     try {
-      std::vector<uint64_t> keys = voxels_of(x * side, y * side, z * side, side);
-      if (keys.empty()) continue;
-      for (uint64_t& k : keys) {
-        if ((k >> (3 * cube_levels)) != c) throw Error("out-of-core build: a voxel lies outside its cube");
+      Bricks bricks = voxels_of(x * side, y * side, z * side, side);
+      if (bricks.empty()) continue;
+      for (uint64_t& k : bricks.keys) {
+        if ((k >> (3 * (cube_levels - 2))) != c) throw Error("out-of-core build: a voxel lies outside its cube");
         k &= local_mask;
       }
-      part = build_dag(dev, keys, cube_levels, symmetric, nullptr, reduce, &red);
+      part = build_dag(dev, bricks, cube_levels, symmetric, nullptr, reduce, &red);
     } catch (const DeviceMemoryError& e) {
       throw CubeMemoryError(std::string(e.what()) + " (in a cube of " + std::to_string(side) + "^3)");
     }

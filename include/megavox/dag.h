@@ -10,6 +10,7 @@
 
 #include "megavox/error.h"
 
+#include "megavox/bricks.h"
 #include "megavox/dag_types.h"
 #include "megavox/device.h"
 
@@ -20,18 +21,21 @@ struct DagBuildTimes {
   double reduce_seconds = 0;  // SVO -> DAG
 };
 
-// Builds the octree levels of sorted, unique voxel keys (64-bit Morton codes of a 2^levels grid) and reduces
-// each level, bottom-up, to its distinct subtrees: the minimal DAG. Runs on the device; per-level results
-// come back to the host.
+// Builds the octree levels of 4^3 bricks (megavox/bricks.h; level 2 is the bricks, level 1 their 2^3 masks)
+// and reduces each level, bottom-up, to its distinct subtrees: the minimal DAG. Runs on the device; per-level
+// results come back to the host.
+Dag build_svdag(Device& dev, const Bricks& bricks, uint32_t levels, DagBuildTimes* times = nullptr);
+// The same from sorted, unique voxel keys (64-bit Morton codes of a 2^levels grid).
 Dag build_svdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
 // The same octree reduced up to the 8 axis reflections: subtrees that are mirror images of each other share
 // one node and pointers carry reflection tags; exact (the stabilizer method), so no symmetry is missed. The
 // root is stored in the model's own orientation.
+Dag build_ssvdag(Device& dev, const Bricks& bricks, uint32_t levels, DagBuildTimes* times = nullptr);
 Dag build_ssvdag(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
-// The sorted, unique voxel keys (global Morton keys) of the cube [x, x + size)^3... of the grid.
-using CubeVoxels = std::function<std::vector<uint64_t>(uint32_t x, uint32_t y, uint32_t z, uint32_t size)>;
+// The bricks (global brick keys) of the cube [x, x + size)^3... of the grid.
+using CubeVoxels = std::function<Bricks(uint32_t x, uint32_t y, uint32_t z, uint32_t size)>;
 
 // Thrown by build_dag_by_cubes when one cube's voxels or partial DAG do not fit device memory (smaller cubes
 // may; the merge that follows needs memory for whole merged levels and fails with a plain DeviceMemoryError).
@@ -48,6 +52,7 @@ Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool 
                        DagBuildTimes* times = nullptr);
 
 // The octree itself, unreduced, in the same form (each level's nodes in key order).
+Dag build_svo(Device& dev, const Bricks& bricks, uint32_t levels, DagBuildTimes* times = nullptr);
 Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, DagBuildTimes* times = nullptr);
 
 // The octree out of core, cube by cube: the same as build_svo of all the voxels (host memory holds the whole

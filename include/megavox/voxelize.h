@@ -1,9 +1,10 @@
-// megavox — surface voxelization (conservative or thin) of triangle meshes into sorted, unique Morton keys.
+// megavox — surface voxelization (conservative or thin) of triangle meshes into 4^3 bricks (megavox/bricks.h).
 #pragma once
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "megavox/bricks.h"
 #include "megavox/device.h"
 #include "megavox/grid.h"
 
@@ -17,18 +18,24 @@ class Voxelizer {
   // Keeps only the voxels of the cube [x, x + size) x [y, y + size) x [z, z + size) (out-of-core builds
   // voxelize one such cube at a time). Default: the whole grid.
   void restrict_to(uint32_t x, uint32_t y, uint32_t z, uint32_t size);
-  // Host bytes the collected keys (and the merge that grows them) may take; past it, add() throws an
+  // Host bytes the collected bricks (and the merge that grows them) may take; past it, add() throws an
   // mv::Error naming the need. 0 = no limit.
   void limit_host_memory(uint64_t bytes) { host_budget_ = bytes; }
   // Triangles in grid units (9 floats each), e.g. from triangles_to_grid.
   void add(const std::vector<float>& grid_triangles);
-  // Sorted, unique 64-bit Morton keys of every voxel an added triangle meets; resets the collection.
-  std::vector<uint64_t> take_keys();
+  // The bricks of every voxel an added triangle meets; resets the collection.
+  Bricks take_bricks();
+  // The same as sorted, unique 64-bit Morton keys of the voxels.
+  std::vector<uint64_t> take_keys() { return keys_from_bricks(take_bricks()); }
   uint64_t triangles() const { return triangles_; }
-  uint64_t hits() const { return hits_; }  // voxel hits before removing repeats
+  uint64_t hits() const { return hits_; }  // (triangle, brick) pairs before merging repeats
 
  private:
-  void merge(std::vector<uint64_t>&& sorted_unique);
+  struct Emission {  // one batch's triangles and work items on the device
+    Buffer tris, item_tri, item_col, counter;
+  };
+  void emit(Emission& e, uint32_t first, uint32_t last, uint64_t capacity, uint64_t room);
+  void merge(Bricks&& chunk);
   Device& dev_;
   uint32_t resolution_;
   Rule rule_;
@@ -37,7 +44,7 @@ class Voxelizer {
   uint64_t triangles_ = 0;
   uint64_t hits_ = 0;
   uint64_t host_budget_ = 0;
-  std::vector<uint64_t> keys_;
+  Bricks bricks_;
 };
 
 }  // namespace mv

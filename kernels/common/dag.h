@@ -56,6 +56,42 @@ MV_INLINE void mv_svo_parents(MvBufU64 keys, MvBufU32 pos, MvBufU64 pkeys, MvBuf
   }
 }
 
+/* The octree's bottom from 4^3 bricks (sorted unique brick keys with 64-bit masks; bit i = the voxel at Morton
+ * index i inside the brick, so byte o is the 2^3 mask of octant o): level 2 is the bricks themselves. Pass 1:
+ * each brick's level-2 mask (octant o present iff byte o is not 0) and its child count; pass 2, at the
+ * scanned first children: the level-1 masks, the non-zero bytes in octant order. */
+MV_INLINE mv_u32 mv_brick_octants(mv_u64 m) {
+  mv_u32 mask = 0u;
+  for (mv_u32 o = 0u; o < 8u; ++o)
+    if (((m >> (8u * o)) & MV_U64(0xffu)) != MV_U64(0u)) mask |= 1u << o;
+  return mask;
+}
+MV_INLINE void mv_brick_levels(MvBufU64 bricks, MvBufU32 mask2, MvBufU32 count, MvDagParams p, mv_u32 gid,
+                               mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 m = mv_brick_octants(MV_LD(bricks, i));
+    MV_ST(mask2, i, m);
+    MV_ST(count, i, mv_popcount8(m));
+  }
+}
+MV_INLINE void mv_brick_leaves(MvBufU64 bricks, MvBufU32 first2, MvBufU32 mask1, MvDagParams p, mv_u32 gid,
+                               mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u64 m = MV_LD(bricks, i);
+    mv_u32 at = MV_LD(first2, i);
+    for (mv_u32 o = 0u; o < 8u; ++o) {
+      mv_u32 b = MV_U32((m >> (8u * o)) & MV_U64(0xffu));
+      if (b == 0u) continue;
+      MV_ST(mask1, at, b);
+      at += 1u;
+    }
+  }
+}
+/* dst[i] = src[order[i]]: the voxelizer's brick masks in the order their sorted keys took. */
+MV_INLINE void mv_brick_gather(MvBufU64 src, MvBufU32 order, MvBufU64 dst, MvDagParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) MV_ST(dst, i, MV_LD(src, MV_LD(order, i)));
+}
+
 MV_INLINE mv_u64 mv_hash_mix(mv_u64 h, mv_u64 x) {
   h ^= x + MV_U64(0x9e3779b97f4a7c15UL) + (h << 6) + (h >> 2);
   h ^= h >> 31;

@@ -33,7 +33,7 @@
 #define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)
 #define MV_FIELDS_LANG(X) X(MV_U32, n) X(MV_U32, width) X(MV_U32, height) X(MV_U32, pad0)
 #define MV_FIELDS_VOXELIZE(X)                                                                                          \
-  X(MV_U32, first_item) X(MV_U32, items) X(MV_U32, grid) X(MV_U32, columns_per_item) X(MV_U32, emit)                   \
+  X(MV_U32, first_item) X(MV_U32, items) X(MV_U32, grid) X(MV_U32, columns_per_item) X(MV_U32, capacity)                   \
   X(MV_U32, box_size) X(MV_U32, box_x) X(MV_U32, box_y) X(MV_U32, box_z) X(MV_U32, thin)
 #define MV_FIELDS_DAG(X) X(MV_U32, n) X(MV_U32, leaf) X(MV_U32, seed_lo) X(MV_U32, seed_hi) X(MV_U32, block)
 #define MV_FIELDS_TRACE(X)                                                                                             \

@@ -55,4 +55,24 @@ MV_INLINE bool mv_tri_voxel_thin(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_
          mv_thin_projection(v0x, v0y, v1x, v1y, v2x, v2y, nz);
 }
 
+/* The projection test dropping axis d alone, for the column along d through voxel (i, j, k): it reads only
+ * the two other coordinates, with the same operations as mv_tri_voxel_thin, so false means no voxel of the
+ * column is set. */
+MV_INLINE bool mv_tri_thin_column(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
+                                  mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 d) {
+  const mv_f64 h = 0.5;
+  /* the cyclic pair (p, q) after d: x -> (y, z), y -> (z, x), z -> (x, y) */
+  mv_f64 ap = d == 0u ? ay : d == 1u ? az : ax, aq = d == 0u ? az : d == 1u ? ax : ay;
+  mv_f64 bp = d == 0u ? by : d == 1u ? bz : bx, bq = d == 0u ? bz : d == 1u ? bx : by;
+  mv_f64 cp = d == 0u ? cy : d == 1u ? cz : cx, cq = d == 0u ? cz : d == 1u ? cx : cy;
+  mv_u32 ip = d == 0u ? j : d == 1u ? k : i, iq = d == 0u ? k : d == 1u ? i : j;
+  MV_PRECISE mv_f64 v0p = ap - (MV_F64(ip) + h), v0q = aq - (MV_F64(iq) + h);
+  MV_PRECISE mv_f64 v1p = bp - (MV_F64(ip) + h), v1q = bq - (MV_F64(iq) + h);
+  MV_PRECISE mv_f64 v2p = cp - (MV_F64(ip) + h), v2q = cq - (MV_F64(iq) + h);
+  MV_PRECISE mv_f64 e0p = v1p - v0p, e0q = v1q - v0q;
+  MV_PRECISE mv_f64 e1p = v2p - v1p, e1q = v2q - v1q;
+  MV_PRECISE mv_f64 nd = e0p * e1q - e0q * e1p;
+  return mv_thin_projection(v0p, v0q, v1p, v1q, v2p, v2q, nd);
+}
+
 #endif

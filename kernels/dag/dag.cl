@@ -10,6 +10,15 @@ __kernel void svo_parents(__global ulong* keys, __global uint* pos, __global ulo
                           __global uint* pfirst, MvDagParams p) {
   mv_svo_parents(keys, pos, pkeys, pmask, pfirst, p, MV_ID);
 }
+__kernel void brick_levels(__global ulong* bricks, __global uint* mask2, __global uint* count, MvDagParams p) {
+  mv_brick_levels(bricks, mask2, count, p, MV_ID);
+}
+__kernel void brick_leaves(__global ulong* bricks, __global uint* first2, __global uint* mask1, MvDagParams p) {
+  mv_brick_leaves(bricks, first2, mask1, p, MV_ID);
+}
+__kernel void brick_gather(__global ulong* src, __global uint* order, __global ulong* dst, MvDagParams p) {
+  mv_brick_gather(src, order, dst, p, MV_ID);
+}
 __kernel void dag_hash(__global uint* mask, __global uint* first, __global uint* cid, __global ulong* hashes,
                        __global uint* order, MvDagParams p) {
   mv_dag_hash(mask, first, cid, hashes, order, p, MV_ID);

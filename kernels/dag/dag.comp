@@ -40,6 +40,15 @@ layout(push_constant) uniform Args {
   MvBufU32 order; MvDagParams p;
 } a;
 void main() { mv_ssvdag_canon(a.mask, a.mtab, a.first, a.cid, a.crow, a.row, a.hashes, a.order, a.p, MV_ID); }
+#elif defined(MV_ENTRY_brick_levels)
+layout(push_constant) uniform Args { MvBufU64 bricks; MvBufU32 mask2; MvBufU32 count; MvDagParams p; } a;
+void main() { mv_brick_levels(a.bricks, a.mask2, a.count, a.p, MV_ID); }
+#elif defined(MV_ENTRY_brick_leaves)
+layout(push_constant) uniform Args { MvBufU64 bricks; MvBufU32 first2; MvBufU32 mask1; MvDagParams p; } a;
+void main() { mv_brick_leaves(a.bricks, a.first2, a.mask1, a.p, MV_ID); }
+#elif defined(MV_ENTRY_brick_gather)
+layout(push_constant) uniform Args { MvBufU64 src; MvBufU32 order; MvBufU64 dst; MvDagParams p; } a;
+void main() { mv_brick_gather(a.src, a.order, a.dst, a.p, MV_ID); }
 #elif defined(MV_ENTRY_brick_keys)
 layout(push_constant) uniform Args {
   MvBufU32 mask; MvBufU32 first; MvBufU32 cmask; MvBufU64 keys; MvBufU32 order; MvDagParams p;

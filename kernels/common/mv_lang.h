@@ -36,6 +36,7 @@ typedef int32_t mv_i32;
 typedef float mv_f32;
 typedef double mv_f64;
 #define MV_INLINE static inline
+#define MV_ALWAYS_INLINE static inline __attribute__((always_inline))
 #define MV_U32(x) ((mv_u32)(x))
 #define MV_U64(x) ((mv_u64)(x))
 #define MV_STRUCT_BEGIN(name) struct name {
@@ -53,6 +54,8 @@ typedef double mv_f64;
 #define mv_f32 float
 #define mv_f64 double
 #define MV_INLINE static inline
+/* for hot helpers PoCL would otherwise call (a call per voxel test costs more than the test) */
+#define MV_ALWAYS_INLINE static inline __attribute__((always_inline))
 #define MV_U32(x) ((uint)(x))
 #define MV_U64(x) ((ulong)(x))
 #define MV_STRUCT_BEGIN(name) typedef struct name {
@@ -72,6 +75,7 @@ typedef double mv_f64;
 #define mv_f32 float
 #define mv_f64 double
 #define MV_INLINE
+#define MV_ALWAYS_INLINE
 #define MV_U32(x) uint(x)
 #define MV_U64(x) uint64_t(x)
 #define MV_STRUCT_BEGIN(name) struct name {

@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
   bench->require_subcommand(1);
   mv::cli::add_bench_sort_command(*bench, g);
   mv::cli::add_bench_build_command(*bench, g);
+  mv::cli::add_bench_reductions_command(*bench, g);
   mv::cli::add_bench_trace_command(*bench, g);
 
   try {

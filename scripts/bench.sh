@@ -5,6 +5,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh --bench
 scripts/build.sh -DMEGAVOX_BASELINES=AUTO >/dev/null
+# bench build's peer, voxcom: built once into build/peers/voxcom (about 5 minutes) when the shared folder has it.
+peer=../shared/peers/voxcom
+if [[ ! -x build/peers/voxcom/voxelizer ]]; then
+  if [[ -d $peer ]]; then bash "$peer/build.sh" build/peers/voxcom >&2
+  else echo "bench: no $peer here, so bench build runs without its peer (voxcom)" >&2; fi
+fi
 out=${1:-/dev/null}
 : >"$out"
 run() {
@@ -23,3 +29,9 @@ build/megavox build build/bunny.ply --resolution 2K --format svdag -o build/bunn
 build/megavox build build/bunny.ply --resolution 2K --format ssvdag -o build/bunny_ssvdag.mvx >/dev/null
 run build/megavox --device ocl:0 bench trace build/bunny_svdag.mvx build/bunny_ssvdag.mvx --mesh build/bunny.ply --json
 run build/megavox --device vk:0 bench trace build/bunny_svdag.mvx build/bunny_ssvdag.mvx --mesh build/bunny.ply --repeats 3 --json
+# The build beside its peer at 2K: thin rule, grid at the min corner (voxcom's), the SSVDAG.
+for mesh in ../shared/data/meshes_stanford/stanford_bunny.ply ../shared/data/meshes_misc/koala.ply; do
+  if [[ -f $mesh ]]; then
+    run build/megavox --device ocl:0 bench build "$mesh" --resolution 2K --voxelize thin --grid-origin min --format ssvdag --json
+  fi
+done

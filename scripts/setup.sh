@@ -29,6 +29,11 @@ if ((bench)); then
   # Baseline-only libraries: built into the megavox_baselines target only (CMake option MEGAVOX_BASELINES).
   # Boost.Sort (block_indirect_sort) comes with libboost-dev above.
   packages+=(libembree-dev)   # Embree 3, the triangle ray-tracing baseline of bench trace
+  # voxcom, the peer of bench build, is built apart from megavox (scripts/bench.sh) where the shared folder holds
+  # it; it also needs assimp, TBB and CLI11, listed above.
+  if [[ -d "$(dirname "$0")/../../shared/peers/voxcom" ]]; then
+    packages+=(libspdlog-dev libfmt-dev libglm-dev libabsl-dev libfreeimage-dev libfreeimageplus-dev)
+  fi
 fi
 
 if ((print)); then

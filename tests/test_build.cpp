@@ -33,19 +33,6 @@ void bumpy_sphere(std::vector<float>& pos, std::vector<uint32_t>& idx, int rings
     }
 }
 
-void write_ply(const std::string& path, const std::vector<float>& pos, const std::vector<uint32_t>& idx) {
-  std::ofstream out(path, std::ios::binary);
-  out << "ply\nformat binary_little_endian 1.0\nelement vertex " << pos.size() / 3
-      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << idx.size() / 3
-      << "\nproperty list uchar int vertex_indices\nend_header\n";
-  out.write(reinterpret_cast<const char*>(pos.data()), static_cast<std::streamsize>(pos.size() * 4));
-  for (size_t t = 0; t < idx.size(); t += 3) {
-    unsigned char three = 3;
-    out.write(reinterpret_cast<const char*>(&three), 1);
-    out.write(reinterpret_cast<const char*>(&idx[t]), 12);
-  }
-}
-
 // The bumpy sphere written as a binary PLY in the temp folder; returns its path.
 std::string sphere_ply(const std::string& name, int rings = 24, int segs = 48) {
   std::vector<float> pos;

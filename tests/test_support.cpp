@@ -97,6 +97,19 @@ std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom) 
   return tris;
 }
 
+void write_ply(const std::string& path, const std::vector<float>& pos, const std::vector<uint32_t>& idx) {
+  std::ofstream out(path, std::ios::binary);
+  out << "ply\nformat binary_little_endian 1.0\nelement vertex " << pos.size() / 3
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << idx.size() / 3
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  out.write(reinterpret_cast<const char*>(pos.data()), static_cast<std::streamsize>(pos.size() * 4));
+  for (size_t t = 0; t < idx.size(); t += 3) {
+    unsigned char three = 3;
+    out.write(reinterpret_cast<const char*>(&three), 1);
+    out.write(reinterpret_cast<const char*>(&idx[t]), 12);
+  }
+}
+
 std::vector<uint64_t> sorted_unique(std::vector<uint64_t> k) {
   std::sort(k.begin(), k.end());
   k.erase(std::unique(k.begin(), k.end()), k.end());

@@ -46,6 +46,9 @@ std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom =
 // "random" (3000 random voxels), "shell" (a sphere's shell), "tiled" (a repeating pattern), "one voxel".
 std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t levels);
 
+// Writes a binary little-endian PLY: vertices `pos` (3 floats each), triangles `idx` (3 indices each).
+void write_ply(const std::string& path, const std::vector<float>& pos, const std::vector<uint32_t>& idx);
+
 // Morton keys sorted, each once.
 std::vector<uint64_t> sorted_unique(std::vector<uint64_t> keys);
 

@@ -1,102 +1,79 @@
 #include "bench/build_bench.h"
 
-#include <chrono>
+#include <sys/resource.h>
+
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
-#include <vector>
+#include <filesystem>
 
-#include "io/mesh_source.h"
-#include "megavox/dag.h"
-#include "megavox/encode.h"
+#include "bench/scratch_dir.h"
 #include "megavox/error.h"
-#include "megavox/voxelize.h"
-
 #include "stopwatch.h"
 
 namespace mv::bench {
 
 namespace {
 
-uint64_t nodes_above_masks(const Dag& d) {
-  uint64_t n = 0;
-  for (uint32_t l = 2; l <= d.levels; ++l) n += d.nodes(l);
-  return n;
+// Stages of build_mvx's report that come before the DAG reduction (build_pipeline.cpp names them).
+bool voxelization_stage(const std::string& name) {
+  return name == "read" || name == "voxelize" || name == "voxelize+cubes";
 }
 
-// A plain read of the file, in 1 MiB blocks: what any tool reading this mesh pays at least.
-double plain_read_gb_per_s(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return 0;
-  std::vector<char> buf(1 << 20);
-  uint64_t bytes = 0;
-  auto t = Clock::now();
-  for (size_t got; (got = std::fread(buf.data(), 1, buf.size(), f)) > 0;) bytes += got;
-  std::fclose(f);
-  return double(bytes) / since(t) / 1e9;
+uint64_t peak_rss_bytes() {
+  struct rusage u {};
+  ::getrusage(RUSAGE_SELF, &u);
+  return uint64_t(u.ru_maxrss) * 1024;  // Linux reports KiB
 }
+
+double difference(uint64_t ours, uint64_t theirs) {
+  return theirs ? (double(ours) - double(theirs)) / double(theirs) : 0;
+}
+
 }  // namespace
 
-BuildBenchResult run_build_bench(Device& dev, const std::string& mesh, uint32_t resolution, int repeats) {
+BuildBenchResult run_build_bench(Device& dev, BuildOptions o, int repeats, const PlainRead& read) {
   BuildBenchResult r;
-  r.mesh = mesh;
-  r.resolution = resolution;
-  r.read_gb_per_s = plain_read_gb_per_s(mesh);
-  auto reader = io::open_mesh(mesh);
-  std::vector<uint32_t> idx, all;
-  while (reader->next_triangles(idx, 1u << 20)) all.insert(all.end(), idx.begin(), idx.end());
-  Bounds b;
-  const auto& pos = reader->positions();
-  for (uint32_t v : all) b.extend(pos[3 * size_t{v}], pos[3 * size_t{v} + 1], pos[3 * size_t{v} + 2]);
-  if (b.empty()) throw Error(mesh + ": the mesh has no triangles");
-  GridTransform grid = grid_for_bounds(b, resolution);
-  std::vector<float> tris;
-  triangles_to_grid(grid, pos, all.data(), all.size() / 3, tris);
-  r.triangles = all.size() / 3;
-
-  {  // warm-up: kernels are built on first use; keep that out of the timings
-    Voxelizer warm(dev, resolution);
-    warm.add(std::vector<float>(tris.begin(), tris.begin() + std::min<size_t>(tris.size(), 9 * 16)));
-    std::vector<uint64_t> few = warm.take_keys();
-    const uint32_t lv = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
-    build_svdag(dev, few, lv);
-    build_ssvdag(dev, few, lv);
-  }
-  auto t = Clock::now();
-  Voxelizer vox(dev, resolution);
-  vox.add(tris);
-  std::vector<uint64_t> voxels = vox.take_keys();
-  r.voxelize_seconds = since(t);
-  r.voxels = voxels.size();
-
-  const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
-  // Alternate the two reductions, best of `repeats` each: timings on a shared machine drift by tens of
-  // percent. Each back-to-back pair also gives a ratio; their median is the steadier figure under load.
-  Dag plain, sym;
-  r.svo_seconds = r.svdag_seconds = r.ssvdag_seconds = 1e30;
-  std::vector<double> pair_ratios;
+  r.read = read;
+  ScratchDir scratch;
+  const bool keep = !o.output.empty();
+  if (!keep) o.output = scratch.file("bench.mvx");
   for (int rep = 0; rep < std::max(repeats, 1); ++rep) {
-    DagBuildTimes plain_t, sym_t;
-    plain = build_svdag(dev, voxels, levels, &plain_t);
-    sym = build_ssvdag(dev, voxels, levels, &sym_t);
-    r.svo_seconds = std::min({r.svo_seconds, plain_t.svo_seconds, sym_t.svo_seconds});
-    r.svdag_seconds = std::min(r.svdag_seconds, plain_t.reduce_seconds);
-    r.ssvdag_seconds = std::min(r.ssvdag_seconds, sym_t.reduce_seconds);
-    pair_ratios.push_back(sym_t.reduce_seconds / plain_t.reduce_seconds);
+    if (!keep) std::filesystem::remove(o.output);  // each run writes the file anew, as a user's build does
+    const auto t = Clock::now();
+    BuildReport report = build_mvx(dev, o);
+    const double seconds = since(t);
+    r.wall_seconds.push_back(seconds);
+    if (rep == 0 || seconds < r.best_seconds) {
+      r.best_seconds = seconds;
+      r.report = std::move(report);
+    }
   }
-  std::sort(pair_ratios.begin(), pair_ratios.end());
-  r.time_ratio_median = pair_ratios[pair_ratios.size() / 2];
-  r.svdag_nodes = nodes_above_masks(plain);
-  r.ssvdag_nodes = nodes_above_masks(sym);
-  r.svdag_bytes = encode_svdag(plain).words.size() * 4;
-  r.ussvdag_bytes = encode_svdag(sym).words.size() * 4;
-  r.ssvdag_bytes = encode_ssvdag(sym).bytes();
-  r.svdag_voxels_per_s = double(r.voxels) / r.svdag_seconds;
-  r.ssvdag_voxels_per_s = double(r.voxels) / r.ssvdag_seconds;
-  r.time_ratio = r.ssvdag_seconds / r.svdag_seconds;
-  r.byte_ratio = double(r.ussvdag_bytes) / double(r.svdag_bytes);
-  r.compact_byte_ratio = double(r.ssvdag_bytes) / double(r.svdag_bytes);
+  if (!keep) r.report.output.clear();
+  for (const auto& s : r.report.seconds)
+    if (voxelization_stage(s.name)) r.voxelize_seconds += s.seconds;
+  if (r.voxelize_seconds > 0) {
+    r.voxels_per_s = double(r.report.voxels) / r.voxelize_seconds;
+    r.triangles_per_s = double(r.report.triangles) / r.voxelize_seconds;
+  }
+  r.peak_rss_bytes = peak_rss_bytes();
+  r.read_ratio = r.read.seconds > 0 ? r.best_seconds / r.read.seconds : 0;
   return r;
+}
+
+PeerComparison compare_with_peer(const BuildBenchResult& r, const std::vector<PeerRun>& runs, double extra_seconds) {
+  if (runs.empty()) throw Error("compare_with_peer: no peer runs");
+  PeerComparison c;
+  c.peer = *std::min_element(runs.begin(), runs.end(),
+                             [](const PeerRun& a, const PeerRun& b) { return a.wall_seconds < b.wall_seconds; });
+  for (const PeerRun& run : runs) c.peer.max_rss_bytes = std::max(c.peer.max_rss_bytes, run.max_rss_bytes);
+  const bool symmetric = r.report.format == "ssvdag" || r.report.format == "ussvdag";
+  c.counts_from = symmetric ? "ssvdag" : "svdag";
+  const PeerCounts& counts = symmetric ? c.peer.ssvdag : c.peer.svdag;
+  c.wall_ratio = (r.best_seconds + extra_seconds) / c.peer.wall_seconds;
+  c.rss_ratio = c.peer.max_rss_bytes ? double(r.peak_rss_bytes) / double(c.peer.max_rss_bytes) : 0;
+  c.voxel_difference = difference(r.report.voxels, counts.voxels);
+  c.node_difference =
+      difference(r.report.nodes_total, r.report.format == "svo" ? counts.svo_nodes : counts.dag_nodes);
+  return c;
 }
 
 }  // namespace mv::bench

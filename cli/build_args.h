@@ -1,0 +1,28 @@
+// The options `megavox build` and `megavox bench build` share, so the benchmark runs the build a user runs.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "megavox/build.h"
+
+namespace mv::cli {
+
+struct BuildArgs {
+  std::string input, resolution, format = "svdag", grid, grid_origin = "center", bounds, voxelize = "conservative";
+  std::string memory;
+  uint32_t cube = 1024;
+};
+
+// The input and every build option but the output: --resolution, --grid, --cube, --format, --grid-origin,
+// --bounds, --voxelize, --memory (--device-memory is global).
+void add_build_options(CLI::App& cmd, BuildArgs& a);
+
+// The build those options ask for (throws mv::Error on a bad resolution, bounds or size).
+BuildOptions build_options(const BuildArgs& a);
+
+// A build's report as `build --json` prints it.
+nlohmann::json report_json(const BuildReport& r);
+
+}  // namespace mv::cli

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# `megavox bench build` with stand-ins for voxcom: the peer gets the mesh and log2 of the resolution, its STATS
+# lines land in the JSON, a missing peer is one line, a mismatched rule is not run, a failing peer is an error.
+# Usage: bench_build_peer.sh MEGAVOX
+set -euo pipefail
+megavox=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+cat >"$dir/tetra.ply" <<'PLY'
+ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+element face 4
+property list uchar int vertex_indices
+end_header
+0 0 0
+1 0 0
+0 1 0
+0 0 1
+3 0 2 1
+3 0 1 3
+3 0 3 2
+3 1 2 3
+PLY
+# The stand-in checks its arguments as voxcom takes them and prints the stats patch's lines.
+cat >"$dir/peer.sh" <<'SH'
+#!/usr/bin/env bash
+[[ $# -eq 8 && $2 == 6 && $3 == --out && $5 == --svdag && $7 == --ussvdag && -f $1 ]] || { echo "bad arguments: $*"; exit 3; }
+echo "[info] STATS svdag level 6: svo_nodes=1 dag_nodes=1"
+echo "[info] STATS svdag total: voxels=1234 svo_nodes=56 dag_nodes=40"
+echo "[info] STATS ssvdag total: voxels=1234 svo_nodes=56 dag_nodes=30"
+SH
+printf '#!/bin/sh\necho "out of memory"\nexit 1\n' >"$dir/failing.sh"
+chmod +x "$dir/peer.sh" "$dir/failing.sh"
+
+run() { "$megavox" bench build "$dir/tetra.ply" --resolution 64 "$@"; }
+
+json=$(run --voxelize thin --grid-origin min --format ssvdag --peer "$dir/peer.sh" --repeats 2 --json)
+for field in '"peer_status": "ran"' '"counts_from": "ssvdag"' '"voxels": 1234' '"dag_nodes": 30' '"wall_ratio"' \
+             '"rss_ratio"' '"max_rss_bytes"' '"peak_rss_bytes"' '"voxels_per_s"' '"triangles": 4' '"read_ratio"'; do
+  grep -qF "$field" <<<"$json" || fail "no $field in: $json"
+done
+
+text=$(run --voxelize thin --grid-origin min --peer "$dir/absent")
+[[ $(grep -c 'peer' <<<"$text") == 1 ]] || fail "a missing peer is not one line: $text"
+grep -q 'voxcom not built.*build.sh' <<<"$text" || fail "no build hint: $text"
+
+grep -q 'peer: not run: .*thin' <<<"$(run --peer "$dir/peer.sh")" || fail "the conservative rule ran the peer"
+
+if err=$(run --voxelize thin --grid-origin min --peer "$dir/failing.sh" 2>&1); then fail "a failing peer passed"; fi
+grep -q 'failed (exit status 1).*' <<<"$err" && grep -q 'out of memory' <<<"$err" || fail "unclear error: $err"
+echo "bench build with stand-in peers: ok"

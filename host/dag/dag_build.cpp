@@ -195,6 +195,7 @@ Dag build_dag(Device& dev, const Bricks& bricks, uint32_t levels, bool symmetric
   const Reduction& red = shared ? *shared : own;
   Reduced below;
   for (uint32_t l = 1; l <= levels; ++l) {
+    dev.finish();  // the scratch of the level below returns to the pool (retired buffers wait for a finish)
     const bool leaf = l == 1;
     Reduced r = reduce ? reduce_level(dev, svo[l], below, leaf, red) : identity_level(dev, svo[l]);
     dag.level[l] = assemble(dev, svo[l], r, below, leaf, red);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "dag_build_steps.h"
+#include "union_level.h"
 #include "megavox/dag.h"
 #include "megavox/error.h"
 
@@ -15,11 +16,6 @@ namespace {
 
 using namespace detail;
 
-// The union of the cubes' partial DAGs at one level: nodes in their stored orientation, and one slot per
-// child pointer (the union node it points to, the pointer's tag).
-struct UnionLevel {
-  std::vector<uint32_t> mask, first, slot_node, slot_tag;
-};
 
 // Merged classes of one union level (or of the cube roots): per slot, the class id and tag it points to.
 // Above a reduced level 1, each slot's 2x2x2 mask as it lies instead (its node's stored mask, from
@@ -83,7 +79,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   dag.level.resize(levels + 1);
   const Reduction red = make_reduction(dev, reduce && symmetric);  // shared by the cubes and the merge
   // 1. Each cube on its own, in Morton order; its partial DAG joins the union, level by level.
-  std::vector<UnionLevel> u(cube_levels + 1);
+  std::vector<UnionLevel> u(cube_levels + 1, UnionLevel(reduce));
   std::vector<uint64_t> root_keys;   // Morton key of each non-empty cube at level cube_levels
   std::vector<uint32_t> root_node;   // its root in the union's top level
   const uint32_t side = 1u << cube_levels;
@@ -110,22 +106,30 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     }
     dag.voxels += part.voxels;
     for (uint32_t l = 0; l <= cube_levels; ++l) dag.svo_nodes[l] += part.svo_nodes[l];
+    // Append the partial DAG to the union, level by level; `remap` takes its nodes one level down to theirs
+    // in the union (deduplicated when reducing).
+    std::vector<uint32_t> remap, up, nodes, tags;
     for (uint32_t l = 1; l <= cube_levels; ++l) {
       const DagLevel& p = part.level[l];
-      UnionLevel& ul = u[l];
-      const auto below_base = l > 1 ? static_cast<uint32_t>(u[l - 1].mask.size() - part.level[l - 1].mask.size()) : 0;
+      up.resize(p.mask.size());
       for (size_t i = 0; i < p.mask.size(); ++i) {
-        ul.mask.push_back(p.mask[i]);
-        if (l == 1) continue;
-        ul.first.push_back(static_cast<uint32_t>(ul.slot_node.size()));
-        for (uint32_t k = 0; k < static_cast<uint32_t>(__builtin_popcount(p.mask[i])); ++k) {
-          ul.slot_node.push_back(below_base + p.children[p.first[i] + k]);
-          ul.slot_tag.push_back(p.tags.empty() ? 0 : p.tags[p.first[i] + k]);
+        if (l == 1) {
+          up[i] = u[l].add(p.mask[i], nullptr, nullptr);
+          continue;
         }
+        const auto k = static_cast<uint32_t>(__builtin_popcount(p.mask[i]));
+        nodes.resize(k);
+        tags.assign(k, 0);
+        for (uint32_t j = 0; j < k; ++j) {
+          nodes[j] = remap[p.children[p.first[i] + j]];
+          if (!p.tags.empty()) tags[j] = p.tags[p.first[i] + j];
+        }
+        up[i] = u[l].add(p.mask[i], nodes.data(), tags.data());
       }
+      remap.swap(up);
     }
     root_keys.push_back(c);
-    root_node.push_back(static_cast<uint32_t>(u[cube_levels].mask.size() - 1));
+    root_node.push_back(remap[0]);  // the cube's root
   }
   if (root_keys.empty()) return dag;
   auto t1 = Clock::now();
@@ -134,6 +138,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   // hashes of the same (mask, child class, tag) give the same classes, ids and stored orientations.
   Reduced below;
   for (uint32_t l = 1; l <= cube_levels; ++l) {
+    dev.finish();  // the scratch of the level below returns to the pool (retired buffers wait for a finish)
     SvoLevel lv = upload_level(dev, u[l]);
     Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric, u[l - 1].mask);
     Reduced r = reduce ? reduce_level(dev, lv, slots, l == 1, red) : identity_level(dev, lv);
@@ -151,6 +156,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   root_slots.slot_tag.assign(root_node.size(), 0);
   Reduced slots = gather(dev, root_slots, below, symmetric, u[cube_levels].mask);
   for (uint32_t l = cube_levels + 1; l <= levels; ++l) {
+    dev.finish();
     SvoLevel lv = build_parents(dev, roots.keys, roots.n);
     dag.svo_nodes[l] = lv.n;
     Reduced r = reduce ? reduce_level(dev, lv, slots, false, red) : identity_level(dev, lv);

@@ -144,10 +144,11 @@ MV_STRUCT_BEGIN(MvTriPlane)
   mv_f64 nu;
   mv_f64 nv;
   mv_f64 slack;
+  mv_u32 centre; /* thin rule, and the predicate surely picks axis d: test only the cells at the centre line */
 MV_STRUCT_END(MvTriPlane)
 
 MV_INLINE MvTriPlane mv_tri_plane(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
-                                  mv_f64 cy, mv_f64 cz, MvTriFrame f, mv_u32 grid) {
+                                  mv_f64 cy, mv_f64 cz, MvTriFrame f, mv_u32 grid, mv_u32 thin) {
   MvTriPlane pl;
   MV_PRECISE mv_f64 e0x = bx - ax, e0y = by - ay, e0z = bz - az;
   MV_PRECISE mv_f64 e1x = cx - bx, e1y = cy - by, e1z = cz - bz;
@@ -168,6 +169,16 @@ MV_INLINE MvTriPlane mv_tri_plane(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv
     mv_f64 extent = l0 + l1 + 2.0;
     pl.slack = 1.0 / 1024.0 + MV_F64(grid) / 1099511627776.0 /* 2^-40 */ +
                l0 * l1 * extent / MV_FABS(pl.nd) / 70368744177664.0 /* 2^-46 */;
+  }
+  /* The thin predicate sets in a column only the cell where the plane crosses the column's centre line along
+   * ITS dominant axis (tri_thin.h). When ours is d by more than both normals' rounding (a bound like the
+   * slack's: 2^-44 (l0 + l1 + 2)^2 per component), that axis is d too, and only the cells around the crossing
+   * at the centre, within the slack, are candidates: about one a column instead of the plane's whole reach. */
+  pl.centre = 0u;
+  if (thin != 0u && pl.nd != 0.0) {
+    mv_f64 l = MV_FABS(e0x) + MV_FABS(e0y) + MV_FABS(e0z) + MV_FABS(e1x) + MV_FABS(e1y) + MV_FABS(e1z) + 2.0;
+    mv_f64 delta = l * l / 17592186044416.0; /* 2^-44 */
+    if (MV_FABS(pl.nd) > MV_FMAX(MV_FABS(pl.nu), MV_FABS(pl.nv)) + 2.0 * delta) pl.centre = 1u;
   }
   return pl;
 }
@@ -198,13 +209,20 @@ MV_INLINE void mv_voxelize_columns(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, m
       mv_u32 k = d == 2u ? 0u : cv;
       if (!mv_column_may_hit(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, d, p.thin)) continue;
       mv_u32 d0 = dlo, d1 = dhi;
-      if (pl.nd != 0.0) { /* the plane's reach over the closed column square */
-        MV_PRECISE mv_f64 s00 = (pl.w - pl.nu * MV_F64(cu) - pl.nv * MV_F64(cv)) / pl.nd;
-        MV_PRECISE mv_f64 s10 = (pl.w - pl.nu * MV_F64(cu + 1u) - pl.nv * MV_F64(cv)) / pl.nd;
-        MV_PRECISE mv_f64 s01 = (pl.w - pl.nu * MV_F64(cu) - pl.nv * MV_F64(cv + 1u)) / pl.nd;
-        MV_PRECISE mv_f64 s11 = (pl.w - pl.nu * MV_F64(cu + 1u) - pl.nv * MV_F64(cv + 1u)) / pl.nd;
-        mv_f64 smin = MV_FMIN(MV_FMIN(s00, s10), MV_FMIN(s01, s11)) - pl.slack;
-        mv_f64 smax = MV_FMAX(MV_FMAX(s00, s10), MV_FMAX(s01, s11)) + pl.slack;
+      if (pl.nd != 0.0) {
+        mv_f64 smin, smax;
+        if (pl.centre != 0u) { /* the crossing at the column's centre line */
+          MV_PRECISE mv_f64 sc = (pl.w - pl.nu * (MV_F64(cu) + 0.5) - pl.nv * (MV_F64(cv) + 0.5)) / pl.nd;
+          smin = sc - pl.slack;
+          smax = sc + pl.slack;
+        } else { /* the plane's reach over the closed column square */
+          MV_PRECISE mv_f64 s00 = (pl.w - pl.nu * MV_F64(cu) - pl.nv * MV_F64(cv)) / pl.nd;
+          MV_PRECISE mv_f64 s10 = (pl.w - pl.nu * MV_F64(cu + 1u) - pl.nv * MV_F64(cv)) / pl.nd;
+          MV_PRECISE mv_f64 s01 = (pl.w - pl.nu * MV_F64(cu) - pl.nv * MV_F64(cv + 1u)) / pl.nd;
+          MV_PRECISE mv_f64 s11 = (pl.w - pl.nu * MV_F64(cu + 1u) - pl.nv * MV_F64(cv + 1u)) / pl.nd;
+          smin = MV_FMIN(MV_FMIN(s00, s10), MV_FMIN(s01, s11)) - pl.slack;
+          smax = MV_FMAX(MV_FMAX(s00, s10), MV_FMAX(s01, s11)) + pl.slack;
+        }
         if (smax < MV_F64(dlo) || smin > MV_F64(dhi + 1u)) continue;
         d0 = MV_MAX(d0, mv_voxel_floor(smin, p.grid));
         d1 = MV_MIN(d1, mv_voxel_floor(smax, p.grid));
@@ -248,7 +266,7 @@ MV_INLINE void mv_voxelize_item(MvBufF32 tris, MvBufU32 counter, MvBufU64 keys, 
   mv_f64 bx = MV_F64(MV_LD(tris, 9u * t + 3u)), by = MV_F64(MV_LD(tris, 9u * t + 4u)), bz = MV_F64(MV_LD(tris, 9u * t + 5u));
   mv_f64 cx = MV_F64(MV_LD(tris, 9u * t + 6u)), cy = MV_F64(MV_LD(tris, 9u * t + 7u)), cz = MV_F64(MV_LD(tris, 9u * t + 8u));
   MvTriFrame f = mv_tri_frame(ax, ay, az, bx, by, bz, cx, cy, cz, p.grid, p.box_x, p.box_y, p.box_z, p.box_size);
-  MvTriPlane pl = mv_tri_plane(ax, ay, az, bx, by, bz, cx, cy, cz, f, p.grid);
+  MvTriPlane pl = mv_tri_plane(ax, ay, az, bx, by, bz, cx, cy, cz, f, p.grid, p.thin);
   mv_u32 last = MV_MIN(first + p.columns_per_item, mv_frame_columns(f));
   if (f.d == 0u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 0u, first, last, counter, keys, masks, p);
   else if (f.d == 1u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 1u, first, last, counter, keys, masks, p);

@@ -29,6 +29,8 @@ if ((bench)); then
   # Baseline-only libraries: built into the megavox_baselines target only (CMake option MEGAVOX_BASELINES).
   # Boost.Sort (block_indirect_sort) comes with libboost-dev above.
   packages+=(libembree-dev)   # Embree 3, the triangle ray-tracing baseline of bench trace
+  packages+=(libips4o-dev)    # ips4o::parallel::sort (header-only; OpenMP threads), a sort baseline of bench sort
+  packages+=(libhwy-dev)      # Highway's vqsort (libhwy_contrib), a sort baseline of bench sort
 fi
 
 if ((print)); then

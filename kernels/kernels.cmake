@@ -3,8 +3,8 @@
 # (n: how many buffers, then the parameter struct from kernels/common; both checked at every dispatch) and the
 # defines that pick the entry and the key type out of the .comp.
 #         name                     .cl               .comp                n  params            GLSL defines
-mv_kernel(radix_or_and_k32         sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_or_and)
-mv_kernel(radix_or_and_k64         sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_or_and MV_KEY64)
+mv_kernel(radix_or_and_k32         sort/sort.cl      sort/radix_sort.comp 3  MvRadixParams     MV_ENTRY_or_and)
+mv_kernel(radix_or_and_k64         sort/sort.cl      sort/radix_sort.comp 3  MvRadixParams     MV_ENTRY_or_and MV_KEY64)
 mv_kernel(radix_histogram_k32      sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_histogram)
 mv_kernel(radix_histogram_k64      sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_histogram MV_KEY64)
 mv_kernel(radix_scatter_k32        sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_scatter)

@@ -21,10 +21,10 @@
 #include "common/radix_sort_body.h"
 
 #if defined(MV_ENTRY_or_and)
-layout(push_constant) uniform Args { MvBufKey keys; MvBufKey red; MvRadixParams p; } args;
+layout(push_constant) uniform Args { MvBufKey keys; MvBufKey red; MvBufU32 hist; MvRadixParams p; } args;
 void main() {
   uint b = MV_GLOBAL_ID();
-  if (b < args.p.blocks) MV_KFN(mv_radix_or_and)(args.keys, args.red, args.p, b);
+  if (b < args.p.blocks) MV_KFN(mv_radix_or_and)(args.keys, args.red, args.hist, args.p, b);
 }
 #elif defined(MV_ENTRY_histogram)
 layout(push_constant) uniform Args { MvBufKey keys; MvBufU32 hist; MvRadixParams p; } args;
@@ -43,12 +43,10 @@ void main() {
 }
 #elif defined(MV_ENTRY_local_sort)
 layout(push_constant) uniform Args {
-  MvBufKey keys; MvBufKey keys_alt; MvBufU32 vals; MvBufU32 vals_alt; MvBufU32 offsets; MvRadixParams p;
+  MvBufKey keys; MvBufKey scratch; MvBufU32 vals; MvBufU32 vscratch; MvBufU32 offsets; MvRadixParams p;
 } args;
 void main() {
-  uint d = MV_GLOBAL_ID();
-  if (d < MV_RADIX_BUCKETS)
-    MV_KFN(mv_radix_local_sort)(args.keys, args.keys_alt, args.vals, args.vals_alt, args.offsets, args.p, d);
+  MV_KFN(mv_radix_local_sort)(args.keys, args.scratch, args.vals, args.vscratch, args.offsets, args.p, MV_GLOBAL_ID());
 }
 #else
 #error "define MV_ENTRY_or_and, MV_ENTRY_histogram, MV_ENTRY_scatter or MV_ENTRY_local_sort"

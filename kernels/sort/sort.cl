@@ -21,9 +21,9 @@
 #include "common/radix_sort_body.h"
 
 #define MV_RADIX_ENTRIES(K, KT)                                                                               \
-  __kernel void radix_or_and_##K(__global KT* keys, __global KT* red, MvRadixParams p) {                      \
+  __kernel void radix_or_and_##K(__global KT* keys, __global KT* red, __global uint* hist, MvRadixParams p) { \
     uint b = MV_GLOBAL_ID();                                                                                  \
-    if (b < p.blocks) mv_radix_or_and_##K(keys, red, p, b);                                                  \
+    if (b < p.blocks) mv_radix_or_and_##K(keys, red, hist, p, b);                                            \
   }                                                                                                           \
   __kernel void radix_histogram_##K(__global KT* keys, __global uint* hist, MvRadixParams p) {                \
     uint b = MV_GLOBAL_ID();                                                                                  \
@@ -34,10 +34,9 @@
     uint b = MV_GLOBAL_ID();                                                                                  \
     if (b < p.blocks) mv_radix_scatter_##K(keys_in, keys_out, vals_in, vals_out, offsets, p, b);             \
   }                                                                                                           \
-  __kernel void radix_local_sort_##K(__global KT* keys, __global KT* keys_alt, __global uint* vals,           \
-                                     __global uint* vals_alt, __global uint* offsets, MvRadixParams p) {      \
-    uint d = MV_GLOBAL_ID();                                                                                  \
-    if (d < MV_RADIX_BUCKETS) mv_radix_local_sort_##K(keys, keys_alt, vals, vals_alt, offsets, p, d);        \
+  __kernel void radix_local_sort_##K(__global KT* keys, __global KT* scratch, __global uint* vals,           \
+                                     __global uint* vscratch, __global uint* offsets, MvRadixParams p) {      \
+    mv_radix_local_sort_##K(keys, scratch, vals, vscratch, offsets, p, MV_GLOBAL_ID());                      \
   }
 
 MV_RADIX_ENTRIES(k32, uint)

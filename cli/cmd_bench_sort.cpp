@@ -18,6 +18,7 @@ struct BenchSortArgs {
   int key_bits = 64;
   bool keys_only = false;
   int repeats = 3;
+  std::string strategy = "auto";
   uint64_t seed = 1;
   bool json = false;
 };
@@ -31,7 +32,8 @@ void print_table(const bench::SortBenchResult& r, const std::vector<KernelTiming
   for (const auto& b : r.baselines)  // ratio: how many times faster megavox is
     std::printf("  %-36s %10.4f %14.3e %8.2fx%s\n", b.name.c_str(), b.seconds, b.keys_per_s, b.speedup,
                 b.verified ? "" : "  (output WRONG)");
-  std::printf("  digit passes %u; upload %.4f s, download %.4f s; output %s\n", r.passes, r.upload_seconds,
+  std::printf("  variant %s, digit passes %u; upload %.4f s, download %.4f s; output %s\n", r.variant.c_str(),
+              r.passes, r.upload_seconds,
               r.download_seconds, r.verified ? "verified (stable, a permutation of the input)" : "WRONG");
   std::printf("  floor: %u passes x 2 x n x %d B / memcpy %.1f GB/s = %.4f s -> floor_fraction %.2f\n", r.passes,
               r.key_bits / 8 + (r.pairs ? 4 : 0), r.copy_gb_per_s, r.floor_seconds, r.floor_fraction);
@@ -56,6 +58,10 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
   cmd->add_option("--repeats", args->repeats, "Runs of megavox and of each baseline; the best of each is reported")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  cmd->add_option("--strategy", args->strategy,
+                  "Sort variant: auto (the device's choice), lsd, hybrid or cooperative (see docs/ARCHITECTURE.md)")
+      ->check(CLI::IsMember({"auto", "lsd", "hybrid", "cooperative"}))
+      ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Seed of the random keys")->capture_default_str();
   cmd->add_flag("--json", args->json, "Print one JSON object instead of the table");
   cmd->callback([&g, args] {
@@ -65,6 +71,10 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
     o.key_bits = args->key_bits;
     o.pairs = !args->keys_only;
     o.repeats = args->repeats;
+    o.strategy = args->strategy == "lsd"           ? SortStrategy::Lsd
+                 : args->strategy == "hybrid"      ? SortStrategy::Hybrid
+                 : args->strategy == "cooperative" ? SortStrategy::Cooperative
+                                                   : SortStrategy::Auto;
     o.seed = args->seed;
     bench::SortBenchResult r = bench::run_sort_bench(*dev, o);
     if (args->json) {
@@ -91,6 +101,7 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
                           {"key_bits", r.key_bits},
                           {"pairs", r.pairs},
                           {"passes", r.passes},
+                          {"variant", r.variant},
                           {"seconds", r.seconds},
                           {"upload_seconds", r.upload_seconds},
                           {"download_seconds", r.download_seconds},

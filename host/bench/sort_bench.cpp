@@ -74,11 +74,12 @@ SortBenchResult run(Device& dev, const SortBenchOptions& o) {
     r.upload_seconds = since(t0);
     dev.take_timings();
     t0 = Clock::now();
-    SortReport rep_report = radix_sort(dev, keys, o.pairs ? &values : nullptr, n, bits);
+    SortReport rep_report = radix_sort(dev, keys, o.pairs ? &values : nullptr, n, bits, o.strategy);
     dev.finish();
     double t = since(t0);
     auto timings = dev.take_timings();
     r.passes = rep_report.passes;
+    r.variant = rep_report.cooperative ? "cooperative" : rep_report.hybrid ? "hybrid" : "lsd";
     if (t < best) {
       best = t;
       std::map<std::string, uint64_t> totals;

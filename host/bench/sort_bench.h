@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/primitives.h"
 
 namespace mv::bench {
 
@@ -13,6 +14,7 @@ struct SortBenchOptions {
   int key_bits = 64;    // 32 or 64
   bool pairs = true;    // move a 32-bit value (the original index) with each key
   int repeats = 3;      // runs of megavox and of each baseline; the best of each is reported
+  SortStrategy strategy = SortStrategy::Auto;
   uint64_t seed = 1;
 };
 
@@ -31,6 +33,7 @@ struct SortBenchResult {
   int key_bits = 0;
   bool pairs = true;
   uint32_t passes = 0;
+  std::string variant;           // what ran: "hybrid", "lsd" or "cooperative"
   double seconds = 0;            // best device sort, data already on the device
   double upload_seconds = 0;     // host -> device of keys (+ values), last run
   double download_seconds = 0;

@@ -18,6 +18,16 @@
 #define MV_RADIX_BUCKETS 256
 #define MV_RADIX_SMALL 32 /* in-bucket ranges of at most this many keys are finished by insertion sort */
 
+/* The work-group-cooperative variant (radix_coop_*.h): work-groups of MV_COOP_WG items; each takes blocks of
+ * MV_COOP_BLOCK keys, in tiles of MV_COOP_TILE = MV_COOP_WG x MV_COOP_ITEMS keys ranked in shared memory. */
+#define MV_COOP_WG 128
+#define MV_COOP_ITEMS 8
+#define MV_COOP_TILE 1024
+#define MV_COOP_BLOCK 8192
+#define MV_COOP_NIBBLES 16                 /* a digit is ranked as two 4-bit sub-digits */
+#define MV_COOP_COUNTERS (MV_COOP_NIBBLES * MV_COOP_WG)
+#define MV_COOP_AUX (3 * MV_RADIX_BUCKETS + MV_COOP_WG) /* first, end and base per digit; the scan's partials */
+
 MV_STRUCT_BEGIN(MvRadixParams)
   mv_u32 n;          /* number of keys */
   mv_u32 blocks;     /* number of blocks (= work-items doing useful work) */

@@ -124,8 +124,9 @@ MV_INLINE void MV_KFN(mv_radix_local_sort)(MvBufKey keys, MvBufKey scratch, MvBu
   mv_u32 frame_child[MV_RADIX_KEY_DIGITS];                     /* per frame: next child to visit */
   mv_u32 frame_top[MV_RADIX_KEY_DIGITS];                       /* per frame: the children's top bit */
   mv_u32 frame_slice[MV_RADIX_KEY_DIGITS];                     /* per frame: children live in the slice (1) */
-  mv_u32 count[MV_RADIX_BUCKETS];
+  mv_u32 count[MV_RADIX_BUCKETS]; /* zero between ranges */
   mv_u32 next[MV_RADIX_BUCKETS];
+  for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) count[c] = 0u;
   const mv_u32 counter = p.blocks * MV_U32(MV_RADIX_BUCKETS) + 1u;
   mv_u32 d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : w;
   for (; d < MV_U32(MV_RADIX_BUCKETS); d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : d + 256u) {
@@ -145,23 +146,25 @@ MV_INLINE void MV_KFN(mv_radix_local_sort)(MvBufKey keys, MvBufKey scratch, MvBu
           break;
         }
         mv_u32 shift = top >= p.local_low + 8u ? top - 8u : p.local_low;
-        for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) count[c] = 0u;
         if (in_slice != 0u)
           for (mv_u32 i = b; i < e; ++i) count[MV_KFN(mv_radix_digit)(MV_LD(scratch, i + soff), shift)] += 1u;
         else
           for (mv_u32 i = b; i < e; ++i) count[MV_KFN(mv_radix_digit)(MV_LD(keys, i), shift)] += 1u;
+        /* One loop lays out the children, finds the largest and clears the counts for the next range. */
+        mv_u32 base = depth * MV_U32(MV_RADIX_BUCKETS + 1);
+        mv_u32 acc = b;
         mv_u32 largest = 0u;
-        for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) largest = MV_MAX(largest, count[c]);
+        for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) {
+          mv_u32 size = count[c];
+          count[c] = 0u;
+          largest = MV_MAX(largest, size);
+          bounds[base + c] = acc;
+          next[c] = acc;
+          acc += size;
+        }
         if (largest == e - b) { /* the whole range agrees on this digit */
           top = shift;
           continue;
-        }
-        mv_u32 base = depth * MV_U32(MV_RADIX_BUCKETS + 1);
-        mv_u32 acc = b;
-        for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) {
-          bounds[base + c] = acc;
-          next[c] = acc;
-          acc += count[c];
         }
         bounds[base + MV_U32(MV_RADIX_BUCKETS)] = e;
         if (in_slice != 0u)

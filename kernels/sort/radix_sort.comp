@@ -1,5 +1,5 @@
 // Vulkan entry points of the radix sort: one SPIR-V module per (entry, key type), selected at build time
-// with -DMV_ENTRY_<name> and -DMV_KEY64 (bodies: common/radix_sort_body.h).
+// with -DMV_ENTRY_<name> and -DMV_KEY64 (bodies: common/radix_sort_body.h, common/radix_coop_*.h).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
@@ -48,6 +48,23 @@ layout(push_constant) uniform Args {
 void main() {
   MV_KFN(mv_radix_local_sort)(args.keys, args.scratch, args.vals, args.vscratch, args.offsets, args.p, MV_GLOBAL_ID());
 }
+#elif defined(MV_ENTRY_coop_histogram)
+MV_SHARED(uint, aux, MV_COOP_AUX);
+#include "common/radix_coop_hist.h"
+layout(push_constant) uniform Args { MvBufKey keys; MvBufU32 hist; MvRadixParams p; } args;
+void main() { MV_KFN(mv_radix_coop_histogram)(args.keys, args.hist, args.p); }
+#elif defined(MV_ENTRY_coop_scatter)
+MV_SHARED(MV_KEY, ks, MV_COOP_TILE);
+MV_SHARED(uint, vs, MV_COOP_TILE);
+MV_SHARED(uint, cnt, MV_COOP_COUNTERS);
+MV_SHARED(uint, aux, MV_COOP_AUX);
+#include "common/radix_coop_scatter.h"
+layout(push_constant) uniform Args {
+  MvBufKey keys_in; MvBufKey keys_out; MvBufU32 vals_in; MvBufU32 vals_out; MvBufU32 offsets; MvRadixParams p;
+} args;
+void main() {
+  MV_KFN(mv_radix_coop_scatter)(args.keys_in, args.keys_out, args.vals_in, args.vals_out, args.offsets, args.p);
+}
 #else
-#error "define MV_ENTRY_or_and, MV_ENTRY_histogram, MV_ENTRY_scatter or MV_ENTRY_local_sort"
+#error "define MV_ENTRY_or_and, histogram, scatter, local_sort, coop_histogram or coop_scatter"
 #endif

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "baselines/baselines.h"
 #include "bench/sort_bench.h"
 #include "cli_common.h"
 #include "megavox/error.h"
@@ -17,6 +18,7 @@ struct BenchSortArgs {
   int key_bits = 64;
   bool keys_only = false;
   int repeats = 3;
+  std::string strategy = "auto";
   uint64_t seed = 1;
   bool json = false;
 };
@@ -27,11 +29,11 @@ void print_table(const bench::SortBenchResult& r, const std::vector<KernelTiming
               r.device.selector().c_str());
   std::printf("  %-36s %10s %14s %9s\n", "", "seconds", "keys/s", "ratio");
   std::printf("  %-36s %10.4f %14.3e %9s\n", "megavox radix sort (device-resident)", r.seconds, r.keys_per_s, "1.00");
-  std::printf("  %-36s %10.4f %14.3e %8.2fx\n", "std::sort", r.std_sort_seconds, r.std_sort_keys_per_s,
-              r.speedup_vs_std_sort);
-  std::printf("  %-36s %10.4f %14.3e %8.2fx\n", r.parallel_sort_name.c_str(), r.parallel_sort_seconds,
-              r.parallel_sort_keys_per_s, r.speedup_vs_parallel_sort);
-  std::printf("  digit passes %u; upload %.4f s, download %.4f s; output %s\n", r.passes, r.upload_seconds,
+  for (const auto& b : r.baselines)  // ratio: how many times faster megavox is
+    std::printf("  %-36s %10.4f %14.3e %8.2fx%s\n", b.name.c_str(), b.seconds, b.keys_per_s, b.speedup,
+                b.verified ? "" : "  (output WRONG)");
+  std::printf("  variant %s, digit passes %u; upload %.4f s, download %.4f s; output %s\n", r.variant.c_str(),
+              r.passes, r.upload_seconds,
               r.download_seconds, r.verified ? "verified (stable, a permutation of the input)" : "WRONG");
   std::printf("  floor: %u passes x 2 x n x %d B / memcpy %.1f GB/s = %.4f s -> floor_fraction %.2f\n", r.passes,
               r.key_bits / 8 + (r.pairs ? 4 : 0), r.copy_gb_per_s, r.floor_seconds, r.floor_fraction);
@@ -46,14 +48,19 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
   auto* cmd = bench.add_subcommand(
       "sort",
       "Stable radix sort of random keys (with their original index as value) on the device, against\n"
-      "std::sort and the faster of tbb::parallel_sort and boost::sort::block_indirect_sort on the same\n"
-      "data, plus floor_fraction: the time memcpy would need to move the bytes of every digit pass\n"
-      "(read + write), over the measured time. The output is checked in full.");
+      "std::sort, tbb::parallel_sort, boost::sort::block_indirect_sort, ips4o::parallel::sort and\n"
+      "vqsort (one thread) on the same data (each baseline that is built in; ratio = how many times\n"
+      "faster megavox is), plus floor_fraction: the time memcpy would need to move the bytes of every\n"
+      "digit pass (read + write), over the measured time. Every output is checked in full.");
   cmd->add_option("--n", args->n, "Number of keys, e.g. 1M, 16M, 64M")->capture_default_str();
   cmd->add_option("--key-bits", args->key_bits, "Key width")->check(CLI::IsMember({32, 64}))->capture_default_str();
   cmd->add_flag("--keys-only", args->keys_only, "Sort keys without values");
-  cmd->add_option("--repeats", args->repeats, "Device runs; the best is reported")
+  cmd->add_option("--repeats", args->repeats, "Runs of megavox and of each baseline; the best of each is reported")
       ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--strategy", args->strategy,
+                  "Sort variant: auto (the device's choice), lsd, hybrid or cooperative (see docs/ARCHITECTURE.md)")
+      ->check(CLI::IsMember({"auto", "lsd", "hybrid", "cooperative"}))
       ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Seed of the random keys")->capture_default_str();
   cmd->add_flag("--json", args->json, "Print one JSON object instead of the table");
@@ -64,11 +71,28 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
     o.key_bits = args->key_bits;
     o.pairs = !args->keys_only;
     o.repeats = args->repeats;
+    o.strategy = args->strategy == "lsd"           ? SortStrategy::Lsd
+                 : args->strategy == "hybrid"      ? SortStrategy::Hybrid
+                 : args->strategy == "cooperative" ? SortStrategy::Cooperative
+                                                   : SortStrategy::Auto;
     o.seed = args->seed;
     bench::SortBenchResult r = bench::run_sort_bench(*dev, o);
     if (args->json) {
       nlohmann::json kernels = nlohmann::json::object();
       for (const auto& t : r.kernel_totals) kernels[t.kernel] = t.ns * 1e-9;
+      nlohmann::json baselines = nlohmann::json::array();
+      for (const auto& b : r.baselines)
+        baselines.push_back({{"name", b.name},
+                             {"seconds", b.seconds},
+                             {"keys_per_s", b.keys_per_s},
+                             {"speedup", b.speedup},
+                             {"verified", b.verified}});
+      // The peers to beat, by name (null when not built in).
+      auto field = [&](const std::string& name, double bench::SortBaselineRun::*f) {
+        const bench::SortBaselineRun* b = r.baseline(name);
+        return b ? nlohmann::json(b->*f) : nlohmann::json(nullptr);
+      };
+      const std::string ips4o = baseline::ips4o().name, vqsort = baseline::vqsort().name;
       nlohmann::json j = {{"benchmark", "sort"},
                           {"device", r.device.name},
                           {"device_selector", r.device.selector()},
@@ -77,6 +101,7 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
                           {"key_bits", r.key_bits},
                           {"pairs", r.pairs},
                           {"passes", r.passes},
+                          {"variant", r.variant},
                           {"seconds", r.seconds},
                           {"upload_seconds", r.upload_seconds},
                           {"download_seconds", r.download_seconds},
@@ -88,6 +113,11 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
                           {"parallel_sort_keys_per_s", r.parallel_sort_keys_per_s},
                           {"speedup_vs_std_sort", r.speedup_vs_std_sort},
                           {"speedup_vs_parallel_sort", r.speedup_vs_parallel_sort},
+                          {"ips4o_keys_per_s", field(ips4o, &bench::SortBaselineRun::keys_per_s)},
+                          {"speedup_vs_ips4o", field(ips4o, &bench::SortBaselineRun::speedup)},
+                          {"vqsort_keys_per_s", field(vqsort, &bench::SortBaselineRun::keys_per_s)},
+                          {"speedup_vs_vqsort", field(vqsort, &bench::SortBaselineRun::speedup)},
+                          {"baselines", baselines},
                           {"copy_gb_per_s", r.copy_gb_per_s},
                           {"floor_seconds", r.floor_seconds},
                           {"floor_fraction", r.floor_fraction},
@@ -99,6 +129,8 @@ void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g) {
       print_table(r, r.kernel_totals);
     }
     if (!r.verified) throw mv::Error("bench sort: the device output is not the stable sort of the input");
+    for (const auto& b : r.baselines)
+      if (!b.verified) throw mv::Error("bench sort: " + b.name + "'s output differs from megavox's sort");
   });
 }
 

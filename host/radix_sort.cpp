@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <thread>
 #include <utility>
 
@@ -29,6 +30,17 @@ uint64_t varying_bits(Device& dev, const Buffer& red, uint32_t blocks) {
   return acc_or ^ acc_and;  // a bit is constant over all keys iff OR and AND agree on it
 }
 
+// The lowest bit of each 8-bit digit an LSD sort passes over, least significant first: each digit starts at the
+// lowest varying bit the digits below it leave, so constant bits cost nothing, wherever they lie.
+std::vector<uint32_t> lsd_shifts(uint64_t varying) {
+  std::vector<uint32_t> shifts;
+  for (uint32_t b = 0; b < 64 && (varying >> b) != 0; b += MV_RADIX_BITS) {
+    b += static_cast<uint32_t>(std::countr_zero(varying >> b));
+    shifts.push_back(b);
+  }
+  return shifts;
+}
+
 // One sort: the kernels, buffers and shape shared by its passes.
 struct SortRun {
   Device& dev;
@@ -36,13 +48,12 @@ struct SortRun {
   MvRadixParams p;
   Kernel& histogram;
   Kernel& scatter;
-  Kernel& local_sort;
-  Buffer hist;  // blocks x 256 counts (+1 for the scan total)
+  Buffer& hist;  // blocks x 256 counts, the scan total, the hybrid's bucket counter
   ScanPlan scan;
 
-  // histogram + scan of digit `d` of `keys`: hist then holds each (digit, block)'s first output position.
-  void count(const Buffer& keys, uint32_t d) {
-    p.shift = 8 * d;
+  // histogram + scan of the digit at `shift` of `keys`: hist then holds each (digit, block)'s first output position.
+  void count(const Buffer& keys, uint32_t shift) {
+    p.shift = shift;
     dev.dispatch(histogram, shape.groups, shape.local_size, {&keys, &hist}, p);
     dev.barrier();
   }
@@ -69,45 +80,106 @@ uint32_t largest_bucket(Device& dev, const Buffer& hist, uint32_t blocks) {
 
 // Device memory the passes allocate: scratch copies of keys and values, the histograms and their scan, in whole
 // pages as the pool hands them out.
-uint64_t scratch_bytes(Device& dev, const BlockShape& s, uint64_t n, uint64_t key_bytes, bool values) {
+uint64_t scratch_bytes(Device& dev, uint64_t hist, uint64_t n, uint64_t key_bytes, bool values) {
   const uint64_t page = dev.page_bytes();
   auto pages = [&](uint64_t bytes) { return (bytes + page - 1) / page * page; };
-  const uint64_t hist = uint64_t{s.blocks} * MV_RADIX_BUCKETS;
-  return pages(n * key_bytes) + (values ? pages(n * 4) : 0) + pages((hist + 1) * 4) +
+  return pages(n * key_bytes) + (values ? pages(n * 4) : 0) + pages((hist + 2) * 4) +
          pages((uint64_t{block_shape(dev.info(), hist).blocks} + 1) * 8);
 }
 
+// The hybrid's second stage: the global pass left 256 buckets in kin / vin; each is sorted there on the bits
+// [low, top), moving through scratch slices of kout / vout. With no loop cap a few work-items (two per compute
+// unit) each take bucket after bucket through one slice of the largest bucket's size, which stays in cache; under
+// a cap every bucket gets its own work-item and works through its own range.
+void sort_buckets(SortRun& run, const Buffer& kin, Buffer& kout, const Buffer* vin, Buffer* vout, uint32_t top,
+                  uint32_t low, uint32_t largest, Kernel& local_sort) {
+  const DeviceInfo& info = run.dev.info();
+  run.p.local_top = top;
+  run.p.local_low = low;
+  uint32_t items = MV_RADIX_BUCKETS;
+  run.p.scratch_stride = 0;
+  if (info.max_loop_iterations == 0 && run.p.n / largest >= 2) {
+    items = std::min({items, 2 * std::max(1u, info.compute_units), run.p.n / largest});
+    run.p.scratch_stride = largest;
+  }
+  const uint32_t local = run.shape.local_size;
+  run.dev.dispatch(local_sort, (items + local - 1) / local, local,
+                   {&kin, &kout, vin ? vin : &kin, vout ? vout : &kout, &run.hist}, run.p);
+  run.dev.barrier();
+}
+
+// Shared memory of the cooperative scatter (radix_coop_scatter.h) with 64-bit keys.
+constexpr uint64_t kCoopSharedBytes = MV_COOP_TILE * 12 + (MV_COOP_COUNTERS + MV_COOP_AUX) * 4;
+
+// The cooperative variant's shape: work-groups of MV_COOP_WG items, one block of MV_COOP_BLOCK keys each (a
+// work-group takes several where the device's group count is smaller).
+BlockShape coop_shape(const DeviceInfo& info, uint64_t n) {
+  BlockShape s;
+  s.blocks = static_cast<uint32_t>((n + MV_COOP_BLOCK - 1) / MV_COOP_BLOCK);
+  s.block_size = MV_COOP_BLOCK;
+  s.local_size = MV_COOP_WG;
+  s.groups = std::min(s.blocks, std::max(1u, info.max_groups));
+  return s;
+}
+
 }  // namespace
+
+bool cooperative_sort_fits(const DeviceInfo& info) {
+  return info.max_work_group_size >= MV_COOP_WG && info.local_memory_bytes >= kCoopSharedBytes;
+}
+
+bool prefers_cooperative_sort(const DeviceInfo& info) {
+  // GPUs: thousands of work-items, which only shared tiles keep busy. Not lavapipe, though its SIMD lanes are
+  // lock-step: there the cooperative passes measured 2.5x slower than one block per work-item (1M pairs:
+  // scatter 1.57 s against 0.62 s), its shared-memory accesses and barriers costing more than they save.
+  return info.massively_parallel && cooperative_sort_fits(info);
+}
 
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy) {
   SortReport report;
   if (n <= 1) return report;
   detail::check_device_items("radix_sort", n);
   const bool k64 = bits == KeyBits::k64;
-  const uint64_t key_bytes = k64 ? 8 : 4;
+  const uint32_t key_bits = k64 ? 64 : 32;
+  const uint64_t key_bytes = key_bits / 8;
   if (keys.bytes() < n * key_bytes || (values && values->bytes() < n * 4))
     throw Error("radix_sort: buffers too small for " + std::to_string(n) + " keys");
 
   const DeviceInfo& info = dev.info();
   BlockShape s = block_shape(info, n);
   Kernel& or_and = dev.kernel(k64 ? KernelId::radix_or_and_k64 : KernelId::radix_or_and_k32);
+  const bool coop = strategy == SortStrategy::Cooperative ||
+                    (strategy == SortStrategy::Auto && prefers_cooperative_sort(info));
+  if (coop && !cooperative_sort_fits(info))
+    throw Error("radix_sort: device " + info.name + " cannot run the cooperative sort (it needs work-groups of " +
+                std::to_string(MV_COOP_WG) + " items and " + format_bytes(kCoopSharedBytes) + " of shared memory)");
+  const bool may_hybrid = !coop && (strategy == SortStrategy::Hybrid ||
+                                    (strategy == SortStrategy::Auto && !info.massively_parallel));
+  const BlockShape pass_shape = coop ? coop_shape(info, n) : s;  // the digit passes' shape
 
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
-  MvRadixParams p{static_cast<uint32_t>(n), s.blocks, s.block_size, 0, values ? 1u : 0u, 0};
-  dev.dispatch(or_and, s.groups, s.local_size, {&keys, &red}, p);
+  const uint64_t hist_words = uint64_t{std::max(s.blocks, pass_shape.blocks)} * MV_RADIX_BUCKETS;
+  Buffer hist = dev.alloc((hist_words + 2) * 4, "radix sort histograms");
+  dev.fill(hist, 0, 4, (hist_words + 1) * 4);  // the hybrid's bucket counter
+  MvRadixParams p{static_cast<uint32_t>(n), s.blocks, s.block_size, 0, values ? 1u : 0u, 0, 0, 0, 0};
+  // Where the hybrid may run, the reduction also counts the top digit: random keys vary there, and the global
+  // pass then needs no histogram pass of its own. Not under a loop cap, where a private histogram is slow.
+  if (may_hybrid && info.max_loop_iterations == 0) {
+    p.count = 1;
+    p.shift = key_bits - MV_RADIX_BITS;
+  }
+  dev.dispatch(or_and, s.groups, s.local_size, {&keys, &red, &hist}, p);
   dev.barrier();
   uint64_t varying = k64 ? varying_bits<uint64_t>(dev, red, s.blocks) : varying_bits<uint32_t>(dev, red, s.blocks);
 
-  const uint32_t digits = k64 ? 8 : 4;
-  std::vector<uint32_t> vary;  // varying digits, least significant first
-  for (uint32_t d = 0; d < digits; ++d) {
-    if ((varying >> (8 * d)) & 0xff) vary.push_back(d);
-    else ++report.digits_skipped;
-  }
-  if (vary.empty()) return report;
+  for (uint32_t d = 0; d < key_bits / MV_RADIX_BITS; ++d)
+    if (((varying >> (MV_RADIX_BITS * d)) & 0xff) == 0) ++report.digits_skipped;
+  if (varying == 0) return report;
+  const uint32_t low = static_cast<uint32_t>(std::countr_zero(varying));
+  const uint32_t high = 63u - static_cast<uint32_t>(std::countl_zero(varying));
 
   // Name the whole need up front rather than the first scratch buffer that fails.
-  const uint64_t scratch = scratch_bytes(dev, s, n, key_bytes, values != nullptr);
+  const uint64_t scratch = scratch_bytes(dev, hist_words, n, key_bytes, values != nullptr);
   if (scratch > detail::memory_left(dev, false) && scratch > detail::memory_left(dev, true))
     throw DeviceMemoryError("radix_sort: " + std::to_string(n) + " keys need " + format_bytes(scratch) +
                             " of device scratch beside their data, but " +
@@ -115,22 +187,31 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
                             format_bytes(dev.memory_budget()) +
                             " is left; raise --device-memory, or sort host vectors (they run in pieces that fit)");
 
+  const bool counted_top = p.count != 0;
+  p.count = 0;
+  p.blocks = pass_shape.blocks;
+  p.block_size = pass_shape.block_size;
   SortRun run{dev,
-              s,
+              pass_shape,
               p,
-              dev.kernel(k64 ? KernelId::radix_histogram_k64 : KernelId::radix_histogram_k32),
-              dev.kernel(k64 ? KernelId::radix_scatter_k64 : KernelId::radix_scatter_k32),
-              dev.kernel(k64 ? KernelId::radix_local_sort_k64 : KernelId::radix_local_sort_k32),
-              dev.alloc((uint64_t{s.blocks} * MV_RADIX_BUCKETS + 1) * 4, "radix sort histograms"),
-              plan_scan(dev, s.blocks * MV_RADIX_BUCKETS)};
+              dev.kernel(coop ? (k64 ? KernelId::radix_coop_histogram_k64 : KernelId::radix_coop_histogram_k32)
+                              : (k64 ? KernelId::radix_histogram_k64 : KernelId::radix_histogram_k32)),
+              dev.kernel(coop ? (k64 ? KernelId::radix_coop_scatter_k64 : KernelId::radix_coop_scatter_k32)
+                              : (k64 ? KernelId::radix_scatter_k64 : KernelId::radix_scatter_k32)),
+              hist,
+              plan_scan(dev, uint64_t{pass_shape.blocks} * MV_RADIX_BUCKETS)};
+  report.cooperative = coop;
   Buffer keys_alt = dev.alloc(n * key_bytes, "radix sort scratch keys");
   Buffer values_alt = values ? dev.alloc(n * 4, "radix sort scratch values") : Buffer();
 
-  bool hybrid = strategy == SortStrategy::Hybrid ||
-                (strategy == SortStrategy::Auto && !info.massively_parallel && vary.size() >= 2);
+  // The hybrid's global digit: the top 8 varying bits. More than one digit must vary for it to pay.
+  const uint32_t msd = high >= low + MV_RADIX_BITS ? high + 1 - MV_RADIX_BITS : low;
+  bool hybrid = may_hybrid && msd > low;
+  uint32_t largest = 0;
   if (hybrid) {
-    run.count(keys, vary.back());
-    uint32_t largest = largest_bucket(dev, run.hist, s.blocks);
+    if (counted_top && msd == key_bits - MV_RADIX_BITS) run.p.shift = msd;
+    else run.count(keys, msd);
+    largest = largest_bucket(dev, run.hist, s.blocks);
     const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
     // Under a loop cap (lavapipe) the in-bucket sort's nested loops add up to about 900 iterations per key of
     // the largest bucket; only tiny buckets stay inside it.
@@ -140,12 +221,11 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
   }
   if (hybrid) {
     run.scan_and_scatter(keys, keys_alt, values, values ? &values_alt : nullptr);
-    for (size_t i = 0; i + 1 < vary.size(); ++i) run.p.local_digits |= 1u << vary[i];
-    uint32_t local = s.local_size;
-    dev.dispatch(run.local_sort, (MV_RADIX_BUCKETS + local - 1) / local, local,
-                 {&keys, &keys_alt, values ? values : &keys, values ? &values_alt : &keys_alt, &run.hist}, run.p);
-    dev.barrier();
-    report.passes = static_cast<uint32_t>(vary.size());
+    sort_buckets(run, keys_alt, keys, values ? &values_alt : nullptr, values, msd, low, largest,
+                 dev.kernel(k64 ? KernelId::radix_local_sort_k64 : KernelId::radix_local_sort_k32));
+    std::swap(keys, keys_alt);  // the buckets were sorted where the global pass left them
+    if (values) std::swap(*values, values_alt);
+    report.passes = 1 + (msd - low + MV_RADIX_BITS - 1) / MV_RADIX_BITS;
     report.hybrid = true;
     return report;
   }
@@ -154,8 +234,8 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
   Buffer* kout = &keys_alt;
   Buffer* vin = values;
   Buffer* vout = values ? &values_alt : nullptr;
-  for (uint32_t d : vary) {
-    run.count(*kin, d);
+  for (uint32_t shift : lsd_shifts(varying)) {
+    run.count(*kin, shift);
     run.scan_and_scatter(*kin, *kout, vin, vout);
     std::swap(kin, kout);
     std::swap(vin, vout);
@@ -215,6 +295,7 @@ SortReport sort_host(Device& dev, std::vector<Key>& keys, std::vector<uint32_t>*
     report.passes = std::max(report.passes, r.passes);
     report.digits_skipped = first == 0 ? r.digits_skipped : std::min(report.digits_skipped, r.digits_skipped);
     report.hybrid |= r.hybrid;
+    report.cooperative |= r.cooperative;
   }
   if (report.runs > 1) merge_runs(keys, values, run);
   return report;

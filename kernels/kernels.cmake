@@ -3,14 +3,18 @@
 # (n: how many buffers, then the parameter struct from kernels/common; both checked at every dispatch) and the
 # defines that pick the entry and the key type out of the .comp.
 #         name                     .cl               .comp                n  params            GLSL defines
-mv_kernel(radix_or_and_k32         sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_or_and)
-mv_kernel(radix_or_and_k64         sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_or_and MV_KEY64)
+mv_kernel(radix_or_and_k32         sort/sort.cl      sort/radix_sort.comp 3  MvRadixParams     MV_ENTRY_or_and)
+mv_kernel(radix_or_and_k64         sort/sort.cl      sort/radix_sort.comp 3  MvRadixParams     MV_ENTRY_or_and MV_KEY64)
 mv_kernel(radix_histogram_k32      sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_histogram)
 mv_kernel(radix_histogram_k64      sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_histogram MV_KEY64)
 mv_kernel(radix_scatter_k32        sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_scatter)
 mv_kernel(radix_scatter_k64        sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_scatter MV_KEY64)
 mv_kernel(radix_local_sort_k32     sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_local_sort)
 mv_kernel(radix_local_sort_k64     sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_local_sort MV_KEY64)
+mv_kernel(radix_coop_histogram_k32 sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_coop_histogram)
+mv_kernel(radix_coop_histogram_k64 sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_coop_histogram MV_KEY64)
+mv_kernel(radix_coop_scatter_k32   sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_coop_scatter)
+mv_kernel(radix_coop_scatter_k64   sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_coop_scatter MV_KEY64)
 mv_kernel(scan_reduce              scan/scan.cl      scan/scan.comp       2  MvScanParams      MV_ENTRY_reduce)
 mv_kernel(scan_small               scan/scan.cl      scan/scan.comp       1  MvScanParams      MV_ENTRY_small)
 mv_kernel(scan_apply               scan/scan.cl      scan/scan.comp       3  MvScanParams      MV_ENTRY_apply)

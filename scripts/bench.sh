@@ -23,6 +23,8 @@ done
 run build/megavox --device ocl:0 bench sort --n 64M --json
 # 64M pairs need 1.5 GiB of keys, values and scratch: more than lavapipe's default budget (3/4 of 2 GiB).
 run build/megavox --device vk:0 --device-memory 1600M bench sort --n 64M --repeats 1 --json
+# The work-group-cooperative variant (Auto picks it on GPUs only) on lavapipe, for the record.
+run build/megavox --device vk:0 bench sort --n 1M --strategy cooperative --json
 # Ray traversal: the bunny built as svdag and ssvdag, traced on both devices against Embree on its triangles.
 scripts/bunny.sh
 build/megavox build build/bunny.ply --resolution 2K --format svdag -o build/bunny_svdag.mvx >/dev/null

@@ -29,6 +29,8 @@ if ((bench)); then
   # Baseline-only libraries: built into the megavox_baselines target only (CMake option MEGAVOX_BASELINES).
   # Boost.Sort (block_indirect_sort) comes with libboost-dev above.
   packages+=(libembree-dev)   # Embree 3, the triangle ray-tracing baseline of bench trace
+  packages+=(libips4o-dev)    # ips4o::parallel::sort (header-only; OpenMP threads), a sort baseline of bench sort
+  packages+=(libhwy-dev)      # Highway's vqsort (libhwy_contrib), a sort baseline of bench sort
   # voxcom, the peer of bench build, is built apart from megavox (scripts/bench.sh) where the shared folder holds
   # it; it also needs assimp, TBB and CLI11, listed above.
   if [[ -d "$(dirname "$0")/../../shared/peers/voxcom" ]]; then

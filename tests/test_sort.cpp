@@ -11,15 +11,16 @@
 namespace mv::test {
 namespace {
 
-// Every case runs with each strategy: the plain global LSD passes and the hybrid (global top digit, then
-// buckets sorted in cache), whatever the device would pick by itself.
+// Every case runs with each strategy, whatever the device would pick by itself: the plain global LSD passes
+// (a block per work-item), the hybrid (global top digit, then buckets sorted in cache) and the cooperative LSD
+// passes (work-groups ranking tiles in shared memory), so each variant is tested on both backends.
 class SortTest : public ::testing::TestWithParam<DeviceInfo> {
  protected:
   Device& dev() { return shared_device(GetParam()); }
 
   template <class Key>
   void check(const std::vector<Key>& keys) {
-    for (SortStrategy s : {SortStrategy::Lsd, SortStrategy::Hybrid, SortStrategy::Auto}) {
+    for (SortStrategy s : {SortStrategy::Lsd, SortStrategy::Hybrid, SortStrategy::Cooperative, SortStrategy::Auto}) {
       strategy_ = s;
       check_one(keys);
       if (HasFatalFailure()) return;
@@ -29,7 +30,10 @@ class SortTest : public ::testing::TestWithParam<DeviceInfo> {
   // Sorts `keys` on the device twice (keys only; pairs with values = index) and compares with the reference.
   template <class Key>
   void check_one(const std::vector<Key>& keys) {
-    SCOPED_TRACE(strategy_ == SortStrategy::Lsd ? "Lsd" : strategy_ == SortStrategy::Hybrid ? "Hybrid" : "Auto");
+    SCOPED_TRACE(strategy_ == SortStrategy::Lsd           ? "Lsd"
+                 : strategy_ == SortStrategy::Hybrid      ? "Hybrid"
+                 : strategy_ == SortStrategy::Cooperative ? "Cooperative"
+                                                          : "Auto");
     std::vector<Key> expect_keys = keys;
     ref::stable_sort<Key>(expect_keys, nullptr);
     std::vector<Key> got = keys;
@@ -54,7 +58,9 @@ class SortTest : public ::testing::TestWithParam<DeviceInfo> {
 
   template <class Key>
   void check_all_shapes() {
-    for (size_t n : {size_t{0}, size_t{1}, size_t{2}, size_t{255}, size_t{256}, size_t{257}, size_t{4097}})
+    // Around the cooperative variant's tile (1024) and block (8192) and the block variant's 4096 keys per block.
+    for (size_t n : {size_t{0}, size_t{1}, size_t{2}, size_t{255}, size_t{256}, size_t{257}, size_t{1023}, size_t{1025},
+                     size_t{4097}, size_t{8191}, size_t{8193}, size_t{3 * 8192 + 5}})
       check<Key>(random<Key>(n, 7 + n));
     const size_t big = (size_t{1} << 20) + 3;
     auto r = random<Key>(big, 42);
@@ -85,6 +91,37 @@ class SortTest : public ::testing::TestWithParam<DeviceInfo> {
 };
 
 TEST_P(SortTest, Keys32AllShapes) { check_all_shapes<uint32_t>(); }
+
+// Small inputs with many ties and digits that are not byte-aligned: bits 5..20 vary, so the digits start at
+// bit 5 and the last one reaches past the varying bits.
+TEST_P(SortTest, UnalignedDigitsAndTies) {
+  std::vector<uint64_t> keys = random_u64(20000, 5);
+  for (auto& k : keys) k = (k & 0x1fffe0ull & ~0x3f00ull) | 0x700000000ull;
+  check<uint64_t>(keys);
+  std::vector<uint32_t> keys32 = random_u32(20000, 6);
+  for (auto& k : keys32) k = (k & 0x00ff0f00u) | 0x80000000u;
+  check<uint32_t>(keys32);
+}
+
+TEST_P(SortTest, CooperativeRunsWhenForcedAndAutoFollowsTheDevice) {
+  std::vector<uint64_t> keys = random_u64(50000, 21), expect = keys;
+  std::vector<uint32_t> values(keys.size()), expect_values;
+  std::iota(values.begin(), values.end(), 0u);
+  expect_values = values;
+  ref::stable_sort<uint64_t>(expect, &expect_values);
+  std::vector<uint64_t> got = keys;
+  std::vector<uint32_t> got_values = values;
+  SortReport r = radix_sort(dev(), got, &got_values, SortStrategy::Cooperative);
+  EXPECT_TRUE(r.cooperative);
+  EXPECT_FALSE(r.hybrid);
+  EXPECT_EQ(r.passes, 8u);
+  EXPECT_TRUE(got == expect);
+  EXPECT_TRUE(got_values == expect_values);
+  got = keys;
+  r = radix_sort(dev(), got, nullptr);
+  EXPECT_EQ(r.cooperative, prefers_cooperative_sort(GetParam()));
+  EXPECT_EQ(prefers_cooperative_sort(GetParam()), GetParam().massively_parallel);
+}
 TEST_P(SortTest, Keys64AllShapes) { check_all_shapes<uint64_t>(); }
 
 TEST_P(SortTest, SkipsConstantDigits) {

@@ -1,5 +1,5 @@
-// Baselines the benchmarks compare megavox against: libraries a user would pick instead (Boost.Sort's
-// parallel sort, Embree's triangle ray tracing). They live in their own target (megavox_baselines), linked
+// Baselines the benchmarks compare megavox against: libraries a user would pick instead (Boost.Sort's,
+// ips4o's and Highway's vqsort sorts, Embree's triangle ray tracing). They live in their own target (megavox_baselines), linked
 // only into the CLI, so the core library and the tests never depend on them. Whether each is built in is
 // decided at configure time (CMake option MEGAVOX_BASELINES and whether the package is installed); a
 // benchmark asks here and, when one is missing, prints missing_note() instead of a figure.
@@ -18,6 +18,8 @@ struct Baseline {
 };
 
 Baseline boost_sort();
+Baseline ips4o();
+Baseline vqsort();
 Baseline embree();
 
 // One line for a benchmark whose baseline is missing: what, which package brings it, how to build it in.
@@ -35,6 +37,22 @@ struct Pair64 {
 // boost::sort::block_indirect_sort by key on all threads. Returns false (and leaves the data) when not built in.
 bool block_indirect_sort(std::span<Pair32> pairs);
 bool block_indirect_sort(std::span<Pair64> pairs);
+
+// ips4o::parallel::sort by key (Debian's ips4o runs on OpenMP threads, all of them). Returns false when not built in.
+bool ips4o_parallel_sort(std::span<Pair32> pairs);
+bool ips4o_parallel_sort(std::span<Pair64> pairs);
+
+// vqsort (Highway's hwy::Sorter, one thread) of plain keys, ascending. It sorts keys, not records with a
+// payload, so (key, value) records go in packed: 32-bit keys as key << 32 | value in a uint64_t, 64-bit keys
+// as a 128-bit key (hi = key, lo = value). Whole-word comparison then orders equal keys by value, which for
+// values = input index is exactly the stable order (hwy's K64V64 would compare the key alone, and vqsort is
+// not stable). Returns false when not built in.
+struct alignas(16) U128 {
+  uint64_t lo, hi;  // hwy::uint128_t's layout
+};
+bool vqsort(std::span<uint32_t> keys);
+bool vqsort(std::span<uint64_t> keys);
+bool vqsort(std::span<U128> keys);
 
 // Embree 3 over triangles (xyz float positions, 3 indices each): builds the scene, then traces one primary
 // ray per pixel (origin `eye`, direction dir0 + x * dx + y * dy), rows over all threads, best of `repeats`.

@@ -1,17 +1,14 @@
 #include "bench/sort_bench.h"
 
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <map>
-#include <span>
-#include <type_traits>
 
 #include "baselines/baselines.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
+#include "sort_baselines.h"
 
 #include "stopwatch.h"
 
@@ -26,14 +23,6 @@ uint64_t splitmix64(uint64_t& state) {
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
   return z ^ (z >> 31);
 }
-
-template <class Key>
-using Pair = std::conditional_t<sizeof(Key) == 8, baseline::Pair64, baseline::Pair32>;
-
-template <class Key>
-struct ByKey {
-  bool operator()(const Pair<Key>& a, const Pair<Key>& b) const { return a.key < b.key; }
-};
 
 // Sorted, a permutation of the input, and stable (equal keys keep their original order).
 template <class Key>
@@ -85,11 +74,12 @@ SortBenchResult run(Device& dev, const SortBenchOptions& o) {
     r.upload_seconds = since(t0);
     dev.take_timings();
     t0 = Clock::now();
-    SortReport rep_report = radix_sort(dev, keys, o.pairs ? &values : nullptr, n, bits);
+    SortReport rep_report = radix_sort(dev, keys, o.pairs ? &values : nullptr, n, bits, o.strategy);
     dev.finish();
     double t = since(t0);
     auto timings = dev.take_timings();
     r.passes = rep_report.passes;
+    r.variant = rep_report.cooperative ? "cooperative" : rep_report.hybrid ? "hybrid" : "lsd";
     if (t < best) {
       best = t;
       std::map<std::string, uint64_t> totals;
@@ -110,32 +100,17 @@ SortBenchResult run(Device& dev, const SortBenchOptions& o) {
   values = Buffer();
 
   // Baselines on the same input, as (key, value) structs: what a C++ user would write.
-  std::vector<Pair<Key>> pairs(n);
-  auto load = [&] {
-    for (uint32_t i = 0; i < n; ++i) pairs[i] = {input[i], i};
-  };
-  load();
-  t0 = Clock::now();
-  std::sort(pairs.begin(), pairs.end(), ByKey<Key>{});
-  r.std_sort_seconds = since(t0);
-  load();
-  t0 = Clock::now();
-  tbb::parallel_sort(pairs.begin(), pairs.end(), ByKey<Key>{});
-  r.parallel_sort_seconds = since(t0);
-  r.parallel_sort_name = "tbb::parallel_sort";
-  if (baseline::boost_sort().built_in) {
-    load();
-    t0 = Clock::now();
-    baseline::block_indirect_sort(std::span(pairs));
-    double boost_s = since(t0);
-    if (boost_s < r.parallel_sort_seconds) {
-      r.parallel_sort_seconds = boost_s;
-      r.parallel_sort_name = baseline::boost_sort().name;
+  r.baselines = run_sort_baselines(input, out_keys, o.repeats, r.missing_baselines);
+  for (auto& b : r.baselines) b.speedup = b.seconds / r.seconds;
+  const SortBaselineRun* std_sort = r.baseline("std::sort");
+  r.std_sort_seconds = std_sort->seconds;
+  for (const char* name : {"tbb::parallel_sort", baseline::boost_sort().name}) {
+    const SortBaselineRun* b = r.baseline(name);
+    if (b && (r.parallel_sort_name.empty() || b->seconds < r.parallel_sort_seconds)) {
+      r.parallel_sort_name = b->name;
+      r.parallel_sort_seconds = b->seconds;
     }
-  } else {
-    r.missing_baselines.push_back(baseline::missing_note(baseline::boost_sort()));
   }
-  pairs = {};
 
   r.keys_per_s = n / r.seconds;
   r.std_sort_keys_per_s = n / r.std_sort_seconds;
@@ -150,6 +125,12 @@ SortBenchResult run(Device& dev, const SortBenchOptions& o) {
 }
 
 }  // namespace
+
+const SortBaselineRun* SortBenchResult::baseline(const std::string& name) const {
+  for (const auto& b : baselines)
+    if (b.name == name) return &b;
+  return nullptr;
+}
 
 double measure_copy_bandwidth(uint64_t bytes) {
   std::vector<char> a(bytes, 1), b(bytes, 2);  // touched, so page faults stay out of the timing

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/primitives.h"
 
 namespace mv::bench {
 
@@ -12,8 +13,18 @@ struct SortBenchOptions {
   uint64_t n = 16u << 20;
   int key_bits = 64;    // 32 or 64
   bool pairs = true;    // move a 32-bit value (the original index) with each key
-  int repeats = 3;      // device runs; the best is reported
+  int repeats = 3;      // runs of megavox and of each baseline; the best of each is reported
+  SortStrategy strategy = SortStrategy::Auto;
   uint64_t seed = 1;
+};
+
+// One CPU baseline on the same input as megavox.
+struct SortBaselineRun {
+  std::string name;       // "std::sort", "ips4o::parallel::sort", ...
+  double seconds = 0;     // best of the repeats
+  double keys_per_s = 0;
+  double speedup = 0;     // megavox's speed over this one: seconds / megavox seconds
+  bool verified = false;  // megavox's keys in order, each value naming an input record with its key, once
 };
 
 struct SortBenchResult {
@@ -22,6 +33,7 @@ struct SortBenchResult {
   int key_bits = 0;
   bool pairs = true;
   uint32_t passes = 0;
+  std::string variant;           // what ran: "hybrid", "lsd" or "cooperative"
   double seconds = 0;            // best device sort, data already on the device
   double upload_seconds = 0;     // host -> device of keys (+ values), last run
   double download_seconds = 0;
@@ -33,6 +45,8 @@ struct SortBenchResult {
   double parallel_sort_keys_per_s = 0;
   double speedup_vs_std_sort = 0;
   double speedup_vs_parallel_sort = 0;
+  std::vector<SortBaselineRun> baselines;  // every baseline run: std::sort, tbb, boost, ips4o, vqsort (when built in)
+  const SortBaselineRun* baseline(const std::string& name) const;  // null when it did not run
   double copy_gb_per_s = 0;      // host memcpy, bytes read + written per second, measured in this run
   double floor_seconds = 0;      // passes x 2 x n x pair bytes / copy bandwidth
   double floor_fraction = 0;     // floor_seconds / seconds

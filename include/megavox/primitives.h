@@ -52,15 +52,24 @@ struct SortReport {
   uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
   uint32_t digits_skipped = 0;  // digits constant over all keys
   bool hybrid = false;          // one global pass on the top digit, then each bucket sorted in cache
+  bool cooperative = false;     // the work-group-cooperative LSD passes (tiles ranked in shared memory)
   uint64_t runs = 1;            // host vectors: runs sorted on the device and merged on the host; with more than
                                 // one, the most passes, the fewest skipped digits and whether any run was hybrid
 };
 
-// Lsd: one global pass per varying digit (any device). Hybrid: one global pass on the most significant
-// varying digit, then each of its 256 buckets sorted in cache by one work-item (fast on CPUs when the keys
-// spread over the buckets). Auto: hybrid on CPU devices when the buckets are balanced, else Lsd. Hybrid
-// falls back to Lsd where a bucket would be too large for the device (a loop cap). Same output either way.
-enum class SortStrategy { Auto, Lsd, Hybrid };
+// Lsd: one global pass per varying digit, each work-item walking one block of keys (any device). Hybrid: one
+// global pass on the most significant varying digit, then each of its 256 buckets sorted in cache (fast on CPUs
+// when the keys spread over the buckets). Cooperative: the LSD passes with work-groups ranking tiles of keys in
+// shared memory (for GPUs; it runs on any device with the work-group size and shared memory it needs, see
+// cooperative_sort_fits, and throws mv::Error elsewhere). Auto: Cooperative where prefers_cooperative_sort says so, else Hybrid on
+// CPU devices when the buckets are balanced, else Lsd. Hybrid falls back to Lsd where a bucket would be too
+// large for the device (a loop cap). Same output, byte for byte, whichever runs.
+enum class SortStrategy { Auto, Lsd, Hybrid, Cooperative };
+
+// Whether the device can run the cooperative sort (work-groups of 128 items, 23.5 KiB of shared memory), and
+// whether Auto picks it there: on GPUs (DeviceInfo::massively_parallel).
+bool cooperative_sort_fits(const DeviceInfo& info);
+bool prefers_cooperative_sort(const DeviceInfo& info);
 
 // Stable LSD radix sort of n keys (32- or 64-bit), with 32-bit values moved along when `values` is not null.
 // Waits once, to learn which digits vary. On return `keys` (and `*values`) hold the sorted data; the Buffer

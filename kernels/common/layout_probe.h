@@ -27,7 +27,8 @@
 /* The fields of each shared struct in declaration order: X(conversion to a 32-bit word, field). */
 #define MV_FIELDS_MORTON(X) X(MV_U32, n) X(MV_U32, pad0)
 #define MV_FIELDS_RADIX(X)                                                                                             \
-  X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, has_values) X(MV_U32, local_digits)
+  X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, has_values) X(MV_U32, count)     \
+  X(MV_U32, local_top) X(MV_U32, local_low) X(MV_U32, scratch_stride)
 #define MV_FIELDS_SCAN(X) X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, wide) X(MV_U32, start_lo) \
   X(MV_U32, start_hi)
 #define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)

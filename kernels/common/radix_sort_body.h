@@ -11,16 +11,30 @@ MV_INLINE mv_u32 MV_KFN(mv_radix_digit)(MV_KEY key, mv_u32 shift) {
   return MV_U32(key >> shift) & MV_U32(MV_RADIX_BUCKETS - 1);
 }
 
-/* OR and AND of the keys of one block: red[2b] = OR, red[2b+1] = AND (all ones for an empty block). */
-MV_INLINE void MV_KFN(mv_radix_or_and)(MvBufKey keys, MvBufKey red, MvRadixParams p, mv_u32 b) {
+/* OR and AND of the keys of one block: red[2b] = OR, red[2b+1] = AND (all ones for an empty block). With
+ * p.count != 0 it also writes the block's histogram of the digit at p.shift, as radix_histogram does: a guess
+ * at the first digit the host will sort on, which saves that pass's read of every key when it is right. */
+MV_INLINE void MV_KFN(mv_radix_or_and)(MvBufKey keys, MvBufKey red, MvBufU32 hist, MvRadixParams p, mv_u32 b) {
   mv_u32 begin = b * p.block_size;
   mv_u32 end = MV_MIN(begin + p.block_size, p.n);
   MV_KEY acc_or = MV_KCAST(0);
   MV_KEY acc_and = ~MV_KCAST(0);
-  for (mv_u32 i = begin; i < end; ++i) {
-    MV_KEY k = MV_LD(keys, i);
-    acc_or |= k;
-    acc_and &= k;
+  if (p.count != 0u) {
+    mv_u32 count[MV_RADIX_BUCKETS];
+    for (mv_u32 d = 0u; d < MV_U32(MV_RADIX_BUCKETS); ++d) count[d] = 0u;
+    for (mv_u32 i = begin; i < end; ++i) {
+      MV_KEY k = MV_LD(keys, i);
+      acc_or |= k;
+      acc_and &= k;
+      count[MV_KFN(mv_radix_digit)(k, p.shift)] += 1u;
+    }
+    for (mv_u32 d = 0u; d < MV_U32(MV_RADIX_BUCKETS); ++d) MV_ST(hist, d * p.blocks + b, count[d]);
+  } else {
+    for (mv_u32 i = begin; i < end; ++i) {
+      MV_KEY k = MV_LD(keys, i);
+      acc_or |= k;
+      acc_and &= k;
+    }
   }
   MV_ST(red, 2u * b, acc_or);
   MV_ST(red, 2u * b + 1u, acc_and);
@@ -35,27 +49,29 @@ MV_INLINE void MV_KFN(mv_radix_histogram)(MvBufKey keys, MvBufU32 hist, MvRadixP
   for (mv_u32 d = 0u; d < MV_U32(MV_RADIX_BUCKETS); ++d) MV_ST(hist, d * p.blocks + b, count[d]);
 }
 
-/* One stable counting-sort pass over [begin, end) of src into dst, by the digit at `shift`; `next` holds each
- * digit's first output position and is advanced. */
-MV_INLINE void MV_KFN(mv_radix_pass)(MvBufKey src, MvBufKey dst, MvBufU32 vsrc, MvBufU32 vdst, mv_u32 has_values,
-                                           mv_u32 begin, mv_u32 end, mv_u32 shift,
-                                           MV_ARRAY256_PARAM(mv_u32, next)) {
+/* One stable counting-sort pass over [begin, end) by the digit at `shift`: key i is read at src[i + soff] and
+ * written at dst[pos + doff], where `next` holds each digit's first output position and is advanced. The
+ * offsets let the hybrid's in-bucket passes use a scratch slice at another place than the bucket (indices wrap
+ * modulo 2^32, so an offset may be "negative"). */
+MV_INLINE void MV_KFN(mv_radix_pass)(MvBufKey src, mv_u32 soff, MvBufKey dst, mv_u32 doff, MvBufU32 vsrc,
+                                     MvBufU32 vdst, mv_u32 has_values, mv_u32 begin, mv_u32 end, mv_u32 shift,
+                                     MV_ARRAY256_PARAM(mv_u32, next)) {
   if (has_values != 0u) {
     for (mv_u32 i = begin; i < end; ++i) {
-      MV_KEY k = MV_LD(src, i);
+      MV_KEY k = MV_LD(src, i + soff);
       mv_u32 d = MV_KFN(mv_radix_digit)(k, shift);
       mv_u32 pos = next[d];
       next[d] = pos + 1u;
-      MV_ST(dst, pos, k);
-      MV_ST(vdst, pos, MV_LD(vsrc, i));
+      MV_ST(dst, pos + doff, k);
+      MV_ST(vdst, pos + doff, MV_LD(vsrc, i + soff));
     }
   } else {
     for (mv_u32 i = begin; i < end; ++i) {
-      MV_KEY k = MV_LD(src, i);
+      MV_KEY k = MV_LD(src, i + soff);
       mv_u32 d = MV_KFN(mv_radix_digit)(k, shift);
       mv_u32 pos = next[d];
       next[d] = pos + 1u;
-      MV_ST(dst, pos, k);
+      MV_ST(dst, pos + doff, k);
     }
   }
 }
@@ -67,16 +83,17 @@ MV_INLINE void MV_KFN(mv_radix_scatter)(MvBufKey keys_in, MvBufKey keys_out, MvB
   for (mv_u32 d = 0u; d < MV_U32(MV_RADIX_BUCKETS); ++d) next[d] = MV_LD(offsets, d * p.blocks + b);
   mv_u32 begin = b * p.block_size;
   mv_u32 end = MV_MIN(begin + p.block_size, p.n);
-  MV_KFN(mv_radix_pass)(keys_in, keys_out, vals_in, vals_out, p.has_values, begin, end, p.shift, next);
+  MV_KFN(mv_radix_pass)(keys_in, 0u, keys_out, 0u, vals_in, vals_out, p.has_values, begin, end, p.shift, next);
 }
 
-/* Stable insertion sort of [begin, end) of src (values vsrc) into the same range of keys (values vals);
- * src may be keys itself. Finishes the ranges the in-bucket MSD passes leave small. */
-MV_INLINE void MV_KFN(mv_radix_insertion)(MvBufKey src, MvBufU32 vsrc, MvBufKey keys, MvBufU32 vals, mv_u32 has_values,
-                                          mv_u32 begin, mv_u32 end) {
+/* Stable insertion sort of [begin, end): key i read at src[i + soff] (values vsrc), the result in the same range
+ * of keys (values vals); src may be keys itself (soff 0). Finishes the ranges the in-bucket MSD passes leave
+ * small. */
+MV_INLINE void MV_KFN(mv_radix_insertion)(MvBufKey src, MvBufU32 vsrc, mv_u32 soff, MvBufKey keys, MvBufU32 vals,
+                                          mv_u32 has_values, mv_u32 begin, mv_u32 end) {
   for (mv_u32 i = begin; i < end; ++i) {
-    MV_KEY k = MV_LD(src, i);
-    mv_u32 v = has_values != 0u ? MV_LD(vsrc, i) : 0u;
+    MV_KEY k = MV_LD(src, i + soff);
+    mv_u32 v = has_values != 0u ? MV_LD(vsrc, i + soff) : 0u;
     mv_u32 j = i;
     while (j > begin && MV_LD(keys, j - 1u) > k) { /* strictly greater keeps equal keys in order */
       MV_ST(keys, j, MV_LD(keys, j - 1u));
@@ -88,93 +105,101 @@ MV_INLINE void MV_KFN(mv_radix_insertion)(MvBufKey src, MvBufU32 vsrc, MvBufKey 
   }
 }
 
-/* Hybrid second stage: after one global pass on the most significant varying digit has grouped the keys
- * into 256 buckets (in the alt buffers), work-item d sorts bucket d on the remaining varying digits
- * (p.local_digits, bit j = digit j) and leaves it in the main buffers. Within the bucket it is an MSD
- * radix sort: each range is split on its next digit (moving between the main and alt buffers), ranges of
- * at most MV_RADIX_SMALL keys (or splits into such children only) are finished by insertion sort, and a
- * digit on which a whole range agrees is
- * skipped without moving anything. Random keys are done after about two in-bucket passes instead of one per
- * digit. Recursion is an explicit stack of at most one frame per digit. `offsets` is the scanned histogram
- * of the global pass, so bucket d starts at offsets[d * blocks]. */
-MV_INLINE void MV_KFN(mv_radix_local_sort)(MvBufKey keys, MvBufKey keys_alt, MvBufU32 vals, MvBufU32 vals_alt,
-                                           MvBufU32 offsets, MvRadixParams p, mv_u32 d) {
-  mv_u32 digit[MV_RADIX_KEY_DIGITS]; /* local digits, most significant first */
-  mv_u32 ndigits = 0u;
-  for (mv_u32 j = MV_U32(MV_RADIX_KEY_DIGITS); j > 0u; --j)
-    if ((p.local_digits & (1u << (j - 1u))) != 0u) {
-      digit[ndigits] = j - 1u;
-      ndigits += 1u;
-    }
+/* Hybrid second stage. One global pass on the most significant varying digit (at p.local_top) has grouped the
+ * keys into 256 buckets in `keys` (values `vals`); each bucket is sorted there on bits [p.local_low,
+ * p.local_top), the bits below the top digit that vary. Work-items take buckets from a counter until none is
+ * left (offsets[blocks * 256 + 1], zero before the dispatch), each moving its bucket through a scratch slice of
+ * `scratch` (values `vscratch`) that starts at w * p.scratch_stride and is reused for every bucket it takes, so
+ * it stays in cache. With p.scratch_stride 0 (where loops are capped) work-item w sorts bucket w alone, through
+ * the bucket's own range of `scratch`.
+ * Within a bucket it is an MSD radix sort on 8-bit digits: a range whose keys agree on every bit from `top` up
+ * is split on the digit just below `top` (ping-ponging between bucket and slice), a range of at most
+ * MV_RADIX_SMALL keys (or whose children are all that small) is finished by insertion sort back into the
+ * bucket, and a digit on which a whole range agrees is skipped without moving anything. Random keys are done
+ * after two in-bucket passes. Recursion is an explicit stack of at most one frame per digit. `offsets` is the
+ * global pass's scanned histogram, so bucket d starts at offsets[d * blocks]. */
+MV_INLINE void MV_KFN(mv_radix_local_sort)(MvBufKey keys, MvBufKey scratch, MvBufU32 vals, MvBufU32 vscratch,
+                                           MvBufU32 offsets, MvRadixParams p, mv_u32 w) {
   mv_u32 bounds[MV_RADIX_KEY_DIGITS * (MV_RADIX_BUCKETS + 1)]; /* per frame: its children's ranges */
   mv_u32 frame_child[MV_RADIX_KEY_DIGITS];                     /* per frame: next child to visit */
-  mv_u32 frame_level[MV_RADIX_KEY_DIGITS];                     /* per frame: the children's digit level */
-  mv_u32 frame_alt[MV_RADIX_KEY_DIGITS];                       /* per frame: children live in alt (1) or main */
-  mv_u32 count[MV_RADIX_BUCKETS];
+  mv_u32 frame_top[MV_RADIX_KEY_DIGITS];                       /* per frame: the children's top bit */
+  mv_u32 frame_slice[MV_RADIX_KEY_DIGITS];                     /* per frame: children live in the slice (1) */
+  mv_u32 count[MV_RADIX_BUCKETS]; /* zero between ranges */
   mv_u32 next[MV_RADIX_BUCKETS];
-  mv_u32 depth = 0u;
-  /* the range being processed */
-  mv_u32 b = MV_LD(offsets, d * p.blocks);
-  mv_u32 e = d + 1u < MV_U32(MV_RADIX_BUCKETS) ? MV_LD(offsets, (d + 1u) * p.blocks) : p.n;
-  mv_u32 alt = 1u;
-  mv_u32 level = 0u;
-  bool have = e > b;
-  while (have) {
-    /* Descend: split the range on its next digit, or finish it. */
-    while (true) {
-      if (e - b <= MV_U32(MV_RADIX_SMALL) || level == ndigits) {
-        if (alt != 0u) MV_KFN(mv_radix_insertion)(keys_alt, vals_alt, keys, vals, p.has_values, b, e);
-        else if (e - b > 1u) MV_KFN(mv_radix_insertion)(keys, vals, keys, vals, p.has_values, b, e);
+  for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) count[c] = 0u;
+  const mv_u32 counter = p.blocks * MV_U32(MV_RADIX_BUCKETS) + 1u;
+  mv_u32 d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : w;
+  for (; d < MV_U32(MV_RADIX_BUCKETS); d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : d + 256u) {
+    mv_u32 b = MV_LD(offsets, d * p.blocks);
+    mv_u32 e = d + 1u < MV_U32(MV_RADIX_BUCKETS) ? MV_LD(offsets, (d + 1u) * p.blocks) : p.n;
+    mv_u32 soff = p.scratch_stride != 0u ? w * p.scratch_stride - b : 0u; /* slice index = bucket index + soff */
+    mv_u32 depth = 0u;
+    mv_u32 in_slice = 0u; /* where the range being processed lives */
+    mv_u32 top = p.local_top;
+    bool have = e - b > 1u;
+    while (have) {
+      /* Descend: split the range on the digit below `top`, or finish it. */
+      while (true) {
+        if (e - b <= MV_U32(MV_RADIX_SMALL) || top <= p.local_low) {
+          if (in_slice != 0u) MV_KFN(mv_radix_insertion)(scratch, vscratch, soff, keys, vals, p.has_values, b, e);
+          else if (e - b > 1u) MV_KFN(mv_radix_insertion)(keys, vals, 0u, keys, vals, p.has_values, b, e);
+          break;
+        }
+        mv_u32 shift = top >= p.local_low + 8u ? top - 8u : p.local_low;
+        if (in_slice != 0u)
+          for (mv_u32 i = b; i < e; ++i) count[MV_KFN(mv_radix_digit)(MV_LD(scratch, i + soff), shift)] += 1u;
+        else
+          for (mv_u32 i = b; i < e; ++i) count[MV_KFN(mv_radix_digit)(MV_LD(keys, i), shift)] += 1u;
+        /* One loop lays out the children, finds the largest and clears the counts for the next range. */
+        mv_u32 base = depth * MV_U32(MV_RADIX_BUCKETS + 1);
+        mv_u32 acc = b;
+        mv_u32 largest = 0u;
+        for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) {
+          mv_u32 size = count[c];
+          count[c] = 0u;
+          largest = MV_MAX(largest, size);
+          bounds[base + c] = acc;
+          next[c] = acc;
+          acc += size;
+        }
+        if (largest == e - b) { /* the whole range agrees on this digit */
+          top = shift;
+          continue;
+        }
+        bounds[base + MV_U32(MV_RADIX_BUCKETS)] = e;
+        if (in_slice != 0u)
+          MV_KFN(mv_radix_pass)(scratch, soff, keys, 0u, vscratch, vals, p.has_values, b, e, shift, next);
+        else
+          MV_KFN(mv_radix_pass)(keys, 0u, scratch, soff, vals, vscratch, p.has_values, b, e, shift, next);
+        if (largest <= MV_U32(MV_RADIX_SMALL)) {
+          /* Every child is small: one insertion pass over the whole range finishes them all, since each key
+           * only moves within its own child (later children hold larger keys). */
+          if (in_slice != 0u) MV_KFN(mv_radix_insertion)(keys, vals, 0u, keys, vals, p.has_values, b, e);
+          else MV_KFN(mv_radix_insertion)(scratch, vscratch, soff, keys, vals, p.has_values, b, e);
+          break;
+        }
+        frame_child[depth] = 0u;
+        frame_top[depth] = shift;
+        frame_slice[depth] = 1u - in_slice;
+        depth += 1u;
         break;
       }
-      mv_u32 shift = 8u * digit[level];
-      for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) count[c] = 0u;
-      for (mv_u32 i = b; i < e; ++i)
-        count[MV_KFN(mv_radix_digit)(alt != 0u ? MV_LD(keys_alt, i) : MV_LD(keys, i), shift)] += 1u;
-      mv_u32 largest = 0u;
-      for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) largest = MV_MAX(largest, count[c]);
-      if (largest == e - b) { /* the whole range agrees on this digit */
-        level += 1u;
-        continue;
+      /* Ascend: the next non-empty child of the deepest frame that has one. */
+      have = false;
+      while (depth > 0u && !have) {
+        mv_u32 f = depth - 1u;
+        mv_u32 c = frame_child[f];
+        if (c == MV_U32(MV_RADIX_BUCKETS)) {
+          depth -= 1u;
+          continue;
+        }
+        frame_child[f] = c + 1u;
+        b = bounds[f * MV_U32(MV_RADIX_BUCKETS + 1) + c];
+        e = bounds[f * MV_U32(MV_RADIX_BUCKETS + 1) + c + 1u];
+        in_slice = frame_slice[f];
+        top = frame_top[f];
+        have = e > b;
       }
-      mv_u32 base = depth * MV_U32(MV_RADIX_BUCKETS + 1);
-      mv_u32 acc = b;
-      for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) {
-        bounds[base + c] = acc;
-        next[c] = acc;
-        acc += count[c];
-      }
-      bounds[base + MV_U32(MV_RADIX_BUCKETS)] = e;
-      if (alt != 0u) MV_KFN(mv_radix_pass)(keys_alt, keys, vals_alt, vals, p.has_values, b, e, shift, next);
-      else MV_KFN(mv_radix_pass)(keys, keys_alt, vals, vals_alt, p.has_values, b, e, shift, next);
-      if (largest <= MV_U32(MV_RADIX_SMALL)) {
-        /* Every child is small: one insertion pass over the whole range finishes them all, since each key
-         * only moves within its own child (later children hold larger keys). */
-        if (alt != 0u) MV_KFN(mv_radix_insertion)(keys, vals, keys, vals, p.has_values, b, e);
-        else MV_KFN(mv_radix_insertion)(keys_alt, vals_alt, keys, vals, p.has_values, b, e);
-        break;
-      }
-      frame_child[depth] = 0u;
-      frame_level[depth] = level + 1u;
-      frame_alt[depth] = 1u - alt;
-      depth += 1u;
-      break;
-    }
-    /* Ascend: the next non-empty child of the deepest frame that has one. */
-    have = false;
-    while (depth > 0u && !have) {
-      mv_u32 f = depth - 1u;
-      mv_u32 c = frame_child[f];
-      if (c == MV_U32(MV_RADIX_BUCKETS)) {
-        depth -= 1u;
-        continue;
-      }
-      frame_child[f] = c + 1u;
-      b = bounds[f * MV_U32(MV_RADIX_BUCKETS + 1) + c];
-      e = bounds[f * MV_U32(MV_RADIX_BUCKETS + 1) + c + 1u];
-      alt = frame_alt[f];
-      level = frame_level[f];
-      have = e > b;
     }
   }
 }

@@ -91,14 +91,25 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
                  {&lv.mask, &lv.first, &below.id, &below.row, &r.row, &r.rep, &masks, &entries}, p);
   out.mask = fetch<uint32_t>(dev, masks, n);
   if (leaf) return out;
-  std::vector<uint64_t> e = fetch<uint64_t>(dev, entries, size_t{n} * 8);
+  // Read back in chunks: the entries take 64 bytes a node, and the level's host copy needs 4 (8 with tags)
+  // a child; holding all entries at once was the out-of-core merge's host peak.
+  uint64_t children = 0;
+  for (uint32_t m : out.mask) children += static_cast<uint64_t>(__builtin_popcount(m));
   out.first.resize(n);
-  for (uint32_t i = 0; i < n; ++i) {
-    out.first[i] = static_cast<uint32_t>(out.children.size());
-    for (uint32_t o = 0; o < 8; ++o) {
-      if (!(out.mask[i] >> o & 1)) continue;
-      out.children.push_back(mv_entry_id(e[8 * size_t{i} + o]));
-      if (symmetric) out.tags.push_back(mv_entry_tag(e[8 * size_t{i} + o]));
+  out.children.reserve(children);
+  if (symmetric) out.tags.reserve(children);
+  constexpr uint32_t kChunk = 1u << 18;
+  std::vector<uint64_t> e(size_t{std::min(n, kChunk)} * 8);
+  for (uint32_t c = 0; c < n; c += kChunk) {
+    const uint32_t m = std::min(kChunk, n - c);
+    dev.download(entries, e.data(), uint64_t{m} * 64, uint64_t{c} * 64);
+    for (uint32_t i = c; i < c + m; ++i) {
+      out.first[i] = static_cast<uint32_t>(out.children.size());
+      for (uint32_t o = 0; o < 8; ++o) {
+        if (!(out.mask[i] >> o & 1)) continue;
+        out.children.push_back(mv_entry_id(e[8 * size_t{i - c} + o]));
+        if (symmetric) out.tags.push_back(mv_entry_tag(e[8 * size_t{i - c} + o]));
+      }
     }
   }
   return out;

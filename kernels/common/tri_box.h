@@ -47,18 +47,20 @@ MV_EDGE_AXES(mv_edge_axes_y_separate, e0z, 0.0, -e0x, e1z, 0.0, -e1x, e2z, 0.0, 
 MV_EDGE_AXES(mv_edge_axes_z_separate, -e0y, e0x, 0.0, -e1y, e1x, 0.0, -e2y, e2x, 0.0)
 #undef MV_EDGE_AXES
 
-/* Triangle (a, b, c) in grid units against voxel (i, j, k). */
-MV_INLINE bool mv_tri_box_overlap(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
-                                  mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k) {
+/* Triangle (a, b, c) in grid units against voxel (i, j, k), leaving out the tests mv_tri_box_column already
+ * passed for the column along axis `column` through the voxel (3: none left out; the outcome is the same,
+ * since those tests read only what the column's voxels share). */
+MV_INLINE bool mv_tri_box_overlap_in(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
+                                     mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 column) {
   const mv_f64 h = 0.5;
   /* vertices relative to the voxel centre */
   MV_PRECISE mv_f64 v0x = ax - (MV_F64(i) + h), v0y = ay - (MV_F64(j) + h), v0z = az - (MV_F64(k) + h);
   MV_PRECISE mv_f64 v1x = bx - (MV_F64(i) + h), v1y = by - (MV_F64(j) + h), v1z = bz - (MV_F64(k) + h);
   MV_PRECISE mv_f64 v2x = cx - (MV_F64(i) + h), v2y = cy - (MV_F64(j) + h), v2z = cz - (MV_F64(k) + h);
   /* 1. the box's own axes: the triangle's bounding box */
-  if (mv_axis_separates(v0x, v1x, v2x, h) || mv_axis_separates(v0y, v1y, v2y, h) ||
-      mv_axis_separates(v0z, v1z, v2z, h))
-    return false;
+  if ((column == 0u || column == 3u) && mv_axis_separates(v0x, v1x, v2x, h)) return false;
+  if ((column == 1u || column == 3u) && mv_axis_separates(v0y, v1y, v2y, h)) return false;
+  if ((column == 2u || column == 3u) && mv_axis_separates(v0z, v1z, v2z, h)) return false;
   MV_PRECISE mv_f64 e0x = v1x - v0x, e0y = v1y - v0y, e0z = v1z - v0z;
   MV_PRECISE mv_f64 e1x = v2x - v1x, e1y = v2y - v1y, e1z = v2z - v1z;
   /* 2. the triangle's normal: cheap, and it rejects most candidates of a column walk */
@@ -71,13 +73,20 @@ MV_INLINE bool mv_tri_box_overlap(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv
     if (d > rr || d < -rr) return false;
   }
   /* 3. the nine cross products of the box axes with the edges */
-  return !mv_edge_axes_x_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z) &&
-         !mv_edge_axes_y_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z) &&
-         !mv_edge_axes_z_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z);
+  return (column == 0u || !mv_edge_axes_x_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z)) &&
+         (column == 1u || !mv_edge_axes_y_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z)) &&
+         (column == 2u || !mv_edge_axes_z_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z));
+}
+
+/* Triangle (a, b, c) in grid units against voxel (i, j, k): every test. */
+MV_INLINE bool mv_tri_box_overlap(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
+                                  mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k) {
+  return mv_tri_box_overlap_in(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, 3u);
 }
 
 /* The part of mv_tri_box_overlap that depends only on a column along axis d through voxel (i, j, k) (its
- * d-th coordinate is ignored): the three edge axes of box axis d. False: no voxel of the column overlaps. */
+ * d-th coordinate is ignored): the box's two other axes and the three edge axes of box axis d. False: no
+ * voxel of the column overlaps. */
 MV_INLINE bool mv_tri_box_column(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
                                  mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 d) {
   const mv_f64 h = 0.5;
@@ -88,6 +97,9 @@ MV_INLINE bool mv_tri_box_column(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_
   MV_PRECISE mv_f64 v1z = d == 2u ? 0.0 : bz - (MV_F64(k) + h);
   MV_PRECISE mv_f64 v2x = d == 0u ? 0.0 : cx - (MV_F64(i) + h), v2y = d == 1u ? 0.0 : cy - (MV_F64(j) + h);
   MV_PRECISE mv_f64 v2z = d == 2u ? 0.0 : cz - (MV_F64(k) + h);
+  if ((d != 0u && mv_axis_separates(v0x, v1x, v2x, h)) || (d != 1u && mv_axis_separates(v0y, v1y, v2y, h)) ||
+      (d != 2u && mv_axis_separates(v0z, v1z, v2z, h)))
+    return false;
   if (d == 0u) return !mv_edge_axes_x_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z);
   if (d == 1u) return !mv_edge_axes_y_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z);
   return !mv_edge_axes_z_separate(v0x, v0y, v0z, v1x, v1y, v1z, v2x, v2y, v2z);

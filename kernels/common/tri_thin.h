@@ -29,8 +29,10 @@ MV_INLINE bool mv_thin_projection(mv_f64 u0, mv_f64 v0, mv_f64 u1, mv_f64 v1, mv
   return mv_thin_edge(u0, v0, u1, v1, s) && mv_thin_edge(u1, v1, u2, v2, s) && mv_thin_edge(u2, v2, u0, v0, s);
 }
 
-MV_INLINE bool mv_tri_voxel_thin(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
-                                 mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid) {
+/* `column`: the projection mv_tri_thin_column already passed for the column along that axis is left out (3:
+ * none; the same outcome, it reads only what the column's voxels share). */
+MV_INLINE bool mv_tri_voxel_thin_in(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
+                                    mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid, mv_u32 column) {
   const mv_f64 h = 0.5;
   MV_PRECISE mv_f64 v0x = ax - (MV_F64(i) + h), v0y = ay - (MV_F64(j) + h), v0z = az - (MV_F64(k) + h);
   MV_PRECISE mv_f64 v1x = bx - (MV_F64(i) + h), v1y = by - (MV_F64(j) + h), v1z = bz - (MV_F64(k) + h);
@@ -51,8 +53,14 @@ MV_INLINE bool mv_tri_voxel_thin(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_
   bool below = nd > 0.0 ? w < -reach : w > reach;   /* crossing under c_d - 1/2 */
   bool above = nd > 0.0 ? w >= reach : w <= -reach; /* crossing at or over c_d + 1/2 */
   if (below || (above && !(top && w == (nd > 0.0 ? reach : -reach)))) return false;
-  return mv_thin_projection(v0y, v0z, v1y, v1z, v2y, v2z, nx) && mv_thin_projection(v0z, v0x, v1z, v1x, v2z, v2x, ny) &&
-         mv_thin_projection(v0x, v0y, v1x, v1y, v2x, v2y, nz);
+  return (column == 0u || mv_thin_projection(v0y, v0z, v1y, v1z, v2y, v2z, nx)) &&
+         (column == 1u || mv_thin_projection(v0z, v0x, v1z, v1x, v2z, v2x, ny)) &&
+         (column == 2u || mv_thin_projection(v0x, v0y, v1x, v1y, v2x, v2y, nz));
+}
+
+MV_INLINE bool mv_tri_voxel_thin(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
+                                 mv_f64 cy, mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid) {
+  return mv_tri_voxel_thin_in(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, grid, 3u);
 }
 
 /* The projection test dropping axis d alone, for the column along d through voxel (i, j, k): it reads only

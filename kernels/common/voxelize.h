@@ -128,13 +128,20 @@ MV_INLINE mv_f64 mv_pick(mv_f64 x, mv_f64 y, mv_f64 z, mv_u32 axis) { return axi
 /* Half-open along the grid axes (see the top of this file): the closed test, minus cells the triangle only
  * touches from above (all of it at or beyond the cell's upper face, except on the grid's top face). The
  * thin rule keeps the same exclusion, so thin voxels stay within the conservative ones. */
-MV_INLINE bool mv_voxel_hit(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx, mv_f64 cy,
-                            mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid, mv_u32 thin) {
+/* `column`: a voxel of a column along that axis whose column tests passed (mv_column_may_hit), whose tests
+ * are then left out; 3 = every test. */
+MV_INLINE bool mv_voxel_hit_in(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx, mv_f64 cy,
+                               mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid, mv_u32 thin, mv_u32 column) {
   if (i + 1u < grid && MV_FMIN(ax, MV_FMIN(bx, cx)) >= MV_F64(i + 1u)) return false;
   if (j + 1u < grid && MV_FMIN(ay, MV_FMIN(by, cy)) >= MV_F64(j + 1u)) return false;
   if (k + 1u < grid && MV_FMIN(az, MV_FMIN(bz, cz)) >= MV_F64(k + 1u)) return false;
-  if (thin != 0u) return mv_tri_voxel_thin(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, grid);
-  return mv_tri_box_overlap(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k);
+  if (thin != 0u) return mv_tri_voxel_thin_in(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, grid, column);
+  return mv_tri_box_overlap_in(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, column);
+}
+
+MV_INLINE bool mv_voxel_hit(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx, mv_f64 cy,
+                            mv_f64 cz, mv_u32 i, mv_u32 j, mv_u32 k, mv_u32 grid, mv_u32 thin) {
+  return mv_voxel_hit_in(ax, ay, az, bx, by, bz, cx, cy, cz, i, j, k, grid, thin, 3u);
 }
 
 /* A triangle's plane n . x = w over its walk: the reach of the dominant coordinate over a column. */
@@ -242,7 +249,7 @@ MV_INLINE void mv_voxelize_columns(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, m
           mv_u32 x = d == 0u ? cd : cu;
           mv_u32 y = d == 1u ? cd : d == 0u ? cu : cv;
           mv_u32 z = d == 2u ? cd : cv;
-          if (mv_voxel_hit(ax, ay, az, bx, by, bz, cx, cy, cz, x, y, z, p.grid, p.thin))
+          if (mv_voxel_hit_in(ax, ay, az, bx, by, bz, cx, cy, cz, x, y, z, p.grid, p.thin, d))
             mask |= MV_U64(1u) << mv_brick_bit(x, y, z);
         }
       }

@@ -10,6 +10,7 @@
 #include "bench/build_bench.h"
 #include "bench/stopwatch.h"
 #include "bench/voxcom_peer.h"
+#include "megavox/error.h"
 #include "build_args.h"
 #include "cli_common.h"
 
@@ -37,8 +38,12 @@ PeerOutcome run_peer(const BenchBuildArgs& a, const BuildOptions& o) {
                 "build/peers/voxcom` (scripts/bench.sh does when ../shared/peers/voxcom exists)",
             {}};
   PeerOutcome out{"ran", {}};
-  for (int rep = 0; rep < a.repeats; ++rep)
-    out.runs.push_back(bench::run_voxcom(a.peer, o.input, o.resolution ? o.resolution : 1024));  // build's default
+  try {
+    for (int rep = 0; rep < a.repeats; ++rep)
+      out.runs.push_back(bench::run_voxcom(a.peer, o.input, o.resolution ? o.resolution : 1024));  // build's default
+  } catch (const mv::Error& e) {  // the peer's failure is a line of the report, not the end of megavox's benchmark
+    return {std::string("peer: ") + e.what(), {}};
+  }
   return out;
 }
 

@@ -1,0 +1,78 @@
+// megavox — point clouds: the columns a reader delivers and the LOD hierarchy the builder makes of them.
+//
+// Positions are integers on the input's own grid (DESIGN.md, "Point clouds"): world = offset + scale * xyz per
+// axis, in double. A LAS file's grid is its header's scale and offset; a float PLY's is chosen from the data's
+// precision (io/point_source.h). Attributes travel with their point as parallel columns.
+// No device types: readers and reference code use these alone.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mv {
+
+// Optional attribute columns, as bits of PointCloudInfo::attributes.
+enum PointAttribute : uint32_t {
+  kPointRgb = 1,        // 3 x uint16 per point, as stored (LAS: 16-bit fields, PLY: uchar or ushort)
+  kPointNormal = 2,     // 3 x float per point
+  kPointIntensity = 4,  // 1 x uint16 per point
+  kPointExtra = 8,      // PointCloudInfo::extra_bytes raw bytes per point (LAS extra bytes, carried)
+};
+
+// Points as columns (struct of arrays). A column an info's attributes do not name is empty.
+struct PointColumns {
+  std::vector<int32_t> xyz;         // 3 per point
+  std::vector<uint16_t> rgb;        // 3 per point
+  std::vector<float> normal;        // 3 per point
+  std::vector<uint16_t> intensity;  // 1 per point
+  std::vector<uint8_t> extra;       // extra_bytes per point
+
+  uint64_t size() const { return xyz.size() / 3; }
+  void clear();
+  // Appends point i of `from` (which carries the same columns, with `extra_bytes` bytes of extra per point).
+  void append(const PointColumns& from, uint64_t i, uint32_t extra_bytes);
+};
+
+struct PointCloudInfo {
+  std::string format;         // what was read, for messages and `points info`: "LAS 1.2, point format 3", ...
+  uint64_t points = 0;        // declared by the header
+  uint32_t attributes = 0;    // PointAttribute bits
+  uint32_t extra_bytes = 0;   // per point, with kPointExtra
+  double scale[3] = {1, 1, 1};
+  double offset[3] = {0, 0, 0};
+  bool z_up = false;          // LAS: +Z up; PLY: +Y up (the render's camera presets)
+  std::string crs;            // the CRS the input declared (LAS WKT), or empty
+};
+
+// One node of the LOD octree. Codes carry a sentinel bit above 3 * level Morton bits (OMiCroN's convention):
+// the root is 1, a child of c is (c << 3) | octant, the level is (bit width of code - 1) / 3.
+struct PointNode {
+  uint64_t code = 1;
+  uint64_t first_point = 0;      // into PointHierarchy::points
+  uint64_t subtree_points = 0;   // input points at the leaves of its subtree
+  uint32_t point_count = 0;      // a leaf: all of its points; an inner node: its representatives
+  uint32_t first_child = 0;      // index of its first child in PointHierarchy::nodes (children are contiguous)
+  uint8_t child_mask = 0;        // bit o: a child in octant o; 0 for a leaf
+  uint8_t level = 0;
+  uint16_t pad = 0;
+  bool leaf() const { return child_mask == 0; }
+};
+
+// The finished hierarchy: nodes breadth-first (root first, each node's children contiguous and in octant
+// order), points in node order (node i's points are points[first_point, first_point + point_count)).
+struct PointHierarchy {
+  PointCloudInfo source;
+  // The cube the Morton codes cover, on the input's grid: a point's 21-bit cell per axis is
+  // (xyz - cube_min) >> shift, so the cube's side is 2^(21 + shift) input units.
+  int64_t cube_min[3] = {0, 0, 0};
+  uint32_t shift = 0;
+  uint32_t depth = 0;  // the deepest level that holds a node
+  std::vector<PointNode> nodes;
+  PointColumns points;
+  uint64_t points_in = 0;       // read from the input
+  uint64_t points_kept = 0;     // at the leaves (points_in - points_dropped)
+  uint64_t points_dropped = 0;  // counted, with the reason in the build's report
+  std::vector<uint64_t> nodes_per_level;  // index = level
+};
+
+}  // namespace mv

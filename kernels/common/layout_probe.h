@@ -17,6 +17,7 @@
 #include "lang_probe.h"
 #include "secondary.h"
 #include "unique.h"
+#include "points.h"
 #include "voxelize.h"
 
 #define MV_PROBE_FIELDS 32u /* at most, per struct */
@@ -50,6 +51,9 @@
 #define MV_FIELDS_RAY(X)                                                                                               \
   X(MV_FBITS, ox) X(MV_FBITS, oy) X(MV_FBITS, oz) X(MV_FBITS, dx) X(MV_FBITS, dy) X(MV_FBITS, dz)                      \
   X(MV_FBITS, tmax) X(MV_FBITS, lod_t)
+#define MV_FIELDS_POINT(X)                                                                                             \
+  X(MV_U32, n) X(MV_U32, shift) X(MV_U32, min_x) X(MV_U32, min_y) X(MV_U32, min_z) X(MV_U32, base) X(MV_U32, cell_bits) \
+  X(MV_U32, cap)
 #define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
 
 #define MV_PROBE_VALUE(word, f)                                                                                        \
@@ -87,5 +91,6 @@ MV_PROBE(trace_params, MvTraceParams, MV_FIELDS_TRACE)
 MV_PROBE(secondary_params, MvSecondaryParams, MV_FIELDS_SECONDARY)
 MV_PROBE(ray, MvRay, MV_FIELDS_RAY)
 MV_PROBE(hit, MvHit, MV_FIELDS_HIT)
+MV_PROBE(point_params, MvPointParams, MV_FIELDS_POINT)
 
 #endif /* MV_LAYOUT_PROBE_H */

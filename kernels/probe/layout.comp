@@ -38,6 +38,9 @@
 #elif defined(MV_ENTRY_probe_hit)
 #define MV_PROBE_T MvHit
 #define MV_PROBE_FN mv_probe_hit
+#elif defined(MV_ENTRY_probe_point_params)
+#define MV_PROBE_T MvPointParams
+#define MV_PROBE_FN mv_probe_point_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

@@ -1,0 +1,170 @@
+#include "omicron.h"
+
+#include <algorithm>
+
+#include "megavox/error.h"
+#include "point_kernels.h"
+
+namespace mv::points {
+
+namespace {
+
+// Candidates per selection call: their positions and codes take 16 bytes each on the host.
+constexpr uint64_t kCallCandidates = uint64_t{1} << 24;
+
+}  // namespace
+
+OmicronBuilder::OmicronBuilder(Device& dev, const OmicronRule& rule)
+    : dev_(dev), rule_(rule), levels_(rule.depth + 1), parented_(rule.depth + 1, 0) {
+  if (rule.depth > 21) throw Error("points: depth " + std::to_string(rule.depth) + " is over 21, the deepest level 63-bit Morton codes hold");
+  if (rule.max_node_points == 0) throw Error("points: --max-node-points must be at least 1");
+}
+
+uint64_t OmicronBuilder::concatenate(std::span<const uint64_t> sorted, bool last) {
+  const uint32_t leaf_shift = 3 * (21 - rule_.depth);
+  const uint64_t n = sorted.size();
+  uint64_t i = formed_;
+  std::vector<LodNode>& leaves = levels_[rule_.depth];
+  while (i < n) {
+    const uint64_t cell = sorted[i] >> leaf_shift;
+    uint64_t j = i + 1;
+    while (j < n && (sorted[j] >> leaf_shift) == cell) ++j;
+    if (j == n && !last) break;  // the last cell seen may go on in the next prefix
+    if (!leaves.empty() && leaves.back().prefix >= cell)
+      throw Error("points: the sorted stream is out of order at point " + std::to_string(i));
+    LodNode leaf;
+    leaf.prefix = cell;
+    leaf.first = i;
+    leaf.points = j - i;
+    leaves.push_back(leaf);
+    i = j;
+  }
+  formed_ = i;
+  if (last) frontier_ = uint64_t{1} << (3 * rule_.depth);
+  else if (i < n) frontier_ = sorted[i] >> leaf_shift;
+  fix(sorted);
+  return frontier_;
+}
+
+void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
+  ++stats_.fixes;
+  for (uint32_t l = rule_.depth; l >= 1; --l) {
+    std::vector<LodNode>& list = levels_[l];
+    const uint32_t to_leaf = 3 * (rule_.depth - (l - 1));  // a parent's code times 8^to_leaf is its first leaf cell
+    // Complete groups of sibling roots, in Morton order: a parent is complete when its span is before the frontier.
+    std::vector<std::pair<uint64_t, uint64_t>> groups;
+    uint64_t r = parented_[l];
+    while (r < list.size()) {
+      const uint64_t parent = list[r].prefix >> 3;
+      if (((parent + 1) << to_leaf) > frontier_) break;
+      uint64_t s = r + 1;
+      while (s < list.size() && (list[s].prefix >> 3) == parent) ++s;
+      groups.emplace_back(r, s);
+      r = s;
+    }
+    if (groups.empty()) continue;
+
+    std::vector<LodNode> parents(groups.size());
+    std::vector<size_t> inner;  // parents that keep representatives
+    for (size_t g = 0; g < groups.size(); ++g) {
+      LodNode& p = parents[g];
+      p.prefix = list[groups[g].first].prefix >> 3;
+      p.first = list[groups[g].first].first;
+      bool all_leaves = true;
+      for (uint64_t c = groups[g].first; c < groups[g].second; ++c) {
+        p.points += list[c].points;
+        p.child_mask |= static_cast<uint8_t>(1u << (list[c].prefix & 7));
+        all_leaves &= list[c].child_mask == 0;
+      }
+      if (all_leaves && p.points <= rule_.max_node_points) {
+        p.child_mask = 0;  // leaf collapse: the parent holds its children's points
+        for (uint64_t c = groups[g].first; c < groups[g].second; ++c) list[c].absorbed = true;
+      } else {
+        inner.push_back(g);
+      }
+    }
+
+    // Representatives of the inner parents, in calls of at most kCallCandidates candidates (a parent's own
+    // candidates may exceed that: it then has a call to itself).
+    const uint32_t fine = (l - 1) + rule_.grid_bits;
+    const uint32_t cell_bits = fine >= 21 ? 0 : 3 * (21 - fine);
+    size_t k = 0;
+    while (k < inner.size()) {
+      std::vector<uint64_t> cand;
+      std::vector<uint32_t> bounds{0};
+      size_t end = k;
+      while (end < inner.size()) {
+        const auto [b, e] = groups[inner[end]];
+        uint64_t size = 0;
+        for (uint64_t c = b; c < e; ++c) size += list[c].child_mask == 0 ? list[c].points : list[c].rep_count;
+        if (end > k && cand.size() + size > kCallCandidates) break;
+        if (cand.size() + size > UINT32_MAX) throw Error("points: a node has more than 2^32 candidate points");
+        for (uint64_t c = b; c < e; ++c) {
+          const LodNode& child = list[c];
+          if (child.child_mask == 0)
+            for (uint64_t q = child.first; q < child.first + child.points; ++q) cand.push_back(q);
+          else
+            cand.insert(cand.end(), reps_.begin() + child.rep_begin, reps_.begin() + child.rep_begin + child.rep_count);
+        }
+        bounds.push_back(static_cast<uint32_t>(cand.size()));
+        ++end;
+      }
+      std::vector<uint64_t> codes(cand.size());
+      for (size_t q = 0; q < cand.size(); ++q) codes[q] = sorted[cand[q]];
+      RepSelection sel = select_representatives(dev_, codes, bounds, cell_bits, rule_.max_node_points);
+      ++stats_.dispatches;
+      stats_.host_groups += sel.host_groups;
+      for (size_t g = k; g < end; ++g) {
+        LodNode& p = parents[inner[g]];
+        p.rep_begin = reps_.size();
+        p.rep_count = static_cast<uint32_t>(sel.offsets[g - k + 1] - sel.offsets[g - k]);
+        for (uint64_t q = sel.offsets[g - k]; q < sel.offsets[g - k + 1]; ++q) reps_.push_back(cand[sel.positions[q]]);
+      }
+      k = end;
+    }
+    parented_[l] = r;
+    levels_[l - 1].insert(levels_[l - 1].end(), parents.begin(), parents.end());
+  }
+}
+
+void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<uint64_t>& order,
+                              std::vector<uint64_t>& per_level) const {
+  if (levels_[0].size() != 1)
+    throw Error("points: the hierarchy is not finished (" + std::to_string(levels_[0].size()) + " roots)");
+  nodes.clear();
+  order.clear();
+  per_level.assign(rule_.depth + 1, 0);
+  // Breadth-first: level by level, each level's nodes in Morton order, so a node's children are the next
+  // survivors of the level below.
+  std::vector<uint64_t> survivors(rule_.depth + 2, 0);
+  for (uint32_t l = 0; l <= rule_.depth; ++l)
+    for (const LodNode& src : levels_[l]) survivors[l] += src.absorbed ? 0 : 1;
+  uint64_t next_level_start = 0;  // index of the first node of the level below
+  for (uint32_t l = 0; l <= rule_.depth; ++l) {
+    next_level_start += survivors[l];
+    uint64_t children_taken = 0;
+    for (const LodNode& src : levels_[l]) {
+      if (src.absorbed) continue;
+      PointNode node;
+      node.code = (uint64_t{1} << (3 * l)) | src.prefix;
+      node.level = static_cast<uint8_t>(l);
+      node.subtree_points = src.points;
+      node.first_point = order.size();
+      node.child_mask = src.child_mask;
+      if (src.child_mask == 0) {
+        node.point_count = static_cast<uint32_t>(src.points);
+        for (uint64_t q = src.first; q < src.first + src.points; ++q) order.push_back(q);
+      } else {
+        node.point_count = src.rep_count;
+        order.insert(order.end(), reps_.begin() + src.rep_begin, reps_.begin() + src.rep_begin + src.rep_count);
+        node.first_child = static_cast<uint32_t>(next_level_start + children_taken);
+        children_taken += static_cast<uint64_t>(__builtin_popcount(src.child_mask));
+      }
+      nodes.push_back(node);
+      ++per_level[l];
+    }
+  }
+  while (per_level.size() > 1 && per_level.back() == 0) per_level.pop_back();
+}
+
+}  // namespace mv::points

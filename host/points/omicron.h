@@ -1,0 +1,81 @@
+// The OMiCroN construction (da Silva et al., docs/ARCHITECTURE.md "Point clouds"): a point hierarchy built
+// bottom-up from a Morton-sorted stream while the stream is still arriving.
+//
+// The oblique cut: every leaf cell (level `depth`) before `frontier` has all of its points; a node whose
+// deepest descendant cell lies before the frontier (span < frontier) is complete. Per-level lists hold the
+// subtree roots that have no parent yet. concatenate() appends the leaves of a longer sorted prefix to the
+// deepest list; fix() then walks the lists bottom-up and gives every complete group of sibling roots its
+// parent, all of a level's parents in one kernel dispatch pair (point_kernels.h): afterwards each list holds at
+// most 7 roots, the complete children of the one node the frontier cuts. A parent whose children are all leaves
+// and whose subtree holds at most max_node_points points becomes a leaf itself (OMiCroN's leaf collapse, which
+// leaves leaves above the deepest level); otherwise it keeps one representative per cell of its sub-grid,
+// copies of its children's points. finish() fixes with the frontier past the end, which leaves the root.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "megavox/device.h"
+#include "megavox/points.h"
+
+namespace mv::points {
+
+struct OmicronRule {
+  uint32_t depth = 0;            // the leaf level, at most 21
+  uint32_t max_node_points = 0;  // leaf collapse threshold and the cap on representatives
+  uint32_t grid_bits = 6;        // an inner node at level l keeps one point per cell of level l + grid_bits
+};
+
+// A node of the lists: its subtree is the sorted points [first, first + points).
+struct LodNode {
+  uint64_t prefix = 0;     // Morton prefix at its level (no sentinel bit)
+  uint64_t first = 0;
+  uint64_t points = 0;
+  uint64_t rep_begin = 0;  // an inner node's representatives: reps()[rep_begin, rep_begin + rep_count)
+  uint32_t rep_count = 0;
+  uint8_t child_mask = 0;  // 0: a leaf
+  bool absorbed = false;   // a leaf merged into its parent by leaf collapse
+};
+
+struct OmicronStats {
+  uint64_t fixes = 0;
+  uint64_t dispatches = 0;    // rep_count + rep_select pairs
+  uint64_t host_groups = 0;   // parents chosen by the host reference (too long for a loop-capped device)
+};
+
+class OmicronBuilder {
+ public:
+  OmicronBuilder(Device& dev, const OmicronRule& rule);
+
+  // `sorted` is the whole sorted prefix so far (each call's span starts where the last one's did, and is at
+  // least as long). Forms the leaves of every cell before the last one seen (all of them with `last`), then
+  // fixes. Returns the frontier: leaf cells below it are complete.
+  uint64_t concatenate(std::span<const uint64_t> sorted, bool last);
+
+  // The hierarchy's nodes in breadth-first order, after concatenate(..., true). Point i of node order is
+  // sorted point order[i]; the caller gathers the columns.
+  void assemble(std::vector<PointNode>& nodes, std::vector<uint64_t>& order, std::vector<uint64_t>& per_level) const;
+
+  // The lists' state, for checkpoints: level l's nodes so far, the first of which without a parent yet.
+  const std::vector<LodNode>& level(uint32_t l) const { return levels_[l]; }
+  uint64_t first_root(uint32_t l) const { return parented_[l]; }
+  const std::vector<uint64_t>& reps() const { return reps_; }
+  uint64_t formed() const { return formed_; }
+  uint64_t frontier() const { return frontier_; }
+  const OmicronRule& rule() const { return rule_; }
+  const OmicronStats& stats() const { return stats_; }
+
+ private:
+  void fix(std::span<const uint64_t> sorted);
+
+  Device& dev_;
+  OmicronRule rule_;
+  std::vector<std::vector<LodNode>> levels_;  // index = level; each in Morton order
+  std::vector<uint64_t> parented_;            // per level: nodes before this have a parent
+  std::vector<uint64_t> reps_;                // sorted point positions of every inner node's representatives
+  uint64_t formed_ = 0;                       // sorted points already in a leaf
+  uint64_t frontier_ = 0;
+  OmicronStats stats_;
+};
+
+}  // namespace mv::points

@@ -1,0 +1,93 @@
+#include "megavox/point_build.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "megavox/error.h"
+#include "omicron.h"
+#include "point_gather.h"
+#include "point_kernels.h"
+
+namespace mv {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+uint32_t point_depth_for(uint64_t points, uint32_t max_node_points) {
+  const double ratio = static_cast<double>(points) / std::max<uint32_t>(1, max_node_points);
+  const int level = ratio <= 1 ? 0 : static_cast<int>(std::ceil(std::log(ratio) / std::log(4.0)));
+  return static_cast<uint32_t>(std::clamp(level + 2, 1, 21));
+}
+
+PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const PointCloudInfo& info,
+                                     const PointBuildOptions& options, PointBuildReport* report,
+                                     const std::function<void(const PointBuildProgress&)>& progress) {
+  PointBuildReport local_report;
+  PointBuildReport& rep = report ? *report : local_report;
+  const uint64_t n = points.size();
+  if (n == 0) throw Error("points: the cloud has no points");
+  if (options.depth > 21) throw Error("points: --depth " + std::to_string(options.depth) + " is over 21, the deepest level 63-bit Morton codes hold");
+  if (options.max_node_points == 0) throw Error("points: --max-node-points must be at least 1");
+  if (options.grid_bits < 1 || options.grid_bits > 10) throw Error("points: the node grid must have 1-10 bits per axis");
+
+  auto t0 = std::chrono::steady_clock::now();
+  const points::PointCube cube = points::cube_of(points.xyz);
+  std::vector<uint64_t> codes;
+  std::vector<uint32_t> index;
+  points::point_codes(dev, points.xyz, cube, codes, index);
+  rep.codes_seconds = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  rep.sort = radix_sort(dev, codes, &index);
+  rep.sort_seconds = seconds_since(t0);
+
+  // The builder consumes the sorted codes a prefix at a time: its cut advances as a stream's would.
+  t0 = std::chrono::steady_clock::now();
+  points::OmicronRule rule;
+  rule.depth = options.depth ? options.depth : point_depth_for(n, options.max_node_points);
+  rule.max_node_points = options.max_node_points;
+  rule.grid_bits = options.grid_bits;
+  points::OmicronBuilder builder(dev, rule);
+  const uint64_t step = std::max<uint64_t>(1, options.prefix_points);
+  for (uint64_t end = std::min(step, n);; end = std::min(end + step, n)) {
+    builder.concatenate(std::span<const uint64_t>(codes.data(), end), end == n);
+    ++rep.steps;
+    if (progress) {
+      PointBuildProgress p;
+      p.points_formed = builder.formed();
+      p.points_total = n;
+      for (uint32_t l = 0; l <= rule.depth; ++l) p.nodes += builder.level(l).size();
+      progress(p);
+    }
+    if (end == n) break;
+  }
+  PointHierarchy h;
+  std::vector<uint64_t> order;
+  builder.assemble(h.nodes, order, h.nodes_per_level);
+  rep.host_groups = builder.stats().host_groups;
+  rep.build_seconds = seconds_since(t0);
+
+  // Node order to input order in one step: sorted point q is input point index[q].
+  t0 = std::chrono::steady_clock::now();
+  for (uint64_t& q : order) q = index[q];
+  h.points = points::gather_columns(points, order, info.extra_bytes);
+  points = PointColumns();
+  rep.gather_seconds = seconds_since(t0);
+
+  h.source = info;
+  for (int a = 0; a < 3; ++a) h.cube_min[a] = cube.min[a];
+  h.shift = cube.shift;
+  h.depth = static_cast<uint32_t>(h.nodes_per_level.size() - 1);
+  h.points_in = n;
+  h.points_kept = n;
+  h.points_dropped = 0;
+  return h;
+}
+
+}  // namespace mv

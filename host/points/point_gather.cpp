@@ -1,0 +1,38 @@
+#include "point_gather.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cstring>
+
+namespace mv::points {
+
+namespace {
+
+template <class T, size_t K>
+void gather(const std::vector<T>& src, std::span<const uint64_t> index, std::vector<T>& out) {
+  if (src.empty()) return;
+  out.resize(index.size() * K);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, index.size(), 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i)
+      for (size_t k = 0; k < K; ++k) out[i * K + k] = src[index[i] * K + k];
+  });
+}
+
+}  // namespace
+
+PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> index, uint32_t extra_bytes) {
+  PointColumns out;
+  gather<int32_t, 3>(src.xyz, index, out.xyz);
+  gather<uint16_t, 3>(src.rgb, index, out.rgb);
+  gather<float, 3>(src.normal, index, out.normal);
+  gather<uint16_t, 1>(src.intensity, index, out.intensity);
+  if (!src.extra.empty() && extra_bytes) {
+    out.extra.resize(index.size() * extra_bytes);
+    tbb::parallel_for(size_t{0}, index.size(), [&](size_t i) {
+      std::memcpy(&out.extra[i * extra_bytes], &src.extra[index[i] * extra_bytes], extra_bytes);
+    });
+  }
+  return out;
+}
+
+}  // namespace mv::points

@@ -1,0 +1,144 @@
+#include "point_kernels.h"
+
+#include "../kernels/common/points.h"
+
+#include <algorithm>
+#include <bit>
+#include <limits>
+
+#include "chunking.h"
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+#include "ref/points_reference.h"
+
+namespace mv::points {
+
+PointCube cube_of(std::span<const int32_t> xyz) {
+  PointCube cube;
+  if (xyz.empty()) return cube;
+  int64_t lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = xyz[a];
+  for (size_t i = 0; i < xyz.size(); i += 3)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min<int64_t>(lo[a], xyz[i + a]);
+      hi[a] = std::max<int64_t>(hi[a], xyz[i + a]);
+    }
+  uint64_t extent = 0;
+  for (int a = 0; a < 3; ++a) {
+    cube.min[a] = lo[a];
+    extent = std::max<uint64_t>(extent, static_cast<uint64_t>(hi[a] - lo[a]));
+  }
+  // The largest offset, extent, must land in cell 2^21 - 1 or below.
+  const uint32_t width = static_cast<uint32_t>(std::bit_width(extent));
+  cube.shift = width > 21 ? width - 21 : 0;
+  return cube;
+}
+
+void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,
+                 std::vector<uint32_t>& index) {
+  const uint64_t n = xyz.size() / 3;
+  if (n > std::numeric_limits<uint32_t>::max())
+    throw Error("points: " + std::to_string(n) + " points in one in-core sort run, over the 2^32 its indices hold");
+  codes.resize(n);
+  index.resize(n);
+  if (n == 0) return;
+  // Per point: 12 bytes of coordinates, 8 of code and 4 of index.
+  const uint64_t chunk = std::min<uint64_t>(n, detail::device_chunk(dev, "point_codes", 24, 12));
+  Buffer xb = dev.alloc(chunk * 12, "point coordinates");
+  Buffer kb = dev.alloc(chunk * 8, "point codes");
+  Buffer ib = dev.alloc(chunk * 4, "point indices");
+  Kernel& k = dev.kernel(KernelId::point_codes);
+  const uint32_t local = 64;
+  for (uint64_t first = 0; first < n; first += chunk) {
+    const uint64_t m = std::min(chunk, n - first);
+    dev.upload(xb, xyz.data() + 3 * first, m * 12);
+    MvPointParams p{};
+    p.n = static_cast<uint32_t>(m);
+    p.shift = cube.shift;
+    p.min_x = static_cast<uint32_t>(static_cast<int32_t>(cube.min[0]));
+    p.min_y = static_cast<uint32_t>(static_cast<int32_t>(cube.min[1]));
+    p.min_z = static_cast<uint32_t>(static_cast<int32_t>(cube.min[2]));
+    p.base = static_cast<uint32_t>(first);
+    dev.dispatch(k, dev.groups_for(m, local), local, {&xb, &kb, &ib}, p);
+    dev.barrier();
+    dev.download(kb, codes.data() + first, m * 8);
+    dev.download(ib, index.data() + first, m * 4);
+  }
+}
+
+namespace {
+
+// Candidates per dispatch: codes, bounds and positions of 8M candidates stay well inside every binding limit.
+constexpr uint64_t kBatchCandidates = uint64_t{1} << 23;
+
+// One dispatch pair over parents [g0, g1), whose candidates start at codes[base].
+void select_batch(Device& dev, std::span<const uint64_t> codes, std::span<const uint32_t> bounds, uint32_t g0,
+                  uint32_t g1, uint32_t cell_bits, uint32_t cap, RepSelection& out) {
+  const uint32_t groups = g1 - g0;
+  const uint32_t base = bounds[g0];
+  const uint64_t m = bounds[g1] - base;
+  std::vector<uint32_t> local_bounds(groups + 1);
+  for (uint32_t g = 0; g <= groups; ++g) local_bounds[g] = bounds[g0 + g] - base;
+  Buffer cb = dev.alloc(m * 8, "representative candidates");
+  Buffer bb = dev.alloc(uint64_t{groups + 1} * 4, "representative groups");
+  Buffer cells = dev.alloc(uint64_t{groups} * 4, "representative cells");
+  Buffer kept = dev.alloc(uint64_t{groups + 1} * 4, "representative counts");
+  dev.upload(cb, codes.data() + base, m * 8);
+  dev.upload(bb, local_bounds.data(), local_bounds.size() * 4);
+  MvPointParams p{};
+  p.n = groups;
+  p.cell_bits = cell_bits;
+  p.cap = cap;
+  // One work-item per parent: a loop-capped device then runs one parent's candidates per loop.
+  const uint32_t local = 64;
+  const uint32_t wg = static_cast<uint32_t>((uint64_t{groups} + local - 1) / local);
+  if (wg > dev.info().max_groups) throw Error("points: " + std::to_string(groups) + " parents in one dispatch");
+  dev.dispatch(dev.kernel(KernelId::rep_count), wg, local, {&cb, &bb, &cells, &kept}, p);
+  dev.barrier();
+  exclusive_scan(dev, kept, kept, groups);
+  dev.barrier();
+  uint32_t total = 0;
+  dev.download(kept, &total, 4, uint64_t{groups} * 4);
+  Buffer ob = dev.alloc(std::max<uint64_t>(total, 1) * 4, "representatives");
+  dev.dispatch(dev.kernel(KernelId::rep_select), wg, local, {&cb, &bb, &cells, &kept, &ob}, p);
+  dev.barrier();
+  std::vector<uint32_t> offsets(groups + 1);
+  dev.download(kept, offsets.data(), offsets.size() * 4);
+  const size_t at = out.positions.size();
+  out.positions.resize(at + total);
+  if (total) dev.download(ob, out.positions.data() + at, uint64_t{total} * 4);
+  for (size_t i = at; i < out.positions.size(); ++i) out.positions[i] += base;
+  for (uint32_t g = 1; g <= groups; ++g) out.offsets.push_back(at + offsets[g]);
+}
+
+}  // namespace
+
+RepSelection select_representatives(Device& dev, std::span<const uint64_t> codes, std::span<const uint32_t> bounds,
+                                    uint32_t cell_bits, uint32_t cap) {
+  RepSelection out;
+  out.offsets.push_back(0);
+  if (bounds.size() < 2) return out;
+  const uint32_t groups = static_cast<uint32_t>(bounds.size() - 1);
+  // A loop-capped device (lavapipe ends a loop after 65535 iterations) cannot walk a larger parent in one loop.
+  const uint64_t loop_cap = dev.info().max_loop_iterations;
+  auto too_long = [&](uint32_t g) { return loop_cap != 0 && uint64_t{bounds[g + 1] - bounds[g]} + 1 >= loop_cap; };
+  uint32_t g = 0;
+  while (g < groups) {
+    if (too_long(g)) {
+      std::vector<uint32_t> one{0, bounds[g + 1] - bounds[g]};
+      std::vector<uint32_t> pos = ref::representatives(codes.subspan(bounds[g], one[1]), one, cell_bits, cap);
+      for (uint32_t p : pos) out.positions.push_back(p + bounds[g]);
+      out.offsets.push_back(out.positions.size());
+      ++out.host_groups;
+      ++g;
+      continue;
+    }
+    uint32_t end = g + 1;
+    while (end < groups && !too_long(end) && uint64_t{bounds[end + 1] - bounds[g]} <= kBatchCandidates) ++end;
+    select_batch(dev, codes, bounds, g, end, cell_bits, cap, out);
+    g = end;
+  }
+  return out;
+}
+
+}  // namespace mv::points

@@ -1,0 +1,38 @@
+// Device steps of the point-cloud LOD build (kernels: kernels/common/points.h): Morton codes of the points and
+// the choice of each inner node's representatives. The plain C++ references are in host/ref/points_reference.h.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "megavox/device.h"
+#include "megavox/points.h"
+
+namespace mv::points {
+
+// The cube the codes cover, on the input's grid: cell = (xyz - min) >> shift, 21 bits per axis.
+struct PointCube {
+  int64_t min[3] = {0, 0, 0};
+  uint32_t shift = 0;
+};
+
+// The smallest power-of-two cube at the points' min corner whose 2^21 cells per axis cover them.
+PointCube cube_of(std::span<const int32_t> xyz);
+
+// codes[i] = the 63-bit Morton code of point i's cell, index[i] = i; computed on the device in chunks.
+void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,
+                 std::vector<uint32_t>& index);
+
+// Representatives of many parents at one level. Parent g's candidates are codes[bounds[g], bounds[g + 1]), in
+// Morton order; its sub-grid cells are the codes >> cell_bits. Of each occupied cell the candidate nearest the
+// cell's centre (the first of equals) is kept; of more than `cap` cells, cap spread along the Morton order.
+// Returns the kept candidates' positions in codes, parent by parent; offsets (groups + 1 values) delimits them.
+struct RepSelection {
+  std::vector<uint32_t> positions;
+  std::vector<uint64_t> offsets;
+  uint64_t host_groups = 0;  // parents too large for a loop-capped device's loops, chosen by the host reference
+};
+RepSelection select_representatives(Device& dev, std::span<const uint64_t> codes, std::span<const uint32_t> bounds,
+                                    uint32_t cell_bits, uint32_t cap);
+
+}  // namespace mv::points

@@ -1,0 +1,45 @@
+// megavox — building a point cloud's LOD hierarchy on a Device (OMiCroN's bottom-up construction,
+// docs/ARCHITECTURE.md "Point clouds").
+#pragma once
+#include <cstdint>
+#include <functional>
+
+#include "megavox/device.h"
+#include "megavox/points.h"
+#include "megavox/primitives.h"
+
+namespace mv {
+
+struct PointBuildOptions {
+  uint32_t depth = 0;                // the leaf level (1-21); 0: point_depth_for(points, max_node_points)
+  uint32_t max_node_points = 16384;  // a subtree of at most this many points is one leaf; caps representatives
+  uint32_t grid_bits = 6;            // an inner node keeps one point per cell of a 2^grid_bits grid over its cube
+  uint64_t prefix_points = uint64_t{1} << 20;  // sorted points handed to the builder per step (its cut advances)
+};
+
+// After each step of the build: how far the cut has come.
+struct PointBuildProgress {
+  uint64_t points_formed = 0;  // sorted points in leaves
+  uint64_t points_total = 0;
+  uint64_t nodes = 0;          // nodes made so far, on every level
+};
+
+struct PointBuildReport {
+  double codes_seconds = 0, sort_seconds = 0, build_seconds = 0, gather_seconds = 0;
+  SortReport sort;
+  uint64_t steps = 0;        // concatenate + fix steps
+  uint64_t host_groups = 0;  // parents chosen on the host (longer than a loop-capped device's loops)
+};
+
+// The density rule for the leaf level: a surface's points spread over about 4^l cells of level l, so
+// ceil(log4(points / max_node_points)) is the level where an average leaf holds max_node_points; two levels
+// more leave room for denser spots, and leaf collapse merges the sparse ones back up. Clamped to 1-21.
+uint32_t point_depth_for(uint64_t points, uint32_t max_node_points);
+
+// Sorts `points` by Morton code on the device and builds the hierarchy from the sorted stream, calling
+// `progress` after every step. The columns are consumed (their memory is reused).
+PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const PointCloudInfo& info,
+                                     const PointBuildOptions& options, PointBuildReport* report = nullptr,
+                                     const std::function<void(const PointBuildProgress&)>& progress = {});
+
+}  // namespace mv

@@ -1,0 +1,256 @@
+// The point-cloud LOD build (host/points/) against its plain C++ references (host/ref/points_reference.h) and
+// the OMiCroN oracles: every point once at the leaves, representatives copied from their subtree, codes
+// consistent with their parents, the same bytes for every prefix size and device, and a valid cut after every
+// step.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <tuple>
+
+#include "megavox/point_build.h"
+#include "points/omicron.h"
+#include "points/point_kernels.h"
+#include "ref/points_reference.h"
+#include "test_support.h"
+
+namespace mv {
+namespace {
+
+using test::shared_device;
+
+class PointsBuildTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+// Clouds of different shapes: uniform, a thin sheet (a scan's surface), tight clusters with duplicates.
+PointColumns make_cloud(const std::string& kind, uint64_t n, uint64_t seed, bool attributes) {
+  std::mt19937_64 rng(seed);
+  PointColumns c;
+  for (uint64_t i = 0; i < n; ++i) {
+    int32_t x, y, z;
+    if (kind == "uniform") {
+      std::uniform_int_distribution<int32_t> d(-1000000, 3000000);
+      x = d(rng), y = d(rng), z = d(rng);
+    } else if (kind == "sheet") {
+      std::uniform_real_distribution<double> u(0, 1);
+      const double a = u(rng), b = u(rng);
+      x = static_cast<int32_t>(a * 50000), y = static_cast<int32_t>(b * 50000);
+      z = static_cast<int32_t>(2000 * std::sin(a * 9) * std::cos(b * 7));
+    } else {  // clusters: a few centres, points within a few units, many exact repeats
+      std::uniform_int_distribution<int> centre(0, 4), off(-3, 3);
+      const int k = centre(rng);
+      x = k * 100000 + off(rng), y = -k * 7777 + off(rng), z = 5 + off(rng);
+    }
+    c.xyz.insert(c.xyz.end(), {x, y, z});
+    if (attributes) {
+      c.rgb.insert(c.rgb.end(), {static_cast<uint16_t>(i), static_cast<uint16_t>(i >> 16), 7});
+      c.intensity.push_back(static_cast<uint16_t>(i * 31));
+      c.normal.insert(c.normal.end(), {static_cast<float>(i), 0.5f, -1.0f});
+    }
+  }
+  return c;
+}
+
+PointCloudInfo info_for(const PointColumns& c) {
+  PointCloudInfo info;
+  info.points = c.size();
+  if (!c.rgb.empty()) info.attributes |= kPointRgb;
+  if (!c.normal.empty()) info.attributes |= kPointNormal;
+  if (!c.intensity.empty()) info.attributes |= kPointIntensity;
+  return info;
+}
+
+void expect_same(const PointHierarchy& a, const PointHierarchy& b) {
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (size_t i = 0; i < a.nodes.size(); ++i) {
+    const PointNode &x = a.nodes[i], &y = b.nodes[i];
+    ASSERT_EQ(std::tie(x.code, x.first_point, x.subtree_points, x.point_count, x.first_child, x.child_mask, x.level),
+              std::tie(y.code, y.first_point, y.subtree_points, y.point_count, y.first_child, y.child_mask, y.level))
+        << "node " << i;
+  }
+  EXPECT_EQ(a.points.xyz, b.points.xyz);
+  EXPECT_EQ(a.points.rgb, b.points.rgb);
+  EXPECT_EQ(a.points.normal, b.points.normal);
+  EXPECT_EQ(a.points.intensity, b.points.intensity);
+  EXPECT_EQ(a.nodes_per_level, b.nodes_per_level);
+  EXPECT_EQ(a.shift, b.shift);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(a.cube_min[k], b.cube_min[k]);
+}
+
+// The oracles that need no reference.
+void expect_valid(const PointHierarchy& h, const PointColumns& input) {
+  ASSERT_FALSE(h.nodes.empty());
+  EXPECT_EQ(h.nodes[0].code, 1u);
+  auto cell_code = [&](uint64_t p) {
+    uint32_t c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = static_cast<uint32_t>((int64_t{h.points.xyz[3 * p + a]} - h.cube_min[a]) >> h.shift);
+    uint64_t code = 0;
+    for (int i = 0; i < 21; ++i)
+      for (int a = 0; a < 3; ++a) code |= uint64_t{(c[a] >> i) & 1} << (3 * i + a);
+    return code;
+  };
+  std::multiset<std::tuple<int32_t, int32_t, int32_t>> at_leaves, in;
+  for (uint64_t i = 0; i < input.size(); ++i) in.insert({input.xyz[3 * i], input.xyz[3 * i + 1], input.xyz[3 * i + 2]});
+  uint64_t leaf_points = 0;
+  // Each node's points lie in its cell, and an inner node's representatives are points of its leaves below.
+  std::vector<uint64_t> parent(h.nodes.size(), 0);
+  for (size_t i = 0; i < h.nodes.size(); ++i) {
+    const PointNode& n = h.nodes[i];
+    const uint32_t level = n.level;
+    EXPECT_EQ(uint64_t{1} << (3 * level), n.code & ~((uint64_t{1} << (3 * level)) - 1)) << "sentinel of node " << i;
+    const uint64_t prefix = n.code ^ (uint64_t{1} << (3 * level));
+    for (uint64_t p = n.first_point; p < n.first_point + n.point_count; ++p) {
+      ASSERT_EQ(cell_code(p) >> (3 * (21 - level)), prefix) << "point " << p << " outside node " << i;
+      if (n.leaf()) at_leaves.insert({h.points.xyz[3 * p], h.points.xyz[3 * p + 1], h.points.xyz[3 * p + 2]});
+    }
+    if (n.leaf()) {
+      leaf_points += n.point_count;
+      EXPECT_EQ(n.point_count, n.subtree_points);
+    } else {
+      uint64_t sum = 0;
+      uint32_t c = n.first_child;
+      for (uint32_t o = 0; o < 8; ++o) {
+        if (!(n.child_mask >> o & 1)) continue;
+        ASSERT_LT(c, h.nodes.size());
+        EXPECT_EQ(h.nodes[c].code, (n.code << 3) | o) << "child " << o << " of node " << i;
+        parent[c] = i;
+        sum += h.nodes[c].subtree_points;
+        ++c;
+      }
+      EXPECT_EQ(sum, n.subtree_points) << "node " << i;
+      EXPECT_LE(n.point_count, n.subtree_points);
+    }
+  }
+  EXPECT_EQ(leaf_points, input.size());
+  EXPECT_TRUE(at_leaves == in) << "the leaves do not hold every input point exactly once";
+}
+
+TEST_P(PointsBuildTest, RepresentativesMatchTheReference) {
+  Device& dev = shared_device(GetParam());
+  std::mt19937_64 rng(11);
+  for (int round = 0; round < 12; ++round) {
+    // Groups of sorted codes, sizes from 1 to a few thousand, with repeats.
+    std::vector<uint64_t> codes;
+    std::vector<uint32_t> bounds{0};
+    const int groups = 1 + static_cast<int>(rng() % 300);
+    for (int g = 0; g < groups; ++g) {
+      const uint64_t size = 1 + rng() % (round % 3 == 0 ? 4000 : 60);
+      std::vector<uint64_t> c(size);
+      const uint64_t mask = round % 2 ? (uint64_t{1} << 63) - 1 : 0xfff;
+      for (auto& v : c) v = rng() & mask;
+      std::sort(c.begin(), c.end());
+      codes.insert(codes.end(), c.begin(), c.end());
+      bounds.push_back(static_cast<uint32_t>(codes.size()));
+    }
+    const uint32_t cell_bits = 3 * static_cast<uint32_t>(rng() % 22);
+    const uint32_t cap = 1 + static_cast<uint32_t>(rng() % 200);
+    points::RepSelection got = points::select_representatives(dev, codes, bounds, cell_bits, cap);
+    std::vector<uint32_t> want = ref::representatives(codes, bounds, cell_bits, cap);
+    ASSERT_EQ(got.positions, want) << "round " << round << " cell_bits " << cell_bits << " cap " << cap;
+    ASSERT_EQ(got.offsets.size(), bounds.size());
+  }
+}
+
+TEST_P(PointsBuildTest, MatchesTheTopDownReference) {
+  Device& dev = shared_device(GetParam());
+  struct Case {
+    std::string kind;
+    uint64_t n;
+    uint32_t depth, max_points;
+  };
+  for (const Case& c : {Case{"uniform", 20000, 6, 300}, Case{"sheet", 30000, 8, 500}, Case{"clusters", 5000, 21, 64},
+                        Case{"uniform", 1, 4, 10}, Case{"sheet", 9, 3, 1}, Case{"clusters", 2000, 3, 5000}}) {
+    SCOPED_TRACE(c.kind + " n=" + std::to_string(c.n));
+    PointColumns cloud = make_cloud(c.kind, c.n, c.n + c.depth, true);
+    const PointCloudInfo info = info_for(cloud);
+    ref::PointLodRule rule{c.depth, c.max_points, 6};
+    PointHierarchy want = ref::build_point_hierarchy(cloud, info, rule);
+    PointBuildOptions options;
+    options.depth = c.depth;
+    options.max_node_points = c.max_points;
+    options.prefix_points = 777;  // many steps: the cut advances through the stream
+    PointColumns copy = cloud;
+    PointHierarchy got = build_point_hierarchy(dev, std::move(copy), info, options);
+    expect_same(got, want);
+    expect_valid(got, cloud);
+  }
+}
+
+TEST_P(PointsBuildTest, PrefixSizeDoesNotChangeTheBytes) {
+  Device& dev = shared_device(GetParam());
+  PointColumns cloud = make_cloud("sheet", 40000, 5, false);
+  const PointCloudInfo info = info_for(cloud);
+  PointHierarchy first;
+  for (uint64_t prefix : {uint64_t{1} << 20, uint64_t{1}, uint64_t{13}, uint64_t{4096}}) {
+    PointBuildOptions options;
+    options.max_node_points = 1000;
+    options.prefix_points = prefix;
+    PointColumns copy = cloud;
+    PointHierarchy h = build_point_hierarchy(dev, std::move(copy), info, options);
+    if (prefix == uint64_t{1} << 20) {
+      first = std::move(h);
+      expect_valid(first, cloud);
+    } else {
+      SCOPED_TRACE("prefix " + std::to_string(prefix));
+      expect_same(h, first);
+    }
+  }
+}
+
+// After every step the lists form an oblique cut: at most 7 roots per level, all siblings, all incomplete parents'
+// children, and every node before the frontier has its parent.
+TEST_P(PointsBuildTest, EveryCheckpointIsAValidCut) {
+  Device& dev = shared_device(GetParam());
+  PointColumns cloud = make_cloud("uniform", 12000, 9, false);
+  points::PointCube cube = points::cube_of(cloud.xyz);
+  std::vector<uint64_t> codes;
+  std::vector<uint32_t> index;
+  points::point_codes(dev, cloud.xyz, cube, codes, index);
+  std::sort(codes.begin(), codes.end());
+  points::OmicronRule rule{7, 200, 6};
+  points::OmicronBuilder b(dev, rule);
+  for (uint64_t end = 500;; end = std::min<uint64_t>(end + 500, codes.size())) {
+    const bool last = end == codes.size();
+    const uint64_t frontier = b.concatenate(std::span<const uint64_t>(codes.data(), end), last);
+    for (uint32_t l = 1; l <= rule.depth; ++l) {
+      const auto& list = b.level(l);
+      const uint64_t roots = list.size() - b.first_root(l);
+      ASSERT_LE(roots, 7u) << "level " << l << " at " << end;
+      for (uint64_t r = b.first_root(l); r < list.size(); ++r) {
+        EXPECT_EQ(list[r].prefix >> 3, list[b.first_root(l)].prefix >> 3) << "roots of level " << l << " are not siblings";
+        // Their parent is not complete yet.
+        const uint64_t parent = list[r].prefix >> 3;
+        EXPECT_GT((parent + 1) << (3 * (rule.depth - l + 1)), frontier);
+      }
+    }
+    if (last) {
+      EXPECT_EQ(b.level(0).size(), 1u);
+      break;
+    }
+  }
+}
+
+TEST_P(PointsBuildTest, RefusesBadOptions) {
+  Device& dev = shared_device(GetParam());
+  PointBuildOptions options;
+  EXPECT_NE(test::error_message([&] { build_point_hierarchy(dev, PointColumns(), PointCloudInfo(), options); })
+                .find("no points"),
+            std::string::npos);
+  options.depth = 22;
+  EXPECT_NE(test::error_message([&] {
+              build_point_hierarchy(dev, make_cloud("uniform", 10, 1, false), PointCloudInfo(), options);
+            }).find("over 21"),
+            std::string::npos);
+}
+
+TEST(PointsDepth, DensityRule) {
+  EXPECT_EQ(point_depth_for(10, 16384), 2u);
+  EXPECT_EQ(point_depth_for(100000000, 16384), 9u);
+  EXPECT_EQ(point_depth_for(uint64_t{1} << 62, 1), 21u);
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(PointsBuildTest);
+
+}  // namespace
+}  // namespace mv

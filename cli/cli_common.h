@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "megavox/build.h"
 #include "megavox/device.h"
 
 namespace mv::cli {
@@ -26,6 +27,9 @@ inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
 // "X,Y,Z" -> three numbers; throws mv::Error naming the option (`what`) otherwise.
 void parse_vec3(const std::string& text, const char* what, double out[3]);
 
+// A progress bar: one line on stderr, redrawn in place; nothing unless `enabled` (a terminal, not --quiet).
+Progress progress_bar(bool enabled);
+
 // With --profile: the device time of each kernel since the last call, summed by name, on stderr.
 void print_kernel_totals(Device& dev);
 
@@ -39,5 +43,6 @@ void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app, const GlobalOptions& g);
 void add_import_command(CLI::App& app, const GlobalOptions& g);
 void add_render_command(CLI::App& app, const GlobalOptions& g);
+void add_points_command(CLI::App& app, const GlobalOptions& g);
 
 }  // namespace mv::cli

@@ -19,20 +19,6 @@ struct BuildCommandArgs : BuildArgs {
   bool json = false, quiet = false;
 };
 
-// One line on stderr, redrawn in place; only on a terminal.
-Progress progress_bar(bool enabled) {
-  if (!enabled) return {};
-  return [last = std::string()](const std::string& stage, double f) mutable {
-    const int width = 30;
-    int filled = static_cast<int>(f * width + 0.5);
-    std::fprintf(stderr, "\r%-9s [%s%s] %3.0f%%", stage.c_str(), std::string(filled, '#').c_str(),
-                 std::string(width - filled, ' ').c_str(), 100 * f);
-    if (stage != last && !last.empty()) std::fprintf(stderr, "\n");
-    last = stage;
-    std::fflush(stderr);
-  };
-}
-
 void print_table(const BuildReport& r) {
   std::string cubes = r.cube ? ", out of core in cubes of " + std::to_string(r.cube) + "^3" : "";
   if (r.cube_retries) cubes += " (halved " + std::to_string(r.cube_retries) + "x to fit device memory)";

@@ -16,6 +16,20 @@ void parse_vec3(const std::string& text, const char* what, double out[3]) {
     throw Error(std::string(what) + " wants X,Y,Z (three numbers separated by commas), got '" + text + "'");
 }
 
+// One line on stderr, redrawn in place; only on a terminal.
+Progress progress_bar(bool enabled) {
+  if (!enabled) return {};
+  return [last = std::string()](const std::string& stage, double f) mutable {
+    const int width = 30;
+    int filled = static_cast<int>(f * width + 0.5);
+    std::fprintf(stderr, "\r%-9s [%s%s] %3.0f%%", stage.c_str(), std::string(filled, '#').c_str(),
+                 std::string(width - filled, ' ').c_str(), 100 * f);
+    if (stage != last && !last.empty()) std::fprintf(stderr, "\n");
+    last = stage;
+    std::fflush(stderr);
+  };
+}
+
 void print_kernel_totals(Device& dev) {
   std::map<std::string, std::pair<uint64_t, uint64_t>> totals;  // name -> (ns, dispatches)
   for (const auto& t : dev.take_timings()) {
@@ -37,6 +51,7 @@ int main(int argc, char** argv) {
       "  megavox devices                       list the compute devices megavox can use\n"
       "  megavox build bunny.ply --resolution 4K -o bunny.mvx   voxelize a mesh into a voxel DAG\n"
       "  megavox info bunny.mvx                validate a .mvx file and print what it holds\n"
+      "  megavox points build scan.las -o scan.mvx   an LOD point hierarchy (or --format 3dtiles -o DIR)\n"
       "  megavox bench sort --n 16M            radix-sort 16M (key, value) pairs and compare with std::sort\n"
       "  megavox --device vk:0 bench sort      the same on the first Vulkan device\n"
       "  MEGAVOX_DEVICE=pocl megavox devices   pick a device by (part of) its name\n",
@@ -60,6 +75,7 @@ int main(int argc, char** argv) {
   mv::cli::add_build_command(app, g);
   mv::cli::add_info_command(app);
   mv::cli::add_render_command(app, g);
+  mv::cli::add_points_command(app, g);
   mv::cli::add_export_command(app, g);
   mv::cli::add_import_command(app, g);
   CLI::App* bench = app.add_subcommand("bench", "Measure megavox against the tools a user would pick instead");

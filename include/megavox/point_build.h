@@ -3,7 +3,10 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <string>
+#include <vector>
 
+#include "megavox/build.h"
 #include "megavox/device.h"
 #include "megavox/points.h"
 #include "megavox/primitives.h"
@@ -41,5 +44,31 @@ uint32_t point_depth_for(uint64_t points, uint32_t max_node_points);
 PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const PointCloudInfo& info,
                                      const PointBuildOptions& options, PointBuildReport* report = nullptr,
                                      const std::function<void(const PointBuildProgress&)>& progress = {});
+
+}  // namespace mv
+
+namespace mv {
+
+// `megavox points build`: a point file (PLY, LAS) to a .mvx point hierarchy or a 3D Tiles folder.
+struct PointFileOptions {
+  std::string input, output;
+  std::string format = "mvx";  // "mvx" or "3dtiles"
+  PointBuildOptions build;
+  uint64_t memory = 0;         // host budget in bytes; 0 = default_host_memory()
+  bool carry_extra_bytes = true;
+};
+
+struct PointFileReport {
+  std::string input, output, format, input_format;
+  uint64_t points_in = 0, points_kept = 0, points_dropped = 0, nodes = 0, stored_points = 0;
+  uint32_t depth = 0;
+  std::vector<uint64_t> nodes_per_level;
+  double read_seconds = 0, sort_seconds = 0, build_seconds = 0, write_seconds = 0, total_seconds = 0;
+  double points_per_second = 0;  // points in over the total
+  PointBuildReport build;
+};
+
+// Progress stages: "read", "build", "write", with the fraction done.
+PointFileReport build_points_file(Device& dev, const PointFileOptions& options, const Progress& progress = {});
 
 }  // namespace mv

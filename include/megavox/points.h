@@ -55,6 +55,7 @@ struct PointNode {
   uint8_t child_mask = 0;        // bit o: a child in octant o; 0 for a leaf
   uint8_t level = 0;
   uint16_t pad = 0;
+  uint32_t reserved = 0;         // makes the 40 bytes .mvx stores explicit (no padding of unknown value)
   bool leaf() const { return child_mask == 0; }
 };
 

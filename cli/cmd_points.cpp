@@ -1,0 +1,145 @@
+// `megavox points build | info`: point clouds to LOD hierarchies (.mvx or 3D Tiles), and what a file holds.
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "cli_common.h"
+#include "megavox/error.h"
+#include "megavox/mvx.h"
+#include "megavox/point_build.h"
+
+namespace mv::cli {
+
+namespace {
+
+struct PointsBuildArgs {
+  std::string input, output, format = "mvx", memory;
+  uint32_t depth = 0, max_node_points = 16384;
+  bool skip_extra = false, json = false, quiet = false;
+};
+
+nlohmann::json report_json(const PointFileReport& r) {
+  return {{"input", r.input},
+          {"output", r.output},
+          {"format", r.format},
+          {"input_format", r.input_format},
+          {"points_in", r.points_in},
+          {"points_kept", r.points_kept},
+          {"points_dropped", r.points_dropped},
+          {"stored_points", r.stored_points},
+          {"nodes", r.nodes},
+          {"nodes_per_level", r.nodes_per_level},
+          {"depth", r.depth},
+          {"seconds",
+           {{"read", r.read_seconds}, {"sort", r.sort_seconds}, {"build", r.build_seconds}, {"write", r.write_seconds},
+            {"total", r.total_seconds}}},
+          {"points_per_second", r.points_per_second},
+          {"sort_runs", r.build.sort.runs},
+          {"host_groups", r.build.host_groups}};
+}
+
+void print_levels(const std::vector<uint64_t>& per_level) {
+  std::printf("  %-6s %12s\n", "level", "nodes");
+  for (size_t l = 0; l < per_level.size(); ++l) std::printf("  %-6zu %12llu\n", l, (unsigned long long)per_level[l]);
+}
+
+void print_report(const PointFileReport& r) {
+  std::printf("%s -> %s (%s; input %s)\n", r.input.c_str(), r.output.c_str(), r.format.c_str(), r.input_format.c_str());
+  std::printf("  points in %llu, kept %llu, dropped %llu; %llu nodes over %u levels, %llu points stored (leaves + "
+              "representatives)\n",
+              (unsigned long long)r.points_in, (unsigned long long)r.points_kept, (unsigned long long)r.points_dropped,
+              (unsigned long long)r.nodes, r.depth + 1, (unsigned long long)r.stored_points);
+  print_levels(r.nodes_per_level);
+  std::printf("  seconds: read %.3f (alone), sort %.3f, build %.3f, write %.3f; total %.3f = %.2f M points/s\n",
+              r.read_seconds, r.sort_seconds, r.build_seconds, r.write_seconds, r.total_seconds,
+              r.points_per_second * 1e-6);
+}
+
+void add_points_build(CLI::App& points, const GlobalOptions& g) {
+  auto a = std::make_shared<PointsBuildArgs>();
+  auto* cmd = points.add_subcommand(
+      "build",
+      "Build an LOD hierarchy of a point cloud (PLY binary or ASCII: x,y,z with optional colour, normals and\n"
+      "intensity; LAS 1.2-1.4 point formats 0-3 and 6-8) bottom-up from its Morton order (OMiCroN). Every point\n"
+      "lands in exactly one leaf; a subtree of at most --max-node-points points is one leaf, and each inner node\n"
+      "keeps copies of its children's points, one per cell of a 64^3 grid over its cube, nearest the cell centre.\n"
+      "Examples:\n"
+      "  megavox points build scan.las -o scan.mvx\n"
+      "  megavox points build scan.ply --format 3dtiles -o scan_tiles   (DIR/tileset.json + DIR/tiles/*.pnts)");
+  cmd->add_option("input", a->input, "The point cloud (.ply, .las)")->required();
+  cmd->add_option("-o,--output", a->output, "The .mvx file or, with --format 3dtiles, the folder to write "
+                                            "(written under a temporary name, renamed on success)")
+      ->required();
+  cmd->add_option("--format", a->format, "mvx (default) or 3dtiles");
+  cmd->add_option("--depth", a->depth, "Leaf level, 1-21 (default: from the point count, see docs/ARCHITECTURE.md)");
+  cmd->add_option("--max-node-points", a->max_node_points,
+                  "Most points in a leaf subtree and representatives per inner node (default 16384)");
+  cmd->add_option("--memory", a->memory, "Host memory budget, e.g. 8G (default: half the machine's RAM)");
+  cmd->add_flag("--skip-extra-bytes", a->skip_extra, "Do not carry a LAS file's extra bytes per point");
+  cmd->add_flag("--json", a->json, "Print one JSON object instead of the summary");
+  cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
+  cmd->callback([&g, a] {
+    PointFileOptions o;
+    o.input = a->input;
+    o.output = a->output;
+    o.format = a->format;
+    o.build.depth = a->depth;
+    o.build.max_node_points = a->max_node_points;
+    o.memory = a->memory.empty() ? 0 : parse_size(a->memory);
+    o.carry_extra_bytes = !a->skip_extra;
+    auto dev = open_device(g);
+    const bool bar = !a->quiet && isatty(STDERR_FILENO);
+    PointFileReport r = build_points_file(*dev, o, progress_bar(bar));
+    if (bar) std::fprintf(stderr, "\n");
+    if (g.profile) print_kernel_totals(*dev);
+    if (a->json) std::cout << report_json(r).dump(2) << "\n";
+    else print_report(r);
+  });
+}
+
+void add_points_info(CLI::App& points) {
+  auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  auto* cmd = points.add_subcommand("info", "Validate a point .mvx file (checksums, the hierarchy's structure) and "
+                                            "print its counts");
+  cmd->add_option("file", *path, "The .mvx file")->required();
+  cmd->add_flag("--json", *json, "Print one JSON object");
+  cmd->callback([path, json] {
+    PointHierarchy h = read_mvx_points(*path);
+    if (*json) {
+      nlohmann::json j = {{"file", *path},
+                          {"input_format", h.source.format},
+                          {"points_in", h.points_in},
+                          {"points_kept", h.points_kept},
+                          {"points_dropped", h.points_dropped},
+                          {"stored_points", h.points.size()},
+                          {"nodes", h.nodes.size()},
+                          {"nodes_per_level", h.nodes_per_level},
+                          {"depth", h.depth},
+                          {"attributes", h.source.attributes},
+                          {"z_up", h.source.z_up},
+                          {"crs", h.source.crs}};
+      std::cout << j.dump(2) << "\n";
+      return;
+    }
+    std::printf("%s: point hierarchy, %llu points (in %llu, dropped %llu), %zu nodes, depth %u, valid\n",
+                path->c_str(), (unsigned long long)h.points_kept, (unsigned long long)h.points_in,
+                (unsigned long long)h.points_dropped, h.nodes.size(), h.depth);
+    std::printf("  from %s; %s up%s%s\n", h.source.format.c_str(), h.source.z_up ? "+Z" : "+Y",
+                h.source.crs.empty() ? "" : "; CRS ", h.source.crs.substr(0, 60).c_str());
+    print_levels(h.nodes_per_level);
+  });
+}
+
+}  // namespace
+
+void add_points_command(CLI::App& app, const GlobalOptions& g) {
+  CLI::App* points = app.add_subcommand("points", "Point clouds: LOD hierarchies (OMiCroN) in .mvx or 3D Tiles");
+  points->require_subcommand(1);
+  add_points_build(*points, g);
+  add_points_info(*points);
+}
+
+}  // namespace mv::cli

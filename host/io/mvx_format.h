@@ -1,0 +1,83 @@
+// The .mvx container's shared layout (include/megavox/mvx.h): the header page, the section table and the
+// checked reads and atomic writes every content kind uses. Internal to host/io.
+#pragma once
+#include <xxhash.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "megavox/error.h"
+
+namespace mv::mvx_format {
+
+constexpr char kMagic[8] = {'M', 'E', 'G', 'A', 'V', 'O', 'X', '\x1a'};
+constexpr uint64_t kPage = 4096;
+constexpr uint32_t kMaxSections = 16;
+// Voxel content: counts, levels, nodes (or inner + bricks). Point content (version 2): the rest.
+enum SectionKind : uint32_t {
+  kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5,
+  kSecPointMeta = 6, kSecPointNodes = 7, kSecPointXyz = 8, kSecPointRgb = 9, kSecPointNormal = 10,
+  kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13,
+};
+constexpr uint32_t kKinds = 14;
+// Header::content (version 2; version 1 files are voxels and hold 0 there).
+enum Content : uint32_t { kVoxels = 0, kPoints = 1 };
+
+struct Section {
+  uint32_t kind = 0, reserved = 0;
+  uint64_t offset = 0, bytes = 0, checksum = 0;
+};
+
+struct Header {
+  char magic[8];
+  uint32_t version, encoding, levels, sections;
+  double origin[3], voxel_size;
+  uint32_t resolution, content;
+  double bounds_lo[3], bounds_hi[3];
+  uint64_t voxels;  // points: the points kept
+  Section table[kMaxSections];
+  uint64_t checksum;  // XXH3-64 of the bytes above
+};
+static_assert(sizeof(Header) < kPage);
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+inline uint64_t hash(const void* data, size_t bytes) { return XXH3_64bits(data, bytes); }
+
+struct Blob {
+  uint32_t kind;
+  const void* data;
+  uint64_t bytes;
+};
+
+// Fills h's magic, section table and checksum from `blobs` (each on its own 4 KiB pages after the header page)
+// and writes the file through a temporary name.
+void write_file(const std::string& path, Header& h, const std::vector<Blob>& blobs);
+
+// An opened file whose header, checksum, section table and total size were checked; versions 1 and 2.
+struct Opened {
+  File file;
+  Header header{};
+  const Section* find[kKinds] = {};  // the section of each kind, or null
+};
+Opened open_file(const std::string& path);
+
+// Section `s` read whole, its size and checksum checked.
+template <class T>
+std::vector<T> section_data(std::FILE* f, const Section& s, const std::string& path, const char* what) {
+  if (s.bytes % sizeof(T)) throw Error(path + ": " + what + " section has a partial element");
+  std::vector<T> v(s.bytes / sizeof(T));
+  if (std::fseek(f, static_cast<long>(s.offset), SEEK_SET) != 0 || std::fread(v.data(), 1, s.bytes, f) != s.bytes)
+    throw Error(path + ": truncated: the " + what + " section ends past the end of the file");
+  if (hash(v.data(), s.bytes) != s.checksum) throw Error(path + ": checksum mismatch in the " + what + " section");
+  return v;
+}
+
+}  // namespace mv::mvx_format

@@ -23,6 +23,8 @@ mv_kernel(morton_encode64          morton/morton.cl  morton/morton.comp   2  MvM
 mv_kernel(point_codes              points/points.cl  points/points.comp   3  MvPointParams     MV_ENTRY_point_codes)
 mv_kernel(rep_count                points/points.cl  points/points.comp   4  MvPointParams     MV_ENTRY_rep_count)
 mv_kernel(rep_select               points/points.cl  points/points.comp   5  MvPointParams     MV_ENTRY_rep_select)
+mv_kernel(splat_depth              points/splat.cl   points/splat.comp    3  MvSplatParams     MV_ENTRY_splat_depth)
+mv_kernel(splat_index              points/splat.cl   points/splat.comp    3  MvSplatParams     MV_ENTRY_splat_index)
 mv_kernel(unique_flags             scan/unique.cl    scan/unique.comp     2  MvUniqueParams    MV_ENTRY_flags)
 mv_kernel(unique_compact           scan/unique.cl    scan/unique.comp     3  MvUniqueParams    MV_ENTRY_compact)
 mv_kernel(voxelize                 voxel/voxelize.cl voxel/voxelize.comp  6  MvVoxelizeParams)
@@ -69,3 +71,4 @@ mv_kernel(probe_secondary_params   probe/layout.cl   probe/layout.comp    1  MvS
 mv_kernel(probe_ray                probe/layout.cl   probe/layout.comp    1  MvRay             MV_ENTRY_probe_ray)
 mv_kernel(probe_hit                probe/layout.cl   probe/layout.comp    1  MvHit             MV_ENTRY_probe_hit)
 mv_kernel(probe_point_params       probe/layout.cl   probe/layout.comp    1  MvPointParams     MV_ENTRY_probe_point_params)
+mv_kernel(probe_splat_params       probe/layout.cl   probe/layout.comp    1  MvSplatParams     MV_ENTRY_probe_splat_params)

@@ -18,7 +18,7 @@ static_assert(sizeof(PointNode) == 40, ".mvx stores point nodes as 40 bytes");
 namespace {
 
 struct PointMeta {
-  uint32_t attributes, extra_bytes, z_up, shift, depth, crs_bytes, format_bytes, reserved;
+  uint32_t attributes, extra_bytes, z_up, shift, depth, crs_bytes, format_bytes, grid_bits;
   double scale[3], offset[3];
   int64_t cube_min[3];
   uint64_t points_in, points_kept, points_dropped, nodes, stored_points;
@@ -79,6 +79,7 @@ void write_mvx_points(const std::string& path, const PointHierarchy& h) {
   meta.z_up = info.z_up ? 1 : 0;
   meta.shift = h.shift;
   meta.depth = h.depth;
+  meta.grid_bits = h.grid_bits;
   meta.crs_bytes = static_cast<uint32_t>(info.crs.size());
   meta.format_bytes = static_cast<uint32_t>(info.format.size());
   for (int a = 0; a < 3; ++a) {
@@ -137,6 +138,7 @@ PointHierarchy read_mvx_points(const std::string& path) {
   const uint32_t known = kPointRgb | kPointNormal | kPointIntensity | kPointExtra;
   if (meta.attributes & ~known) throw Error(path + ": unknown point attributes " + std::to_string(meta.attributes));
   if (meta.extra_bytes > 65535) throw Error(path + ": bad extra byte count in the point meta section");
+  if (meta.grid_bits < 1 || meta.grid_bits > 10) throw Error(path + ": bad node grid in the point meta section");
   if (meta.depth > 21 || meta.shift > 32) throw Error(path + ": bad depth or cube in the point meta section");
   PointHierarchy h;
   PointCloudInfo& info = h.source;
@@ -153,6 +155,7 @@ PointHierarchy read_mvx_points(const std::string& path) {
   }
   h.shift = meta.shift;
   h.depth = meta.depth;
+  h.grid_bits = meta.grid_bits;
   h.points_in = meta.points_in;
   h.points_kept = meta.points_kept;
   h.points_dropped = meta.points_dropped;

@@ -83,6 +83,7 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   h.source = info;
   for (int a = 0; a < 3; ++a) h.cube_min[a] = cube.min[a];
   h.shift = cube.shift;
+  h.grid_bits = rule.grid_bits;
   h.depth = static_cast<uint32_t>(h.nodes_per_level.size() - 1);
   h.points_in = n;
   h.points_kept = n;

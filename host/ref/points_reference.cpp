@@ -105,6 +105,7 @@ std::unique_ptr<RefNode> split(const std::vector<uint64_t>& sorted, uint32_t lev
 PointHierarchy build_point_hierarchy(const PointColumns& points, const PointCloudInfo& info, const PointLodRule& rule) {
   PointHierarchy h;
   h.source = info;
+  h.grid_bits = rule.grid_bits;
   const uint64_t n = points.size();
   h.points_in = h.points_kept = n;
   if (n == 0) return h;

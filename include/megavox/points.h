@@ -67,7 +67,8 @@ struct PointHierarchy {
   // (xyz - cube_min) >> shift, so the cube's side is 2^(21 + shift) input units.
   int64_t cube_min[3] = {0, 0, 0};
   uint32_t shift = 0;
-  uint32_t depth = 0;  // the deepest level that holds a node
+  uint32_t depth = 0;      // the deepest level that holds a node
+  uint32_t grid_bits = 6;  // an inner node at level l keeps one point per cell of level l + grid_bits
   std::vector<PointNode> nodes;
   PointColumns points;
   uint64_t points_in = 0;       // read from the input

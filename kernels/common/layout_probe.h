@@ -18,6 +18,7 @@
 #include "secondary.h"
 #include "unique.h"
 #include "points.h"
+#include "splat.h"
 #include "voxelize.h"
 
 #define MV_PROBE_FIELDS 32u /* at most, per struct */
@@ -54,6 +55,11 @@
 #define MV_FIELDS_POINT(X)                                                                                             \
   X(MV_U32, n) X(MV_U32, shift) X(MV_U32, min_x) X(MV_U32, min_y) X(MV_U32, min_z) X(MV_U32, base) X(MV_U32, cell_bits) \
   X(MV_U32, cap)
+#define MV_FIELDS_SPLAT(X)                                                                                             \
+  X(MV_U32, n) X(MV_U32, base) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, focal_q8)               \
+  X(MV_U32, cx_q8) X(MV_U32, cy_q8) X(MV_U32, near_q14) X(MV_U32, depth_shift) X(MV_U32, eye_x) X(MV_U32, eye_y)        \
+  X(MV_U32, eye_z) X(MV_U32, rot[0]) X(MV_U32, rot[1]) X(MV_U32, rot[2]) X(MV_U32, rot[3]) X(MV_U32, rot[4])           \
+  X(MV_U32, rot[5]) X(MV_U32, rot[6]) X(MV_U32, rot[7]) X(MV_U32, rot[8])
 #define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
 
 #define MV_PROBE_VALUE(word, f)                                                                                        \
@@ -92,5 +98,6 @@ MV_PROBE(secondary_params, MvSecondaryParams, MV_FIELDS_SECONDARY)
 MV_PROBE(ray, MvRay, MV_FIELDS_RAY)
 MV_PROBE(hit, MvHit, MV_FIELDS_HIT)
 MV_PROBE(point_params, MvPointParams, MV_FIELDS_POINT)
+MV_PROBE(splat_params, MvSplatParams, MV_FIELDS_SPLAT)
 
 #endif /* MV_LAYOUT_PROBE_H */

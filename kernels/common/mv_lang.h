@@ -33,12 +33,15 @@ using std::floor;
 typedef uint32_t mv_u32;
 typedef uint64_t mv_u64;
 typedef int32_t mv_i32;
+typedef int64_t mv_i64;
 typedef float mv_f32;
 typedef double mv_f64;
 #define MV_INLINE static inline
 #define MV_ALWAYS_INLINE static inline __attribute__((always_inline))
 #define MV_U32(x) ((mv_u32)(x))
 #define MV_U64(x) ((mv_u64)(x))
+#define MV_I32(x) ((mv_i32)(x))
+#define MV_I64(x) ((mv_i64)(x))
 #define MV_STRUCT_BEGIN(name) struct name {
 #define MV_STRUCT_END(name) };
 #define MV_MIN(a, b) ((a) < (b) ? (a) : (b))
@@ -51,6 +54,7 @@ typedef double mv_f64;
 #define mv_u32 uint
 #define mv_u64 ulong
 #define mv_i32 int
+#define mv_i64 long
 #define mv_f32 float
 #define mv_f64 double
 #define MV_INLINE static inline
@@ -58,6 +62,8 @@ typedef double mv_f64;
 #define MV_ALWAYS_INLINE static inline __attribute__((always_inline))
 #define MV_U32(x) ((uint)(x))
 #define MV_U64(x) ((ulong)(x))
+#define MV_I32(x) ((int)(x))
+#define MV_I64(x) ((long)(x))
 #define MV_STRUCT_BEGIN(name) typedef struct name {
 #define MV_STRUCT_END(name) } name;
 #define MV_MIN(a, b) min(a, b)
@@ -72,12 +78,15 @@ typedef double mv_f64;
 #define mv_u32 uint
 #define mv_u64 uint64_t
 #define mv_i32 int
+#define mv_i64 int64_t
 #define mv_f32 float
 #define mv_f64 double
 #define MV_INLINE
 #define MV_ALWAYS_INLINE
 #define MV_U32(x) uint(x)
 #define MV_U64(x) uint64_t(x)
+#define MV_I32(x) int(x)
+#define MV_I64(x) int64_t(x)
 #define MV_STRUCT_BEGIN(name) struct name {
 #define MV_STRUCT_END(name) };
 #define MV_MIN(a, b) min(a, b)

@@ -41,6 +41,9 @@
 #elif defined(MV_ENTRY_probe_point_params)
 #define MV_PROBE_T MvPointParams
 #define MV_PROBE_FN mv_probe_point_params
+#elif defined(MV_ENTRY_probe_splat_params)
+#define MV_PROBE_T MvSplatParams
+#define MV_PROBE_FN mv_probe_splat_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

@@ -1,0 +1,214 @@
+#include "point_frame.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "megavox/error.h"
+
+namespace mv::points {
+
+namespace {
+
+struct Vec {
+  double x = 0, y = 0, z = 0;
+};
+Vec operator+(Vec a, Vec b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vec operator-(Vec a, Vec b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec operator*(Vec a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec cross(Vec a, Vec b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+Vec unit(Vec a) { return a * (1 / std::sqrt(dot(a, a))); }
+double& at(Vec& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
+double get(const Vec& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
+
+int up_axis(const PointHierarchy& h, char up) {
+  switch (up) {
+    case 0: return h.source.z_up ? 2 : 1;
+    case 'x': return 0;
+    case 'y': return 1;
+    case 'z': return 2;
+  }
+  throw Error(std::string("points render: --up wants x, y or z, got '") + up + "'");
+}
+
+// A simple colour ramp for clouds without colour: deep blue, teal, yellow.
+void ramp(double t, uint8_t* rgb) {
+  t = std::clamp(t, 0.0, 1.0);
+  const double stops[3][3] = {{40, 60, 160}, {40, 170, 150}, {250, 220, 60}};
+  const double f = t * 2;
+  const int i = std::min(1, static_cast<int>(f));
+  const double w = f - i;
+  for (int c = 0; c < 3; ++c) rgb[c] = static_cast<uint8_t>(stops[i][c] * (1 - w) + stops[i + 1][c] * w + 0.5);
+}
+
+}  // namespace
+
+SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o) {
+  if (h.nodes.empty()) throw Error("points render: the hierarchy has no nodes");
+  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
+    throw Error("points render: the image must be 1-16384 pixels wide and high, not " + std::to_string(o.width) + "x" +
+                std::to_string(o.height));
+  if (!(o.fov > 1 && o.fov < 170)) throw Error("points render: --fov must lie between 1 and 170 degrees");
+  const int up = up_axis(h, o.up);
+  // Camera space in cells scaled per axis by the input's scale over the largest (the cube is square in input
+  // units, which LAS may scale differently per axis).
+  const double smax = std::max({std::fabs(h.source.scale[0]), std::fabs(h.source.scale[1]), std::fabs(h.source.scale[2])});
+  double aspect[3];
+  for (int a = 0; a < 3; ++a) aspect[a] = std::fabs(h.source.scale[a]) / smax;
+  auto cell = [&](uint64_t p, int a) {
+    return static_cast<uint32_t>((int64_t{h.points.xyz[3 * p + a]} - h.cube_min[a]) >> h.shift);
+  };
+  // Bounds of the points, in scaled cells.
+  Vec lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  const uint64_t np = h.points.size();
+  for (uint64_t p = 0; p < np; ++p)
+    for (int a = 0; a < 3; ++a) {
+      const double v = cell(p, a) * aspect[a];
+      at(lo, a) = std::min(at(lo, a), v);
+      at(hi, a) = std::max(at(hi, a), v);
+    }
+  const Vec centre = (lo + hi) * 0.5;
+  const double radius = std::max(1.0, std::sqrt(dot(hi - lo, hi - lo)) * 0.5);
+
+  Vec upv, right_v, toward;  // world up, the front view's right and its direction towards the eye
+  at(upv, up) = 1;
+  const int h1 = (up + 1) % 3, h2 = (up + 2) % 3;  // z up: x, y; y up: z, x
+  if (up == 2) {
+    at(right_v, 0) = 1;
+    at(toward, 1) = -1;  // front: from -Y
+  } else {
+    at(right_v, h2) = 1;
+    at(toward, h1) = 1;  // y up: x right, from +Z
+  }
+  Vec dir;  // from the target to the eye
+  if (o.view == "front") dir = toward;
+  else if (o.view == "back") dir = toward * -1;
+  else if (o.view == "right") dir = right_v;
+  else if (o.view == "left") dir = right_v * -1;
+  else if (o.view == "top") dir = upv;
+  else if (o.view == "iso") dir = unit(toward + right_v * 0.8 + upv * 0.7);
+  else throw Error("points render: unknown view '" + o.view + "' (front, back, left, right, top, iso)");
+  const double half = o.fov * M_PI / 360;
+  const double dist = radius / std::sin(half) * 1.02;
+  const Vec eye = centre + dir * dist;
+  const Vec fwd = unit(centre - eye);
+  Vec cam_up = o.view == "top" ? toward * -1 : upv;
+  Vec cam_x = unit(cross(fwd, cam_up));
+  Vec cam_y = cross(cam_x, fwd);
+
+  SplatFrame f;
+  MvSplatParams& p = f.params;
+  p.width = o.width;
+  p.height = o.height;
+  p.radius = std::max(1u, o.point_size) / 2;
+  const double focal = (o.height / 2.0) / std::tan(half);
+  p.focal_q8 = static_cast<uint32_t>(std::llround(focal * 256));
+  p.cx_q8 = static_cast<int32_t>(o.width * 128);
+  p.cy_q8 = static_cast<int32_t>(o.height * 128);
+  for (int a = 0; a < 3; ++a)
+    if (std::fabs(get(eye, a) / aspect[a]) > 2e9) throw Error("points render: the camera is too far from the cloud");
+  p.eye_x = static_cast<int32_t>(std::llround(eye.x / aspect[0]));
+  p.eye_y = static_cast<int32_t>(std::llround(eye.y / aspect[1]));
+  p.eye_z = static_cast<int32_t>(std::llround(eye.z / aspect[2]));
+  const Vec rows[3] = {cam_x, cam_y, fwd};
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a) {
+      p.rot[3 * r + a] = static_cast<int32_t>(std::llround(get(rows[r], a) * aspect[a] * double(1 << 30)));
+    }
+  p.near_q14 = 1u << 14;
+  const double far_q14 = (dist + radius) * 16384 * 2;
+  p.depth_shift = 0;
+  while (far_q14 / std::ldexp(1.0, static_cast<int>(p.depth_shift)) >= 4e9) ++p.depth_shift;
+
+  // The cut: from the root down, a node is drawn when it is a leaf or its points' spacing (its side over its
+  // grid) projects to at most lod_pixels; else its children are visited.
+  const double lod = std::max(1e-3, o.lod_pixels);
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t i = stack.back();
+    stack.pop_back();
+    const PointNode& n = h.nodes[i];
+    const double side = std::ldexp(1.0, 21 - n.level);
+    const uint64_t prefix = n.code ^ (uint64_t{1} << (3 * n.level));
+    Vec c;
+    for (int a = 0; a < 3; ++a) {
+      uint32_t v = 0;
+      for (int b = 0; b < n.level; ++b) v |= static_cast<uint32_t>((prefix >> (3 * b + a)) & 1) << b;
+      at(c, a) = (v + 0.5) * side * aspect[a];
+    }
+    const double d = std::sqrt(dot(c - eye, c - eye)) - side * 0.87;
+    const double spacing = side / std::ldexp(1.0, static_cast<int>(h.grid_bits));
+    const bool draw = n.leaf() || (d > 0 && focal * spacing / d <= lod);
+    if (draw) {
+      f.nodes.push_back(i);
+      continue;
+    }
+    // Children in reverse so that they pop in octant order (the cut's order does not change the picture).
+    uint32_t k = n.first_child + static_cast<uint32_t>(__builtin_popcount(n.child_mask));
+    while (k > n.first_child) stack.push_back(--k);
+  }
+  std::sort(f.nodes.begin(), f.nodes.end());
+
+  // The cut's points and colours.
+  const bool rgb = !h.points.rgb.empty();
+  uint16_t rgb_max = 0;
+  if (rgb) rgb_max = *std::max_element(h.points.rgb.begin(), h.points.rgb.end());
+  const int rgb_shift = rgb_max > 255 ? 8 : 0;
+  uint16_t imax = 1;
+  if (!h.points.intensity.empty()) imax = std::max<uint16_t>(1, *std::max_element(h.points.intensity.begin(), h.points.intensity.end()));
+  for (uint32_t i : f.nodes) {
+    const PointNode& n = h.nodes[i];
+    for (uint64_t q = n.first_point; q < n.first_point + n.point_count; ++q) {
+      for (int a = 0; a < 3; ++a) f.cells.push_back(cell(q, a));
+      uint8_t c[3];
+      if (rgb) {
+        for (int k = 0; k < 3; ++k) c[k] = static_cast<uint8_t>(h.points.rgb[3 * q + k] >> rgb_shift);
+      } else if (!h.points.intensity.empty()) {
+        c[0] = c[1] = c[2] = static_cast<uint8_t>(std::min(255.0, 40 + 215.0 * h.points.intensity[q] / imax));
+      } else {
+        ramp((cell(q, up) * aspect[up] - at(lo, up)) / std::max(1.0, at(hi, up) - at(lo, up)), c);
+      }
+      f.colours.insert(f.colours.end(), c, c + 3);
+    }
+  }
+  return f;
+}
+
+Image resolve_frame(const SplatFrame& frame, const std::vector<uint32_t>& depth, const std::vector<uint32_t>& index,
+                    uint64_t* covered) {
+  const uint32_t w = frame.params.width, h = frame.params.height;
+  Image img;
+  img.width = w;
+  img.height = h;
+  img.rgb.assign(size_t{w} * h * 3, 0);
+  uint64_t count = 0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t at = size_t{y} * w + x;
+      uint8_t* px = &img.rgb[at * 3];
+      if (index[at] == MV_SPLAT_EMPTY) {
+        px[0] = 24, px[1] = 26, px[2] = 32;
+        continue;
+      }
+      ++count;
+      // Eye-dome lighting: how far the neighbours lie in front of this pixel, in log depth.
+      const double ld = std::log2(double(depth[at]) + 1);
+      double obscured = 0;
+      const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+      for (int k = 0; k < 4; ++k) {
+        const int nx = int(x) + 2 * dx[k], ny = int(y) + 2 * dy[k];
+        double ln = std::log2(4294967296.0);  // the background is far away
+        if (nx >= 0 && ny >= 0 && nx < int(w) && ny < int(h) && depth[size_t(ny) * w + nx] != MV_SPLAT_EMPTY)
+          ln = std::log2(double(depth[size_t(ny) * w + nx]) + 1);
+        obscured += std::max(0.0, ld - ln);
+      }
+      const double shade = std::exp(-3.0 * obscured);
+      const uint8_t* c = &frame.colours[size_t{index[at]} * 3];
+      for (int k = 0; k < 3; ++k) px[k] = static_cast<uint8_t>(c[k] * shade + 0.5);
+    }
+  if (covered) *covered = count;
+  return img;
+}
+
+}  // namespace mv::points

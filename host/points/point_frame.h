@@ -1,0 +1,27 @@
+// What the device splat renderer and its CPU reference share: the camera in the splat kernels' fixed point, the
+// LOD cut, the cut's points as cells and colours, and the image made of the per-pixel winners. No device types.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "../../kernels/common/splat.h"
+#include "megavox/point_render.h"
+
+namespace mv::points {
+
+struct SplatFrame {
+  MvSplatParams params{};        // n and base are set per dispatch
+  std::vector<uint32_t> nodes;   // the cut: node indices drawn
+  std::vector<uint32_t> cells;   // 3 cell coordinates per drawn point
+  std::vector<uint8_t> colours;  // 3 bytes per drawn point
+};
+
+// The whole-frame setup: camera from options, cut by screen-space size, the cut's points.
+SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& options);
+
+// The picture: each covered pixel takes its winning point's colour, darkened by eye-dome lighting from the depth
+// keys; uncovered pixels the background.
+Image resolve_frame(const SplatFrame& frame, const std::vector<uint32_t>& depth, const std::vector<uint32_t>& index,
+                    uint64_t* covered = nullptr);
+
+}  // namespace mv::points

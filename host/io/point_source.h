@@ -33,7 +33,9 @@ class PointSource {
 
 struct PointReadOptions {
   bool carry_extra_bytes = true;    // LAS: the record's bytes past its format's fields, into PointColumns::extra
-  uint64_t ram_bytes = UINT64_MAX;  // the most a reader buffers of the file at once (at least one record)
+  // LAS: the most its read buffer holds (and at most 1 MiB, at least one record); PLY reads through a fixed
+  // 1 MiB block buffer. No reader holds a whole cloud.
+  uint64_t ram_bytes = UINT64_MAX;
 };
 
 // Opens `path` by its content: "ply\n" is PLY, "LASF" is LAS (a compressed LAS, LAZ, or a file named .laz is

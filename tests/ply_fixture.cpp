@@ -21,53 +21,6 @@ namespace {
 namespace fs = std::filesystem;
 using mv::io::PlyMeshReader;
 
-// Appends values of a PLY body in one format.
-class BodyWriter {
- public:
-  explicit BodyWriter(Fmt f) : fmt_(f) {}
-
-  void put(const std::string& type, double v) {
-    if (fmt_ == Fmt::ascii) {
-      char text[40];
-      bool integer = type != "float" && type != "double" && type != "float32" && type != "float64";
-      std::snprintf(text, sizeof text, integer ? "%.0f " : "%.17g ", v);
-      out_ += text;
-    } else if (type == "char" || type == "int8") {
-      put_bytes(static_cast<int8_t>(v));
-    } else if (type == "uchar" || type == "uint8") {
-      put_bytes(static_cast<uint8_t>(v));
-    } else if (type == "short" || type == "int16") {
-      put_bytes(static_cast<int16_t>(v));
-    } else if (type == "ushort" || type == "uint16") {
-      put_bytes(static_cast<uint16_t>(v));
-    } else if (type == "int" || type == "int32") {
-      put_bytes(static_cast<int32_t>(v));
-    } else if (type == "uint" || type == "uint32") {
-      put_bytes(static_cast<uint32_t>(v));
-    } else if (type == "float" || type == "float32") {
-      put_bytes(static_cast<float>(v));
-    } else {
-      put_bytes(v);
-    }
-  }
-  void end_entry() {
-    if (fmt_ == Fmt::ascii) out_.back() = '\n';
-  }
-  const std::string& bytes() const { return out_; }
-
- private:
-  template <class T>
-  void put_bytes(T v) {
-    char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    if ((fmt_ == Fmt::be) == (std::endian::native == std::endian::little)) std::reverse(b, b + sizeof(T));
-    out_.append(b, sizeof(T));
-  }
-
-  Fmt fmt_;
-  std::string out_;
-};
-
 }  // namespace
 
 const char* fmt_name(Fmt f) {

@@ -186,4 +186,24 @@ class HeaderParser {
 
 Header parse_header(HeaderLines& in) { return HeaderParser(in).parse(); }
 
+std::string plural(const Element& e) {
+  return e.name == "vertex" ? "vertices" : e.name == "face" ? "faces" : "'" + e.name + "' elements";
+}
+
+void check_counts(const Header& h, const std::string& path, uint64_t data_bytes, size_t elements) {
+  const bool ascii = h.format == Format::ascii;
+  const uint64_t available = data_bytes + (ascii ? 1 : 0);  // ascii: the last value may lack its "\n"
+  uint64_t need = 0;
+  for (size_t i = 0; i < h.elements.size() && i < elements; ++i) {
+    const Element& e = h.elements[i];
+    uint64_t per_entry = 0;
+    for (const Property& p : e.props) per_entry += ascii ? 2 : scalar_size(p.is_list ? p.count_type : p.type);
+    uint64_t total = sat_add(need, sat_mul(per_entry, e.count));
+    if (total > available)
+      throw Error(path + ": truncated: expected " + num(e.count) + " " + plural(e) + ", but the " + num(data_bytes) +
+                  " bytes after the header hold at most " + num((available - need) / per_entry));
+    need = total;
+  }
+}
+
 }  // namespace mv::io::detail

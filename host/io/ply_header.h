@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -47,6 +48,17 @@ struct Header {
 
 inline std::string num(uint64_t v) { return std::to_string(v); }
 
+// Saturating arithmetic for sizes computed from header counts.
+inline uint64_t sat_mul(uint64_t a, uint64_t b) {
+  uint64_t r;
+  return __builtin_mul_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
+}
+
+inline uint64_t sat_add(uint64_t a, uint64_t b) {
+  uint64_t r;
+  return __builtin_add_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Parser
 
@@ -69,5 +81,13 @@ class HeaderLines {
 // Reads the header from the start of `in` up to and including its "end_header" line; throws mv::Error
 // naming the file, the line and the fault on anything malformed.
 Header parse_header(HeaderLines& in);
+
+// "vertices", "faces" or "'<name>' elements", for messages.
+std::string plural(const Element& e);
+
+// Refuses counts the data could not hold, before anything is allocated (a truncated file or a garbage count):
+// throws mv::Error naming `path` unless the `data_bytes` after the header can hold the first `elements`
+// elements, each entry at least its scalars and list counts (binary) or 2 characters per value, "0 " (ascii).
+void check_counts(const Header& h, const std::string& path, uint64_t data_bytes, size_t elements = SIZE_MAX);
 
 }  // namespace mv::io::detail

@@ -11,9 +11,6 @@
 
 namespace mv::io {
 
-using detail::sat_add;
-using detail::sat_mul;
-
 PlyMeshReader::Impl::Impl(const std::string& path, uint64_t ram)
     : src(path), header(detail::parse_header(src)), ram_bytes(ram) {
   check_counts();
@@ -67,29 +64,12 @@ void PlyMeshReader::Impl::find_layout() {
     fail_at(ip.line, "list '" + ip.name + "' must hold integer indices, not " + std::string(scalar_name(ip.type)));
 }
 
-// Each entry needs at least its scalars and list counts (binary) or 2 characters per value, "0 " (ascii).
 void PlyMeshReader::Impl::check_counts() const {
-  bool ascii = header.format == Format::ascii;
-  uint64_t data_bytes = src.size() - src.consumed();
-  uint64_t available = data_bytes + (ascii ? 1 : 0);  // ascii: the last value may lack its "\n"
-  uint64_t need = 0;
-  for (const Element& e : header.elements) {
-    uint64_t per_entry = 0;
-    for (const Property& p : e.props) per_entry += ascii ? 2 : scalar_size(p.is_list ? p.count_type : p.type);
-    uint64_t total = sat_add(need, sat_mul(per_entry, e.count));
-    if (total > available)
-      fail("truncated: expected " + num(e.count) + " " + plural(e) + ", but the " + num(data_bytes) +
-           " bytes after the header hold at most " + num((available - need) / per_entry));
-    need = total;
-  }
-}
-
-std::string PlyMeshReader::Impl::plural(const Element& e) {
-  return e.name == "vertex" ? "vertices" : e.name == "face" ? "faces" : "'" + e.name + "' elements";
+  detail::check_counts(header, src.path(), src.size() - src.consumed());
 }
 
 void PlyMeshReader::Impl::truncated(const Element& e, uint64_t complete) const {
-  fail("truncated: expected " + num(e.count) + " " + plural(e) + ", file ends after " + num(complete));
+  fail("truncated: expected " + num(e.count) + " " + detail::plural(e) + ", file ends after " + num(complete));
 }
 
 size_t PlyMeshReader::Impl::record_bytes(const Element& e) {

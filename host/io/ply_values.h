@@ -17,17 +17,6 @@ namespace mv::io::detail {
 
 static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
 
-// Saturating arithmetic for sizes computed from header counts.
-inline uint64_t sat_mul(uint64_t a, uint64_t b) {
-  uint64_t r;
-  return __builtin_mul_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
-}
-
-inline uint64_t sat_add(uint64_t a, uint64_t b) {
-  uint64_t r;
-  return __builtin_add_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
-}
-
 template <class T, bool Swap>
 T load(const char* p) {
   using U = std::conditional_t<sizeof(T) == 1, uint8_t,

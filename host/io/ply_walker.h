@@ -74,7 +74,6 @@ struct PlyMeshReader::Impl {
   void find_layout();
   // Refuses counts the file cannot hold, before anything is allocated: a truncated file or a garbage count.
   void check_counts() const;
-  static std::string plural(const Element& e);
   [[noreturn]] void truncated(const Element& e, uint64_t complete) const;
   // Bytes per entry of an element of scalars, 0 if it has lists or records too large for the fast paths.
   static size_t record_bytes(const Element& e);

@@ -1,3 +1,4 @@
+// PointColumns (megavox/points.h): the column operations readers and the LOD builder share.
 #include "megavox/points.h"
 
 namespace mv {
@@ -11,12 +12,17 @@ void PointColumns::clear() {
 }
 
 void PointColumns::append(const PointColumns& from, uint64_t i, uint32_t extra_bytes) {
-  xyz.insert(xyz.end(), from.xyz.begin() + 3 * i, from.xyz.begin() + 3 * i + 3);
-  if (!from.rgb.empty()) rgb.insert(rgb.end(), from.rgb.begin() + 3 * i, from.rgb.begin() + 3 * i + 3);
-  if (!from.normal.empty()) normal.insert(normal.end(), from.normal.begin() + 3 * i, from.normal.begin() + 3 * i + 3);
-  if (!from.intensity.empty()) intensity.push_back(from.intensity[i]);
-  if (!from.extra.empty() && extra_bytes)
-    extra.insert(extra.end(), from.extra.begin() + i * extra_bytes, from.extra.begin() + (i + 1) * extra_bytes);
+  // A column is copied when `from` carries it: its columns are either empty or hold every point.
+  auto copy = [i](auto& to, const auto& src, uint64_t per_point) {
+    if (src.empty()) return;
+    auto first = src.begin() + static_cast<std::ptrdiff_t>(i * per_point);
+    to.insert(to.end(), first, first + static_cast<std::ptrdiff_t>(per_point));
+  };
+  copy(xyz, from.xyz, 3);
+  copy(rgb, from.rgb, 3);
+  copy(normal, from.normal, 3);
+  copy(intensity, from.intensity, 1);
+  if (extra_bytes > 0) copy(extra, from.extra, extra_bytes);
 }
 
 }  // namespace mv

@@ -1,0 +1,125 @@
+// The LAS point reader (las_reader.h): the header through las_header.h, then the point records read in
+// buffered batches and split into columns.
+#include "las_reader.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+#include "las_header.h"
+#include "megavox/error.h"
+
+namespace mv::io {
+
+namespace {
+
+using detail::le;
+
+constexpr uint64_t kBufferBytes = 1 << 20;
+
+class LasSource final : public PointSource {
+ public:
+  LasSource(const std::string& path, const PointReadOptions& options)
+      : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
+    if (!file_) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    std::error_code ec;
+    // The size bounds every count in the header; a pipe or directory has none.
+    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": not a regular file");
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw Error(path + ": cannot read its size: " + ec.message());
+    std::setvbuf(file_.get(), nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
+    h_ = detail::read_las_header(file_.get(), path, size);
+
+    info_.format = "LAS " + std::to_string(h_.version_major) + "." + std::to_string(h_.version_minor) +
+                   ", point format " + std::to_string(h_.point_format);
+    info_.points = h_.points;
+    info_.attributes = kPointIntensity;
+    rgb_offset_ = detail::las_rgb_offset(h_.point_format);
+    if (rgb_offset_ != 0) info_.attributes |= kPointRgb;
+    const uint32_t surplus = h_.record_length - h_.standard_length;
+    if (options.carry_extra_bytes && surplus > 0) {
+      info_.attributes |= kPointExtra;
+      info_.extra_bytes = surplus;
+    }
+    for (int a = 0; a < 3; ++a) {
+      info_.scale[a] = h_.scale[a];
+      info_.offset[a] = h_.offset[a];
+    }
+    info_.z_up = true;
+    info_.crs = h_.crs;
+
+    const uint64_t buffer = std::min(kBufferBytes, options.ram_bytes);
+    batch_ = std::max<uint64_t>(1, buffer / h_.record_length);
+    if (fseeko(file_.get(), static_cast<off_t>(h_.point_offset), SEEK_SET) != 0)
+      throw Error(path + ": cannot seek to the point data at byte " + std::to_string(h_.point_offset) + ": " +
+                  std::strerror(errno));
+  }
+
+  const PointCloudInfo& info() const override { return info_; }
+
+  bool next(PointColumns& out, size_t max_points) override {
+    if (max_points == 0) throw Error(path_ + ": next: max_points must be at least 1");
+    if (read_ == h_.points) return false;
+    const uint64_t n = std::min<uint64_t>(max_points, h_.points - read_);
+    reserve(out, n);
+    buffer_.resize(std::min(n, batch_) * h_.record_length);
+    for (uint64_t done = 0; done < n;) {
+      const uint64_t chunk = std::min(n - done, batch_);
+      const size_t got = std::fread(buffer_.data(), h_.record_length, chunk, file_.get());
+      decode(out, got);
+      read_ += got;
+      done += got;
+      if (got < chunk) truncated();
+    }
+    return true;
+  }
+
+ private:
+  void reserve(PointColumns& out, uint64_t n) const {
+    const uint64_t have = out.size();
+    out.xyz.reserve(3 * (have + n));
+    out.intensity.reserve(have + n);
+    if (info_.attributes & kPointRgb) out.rgb.reserve(3 * (have + n));
+    if (info_.attributes & kPointExtra) out.extra.reserve(info_.extra_bytes * (have + n));
+  }
+
+  void decode(PointColumns& out, size_t count) const {
+    const bool rgb = info_.attributes & kPointRgb;
+    const unsigned char* r = buffer_.data();
+    for (size_t i = 0; i < count; ++i, r += h_.record_length) {
+      out.xyz.insert(out.xyz.end(), {le<int32_t>(r), le<int32_t>(r + 4), le<int32_t>(r + 8)});
+      out.intensity.push_back(le<uint16_t>(r + 12));
+      if (rgb) {
+        const unsigned char* c = r + rgb_offset_;
+        out.rgb.insert(out.rgb.end(), {le<uint16_t>(c), le<uint16_t>(c + 2), le<uint16_t>(c + 4)});
+      }
+      if (info_.extra_bytes) out.extra.insert(out.extra.end(), r + h_.standard_length, r + h_.record_length);
+    }
+  }
+
+  [[noreturn]] void truncated() const {
+    if (std::ferror(file_.get())) throw Error(path_ + ": read error in the point data: " + std::strerror(errno));
+    throw Error(path_ + ": truncated point data: the header declares " + std::to_string(h_.points) +
+                " points, but the file ends after " + std::to_string(read_) + " complete points");
+  }
+
+  std::string path_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  detail::LasHeader h_;
+  PointCloudInfo info_;
+  uint32_t rgb_offset_ = 0;
+  uint64_t batch_ = 1;  // records per read
+  std::vector<unsigned char> buffer_;
+  uint64_t read_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<PointSource> open_las(const std::string& path, const PointReadOptions& options) {
+  return std::make_unique<LasSource>(path, options);
+}
+
+}  // namespace mv::io

@@ -1,0 +1,45 @@
+// Point clouds from a file, read as a stream: the header on opening, then the points in batches, so a cloud
+// larger than RAM passes through a bounded buffer.
+//
+// Formats, chosen by content:
+// - LAS 1.0 to 1.4, uncompressed, point data record formats 0, 1, 2, 3, 6, 7, 8 (io/las_reader.h): the raw
+//   int32 X, Y, Z with the header's scale and offset; intensity, RGB (formats 2, 3, 7, 8) and the record's
+//   extra bytes; the CRS from the WKT or GeoTIFF-key records. LAZ is refused with a message saying how to
+//   decompress it.
+// - PLY 1.0, ascii or binary (io/ply_points.h): the `vertex` element's x, y, z on a grid chosen from the data's
+//   precision (the rule is in ply_points.h), with optional RGB, normals and intensity.
+//
+// Every fault -- a missing file, a malformed header, truncated data, a count larger than the file could hold,
+// a non-finite coordinate -- throws mv::Error naming the file and the fault. After an error from next() the
+// source is spent: open the file again to retry.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "megavox/points.h"
+
+namespace mv::io {
+
+class PointSource {
+ public:
+  virtual ~PointSource() = default;
+  virtual const PointCloudInfo& info() const = 0;
+  // Appends up to max_points (at least 1) points to `out` (the columns info().attributes names); false,
+  // appending nothing, once every point was read.
+  virtual bool next(PointColumns& out, size_t max_points) = 0;
+};
+
+struct PointReadOptions {
+  bool carry_extra_bytes = true;    // LAS: the record's bytes past its format's fields, into PointColumns::extra
+  // LAS: the most its read buffer holds (and at most 1 MiB, at least one record); PLY reads through a fixed
+  // 1 MiB block buffer. No reader holds a whole cloud.
+  uint64_t ram_bytes = UINT64_MAX;
+};
+
+// Opens `path` by its content: "ply\n" is PLY, "LASF" is LAS (a compressed LAS, LAZ, or a file named .laz is
+// refused). Anything else throws mv::Error naming the file and the formats accepted.
+std::unique_ptr<PointSource> open_points(const std::string& path, const PointReadOptions& options = {});
+
+}  // namespace mv::io

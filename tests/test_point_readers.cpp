@@ -1,0 +1,382 @@
+// Point-cloud readers: LAS files of every version and point format written here and read back field by field,
+// PLY clouds in the three formats with their attributes and the grid rule, and the staged real clouds (the
+// autzen LAS against its PLY copy, point by point).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "io/ply_points.h"
+#include "io/point_source.h"
+#include "megavox/error.h"
+#include "point_fixture.h"
+#include "test_support.h"
+
+namespace {
+
+using namespace mv::test::points;
+using mv::PointColumns;
+using mv::io::PlyGrid;
+using mv::io::PointReadOptions;
+using mv::test::ply::Fmt;
+using mv::test::ply::fmt_name;
+using mv::test::ply::kAllFormats;
+using mv::test::ply::write_file;
+
+bool has_rgb(int format) { return format == 2 || format == 3 || format == 7 || format == 8; }
+
+// ---------------------------------------------------------------------------------------------------
+// PointColumns
+
+TEST(PointReaders, ColumnsAppendAndClear) {
+  PointColumns from;
+  from.xyz = {1, 2, 3, 4, 5, 6};
+  from.rgb = {10, 11, 12, 13, 14, 15};
+  from.intensity = {7, 8};
+  from.extra = {1, 2, 3, 4};
+  PointColumns to;
+  to.append(from, 1, 2);
+  to.append(from, 0, 2);
+  EXPECT_EQ(to.size(), 2u);
+  EXPECT_EQ(to.xyz, (std::vector<int32_t>{4, 5, 6, 1, 2, 3}));
+  EXPECT_EQ(to.rgb, (std::vector<uint16_t>{13, 14, 15, 10, 11, 12}));
+  EXPECT_TRUE(to.normal.empty());
+  EXPECT_EQ(to.intensity, (std::vector<uint16_t>{8, 7}));
+  EXPECT_EQ(to.extra, (std::vector<uint8_t>{3, 4, 1, 2}));
+  to.clear();
+  EXPECT_EQ(to.size(), 0u);
+  EXPECT_TRUE(to.rgb.empty() && to.intensity.empty() && to.extra.empty());
+}
+
+// ---------------------------------------------------------------------------------------------------
+// LAS
+
+TEST(LasPoints, EveryVersionFormatAndExtraBytes) {
+  for (int minor : {0, 1, 2, 3, 4}) {  // 1.0 and 1.1 share 1.2's layout
+    for (int format : {0, 1, 2, 3, 6, 7, 8}) {
+      for (uint16_t extra : {0, 3}) {
+        for (bool carry : {true, false}) {
+          SCOPED_TRACE("LAS 1." + std::to_string(minor) + " format " + std::to_string(format) + " extra " +
+                       std::to_string(extra) + (carry ? " carried" : " skipped"));
+          LasSpec spec;
+          spec.minor = minor;
+          spec.format = format;
+          spec.extra_bytes = extra;
+          spec.wkt = "PROJCS[\"NAD83(HARN) / Oregon GIC Lambert (ft)\"]";
+          const auto pts = las_points(37, extra, 1000 * minor + 10 * format + extra);
+          const std::string path = write_file("roundtrip.las", make_las(spec, pts));
+          PointReadOptions options;
+          options.carry_extra_bytes = carry;
+          const Cloud c = read_cloud(path, 5, options);
+
+          const mv::PointCloudInfo& info = c.info;
+          EXPECT_EQ(info.format, "LAS 1." + std::to_string(minor) + ", point format " + std::to_string(format));
+          EXPECT_EQ(info.points, 37u);
+          EXPECT_EQ(c.batches, 8u);
+          EXPECT_TRUE(info.z_up);
+          EXPECT_EQ(info.crs, spec.wkt);
+          const bool extra_carried = carry && extra > 0;
+          EXPECT_EQ(info.attributes, mv::kPointIntensity | (has_rgb(format) ? mv::kPointRgb : 0u) |
+                                         (extra_carried ? mv::kPointExtra : 0u));
+          EXPECT_EQ(info.extra_bytes, extra_carried ? extra : 0u);
+          for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(info.scale[a], spec.scale[a]);
+            EXPECT_EQ(info.offset[a], spec.offset[a]);
+          }
+          const PointColumns& p = c.points;
+          ASSERT_EQ(p.size(), pts.size());
+          EXPECT_TRUE(p.normal.empty());
+          EXPECT_EQ(p.rgb.size(), has_rgb(format) ? 3 * pts.size() : 0u);
+          EXPECT_EQ(p.extra.size(), extra_carried ? extra * pts.size() : 0u);
+          for (size_t i = 0; i < pts.size(); ++i) {
+            for (int a = 0; a < 3; ++a) ASSERT_EQ(p.xyz[3 * i + a], pts[i].xyz[a]) << "point " << i;
+            ASSERT_EQ(p.intensity[i], pts[i].intensity) << "point " << i;
+            if (has_rgb(format)) {
+              for (int k = 0; k < 3; ++k) ASSERT_EQ(p.rgb[3 * i + k], pts[i].rgb[k]) << "point " << i;
+            }
+            if (extra_carried) {
+              for (int k = 0; k < extra; ++k) ASSERT_EQ(p.extra[extra * i + k], pts[i].extra[k]) << "point " << i;
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(LasPoints, WorldIsOffsetPlusScaleTimesX) {
+  LasSpec spec;
+  std::vector<LasPoint> pts(1);
+  pts[0].xyz[0] = 117798;
+  pts[0].xyz[1] = -5;
+  pts[0].xyz[2] = 3;
+  const Cloud c = read_cloud(write_file("world.las", make_las(spec, pts)));
+  const double want[3] = {636000.5 + 1177.98, -20 - 0.005, 3 + 0.75};
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(c.info.offset[a] + c.info.scale[a] * c.points.xyz[a], want[a], 1e-9);
+}
+
+TEST(LasPoints, CrsFromWktOrGeoKeys) {
+  auto crs = [](const LasSpec& spec) {
+    return read_cloud(write_file("crs.las", make_las(spec, las_points(3, 0, 1)))).info.crs;
+  };
+  LasSpec none;
+  EXPECT_EQ(crs(none), "");
+  LasSpec keys;
+  keys.geokey_crs = 2992;
+  EXPECT_EQ(crs(keys), "GeoTIFF keys (EPSG:2992)");
+  keys.geokey_crs = 32767;
+  EXPECT_EQ(crs(keys), "GeoTIFF keys (user-defined CRS)");
+  LasSpec both = keys;
+  both.wkt = "GEOGCS[\"WGS 84\"]";
+  EXPECT_EQ(crs(both), both.wkt);  // the WKT wins over the keys
+  LasSpec evlr;
+  evlr.minor = 4;
+  evlr.format = 7;
+  evlr.wkt = "PROJCS[\"in an EVLR\"]";
+  evlr.wkt_in_evlr = true;
+  EXPECT_EQ(crs(evlr), evlr.wkt);
+}
+
+TEST(LasPoints, GapBeforePointsTinyBufferAndEmptyCloud) {
+  LasSpec spec;
+  spec.gap = 13;
+  spec.extra_bytes = 1;
+  const auto pts = las_points(50, 1, 9);
+  const std::string path = write_file("gap.las", make_las(spec, pts));
+  PointReadOptions one_record;
+  one_record.ram_bytes = 1;  // a buffer of one record
+  const Cloud c = read_cloud(path, 1000, one_record);
+  ASSERT_EQ(c.points.size(), 50u);
+  for (size_t i = 0; i < pts.size(); ++i) ASSERT_EQ(c.points.xyz[3 * i + 2], pts[i].xyz[2]);
+  EXPECT_EQ(c.points.extra[49], pts[49].extra[0]);
+
+  const Cloud empty = read_cloud(write_file("empty.las", make_las(spec, {})));
+  EXPECT_EQ(empty.info.points, 0u);
+  EXPECT_EQ(empty.batches, 0u);
+
+  auto src = mv::io::open_points(path);
+  PointColumns cols;
+  EXPECT_NE(mv::test::error_message([&] { src->next(cols, 0); }).find("max_points must be at least 1"),
+            std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// PLY
+
+std::vector<double> values(std::initializer_list<double> v) { return v; }
+
+TEST(PlyPoints, AttributesInEveryFormat) {
+  const std::vector<PlyColumn> cols = {
+      {"float", "x", values({0.5, -1.25, 3, 0})},   {"uchar", "red", values({0, 128, 255, 7})},
+      {"float", "y", values({2, 0.125, -8, 0})},    {"uchar", "green", values({1, 2, 3, 4})},
+      {"float", "z", values({-0.75, 1, 2, 0})},     {"uchar", "blue", values({250, 251, 252, 253})},
+      {"float", "quality", values({9, 9, 9, 9})},  // skipped
+      {"float", "nx", values({0.25, 1, 0, -1})},    {"float", "ny", values({0.5, 0, 1, 0})},
+      {"float", "nz", values({-0.125, 0, 0, 0.5})}, {"ushort", "intensity", values({0, 65535, 1000, 3})}};
+  for (Fmt f : kAllFormats) {
+    for (bool others : {false, true}) {
+      SCOPED_TRACE(std::string(fmt_name(f)) + (others ? " with other elements" : ""));
+      const Cloud c = read_cloud(write_file("attrs.ply", make_cloud_ply(f, cols, others)), 3);
+      EXPECT_EQ(c.info.format, "PLY " + std::string(fmt_name(f)));
+      EXPECT_EQ(c.info.points, 4u);
+      EXPECT_EQ(c.batches, 2u);
+      EXPECT_FALSE(c.info.z_up);
+      EXPECT_EQ(c.info.attributes, mv::kPointRgb | mv::kPointNormal | mv::kPointIntensity);
+      EXPECT_EQ(c.info.crs, "");
+      const PointColumns& p = c.points;
+      for (size_t i = 0; i < 4; ++i) {
+        for (int a = 0; a < 3; ++a) {
+          const double want = cols[size_t{2} * a].values[i];
+          EXPECT_EQ(c.info.offset[a], 0);
+          EXPECT_EQ(c.info.scale[a] * p.xyz[3 * i + a], want) << "vertex " << i;  // these floats lie on the grid
+          EXPECT_EQ(p.rgb[3 * i + a], cols[size_t{2} * a + 1].values[i]);
+          EXPECT_EQ(p.normal[3 * i + a], cols[7 + a].values[i]);
+        }
+        EXPECT_EQ(p.intensity[i], cols[10].values[i]);
+      }
+    }
+  }
+}
+
+TEST(PlyPoints, SpellingsAndConversions) {
+  const std::vector<PlyColumn> cols = {
+      {"double", "x", values({1, 2, 3})},       {"double", "y", values({1, 2, 3})},
+      {"double", "z", values({1, 2, 3})},       {"ushort", "r", values({1000, 65535, 0})},  // ushort as stored
+      {"ushort", "g", values({1, 2, 3})},       {"ushort", "b", values({4, 5, 6})},
+      {"float", "normal_x", values({1, 0, 0})}, {"float", "normal_y", values({0, 1, 0})},
+      {"float", "normal_z", values({0, 0, 1})}, {"float", "scalar_intensity", values({3.6, -2, 1e6})}};
+  const Cloud c = read_cloud(write_file("spell.ply", make_cloud_ply(Fmt::le, cols)));
+  EXPECT_EQ(c.info.attributes, mv::kPointRgb | mv::kPointNormal | mv::kPointIntensity);
+  EXPECT_EQ(c.points.rgb, (std::vector<uint16_t>{1000, 1, 4, 65535, 2, 5, 0, 3, 6}));
+  EXPECT_EQ(c.points.normal, (std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
+  EXPECT_EQ(c.points.intensity, (std::vector<uint16_t>{4, 0, 65535}));  // rounded, clamped
+
+  const std::vector<PlyColumn> other = {
+      {"float", "x", values({1, 2, 3})},
+      {"float", "y", values({1, 2, 3})},
+      {"float", "z", values({1, 2, 3})},
+      {"float", "diffuse_red", values({0.5, 1.5, -1})},  // float colours are fractions of 1
+      {"float", "diffuse_green", values({0, 1, 0.2})},
+      {"float", "diffuse_blue", values({1, 0, 0})},
+      {"float", "nx", values({1, 0, 0})},  // a partial normal is skipped
+      {"int", "scalar_Intensity", values({-5, 70000, 12})}};
+  const Cloud d = read_cloud(write_file("spell2.ply", make_cloud_ply(Fmt::be, other)));
+  EXPECT_EQ(d.info.attributes, mv::kPointRgb | mv::kPointIntensity);
+  EXPECT_EQ(d.points.rgb, (std::vector<uint16_t>{128, 0, 255, 255, 255, 0, 0, 51, 0}));
+  EXPECT_TRUE(d.points.normal.empty());
+  EXPECT_EQ(d.points.intensity, (std::vector<uint16_t>{0, 65535, 12}));
+
+  const std::vector<PlyColumn> lone_r = {{"float", "x", values({1})},
+                                         {"float", "y", values({1})},
+                                         {"float", "z", values({1})},
+                                         {"float", "r", values({0.5})}};
+  EXPECT_EQ(read_cloud(write_file("radius.ply", make_cloud_ply(Fmt::ascii, lone_r))).info.attributes, 0u);
+}
+
+// The mesh reader's fixture files (skipped elements with lists before, between and after the vertices, a
+// list in the vertex element) read as points.
+TEST(PlyPoints, ReadsMeshFiles) {
+  using namespace mv::test::ply;
+  for (Fmt f : kAllFormats) {
+    for (bool vertex_list : {false, true}) {
+      SCOPED_TRACE(std::string(fmt_name(f)) + (vertex_list ? " with a vertex list" : ""));
+      MeshSpec m = small_mesh();
+      m.extras = true;
+      m.vertex_list = vertex_list;
+      const Cloud c = read_cloud(write_file("mesh.ply", make_ply(m, f)), 2);
+      ASSERT_EQ(c.points.size(), m.vertices.size());
+      EXPECT_EQ(c.info.attributes, mv::kPointRgb);  // the fixture's lone nx is not a normal
+      for (size_t i = 0; i < m.vertices.size(); ++i)
+        for (int a = 0; a < 3; ++a) {
+          EXPECT_EQ(c.info.scale[a] * c.points.xyz[3 * i + a], m.vertices[i][a]);
+          EXPECT_EQ(c.points.rgb[3 * i + a], 200 + a);
+        }
+    }
+  }
+}
+
+TEST(PlyPoints, GridScaleRule) {
+  EXPECT_EQ(mv::io::ply_grid_scale(PlyGrid::float32, 0), 1);
+  EXPECT_EQ(mv::io::ply_grid_scale(PlyGrid::integer, 1e9), 1);
+  EXPECT_EQ(mv::io::ply_grid_scale(PlyGrid::float32, 1), std::ldexp(1.0, 1 - 24));      // 2^0 <= 1 < 2^1
+  EXPECT_EQ(mv::io::ply_grid_scale(PlyGrid::float32, 1000), std::ldexp(1.0, 10 - 24));  // 2^9 <= 1000 < 2^10
+  EXPECT_EQ(mv::io::ply_grid_scale(PlyGrid::float64, 0.75), std::ldexp(1.0, 0 - 30));
+  EXPECT_EQ(mv::io::ply_grid_scale(PlyGrid::float64, 5e-324), std::ldexp(1.0, -1074));  // subnormal
+  EXPECT_EQ(mv::io::ply_grid_scale(PlyGrid::float64, 1.7e308), std::ldexp(1.0, 1024 - 30));
+}
+
+// Every coordinate comes back within scale/2, the grid chosen as ply_points.h says.
+void expect_grid(const std::string& type, double magnitude, Fmt f, uint64_t seed, double want_scale, double max_x) {
+  SCOPED_TRACE(type + " " + std::to_string(magnitude) + " " + fmt_name(f));
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-magnitude, magnitude);
+  std::vector<PlyColumn> cols = {{type, "x", {}}, {type, "y", {}}, {type, "z", {}}};
+  double m = 0;
+  for (int i = 0; i < 500; ++i)
+    for (auto& c : cols) {
+      double v = u(rng);
+      if (type == "float") v = static_cast<float>(v);
+      if (type != "float" && type != "double") v = std::round(v);
+      c.values.push_back(v);
+      m = std::max(m, std::fabs(v));
+    }
+  if (want_scale == 0) {  // the float rule: 2^(e-24) or 2^(e-30) for 2^(e-1) <= m < 2^e
+    int e = 0;
+    std::frexp(m, &e);
+    want_scale = std::ldexp(1.0, e - (type == "float" ? 24 : 30));
+  }
+  const Cloud c = read_cloud(write_file("grid.ply", make_cloud_ply(f, cols)), 128);
+  for (int a = 0; a < 3; ++a) {
+    ASSERT_EQ(c.info.scale[a], want_scale);
+    ASSERT_EQ(c.info.offset[a], 0);
+  }
+  for (size_t i = 0; i < 500; ++i)
+    for (int a = 0; a < 3; ++a) {
+      const double x = c.points.xyz[3 * i + a];
+      ASSERT_LE(std::fabs(x), max_x);
+      ASSERT_LE(std::fabs(x * want_scale - cols[a].values[i]), want_scale / 2) << "vertex " << i;
+    }
+}
+
+TEST(PlyPoints, QuantizationRule) {
+  uint64_t seed = 1;
+  for (Fmt f : kAllFormats) {
+    for (double mag : {1e-30, 1e-3, 1.0, 1000.0, 3e7, 1e30}) {
+      expect_grid("float", mag, f, ++seed, 0, std::ldexp(1.0, 24));
+      expect_grid("double", mag, f, ++seed, 0, std::ldexp(1.0, 30));
+    }
+    expect_grid("int", 2e9, f, ++seed, 1, 2147483647);  // integers below 2^31: scale 1
+    expect_grid("short", 30000, f, ++seed, 1, 32767);
+  }
+  // Integers from 2^31 take the double rule; all-zero clouds scale 1.
+  std::vector<PlyColumn> big = {
+      {"uint", "x", values({4e9, 1})}, {"uint", "y", values({0, 3})}, {"uint", "z", values({2, 2})}};
+  const Cloud c = read_cloud(write_file("big.ply", make_cloud_ply(Fmt::le, big)));
+  EXPECT_EQ(c.info.scale[0], std::ldexp(1.0, 32 - 30));
+  EXPECT_EQ(c.points.xyz[0], 1000000000);
+  std::vector<PlyColumn> zero = {
+      {"float", "x", values({0, -0.0})}, {"float", "y", values({0, 0})}, {"float", "z", values({0, 0})}};
+  EXPECT_EQ(read_cloud(write_file("zero.ply", make_cloud_ply(Fmt::ascii, zero))).info.scale[1], 1);
+  // A float cloud's largest values are exact.
+  std::vector<PlyColumn> exact = {{"float", "x", values({1000.123f, -999.0f})},
+                                  {"float", "y", values({0, 1})},
+                                  {"float", "z", values({0.000123f, 2})}};
+  const Cloud e = read_cloud(write_file("exact.ply", make_cloud_ply(Fmt::le, exact)));
+  EXPECT_EQ(e.info.scale[0] * e.points.xyz[0], static_cast<double>(1000.123f));
+  EXPECT_EQ(e.info.scale[0] * e.points.xyz[3], -999.0);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Staged real clouds (shared/data/README.md)
+
+// The shared file, or "" after one line saying it is absent (a user's machine has no shared data).
+std::string staged(const std::string& relative) {
+  const std::string path = mv::test::shared_data_file(relative);
+  if (path.empty())
+    std::printf("shared data not found: %s (stage ../shared/data or set MEGAVOX_TEST_DATA); not checked\n",
+                mv::test::shared_data_path(relative).c_str());
+  return path;
+}
+
+TEST(PointReaders, AutzenLasMatchesItsPly) {
+  const std::string las = staged("pointcloud_autzen/autzen_trim.las");
+  const std::string ply = staged("pointcloud_autzen/autzen_trim.ply");
+  if (las.empty() || ply.empty()) return;
+  const Cloud a = read_cloud(las, 8191);
+  const Cloud b = read_cloud(ply, 10000);
+  EXPECT_EQ(a.info.format, "LAS 1.2, point format 3");
+  EXPECT_EQ(a.info.attributes, mv::kPointRgb | mv::kPointIntensity);
+  EXPECT_NE(a.info.crs.find("NAD83"), std::string::npos) << a.info.crs;
+  EXPECT_EQ(b.info.attributes, mv::kPointRgb);
+  ASSERT_EQ(a.points.size(), 110000u);
+  ASSERT_EQ(b.points.size(), 110000u);
+  const double shift[3] = {636000, 848900, 400};  // the PLY's offset (its comment line)
+  double worst = 0;
+  uint64_t rgb_differ = 0;
+  for (size_t i = 0; i < 110000; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const double from_las = a.info.offset[k] + a.info.scale[k] * a.points.xyz[3 * i + k] - shift[k];
+      const double from_ply = b.info.offset[k] + b.info.scale[k] * b.points.xyz[3 * i + k];
+      worst = std::max(worst, std::fabs(from_las - from_ply));
+      rgb_differ += a.points.rgb[3 * i + k] != b.points.rgb[3 * i + k];
+    }
+  }
+  std::printf("autzen: largest difference of a LAS and a PLY coordinate %.3g (of 330000)\n", worst);
+  EXPECT_LE(worst, 1e-3);
+  EXPECT_EQ(rgb_differ, 0u);
+}
+
+TEST(PointReaders, LionTakanawaCount) {
+  const std::string ply = staged("pointcloud_lion_takanawa/lion_takanawa.ply");
+  if (ply.empty()) return;
+  const Cloud c = read_cloud(ply, 1 << 16);
+  EXPECT_EQ(c.info.points, 341989u);
+  EXPECT_EQ(c.points.size(), 341989u);
+  EXPECT_EQ(c.info.attributes, mv::kPointRgb);
+}
+
+}  // namespace

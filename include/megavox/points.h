@@ -46,6 +46,9 @@ struct PointCloudInfo {
 
 // One node of the LOD octree. Codes carry a sentinel bit above 3 * level Morton bits (OMiCroN's convention):
 // the root is 1, a child of c is (c << 3) | octant, the level is (bit width of code - 1) / 3.
+// The octant is x + 2y + 4z, each bit the upper (1) or lower (0) half of the parent's cube on that axis (x
+// lowest, as kernels/common/morton.h): a node's cube is its code's Morton bits read as a cell at its level
+// (the 3D Tiles writer relies on it).
 struct PointNode {
   uint64_t code = 1;
   uint64_t first_point = 0;      // into PointHierarchy::points

@@ -2,15 +2,18 @@
 # Installs megavox's build and test dependencies from Debian 12 packages (idempotent, non-interactive).
 #   scripts/setup.sh                          what building and testing need
 #   scripts/setup.sh --bench                  also the baseline-only libraries the benchmarks compare against
-#   scripts/setup.sh --print-packages [--bench]   print that package list, one per line; install nothing
+#   scripts/setup.sh --viewer                 also Chromium, for the test that renders a 3D Tiles tileset
+#   scripts/setup.sh --print-packages [--bench] [--viewer]   print that package list, one per line; install nothing
+# Then, where npm is, the pinned npm packages of the 3D Tiles checks (tests/js, `npm ci`).
 set -euo pipefail
 
-bench=0 print=0
+bench=0 viewer=0 print=0
 for arg in "$@"; do
   case $arg in
     --bench) bench=1 ;;
+    --viewer) viewer=1 ;;
     --print-packages) print=1 ;;
-    *) echo "setup: unknown option '$arg' (use --bench, --print-packages)" >&2; exit 2 ;;
+    *) echo "setup: unknown option '$arg' (use --bench, --viewer, --print-packages)" >&2; exit 2 ;;
   esac
 done
 
@@ -25,6 +28,14 @@ packages=(
   libpng-dev                                                    # rendered pictures
   libgmp-dev                                                    # tests: exact rational voxelization oracle
 )
+# Node runs the independent 3D Tiles reader (tests/js). A machine that has node and npm already (another
+# distribution's build) keeps them: Debian's npm would conflict with it.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  packages+=(nodejs npm)
+fi
+if ((viewer)); then
+  packages+=(chromium)   # headless, software GL (SwiftShader): tests/js/render_tileset.mjs
+fi
 if ((bench)); then
   # Baseline-only libraries: built into the megavox_baselines target only (CMake option MEGAVOX_BASELINES).
   # Boost.Sort (block_indirect_sort) comes with libboost-dev above.
@@ -53,4 +64,16 @@ if ((${#missing[@]})); then
   [[ $(id -u) -eq 0 ]] || SUDO="sudo"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# The 3D Tiles checks' npm packages, exactly as package-lock.json pins them; skipped when that lock is what
+# was installed last. A failure is a warning: the tests that need them then say they were not run.
+js="$(dirname "$0")/../tests/js"
+if command -v npm >/dev/null && ! cmp -s "$js/package-lock.json" "$js/node_modules/.megavox-lock"; then
+  echo "setup: installing the npm packages of tests/js" >&2
+  if (cd "$js" && npm ci --no-audit --no-fund --loglevel=error >/dev/null); then
+    cp "$js/package-lock.json" "$js/node_modules/.megavox-lock"
+  else
+    echo "setup: warning: npm ci in tests/js failed; the loaders.gl and Chromium checks will not run" >&2
+  fi
 fi

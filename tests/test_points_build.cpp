@@ -13,11 +13,14 @@
 #include "points/omicron.h"
 #include "points/point_kernels.h"
 #include "ref/points_reference.h"
+#include "points_oracles.h"
 #include "test_support.h"
 
 namespace mv {
 namespace {
 
+using test::expect_same;
+using test::expect_valid;
 using test::shared_device;
 
 class PointsBuildTest : public ::testing::TestWithParam<DeviceInfo> {};
@@ -58,72 +61,6 @@ PointCloudInfo info_for(const PointColumns& c) {
   if (!c.normal.empty()) info.attributes |= kPointNormal;
   if (!c.intensity.empty()) info.attributes |= kPointIntensity;
   return info;
-}
-
-void expect_same(const PointHierarchy& a, const PointHierarchy& b) {
-  ASSERT_EQ(a.nodes.size(), b.nodes.size());
-  for (size_t i = 0; i < a.nodes.size(); ++i) {
-    const PointNode &x = a.nodes[i], &y = b.nodes[i];
-    ASSERT_EQ(std::tie(x.code, x.first_point, x.subtree_points, x.point_count, x.first_child, x.child_mask, x.level),
-              std::tie(y.code, y.first_point, y.subtree_points, y.point_count, y.first_child, y.child_mask, y.level))
-        << "node " << i;
-  }
-  EXPECT_EQ(a.points.xyz, b.points.xyz);
-  EXPECT_EQ(a.points.rgb, b.points.rgb);
-  EXPECT_EQ(a.points.normal, b.points.normal);
-  EXPECT_EQ(a.points.intensity, b.points.intensity);
-  EXPECT_EQ(a.nodes_per_level, b.nodes_per_level);
-  EXPECT_EQ(a.shift, b.shift);
-  for (int k = 0; k < 3; ++k) EXPECT_EQ(a.cube_min[k], b.cube_min[k]);
-}
-
-// The oracles that need no reference.
-void expect_valid(const PointHierarchy& h, const PointColumns& input) {
-  ASSERT_FALSE(h.nodes.empty());
-  EXPECT_EQ(h.nodes[0].code, 1u);
-  auto cell_code = [&](uint64_t p) {
-    uint32_t c[3];
-    for (int a = 0; a < 3; ++a)
-      c[a] = static_cast<uint32_t>((int64_t{h.points.xyz[3 * p + a]} - h.cube_min[a]) >> h.shift);
-    uint64_t code = 0;
-    for (int i = 0; i < 21; ++i)
-      for (int a = 0; a < 3; ++a) code |= uint64_t{(c[a] >> i) & 1} << (3 * i + a);
-    return code;
-  };
-  std::multiset<std::tuple<int32_t, int32_t, int32_t>> at_leaves, in;
-  for (uint64_t i = 0; i < input.size(); ++i) in.insert({input.xyz[3 * i], input.xyz[3 * i + 1], input.xyz[3 * i + 2]});
-  uint64_t leaf_points = 0;
-  // Each node's points lie in its cell, and an inner node's representatives are points of its leaves below.
-  std::vector<uint64_t> parent(h.nodes.size(), 0);
-  for (size_t i = 0; i < h.nodes.size(); ++i) {
-    const PointNode& n = h.nodes[i];
-    const uint32_t level = n.level;
-    EXPECT_EQ(uint64_t{1} << (3 * level), n.code & ~((uint64_t{1} << (3 * level)) - 1)) << "sentinel of node " << i;
-    const uint64_t prefix = n.code ^ (uint64_t{1} << (3 * level));
-    for (uint64_t p = n.first_point; p < n.first_point + n.point_count; ++p) {
-      ASSERT_EQ(cell_code(p) >> (3 * (21 - level)), prefix) << "point " << p << " outside node " << i;
-      if (n.leaf()) at_leaves.insert({h.points.xyz[3 * p], h.points.xyz[3 * p + 1], h.points.xyz[3 * p + 2]});
-    }
-    if (n.leaf()) {
-      leaf_points += n.point_count;
-      EXPECT_EQ(n.point_count, n.subtree_points);
-    } else {
-      uint64_t sum = 0;
-      uint32_t c = n.first_child;
-      for (uint32_t o = 0; o < 8; ++o) {
-        if (!(n.child_mask >> o & 1)) continue;
-        ASSERT_LT(c, h.nodes.size());
-        EXPECT_EQ(h.nodes[c].code, (n.code << 3) | o) << "child " << o << " of node " << i;
-        parent[c] = i;
-        sum += h.nodes[c].subtree_points;
-        ++c;
-      }
-      EXPECT_EQ(sum, n.subtree_points) << "node " << i;
-      EXPECT_LE(n.point_count, n.subtree_points);
-    }
-  }
-  EXPECT_EQ(leaf_points, input.size());
-  EXPECT_TRUE(at_leaves == in) << "the leaves do not hold every input point exactly once";
 }
 
 TEST_P(PointsBuildTest, RepresentativesMatchTheReference) {

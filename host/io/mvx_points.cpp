@@ -18,7 +18,9 @@ static_assert(sizeof(PointNode) == 40, ".mvx stores point nodes as 40 bytes");
 namespace {
 
 struct PointMeta {
-  uint32_t attributes, extra_bytes, z_up, shift, depth, crs_bytes, format_bytes, grid_bits;
+  uint32_t attributes, extra_bytes, z_up;
+  int32_t shift;
+  uint32_t depth, crs_bytes, format_bytes, grid_bits;
   double scale[3], offset[3];
   int64_t cube_min[3];
   uint64_t points_in, points_kept, points_dropped, nodes, stored_points;
@@ -139,7 +141,7 @@ PointHierarchy read_mvx_points(const std::string& path) {
   if (meta.attributes & ~known) throw Error(path + ": unknown point attributes " + std::to_string(meta.attributes));
   if (meta.extra_bytes > 65535) throw Error(path + ": bad extra byte count in the point meta section");
   if (meta.grid_bits < 1 || meta.grid_bits > 10) throw Error(path + ": bad node grid in the point meta section");
-  if (meta.depth > 21 || meta.shift > 32) throw Error(path + ": bad depth or cube in the point meta section");
+  if (meta.depth > 21 || meta.shift > 32 || meta.shift < -21) throw Error(path + ": bad depth or cube in the point meta section");
   PointHierarchy h;
   PointCloudInfo& info = h.source;
   info.attributes = meta.attributes;

@@ -56,9 +56,7 @@ SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o) {
   const double smax = std::max({std::fabs(h.source.scale[0]), std::fabs(h.source.scale[1]), std::fabs(h.source.scale[2])});
   double aspect[3];
   for (int a = 0; a < 3; ++a) aspect[a] = std::fabs(h.source.scale[a]) / smax;
-  auto cell = [&](uint64_t p, int a) {
-    return static_cast<uint32_t>((int64_t{h.points.xyz[3 * p + a]} - h.cube_min[a]) >> h.shift);
-  };
+  auto cell = [&](uint64_t p, int a) { return h.cell(p, a); };
   // Bounds of the points, in scaled cells.
   Vec lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   const uint64_t np = h.points.size();

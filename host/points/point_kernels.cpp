@@ -30,7 +30,7 @@ PointCube cube_of(std::span<const int32_t> xyz) {
   }
   // The largest offset, extent, must land in cell 2^21 - 1 or below.
   const uint32_t width = static_cast<uint32_t>(std::bit_width(extent));
-  cube.shift = width > 21 ? width - 21 : 0;
+  cube.shift = static_cast<int32_t>(width) - 21;
   return cube;
 }
 
@@ -54,7 +54,8 @@ void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cub
     dev.upload(xb, xyz.data() + 3 * first, m * 12);
     MvPointParams p{};
     p.n = static_cast<uint32_t>(m);
-    p.shift = cube.shift;
+    p.shift = cube.shift > 0 ? static_cast<uint32_t>(cube.shift) : 0;
+    p.lshift = cube.shift < 0 ? static_cast<uint32_t>(-cube.shift) : 0;
     p.min_x = static_cast<uint32_t>(static_cast<int32_t>(cube.min[0]));
     p.min_y = static_cast<uint32_t>(static_cast<int32_t>(cube.min[1]));
     p.min_z = static_cast<uint32_t>(static_cast<int32_t>(cube.min[2]));

@@ -13,10 +13,11 @@ namespace mv::points {
 // The cube the codes cover, on the input's grid: cell = (xyz - min) >> shift, 21 bits per axis.
 struct PointCube {
   int64_t min[3] = {0, 0, 0};
-  uint32_t shift = 0;
+  int32_t shift = 0;  // negative: cells are (xyz - min) << -shift
 };
 
-// The smallest power-of-two cube at the points' min corner whose 2^21 cells per axis cover them.
+// The smallest power-of-two cube at the points' min corner whose 2^21 cells per axis cover them; clouds narrower
+// than 2^21 units are scaled up so that their extent fills the top bit of the cells.
 PointCube cube_of(std::span<const int32_t> xyz);
 
 // codes[i] = the 63-bit Morton code of point i's cell, index[i] = i; computed on the device in chunks.

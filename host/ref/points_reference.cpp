@@ -117,13 +117,18 @@ PointHierarchy build_point_hierarchy(const PointColumns& points, const PointClou
       hi[a] = std::max<int64_t>(hi[a], points.xyz[3 * i + a]);
     }
   int64_t extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-  while ((extent >> h.shift) >= (int64_t{1} << 21)) ++h.shift;
+  // The cube: the smallest 2^(21 + shift) units that hold the extent, with shift < 0 for narrow clouds.
+  h.shift = -21;
+  while (h.shift < 0 ? (extent << -h.shift) >= (int64_t{1} << 21) : (extent >> h.shift) >= (int64_t{1} << 21)) ++h.shift;
   for (int a = 0; a < 3; ++a) h.cube_min[a] = lo[a];
 
   std::vector<uint64_t> code(n);
   for (uint64_t i = 0; i < n; ++i) {
     uint32_t c[3];
-    for (int a = 0; a < 3; ++a) c[a] = static_cast<uint32_t>((points.xyz[3 * i + a] - lo[a]) >> h.shift);
+    for (int a = 0; a < 3; ++a) {
+      const int64_t d = points.xyz[3 * i + a] - lo[a];
+      c[a] = static_cast<uint32_t>(h.shift >= 0 ? d >> h.shift : d << -h.shift);
+    }
     code[i] = interleave(c[0], c[1], c[2]);
   }
   std::vector<uint64_t> order(n);

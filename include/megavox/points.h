@@ -46,6 +46,9 @@ struct PointCloudInfo {
 
 // One node of the LOD octree. Codes carry a sentinel bit above 3 * level Morton bits (OMiCroN's convention):
 // the root is 1, a child of c is (c << 3) | octant, the level is (bit width of code - 1) / 3.
+// The octant is x + 2y + 4z, each bit the upper (1) or lower (0) half of the parent's cube on that axis (x
+// lowest, as kernels/common/morton.h): a node's cube is its code's Morton bits read as a cell at its level
+// (the 3D Tiles writer relies on it).
 struct PointNode {
   uint64_t code = 1;
   uint64_t first_point = 0;      // into PointHierarchy::points
@@ -64,9 +67,10 @@ struct PointNode {
 struct PointHierarchy {
   PointCloudInfo source;
   // The cube the Morton codes cover, on the input's grid: a point's 21-bit cell per axis is
-  // (xyz - cube_min) >> shift, so the cube's side is 2^(21 + shift) input units.
+  // (xyz - cube_min) >> shift (a negative shift scales up: << -shift, for clouds spanning fewer than 2^21
+  // units), so the cube's side is 2^(21 + shift) input units.
   int64_t cube_min[3] = {0, 0, 0};
-  uint32_t shift = 0;
+  int32_t shift = 0;
   uint32_t depth = 0;      // the deepest level that holds a node
   uint32_t grid_bits = 6;  // an inner node at level l keeps one point per cell of level l + grid_bits
   std::vector<PointNode> nodes;
@@ -75,6 +79,12 @@ struct PointHierarchy {
   uint64_t points_kept = 0;     // at the leaves (points_in - points_dropped)
   uint64_t points_dropped = 0;  // counted, with the reason in the build's report
   std::vector<uint64_t> nodes_per_level;  // index = level
+
+  // Point p's cell along `axis`.
+  uint32_t cell(uint64_t p, int axis) const {
+    const uint64_t d = static_cast<uint64_t>(int64_t{points.xyz[3 * p + axis]} - cube_min[axis]);
+    return static_cast<uint32_t>(shift >= 0 ? d >> shift : d << -shift);
+  }
 };
 
 }  // namespace mv

@@ -1,0 +1,78 @@
+#include "atomic_dir.h"
+
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "megavox/error.h"
+
+namespace mv::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Whether `dir` may be replaced: absent, an empty folder, or a folder holding `marker`.
+void check_replaceable(const fs::path& dir, const std::string& marker) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(dir, ec);
+  if (!fs::exists(st)) return;
+  if (!fs::is_directory(st))
+    throw Error("cannot write '" + dir.string() + "': it exists and is not a folder; remove it or choose another name");
+  if (fs::is_empty(dir, ec) || fs::exists(dir / marker, ec)) return;
+  throw Error("cannot write '" + dir.string() + "': it is a folder with other files in it (no " + marker +
+              "), not replacing it; remove it or choose another name");
+}
+
+// Puts `tmp` in `dir`'s place; an old `dir` is swapped out atomically where the file system can, else moved
+// aside first. The old folder is removed afterwards.
+void swap_in(const fs::path& tmp, const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir, ec))) {
+    if (::rename(tmp.c_str(), dir.c_str()) != 0)
+      throw Error("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(errno));
+    return;
+  }
+  if (::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
+    fs::remove_all(tmp, ec);  // now the old folder; a leftover is harmless
+    return;
+  }
+  const fs::path old = tmp.string() + ".old";
+  if (::rename(dir.c_str(), old.c_str()) != 0)
+    throw Error("cannot move the old '" + dir.string() + "' aside: " + std::strerror(errno));
+  if (::rename(tmp.c_str(), dir.c_str()) != 0) {
+    const int err = errno;
+    ::rename(old.c_str(), dir.c_str());  // put the old one back
+    throw Error("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(err));
+  }
+  fs::remove_all(old, ec);
+}
+
+}  // namespace
+
+void write_dir_atomically(const std::string& dir, const std::string& marker,
+                          const std::function<void(const std::string& tmp_dir)>& write) {
+  fs::path target = fs::path(dir).lexically_normal();
+  if (target.has_filename() == false) target = target.parent_path();  // "out/" -> "out"
+  if (target.empty() || target == "." || target == "..")
+    throw Error("cannot write into '" + dir + "': name a new or earlier output folder, not the current one");
+  check_replaceable(target, marker);
+
+  std::string tmp = target.string() + ".tmp-XXXXXX";
+  if (!::mkdtemp(tmp.data()))
+    throw Error("cannot create a temporary folder beside '" + target.string() + "': " + std::strerror(errno));
+  try {
+    write(tmp);
+    swap_in(tmp, target);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    throw Error("cannot write '" + target.string() + "' (nothing was changed): " + e.what());
+  }
+}
+
+}  // namespace mv::io

@@ -1,0 +1,18 @@
+// Output folders (a 3D Tiles tileset: one JSON file and a file per node) are written into a temporary folder
+// beside DIR and swapped in only when complete, so a failure leaves neither a half-written DIR nor a mix of
+// old and new files.
+#pragma once
+#include <functional>
+#include <string>
+
+namespace mv::io {
+
+// Creates DIR.tmp-XXXXXX beside DIR, calls `write` with its path, then puts it in DIR's place. An existing DIR
+// is replaced only when it is empty or holds `marker` (the file that says it is an earlier output of the same
+// kind, e.g. "tileset.json"): any other folder is left alone and mv::Error says so, before anything is
+// written. On any failure the temporary folder is removed and mv::Error names DIR (a process killed
+// part-way can leave a DIR.tmp-XXXXXX behind: nothing reads it, and it can be deleted).
+void write_dir_atomically(const std::string& dir, const std::string& marker,
+                          const std::function<void(const std::string& tmp_dir)>& write);
+
+}  // namespace mv::io

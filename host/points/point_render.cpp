@@ -38,6 +38,8 @@ PointRenderResult render_points(Device& dev, const PointHierarchy& h, const Poin
   dev.download(index, w.data(), pixels * 4);
   PointRenderResult r;
   r.image = points::resolve_frame(f, d, w, &r.pixels_covered);
+  r.depth = std::move(d);
+  r.winner = std::move(w);
   r.nodes_drawn = f.nodes.size();
   r.points_drawn = n;
   return r;

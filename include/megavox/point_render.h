@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "megavox/points.h"
 #include "megavox/render.h"
@@ -24,6 +25,7 @@ struct PointRenderResult {
   Image image;
   uint64_t nodes_drawn = 0, points_drawn = 0;
   uint64_t pixels_covered = 0;
+  std::vector<uint32_t> depth, winner;  // per pixel: the splat kernels' depth key and winning point (cut order)
 };
 
 PointRenderResult render_points(Device& dev, const PointHierarchy& h, const PointRenderOptions& options);

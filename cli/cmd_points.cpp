@@ -137,6 +137,8 @@ void add_points_info(CLI::App& points) {
 struct PointsRenderArgs {
   std::string input, output, up;
   PointRenderOptions render;
+  bool during_build = false;
+  uint32_t frames = 8, max_node_points = 16384, depth = 0;
 };
 
 void add_points_render(CLI::App& points, const GlobalOptions& g) {
@@ -146,9 +148,16 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       "Render a point .mvx to a PNG: the LOD cut whose points' spacing projects to at most --lod-pixels, drawn as\n"
       "depth-tested square splats with eye-dome lighting (colour from RGB, else intensity, else height). The camera\n"
       "frames the cloud with +Z up for LAS input and +Y up for PLY (--up overrides). Example:\n"
-      "  megavox points render scan.mvx -o scan.png --view iso --width 1920 --height 1080");
-  cmd->add_option("input", a->input, "The point .mvx file")->required();
-  cmd->add_option("-o,--output", a->output, "The PNG to write")->required();
+      "  megavox points render scan.mvx -o scan.png --view iso --width 1920 --height 1080\n"
+      "With --during-build the input is a cloud (PLY, LAS): it is built, and --frames pictures of the finished part\n"
+      "(every finished leaf, one camera) go to the folder -o while it grows, one JSON line per frame:\n"
+      "  megavox points render scan.las --during-build --frames 10 -o frames/");
+  cmd->add_option("input", a->input, "The point .mvx file (--during-build: the point cloud)")->required();
+  cmd->add_option("-o,--output", a->output, "The PNG to write (--during-build: the folder)")->required();
+  cmd->add_flag("--during-build", a->during_build, "Build the input cloud and render frames while it grows");
+  cmd->add_option("--frames", a->frames, "--during-build: how many frames (default 8)");
+  cmd->add_option("--max-node-points", a->max_node_points, "--during-build: as in points build");
+  cmd->add_option("--depth", a->depth, "--during-build: as in points build");
   cmd->add_option("--width", a->render.width, "Image width in pixels (default 1280)");
   cmd->add_option("--height", a->render.height, "Image height in pixels (default 720)");
   cmd->add_option("--view", a->render.view, "front, back, left, right, top or iso (default)");
@@ -162,8 +171,18 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
         throw Error("points render: --up wants x, y or z, got '" + a->up + "'");
       a->render.up = a->up[0];
     }
-    PointHierarchy h = read_mvx_points(a->input);
     auto dev = open_device(g);
+    if (a->during_build) {
+      PointBuildOptions b;
+      b.max_node_points = a->max_node_points;
+      b.depth = a->depth;
+      render_during_build(*dev, a->input, a->output, a->frames, b, a->render, [](const BuildFrame& f) {
+        nlohmann::json j = {{"frame", f.frame}, {"nodes", f.nodes}, {"points_drawn", f.points_drawn}, {"file", f.path}};
+        std::cout << j.dump() << std::endl;
+      });
+      return;
+    }
+    PointHierarchy h = read_mvx_points(a->input);
     PointRenderResult r = render_points(*dev, h, a->render);
     write_png(a->output, r.image);
     std::printf("%s -> %s (%ux%u): %llu nodes, %llu points drawn, %llu pixels covered\n", a->input.c_str(),

@@ -68,6 +68,7 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
     std::vector<size_t> inner;  // parents that keep representatives
     for (size_t g = 0; g < groups.size(); ++g) {
       LodNode& p = parents[g];
+      p.child_begin = groups[g].first;
       p.prefix = list[groups[g].first].prefix >> 3;
       p.first = list[groups[g].first].first;
       bool all_leaves = true;
@@ -125,6 +126,42 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
     parented_[l] = r;
     levels_[l - 1].insert(levels_[l - 1].end(), parents.begin(), parents.end());
   }
+}
+
+void OmicronBuilder::snapshot(std::vector<PointNode>& nodes, std::vector<uint64_t>& order,
+                              std::vector<uint32_t>& roots) const {
+  nodes.clear();
+  order.clear();
+  roots.clear();
+  struct Item {
+    uint32_t level;
+    uint64_t at;
+  };
+  for (uint32_t l = 0; l <= rule_.depth; ++l)
+    for (uint64_t r = parented_[l]; r < levels_[l].size(); ++r) {
+      roots.push_back(static_cast<uint32_t>(nodes.size()));
+      std::vector<Item> queue{{l, r}};
+      for (size_t q = 0; q < queue.size(); ++q) {
+        const LodNode& src = levels_[queue[q].level][queue[q].at];
+        PointNode node;
+        node.code = (uint64_t{1} << (3 * queue[q].level)) | src.prefix;
+        node.level = static_cast<uint8_t>(queue[q].level);
+        node.subtree_points = src.points;
+        node.first_point = order.size();
+        node.child_mask = src.child_mask;
+        if (src.child_mask == 0) {
+          node.point_count = static_cast<uint32_t>(src.points);
+          for (uint64_t p = src.first; p < src.first + src.points; ++p) order.push_back(p);
+        } else {
+          node.point_count = src.rep_count;
+          order.insert(order.end(), reps_.begin() + src.rep_begin, reps_.begin() + src.rep_begin + src.rep_count);
+          node.first_child = static_cast<uint32_t>(nodes.size() + queue.size() - q);
+          const uint32_t children = static_cast<uint32_t>(__builtin_popcount(src.child_mask));
+          for (uint32_t c = 0; c < children; ++c) queue.push_back({queue[q].level + 1, src.child_begin + c});
+        }
+        nodes.push_back(node);
+      }
+    }
 }
 
 void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<uint64_t>& order,

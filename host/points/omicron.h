@@ -33,6 +33,7 @@ struct LodNode {
   uint64_t points = 0;
   uint64_t rep_begin = 0;  // an inner node's representatives: reps()[rep_begin, rep_begin + rep_count)
   uint32_t rep_count = 0;
+  uint64_t child_begin = 0;  // an inner node's children: the next popcount(child_mask) nodes of the level below
   uint8_t child_mask = 0;  // 0: a leaf
   bool absorbed = false;   // a leaf merged into its parent by leaf collapse
 };
@@ -55,6 +56,11 @@ class OmicronBuilder {
   // The hierarchy's nodes in breadth-first order, after concatenate(..., true). Point i of node order is
   // sorted point order[i]; the caller gathers the columns.
   void assemble(std::vector<PointNode>& nodes, std::vector<uint64_t>& order, std::vector<uint64_t>& per_level) const;
+
+  // The finished part so far, as a forest: every subtree whose root has no parent yet (the lists' roots, every
+  // level), breadth-first per root with children contiguous; roots[k] is root k's index in nodes. Point i of
+  // node order is sorted point order[i].
+  void snapshot(std::vector<PointNode>& nodes, std::vector<uint64_t>& order, std::vector<uint32_t>& roots) const;
 
   // The lists' state, for checkpoints: level l's nodes so far, the first of which without a parent yet.
   const std::vector<LodNode>& level(uint32_t l) const { return levels_[l]; }

@@ -55,9 +55,27 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   rule.grid_bits = options.grid_bits;
   points::OmicronBuilder builder(dev, rule);
   const uint64_t step = std::max<uint64_t>(1, options.prefix_points);
+  uint64_t next_checkpoint = options.checkpoint_points;
   for (uint64_t end = std::min(step, n);; end = std::min(end + step, n)) {
     builder.concatenate(std::span<const uint64_t>(codes.data(), end), end == n);
     ++rep.steps;
+    if (options.on_checkpoint && end < n && builder.formed() >= next_checkpoint) {
+      while (next_checkpoint <= builder.formed()) next_checkpoint += std::max<uint64_t>(1, options.checkpoint_points);
+      PointHierarchy partial;
+      std::vector<uint64_t> order;
+      std::vector<uint32_t> roots;
+      builder.snapshot(partial.nodes, order, roots);
+      for (uint64_t& q : order) q = index[q];
+      partial.points = points::gather_columns(points, order, info.extra_bytes);
+      partial.source = info;
+      for (int a = 0; a < 3; ++a) partial.cube_min[a] = cube.min[a];
+      partial.shift = cube.shift;
+      partial.grid_bits = rule.grid_bits;
+      partial.depth = rule.depth;
+      partial.points_in = n;
+      partial.points_kept = builder.formed();
+      options.on_checkpoint(partial, roots);
+    }
     if (progress) {
       PointBuildProgress p;
       p.points_formed = builder.formed();

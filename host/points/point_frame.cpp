@@ -44,7 +44,20 @@ void ramp(double t, uint8_t* rgb) {
 
 }  // namespace
 
-SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o) {
+FrameBox points_box(const PointColumns& points) {
+  FrameBox b{};
+  if (points.xyz.empty()) return b;
+  for (int a = 0; a < 3; ++a) b.lo[a] = b.hi[a] = points.xyz[a];
+  for (size_t i = 0; i < points.xyz.size(); i += 3)
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::min<int64_t>(b.lo[a], points.xyz[i + a]);
+      b.hi[a] = std::max<int64_t>(b.hi[a], points.xyz[i + a]);
+    }
+  return b;
+}
+
+SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o, const std::vector<uint32_t>& roots,
+                       const FrameBox* frame_box) {
   if (h.nodes.empty()) throw Error("points render: the hierarchy has no nodes");
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw Error("points render: the image must be 1-16384 pixels wide and high, not " + std::to_string(o.width) + "x" +
@@ -57,15 +70,14 @@ SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o) {
   double aspect[3];
   for (int a = 0; a < 3; ++a) aspect[a] = std::fabs(h.source.scale[a]) / smax;
   auto cell = [&](uint64_t p, int a) { return h.cell(p, a); };
-  // Bounds of the points, in scaled cells.
-  Vec lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  const uint64_t np = h.points.size();
-  for (uint64_t p = 0; p < np; ++p)
-    for (int a = 0; a < 3; ++a) {
-      const double v = cell(p, a) * aspect[a];
-      at(lo, a) = std::min(at(lo, a), v);
-      at(hi, a) = std::max(at(hi, a), v);
-    }
+  // The framed box, in scaled cells.
+  const FrameBox box = frame_box ? *frame_box : points_box(h.points);
+  Vec lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    auto to_cell = [&](int64_t v) { return std::ldexp(double(v - h.cube_min[a]), -h.shift) * aspect[a]; };
+    at(lo, a) = to_cell(box.lo[a]);
+    at(hi, a) = to_cell(box.hi[a]);
+  }
   const Vec centre = (lo + hi) * 0.5;
   const double radius = std::max(1.0, std::sqrt(dot(hi - lo, hi - lo)) * 0.5);
 
@@ -121,8 +133,8 @@ SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o) {
 
   // The cut: from the root down, a node is drawn when it is a leaf or its points' spacing (its side over its
   // grid) projects to at most lod_pixels; else its children are visited.
-  const double lod = std::max(1e-3, o.lod_pixels);
-  std::vector<uint32_t> stack{0};
+  const double lod = o.lod_pixels;  // 0: leaves only
+  std::vector<uint32_t> stack(roots.rbegin(), roots.rend());
   while (!stack.empty()) {
     const uint32_t i = stack.back();
     stack.pop_back();
@@ -137,7 +149,7 @@ SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o) {
     }
     const double d = std::sqrt(dot(c - eye, c - eye)) - side * 0.87;
     const double spacing = side / std::ldexp(1.0, static_cast<int>(h.grid_bits));
-    const bool draw = n.leaf() || (d > 0 && focal * spacing / d <= lod);
+    const bool draw = n.leaf() || (lod > 0 && d > 0 && focal * spacing / d <= lod);
     if (draw) {
       f.nodes.push_back(i);
       continue;

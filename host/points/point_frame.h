@@ -16,8 +16,17 @@ struct SplatFrame {
   std::vector<uint8_t> colours;  // 3 bytes per drawn point
 };
 
-// The whole-frame setup: camera from options, cut by screen-space size, the cut's points.
-SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& options);
+// What the camera frames, on the input's grid (a fixed box keeps the camera still over a sequence of frames).
+struct FrameBox {
+  int64_t lo[3], hi[3];
+};
+// The box of a hierarchy's points.
+FrameBox points_box(const PointColumns& points);
+
+// The whole-frame setup: camera from options framing `box` (default: the points'), the cut by screen-space size
+// from each of `roots` (a finished hierarchy: {0}; a partial one: its forest's roots), the cut's points.
+SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& options,
+                       const std::vector<uint32_t>& roots = {0}, const FrameBox* box = nullptr);
 
 // The picture: each covered pixel takes its winning point's colour, darkened by eye-dome lighting from the depth
 // keys; uncovered pixels the background.

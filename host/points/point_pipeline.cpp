@@ -29,6 +29,19 @@ uint64_t host_bytes_per_point(const PointCloudInfo& info) {
 
 }  // namespace
 
+PointColumns read_point_file(const std::string& path, PointCloudInfo& info, bool carry_extra_bytes,
+                             const Progress& progress) {
+  io::PointReadOptions ro;
+  ro.carry_extra_bytes = carry_extra_bytes;
+  std::unique_ptr<io::PointSource> src = io::open_points(path, ro);
+  info = src->info();
+  PointColumns cloud;
+  const size_t batch = size_t{1} << 20;
+  while (src->next(cloud, batch))
+    if (progress && info.points) progress("read", std::min(1.0, double(cloud.size()) / double(info.points)));
+  return cloud;
+}
+
 PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const Progress& progress) {
   if (o.format != "mvx" && o.format != "3dtiles")
     throw Error("points build: unknown --format '" + o.format + "' (use mvx or 3dtiles)");

@@ -1,14 +1,64 @@
 #include <algorithm>
 
+#include <cstdio>
+
+#include "io/atomic_dir.h"
 #include "megavox/device.h"
+#include "megavox/point_build.h"
 #include "megavox/error.h"
 #include "megavox/point_render.h"
 #include "point_frame.h"
 
 namespace mv {
 
+namespace {
+
+PointRenderResult render_frame(Device& dev, const points::SplatFrame& f);
+
+}  // namespace
+
 PointRenderResult render_points(Device& dev, const PointHierarchy& h, const PointRenderOptions& options) {
-  points::SplatFrame f = points::splat_frame(h, options);
+  return render_frame(dev, points::splat_frame(h, options));
+}
+
+void render_during_build(Device& dev, const std::string& input, const std::string& dir, uint32_t frames,
+                         const PointBuildOptions& build, const PointRenderOptions& render,
+                         const std::function<void(const BuildFrame&)>& on_frame) {
+  if (frames < 1 || frames > 10000) throw Error("points render: --frames must be 1-10000");
+  PointCloudInfo info;
+  PointColumns cloud = read_point_file(input, info);
+  const points::FrameBox box = points::points_box(cloud);
+  const uint64_t n = cloud.size();
+  PointRenderOptions full = render;
+  full.lod_pixels = 0;  // finished parts at full detail: every leaf of the forest
+  io::write_dir_atomically(dir, "frame_0000.png", [&](const std::string& tmp) {
+    uint32_t frame = 0;
+    auto emit = [&](const PointHierarchy& h, const std::vector<uint32_t>& roots) {
+      PointRenderResult r = render_frame(dev, points::splat_frame(h, full, roots, &box));
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04u.png", frame);
+      write_png(tmp + "/" + name, r.image);
+      BuildFrame f;
+      f.frame = frame++;
+      f.nodes = h.nodes.size();
+      f.points_drawn = r.points_drawn;
+      f.path = dir + "/" + name;
+      if (on_frame) on_frame(f);
+    };
+    PointBuildOptions o = build;
+    o.checkpoint_points = std::max<uint64_t>(1, n / frames);
+    o.prefix_points = std::max<uint64_t>(1, std::min(o.prefix_points, o.checkpoint_points / 4));
+    o.on_checkpoint = [&](const PointHierarchy& h, const std::vector<uint32_t>& roots) {
+      if (frame + 1 < frames) emit(h, roots);
+    };
+    PointHierarchy h = build_point_hierarchy(dev, std::move(cloud), info, o);
+    emit(h, {0});
+  });
+}
+
+namespace {
+
+PointRenderResult render_frame(Device& dev, const points::SplatFrame& f) {
   const uint64_t pixels = uint64_t{f.params.width} * f.params.height;
   const uint64_t n = f.cells.size() / 3;
   Buffer depth = dev.alloc(pixels * 4, "splat depth");
@@ -44,5 +94,7 @@ PointRenderResult render_points(Device& dev, const PointHierarchy& h, const Poin
   r.points_drawn = n;
   return r;
 }
+
+}  // namespace
 
 }  // namespace mv

@@ -18,6 +18,11 @@ struct PointBuildOptions {
   uint32_t max_node_points = 16384;  // a subtree of at most this many points is one leaf; caps representatives
   uint32_t grid_bits = 6;            // an inner node keeps one point per cell of a 2^grid_bits grid over its cube
   uint64_t prefix_points = uint64_t{1} << 20;  // sorted points handed to the builder per step (its cut advances)
+  // When set: called after a step once checkpoint_points more sorted points are in leaves, with the finished
+  // part as a forest (the subtrees whose roots have no parent yet; roots holds their node indices), points
+  // gathered: a picture while building (OMiCroN's oblique cut).
+  std::function<void(const PointHierarchy& partial, const std::vector<uint32_t>& roots)> on_checkpoint;
+  uint64_t checkpoint_points = 0;
 };
 
 // After each step of the build: how far the cut has come.
@@ -67,6 +72,10 @@ struct PointFileReport {
   double points_per_second = 0;  // points in over the total
   PointBuildReport build;
 };
+
+// Every point of a cloud file (PLY, LAS) in memory, and what the file says of them.
+PointColumns read_point_file(const std::string& path, PointCloudInfo& info, bool carry_extra_bytes = true,
+                             const Progress& progress = {});
 
 // Progress stages: "read", "build", "write", with the fraction done.
 PointFileReport build_points_file(Device& dev, const PointFileOptions& options, const Progress& progress = {});

@@ -2,6 +2,7 @@
 // splats by the splat kernels (kernels/common/splat.h), coloured and shaded (eye-dome lighting) on the host.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,5 +30,18 @@ struct PointRenderResult {
 };
 
 PointRenderResult render_points(Device& dev, const PointHierarchy& h, const PointRenderOptions& options);
+
+// `points render --during-build`: builds the cloud file `input` and renders `frames` pictures while it grows,
+// DIR/frame_0000.png ..., the last of the finished hierarchy; every finished leaf is drawn at full detail
+// (OMiCroN's promise), from one camera framing the whole cloud. DIR is written through a temporary folder.
+struct BuildFrame {
+  uint32_t frame = 0;
+  uint64_t nodes = 0, points_drawn = 0;
+  std::string path;
+};
+struct PointBuildOptions;  // megavox/point_build.h
+void render_during_build(Device& dev, const std::string& input, const std::string& dir, uint32_t frames,
+                         const PointBuildOptions& build, const PointRenderOptions& render,
+                         const std::function<void(const BuildFrame&)>& on_frame);
 
 }  // namespace mv

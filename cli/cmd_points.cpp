@@ -37,7 +37,8 @@ nlohmann::json report_json(const PointFileReport& r) {
            {{"read", r.read_seconds}, {"sort", r.sort_seconds}, {"build", r.build_seconds}, {"write", r.write_seconds},
             {"total", r.total_seconds}}},
           {"points_per_second", r.points_per_second},
-          {"sort_runs", r.build.sort.runs},
+          {"sort_runs", r.sort_runs},
+          {"out_of_core", r.out_of_core},
           {"host_groups", r.build.host_groups}};
 }
 
@@ -52,6 +53,9 @@ void print_report(const PointFileReport& r) {
               "representatives)\n",
               (unsigned long long)r.points_in, (unsigned long long)r.points_kept, (unsigned long long)r.points_dropped,
               (unsigned long long)r.nodes, r.depth + 1, (unsigned long long)r.stored_points);
+  if (r.out_of_core)
+    std::printf("  sorted out of core: %llu runs on disk, merged while building (the cloud is over --memory)\n",
+                (unsigned long long)r.sort_runs);
   print_levels(r.nodes_per_level);
   std::printf("  seconds: read %.3f (alone), sort %.3f, build %.3f, write %.3f; total %.3f = %.2f M points/s\n",
               r.read_seconds, r.sort_seconds, r.build_seconds, r.write_seconds, r.total_seconds,

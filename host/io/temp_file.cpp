@@ -46,15 +46,15 @@ void TempFile::read_at(void* data, uint64_t bytes, uint64_t offset) const {
   }
 }
 
-float* TempFile::map_floats(uint64_t bytes) {
+void* TempFile::map(uint64_t bytes) {
   if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0)
     throw Error(purpose_ + " to " + dir_ + ": " + std::strerror(errno));
   void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
   if (p == MAP_FAILED) throw Error(purpose_ + ": mapping " + std::to_string(bytes) + " bytes: " + std::strerror(errno));
-  return static_cast<float*>(p);
+  return p;
 }
 
-void TempFile::unmap(float* p, uint64_t bytes) {
+void TempFile::unmap(void* p, uint64_t bytes) {
   if (p) ::munmap(p, bytes);
 }
 

@@ -20,8 +20,9 @@ class TempFile {
   void read_at(void* data, uint64_t bytes, uint64_t offset) const;   // all of it, or mv::Error
   // Maps the first `bytes` (grown to that size) read-write, shared: the kernel pages it to the file under
   // memory pressure. Throws mv::Error on failure. Unmap with unmap().
-  float* map_floats(uint64_t bytes);
-  static void unmap(float* p, uint64_t bytes);
+  void* map(uint64_t bytes);
+  float* map_floats(uint64_t bytes) { return static_cast<float*>(map(bytes)); }
+  static void unmap(void* p, uint64_t bytes);
 
  private:
   std::string purpose_, dir_;

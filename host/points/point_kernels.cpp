@@ -23,6 +23,11 @@ PointCube cube_of(std::span<const int32_t> xyz) {
       lo[a] = std::min<int64_t>(lo[a], xyz[i + a]);
       hi[a] = std::max<int64_t>(hi[a], xyz[i + a]);
     }
+  return cube_of_bounds(lo, hi);
+}
+
+PointCube cube_of_bounds(const int64_t lo[3], const int64_t hi[3]) {
+  PointCube cube;
   uint64_t extent = 0;
   for (int a = 0; a < 3; ++a) {
     cube.min[a] = lo[a];

@@ -19,6 +19,8 @@ struct PointCube {
 // The smallest power-of-two cube at the points' min corner whose 2^21 cells per axis cover them; clouds narrower
 // than 2^21 units are scaled up so that their extent fills the top bit of the cells.
 PointCube cube_of(std::span<const int32_t> xyz);
+// The same from the points' bounds per axis (lo <= hi).
+PointCube cube_of_bounds(const int64_t lo[3], const int64_t hi[3]);
 
 // codes[i] = the 63-bit Morton code of point i's cell, index[i] = i; computed on the device in chunks.
 void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,

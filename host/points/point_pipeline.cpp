@@ -1,7 +1,12 @@
 // `megavox points build`: read the cloud, sort and build on the device, write the result.
 #include <chrono>
 
+#include <algorithm>
+
 #include "io/point_source.h"
+#include "io/temp_file.h"
+#include "points/omicron.h"
+#include "points/point_runs.h"
 #include "io/tiles3d_writer.h"
 #include "megavox/build.h"
 #include "megavox/error.h"
@@ -29,18 +34,129 @@ uint64_t host_bytes_per_point(const PointCloudInfo& info) {
 
 }  // namespace
 
+namespace {
+
+PointColumns read_all(io::PointSource& src, const Progress& progress) {
+  const uint64_t declared = src.info().points;
+  PointColumns cloud;
+  const size_t batch = size_t{1} << 20;
+  while (src.next(cloud, batch))
+    if (progress && declared) progress("read", std::min(1.0, double(cloud.size()) / double(declared)));
+  return cloud;
+}
+
+}  // namespace
+
 PointColumns read_point_file(const std::string& path, PointCloudInfo& info, bool carry_extra_bytes,
                              const Progress& progress) {
   io::PointReadOptions ro;
   ro.carry_extra_bytes = carry_extra_bytes;
   std::unique_ptr<io::PointSource> src = io::open_points(path, ro);
   info = src->info();
-  PointColumns cloud;
-  const size_t batch = size_t{1} << 20;
-  while (src->next(cloud, batch))
-    if (progress && info.points) progress("read", std::min(1.0, double(cloud.size()) / double(info.points)));
-  return cloud;
+  return read_all(*src, progress);
 }
+
+namespace {
+
+// Host bytes per point of the out-of-core path: the codes and the node order in memory, the output columns.
+uint64_t out_of_core_bytes_per_point(const PointCloudInfo& info) {
+  return 8 + 8 * 3 / 2 + (host_bytes_per_point(info) - 56) / 2 * 3 / 2;
+}
+
+// Out of core: a pass for the bounds (the cube), a pass that sorts runs on the device into scratch files, then
+// their merge, which the builder consumes prefix by prefix; the columns are gathered back from the merged file.
+PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_t memory, PointFileReport& r,
+                                 std::unique_ptr<io::PointSource> first, const Progress& progress) {
+  auto t0 = std::chrono::steady_clock::now();
+  io::PointReadOptions ro;
+  ro.carry_extra_bytes = o.carry_extra_bytes;
+  int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+  uint64_t n = 0;
+  PointCloudInfo info;
+  {
+    std::unique_ptr<io::PointSource> src = std::move(first);
+    info = src->info();
+    PointColumns batch;
+    while (src->next(batch, size_t{1} << 20)) {
+      for (size_t i = 0; i < batch.xyz.size(); i += 3)
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min<int64_t>(lo[a], batch.xyz[i + a]);
+          hi[a] = std::max<int64_t>(hi[a], batch.xyz[i + a]);
+        }
+      n += batch.size();
+      batch.clear();
+      if (progress && info.points) progress("read", 0.5 * std::min(1.0, double(n) / double(info.points)));
+    }
+  }
+  if (n == 0) throw Error("points: the cloud has no points");
+  const points::PointCube cube = points::cube_of_bounds(lo, hi);
+  const points::RecordLayout layout = points::record_layout(info);
+  const uint64_t run_points =
+      o.run_points ? o.run_points : std::max<uint64_t>(uint64_t{1} << 16, memory / (2 * uint64_t{layout.bytes} + 40));
+  points::RunSorter sorter(dev, info, cube);
+  {
+    std::unique_ptr<io::PointSource> src = io::open_points(o.input, ro);
+    PointColumns run;
+    uint64_t seen = 0;
+    while (src->next(run, static_cast<size_t>(std::min<uint64_t>(run_points - run.size(), uint64_t{1} << 20)))) {
+      if (run.size() >= run_points) {
+        seen += run.size();
+        sorter.add_run(run);
+        run.clear();
+        if (progress) progress("read", 0.5 + 0.5 * double(seen) / double(n));
+      }
+    }
+    sorter.add_run(run);
+  }
+  if (sorter.points() != n) throw Error(o.input + ": the file changed while it was read");
+  r.read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.sort_runs = sorter.runs();
+
+  t0 = std::chrono::steady_clock::now();
+  points::OmicronRule rule;
+  rule.depth = o.build.depth ? o.build.depth : point_depth_for(n, o.build.max_node_points);
+  rule.max_node_points = o.build.max_node_points;
+  rule.grid_bits = o.build.grid_bits;
+  points::OmicronBuilder builder(dev, rule);
+  std::vector<uint64_t> codes;
+  codes.reserve(n);
+  io::TempFile sorted("merging sorted points");
+  uint64_t fed = 0;
+  const uint64_t step = std::max<uint64_t>(1, o.build.prefix_points);
+  sorter.merge(size_t{1} << 16, [&](const uint8_t* recs, size_t count) {
+    sorted.write_at(recs, uint64_t{count} * layout.bytes, codes.size() * layout.bytes);
+    for (size_t k = 0; k < count; ++k) codes.push_back(points::record_code(recs + uint64_t{k} * layout.bytes));
+    if (codes.size() - fed >= step) {  // the builder takes the merged prefix while the merge goes on
+      builder.concatenate(codes, false);
+      fed = codes.size();
+      if (progress) progress("build", double(fed) / double(n));
+    }
+  });
+  builder.concatenate(codes, true);
+  PointHierarchy h;
+  std::vector<uint64_t> order;
+  builder.assemble(h.nodes, order, h.nodes_per_level);
+  codes = {};
+  const uint64_t bytes = n * layout.bytes;
+  const uint8_t* map = static_cast<const uint8_t*>(sorted.map(bytes));
+  for (uint64_t q : order) points::unpack(layout, map + q * layout.bytes, h.points);
+  io::TempFile::unmap(const_cast<uint8_t*>(map), bytes);
+  r.sort_seconds = 0;  // the runs are sorted inside the read pass, the merge inside the build
+  r.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.build.host_groups = builder.stats().host_groups;
+  r.build.steps = builder.stats().fixes;
+
+  h.source = info;
+  for (int a = 0; a < 3; ++a) h.cube_min[a] = cube.min[a];
+  h.shift = cube.shift;
+  h.grid_bits = rule.grid_bits;
+  h.depth = static_cast<uint32_t>(h.nodes_per_level.size() - 1);
+  h.points_in = h.points_kept = n;
+  r.input_format = info.format;
+  return h;
+}
+
+}  // namespace
 
 PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const Progress& progress) {
   if (o.format != "mvx" && o.format != "3dtiles")
@@ -52,6 +168,7 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   r.format = o.format;
   const uint64_t memory = o.memory ? o.memory : default_host_memory();
 
+  PointHierarchy h;
   auto t0 = std::chrono::steady_clock::now();
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
@@ -59,25 +176,27 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   const PointCloudInfo info = src->info();
   r.input_format = info.format;
   const uint64_t need = info.points * host_bytes_per_point(info);
-  if (need > memory)
-    throw Error("points build: " + std::to_string(info.points) + " points need about " + format_bytes(need) +
-                " of host memory to build in core, over --memory " + format_bytes(memory) +
-                "; raise --memory (the out-of-core sort is not there yet)");
-  PointColumns cloud;
-  const size_t batch = size_t{1} << 20;
-  while (src->next(cloud, batch))
-    if (progress && info.points) progress("read", std::min(1.0, double(cloud.size()) / double(info.points)));
-  src.reset();
-  r.read_seconds = seconds_since(t0);
-  if (progress) progress("read", 1);
-
-  if (progress) progress("build", 0);
-  PointHierarchy h = build_point_hierarchy(dev, std::move(cloud), info, o.build, &r.build,
-                                           [&](const PointBuildProgress& p) {
-                                             if (progress) progress("build", double(p.points_formed) / double(p.points_total));
-                                           });
-  r.sort_seconds = r.build.codes_seconds + r.build.sort_seconds;
-  r.build_seconds = r.build.build_seconds + r.build.gather_seconds;
+  if (need > memory || o.run_points) {
+    const uint64_t ooc = info.points * out_of_core_bytes_per_point(info);
+    if (ooc > memory)
+      throw Error("points build: " + std::to_string(info.points) + " points need about " + format_bytes(ooc) +
+                  " of host memory even out of core (codes, node order and the output's columns), over --memory " +
+                  format_bytes(memory) + "; raise --memory");
+    r.out_of_core = true;
+    h = build_out_of_core(dev, o, memory, r, std::move(src), progress);
+  } else {
+    PointColumns cloud = read_all(*src, progress);
+    src.reset();
+    r.read_seconds = seconds_since(t0);
+    if (progress) progress("read", 1);
+    if (progress) progress("build", 0);
+    h = build_point_hierarchy(dev, std::move(cloud), info, o.build, &r.build, [&](const PointBuildProgress& p) {
+      if (progress) progress("build", double(p.points_formed) / double(p.points_total));
+    });
+    r.sort_seconds = r.build.codes_seconds + r.build.sort_seconds;
+    r.build_seconds = r.build.build_seconds + r.build.gather_seconds;
+    r.sort_runs = r.build.sort.runs;
+  }
 
   t0 = std::chrono::steady_clock::now();
   if (progress) progress("write", 0);

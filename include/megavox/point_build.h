@@ -61,6 +61,7 @@ struct PointFileOptions {
   PointBuildOptions build;
   uint64_t memory = 0;         // host budget in bytes; 0 = default_host_memory()
   bool carry_extra_bytes = true;
+  uint64_t run_points = 0;     // > 0: sort out of core in runs of this many points, whatever the budget (tests)
 };
 
 struct PointFileReport {
@@ -70,6 +71,8 @@ struct PointFileReport {
   std::vector<uint64_t> nodes_per_level;
   double read_seconds = 0, sort_seconds = 0, build_seconds = 0, write_seconds = 0, total_seconds = 0;
   double points_per_second = 0;  // points in over the total
+  bool out_of_core = false;      // sorted in runs on disk (the cloud did not fit --memory), then merged
+  uint64_t sort_runs = 1;
   PointBuildReport build;
 };
 

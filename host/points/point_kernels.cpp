@@ -128,6 +128,8 @@ RepSelection select_representatives(Device& dev, std::span<const uint64_t> codes
   // A loop-capped device (lavapipe ends a loop after 65535 iterations) cannot walk a larger parent in one loop.
   const uint64_t loop_cap = dev.info().max_loop_iterations;
   auto too_long = [&](uint32_t g) { return loop_cap != 0 && uint64_t{bounds[g + 1] - bounds[g]} + 1 >= loop_cap; };
+  // Per candidate: its code (8 bytes) and up to one position out (4); per parent a few words more.
+  const uint64_t batch = std::min(kBatchCandidates, detail::device_chunk(dev, "representatives", 16, 8));
   uint32_t g = 0;
   while (g < groups) {
     if (too_long(g)) {
@@ -140,7 +142,7 @@ RepSelection select_representatives(Device& dev, std::span<const uint64_t> codes
       continue;
     }
     uint32_t end = g + 1;
-    while (end < groups && !too_long(end) && uint64_t{bounds[end + 1] - bounds[g]} <= kBatchCandidates) ++end;
+    while (end < groups && !too_long(end) && uint64_t{bounds[end + 1] - bounds[g]} <= batch) ++end;
     select_batch(dev, codes, bounds, g, end, cell_bits, cap, out);
     g = end;
   }

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "io/atomic_dir.h"
+#include "chunking.h"
 #include "megavox/device.h"
 #include "megavox/point_build.h"
 #include "megavox/error.h"
@@ -67,7 +68,8 @@ PointRenderResult render_frame(Device& dev, const points::SplatFrame& f) {
   dev.fill(index, MV_SPLAT_EMPTY, pixels * 4);
   dev.barrier();
   // Points go up in chunks the device holds; one work-item per point keeps every loop within a loop cap.
-  const uint64_t chunk = std::max<uint64_t>(1, std::min<uint64_t>(n, uint64_t{1} << 22));
+  const uint64_t chunk = std::max<uint64_t>(
+      1, std::min<uint64_t>({n, uint64_t{1} << 22, detail::device_chunk(dev, "points render", 12, 12)}));
   Buffer cells = dev.alloc(std::max<uint64_t>(1, chunk) * 12, "splat points");
   const uint32_t local = 64;
   for (int pass = 0; pass < 2; ++pass) {

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# `megavox points` as a user runs it: build (table, --json, 3dtiles), info, render, --during-build, and bad
+# input ending in one clear error line, a non-zero exit and no output file. No shared data needed: the clouds
+# are written here.
+set -euo pipefail
+mv=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# A small ascii PLY cloud: a 20 x 20 x 20 lattice with colours.
+{
+  echo ply; echo "format ascii 1.0"; echo "element vertex 8000"
+  echo "property float x"; echo "property float y"; echo "property float z"
+  echo "property uchar red"; echo "property uchar green"; echo "property uchar blue"; echo end_header
+  for x in $(seq 0 19); do for y in $(seq 0 19); do for z in $(seq 0 19); do
+    echo "$x.5 $y.25 $z $((x * 12)) $((y * 12)) $((z * 12))"
+  done; done; done
+} > "$dir/lattice.ply"
+
+"$mv" points build "$dir/lattice.ply" -o "$dir/l.mvx" --max-node-points 500 > "$dir/table.txt"
+grep -q "points in 8000, kept 8000, dropped 0" "$dir/table.txt" || fail "summary: $(cat "$dir/table.txt")"
+"$mv" points build "$dir/lattice.ply" -o "$dir/l2.mvx" --max-node-points 500 --json > "$dir/b.json"
+for key in points_in points_kept points_dropped nodes_per_level depth seconds points_per_second; do
+  grep -q "\"$key\"" "$dir/b.json" || fail "points build --json lacks $key"
+done
+grep -q '"read"' "$dir/b.json" && grep -q '"sort"' "$dir/b.json" && grep -q '"write"' "$dir/b.json" || fail "seconds"
+cmp -s "$dir/l.mvx" "$dir/l2.mvx" || fail "two builds of the same cloud differ"
+"$mv" points info "$dir/l.mvx" | grep -q "8000 points" || fail "points info"
+"$mv" points info "$dir/l.mvx" --json | grep -q '"points_kept": 8000' || fail "points info --json"
+"$mv" points render "$dir/l.mvx" -o "$dir/l.png" --width 200 --height 150 > /dev/null
+[[ -s "$dir/l.png" ]] || fail "no picture"
+"$mv" points build "$dir/lattice.ply" --format 3dtiles -o "$dir/tiles" > /dev/null
+[[ -s "$dir/tiles/tileset.json" ]] || fail "no tileset"
+"$mv" points render "$dir/lattice.ply" --during-build --frames 3 -o "$dir/frames" --max-node-points 500 \
+  --width 120 --height 90 > "$dir/frames.jsonl"
+[[ $(wc -l < "$dir/frames.jsonl") == 3 && -s "$dir/frames/frame_0002.png" ]] || fail "frames: $(cat "$dir/frames.jsonl")"
+"$mv" points build "$dir/lattice.ply" -o "$dir/ooc.mvx" --max-node-points 500 --memory 300K > /dev/null
+cmp -s "$dir/l.mvx" "$dir/ooc.mvx" || fail "out of core differs from in core"
+
+# Bad input: one error line, exit 1, nothing written.
+expect_error() {  # expect_error WORDS ARGS...
+  local words=$1; shift
+  if "$mv" "$@" > "$dir/out.txt" 2> "$dir/err.txt"; then fail "no error for: $*"; fi
+  grep -q "$words" "$dir/err.txt" || fail "'$*' said: $(cat "$dir/err.txt")"
+}
+printf 'LASF' > "$dir/short.las"
+expect_error "truncated\|too short\|header" points build "$dir/short.las" -o "$dir/bad.mvx"
+head -c 300 "$dir/lattice.ply" > "$dir/cut.ply"
+expect_error "truncated\|complete" points build "$dir/cut.ply" -o "$dir/bad.mvx"
+# A LAS 1.2 header whose point format has the LAZ compression bit (0x80) set.
+{ printf 'LASF'; head -c 20 /dev/zero; printf '\001\002'; head -c 68 /dev/zero; printf '\343\000\343\000\000\000'
+  head -c 4 /dev/zero; printf '\203\042\000'; head -c 120 /dev/zero; } > "$dir/scan.laz"
+expect_error "LAZ" points build "$dir/scan.laz" -o "$dir/bad.mvx"
+expect_error "no such\|cannot open" points build "$dir/none.ply" -o "$dir/bad.mvx"
+expect_error "depth" points build "$dir/lattice.ply" -o "$dir/bad.mvx" --depth 30
+expect_error "format" points build "$dir/lattice.ply" -o "$dir/bad.mvx" --format copc
+expect_error "point cloud" info "$dir/l.mvx"
+expect_error "holds voxels\|not a .mvx\|bad magic" points info "$dir/lattice.ply"
+[[ ! -e "$dir/bad.mvx" ]] || fail "an output was left after an error"
+echo "points CLI: ok"

@@ -128,6 +128,23 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
   }
 }
 
+PointNode OmicronBuilder::emit(const LodNode& src, uint32_t level, std::vector<uint64_t>& order) const {
+  PointNode node;
+  node.code = (uint64_t{1} << (3 * level)) | src.prefix;
+  node.level = static_cast<uint8_t>(level);
+  node.subtree_points = src.points;
+  node.first_point = order.size();
+  node.child_mask = src.child_mask;
+  if (src.child_mask == 0) {
+    node.point_count = static_cast<uint32_t>(src.points);
+    for (uint64_t q = src.first; q < src.first + src.points; ++q) order.push_back(q);
+  } else {
+    node.point_count = src.rep_count;
+    order.insert(order.end(), reps_.begin() + src.rep_begin, reps_.begin() + src.rep_begin + src.rep_count);
+  }
+  return node;
+}
+
 void OmicronBuilder::snapshot(std::vector<PointNode>& nodes, std::vector<uint64_t>& order,
                               std::vector<uint32_t>& roots) const {
   nodes.clear();
@@ -143,18 +160,8 @@ void OmicronBuilder::snapshot(std::vector<PointNode>& nodes, std::vector<uint64_
       std::vector<Item> queue{{l, r}};
       for (size_t q = 0; q < queue.size(); ++q) {
         const LodNode& src = levels_[queue[q].level][queue[q].at];
-        PointNode node;
-        node.code = (uint64_t{1} << (3 * queue[q].level)) | src.prefix;
-        node.level = static_cast<uint8_t>(queue[q].level);
-        node.subtree_points = src.points;
-        node.first_point = order.size();
-        node.child_mask = src.child_mask;
-        if (src.child_mask == 0) {
-          node.point_count = static_cast<uint32_t>(src.points);
-          for (uint64_t p = src.first; p < src.first + src.points; ++p) order.push_back(p);
-        } else {
-          node.point_count = src.rep_count;
-          order.insert(order.end(), reps_.begin() + src.rep_begin, reps_.begin() + src.rep_begin + src.rep_count);
+        PointNode node = emit(src, queue[q].level, order);
+        if (src.child_mask != 0) {
           node.first_child = static_cast<uint32_t>(nodes.size() + queue.size() - q);
           const uint32_t children = static_cast<uint32_t>(__builtin_popcount(src.child_mask));
           for (uint32_t c = 0; c < children; ++c) queue.push_back({queue[q].level + 1, src.child_begin + c});
@@ -182,18 +189,8 @@ void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<uint64_
     uint64_t children_taken = 0;
     for (const LodNode& src : levels_[l]) {
       if (src.absorbed) continue;
-      PointNode node;
-      node.code = (uint64_t{1} << (3 * l)) | src.prefix;
-      node.level = static_cast<uint8_t>(l);
-      node.subtree_points = src.points;
-      node.first_point = order.size();
-      node.child_mask = src.child_mask;
-      if (src.child_mask == 0) {
-        node.point_count = static_cast<uint32_t>(src.points);
-        for (uint64_t q = src.first; q < src.first + src.points; ++q) order.push_back(q);
-      } else {
-        node.point_count = src.rep_count;
-        order.insert(order.end(), reps_.begin() + src.rep_begin, reps_.begin() + src.rep_begin + src.rep_count);
+      PointNode node = emit(src, l, order);
+      if (src.child_mask != 0) {
         node.first_child = static_cast<uint32_t>(next_level_start + children_taken);
         children_taken += static_cast<uint64_t>(__builtin_popcount(src.child_mask));
       }

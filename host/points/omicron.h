@@ -73,6 +73,8 @@ class OmicronBuilder {
 
  private:
   void fix(std::span<const uint64_t> sorted);
+  // A node of the output (all but first_child), its points appended to `order`.
+  PointNode emit(const LodNode& src, uint32_t level, std::vector<uint64_t>& order) const;
 
   Device& dev_;
   OmicronRule rule_;

@@ -78,13 +78,7 @@ class LasSource final : public PointSource {
   }
 
  private:
-  void reserve(PointColumns& out, uint64_t n) const {
-    const uint64_t have = out.size();
-    out.xyz.reserve(3 * (have + n));
-    out.intensity.reserve(have + n);
-    if (info_.attributes & kPointRgb) out.rgb.reserve(3 * (have + n));
-    if (info_.attributes & kPointExtra) out.extra.reserve(info_.extra_bytes * (have + n));
-  }
+  void reserve(PointColumns& out, uint64_t n) const { out.reserve_more(n, info_.attributes, info_.extra_bytes); }
 
   void decode(PointColumns& out, size_t count) const {
     const bool rgb = info_.attributes & kPointRgb;

@@ -205,13 +205,7 @@ class PlyPoints final : public PointSource {
     return is_integer(type_[role]) ? to_u16(d, 65535) : to_u16(255 * d, 255);
   }
 
-  void reserve(PointColumns& out, uint64_t n) const {
-    const uint64_t total = out.size() + n;
-    out.xyz.reserve(3 * total);
-    if (attributes_ & kPointRgb) out.rgb.reserve(3 * total);
-    if (attributes_ & kPointNormal) out.normal.reserve(3 * total);
-    if (attributes_ & kPointIntensity) out.intensity.reserve(total);
-  }
+  void reserve(PointColumns& out, uint64_t n) const { out.reserve_more(n, attributes_, 0); }
 
   // Runs f with the value reader of the file's format.
   template <class F>

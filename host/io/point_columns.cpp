@@ -1,7 +1,27 @@
 // PointColumns (megavox/points.h): the column operations readers and the LOD builder share.
 #include "megavox/points.h"
 
+#include <algorithm>
+
 namespace mv {
+
+namespace {
+
+template <class T>
+void grow(std::vector<T>& v, uint64_t need) {
+  if (need > v.capacity()) v.reserve(std::max<uint64_t>(need, 2 * v.capacity()));
+}
+
+}  // namespace
+
+void PointColumns::reserve_more(uint64_t more, uint32_t attributes, uint32_t extra_bytes) {
+  const uint64_t total = size() + more;
+  grow(xyz, 3 * total);
+  if (attributes & kPointRgb) grow(rgb, 3 * total);
+  if (attributes & kPointNormal) grow(normal, 3 * total);
+  if (attributes & kPointIntensity) grow(intensity, total);
+  if ((attributes & kPointExtra) && extra_bytes) grow(extra, uint64_t{extra_bytes} * total);
+}
 
 void PointColumns::clear() {
   xyz.clear();

@@ -39,6 +39,8 @@ namespace {
 PointColumns read_all(io::PointSource& src, const Progress& progress) {
   const uint64_t declared = src.info().points;
   PointColumns cloud;
+  // The readers refuse counts their file cannot hold, so the declared count is safe to reserve.
+  cloud.reserve_more(declared, src.info().attributes, src.info().extra_bytes);
   const size_t batch = size_t{1} << 20;
   while (src.next(cloud, batch))
     if (progress && declared) progress("read", std::min(1.0, double(cloud.size()) / double(declared)));

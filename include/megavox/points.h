@@ -29,6 +29,10 @@ struct PointColumns {
 
   uint64_t size() const { return xyz.size() / 3; }
   void clear();
+  // Room for `more` points beyond size() in the columns `attributes` names, growing capacity at least
+  // geometrically: readers append batch after batch, and an exact reserve per batch would copy the columns
+  // each time.
+  void reserve_more(uint64_t more, uint32_t attributes, uint32_t extra_bytes);
   // Appends point i of `from` (which carries the same columns, with `extra_bytes` bytes of extra per point).
   void append(const PointColumns& from, uint64_t i, uint32_t extra_bytes);
 };

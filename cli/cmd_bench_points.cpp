@@ -48,7 +48,7 @@ std::string label(const Cloud& c) {
 
 void print_runs(const std::vector<double>& runs) {
   std::printf("best of %zu:", runs.size());
-  for (double s : runs) std::printf(" %.3f", s);
+  for (double s : runs) std::printf(" %.4f", s);
 }
 
 void print_cloud(const Cloud& c) {
@@ -65,11 +65,11 @@ void print_cloud(const Cloud& c) {
               (unsigned long long)p.points_in, (unsigned long long)p.points_kept,
               (unsigned long long)p.points_dropped, (unsigned long long)p.nodes, p.depth,
               (unsigned long long)p.stored_points);
-  std::printf("  read floor (open_points + next() to the end) %.3f s = %.2f M points/s (", r.floor.seconds,
+  std::printf("  read floor (open_points + next() to the end) %.4f s = %.2f M points/s (", r.floor.seconds,
               r.floor_points_per_second * 1e-6);
   print_runs(r.floor_runs);
-  std::printf("); plain read %.3f s (%.2f GB/s)\n", r.plain.seconds, r.plain.gb_per_s());
-  std::printf("  read + sort + build %.3f s = %.2f M points/s (", r.seconds, r.points_per_second * 1e-6);
+  std::printf("); plain read %.4f s (%.2f GB/s)\n", r.plain.seconds, r.plain.gb_per_s());
+  std::printf("  read + sort + build %.4f s = %.2f M points/s (", r.seconds, r.points_per_second * 1e-6);
   print_runs(r.build_runs);
   std::printf("): read %.3f, sort %.3f (codes %.3f + sort %.3f), build %.3f (build %.3f + gather %.3f); write "
               "%.3f, %.3f s with it\n",
@@ -89,7 +89,7 @@ void print_summary(const std::vector<Cloud>& clouds) {
   for (const Cloud& c : clouds) {
     const auto& r = c.r;
     const auto& p = r.report;
-    std::printf("| %s | %llu | %.3f | %.2f | %.3f | %.3f | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f | %llu | %u | "
+    std::printf("| %s | %llu | %.4f | %.2f | %.4f | %.4f | %.2f | %.2f | %.4f | %.4f | %.4f | %.4f | %llu | %u | "
                 "%llu | %.0f | %.2f |\n",
                 label(c).c_str(), (unsigned long long)p.points_in, r.floor.seconds,
                 r.floor_points_per_second * 1e-6, r.plain.seconds, r.seconds, r.points_per_second * 1e-6,

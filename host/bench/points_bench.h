@@ -38,6 +38,9 @@ struct ReadFloor {
   double seconds = 0;
 };
 ReadFloor read_floor(const std::string& path);
+// The same reader appending every batch to one growing columns object, as build_points_file's read stage does
+// (its time without freeing them): beside the floor it shows what storing the points adds to decoding them.
+ReadFloor read_and_store(const std::string& path);
 
 struct PointsBenchResult {
   std::string input;
@@ -45,6 +48,7 @@ struct PointsBenchResult {
   PlainRead plain;         // the file read plainly (bench::plain_read)
   ReadFloor floor;         // the fastest of the repeats
   std::vector<double> floor_runs;
+  ReadFloor stored;        // read_and_store, the fastest of the repeats
   std::vector<double> build_runs;  // read + sort + build of every build, in order (the first builds the kernels)
   double seconds = 0;              // the fastest run's read + sort + build
   double seconds_with_write = 0;   // the same run with its write
@@ -61,7 +65,7 @@ struct PointsBenchResult {
 // compiling the point kernels is in none of the figures that follow; returns its seconds.
 double warm_up_point_build(Device& dev, const PointBuildOptions& build = {});
 
-// Plain read, `repeats` read floors, then `repeats` builds of `input` to a scratch .mvx (removed); the
+// Plain read, `repeats` read floors and reads with storing, then `repeats` builds of `input` to a scratch .mvx (removed); the
 // figures are the best of each.
 PointsBenchResult run_points_bench(Device& dev, const std::string& input, int repeats,
                                    const PointBuildOptions& build = {}, uint64_t memory = 0);

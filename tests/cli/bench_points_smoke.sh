@@ -35,7 +35,8 @@ field() { grep -o "\"$1\":[-0-9.e+]*" <<<"$2" | head -1 | cut -d: -f2; }
 json=$("$megavox" bench points --sample-mesh "$dir/tetra.ply" --sample-points 200K --keep-sample "$dir/s.ply" -q --json)
 [[ $(wc -l <<<"$json") == 1 ]] || fail "not one JSON line per cloud: $json"
 for f in points_per_second read_floor_seconds read_floor_points_per_second plain_read_seconds ratio_to_read_floor \
-         points points_kept nodes depth stored_points peak_rss_bytes vs_potree_quoted total_with_write_seconds; do
+         points points_kept nodes depth stored_points peak_rss_bytes vs_potree_quoted total_with_write_seconds \
+         read_store_seconds; do
   [[ -n $(field "$f" "$json") ]] || fail "no number $f in: $json"
 done
 for f in '"seconds":{"build":' '"read":' '"sort":' '"write":' '"sample":{' '"potree_status":"PotreeConverter: not run'; do

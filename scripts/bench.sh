@@ -37,3 +37,14 @@ for mesh in ../shared/data/meshes_stanford/stanford_bunny.ply ../shared/data/mes
     run build/megavox --device ocl:0 bench build "$mesh" --resolution 2K --voxelize thin --grid-origin min --format ssvdag --json
   fi
 done
+# Point clouds: the shared clouds and 100M points sampled from igea (about 4 minutes and 9 GiB of RAM).
+clouds=()
+for c in ../shared/data/pointcloud_autzen/autzen_trim.las ../shared/data/pointcloud_lion_takanawa/lion_takanawa.ply; do
+  [[ -f $c ]] && clouds+=("$c")
+done
+igea=../shared/data/meshes_misc/igea.ply
+if [[ -f $igea ]]; then
+  run build/megavox --device ocl:0 bench points "${clouds[@]}" --sample-mesh "$igea" --sample-points 100M --json
+elif ((${#clouds[@]})); then
+  run build/megavox --device ocl:0 bench points "${clouds[@]}" --json
+fi

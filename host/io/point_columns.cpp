@@ -3,13 +3,15 @@
 
 #include <algorithm>
 
+#include "huge_pages.h"
+
 namespace mv {
 
 namespace {
 
 template <class T>
 void grow(std::vector<T>& v, uint64_t need) {
-  if (need > v.capacity()) v.reserve(std::max<uint64_t>(need, 2 * v.capacity()));
+  if (need > v.capacity()) reserve_huge(v, std::max<uint64_t>(need, 2 * v.capacity()));
 }
 
 }  // namespace

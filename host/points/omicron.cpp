@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "huge_pages.h"
 #include "megavox/error.h"
 #include "point_kernels.h"
 
@@ -149,6 +150,7 @@ void OmicronBuilder::snapshot(std::vector<PointNode>& nodes, std::vector<uint64_
                               std::vector<uint32_t>& roots) const {
   nodes.clear();
   order.clear();
+  reserve_huge(order, formed_ + reps_.size());  // every leaf point and representative at most once
   roots.clear();
   struct Item {
     uint32_t level;
@@ -177,6 +179,7 @@ void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<uint64_
     throw Error("points: the hierarchy is not finished (" + std::to_string(levels_[0].size()) + " roots)");
   nodes.clear();
   order.clear();
+  reserve_huge(order, formed_ + reps_.size());  // every leaf point and representative at most once
   per_level.assign(rule_.depth + 1, 0);
   // Breadth-first: level by level, each level's nodes in Morton order, so a node's children are the next
   // survivors of the level below.

@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include "huge_pages.h"
+
 namespace mv::points {
 
 namespace {
@@ -11,10 +13,15 @@ namespace {
 template <class T, size_t K>
 void gather(const std::vector<T>& src, std::span<const uint64_t> index, std::vector<T>& out) {
   if (src.empty()) return;
+  reserve_huge(out, index.size() * K);
   out.resize(index.size() * K);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, index.size(), 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i)
+    // Random reads: ask for the source of a point a few dozen ahead while this one is copied.
+    constexpr size_t kAhead = 32;
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      if (i + kAhead < r.end()) __builtin_prefetch(&src[index[i + kAhead] * K]);
       for (size_t k = 0; k < K; ++k) out[i * K + k] = src[index[i] * K + k];
+    }
   });
 }
 

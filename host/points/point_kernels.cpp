@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "chunking.h"
+#include "huge_pages.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
 #include "ref/points_reference.h"
@@ -44,11 +45,15 @@ void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cub
   const uint64_t n = xyz.size() / 3;
   if (n > std::numeric_limits<uint32_t>::max())
     throw Error("points: " + std::to_string(n) + " points in one in-core sort run, over the 2^32 its indices hold");
+  reserve_huge(codes, n);
+  reserve_huge(index, n);
   codes.resize(n);
   index.resize(n);
   if (n == 0) return;
-  // Per point: 12 bytes of coordinates, 8 of code and 4 of index.
-  const uint64_t chunk = std::min<uint64_t>(n, detail::device_chunk(dev, "point_codes", 24, 12));
+  // Per point: 12 bytes of coordinates, 8 of code and 4 of index. Chunks of 8M points keep the device buffers
+  // small enough to stay warm (fresh device memory costs a page fault per page on first touch).
+  const uint64_t chunk =
+      std::min<uint64_t>({n, uint64_t{1} << 23, detail::device_chunk(dev, "point_codes", 24, 12)});
   Buffer xb = dev.alloc(chunk * 12, "point coordinates");
   Buffer kb = dev.alloc(chunk * 8, "point codes");
   Buffer ib = dev.alloc(chunk * 4, "point indices");

@@ -110,6 +110,23 @@ TEST(Tiles3dJs, ChromiumRendersTileset) {
   std::printf("%s", r.output.c_str());
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("\"ok\":true"), std::string::npos) << r.output;
+  // And a real cloud through `points build --format 3dtiles`, where the shared data has one.
+  const std::string lion = shared_data_file("pointcloud_lion_takanawa/lion_takanawa.ply");
+  if (lion.empty() || all_devices().empty()) {
+    std::printf("Tiles3dJs.ChromiumRendersTileset: the real cloud not run: no %s\n",
+                shared_data_path("pointcloud_lion_takanawa").c_str());
+    return;
+  }
+  PointFileOptions o;
+  o.input = lion;
+  o.output = temp_path("lion_render");
+  o.format = "3dtiles";
+  build_points_file(shared_device(all_devices()[0]), o);
+  const std::string real_dir = o.output;
+  const Ran real = run("node " + quoted(kJs + "/render_tileset.mjs") + " " + quoted(real_dir) + " tiles3d_render_lion.png");
+  std::printf("%s", real.output.c_str());
+  EXPECT_EQ(real.status, 0) << real.output;
+  EXPECT_NE(real.output.find("\"ok\":true"), std::string::npos) << real.output;
 }
 
 }  // namespace

@@ -91,11 +91,13 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   rep.host_groups = builder.stats().host_groups;
   rep.build_seconds = seconds_since(t0);
 
-  // Node order to input order in one step: sorted point q is input point index[q].
+  // The columns into sorted order first (one random read per input point), then into node order: leaves are
+  // runs of sorted points and representatives ascend within their node, so the second pass reads nearly in order.
   t0 = std::chrono::steady_clock::now();
-  for (uint64_t& q : order) q = index[q];
-  h.points = points::gather_columns(points, order, info.extra_bytes);
+  PointColumns sorted = points::gather_columns(points, std::span<const uint32_t>(index), info.extra_bytes);
   points = PointColumns();
+  index = {};
+  h.points = points::gather_columns(sorted, order, info.extra_bytes);
   rep.gather_seconds = seconds_since(t0);
 
   h.source = info;

@@ -10,8 +10,8 @@ namespace mv::points {
 
 namespace {
 
-template <class T, size_t K>
-void gather(const std::vector<T>& src, std::span<const uint64_t> index, std::vector<T>& out) {
+template <class T, size_t K, class I>
+void gather(const std::vector<T>& src, std::span<const I> index, std::vector<T>& out) {
   if (src.empty()) return;
   reserve_huge(out, index.size() * K);
   out.resize(index.size() * K);
@@ -25,14 +25,13 @@ void gather(const std::vector<T>& src, std::span<const uint64_t> index, std::vec
   });
 }
 
-}  // namespace
-
-PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> index, uint32_t extra_bytes) {
+template <class I>
+PointColumns gather_all(const PointColumns& src, std::span<const I> index, uint32_t extra_bytes) {
   PointColumns out;
-  gather<int32_t, 3>(src.xyz, index, out.xyz);
-  gather<uint16_t, 3>(src.rgb, index, out.rgb);
-  gather<float, 3>(src.normal, index, out.normal);
-  gather<uint16_t, 1>(src.intensity, index, out.intensity);
+  gather<int32_t, 3, I>(src.xyz, index, out.xyz);
+  gather<uint16_t, 3, I>(src.rgb, index, out.rgb);
+  gather<float, 3, I>(src.normal, index, out.normal);
+  gather<uint16_t, 1, I>(src.intensity, index, out.intensity);
   if (!src.extra.empty() && extra_bytes) {
     out.extra.resize(index.size() * extra_bytes);
     tbb::parallel_for(size_t{0}, index.size(), [&](size_t i) {
@@ -40,6 +39,15 @@ PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> i
     });
   }
   return out;
+}
+
+}  // namespace
+
+PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> index, uint32_t extra_bytes) {
+  return gather_all(src, index, extra_bytes);
+}
+PointColumns gather_columns(const PointColumns& src, std::span<const uint32_t> index, uint32_t extra_bytes) {
+  return gather_all(src, index, extra_bytes);
 }
 
 }  // namespace mv::points

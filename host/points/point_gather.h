@@ -9,5 +9,6 @@ namespace mv::points {
 
 // out point i = src point index[i], every column src carries.
 PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> index, uint32_t extra_bytes);
+PointColumns gather_columns(const PointColumns& src, std::span<const uint32_t> index, uint32_t extra_bytes);
 
 }  // namespace mv::points

@@ -4,29 +4,8 @@
 # Usage: bench_build_peer.sh MEGAVOX
 set -euo pipefail
 megavox=$1
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-
-cat >"$dir/tetra.ply" <<'PLY'
-ply
-format ascii 1.0
-element vertex 4
-property float x
-property float y
-property float z
-element face 4
-property list uchar int vertex_indices
-end_header
-0 0 0
-1 0 0
-0 1 0
-0 0 1
-3 0 2 1
-3 0 1 3
-3 0 3 2
-3 1 2 3
-PLY
+source "$(dirname "$0")/common.sh"
+write_tetra_ply "$dir/tetra.ply"
 # The stand-in checks its arguments as voxcom takes them and prints the stats patch's lines.
 cat >"$dir/peer.sh" <<'SH'
 #!/usr/bin/env bash

@@ -5,29 +5,8 @@
 # Usage: bench_points_smoke.sh MEGAVOX
 set -euo pipefail
 megavox=$1
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-
-cat >"$dir/tetra.ply" <<'PLY'
-ply
-format ascii 1.0
-element vertex 4
-property float x
-property float y
-property float z
-element face 4
-property list uchar int vertex_indices
-end_header
-0 0 0
-1 0 0
-0 1 0
-0 0 1
-3 0 2 1
-3 0 1 3
-3 0 3 2
-3 1 2 3
-PLY
+source "$(dirname "$0")/common.sh"
+write_tetra_ply "$dir/tetra.ply"
 
 # A field's number in one compact JSON line ("name":value).
 field() { grep -o "\"$1\":[-0-9.e+]*" <<<"$2" | head -1 | cut -d: -f2; }

@@ -4,9 +4,7 @@
 # are written here.
 set -euo pipefail
 mv=$1
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/common.sh"
 
 # A small ascii PLY cloud: a 20 x 20 x 20 lattice with colours.
 {

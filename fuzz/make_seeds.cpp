@@ -1,6 +1,8 @@
 // Writes the committed seed corpus (fuzz/corpus/<target>/): a few small valid files per reader, made with
 // the project's writers where it has them (.mvx, SymVox, .vdb) and by hand (PLY, LAS, OBJ), each read back
-// through its reader before it is kept. Usage: make_seeds OUT_DIR (scripts/fuzz.sh --seeds runs it).
+// through its reader before it is kept. Usage (not built by default):
+//   cmake --build build-fuzz --target make_seeds && build-fuzz/make_seeds fuzz/corpus
+// Every file comes out byte for byte the same but the .vdb ones, which carry a random file UUID.
 // The DAGs come from a tiny CPU build (hash-consing, with reflections for the symmetric ones), checked by
 // decoding every encoding back to the voxels it was made of.
 #include <openvdb/openvdb.h>

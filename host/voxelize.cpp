@@ -19,14 +19,6 @@ namespace {
 constexpr uint32_t kColumnsPerItem = 16;  // brick columns: 256 voxel columns
 }
 
-void Bounds::extend(double x, double y, double z) {
-  const double p[3] = {x, y, z};
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = std::min(lo[a], p[a]);
-    hi[a] = std::max(hi[a], p[a]);
-  }
-}
-
 GridPlacement parse_grid_origin(const std::string& text) {
   GridPlacement p;
   if (text == "center") p.origin = GridPlacement::Origin::kCenter;

@@ -3,17 +3,19 @@
 #   scripts/setup.sh                          what building and testing need
 #   scripts/setup.sh --bench                  also the baseline-only libraries the benchmarks compare against
 #   scripts/setup.sh --viewer                 also Chromium, for the test that renders a 3D Tiles tileset
-#   scripts/setup.sh --print-packages [--bench] [--viewer]   print that package list, one per line; install nothing
+#   scripts/setup.sh --fuzz                   also clang and its libFuzzer/ASan/UBSan runtime (scripts/fuzz.sh)
+#   scripts/setup.sh --print-packages [--bench] [--viewer] [--fuzz]   print that package list, one per line; install nothing
 # Then, where npm is, the pinned npm packages of the 3D Tiles checks (tests/js, `npm ci`).
 set -euo pipefail
 
-bench=0 viewer=0 print=0
+bench=0 viewer=0 fuzz=0 print=0
 for arg in "$@"; do
   case $arg in
     --bench) bench=1 ;;
     --viewer) viewer=1 ;;
+    --fuzz) fuzz=1 ;;
     --print-packages) print=1 ;;
-    *) echo "setup: unknown option '$arg' (use --bench, --viewer, --print-packages)" >&2; exit 2 ;;
+    *) echo "setup: unknown option '$arg' (use --bench, --viewer, --fuzz, --print-packages)" >&2; exit 2 ;;
   esac
 done
 
@@ -35,6 +37,11 @@ if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
 fi
 if ((viewer)); then
   packages+=(chromium)   # headless, software GL (SwiftShader): tests/js/render_tileset.mjs
+fi
+if ((fuzz)); then
+  # clang 14 with libFuzzer and the sanitizer runtimes. clang only *recommends* the runtime package, and
+  # installs here skip recommendations: it must be named.
+  packages+=(clang libclang-rt-14-dev)
 fi
 if ((bench)); then
   # Baseline-only libraries: built into the megavox_baselines target only (CMake option MEGAVOX_BASELINES).

@@ -40,7 +40,7 @@ struct Reader {
   }
   void take(void* out, size_t n, const char* what) {
     if (n > bytes.size() - at) throw Error(path + ": truncated in the " + what);
-    std::memcpy(out, bytes.data() + at, n);
+    if (n) std::memcpy(out, bytes.data() + at, n);  // an empty vector's data() may be null: memcpy's UB
     at += n;
   }
 };
@@ -151,6 +151,10 @@ SymvoxFile read_symvox(const std::string& path) {
     r.take(f.dag.inner.data(), uint64_t{n} * 2, "inner nodes");
     const uint32_t m = r.get<uint32_t>("brick byte count");
     if (m % 8) throw Error(path + ": the brick bytes (" + std::to_string(m) + ") are not whole 8-byte bricks");
+    // Checked before the bricks are allocated: a garbage count would otherwise ask for up to 4 GiB.
+    if (m > bytes.size() - r.at)
+      throw Error(path + ": truncated: the brick byte count (" + std::to_string(m) + ") is more than the " +
+                  std::to_string(bytes.size() - r.at) + " bytes left in the file");
     f.dag.bricks.resize(m / 8);
     r.take(f.dag.bricks.data(), m, "bricks");
     const uint32_t k = r.get<uint32_t>("level offset count");

@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <exception>
+#include <new>
+#include <string>
+#include <string_view>
 
 #include "megavox/error.h"
 
@@ -31,7 +35,17 @@ bool is_vdb(const std::string& path) {
 
 namespace {
 
-// The coordinates of a grid's active values that `keep` selects, active tiles expanded.
+// The fuzz build (fuzz/) stops at 2^20 selected voxels: a few bytes of active tiles legitimately stand for
+// millions of voxels (fuzz/known/vdb_tiles_63M_voxels.vdb: 10 KB, 63 M voxels), which only makes fuzzing slow.
+// Elsewhere there is no limit but the tiles' own (the host memory budget is issue 29's item 4).
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+constexpr uint64_t kMaxVoxels = uint64_t{1} << 20;
+#else
+constexpr uint64_t kMaxVoxels = UINT64_MAX;
+#endif
+
+// The coordinates of a grid's active values that `keep` selects, active tiles expanded. `keep` takes the
+// value by reference: see set_byte.
 template <class GridT, class Keep>
 void collect(const GridT& grid, const Keep& keep, const std::string& path, std::vector<openvdb::Coord>& coords) {
   for (auto it = grid.cbeginValueOn(); it; ++it) {
@@ -42,9 +56,27 @@ void collect(const GridT& grid, const Keep& keep, const std::string& path, std::
       openvdb::CoordBBox box;
       it.getBoundingBox(box);
       if (box.volume() > (uint64_t{1} << 32)) throw Error(path + ": an active tile is too large to expand");
+      if (box.volume() > kMaxVoxels - coords.size())
+        throw Error(path + ": selects more than " + std::to_string(kMaxVoxels) + " voxels (the fuzz build's limit)");
       for (auto c = box.begin(); c; ++c) coords.push_back(*c);
     }
   }
+}
+
+// Whether a bool value from a file is set. OpenVDB reads tile values of bool and mask grids as raw bytes, so
+// one may hold any byte (190 in tests/fuzz_regressions/): loading it as a bool is undefined, its byte is not.
+bool set_byte(const bool& v) {
+  unsigned char b;
+  std::memcpy(&b, &v, 1);
+  return b != 0;
+}
+
+// Text from the file (grid names and types, which OpenVDB's messages quote) as messages show it: a damaged
+// length gave a 33 MB grid type (tests/fuzz_regressions/vdb_33MB_grid_type.vdb).
+std::string clip(std::string_view text) {
+  constexpr size_t kMax = 200;
+  if (text.size() <= kMax) return std::string(text);
+  return std::string(text.substr(0, kMax)) + "... (" + std::to_string(text.size()) + " bytes)";
 }
 
 }  // namespace
@@ -55,38 +87,47 @@ VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t re
   openvdb::GridBase::Ptr base;
   try {
     openvdb::io::File file(path);
-    file.open();
+    // No delayed loading: every voxel is read below anyway, and OpenVDB's delayed-load path trusts the file's
+    // per-leaf table ("file_delayed_load" metadata) without bounds checks: a short table aborted (assertion in
+    // DelayedLoadMetadata::getMask) or read past its end (tests/fuzz_regressions/vdb_delayed_load_mask.vdb).
+    file.open(/*delayLoad=*/false);
     std::string wanted = name;
     if (wanted.empty()) {
       auto it = file.beginName();
       if (it == file.endName()) throw Error(path + ": the file holds no grids");
       wanted = it.gridName();
     }
-    if (!file.hasGrid(wanted)) throw Error(path + ": no grid named '" + wanted + "'");
+    if (!file.hasGrid(wanted)) throw Error(path + ": no grid named '" + clip(wanted) + "'");
     base = file.readGrid(wanted);
     file.close();
     out.grid_name = wanted;
-  } catch (const openvdb::Exception& e) {
-    throw Error(path + ": cannot read the OpenVDB file (" + std::string(e.what()) + ")");
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    // OpenVDB allocates the sizes a stream declares before reading them: a damaged size asks for gigabytes
+    // (tests/fuzz_regressions/vdb_blosc_size_bad_alloc.vdb).
+    throw Error(path + ": cannot read the OpenVDB file (it declares more data than memory holds: damaged?)");
+  } catch (const std::exception& e) {  // openvdb::Exception, and the C++ library's exceptions OpenVDB lets through
+    throw Error(path + ": cannot read the OpenVDB file (" + clip(e.what()) + ")");
   }
   std::vector<openvdb::Coord> coords;
   if (auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base)) {
     const bool level_set = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
     out.grid_class = level_set ? "level set" : "fog volume";
     const float band = static_cast<float>(0.5 * grid->voxelSize()[0]);
-    collect(*grid, [&](float v) { return level_set ? std::abs(v) <= band : v > 0.0f; }, path, coords);
+    collect(*grid, [&](const float& v) { return level_set ? std::abs(v) <= band : v > 0.0f; }, path, coords);
   } else if (auto mask = openvdb::gridPtrCast<openvdb::MaskGrid>(base)) {
     out.grid_class = "mask";
-    collect(*mask, [](bool) { return true; }, path, coords);
+    collect(*mask, [](const bool&) { return true; }, path, coords);
   } else if (auto flags = openvdb::gridPtrCast<openvdb::BoolGrid>(base)) {
     out.grid_class = "mask";
-    collect(*flags, [](bool v) { return v; }, path, coords);
+    collect(*flags, [](const bool& v) { return set_byte(v); }, path, coords);
   } else {
-    throw Error(path + ": grid '" + out.grid_name + "' holds " + base->valueType() +
+    throw Error(path + ": grid '" + clip(out.grid_name) + "' holds " + clip(base->valueType()) +
                 " values; megavox reads float grids (level sets, fog volumes) and mask / bool grids");
   }
   const double vs = base->voxelSize()[0];
-  if (coords.empty()) throw Error(path + ": grid '" + out.grid_name + "' selects no voxels");
+  if (coords.empty()) throw Error(path + ": grid '" + clip(out.grid_name) + "' selects no voxels");
   openvdb::Coord lo = coords[0], hi = coords[0];
   for (const auto& c : coords) {
     lo.minComponent(c);
@@ -94,9 +135,17 @@ VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t re
   }
   uint64_t extent = 0;
   for (int a = 0; a < 3; ++a) extent = std::max<uint64_t>(extent, uint64_t(int64_t(hi[a]) - lo[a] + 1));
-  uint32_t n = 8;
+  // A megavox grid has at most 2^21 voxels per axis (64-bit Morton keys). The power of two is found in 64 bits:
+  // voxels 2^31 apart made a 32-bit one wrap to 0 and loop forever.
+  constexpr uint64_t kMaxSide = uint64_t{1} << 21;
+  uint64_t n = 8;
   while (n < extent) n *= 2;
-  if (resolution == 0) resolution = n;
+  if (resolution == 0) {
+    if (n > kMaxSide)
+      throw Error(path + ": grid '" + clip(out.grid_name) + "' spans " + std::to_string(extent) +
+                  " voxels, more than the 2097152 per axis a megavox grid holds (a smaller resolution resamples it)");
+    resolution = static_cast<uint32_t>(n);
+  }
   // One VDB voxel = one voxel; a smaller --resolution resamples: the cube of `extent` VDB voxels is split into
   // `resolution` voxels per axis and a voxel is set when any selected VDB voxel's index maps into it,
   // i' = floor((i - min) * resolution / extent) (integer arithmetic, exact).

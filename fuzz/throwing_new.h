@@ -1,0 +1,33 @@
+// Include in exactly one file of a fuzz target: replaces the plain operator new / delete with ones over
+// malloc / free (so ASan still guards every block) whose allocations over 64 MiB throw std::bad_alloc. Under
+// ASan a failed operator new aborts the process instead of throwing; this puts back what a real machine
+// does, for targets whose third-party library allocates sizes read from the file before reading the data
+// (the reader under test must turn that std::bad_alloc into an mv::Error). 64 MiB (no seed needs
+// a tenth of that): OpenVDB copies a metadata record of a size the file declares several times over
+// (fuzz/known/), and several such blocks at once below a limit near the 2 GiB RSS limit would still end in
+// an out-of-memory. megavox's own huge allocations still stop the fuzzer,
+// as a bad_alloc that escapes the reader (std::terminate) or as an out-of-memory.
+#pragma once
+#include <cstdlib>
+#include <new>
+
+namespace mv::fuzz {
+inline constexpr std::size_t kMaxAllocation = std::size_t{1} << 26;
+}
+
+void* operator new(std::size_t n) {
+  if (n > mv::fuzz::kMaxAllocation) throw std::bad_alloc();
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  return n > mv::fuzz::kMaxAllocation ? nullptr : std::malloc(n ? n : 1);
+}
+void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }

@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Fuzzes megavox's readers of untrusted bytes (fuzz/: one libFuzzer target per reader) with ASan and UBSan.
+# Usage: scripts/fuzz.sh SECONDS [TARGET...]     (all targets by default: fuzz/fuzz_*.cpp)
+#
+# Installs what it needs (scripts/setup.sh --fuzz), builds the targets with clang into build-fuzz/
+# (-DMEGAVOX_FUZZ=ON), then runs each for SECONDS on a copy of its seed corpus (fuzz/corpus/TARGET, which is
+# never written; the grown copy is build-fuzz/corpus/TARGET, fresh each run). Prints one line per target:
+# executions, crashes (0, or the paths of their inputs under build-fuzz/artifacts/TARGET/, kept until that
+# target's next run) and new coverage (inputs that reached new code: libFuzzer's NEW lines; its final cov:
+# and ft: figures). Full logs: build-fuzz/logs/TARGET.log. Exit status 1 when any target found a crash, a
+# leak, a timeout (an input over 10 s), an out-of-memory (over 2 GiB) or a failed MV_FUZZ_CHECK.
+# fuzz_vdb is the exception for the last two: OpenVDB's own time and memory on a damaged file are unbounded
+# (third-party; BENCHMARKS.md, "Fuzzing"), so it runs in libFuzzer's fork mode, which records such inputs
+# (build-fuzz/artifacts/fuzz_vdb/oom-*, timeout-*), counts them apart and goes on; its crashes still fail.
+# Reproduce a crash: build-fuzz/TARGET build-fuzz/artifacts/TARGET/crash-...
+# Re-make the committed seeds: cmake --build build-fuzz --target make_seeds && build-fuzz/make_seeds fuzz/corpus
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() { echo "usage: scripts/fuzz.sh SECONDS [TARGET...]  (targets: $(echo "${all[@]}"))" >&2; exit 2; }
+all=()
+for f in fuzz/fuzz_*.cpp; do all+=("$(basename "$f" .cpp)"); done
+[[ $# -ge 1 && $1 =~ ^[1-9][0-9]*$ ]] || usage
+seconds=$1
+shift
+targets=("$@")
+((${#targets[@]})) || targets=("${all[@]}")
+for t in "${targets[@]}"; do
+  [[ " ${all[*]} " == *" $t "* ]] || { echo "fuzz: unknown target '$t'" >&2; usage; }
+done
+
+scripts/setup.sh --fuzz
+generator=()
+[[ ! -f build-fuzz/CMakeCache.txt ]] && command -v ninja >/dev/null && generator=(-G Ninja)
+CC=clang CXX=clang++ cmake -S . -B build-fuzz "${generator[@]}" -DMEGAVOX_FUZZ=ON >/dev/null
+cmake --build build-fuzz --parallel "$(nproc)" --target "${targets[@]}"
+
+# Targets whose wrapped library may take unbounded time or memory on a damaged file (see above).
+resource_third_party=" fuzz_vdb "
+
+mkdir -p build-fuzz/logs
+failed=0
+summary=()
+for t in "${targets[@]}"; do
+  corpus=build-fuzz/corpus/$t artifacts=build-fuzz/artifacts/$t log=build-fuzz/logs/$t.log
+  rm -rf "$corpus" "$artifacts"
+  mkdir -p "$corpus" "$artifacts"
+  cp fuzz/corpus/"$t"/* "$corpus"/
+  echo "fuzz: $t for ${seconds} s (log: $log)" >&2
+  fork=0 mode=()
+  if [[ $resource_third_party == *" $t "* ]]; then fork=1 mode=(-fork=1 -ignore_ooms=1 -ignore_timeouts=1); fi
+  rc=0
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \
+    build-fuzz/"$t" "${mode[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || rc=$?
+  if ((fork)); then  # the parent prints "#EXECS: cov: C ft: F corp: N ..." per job
+    execs=$(grep -oE '^#[0-9]+:' "$log" | tail -1 | tr -d '#:')
+    first=$(grep -oE '^#[0-9]+: cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | head -1 | awk '{print $NF}')
+    last=$(grep -oE '^#[0-9]+: cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | tail -1 | awk '{print $NF}')
+    new=$(( ${last:-0} - ${first:-0} ))
+  else
+    execs=$(awk '/^stat::number_of_executed_units:/{print $2}' "$log" | tail -1)
+    [[ -n $execs ]] || execs=$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')
+    new=$(grep -cE '^#[0-9]+[[:space:]]+NEW ' "$log" || true)
+  fi
+  cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1 | sed 's/: /=/g')
+  mapfile -t found < <(find "$artifacts" -type f | sort)
+  findings=() resources=()
+  for a in "${found[@]}"; do
+    if ((fork)) && [[ $(basename "$a") =~ ^(oom|timeout|slow-unit)- ]]; then resources+=("$a"); else findings+=("$a"); fi
+  done
+  if ((${#findings[@]})); then
+    failed=1
+    crashes="${#findings[@]}: ${findings[*]}"
+  elif ((rc != 0)) && ! ((fork && ${#resources[@]})); then
+    failed=1
+    crashes="? (exit status $rc, no input saved: see $log)"
+  else
+    crashes=0
+  fi
+  ((${#resources[@]})) && crashes+="   third-party oom/timeout inputs ${#resources[@]} (in $artifacts)"
+  summary+=("$(printf '%-18s executions %10s   crashes %s   new coverage %s inputs (%s)' "$t" "${execs:-0}" "$crashes" "$new" "${cov:-no cov line}")")
+  echo "${summary[-1]}"
+done
+echo "fuzz: ${#targets[@]} targets, ${seconds} s each:"
+printf '  %s\n' "${summary[@]}"
+exit "$failed"

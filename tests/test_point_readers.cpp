@@ -330,6 +330,41 @@ TEST(PlyPoints, QuantizationRule) {
   EXPECT_EQ(e.info.scale[0] * e.points.xyz[3], -999.0);
 }
 
+// Binary records with x, y, z of one float type take a typed fast path; ascii, and mixed coordinate types,
+// the generic walk. Both give the same columns, halves between grid steps included.
+TEST(PlyPoints, FastPathEqualsGenericWalk) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-100, 100);
+  for (const std::string type : {"float", "double"}) {
+    std::vector<PlyColumn> cols = {{type, "x", {}}, {"uchar", "red", {}}, {type, "y", {}},
+                                   {"uchar", "green", {}}, {type, "z", {}}, {"uchar", "blue", {}},
+                                   {"float", "nx", {}}, {"float", "ny", {}}, {"float", "nz", {}}};
+    for (int i = 0; i < 3000; ++i)
+      for (size_t k = 0; k < cols.size(); ++k) {
+        double v = k % 2 == 1 && k < 6 ? std::floor(u(rng) + 100) : u(rng);
+        if (k == 0 && i % 3 == 0) v = (std::floor(v) + 0.5) * std::ldexp(1.0, type == "float" ? 7 - 24 : 7 - 30);
+        if (cols[k].type == "float") v = static_cast<float>(v);
+        cols[k].values.push_back(v);
+      }
+    cols[0].values[0] = 100;  // the extent, so that the half-step values above lie between grid steps
+    std::vector<PlyColumn> mixed = cols;
+    mixed[2].type = type == "float" ? "double" : "float";
+    mixed[2].values = cols[2].values;
+    for (double& v : mixed[2].values) v = static_cast<float>(v);
+    for (const auto* set : {&cols, &mixed}) {
+      SCOPED_TRACE(type + (set == &mixed ? " mixed" : ""));
+      const Cloud ascii = read_cloud(write_file("fast.ply", make_cloud_ply(Fmt::ascii, *set)), 1000);
+      for (Fmt f : {Fmt::le, Fmt::be}) {
+        const Cloud b = read_cloud(write_file("fast.ply", make_cloud_ply(f, *set)), 1000);
+        EXPECT_EQ(b.info.scale[0], ascii.info.scale[0]);
+        EXPECT_EQ(b.points.xyz, ascii.points.xyz);
+        EXPECT_EQ(b.points.rgb, ascii.points.rgb);
+        EXPECT_EQ(b.points.normal, ascii.points.normal);
+      }
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Staged real clouds (shared/data/README.md)
 

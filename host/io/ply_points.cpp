@@ -55,11 +55,18 @@ Role role_of(std::string_view name) {
   return kSkip;
 }
 
+// Rounded to the nearest integer, halves away from zero (as std::llround, inline); |d| <= INT32_MAX.
+inline int32_t round_half_away(double d) {
+  const int64_t t = static_cast<int64_t>(d);  // truncated
+  const double frac = d - static_cast<double>(t);  // exact: t holds d's integer part
+  return static_cast<int32_t>(t + (frac >= 0.5) - (frac <= -0.5));
+}
+
 // Rounded and clamped to [0, top]; NaN is 0.
 uint16_t to_u16(double d, double top) {
   if (!(d > 0)) return 0;
   if (d >= top) return static_cast<uint16_t>(top);
-  return static_cast<uint16_t>(std::lround(d));
+  return static_cast<uint16_t>(round_half_away(d));
 }
 
 // As float, beyond its range as +-inf (a plain conversion of such a double is undefined).
@@ -99,13 +106,17 @@ class PlyPoints final : public PointSource {
     if (next_ == count_) return false;
     const uint64_t n = std::min<uint64_t>(max_points, count_ - next_);
     reserve(out, n);
+    if (next_fast(out, n)) {
+      next_ += n;
+      return true;
+    }
     with_values(*src_, [&](auto& v) {
       walk(*src_, v, next_, n, [&](uint64_t i, const double* value) {
         for (int a = 0; a < 3; ++a) {
           const double q = coordinate(v, i, a, value) / scale_;
           if (!(std::fabs(q) <= std::numeric_limits<int32_t>::max()))  // only if the file changed since the first pass
             fail(v.where() + "vertex " + num(i) + " lies outside the grid of the first pass (was the file changed?)");
-          out.xyz.push_back(static_cast<int32_t>(std::llround(q)));
+          out.xyz.push_back(round_half_away(q));
         }
         if (attributes_ & kPointRgb)
           for (int c = 0; c < 3; ++c) out.rgb.push_back(colour(kRed + c, value[kRed + c]));
@@ -173,11 +184,53 @@ class PlyPoints final : public PointSource {
     double max_abs = 0;
     with_values(src, [&](auto& v) {
       skip_elements_before_vertex(v);
+      if constexpr (std::decay_t<decltype(v)>::kBinary) {
+        if (fast_extent<std::decay_t<decltype(v)>::kSwap>(src, max_abs)) return;
+      }
       walk(src, v, 0, count_, [&](uint64_t i, const double* value) {
         for (int a = 0; a < 3; ++a) max_abs = std::max(max_abs, std::fabs(coordinate(v, i, a, value)));
       });
     });
     return max_abs;
+  }
+
+  // The first pass's fast path (the layouts next_fast reads): false, having read nothing, where it does not apply
+  // or where a coordinate is not finite (the generic walk then names it).
+  template <bool Swap>
+  bool fast_extent(Source& src, double& max_abs) const {
+    if (record_ == 0 || type_[kY] != type_[kX] || type_[kZ] != type_[kX]) return false;
+    if (type_[kX] == Scalar::f32) return extent_records<float, Swap>(src, max_abs);
+    if (type_[kX] == Scalar::f64) return extent_records<double, Swap>(src, max_abs);
+    return false;
+  }
+
+  // Over a copy of the source's position, so that a fallback starts from the first vertex again.
+  template <class T, bool Swap>
+  bool extent_records(Source& src, double& max_abs) const {
+    Source copy(src.path());
+    copy.skip(src.consumed());
+    // IEEE magnitudes order as their bit patterns without the sign: a branch-free integer maximum, and any
+    // inf or NaN makes it at least the exponent mask.
+    using Bits = std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>;
+    constexpr Bits kMagnitude = ~Bits{0} >> 1;
+    constexpr Bits kExponent = std::bit_cast<Bits>(std::numeric_limits<T>::infinity());
+    Bits m = 0;
+    for (uint64_t i = 0; i < count_;) {
+      auto [begin, stop] = copy.window(record_);
+      const uint64_t k = std::min<uint64_t>(count_ - i, static_cast<uint64_t>(stop - begin) / record_);
+      if (k == 0) truncated(i);
+      const char* r = begin;
+      for (uint64_t j = 0; j < k; ++j, r += record_)
+        for (int a = 0; a < 3; ++a) {
+          const Bits b = std::bit_cast<Bits>(detail::load<T, Swap>(r + offset_[kX + a])) & kMagnitude;
+          m = b > m ? b : m;
+        }
+      copy.advance(k * record_);
+      i += k;
+    }
+    if (m >= kExponent) return false;  // inf or NaN
+    max_abs = static_cast<double>(std::bit_cast<T>(m));
+    return true;
   }
 
   PlyGrid grid_kind(double max_abs) const {
@@ -286,6 +339,78 @@ class PlyPoints final : public PointSource {
       }
     } catch (const EndOfData&) {
       truncated(i);
+    }
+  }
+
+  // The fast path of binary records whose x, y and z share one type: each batch decoded straight into the
+  // columns with the coordinates' type known to the compiler (a plain loop instead of a switch and a double per
+  // value). Same values as the generic walk; false where it does not apply.
+  bool next_fast(PointColumns& out, uint64_t n) {
+    if (header_.format == Format::ascii || record_ == 0 || type_[kY] != type_[kX] || type_[kZ] != type_[kX])
+      return false;
+    constexpr bool host_le = std::endian::native == std::endian::little;
+    const bool swap = (header_.format == Format::binary_le) != host_le;
+    switch (type_[kX]) {
+      case Scalar::f32: swap ? fast_records<float, true>(out, n) : fast_records<float, false>(out, n); return true;
+      case Scalar::f64: swap ? fast_records<double, true>(out, n) : fast_records<double, false>(out, n); return true;
+      default: return false;
+    }
+  }
+
+  template <class T, bool Swap>
+  void fast_records(PointColumns& out, uint64_t n) {
+    const size_t base = out.size();
+    out.xyz.resize(3 * (base + n));
+    if (attributes_ & kPointRgb) out.rgb.resize(3 * (base + n));
+    if (attributes_ & kPointNormal) out.normal.resize(3 * (base + n));
+    if (attributes_ & kPointIntensity) out.intensity.resize(base + n);
+    const double inv = 1 / scale_;  // scale_ is a power of two: multiplying by its inverse divides exactly
+    const bool exact_inverse = std::isfinite(inv) && inv * scale_ == 1;
+    for (uint64_t i = 0; i < n;) {
+      auto [begin, stop] = src_->window(record_);
+      const uint64_t k = std::min<uint64_t>(n - i, static_cast<uint64_t>(stop - begin) / record_);
+      if (k == 0) truncated(next_ + i);
+      const char* r = begin;
+      int32_t* xyz = out.xyz.data() + 3 * (base + i);
+      for (uint64_t j = 0; j < k; ++j, r += record_) {
+        for (int a = 0; a < 3; ++a) {
+          const double c = detail::load<T, Swap>(r + offset_[kX + a]);
+          const double q = exact_inverse ? c * inv : c / scale_;
+          if (!(std::fabs(q) <= std::numeric_limits<int32_t>::max())) [[unlikely]] {
+            if (!std::isfinite(c))
+              fail("vertex " + num(next_ + i + j) + ": coordinate " + std::string(1, "xyz"[a]) + " = " +
+                   std::to_string(c) + " is not finite");
+            fail("vertex " + num(next_ + i + j) + " lies outside the grid of the first pass (was the file changed?)");
+          }
+          xyz[3 * j + a] = round_half_away(q);
+        }
+      }
+      if (attributes_ != 0) fast_attributes<Swap>(out, base + i, begin, k);
+      src_->advance(k * record_);
+      i += k;
+    }
+  }
+
+  template <bool Swap>
+  void fast_attributes(PointColumns& out, uint64_t at, const char* r, uint64_t k) const {
+    const bool rgb8 = (attributes_ & kPointRgb) && type_[kRed] == Scalar::u8 && type_[kGreen] == Scalar::u8 &&
+                      type_[kBlue] == Scalar::u8;  // the common case: bytes as they are
+    if (rgb8) {
+      uint16_t* rgb = out.rgb.data() + 3 * at;
+      const char* q = r;
+      for (uint64_t j = 0; j < k; ++j, q += record_)
+        for (int c = 0; c < 3; ++c) rgb[3 * j + c] = static_cast<uint8_t>(q[offset_[kRed + c]]);
+      if ((attributes_ & ~kPointRgb) == 0) return;
+    }
+    for (uint64_t j = 0; j < k; ++j, r += record_) {
+      if ((attributes_ & kPointRgb) && !rgb8)
+        for (int c = 0; c < 3; ++c)
+          out.rgb[3 * (at + j) + c] = colour(kRed + c, decode<Swap>(r + offset_[kRed + c], type_[kRed + c]));
+      if (attributes_ & kPointNormal)
+        for (int c = 0; c < 3; ++c)
+          out.normal[3 * (at + j) + c] = to_float(decode<Swap>(r + offset_[kNx + c], type_[kNx + c]));
+      if (attributes_ & kPointIntensity)
+        out.intensity[at + j] = to_u16(decode<Swap>(r + offset_[kIntensity], type_[kIntensity]), 65535);
     }
   }
 

@@ -153,8 +153,10 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       "depth-tested square splats with eye-dome lighting (colour from RGB, else intensity, else height). The camera\n"
       "frames the cloud with +Z up for LAS input and +Y up for PLY (--up overrides). Example:\n"
       "  megavox points render scan.mvx -o scan.png --view iso --width 1920 --height 1080\n"
-      "With --during-build the input is a cloud (PLY, LAS): it is built, and --frames pictures of the finished part\n"
-      "(every finished leaf, one camera) go to the folder -o while it grows, one JSON line per frame:\n"
+      "With --during-build the input is a cloud (PLY, LAS): it is built, and --frames pictures of OMiCroN's rendering\n"
+      "front (the nodes drawn, kept and updated as the hierarchy grows; one camera) go to the folder -o, one JSON line\n"
+      "per frame. There the front draws every formed point unless --lod-pixels is given, which coarsens it as a\n"
+      "render's cut (front_nodes and points_drawn may then shrink as sibling groups prune into their parent):\n"
       "  megavox points render scan.las --during-build --frames 10 -o frames/");
   cmd->add_option("input", a->input, "The point .mvx file (--during-build: the point cloud)")->required();
   cmd->add_option("-o,--output", a->output, "The PNG to write (--during-build: the folder)")->required();
@@ -167,9 +169,10 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
   cmd->add_option("--view", a->render.view, "front, back, left, right, top or iso (default)");
   cmd->add_option("--up", a->up, "The up axis: x, y or z (default: the file's)");
   cmd->add_option("--fov", a->render.fov, "Vertical field of view in degrees (default 40)");
-  cmd->add_option("--lod-pixels", a->render.lod_pixels, "Largest projected point spacing of a drawn node (default 1)");
+  cmd->add_option("--lod-pixels", a->render.lod_pixels,
+                  "Largest projected point spacing of a drawn node (default 1; --during-build: 0, every point)");
   cmd->add_option("--point-size", a->render.point_size, "Splat side in pixels (default 3)");
-  cmd->callback([&g, a] {
+  cmd->callback([&g, a, cmd] {
     if (!a->up.empty()) {
       if (a->up.size() != 1 || std::string("xyz").find(a->up[0]) == std::string::npos)
         throw Error("points render: --up wants x, y or z, got '" + a->up + "'");
@@ -177,11 +180,13 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
     }
     auto dev = open_device(g);
     if (a->during_build) {
+      if (cmd->count("--lod-pixels") == 0) a->render.lod_pixels = 0;
       PointBuildOptions b;
       b.max_node_points = a->max_node_points;
       b.depth = a->depth;
       render_during_build(*dev, a->input, a->output, a->frames, b, a->render, [](const BuildFrame& f) {
-        nlohmann::json j = {{"frame", f.frame}, {"nodes", f.nodes}, {"points_drawn", f.points_drawn}, {"file", f.path}};
+        nlohmann::json j = {{"frame", f.frame}, {"nodes", f.nodes}, {"front_nodes", f.front_nodes},
+                          {"points_drawn", f.points_drawn}, {"file", f.path}};
         std::cout << j.dump() << std::endl;
       });
       return;

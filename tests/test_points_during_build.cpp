@@ -1,5 +1,6 @@
 // Rendering while building: every checkpoint's forest is a valid partial hierarchy whose leaves hold exactly the
-// points formed so far, and `render_during_build` writes its frames with counts that never shrink.
+// points formed so far, and `render_during_build` writes its frames of the rendering front (test_omicron_front.cpp
+// checks the front itself) with counts that never shrink when it draws every formed point.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -85,12 +86,14 @@ TEST_P(PointsDuringBuildTest, FramesGrow) {
   PointRenderOptions r;
   r.width = 160;
   r.height = 120;
+  r.lod_pixels = 0;  // the front draws every formed point (the CLI's default with --during-build)
   std::vector<BuildFrame> frames;
   render_during_build(dev, ply, dir, 5, b, r, [&](const BuildFrame& f) { frames.push_back(f); });
   ASSERT_EQ(frames.size(), 5u);
   for (size_t k = 0; k < frames.size(); ++k) {
     EXPECT_EQ(frames[k].frame, k);
     EXPECT_TRUE(fs::exists(frames[k].path)) << frames[k].path;
+    EXPECT_GT(frames[k].front_nodes, 0u);
     if (k) {
       EXPECT_GE(frames[k].nodes, frames[k - 1].nodes);
       EXPECT_GE(frames[k].points_drawn, frames[k - 1].points_drawn);
@@ -98,6 +101,14 @@ TEST_P(PointsDuringBuildTest, FramesGrow) {
   }
   EXPECT_EQ(frames.back().points_drawn, 30000u);
   EXPECT_LT(frames.front().points_drawn, 30000u);
+
+  // With a LOD rule the front coarsens as the render's cut does: the last frame is the finished cut.
+  r.lod_pixels = 4;
+  std::vector<BuildFrame> coarse;
+  render_during_build(dev, ply, dir, 5, b, r, [&](const BuildFrame& f) { coarse.push_back(f); });
+  ASSERT_EQ(coarse.size(), 5u);
+  for (size_t k = 0; k < coarse.size(); ++k) EXPECT_LE(coarse[k].points_drawn, frames[k].points_drawn);
+  EXPECT_LT(coarse.back().points_drawn, 30000u);
   EXPECT_NE(error_message([&] { render_during_build(dev, ply, dir, 0, b, r, {}); }).find("--frames"), std::string::npos);
 }
 

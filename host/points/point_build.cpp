@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "megavox/error.h"
 #include "omicron.h"
+#include "omicron_front.h"
 #include "point_gather.h"
 #include "point_kernels.h"
 
@@ -15,6 +17,24 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The front's entries as the leaves of a flat hierarchy, in front order; point i of node order is sorted point
+// order[i].
+void front_nodes(const points::OmicronFront& front, const points::OmicronBuilder& builder, std::vector<PointNode>& nodes,
+                 std::vector<uint64_t>& order, std::vector<uint32_t>& roots) {
+  for (const points::FrontEntry& e : front.entries()) {
+    const points::LodNode& src = builder.level(e.level)[e.at];
+    PointNode node;
+    node.code = (uint64_t{1} << (3 * e.level)) | src.prefix;
+    node.level = static_cast<uint8_t>(e.level);
+    node.subtree_points = src.points;
+    node.first_point = order.size();
+    front.append_points(e, order);
+    node.point_count = static_cast<uint32_t>(order.size() - node.first_point);
+    roots.push_back(static_cast<uint32_t>(nodes.size()));
+    nodes.push_back(node);
+  }
 }
 
 }  // namespace
@@ -54,25 +74,43 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   rule.max_node_points = options.max_node_points;
   rule.grid_bits = options.grid_bits;
   points::OmicronBuilder builder(dev, rule);
+  // The partials' grid, for the front's rule and the checkpoints.
+  PointHierarchy grid;
+  grid.source = info;
+  for (int a = 0; a < 3; ++a) grid.cube_min[a] = cube.min[a];
+  grid.shift = cube.shift;
+  grid.grid_bits = rule.grid_bits;
+  grid.depth = rule.depth;
+  grid.points_in = n;
+  std::unique_ptr<points::OmicronFront> front;
+  points::OmicronFront::FineEnough fine;
+  if (options.front_fine_enough) {
+    front = std::make_unique<points::OmicronFront>(builder);
+    fine = [&](uint32_t level, uint64_t prefix) { return options.front_fine_enough(grid, level, prefix); };
+  }
   const uint64_t step = std::max<uint64_t>(1, options.prefix_points);
   uint64_t next_checkpoint = options.checkpoint_points;
   for (uint64_t end = std::min(step, n);; end = std::min(end + step, n)) {
     builder.concatenate(std::span<const uint64_t>(codes.data(), end), end == n);
     ++rep.steps;
+    if (front) front->update(fine);
     if (options.on_checkpoint && end < n && builder.formed() >= next_checkpoint) {
       while (next_checkpoint <= builder.formed()) next_checkpoint += std::max<uint64_t>(1, options.checkpoint_points);
-      PointHierarchy partial;
+      PointHierarchy partial = grid;
       std::vector<uint64_t> order;
       std::vector<uint32_t> roots;
-      builder.snapshot(partial.nodes, order, roots);
+      if (front) {
+        front_nodes(*front, builder, partial.nodes, order, roots);
+        for (uint32_t l = 0; l <= rule.depth; ++l) {
+          const auto& list = builder.level(l);
+          partial.nodes_per_level.push_back(static_cast<uint64_t>(
+              std::count_if(list.begin(), list.end(), [](const points::LodNode& x) { return !x.absorbed; })));
+        }
+      } else {
+        builder.snapshot(partial.nodes, order, roots);
+      }
       for (uint64_t& q : order) q = index[q];
       partial.points = points::gather_columns(points, order, info.extra_bytes);
-      partial.source = info;
-      for (int a = 0; a < 3; ++a) partial.cube_min[a] = cube.min[a];
-      partial.shift = cube.shift;
-      partial.grid_bits = rule.grid_bits;
-      partial.depth = rule.depth;
-      partial.points_in = n;
       partial.points_kept = builder.formed();
       options.on_checkpoint(partial, roots);
     }

@@ -56,30 +56,40 @@ FrameBox points_box(const PointColumns& points) {
   return b;
 }
 
-SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o, const std::vector<uint32_t>& roots,
-                       const FrameBox* frame_box) {
-  if (h.nodes.empty()) throw Error("points render: the hierarchy has no nodes");
+namespace {
+
+// The camera a frame's options give, in scaled cells.
+struct Camera {
+  Vec lo, hi;  // the framed box
+  Vec eye, cam_x, cam_y, fwd;
+  double aspect[3];
+  double focal, dist, radius, half;
+  int up;
+};
+
+Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const FrameBox* frame_box) {
+  Camera cam;
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw Error("points render: the image must be 1-16384 pixels wide and high, not " + std::to_string(o.width) + "x" +
                 std::to_string(o.height));
   if (!(o.fov > 1 && o.fov < 170)) throw Error("points render: --fov must lie between 1 and 170 degrees");
-  const int up = up_axis(h, o.up);
+  const int up = cam.up = up_axis(h, o.up);
   // Camera space in cells scaled per axis by the input's scale over the largest (the cube is square in input
   // units, which LAS may scale differently per axis).
   const double smax = std::max({std::fabs(h.source.scale[0]), std::fabs(h.source.scale[1]), std::fabs(h.source.scale[2])});
-  double aspect[3];
+  double* aspect = cam.aspect;
   for (int a = 0; a < 3; ++a) aspect[a] = std::fabs(h.source.scale[a]) / smax;
-  auto cell = [&](uint64_t p, int a) { return h.cell(p, a); };
   // The framed box, in scaled cells.
   const FrameBox box = frame_box ? *frame_box : points_box(h.points);
-  Vec lo, hi;
+  Vec& lo = cam.lo;
+  Vec& hi = cam.hi;
   for (int a = 0; a < 3; ++a) {
     auto to_cell = [&](int64_t v) { return std::ldexp(double(v - h.cube_min[a]), -h.shift) * aspect[a]; };
     at(lo, a) = to_cell(box.lo[a]);
     at(hi, a) = to_cell(box.hi[a]);
   }
   const Vec centre = (lo + hi) * 0.5;
-  const double radius = std::max(1.0, std::sqrt(dot(hi - lo, hi - lo)) * 0.5);
+  const double radius = cam.radius = std::max(1.0, std::sqrt(dot(hi - lo, hi - lo)) * 0.5);
 
   Vec upv, right_v, toward;  // world up, the front view's right and its direction towards the eye
   at(upv, up) = 1;
@@ -99,20 +109,65 @@ SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o, con
   else if (o.view == "top") dir = upv;
   else if (o.view == "iso") dir = unit(toward + right_v * 0.8 + upv * 0.7);
   else throw Error("points render: unknown view '" + o.view + "' (front, back, left, right, top, iso)");
-  const double half = o.fov * M_PI / 360;
-  const double dist = radius / std::sin(half) * 1.02;
-  const Vec eye = centre + dir * dist;
-  const Vec fwd = unit(centre - eye);
-  Vec cam_up = o.view == "top" ? toward * -1 : upv;
-  Vec cam_x = unit(cross(fwd, cam_up));
-  Vec cam_y = cross(cam_x, fwd);
+  const double half = cam.half = o.fov * M_PI / 360;
+  const double dist = cam.dist = radius / std::sin(half) * 1.02;
+  cam.eye = centre + dir * dist;
+  cam.fwd = unit(centre - cam.eye);
+  const Vec cam_up = o.view == "top" ? toward * -1 : upv;
+  cam.cam_x = unit(cross(cam.fwd, cam_up));
+  cam.cam_y = cross(cam.cam_x, cam.fwd);
+  cam.focal = (o.height / 2.0) / std::tan(half);
+  return cam;
+}
+
+// The cut's rule: a node is drawn instead of its children when its points' spacing (its side over its grid)
+// projects to at most lod pixels; lod 0: never.
+bool fine_enough(const Camera& cam, uint32_t grid_bits, double lod, uint32_t level, uint64_t prefix) {
+  if (!(lod > 0)) return false;
+  const double side = std::ldexp(1.0, 21 - static_cast<int>(level));
+  Vec c;
+  for (int a = 0; a < 3; ++a) {
+    uint32_t v = 0;
+    for (uint32_t b = 0; b < level; ++b) v |= static_cast<uint32_t>((prefix >> (3 * b + a)) & 1) << b;
+    at(c, a) = (v + 0.5) * side * cam.aspect[a];
+  }
+  const double d = std::sqrt(dot(c - cam.eye, c - cam.eye)) - side * 0.87;
+  const double spacing = side / std::ldexp(1.0, static_cast<int>(grid_bits));
+  return d > 0 && cam.focal * spacing / d <= lod;
+}
+
+}  // namespace
+
+struct LodRule::Impl {
+  Camera cam;
+  uint32_t grid_bits;
+  double lod;
+};
+
+LodRule::LodRule(const PointHierarchy& grid, const PointRenderOptions& options, const FrameBox& box)
+    : impl_(std::make_unique<Impl>(Impl{make_camera(grid, options, &box), grid.grid_bits, options.lod_pixels})) {}
+LodRule::~LodRule() = default;
+LodRule::LodRule(LodRule&&) noexcept = default;
+
+bool LodRule::fine_enough(uint32_t level, uint64_t prefix) const {
+  return points::fine_enough(impl_->cam, impl_->grid_bits, impl_->lod, level, prefix);
+}
+
+SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o, const std::vector<uint32_t>& roots,
+                       const FrameBox* frame_box) {
+  if (h.nodes.empty()) throw Error("points render: the hierarchy has no nodes");
+  const Camera cam = make_camera(h, o, frame_box);
+  const Vec &lo = cam.lo, &hi = cam.hi, &eye = cam.eye, &fwd = cam.fwd, &cam_x = cam.cam_x, &cam_y = cam.cam_y;
+  const double* aspect = cam.aspect;
+  const double dist = cam.dist, radius = cam.radius, focal = cam.focal;
+  const int up = cam.up;
+  auto cell = [&](uint64_t p, int a) { return h.cell(p, a); };
 
   SplatFrame f;
   MvSplatParams& p = f.params;
   p.width = o.width;
   p.height = o.height;
   p.radius = std::max(1u, o.point_size) / 2;
-  const double focal = (o.height / 2.0) / std::tan(half);
   p.focal_q8 = static_cast<uint32_t>(std::llround(focal * 256));
   p.cx_q8 = static_cast<int32_t>(o.width * 128);
   p.cy_q8 = static_cast<int32_t>(o.height * 128);
@@ -139,17 +194,8 @@ SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o, con
     const uint32_t i = stack.back();
     stack.pop_back();
     const PointNode& n = h.nodes[i];
-    const double side = std::ldexp(1.0, 21 - n.level);
     const uint64_t prefix = n.code ^ (uint64_t{1} << (3 * n.level));
-    Vec c;
-    for (int a = 0; a < 3; ++a) {
-      uint32_t v = 0;
-      for (int b = 0; b < n.level; ++b) v |= static_cast<uint32_t>((prefix >> (3 * b + a)) & 1) << b;
-      at(c, a) = (v + 0.5) * side * aspect[a];
-    }
-    const double d = std::sqrt(dot(c - eye, c - eye)) - side * 0.87;
-    const double spacing = side / std::ldexp(1.0, static_cast<int>(h.grid_bits));
-    const bool draw = n.leaf() || (lod > 0 && d > 0 && focal * spacing / d <= lod);
+    const bool draw = n.leaf() || fine_enough(cam, h.grid_bits, lod, n.level, prefix);
     if (draw) {
       f.nodes.push_back(i);
       continue;
@@ -177,7 +223,7 @@ SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& o, con
       } else if (!h.points.intensity.empty()) {
         c[0] = c[1] = c[2] = static_cast<uint8_t>(std::min(255.0, 40 + 215.0 * h.points.intensity[q] / imax));
       } else {
-        ramp((cell(q, up) * aspect[up] - at(lo, up)) / std::max(1.0, at(hi, up) - at(lo, up)), c);
+        ramp((cell(q, up) * aspect[up] - get(lo, up)) / std::max(1.0, get(hi, up) - get(lo, up)), c);
       }
       f.colours.insert(f.colours.end(), c, c + 3);
     }

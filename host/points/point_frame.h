@@ -2,6 +2,7 @@
 // LOD cut, the cut's points as cells and colours, and the image made of the per-pixel winners. No device types.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "../../kernels/common/splat.h"
@@ -27,6 +28,21 @@ FrameBox points_box(const PointColumns& points);
 // from each of `roots` (a finished hierarchy: {0}; a partial one: its forest's roots), the cut's points.
 SplatFrame splat_frame(const PointHierarchy& h, const PointRenderOptions& options,
                        const std::vector<uint32_t>& roots = {0}, const FrameBox* box = nullptr);
+
+// The cut's rule alone, for a front kept across frames (omicron_front.h): from the camera `options` and `box`
+// give over `grid` (a hierarchy's grid: source, cube, shift, grid bits; no nodes needed), whether a node's points'
+// spacing projects to at most options.lod_pixels (0: never), so that it is drawn instead of its children.
+class LodRule {
+ public:
+  LodRule(const PointHierarchy& grid, const PointRenderOptions& options, const FrameBox& box);
+  ~LodRule();
+  LodRule(LodRule&&) noexcept;
+  bool fine_enough(uint32_t level, uint64_t prefix) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // The picture: each covered pixel takes its winning point's colour, darkened by eye-dome lighting from the depth
 // keys; uncovered pixels the background.

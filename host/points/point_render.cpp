@@ -1,6 +1,7 @@
 #include <algorithm>
 
 #include <cstdio>
+#include <memory>
 
 #include "io/atomic_dir.h"
 #include "chunking.h"
@@ -30,18 +31,18 @@ void render_during_build(Device& dev, const std::string& input, const std::strin
   PointColumns cloud = read_point_file(input, info);
   const points::FrameBox box = points::points_box(cloud);
   const uint64_t n = cloud.size();
-  PointRenderOptions full = render;
-  full.lod_pixels = 0;  // finished parts at full detail: every leaf of the forest
+  std::unique_ptr<points::LodRule> rule;  // made with the first frame, from the build's grid
   io::write_dir_atomically(dir, "frame_0000.png", [&](const std::string& tmp) {
     uint32_t frame = 0;
-    auto emit = [&](const PointHierarchy& h, const std::vector<uint32_t>& roots) {
-      PointRenderResult r = render_frame(dev, points::splat_frame(h, full, roots, &box));
+    auto emit = [&](const PointHierarchy& h, const std::vector<uint32_t>& roots, uint64_t made) {
+      PointRenderResult r = render_frame(dev, points::splat_frame(h, render, roots, &box));
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04u.png", frame);
       write_png(tmp + "/" + name, r.image);
       BuildFrame f;
       f.frame = frame++;
-      f.nodes = h.nodes.size();
+      f.nodes = made;
+      f.front_nodes = r.nodes_drawn;
       f.points_drawn = r.points_drawn;
       f.path = dir + "/" + name;
       if (on_frame) on_frame(f);
@@ -49,11 +50,17 @@ void render_during_build(Device& dev, const std::string& input, const std::strin
     PointBuildOptions o = build;
     o.checkpoint_points = std::max<uint64_t>(1, n / frames);
     o.prefix_points = std::max<uint64_t>(1, std::min(o.prefix_points, o.checkpoint_points / 4));
+    o.front_fine_enough = [&](const PointHierarchy& grid, uint32_t level, uint64_t prefix) {
+      if (!rule) rule = std::make_unique<points::LodRule>(grid, render, box);
+      return rule->fine_enough(level, prefix);
+    };
     o.on_checkpoint = [&](const PointHierarchy& h, const std::vector<uint32_t>& roots) {
-      if (frame + 1 < frames) emit(h, roots);
+      uint64_t made = 0;  // the front's partial counts the nodes made per level
+      for (uint64_t c : h.nodes_per_level) made += c;
+      if (frame + 1 < frames) emit(h, roots, made);
     };
     PointHierarchy h = build_point_hierarchy(dev, std::move(cloud), info, o);
-    emit(h, {0});
+    emit(h, {0}, h.nodes.size());
   });
 }
 

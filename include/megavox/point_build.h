@@ -23,6 +23,12 @@ struct PointBuildOptions {
   // gathered: a picture while building (OMiCroN's oblique cut).
   std::function<void(const PointHierarchy& partial, const std::vector<uint32_t>& roots)> on_checkpoint;
   uint64_t checkpoint_points = 0;
+  // When set, checkpoints hand over OMiCroN's rendering front instead of the forest: the nodes a frame draws,
+  // kept across the build and updated after every step (placeholders, substitution, prune and branch; see
+  // host/points/omicron_front.h), as a flat `partial` whose nodes are all leaves in Morton order (roots lists
+  // them; its nodes_per_level counts the nodes made so far). front_fine_enough(grid, level, prefix) says a node is dense enough on screen to be drawn instead of its
+  // children; `grid` carries the hierarchy's grid (source, cube, shift, grid bits) and no nodes.
+  std::function<bool(const PointHierarchy& grid, uint32_t level, uint64_t prefix)> front_fine_enough;
 };
 
 // After each step of the build: how far the cut has come.

@@ -32,11 +32,14 @@ struct PointRenderResult {
 PointRenderResult render_points(Device& dev, const PointHierarchy& h, const PointRenderOptions& options);
 
 // `points render --during-build`: builds the cloud file `input` and renders `frames` pictures while it grows,
-// DIR/frame_0000.png ..., the last of the finished hierarchy; every finished leaf is drawn at full detail
-// (OMiCroN's promise), from one camera framing the whole cloud. DIR is written through a temporary folder.
+// DIR/frame_0000.png ..., the last of the finished hierarchy's cut, from one camera framing the whole cloud. The
+// frames before it draw OMiCroN's rendering front (host/points/omicron_front.h), kept across the build, with
+// render.lod_pixels as its rule: 0 draws every formed point. DIR is written through a temporary folder.
 struct BuildFrame {
   uint32_t frame = 0;
-  uint64_t nodes = 0, points_drawn = 0;
+  uint64_t nodes = 0;        // made so far, every level (never shrinks)
+  uint64_t front_nodes = 0;  // drawn: the front's entries (the last frame: the finished hierarchy's cut)
+  uint64_t points_drawn = 0;
   std::string path;
 };
 struct PointBuildOptions;  // megavox/point_build.h

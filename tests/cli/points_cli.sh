@@ -33,6 +33,7 @@ cmp -s "$dir/l.mvx" "$dir/l2.mvx" || fail "two builds of the same cloud differ"
 "$mv" points render "$dir/lattice.ply" --during-build --frames 3 -o "$dir/frames" --max-node-points 500 \
   --width 120 --height 90 > "$dir/frames.jsonl"
 [[ $(wc -l < "$dir/frames.jsonl") == 3 && -s "$dir/frames/frame_0002.png" ]] || fail "frames: $(cat "$dir/frames.jsonl")"
+grep -q "\"front_nodes\":" "$dir/frames.jsonl" || fail "frames without front_nodes: $(cat "$dir/frames.jsonl")"
 "$mv" points build "$dir/lattice.ply" -o "$dir/ooc.mvx" --max-node-points 500 --memory 300K > /dev/null
 cmp -s "$dir/l.mvx" "$dir/ooc.mvx" || fail "out of core differs from in core"
 

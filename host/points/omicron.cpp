@@ -92,7 +92,8 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
     const uint32_t cell_bits = fine >= 21 ? 0 : 3 * (21 - fine);
     size_t k = 0;
     while (k < inner.size()) {
-      std::vector<uint64_t> cand;
+      std::vector<uint64_t>& cand = cand_;  // reused across calls: fresh memory is slow to touch
+      cand.clear();
       std::vector<uint32_t> bounds{0};
       size_t end = k;
       while (end < inner.size()) {
@@ -111,7 +112,8 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
         bounds.push_back(static_cast<uint32_t>(cand.size()));
         ++end;
       }
-      std::vector<uint64_t> codes(cand.size());
+      std::vector<uint64_t>& codes = cand_codes_;
+      codes.resize(cand.size());
       for (size_t q = 0; q < cand.size(); ++q) codes[q] = sorted[cand[q]];
       RepSelection sel = select_representatives(dev_, codes, bounds, cell_bits, rule_.max_node_points);
       ++stats_.dispatches;

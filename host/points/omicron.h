@@ -81,6 +81,7 @@ class OmicronBuilder {
   std::vector<std::vector<LodNode>> levels_;  // index = level; each in Morton order
   std::vector<uint64_t> parented_;            // per level: nodes before this have a parent
   std::vector<uint64_t> reps_;                // sorted point positions of every inner node's representatives
+  std::vector<uint64_t> cand_, cand_codes_;   // a selection call's candidates and their codes, reused
   uint64_t formed_ = 0;                       // sorted points already in a leaf
   uint64_t frontier_ = 0;
   OmicronStats stats_;

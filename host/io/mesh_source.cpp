@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "io/ply_reader.h"
+#include "io/file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -75,7 +76,13 @@ bool starts_with_ply(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   char head[4] = {};
-  size_t got = std::fread(head, 1, 4, f);
+  size_t got = 0;
+  try {
+    got = read_some(f, head, 4, path);
+  } catch (...) {
+    std::fclose(f);
+    throw;
+  }
   std::fclose(f);
   return got == 4 && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
 }

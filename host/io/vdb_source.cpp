@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 
+#include "io/file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -28,7 +29,13 @@ bool is_vdb(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return false;
   unsigned char head[4] = {};
-  size_t got = std::fread(head, 1, 4, f);
+  size_t got = 0;
+  try {
+    got = read_some(f, head, 4, path);
+  } catch (...) {
+    std::fclose(f);
+    throw;
+  }
   std::fclose(f);
   return got == 4 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56;  // " BDV"
 }

@@ -80,6 +80,14 @@ size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path
   return got;
 }
 
+std::string first_bytes(const std::string& path, size_t n) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  std::string head(n, '\0');
+  head.resize(read_some(f.get(), head.data(), n, path));
+  return head;
+}
+
 std::vector<char> read_whole_file(const std::string& path) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));

@@ -15,6 +15,9 @@ namespace mv::io {
 // Up to `bytes` from `f`: fewer only at the end of the file. A read error throws mv::Error
 // "PATH: read error: ...".
 size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path);
+// The first `n` bytes of a file (fewer when it is shorter), to tell its format; mv::Error when it cannot be
+// opened or read.
+std::string first_bytes(const std::string& path, size_t n);
 // All of a file's bytes (a regular file or not), read errors as read_some's.
 std::vector<char> read_whole_file(const std::string& path);
 // All `bytes` to `f`, or false with errno set.

@@ -73,18 +73,8 @@ class AssimpSource final : public MeshSource {
 };
 
 bool starts_with_ply(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  char head[4] = {};
-  size_t got = 0;
-  try {
-    got = read_some(f, head, 4, path);
-  } catch (...) {
-    std::fclose(f);
-    throw;
-  }
-  std::fclose(f);
-  return got == 4 && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
+  const std::string head = first_bytes(path, 4);
+  return head.size() == 4 && head.compare(0, 3, "ply") == 0 && (head[3] == '\n' || head[3] == '\r');
 }
 
 }  // namespace

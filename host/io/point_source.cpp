@@ -17,14 +17,6 @@ namespace mv::io {
 
 namespace {
 
-std::string first_bytes(const std::string& path, size_t n) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  std::string head(n, '\0');
-  head.resize(read_some(f.get(), head.data(), n, path));
-  return head;
-}
-
 bool ends_with_laz(std::string path) {
   std::transform(path.begin(), path.end(), path.begin(), [](unsigned char c) { return std::tolower(c); });
   return path.size() >= 4 && path.compare(path.size() - 4, 4, ".laz") == 0;

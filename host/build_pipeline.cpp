@@ -77,8 +77,22 @@ void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh) {
   const uint64_t need = std::min(vertices * 12, vertex_share(o)) + vertices +
                         std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
   if (need > memory_budget(o))
-    throw Error(o.input + ": the mesh needs about " + std::to_string((need + (1 << 20) - 1) >> 20) +
-                " MiB of host memory, over --memory " + std::to_string(memory_budget(o) >> 20) + " MiB");
+    throw Error(o.input + ": the mesh needs about " + format_bytes(need) + " of host memory, over --memory " +
+                format_bytes(memory_budget(o)));
+}
+
+// Fails before anything is read when the cubes alone would pass the buckets' share of the budget: a resolution
+// far above --cube makes (resolution / cube)^3 cubes (1M in 1024^3 cubes: 2^30 of them, 48 GiB of table).
+void check_cube_table(const BuildOptions& o, uint32_t resolution) {
+  const uint64_t need = TriangleBuckets::table_bytes(resolution / o.cube);
+  if (need <= bucket_share(o)) return;
+  uint32_t cube = o.cube;  // the smallest cube size whose table fits, if any does
+  while (cube < resolution && TriangleBuckets::table_bytes(resolution / cube) > bucket_share(o)) cube *= 2;
+  const uint64_t per_axis = resolution / o.cube;
+  throw Error("--resolution " + std::to_string(resolution) + " in cubes of " + std::to_string(o.cube) + "^3 makes " +
+              std::to_string(per_axis * per_axis * per_axis) + " cubes, whose table alone needs " + format_bytes(need) +
+              " of host memory, over the quarter of --memory " + format_bytes(memory_budget(o)) +
+              " it may use; raise --cube to " + std::to_string(cube) + " or more, or lower --resolution");
 }
 
 bool clips(const BuildOptions& o) { return o.placement.origin == GridPlacement::Origin::kCube; }
@@ -173,6 +187,7 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
 BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                               const Report& report, const Lap& lap) {
   if (o.cube < 8 || (o.cube & (o.cube - 1))) throw Error("--cube " + std::to_string(o.cube) + " must be a power of two >= 8");
+  check_cube_table(o, resolution);
   Bounds bounds = used_vertex_bounds(o, r);
   const GridTransform grid = place_mesh_grid(o, resolution, bounds);
   r.resolution = resolution;

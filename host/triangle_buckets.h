@@ -16,6 +16,10 @@ class TriangleBuckets {
  public:
   // per_axis^3 cubes of `cube` voxels per side; `budget`: bytes of triangles held in memory before spilling.
   TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget);
+  // Host bytes of the per-cube table alone (allocated up front, before any triangle).
+  static uint64_t table_bytes(uint32_t per_axis) {
+    return uint64_t{per_axis} * per_axis * per_axis * (sizeof(std::vector<float>) + sizeof(std::vector<Chunk>));
+  }
   TriangleBuckets(const TriangleBuckets&) = delete;
   TriangleBuckets& operator=(const TriangleBuckets&) = delete;
 

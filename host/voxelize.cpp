@@ -210,9 +210,10 @@ void Voxelizer::merge(Bricks&& chunk) {
   // the merge holds the old bricks, the chunk and the union at once
   const uint64_t need = 16 * (2 * (bricks_.size() + chunk.size()));
   if (host_budget_ && need > host_budget_)
-    throw Error("voxelize: the voxel bricks need " + std::to_string((need + (1 << 20) - 1) >> 20) +
-                " MiB of host memory, over --memory " + std::to_string(host_budget_ >> 20) +
-                " MiB; raise --memory, or lower --cube so the build runs out of core in smaller cubes");
+    throw Error("voxelize: the voxel bricks need " + format_bytes(need) + " of host memory, over the " +
+                format_bytes(host_budget_) +
+                " of the --memory budget left for them; raise --memory, or lower --cube so the build runs out of core in "
+                "smaller cubes");
   if (bricks_.empty()) {
     bricks_ = std::move(chunk);
     return;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -33,20 +34,20 @@ void check_replaceable(const fs::path& dir, const std::string& marker) {
 void swap_in(const fs::path& tmp, const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(dir, ec))) {
-    if (::rename(tmp.c_str(), dir.c_str()) != 0)
+    if (rename_path(tmp.c_str(), dir.c_str()) != 0)
       throw Error("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(errno));
     return;
   }
-  if (::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
+  if (exchange_paths(tmp.c_str(), dir.c_str()) == 0) {
     fs::remove_all(tmp, ec);  // now the old folder; a leftover is harmless
     return;
   }
   const fs::path old = tmp.string() + ".old";
-  if (::rename(dir.c_str(), old.c_str()) != 0)
+  if (rename_path(dir.c_str(), old.c_str()) != 0)
     throw Error("cannot move the old '" + dir.string() + "' aside: " + std::strerror(errno));
-  if (::rename(tmp.c_str(), dir.c_str()) != 0) {
+  if (rename_path(tmp.c_str(), dir.c_str()) != 0) {
     const int err = errno;
-    ::rename(old.c_str(), dir.c_str());  // put the old one back
+    rename_path(old.c_str(), dir.c_str());  // put the old one back
     throw Error("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(err));
   }
   fs::remove_all(old, ec);

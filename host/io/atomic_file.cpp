@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -31,7 +32,7 @@ void write_atomically_by_name(const std::string& path, const std::function<void(
     std::remove(tmp.c_str());
     throw Error("cannot write '" + tmp + "': " + e.what());
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+  if (rename_path(tmp.c_str(), path.c_str()) != 0) {
     int err = errno;
     std::remove(tmp.c_str());
     throw Error("cannot rename '" + tmp + "' to '" + path + "': " + std::strerror(err));

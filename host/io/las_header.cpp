@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io::detail {
@@ -83,9 +84,9 @@ class HeaderReader {
 
   std::vector<unsigned char> bytes_at(uint64_t at, uint64_t n) const {
     std::vector<unsigned char> out(n);
-    if (fseeko(file_, static_cast<off_t>(at), SEEK_SET) != 0 || std::fread(out.data(), 1, n, file_) != n)
-      fail("read error at byte " + num(at) + ": " +
-           (std::ferror(file_) ? std::strerror(errno) : "the file ended early"));
+    if (fseeko(file_, static_cast<off_t>(at), SEEK_SET) != 0)
+      fail("cannot seek to byte " + num(at) + ": " + std::strerror(errno));
+    if (io::read_some(file_, out.data(), n, path_) != n) fail("the file ended early, at byte " + num(at));
     return out;
   }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "las_header.h"
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -68,7 +69,7 @@ class LasSource final : public PointSource {
     buffer_.resize(std::min(n, batch_) * h_.record_length);
     for (uint64_t done = 0; done < n;) {
       const uint64_t chunk = std::min(n - done, batch_);
-      const size_t got = std::fread(buffer_.data(), h_.record_length, chunk, file_.get());
+      const size_t got = io::read_some(file_.get(), buffer_.data(), chunk * h_.record_length, path_) / h_.record_length;
       decode(out, got);
       read_ += got;
       done += got;
@@ -95,7 +96,6 @@ class LasSource final : public PointSource {
   }
 
   [[noreturn]] void truncated() const {
-    if (std::ferror(file_.get())) throw Error(path_ + ": read error in the point data: " + std::strerror(errno));
     throw Error(path_ + ": truncated point data: the header declares " + std::to_string(h_.points) +
                 " points, but the file ends after " + std::to_string(read_) + " complete points");
   }

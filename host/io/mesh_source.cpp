@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "io/ply_reader.h"
+#include "io/file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -72,12 +73,8 @@ class AssimpSource final : public MeshSource {
 };
 
 bool starts_with_ply(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  char head[4] = {};
-  size_t got = std::fread(head, 1, 4, f);
-  std::fclose(f);
-  return got == 4 && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r');
+  const std::string head = first_bytes(path, 4);
+  return head.size() == 4 && head.compare(0, 3, "ply") == 0 && (head[3] == '\n' || head[3] == '\r');
 }
 
 }  // namespace

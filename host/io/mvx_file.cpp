@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "atomic_file.h"
+#include "file_ops.h"
 #include "mvx_format.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
@@ -76,12 +77,12 @@ void write_file(const std::string& path, Header& h, const std::vector<Blob>& blo
   io::write_atomically(path, [&](std::FILE* f) {
     std::vector<char> page(kPage, 0);
     std::memcpy(page.data(), &h, sizeof h);
-    bool ok = std::fwrite(page.data(), 1, kPage, f) == kPage;
+    bool ok = io::write_all(f, page.data(), kPage);
     for (uint32_t i = 0; ok && i < h.sections; ++i) {
-      ok = std::fwrite(blobs[i].data, 1, blobs[i].bytes, f) == blobs[i].bytes;
+      ok = io::write_all(f, blobs[i].data, blobs[i].bytes);
       uint64_t pad = (kPage - blobs[i].bytes % kPage) % kPage;
       std::vector<char> zeros(pad, 0);
-      ok = ok && std::fwrite(zeros.data(), 1, pad, f) == pad;
+      ok = ok && io::write_all(f, zeros.data(), pad);
     }
     return ok;
   });
@@ -96,7 +97,7 @@ Opened open_file(const std::string& path) {
   const auto file_bytes = static_cast<uint64_t>(std::ftell(f));
   std::fseek(f, 0, SEEK_SET);
   Header& h = o.header;
-  if (std::fread(&h, 1, sizeof h, f) != sizeof h || file_bytes < kPage) {
+  if (io::read_some(f, &h, sizeof h, path) != sizeof h || file_bytes < kPage) {
     if (file_bytes >= 8 && std::memcmp(h.magic, kMagic, 8) != 0) throw Error(path + ": not a .mvx file (bad magic)");
     throw Error(path + ": truncated: shorter than the 4 KiB .mvx header");
   }

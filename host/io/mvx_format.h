@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::mvx_format {
@@ -74,7 +75,7 @@ template <class T>
 std::vector<T> section_data(std::FILE* f, const Section& s, const std::string& path, const char* what) {
   if (s.bytes % sizeof(T)) throw Error(path + ": " + what + " section has a partial element");
   std::vector<T> v(s.bytes / sizeof(T));
-  if (std::fseek(f, static_cast<long>(s.offset), SEEK_SET) != 0 || std::fread(v.data(), 1, s.bytes, f) != s.bytes)
+  if (std::fseek(f, static_cast<long>(s.offset), SEEK_SET) != 0 || io::read_some(f, v.data(), s.bytes, path) != s.bytes)
     throw Error(path + ": truncated: the " + what + " section ends past the end of the file");
   if (hash(v.data(), s.bytes) != s.checksum) throw Error(path + ": checksum mismatch in the " + what + " section");
   return v;

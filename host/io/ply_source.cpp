@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io::detail {
@@ -44,11 +45,8 @@ bool Source::fill(size_t n) {
   pos_ = buffer_.get();
   end_ = pos_ + have;
   while (have < n) {
-    size_t got = std::fread(end_, 1, capacity_ - have, file_.get());
-    if (got == 0) {
-      if (std::ferror(file_.get())) throw Error(path_ + ": read error: " + std::strerror(errno));
-      return false;
-    }
+    size_t got = read_some(file_.get(), end_, capacity_ - have, path_);
+    if (got == 0) return false;
     end_ += got;
     have += got;
     read_ += got;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "atomic_file.h"
+#include "file_ops.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 
@@ -15,9 +16,31 @@ namespace mv {
 
 namespace {
 
-// libpng reports errors by longjmp; this wraps the whole encode so no C++ object lives across the jump.
-bool encode_png(std::FILE* f, const Image& image, std::string& why) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+// libpng's output goes through io::write_all (the file layer tests inject faults into); a failed write
+// ends the encode through png_error, keeping errno for the message.
+struct PngOut {
+  std::FILE* f;
+  int err = 0;
+};
+
+void png_write_chunk(png_structp png, png_bytep data, png_size_t bytes) {
+  auto* out = static_cast<PngOut*>(png_get_io_ptr(png));
+  if (!io::write_all(out->f, data, bytes)) {
+    out->err = errno ? errno : EIO;
+    png_error(png, "write failed");
+  }
+}
+
+void png_flush_chunk(png_structp) {}  // write_atomically flushes once at the end
+
+// libpng's errors end the encode by longjmp, silently: write_png throws with the reason instead.
+void png_fail(png_structp png, png_const_charp) { png_longjmp(png, 1); }
+void png_warn(png_structp, png_const_charp) {}
+
+// libpng reports errors by longjmp; this wraps the whole encode so no C++ object lives across the jump (`out`
+// lives in the caller: what the write callback sets survives the jump).
+bool encode_png(PngOut& out, const Image& image, std::string& why) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, &png_fail, &png_warn);
   if (!png) {
     why = "out of memory";
     return false;
@@ -25,10 +48,11 @@ bool encode_png(std::FILE* f, const Image& image, std::string& why) {
   png_infop info = png_create_info_struct(png);
   if (!info || setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
-    why = "libpng failed while writing";
+    why = out.err ? std::strerror(out.err) : "libpng failed while writing";
+    errno = out.err;
     return false;
   }
-  png_init_io(png, f);
+  png_set_write_fn(png, &out, &png_write_chunk, &png_flush_chunk);
   png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
@@ -46,7 +70,10 @@ void write_png(const std::string& path, const Image& image) {
     throw Error("write_png: the image is empty or its size does not match its pixels");
   std::string why;
   try {
-    io::write_atomically(path, [&](std::FILE* f) { return encode_png(f, image, why); });
+    io::write_atomically(path, [&](std::FILE* f) {
+      PngOut out{f};
+      return encode_png(out, image, why);
+    });
   } catch (const Error& e) {
     throw Error(why.empty() ? e.what() : "cannot write '" + path + "': " + why);
   }

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "las_header.h"
+#include "file_ops.h"
 #include "las_reader.h"
 #include "megavox/error.h"
 #include "ply_points.h"
@@ -15,14 +16,6 @@
 namespace mv::io {
 
 namespace {
-
-std::string first_bytes(const std::string& path, size_t n) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  std::string head(n, '\0');
-  head.resize(std::fread(head.data(), 1, n, f.get()));
-  return head;
-}
 
 bool ends_with_laz(std::string path) {
   std::transform(path.begin(), path.end(), path.begin(), [](unsigned char c) { return std::tolower(c); });

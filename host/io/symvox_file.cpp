@@ -6,11 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <vector>
 
 #include "atomic_file.h"
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -24,7 +23,7 @@ constexpr size_t kHeader32 = 44;      // + first_leaf, words
 
 template <class T>
 bool put(std::FILE* f, const T* data, size_t count) {
-  return std::fwrite(data, sizeof(T), count, f) == count;
+  return write_all(f, data, sizeof(T) * count);
 }
 
 // A bounds-checked cursor over the file's bytes.
@@ -105,10 +104,7 @@ void write_symvox(const std::string& path, const SymvoxFile& file) {
 }
 
 SymvoxFile read_symvox(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error("cannot read '" + path + "'");
+  const std::vector<char> bytes = read_whole_file(path);
   SymvoxFile f;
   f.file_bytes = bytes.size();
   Reader r{bytes, path};

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -29,7 +30,7 @@ TempFile::~TempFile() {
 void TempFile::write_at(const void* data, uint64_t bytes, uint64_t offset) {
   const char* p = static_cast<const char*>(data);
   for (uint64_t done = 0; done < bytes;) {
-    const ssize_t w = ::pwrite(fd_, p + done, bytes - done, static_cast<off_t>(offset + done));
+    const ssize_t w = pwrite_some(fd_, p + done, bytes - done, static_cast<off_t>(offset + done));
     if (w < 0 && errno == EINTR) continue;
     if (w <= 0) throw Error(purpose_ + " to " + dir_ + ": " + (w < 0 ? std::strerror(errno) : "disk full"));
     done += static_cast<uint64_t>(w);
@@ -39,7 +40,7 @@ void TempFile::write_at(const void* data, uint64_t bytes, uint64_t offset) {
 void TempFile::read_at(void* data, uint64_t bytes, uint64_t offset) const {
   char* p = static_cast<char*>(data);
   for (uint64_t done = 0; done < bytes;) {
-    const ssize_t r = ::pread(fd_, p + done, bytes - done, static_cast<off_t>(offset + done));
+    const ssize_t r = pread_some(fd_, p + done, bytes - done, static_cast<off_t>(offset + done));
     if (r < 0 && errno == EINTR) continue;
     if (r <= 0) throw Error(purpose_ + ": reading back from " + dir_ + ": " + (r < 0 ? std::strerror(errno) : "short read"));
     done += static_cast<uint64_t>(r);

@@ -9,6 +9,7 @@
 
 #include "atomic_dir.h"
 #include "atomic_file.h"
+#include "file_ops.h"
 #include "pnts_file.h"
 #include "tiles3d_layout.h"
 
@@ -70,7 +71,7 @@ json tileset_json(const PointHierarchy& h, const std::vector<TileLayout>& tiles)
 }
 
 void write_bytes(const std::string& path, const void* data, size_t bytes) {
-  write_atomically(path, [&](std::FILE* f) { return std::fwrite(data, 1, bytes, f) == bytes; });
+  write_atomically(path, [&](std::FILE* f) { return write_all(f, data, bytes); });
 }
 
 }  // namespace

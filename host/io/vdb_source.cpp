@@ -6,10 +6,12 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <new>
 #include <string>
 #include <string_view>
 
+#include "io/file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -25,12 +27,9 @@ uint64_t morton_key(uint64_t x, uint64_t y, uint64_t z) {
 }  // namespace
 
 bool is_vdb(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return false;
-  unsigned char head[4] = {};
-  size_t got = std::fread(head, 1, 4, f);
-  std::fclose(f);
-  return got == 4 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56;  // " BDV"
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // the mesh readers name what is wrong
+  return first_bytes(path, 4) == std::string(" BDV", 4);
 }
 
 namespace {

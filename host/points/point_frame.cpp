@@ -73,6 +73,7 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
     throw Error("points render: the image must be 1-16384 pixels wide and high, not " + std::to_string(o.width) + "x" +
                 std::to_string(o.height));
   if (!(o.fov > 1 && o.fov < 170)) throw Error("points render: --fov must lie between 1 and 170 degrees");
+  if (!(o.lod_pixels >= 0)) throw Error("points render: --lod-pixels must be 0 or more");
   const int up = cam.up = up_axis(h, o.up);
   // Camera space in cells scaled per axis by the input's scale over the largest (the cube is square in input
   // units, which LAS may scale differently per axis).

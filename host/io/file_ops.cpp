@@ -1,0 +1,152 @@
+#include "file_ops.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <memory>
+
+#include "megavox/error.h"
+
+namespace mv::io {
+
+namespace faults {
+namespace {
+// Armed at most one at a time; atomics because readers and writers may run on worker threads.
+std::atomic<bool> armed{false}, hit{false}, at_end{false};
+std::atomic<Kind> kind{Kind::kNoSpace};
+std::atomic<uint64_t> count{0}, target{0};
+
+enum class Op { kRead, kWrite, kRename };
+
+Op op_of(Kind k) {
+  return k == Kind::kNoSpace ? Op::kWrite : k == Kind::kRenameFails ? Op::kRename : Op::kRead;
+}
+
+// Whether this operation is the one to fail (counts operations of the armed kind's sort).
+bool strikes(Op op) {
+  if (!armed.load(std::memory_order_relaxed) || op_of(kind) != op) return false;
+  return count.fetch_add(1) == target.load() && !hit.exchange(true);
+}
+}  // namespace
+
+void arm(Kind k, uint64_t nth) {
+  kind = k;
+  target = nth;
+  count = 0;
+  hit = false;
+  at_end = false;
+  armed = true;
+}
+void disarm() {
+  armed = false;
+  at_end = false;
+}
+bool fired() { return hit; }
+uint64_t operations() { return count; }
+}  // namespace faults
+
+namespace {
+using faults::Kind;
+using faults::Op;
+
+// For a read: 0 = go on; else how to end it: -1 = fail with EIO, or 1 = a short read (half).
+int read_fault() {
+  if (faults::at_end) return 2;  // after a short read the file has ended
+  if (!faults::strikes(Op::kRead)) return 0;
+  if (faults::kind == Kind::kShortRead) {
+    faults::at_end = true;
+    return 1;
+  }
+  return -1;
+}
+}  // namespace
+
+size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path) {
+  size_t want = bytes;
+  switch (read_fault()) {
+    case -1:
+      throw Error(path + ": read error: " + std::strerror(EIO));
+    case 1:
+      want = bytes / 2;
+      break;
+    case 2:
+      return 0;
+  }
+  const size_t got = want ? std::fread(data, 1, want, f) : 0;
+  if (got < want && std::ferror(f)) throw Error(path + ": read error: " + std::strerror(errno));
+  return got;
+}
+
+std::string first_bytes(const std::string& path, size_t n) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  std::string head(n, '\0');
+  head.resize(read_some(f.get(), head.data(), n, path));
+  return head;
+}
+
+std::vector<char> read_whole_file(const std::string& path) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  std::vector<char> bytes;
+  // the size is a hint only (a pipe has none); reading stops at the end of the data
+  if (std::fseek(f.get(), 0, SEEK_END) == 0) {
+    const long size = std::ftell(f.get());
+    if (size > 0) bytes.reserve(static_cast<size_t>(size));
+    std::fseek(f.get(), 0, SEEK_SET);
+  }
+  char chunk[1 << 16];
+  while (size_t got = read_some(f.get(), chunk, sizeof chunk, path)) bytes.insert(bytes.end(), chunk, chunk + got);
+  return bytes;
+}
+
+bool write_all(std::FILE* f, const void* data, size_t bytes) {
+  if (faults::strikes(Op::kWrite)) {
+    errno = ENOSPC;
+    return false;
+  }
+  return bytes == 0 || std::fwrite(data, 1, bytes, f) == bytes;
+}
+
+ssize_t pread_some(int fd, void* data, size_t bytes, off_t offset) {
+  switch (read_fault()) {
+    case -1:
+      errno = EIO;
+      return -1;
+    case 1:
+      bytes /= 2;
+      break;
+    case 2:
+      return 0;
+  }
+  return ::pread(fd, data, bytes, offset);
+}
+
+ssize_t pwrite_some(int fd, const void* data, size_t bytes, off_t offset) {
+  if (faults::strikes(Op::kWrite)) {
+    errno = ENOSPC;
+    return -1;
+  }
+  return ::pwrite(fd, data, bytes, offset);
+}
+
+int rename_path(const char* from, const char* to) {
+  if (faults::strikes(Op::kRename)) {
+    errno = EIO;
+    return -1;
+  }
+  return std::rename(from, to);
+}
+
+int exchange_paths(const char* a, const char* b) {
+  if (faults::strikes(Op::kRename)) {
+    errno = EIO;
+    return -1;
+  }
+  return ::renameat2(AT_FDCWD, a, AT_FDCWD, b, RENAME_EXCHANGE);
+}
+
+}  // namespace mv::io

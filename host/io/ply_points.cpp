@@ -182,33 +182,49 @@ class PlyPoints final : public PointSource {
   // The first pass: the largest |coordinate|, every coordinate checked finite.
   double scan_extent(Source& src) const {
     double max_abs = 0;
+    bool fast = false, again = false;
     with_values(src, [&](auto& v) {
       skip_elements_before_vertex(v);
       if constexpr (std::decay_t<decltype(v)>::kBinary) {
-        if (fast_extent<std::decay_t<decltype(v)>::kSwap>(src, max_abs)) return;
+        const Extent e = fast_extent<std::decay_t<decltype(v)>::kSwap>(src, max_abs);
+        fast = e == Extent::found;
+        again = e == Extent::not_finite;
+        if (fast || again) return;
       }
-      walk(src, v, 0, count_, [&](uint64_t i, const double* value) {
-        for (int a = 0; a < 3; ++a) max_abs = std::max(max_abs, std::fabs(coordinate(v, i, a, value)));
-      });
+      extent_walk(src, v, max_abs);
     });
+    if (again) {  // a coordinate is not finite: the generic walk over a fresh read names it
+      Source fresh(path_);
+      detail::parse_header(fresh);
+      with_values(fresh, [&](auto& v) {
+        skip_elements_before_vertex(v);
+        extent_walk(fresh, v, max_abs);
+      });
+    }
     return max_abs;
   }
 
-  // The first pass's fast path (the layouts next_fast reads): false, having read nothing, where it does not apply
-  // or where a coordinate is not finite (the generic walk then names it).
-  template <bool Swap>
-  bool fast_extent(Source& src, double& max_abs) const {
-    if (record_ == 0 || type_[kY] != type_[kX] || type_[kZ] != type_[kX]) return false;
-    if (type_[kX] == Scalar::f32) return extent_records<float, Swap>(src, max_abs);
-    if (type_[kX] == Scalar::f64) return extent_records<double, Swap>(src, max_abs);
-    return false;
+  template <class V>
+  void extent_walk(Source& src, V& v, double& max_abs) const {
+    max_abs = 0;
+    walk(src, v, 0, count_, [&](uint64_t i, const double* value) {
+      for (int a = 0; a < 3; ++a) max_abs = std::max(max_abs, std::fabs(coordinate(v, i, a, value)));
+    });
   }
 
-  // Over a copy of the source's position, so that a fallback starts from the first vertex again.
+  // The first pass's fast path (the layouts next_fast reads): not_applicable having read nothing; not_finite
+  // having read the vertices, when a coordinate is inf or NaN (the generic walk then names it).
+  enum class Extent { not_applicable, found, not_finite };
+  template <bool Swap>
+  Extent fast_extent(Source& src, double& max_abs) const {
+    if (record_ == 0 || type_[kY] != type_[kX] || type_[kZ] != type_[kX]) return Extent::not_applicable;
+    if (type_[kX] == Scalar::f32) return extent_records<float, Swap>(src, max_abs);
+    if (type_[kX] == Scalar::f64) return extent_records<double, Swap>(src, max_abs);
+    return Extent::not_applicable;
+  }
+
   template <class T, bool Swap>
-  bool extent_records(Source& src, double& max_abs) const {
-    Source copy(src.path());
-    copy.skip(src.consumed());
+  Extent extent_records(Source& copy, double& max_abs) const {
     // IEEE magnitudes order as their bit patterns without the sign: a branch-free integer maximum, and any
     // inf or NaN makes it at least the exponent mask.
     using Bits = std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>;
@@ -228,9 +244,9 @@ class PlyPoints final : public PointSource {
       copy.advance(k * record_);
       i += k;
     }
-    if (m >= kExponent) return false;  // inf or NaN
+    if (m >= kExponent) return Extent::not_finite;
     max_abs = static_cast<double>(std::bit_cast<T>(m));
-    return true;
+    return Extent::found;
   }
 
   PlyGrid grid_kind(double max_abs) const {

@@ -2,7 +2,8 @@
 # `megavox serve` on loopback as the README's curl session uses it (submit by name and by upload, poll,
 # stream, fetch, ray query, render), then what it refuses (no or a bad token 401, an oversized body 413,
 # paths leading outside --data-dir, malformed JSON 400), a job that fails while the server keeps serving,
-# cancel and delete, the OpenAPI document through swagger-parser, and SIGTERM leaving no partial file.
+# cancel and delete, the OpenAPI document through swagger-parser, SIGTERM leaving no partial file, and a job
+# stopped by --job-timeout.
 # Usage: serve_cli.sh MEGAVOX SOURCE_DIR
 set -euo pipefail
 mv=$1
@@ -115,4 +116,12 @@ wait $pid || fail "serve exited $? after SIGTERM: $(tail -3 "$dir/serve.err")"
 grep -q 'stopped' "$dir/serve.err" || fail "no 'stopped' line"
 [[ -z $(find "$data" -name '*.tmp') ]] || fail "partial files: $(find "$data" -name '*.tmp')"
 [[ -e "$data/jobs/$sid/result.mvx" || ! -e "$data/jobs/$sid" ]] || fail "the unfinished job's folder stays: $(ls -R "$data/jobs/$sid")"
-echo "serve: session, refusals, failure, cancel, delete, OpenAPI and SIGTERM all as expected"
+
+# a job past --job-timeout is stopped at its next progress point and failed, saying why
+mkdir -p "$dir/data2"
+write_tetra_ply "$dir/data2/tetra.ply"
+start_server "$dir/data2" --job-timeout 1 --device-memory 512M
+slow=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"build","input":"tetra.ply","resolution":2048}' "$url/v1/jobs")
+tfinal=$(wait_job "$(jq -r .id <<< "$slow")")
+[[ $(jq -r .status <<< "$tfinal") == failed && $(jq -r .message <<< "$tfinal") == *timeout* ]] || fail "job timeout: $tfinal"
+echo "serve: session, refusals, failure, cancel, delete, OpenAPI, SIGTERM and the job timeout all as expected"

@@ -45,5 +45,6 @@ void add_export_command(CLI::App& app, const GlobalOptions& g);
 void add_import_command(CLI::App& app, const GlobalOptions& g);
 void add_render_command(CLI::App& app, const GlobalOptions& g);
 void add_points_command(CLI::App& app, const GlobalOptions& g);
+void add_serve_command(CLI::App& app, const GlobalOptions& g);
 
 }  // namespace mv::cli

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
       "  megavox points build scan.las -o scan.mvx   an LOD point hierarchy (or --format 3dtiles -o DIR)\n"
       "  megavox bench sort --n 16M            radix-sort 16M (key, value) pairs and compare with std::sort\n"
       "  megavox --device vk:0 bench sort      the same on the first Vulkan device\n"
+      "  megavox serve --listen 127.0.0.1:0    an HTTP compute service (jobs, progress, ray queries)\n"
       "  MEGAVOX_DEVICE=pocl megavox devices   pick a device by (part of) its name\n",
       "megavox"};
   app.set_version_flag("--version", std::string("megavox ") + MEGAVOX_VERSION);
@@ -78,6 +79,7 @@ int main(int argc, char** argv) {
   mv::cli::add_points_command(app, g);
   mv::cli::add_export_command(app, g);
   mv::cli::add_import_command(app, g);
+  mv::cli::add_serve_command(app, g);
   CLI::App* bench = app.add_subcommand("bench", "Measure megavox against the tools a user would pick instead");
   bench->require_subcommand(1);
   mv::cli::add_bench_sort_command(*bench, g);

@@ -30,6 +30,7 @@
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
+#include "serve/job_request.h"
 
 namespace fs = std::filesystem;
 
@@ -660,6 +661,23 @@ void vdb_seeds() {
   }
 }
 
+// Jobs of `megavox serve`: a build by name, a full build, a render of a scene, a render of a file.
+void job_seeds() {
+  std::puts("fuzz_job_request");
+  const std::pair<const char*, const char*> jobs[] = {
+      {"build_by_name.json", R"({"kind":"build","input":"meshes/bunny.ply"})"},
+      {"build_all_fields.json",
+       R"({"kind":"build","input":"a/b.obj","resolution":1024,"format":"ssvdag","voxelize":"thin","grid_origin":"min"})"},
+      {"render_scene.json", R"({"kind":"render","scene":"00ff00ff00ff00ff","width":640,"height":480,"view":"top","shading":"normal"})"},
+      {"render_file.json", "{ \"kind\" : \"render\", \"input\" : \"scene.mvx\", \"shading\" : \"heat\" }\n"},
+  };
+  for (const auto& [name, body] : jobs) {
+    const std::string p = write_seed("fuzz_job_request", name, body);
+    mv::serve::parse_job_request(body);
+    check_size(p);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -674,6 +692,7 @@ int main(int argc, char** argv) {
     dag_seeds();
     obj_seeds();
     vdb_seeds();
+    job_seeds();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <unistd.h>
 
+#include "io/memory_mesh.h"
 #include "io/mesh_source.h"
 #include "io/vdb_source.h"
 #include "build_steps.h"
@@ -66,6 +67,7 @@ uint64_t vertex_share(const BuildOptions& o) { return memory_budget(o) / 4; }
 uint64_t bucket_share(const BuildOptions& o) { return memory_budget(o) / 4; }
 
 std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o) {
+  if (o.mesh) return io::memory_mesh(o.mesh->positions, o.mesh->indices, o.input);
   return io::open_mesh(o.input, vertex_share(o));
 }
 
@@ -289,7 +291,7 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
 
   report("read", 0);
   const uint32_t mesh_resolution = o.resolution ? o.resolution : 1024;
-  const bool vdb = io::is_vdb(o.input);
+  const bool vdb = !o.mesh && io::is_vdb(o.input);
   if (o.voxelize != "conservative" && o.voxelize != "thin")
     throw Error("--voxelize " + o.voxelize + ": choose conservative or thin");
   if (vdb && (o.placement.origin != GridPlacement::Origin::kCenter || o.voxelize != "conservative"))
@@ -353,7 +355,7 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
       const bool in_core = !(attempt.cube && resolution > attempt.cube);
       const bool cube_failed = in_core || dynamic_cast<const CubeMemoryError*>(&e) != nullptr;
       const uint32_t cube = in_core ? resolution : attempt.cube;
-      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || io::is_vdb(o.input)) throw;
+      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || (!o.mesh && io::is_vdb(o.input))) throw;
       attempt.cube = cube / 2;
       if (progress) progress("cubes of " + std::to_string(attempt.cube) + "^3 (device memory)", 0);
     }

@@ -29,6 +29,8 @@ packages=(
   libnanovdb-dev                                                # NanoVDB export
   libpng-dev                                                    # rendered pictures
   libgmp-dev                                                    # tests: exact rational voxelization oracle
+  libcpp-httplib-dev                                            # megavox serve: the HTTP server (and the load test's client)
+  curl jq                                                       # tests: the serve session as the README runs it
 )
 # Node runs the independent 3D Tiles reader (tests/js). A machine that has node and npm already (another
 # distribution's build) keeps them: Debian's npm would conflict with it.

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,12 @@
 #include "megavox/voxelize.h"
 
 namespace mv {
+
+// A mesh in the caller's memory: 3 floats per vertex, 3 indices per triangle (read in place, not copied).
+struct MeshArrays {
+  std::span<const float> positions;
+  std::span<const uint32_t> indices;
+};
 
 struct BuildOptions {
   std::string input;         // a mesh: PLY (streamed) or anything assimp reads (OBJ, glTF, FBX, STL, ...),
@@ -25,6 +32,8 @@ struct BuildOptions {
   // Host RAM budget in bytes (0: half the physical RAM). A build whose triangles or voxel keys would pass it
   // stops with an error naming what it needs (nothing is written).
   uint64_t memory = 0;
+  // Instead of reading `input`: this mesh (then `input` only names it in messages).
+  const MeshArrays* mesh = nullptr;
 };
 
 struct BuildReport {

@@ -1,0 +1,161 @@
+// The C API: build jobs, each on its own thread, with status, fraction done and cancel.
+#include <algorithm>
+#include <condition_variable>
+#include <thread>
+
+#include "capi/scene_build.h"
+
+struct MvJobTy : mv::capi::RefCounted {
+  MvDevice device = nullptr;  // retained
+  mv::capi::BuildInput input;
+  mv::BuildOptions options;
+  mv::Progress user;  // the caller's progress function (may throw to cancel)
+  std::thread thread;
+  std::atomic<bool> cancel{false};
+  std::mutex lock;  // everything below
+  std::condition_variable ended;
+  MvJobStatus status = MV_JOB_QUEUED;
+  double fraction = 0;
+  std::string message;   // the stage, or the failure
+  std::string returned;  // what mvGetJobMessage handed out last
+  MvError error = MV_ERROR_NONE;
+  MvScene scene = nullptr;
+
+  ~MvJobTy() {
+    cancel = true;
+    if (thread.joinable()) {
+      if (thread.get_id() == std::this_thread::get_id()) thread.detach();  // released from its own progress function
+      else thread.join();
+    }
+    mvReleaseScene(scene);
+    mvReleaseDevice(device);
+  }
+};
+
+namespace mv::capi {
+
+namespace {
+
+// The whole build's fraction from its stage's: voxelizing is most of an in-core build, the cubes most of an
+// out-of-core one; what follows the last progress report (octree, reduction, encoding, writing) is the rest.
+double overall(const std::string& stage, double f) {
+  f = std::clamp(f, 0.0, 1.0);
+  if (stage == "read") return 0.2 * f;  // only out of core reports more than 0 here
+  if (stage == "voxelize") return 0.2 + 0.5 * f;
+  if (stage == "cubes") return 0.2 + 0.7 * f;
+  return 0;
+}
+
+void run(MvJobTy* job) {
+  Progress progress = [job](const std::string& stage, double f) {
+    if (job->cancel) throw ApiError(MV_ERROR_CANCELLED, "the job was cancelled during '" + stage + "'");
+    {
+      std::lock_guard<std::mutex> g(job->lock);
+      job->status = MV_JOB_RUNNING;
+      job->message = stage;
+      job->fraction = std::max(job->fraction, overall(stage, f));
+    }
+    if (job->user) job->user(stage, f);
+    if (job->cancel) throw ApiError(MV_ERROR_CANCELLED, "the job was cancelled during '" + stage + "'");
+  };
+  MvScene scene = nullptr;
+  std::string failure;
+  const MvError code = guard(job->device, [&] { scene = build_scene(job->device, job->input, job->options, progress); }, &failure);
+  std::lock_guard<std::mutex> g(job->lock);
+  job->error = code;
+  job->scene = scene;
+  job->status = code == MV_ERROR_NONE ? MV_JOB_DONE : code == MV_ERROR_CANCELLED ? MV_JOB_CANCELLED : MV_JOB_FAILED;
+  if (code == MV_ERROR_NONE) job->fraction = 1;
+  job->message = failure;
+  job->ended.notify_all();
+}
+
+MvJob start(MvDevice device, BuildInput input, const MvBuildArguments* args) {
+  auto job = std::make_unique<MvJobTy>();
+  job->options = build_options(device, args);
+  job->user = user_progress(args);
+  job->input = std::move(input);
+  if (job->input.path.empty()) job->input.mesh = {job->input.positions, job->input.indices};
+  mvRetainDevice(device);
+  job->device = device;
+  MvJobTy* j = job.get();
+  job->thread = std::thread([j] { run(j); });
+  return job.release();
+}
+
+}  // namespace
+}  // namespace mv::capi
+
+using namespace mv::capi;
+
+extern "C" {
+
+MvJob mvBuildSceneFromFileAsync(MvDevice device, const char* path, const MvBuildArguments* args) {
+  MvJob job = nullptr;
+  guard(device, [&] {
+    require(device, "mvBuildSceneFromFileAsync: no device");
+    job = start(device, file_input(path), args);
+  });
+  return job;
+}
+
+MvJob mvBuildSceneFromMemoryAsync(MvDevice device, const float* vertices, size_t vertexCount, const uint32_t* indices,
+                                  size_t triangleCount, const MvBuildArguments* args) {
+  MvJob job = nullptr;
+  guard(device, [&] {
+    require(device, "mvBuildSceneFromMemoryAsync: no device");
+    job = start(device, memory_input(vertices, vertexCount, indices, triangleCount, true), args);
+  });
+  return job;
+}
+
+void mvRetainJob(MvJob job) { retain(job); }
+
+void mvReleaseJob(MvJob job) { release(job); }
+
+MvJobStatus mvGetJobStatus(MvJob job, double* fraction) {
+  if (!job) {
+    record_error(nullptr, MV_ERROR_INVALID_ARGUMENT, "mvGetJobStatus: no job");
+    return MV_JOB_FAILED;
+  }
+  std::lock_guard<std::mutex> g(job->lock);
+  if (fraction) *fraction = job->fraction;
+  return job->status;
+}
+
+const char* mvGetJobMessage(MvJob job) {
+  if (!job) return "";
+  std::lock_guard<std::mutex> g(job->lock);
+  job->returned = job->message;
+  return job->returned.c_str();
+}
+
+void mvCancelJob(MvJob job) {
+  if (job) job->cancel = true;
+}
+
+MvError mvWaitJob(MvJob job) {
+  if (!job) {
+    record_error(nullptr, MV_ERROR_INVALID_ARGUMENT, "mvWaitJob: no job");
+    return MV_ERROR_INVALID_ARGUMENT;
+  }
+  std::unique_lock<std::mutex> g(job->lock);
+  job->ended.wait(g, [job] { return job->status >= MV_JOB_DONE; });
+  return job->error;
+}
+
+MvScene mvGetJobScene(MvJob job) {
+  if (!job) {
+    record_error(nullptr, MV_ERROR_INVALID_ARGUMENT, "mvGetJobScene: no job");
+    return nullptr;
+  }
+  std::lock_guard<std::mutex> g(job->lock);
+  if (job->status != MV_JOB_DONE) {
+    record_error(job->device, MV_ERROR_INVALID_OPERATION, "mvGetJobScene: the job has not built its scene");
+    return nullptr;
+  }
+  mvRetainScene(job->scene);
+  return job->scene;
+}
+
+}  // extern "C"

@@ -1,0 +1,219 @@
+// The C API: scenes (build, open, save, describe), ray queries and pictures.
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "capi/scene_build.h"
+#include "megavox/render.h"
+
+mv::Tracer& MvSceneTy::tracer_locked() {
+  if (!tracer) tracer = std::make_unique<mv::Tracer>(*device->device, file);
+  return *tracer;
+}
+
+MvSceneTy::~MvSceneTy() {
+  if (!device) return;
+  {
+    std::lock_guard<std::recursive_mutex> g(device->lock);
+    tracer.reset();  // its buffers go back to the device's pool
+  }
+  mvReleaseDevice(device);
+}
+
+using namespace mv::capi;
+
+namespace {
+
+constexpr size_t kRayBatch = size_t{1} << 20;  // rays per device round trip
+
+MvDevice scene_device(MvScene scene) { return scene ? scene->device : nullptr; }
+
+}  // namespace
+
+extern "C" {
+
+void mvInitBuildArguments(MvBuildArguments* args) {
+  if (!args) return;
+  *args = MvBuildArguments{};
+  args->byteSize = sizeof(MvBuildArguments);
+  args->format = "svdag";
+  args->cube = 1024;
+}
+
+MvScene mvBuildSceneFromFile(MvDevice device, const char* path, const MvBuildArguments* args) {
+  MvScene scene = nullptr;
+  guard(device, [&] {
+    require(device, "mvBuildSceneFromFile: no device");
+    scene = build_scene(device, file_input(path), build_options(device, args), user_progress(args));
+  });
+  return scene;
+}
+
+MvScene mvBuildSceneFromMemory(MvDevice device, const float* vertices, size_t vertexCount, const uint32_t* indices,
+                               size_t triangleCount, const MvBuildArguments* args) {
+  MvScene scene = nullptr;
+  guard(device, [&] {
+    require(device, "mvBuildSceneFromMemory: no device");
+    scene = build_scene(device, memory_input(vertices, vertexCount, indices, triangleCount, false),
+                        build_options(device, args), user_progress(args));
+  });
+  return scene;
+}
+
+MvScene mvOpenScene(MvDevice device, const char* path) {
+  MvScene made = nullptr;
+  guard(device, [&] {
+    require(device, "mvOpenScene: no device");
+    require(path && *path, "mvOpenScene: no path");
+    auto scene = std::make_unique<MvSceneTy>();
+    scene->file = mv::read_mvx(path);
+    mvRetainDevice(device);
+    scene->device = device;
+    made = scene.release();
+  });
+  return made;
+}
+
+void mvRetainScene(MvScene scene) { retain(scene); }
+
+void mvReleaseScene(MvScene scene) { release(scene); }
+
+MvError mvSaveScene(MvScene scene, const char* path) {
+  return guard(scene_device(scene), [&] {
+    require(scene, "mvSaveScene: no scene");
+    require(path && *path, "mvSaveScene: no path");
+    mv::write_mvx(path, scene->file);
+  });
+}
+
+MvError mvGetSceneInfo(MvScene scene, MvSceneInfo* info) {
+  return guard(scene_device(scene), [&] {
+    require(scene, "mvGetSceneInfo: no scene");
+    require(info, "mvGetSceneInfo: info is NULL");
+    const mv::MvxFile& f = scene->file;
+    *info = MvSceneInfo{};
+    copy_text(info->encoding, mv::encoding_name(f.dag.encoding));
+    info->resolution = f.grid.resolution;
+    info->levels = f.dag.levels;
+    info->voxels = f.voxels;
+    info->bytes = f.dag.bytes();
+    info->voxelSize = f.grid.voxel_size;
+    for (int a = 0; a < 3; ++a) {
+      info->origin[a] = f.grid.origin[a];
+      info->lower[a] = f.bounds.lo[a];
+      info->upper[a] = f.bounds.hi[a];
+    }
+  });
+}
+
+void mvInitTraceArguments(MvTraceArguments* args) {
+  if (!args) return;
+  *args = MvTraceArguments{};
+  args->byteSize = sizeof(MvTraceArguments);
+  args->maxSteps = mv::TraceOptions{}.max_steps;
+}
+
+MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, size_t count, const MvTraceArguments* args) {
+  return guard(scene_device(scene), [&] {
+    require(scene, "mvTraceRays: no scene");
+    require((rays && hits) || count == 0, "mvTraceRays: rays or hits is NULL");
+    mv::TraceOptions options;
+    if (args) {
+      require(args->byteSize == sizeof(MvTraceArguments), "mvTraceRays: MvTraceArguments.byteSize is wrong (call mvInitTraceArguments)");
+      options.max_steps = args->maxSteps;
+    }
+    std::lock_guard<std::recursive_mutex> g(scene->device->lock);
+    mv::Tracer& tracer = scene->tracer_locked();
+    std::vector<mv::Ray> batch;
+    for (size_t first = 0; first < count; first += kRayBatch) {
+      const size_t n = std::min(kRayBatch, count - first);
+      batch.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        const MvTraceRay& r = rays[first + i];
+        for (int a = 0; a < 3; ++a) {
+          batch[i].origin[a] = r.org[a];
+          batch[i].direction[a] = r.dir[a];
+        }
+        batch[i].tmax = r.tmax;
+      }
+      const std::vector<mv::RayHit> got = tracer.trace(batch, options);
+      for (size_t i = 0; i < n; ++i) {
+        const mv::RayHit& h = got[i];
+        MvTraceHit& out = hits[first + i];
+        out.t = h.hit ? h.t : h.gave_up ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+        out.level = h.hit ? h.level : 0;
+        for (int a = 0; a < 3; ++a) {
+          out.cell[a] = h.hit ? h.cell[a] : 0;
+          out.normal[a] = h.hit ? h.normal[a] : 0;
+        }
+      }
+    }
+  });
+}
+
+void mvInitRenderArguments(MvRenderArguments* args) {
+  if (!args) return;
+  const mv::RenderOptions d;
+  *args = MvRenderArguments{};
+  args->byteSize = sizeof(MvRenderArguments);
+  args->width = d.width;
+  args->height = d.height;
+  args->shading = "shaded";
+  args->view = "iso";
+  args->lodPixels = d.lod_pixels;
+  args->aoSamples = d.ao_samples;
+}
+
+MvError mvRenderScene(MvScene scene, const MvCamera* camera, const MvRenderArguments* args, uint8_t* rgba,
+                      size_t rowStride) {
+  return guard(scene_device(scene), [&] {
+    require(scene, "mvRenderScene: no scene");
+    require(args, "mvRenderScene: args is NULL (call mvInitRenderArguments)");
+    require(args->byteSize == sizeof(MvRenderArguments), "mvRenderScene: MvRenderArguments.byteSize is wrong (call mvInitRenderArguments)");
+    require(rgba, "mvRenderScene: rgba is NULL");
+    require(args->width >= 1 && args->height >= 1 && args->width <= 16384 && args->height <= 16384,
+            "mvRenderScene: width and height must be 1 to 16384");
+    const size_t stride = rowStride ? rowStride : size_t{args->width} * 4;
+    require(stride >= size_t{args->width} * 4, "mvRenderScene: rowStride is below width * 4");
+    mv::RenderOptions o;
+    o.width = args->width;
+    o.height = args->height;
+    try {
+      o.shading = mv::parse_shading(args->shading ? args->shading : "shaded");
+    } catch (const mv::Error& e) {
+      throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
+    }
+    require(args->lodPixels >= 0 && std::isfinite(args->lodPixels), "mvRenderScene: lodPixels must be >= 0");
+    require(args->aoSamples <= 256, "mvRenderScene: aoSamples must be at most 256");
+    o.lod_pixels = args->lodPixels;
+    o.ao_samples = args->aoSamples;
+    mv::Camera cam;
+    if (camera) {
+      for (int a = 0; a < 3; ++a) {
+        cam.eye[a] = camera->eye[a];
+        cam.target[a] = camera->target[a];
+        cam.up[a] = camera->up[a];
+      }
+      cam.fov = camera->fov;
+      require(cam.fov > 0 && cam.fov < 180, "mvRenderScene: fov must be between 0 and 180 degrees");
+    } else {
+      try {
+        cam = mv::view_camera(scene->file.bounds, args->view ? args->view : "iso");
+      } catch (const mv::Error& e) {
+        throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
+      }
+    }
+    std::lock_guard<std::recursive_mutex> g(scene->device->lock);
+    const mv::RenderResult r = mv::render(scene->tracer_locked(), cam, o);
+    for (uint32_t y = 0; y < o.height; ++y) {
+      uint8_t* row = rgba + y * stride;
+      const uint8_t* src = r.image.rgb.data() + size_t{y} * o.width * 3;
+      for (uint32_t x = 0; x < o.width; ++x) {
+        std::memcpy(row + 4 * x, src + 3 * x, 3);
+        row[4 * x + 3] = 255;
+      }
+    }
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,122 @@
+// What the C API's opaque handles hold, and the guard every entry point runs its body in (so no exception
+// crosses the API: each becomes an MvError recorded on the device).
+#pragma once
+#include <atomic>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <string>
+
+#include "megavox/device.h"
+#include "megavox/error.h"
+#include "megavox/megavox.h"
+#include "megavox/mvx.h"
+#include "megavox/trace.h"
+
+namespace mv::capi {
+
+// Thrown inside the API to fail with a chosen code (a bad argument, a cancelled build, ...).
+struct ApiError : std::exception {
+  ApiError(MvError c, std::string m) : code(c), message(std::move(m)) {}
+  const char* what() const noexcept override { return message.c_str(); }
+  MvError code;
+  std::string message;
+};
+
+// A reference count shared by the three handle kinds.
+struct RefCounted {
+  std::atomic<int> refs{1};
+};
+
+}  // namespace mv::capi
+
+struct MvDeviceTy : mv::capi::RefCounted {
+  std::unique_ptr<mv::Device> device;
+  uint64_t host_memory = 0;  // builds' host RAM budget; 0 = the default
+  // Serialises every call on the device (mv::Device has no locking); recursive so that a progress or error
+  // function may call back into the API on the same thread.
+  std::recursive_mutex lock;
+  std::mutex error_lock;  // the error record below
+  MvError error = MV_ERROR_NONE;
+  std::string message;
+  MvErrorFunction error_function = nullptr;
+  void* error_user = nullptr;
+};
+
+struct MvSceneTy : mv::capi::RefCounted {
+  MvDevice device = nullptr;  // retained
+  mv::MvxFile file;
+  std::unique_ptr<mv::Tracer> tracer;  // made on first use, under the device lock
+  mv::Tracer& tracer_locked();
+  ~MvSceneTy();
+};
+
+namespace mv::capi {
+
+// Records an error on `device` (or this thread's record when null) and calls its error function.
+void record_error(MvDevice device, MvError code, const std::string& message);
+
+// Runs `body`, turning any exception into an error recorded on `device`; returns MV_ERROR_NONE or the code
+// (and the message through `message_out` when given).
+template <class F>
+MvError guard(MvDevice device, F&& body, std::string* message_out = nullptr) noexcept {
+  MvError code = MV_ERROR_UNKNOWN;
+  std::string message;
+  try {
+    body();
+    return MV_ERROR_NONE;
+  } catch (const ApiError& e) {
+    code = e.code;
+    message = e.message;
+  } catch (const DeviceMemoryError& e) {
+    code = MV_ERROR_OUT_OF_MEMORY;
+    message = e.what();
+  } catch (const Error& e) {
+    code = MV_ERROR_INPUT;
+    message = e.what();
+  } catch (const std::bad_alloc&) {
+    code = MV_ERROR_OUT_OF_MEMORY;
+    message = "out of host memory";
+  } catch (const std::exception& e) {
+    message = e.what();
+  } catch (...) {
+    message = "an unknown exception";
+  }
+  try {
+    if (message_out) *message_out = message;
+    record_error(device, code, message);
+  } catch (...) {
+  }
+  return code;
+}
+
+// mvRetain* / mvRelease* of every handle kind: the last release deletes (destructors never throw out).
+template <class H>
+void retain(H* h) {
+  if (h) h->refs.fetch_add(1);
+}
+template <class H>
+void release(H* h) noexcept {
+  if (h && h->refs.fetch_sub(1) == 1) {
+    try {
+      delete h;
+    } catch (...) {
+    }
+  }
+}
+
+// Throws ApiError(MV_ERROR_INVALID_ARGUMENT) with `what` when `ok` is false.
+inline void require(bool ok, const char* what) {
+  if (!ok) throw ApiError(MV_ERROR_INVALID_ARGUMENT, what);
+}
+
+// Copies `text` into a fixed C array, cut to fit and NUL-terminated.
+template <size_t N>
+void copy_text(char (&out)[N], const std::string& text) {
+  const size_t n = text.size() < N - 1 ? text.size() : N - 1;
+  text.copy(out, n);
+  out[n] = '\0';
+}
+
+}  // namespace mv::capi

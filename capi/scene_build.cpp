@@ -1,0 +1,120 @@
+#include "capi/scene_build.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
+
+namespace mv::capi {
+
+namespace {
+
+// A fresh name for a build whose caller wants no file: reserved by mkstemp in $TMPDIR, removed when done.
+class ScratchMvx {
+ public:
+  ScratchMvx() {
+    const char* dir = std::getenv("TMPDIR");
+    std::string pattern = std::string(dir && *dir ? dir : "/tmp") + "/megavox-scene-XXXXXX";
+    std::vector<char> name(pattern.begin(), pattern.end());
+    name.push_back('\0');
+    const int fd = mkstemp(name.data());
+    if (fd < 0) throw Error("cannot make a scratch file in " + std::string(dir && *dir ? dir : "/tmp"));
+    close(fd);
+    path_ = name.data();
+  }
+  ~ScratchMvx() { std::remove(path_.c_str()); }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+std::string text_or(const char* s, const char* fallback) { return s ? s : fallback; }
+
+}  // namespace
+
+BuildInput file_input(const char* path) {
+  require(path && *path, "build: no input path");
+  BuildInput in;
+  in.path = path;
+  return in;
+}
+
+BuildInput memory_input(const float* vertices, size_t vertex_count, const uint32_t* indices, size_t triangles, bool copy) {
+  require(vertices || vertex_count == 0, "build: vertices is NULL");
+  require(indices || triangles == 0, "build: indices is NULL");
+  require(vertex_count <= SIZE_MAX / 3 && triangles <= SIZE_MAX / 3, "build: array sizes overflow");
+  BuildInput in;
+  std::span<const float> p(vertices, vertex_count * 3);
+  std::span<const uint32_t> i(indices, triangles * 3);
+  if (copy) {
+    in.positions.assign(p.begin(), p.end());
+    in.indices.assign(i.begin(), i.end());
+    p = in.positions;
+    i = in.indices;
+  }
+  in.mesh = {p, i};
+  return in;
+}
+
+BuildOptions build_options(MvDevice device, const MvBuildArguments* args) {
+  BuildOptions o;
+  o.memory = device->host_memory;
+  if (!args) return o;
+  require(args->byteSize == sizeof(MvBuildArguments), "build: MvBuildArguments.byteSize is wrong (call mvInitBuildArguments)");
+  o.format = text_or(args->format, "svdag");
+  o.resolution = args->resolution;
+  o.cube = args->cube;
+  o.voxelize = text_or(args->voxelize, "conservative");
+  o.grid = text_or(args->grid, "");
+  if (args->gridOrigin) {
+    try {
+      o.placement = parse_grid_origin(args->gridOrigin);
+    } catch (const Error& e) {
+      throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
+    }
+  }
+  o.output = text_or(args->output, "");
+  if (o.resolution && (o.resolution < 2 || (o.resolution & (o.resolution - 1)) || o.resolution > (1u << 21)))
+    throw ApiError(MV_ERROR_INVALID_ARGUMENT, "build: resolution " + std::to_string(o.resolution) +
+                                                  " is not a power of two from 2 to 2^21");
+  if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
+    throw ApiError(MV_ERROR_INVALID_ARGUMENT, "build: format '" + o.format + "': choose svo, svdag, ussvdag or ssvdag");
+  if (o.voxelize != "conservative" && o.voxelize != "thin")
+    throw ApiError(MV_ERROR_INVALID_ARGUMENT, "build: voxelize '" + o.voxelize + "': choose conservative or thin");
+  return o;
+}
+
+Progress user_progress(const MvBuildArguments* args) {
+  if (!args || !args->progress) return {};
+  MvProgressMonitorFunction f = args->progress;
+  void* user = args->progressUserPtr;
+  return [f, user](const std::string& stage, double fraction) {
+    if (!f(user, stage.c_str(), fraction))
+      throw ApiError(MV_ERROR_CANCELLED, "build cancelled by its progress function during '" + stage + "'");
+  };
+}
+
+MvScene build_scene(MvDevice device, const BuildInput& input, BuildOptions o, const Progress& progress) {
+  std::unique_ptr<ScratchMvx> scratch;
+  if (o.output.empty()) {
+    scratch = std::make_unique<ScratchMvx>();
+    o.output = scratch->path();
+  }
+  if (input.path.empty()) {
+    o.input = "mesh in memory";
+    o.mesh = &input.mesh;
+  } else {
+    o.input = input.path;
+  }
+  auto scene = std::make_unique<MvSceneTy>();
+  {
+    std::lock_guard<std::recursive_mutex> g(device->lock);
+    build_mvx(*device->device, o, progress);
+  }
+  scene->file = read_mvx(o.output);
+  mvRetainDevice(device);
+  scene->device = device;
+  return scene.release();
+}
+
+}  // namespace mv::capi

@@ -1,0 +1,221 @@
+/* megavox — the C API (C99): devices, scenes (voxel DAGs) and build jobs, in Embree's conventions.
+ *
+ * Handles are opaque and reference counted: mvNew... / mvOpen... / mvBuild... return one reference,
+ * mvRetain... adds one, mvRelease... drops one; the object goes when the last reference does. A scene and a
+ * job keep their device alive.
+ *
+ * Errors: no C++ exception crosses this API. A call that fails returns NULL (constructors) or an MvError, and
+ * records the error on its device: mvGetDeviceError returns the code of the last error and clears it,
+ * mvGetDeviceLastErrorMessage says what went wrong, and an error function set with mvSetDeviceErrorFunction
+ * is called at once with both. Errors of mvNewDevice, and of calls given a NULL device, go to a per-thread
+ * record read with mvGetDeviceError(NULL).
+ *
+ * Threads: every call on one device (and on its scenes) is serialised by the device; use one device per
+ * thread for parallel work. Jobs run on their own thread and take the device's lock while they build.
+ *
+ * Units: rays and cameras are in the model's own units (the scene's world-to-grid transform).
+ */
+#ifndef MEGAVOX_MEGAVOX_H
+#define MEGAVOX_MEGAVOX_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "megavox/version.h" /* MV_VERSION_MAJOR, _MINOR, _PATCH, MV_VERSION_STRING */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__)
+#define MV_API __attribute__((visibility("default")))
+#else
+#define MV_API
+#endif
+
+/* ---- versions ---- */
+
+/* MAJOR * 10000 + MINOR * 100 + PATCH of the library in use (compare with the MV_VERSION_* the caller built with). */
+MV_API uint32_t mvGetVersion(void);
+MV_API const char* mvGetVersionString(void);
+
+/* ---- errors ---- */
+
+typedef enum MvError {
+  MV_ERROR_NONE = 0,
+  MV_ERROR_UNKNOWN = 1,            /* an unexpected failure inside megavox */
+  MV_ERROR_INVALID_ARGUMENT = 2,   /* a NULL pointer, a bad option, an unknown name */
+  MV_ERROR_INVALID_OPERATION = 3,  /* the call does not apply to this object now (a job not done) */
+  MV_ERROR_OUT_OF_MEMORY = 4,      /* the device or host memory budget cannot hold the work */
+  MV_ERROR_UNSUPPORTED_DEVICE = 5, /* no device matches the selector */
+  MV_ERROR_CANCELLED = 6,          /* a progress function (or mvCancelJob) stopped the work */
+  MV_ERROR_INPUT = 7               /* the input file or arrays are malformed or cannot be read or written */
+} MvError;
+
+/* "MV_ERROR_INPUT", ...: the name of a code. */
+MV_API const char* mvGetErrorString(MvError code);
+
+/* ---- devices ---- */
+
+typedef struct MvDeviceTy* MvDevice;
+
+/* config: NULL or "" for the defaults, else comma-separated key=value:
+ *   device=SEL        "ocl:N", "vk:N" or part of a device, platform or vendor name (default: $MEGAVOX_DEVICE,
+ *                     else the first GPU, else PoCL)
+ *   memory=SIZE       device memory budget, e.g. 512M (default: 3/4 of what the device reports)
+ *   host_memory=SIZE  host RAM budget of builds (default: half the physical RAM)
+ * Returns NULL on failure (mvGetDeviceError(NULL) says why). */
+MV_API MvDevice mvNewDevice(const char* config);
+MV_API void mvRetainDevice(MvDevice device);
+MV_API void mvReleaseDevice(MvDevice device);
+
+/* The code of the device's last error (MV_ERROR_NONE when none), clearing it. NULL: this thread's record. */
+MV_API MvError mvGetDeviceError(MvDevice device);
+/* The message of the last error ("" when none); valid until the next failing call on the device. */
+MV_API const char* mvGetDeviceLastErrorMessage(MvDevice device);
+
+/* Called on the failing thread, after the error is recorded. NULL removes it. */
+typedef void (*MvErrorFunction)(void* userPtr, MvError code, const char* message);
+MV_API void mvSetDeviceErrorFunction(MvDevice device, MvErrorFunction function, void* userPtr);
+
+typedef struct MvDeviceInfo {
+  char name[128];   /* as the driver reports it */
+  char backend[16]; /* "opencl" or "vulkan" */
+  char selector[16]; /* "ocl:N" / "vk:N" */
+  uint64_t memoryBudget, memoryUsed; /* bytes */
+} MvDeviceInfo;
+MV_API MvError mvGetDeviceInfo(MvDevice device, MvDeviceInfo* info);
+
+/* ---- progress ---- */
+
+/* Called with a stage name ("read", "voxelize", ...) and the fraction done (0..1); return false to cancel. */
+typedef bool (*MvProgressMonitorFunction)(void* userPtr, const char* stage, double fraction);
+
+/* ---- scenes ---- */
+
+typedef struct MvSceneTy* MvScene;
+
+typedef struct MvBuildArguments {
+  size_t byteSize;         /* sizeof(MvBuildArguments), set by mvInitBuildArguments */
+  const char* format;      /* "svo", "svdag" (default), "ussvdag" or "ssvdag" */
+  uint32_t resolution;     /* voxels per axis, a power of two; 0: 1024 (a .vdb: its own extent) */
+  uint32_t cube;           /* above this resolution build out of core in cubes of this side; 0: always in core */
+  const char* voxelize;    /* "conservative" (default) or "thin" */
+  const char* gridOrigin;  /* "center" (default) or "min" */
+  const char* grid;        /* a .vdb input: the grid to read (NULL: the first) */
+  const char* output;      /* the .mvx to write (to a temporary name, renamed at the end); NULL: none */
+  MvProgressMonitorFunction progress; /* NULL: none; called on the building thread */
+  void* progressUserPtr;
+} MvBuildArguments;
+MV_API void mvInitBuildArguments(MvBuildArguments* args);
+
+/* Builds a scene from a mesh file (PLY, OBJ, glTF, STL, ... or a .vdb volume). args NULL: the defaults. */
+MV_API MvScene mvBuildSceneFromFile(MvDevice device, const char* path, const MvBuildArguments* args);
+/* From caller memory: vertexCount vertices of 3 floats, triangleCount triangles of 3 indices (read only
+ * during the call). */
+MV_API MvScene mvBuildSceneFromMemory(MvDevice device, const float* vertices, size_t vertexCount,
+                                      const uint32_t* indices, size_t triangleCount, const MvBuildArguments* args);
+/* Opens a voxel .mvx, checked (checksums, structure) before it returns. */
+MV_API MvScene mvOpenScene(MvDevice device, const char* path);
+MV_API void mvRetainScene(MvScene scene);
+MV_API void mvReleaseScene(MvScene scene);
+/* Writes the scene as a .mvx (temporary name, then renamed). */
+MV_API MvError mvSaveScene(MvScene scene, const char* path);
+
+typedef struct MvSceneInfo {
+  char encoding[16];     /* "svo", "svdag", "ussvdag" or "ssvdag" */
+  uint32_t resolution;   /* voxels per axis */
+  uint32_t levels;
+  uint64_t voxels;
+  uint64_t bytes;        /* the encoded DAG */
+  double origin[3];      /* world position of the grid's min corner */
+  double voxelSize;      /* world units per voxel */
+  double lower[3], upper[3]; /* the model's bounds */
+} MvSceneInfo;
+MV_API MvError mvGetSceneInfo(MvScene scene, MvSceneInfo* info);
+
+/* ---- ray queries ---- */
+
+typedef struct MvTraceRay {
+  float org[3];
+  float dir[3]; /* need not be unit: t is in units of its length */
+  float tmax;   /* +inf: unbounded */
+} MvTraceRay;
+
+/* 32 bytes (the record a ray-query service can send as is). */
+typedef struct MvTraceHit {
+  float t;           /* hit point org + t * dir; +inf: a miss; NaN: gave up after maxSteps */
+  uint32_t level;    /* 0: a voxel; above 0 a coarser cell */
+  uint32_t cell[3];  /* the cell at `level`; its first voxel is cell << level */
+  int32_t normal[3]; /* the face entered (axis-aligned); zero when the ray starts in a full voxel */
+} MvTraceHit;
+
+typedef struct MvTraceArguments {
+  size_t byteSize;   /* sizeof(MvTraceArguments), set by mvInitTraceArguments */
+  uint32_t maxSteps; /* traversal steps before a ray gives up (default 60000) */
+} MvTraceArguments;
+MV_API void mvInitTraceArguments(MvTraceArguments* args);
+
+/* Traces count rays into hits[0..count) (args NULL: the defaults). The same bytes on every device. */
+MV_API MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, size_t count, const MvTraceArguments* args);
+
+/* ---- pictures ---- */
+
+typedef struct MvCamera {
+  double eye[3], target[3], up[3];
+  double fov; /* vertical, degrees */
+} MvCamera;
+
+typedef struct MvRenderArguments {
+  size_t byteSize;      /* sizeof(MvRenderArguments), set by mvInitRenderArguments */
+  uint32_t width, height;
+  const char* shading;  /* "shaded" (default), "normal", "depth", "level" or "heat" */
+  const char* view;     /* camera NULL: "iso" (default), "front", "back", "left", "right" or "top" */
+  double lodPixels;     /* stop at cells smaller than this many pixels; 0: voxels only (default 1) */
+  uint32_t aoSamples;   /* ambient-occlusion rays per hit (default 8, at most 256) */
+} MvRenderArguments;
+MV_API void mvInitRenderArguments(MvRenderArguments* args);
+
+/* Renders into rgba: height rows of width pixels, 4 bytes each (alpha 255), rows rowStride bytes apart
+ * (0: width * 4), top row first. camera NULL: args->view framing the model. */
+MV_API MvError mvRenderScene(MvScene scene, const MvCamera* camera, const MvRenderArguments* args, uint8_t* rgba,
+                             size_t rowStride);
+
+/* ---- jobs: builds on their own thread ---- */
+
+typedef struct MvJobTy* MvJob;
+
+typedef enum MvJobStatus {
+  MV_JOB_QUEUED = 0,  /* waiting for the device */
+  MV_JOB_RUNNING = 1,
+  MV_JOB_DONE = 2,
+  MV_JOB_FAILED = 3,
+  MV_JOB_CANCELLED = 4
+} MvJobStatus;
+
+/* As mvBuildSceneFromFile / mvBuildSceneFromMemory (the arrays are copied), but returning at once; the
+ * progress function, if any, is called on the job's thread (returning false cancels). */
+MV_API MvJob mvBuildSceneFromFileAsync(MvDevice device, const char* path, const MvBuildArguments* args);
+MV_API MvJob mvBuildSceneFromMemoryAsync(MvDevice device, const float* vertices, size_t vertexCount,
+                                         const uint32_t* indices, size_t triangleCount,
+                                         const MvBuildArguments* args);
+MV_API void mvRetainJob(MvJob job);
+/* The last release of a job still running cancels it and waits for it to stop. */
+MV_API void mvReleaseJob(MvJob job);
+/* The status now; fraction (may be NULL) gets the fraction done of the whole build (0..1). */
+MV_API MvJobStatus mvGetJobStatus(MvJob job, double* fraction);
+/* The stage running now, or when it ended, the failure's message ("" when none); valid until the next call on the job. */
+MV_API const char* mvGetJobMessage(MvJob job);
+/* Asks the job to stop at its next progress point; nothing of its output file is left. */
+MV_API void mvCancelJob(MvJob job);
+/* Waits until the job ends: MV_ERROR_NONE when it built its scene, else why not (also recorded on the device). */
+MV_API MvError mvWaitJob(MvJob job);
+/* The built scene, a new reference (release it); NULL unless the job is MV_JOB_DONE. */
+MV_API MvScene mvGetJobScene(MvJob job);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MEGAVOX_MEGAVOX_H */

@@ -1,0 +1,11 @@
+// Files a job names live under --data-dir: a name is resolved there, and refused when it leads outside
+// (absolute paths, "..", symbolic links pointing out).
+#pragma once
+#include <string>
+
+namespace mv::serve {
+
+// The file `name` under `data_dir` (an existing folder). Throws mv::Error naming the refusal.
+std::string resolve_data_path(const std::string& data_dir, const std::string& name);
+
+}  // namespace mv::serve

@@ -1,0 +1,416 @@
+#include "serve/job_pool.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <regex>
+
+#include "megavox/build.h"
+#include "megavox/error.h"
+#include "megavox/render.h"
+#include "serve/data_path.h"
+
+namespace mv::serve {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+struct JobPool::Job {
+  std::string id;
+  JobRequest request;
+  std::string dir, input, result;  // the job's folder, the input file, the result file
+  std::string status = "queued";   // queued, running, done, failed, cancelled
+  double fraction = 0;
+  std::string stage, message;
+  std::atomic<bool> cancel{false};
+  bool deleted = false;  // removed while running: its files go when it ends
+  Clock::time_point created = Clock::now(), started{}, ended{};
+};
+
+namespace {
+
+constexpr size_t kScenesCached = 8;  // scenes kept uploaded on the query context
+
+std::string new_id() {
+  static std::mutex m;
+  static std::mt19937_64 rng(std::random_device{}());
+  std::lock_guard<std::mutex> g(m);
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(rng()));
+  return text;
+}
+
+MvDevice open_context(const std::string& selector, uint64_t budget, uint64_t host) {
+  std::string config = "memory=" + std::to_string(budget);
+  if (!selector.empty()) config += ",device=" + selector;
+  if (host) config += ",host_memory=" + std::to_string(host);
+  MvDevice d = mvNewDevice(config.c_str());
+  if (!d) throw Error(std::string("serve: cannot open the device: ") + mvGetDeviceLastErrorMessage(nullptr));
+  return d;
+}
+
+// An upload's file name keeps only its extension (assimp picks the reader by it).
+std::string input_name(const std::string& upload_name, JobKind kind) {
+  static const std::regex ext("\\.[A-Za-z0-9]{1,8}");
+  const std::string e = fs::path(upload_name).extension().string();
+  if (std::regex_match(e, ext)) return "input" + e;
+  return kind == JobKind::build ? "input.ply" : "input.mvx";
+}
+
+}  // namespace
+
+JobPool::JobPool(const PoolOptions& o) : options_(o) {
+  if (o.workers < 1 || o.workers > 64) throw Error("serve: --max-jobs must be from 1 to 64");
+  max_queue_ = o.max_queue ? o.max_queue : 4 * o.workers;
+  uint64_t total = o.device_memory;
+  if (!total) {
+    MvDevice probe = open_context(o.device, 0, 0);
+    MvDeviceInfo info;
+    mvGetDeviceInfo(probe, &info);
+    total = info.memoryBudget;
+    mvReleaseDevice(probe);
+  }
+  // every worker and the ray-query context get an equal share, so together they never pass the budget
+  budget_ = total / (o.workers + 1);
+  const uint64_t host = (o.host_memory ? o.host_memory : default_host_memory()) / o.workers;
+  try {
+    for (uint32_t i = 0; i < o.workers; ++i) devices_.push_back(open_context(o.device, budget_, host));
+    query_device_ = open_context(o.device, budget_, 0);
+  } catch (...) {
+    for (MvDevice d : devices_) mvReleaseDevice(d);
+    throw;
+  }
+  fs::create_directories(fs::path(o.data_dir) / "jobs");
+  for (size_t i = 0; i < devices_.size(); ++i) threads_.emplace_back([this, i] { work(i); });
+}
+
+JobPool::~JobPool() {
+  shutdown();
+  for (auto& [id, s] : scenes_) mvReleaseScene(s);
+  for (MvDevice d : devices_) mvReleaseDevice(d);
+  mvReleaseDevice(query_device_);
+}
+
+json JobPool::submit(const JobRequest& r, const std::string* upload, const std::string& upload_name) {
+  auto job = std::make_shared<Job>();
+  job->request = r;
+  {
+    std::lock_guard<std::mutex> g(lock_);
+    if (stopping_) throw HttpError(503, "the server is shutting down", 5);
+    if (queue_.size() >= max_queue_)
+      throw HttpError(503, "the job queue is full (" + std::to_string(max_queue_) + " waiting); try again shortly", 1);
+    if (!upload && r.input.empty() && r.scene.empty()) throw HttpError(400, "job: \"input\" is missing (a file under the data folder)");
+    if (!r.scene.empty()) {
+      auto it = jobs_.find(r.scene);
+      if (it == jobs_.end()) throw HttpError(404, "job: scene '" + r.scene.substr(0, 64) + "' is no job");
+      if (it->second->request.kind != JobKind::build || it->second->status != "done")
+        throw HttpError(409, "job: scene '" + r.scene + "' is not a finished build");
+      job->input = it->second->result;
+    }
+  }
+  if (!r.input.empty()) {
+    try {
+      job->input = resolve_data_path(options_.data_dir, r.input);
+    } catch (const Error& e) {
+      throw HttpError(400, e.what());
+    }
+  }
+  do job->id = new_id();
+  while (fs::exists(fs::path(options_.data_dir) / "jobs" / job->id));
+  job->dir = (fs::path(options_.data_dir) / "jobs" / job->id).string();
+  fs::create_directories(job->dir);
+  job->result = (fs::path(job->dir) / (r.kind == JobKind::build ? "result.mvx" : "result.png")).string();
+  if (upload) {
+    job->input = (fs::path(job->dir) / input_name(upload_name, r.kind)).string();
+    std::ofstream out(job->input, std::ios::binary);
+    out.write(upload->data(), static_cast<std::streamsize>(upload->size()));
+    out.close();
+    if (!out) {
+      fs::remove_all(job->dir);
+      throw HttpError(507, "cannot store the upload in the data folder");
+    }
+  }
+  std::lock_guard<std::mutex> g(lock_);
+  if (stopping_ || queue_.size() >= max_queue_) {  // checked again: the upload took time
+    fs::remove_all(job->dir);
+    throw HttpError(503, stopping_ ? "the server is shutting down" : "the job queue is full; try again shortly", 1);
+  }
+  jobs_[job->id] = job;
+  queue_.push_back(job);
+  wake_.notify_one();
+  return describe(*job);
+}
+
+std::shared_ptr<JobPool::Job> JobPool::find(const std::string& id) const {
+  auto it = jobs_.find(id);
+  if (it == jobs_.end() || it->second->deleted) throw HttpError(404, "no job '" + id.substr(0, 64) + "'");
+  return it->second;
+}
+
+json JobPool::describe(const Job& j) const {
+  const auto now = Clock::now();
+  const auto since = [&](Clock::time_point t) { return std::chrono::duration<double>(now - t).count(); };
+  json d = {{"id", j.id},
+            {"kind", kind_name(j.request.kind)},
+            {"status", j.status},
+            {"percentComplete", std::round(j.fraction * 1000) / 10},
+            {"stage", j.stage},
+            {"message", j.message},
+            {"secondsQueued", j.status == "queued" ? since(j.created)
+                                                   : std::chrono::duration<double>(j.started - j.created).count()}};
+  if (j.status == "running") d["secondsRunning"] = since(j.started);
+  if (j.status == "done") d["result"] = "/v1/jobs/" + j.id + "/result";
+  return d;
+}
+
+json JobPool::status(const std::string& id) const {
+  std::lock_guard<std::mutex> g(lock_);
+  return describe(*find(id));
+}
+
+json JobPool::list() const {
+  std::lock_guard<std::mutex> g(lock_);
+  json all = json::array();
+  for (const auto& [id, j] : jobs_)
+    if (!j->deleted) all.push_back(describe(*j));
+  return {{"jobs", all}};
+}
+
+json JobPool::cancel(const std::string& id) {
+  std::lock_guard<std::mutex> g(lock_);
+  auto j = find(id);
+  j->cancel = true;
+  return describe(*j);
+}
+
+bool JobPool::ended(const std::string& id) const {
+  std::lock_guard<std::mutex> g(lock_);
+  const std::string s = find(id)->status;
+  return s != "queued" && s != "running";
+}
+
+void JobPool::remove(const std::string& id) {
+  std::shared_ptr<Job> j;
+  {
+    std::lock_guard<std::mutex> g(lock_);
+    j = find(id);
+    j->cancel = true;
+    j->deleted = true;
+    if (j->status == "running") return;  // the worker deletes it when it stops
+    jobs_.erase(id);
+    queue_.erase(std::remove(queue_.begin(), queue_.end(), j), queue_.end());
+    finished_.erase(std::remove(finished_.begin(), finished_.end(), id), finished_.end());
+  }
+  {
+    std::lock_guard<std::mutex> g(query_lock_);
+    for (auto it = scenes_.begin(); it != scenes_.end(); ++it)
+      if (it->first == id) {
+        mvReleaseScene(it->second);
+        scenes_.erase(it);
+        break;
+      }
+  }
+  std::error_code ec;
+  fs::remove_all(j->dir, ec);
+}
+
+JobPool::Result JobPool::result(const std::string& id) const {
+  std::lock_guard<std::mutex> g(lock_);
+  auto j = find(id);
+  if (j->status != "done") throw HttpError(409, "job " + id + " is " + j->status + (j->message.empty() ? "" : ": " + j->message));
+  return {j->result, j->request.kind == JobKind::build ? "application/octet-stream" : "image/png"};
+}
+
+MvScene JobPool::query_scene(const std::string& id, const std::string& path) {
+  for (auto it = scenes_.begin(); it != scenes_.end(); ++it)
+    if (it->first == id) {
+      scenes_.splice(scenes_.begin(), scenes_, it);
+      return it->second;
+    }
+  MvScene s = mvOpenScene(query_device_, path.c_str());
+  if (!s) throw HttpError(500, std::string("cannot open the scene: ") + mvGetDeviceLastErrorMessage(query_device_));
+  scenes_.emplace_front(id, s);
+  if (scenes_.size() > kScenesCached) {
+    mvReleaseScene(scenes_.back().second);
+    scenes_.pop_back();
+  }
+  return s;
+}
+
+std::vector<MvTraceHit> JobPool::trace(const std::string& id, const MvTraceRay* rays, size_t count) {
+  std::string path;
+  {
+    std::lock_guard<std::mutex> g(lock_);
+    auto j = find(id);
+    if (j->request.kind != JobKind::build) throw HttpError(409, "job " + id + " is a render; rays go to a build");
+    if (j->status != "done") throw HttpError(409, "job " + id + " is " + j->status + ", not done");
+    path = j->result;
+  }
+  std::vector<MvTraceHit> hits(count);
+  std::lock_guard<std::mutex> g(query_lock_);
+  MvScene s = query_scene(id, path);
+  if (mvTraceRays(s, rays, hits.data(), count, nullptr) != MV_ERROR_NONE) {
+    const MvError e = mvGetDeviceError(query_device_);
+    const std::string m = mvGetDeviceLastErrorMessage(query_device_);
+    throw HttpError(e == MV_ERROR_OUT_OF_MEMORY ? 503 : e == MV_ERROR_INPUT ? 400 : 500, m, 1);
+  }
+  return hits;
+}
+
+void JobPool::work(size_t worker) {
+  MvDevice dev = devices_[worker];
+  for (;;) {
+    std::shared_ptr<Job> job;
+    {
+      std::unique_lock<std::mutex> g(lock_);
+      wake_.wait(g, [this] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      job = queue_.front();
+      queue_.pop_front();
+      job->status = "running";
+      job->started = Clock::now();
+    }
+    if (job->cancel) {
+      std::lock_guard<std::mutex> g(lock_);
+      job->status = "cancelled";
+    } else if (job->request.kind == JobKind::build) {
+      run_build(dev, *job);
+    } else {
+      run_render(dev, *job);
+    }
+    finish(job);
+  }
+}
+
+// A build runs as a C API job, polled for its progress, the cancel flag and the timeout.
+void JobPool::run_build(MvDevice dev, Job& job) {
+  const JobRequest& r = job.request;
+  MvBuildArguments a;
+  mvInitBuildArguments(&a);
+  a.format = r.format.c_str();
+  a.resolution = r.resolution;
+  a.voxelize = r.voxelize.c_str();
+  a.gridOrigin = r.grid_origin.c_str();
+  a.output = job.result.c_str();
+  MvJob j = mvBuildSceneFromFileAsync(dev, job.input.c_str(), &a);
+  bool timed_out = false;
+  for (;;) {
+    double f = 0;
+    const MvJobStatus s = mvGetJobStatus(j, &f);
+    if (s >= MV_JOB_DONE) break;
+    const std::string stage = mvGetJobMessage(j);
+    {
+      std::lock_guard<std::mutex> g(lock_);
+      job.fraction = f;
+      job.stage = stage;
+    }
+    if (std::chrono::duration<double>(Clock::now() - job.started).count() > options_.job_timeout) timed_out = true;
+    if (job.cancel || timed_out) mvCancelJob(j);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const MvError e = mvWaitJob(j);
+  const std::string message = mvGetJobMessage(j);
+  mvReleaseJob(j);
+  std::lock_guard<std::mutex> g(lock_);
+  if (e == MV_ERROR_NONE) {
+    job.status = "done";
+    job.fraction = 1;
+  } else if (e == MV_ERROR_CANCELLED && timed_out && !job.cancel) {
+    job.status = "failed";
+    job.message = "the job ran past the server's job timeout (" + std::to_string(int(options_.job_timeout)) + " s)";
+  } else {
+    job.status = e == MV_ERROR_CANCELLED ? "cancelled" : "failed";
+    job.message = message;
+  }
+}
+
+// A render: the scene opened on the worker's context, drawn, written as PNG (temporary name, renamed).
+void JobPool::run_render(MvDevice dev, Job& job) {
+  const JobRequest& r = job.request;
+  std::string failure;
+  MvScene scene = mvOpenScene(dev, job.input.c_str());
+  if (scene) {
+    MvRenderArguments a;
+    mvInitRenderArguments(&a);
+    a.width = r.width;
+    a.height = r.height;
+    a.view = r.view.c_str();
+    a.shading = r.shading.c_str();
+    std::vector<uint8_t> rgba(size_t{r.width} * r.height * 4);
+    if (mvRenderScene(scene, nullptr, &a, rgba.data(), 0) == MV_ERROR_NONE && !job.cancel) {
+      Image image;
+      image.width = r.width;
+      image.height = r.height;
+      image.rgb.resize(size_t{r.width} * r.height * 3);
+      for (size_t i = 0; i < size_t{r.width} * r.height; ++i) std::copy_n(&rgba[4 * i], 3, &image.rgb[3 * i]);
+      try {
+        write_png(job.result, image);
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+    } else if (!job.cancel) {
+      failure = mvGetDeviceLastErrorMessage(dev);
+    }
+    mvReleaseScene(scene);
+  } else {
+    failure = mvGetDeviceLastErrorMessage(dev);
+  }
+  std::lock_guard<std::mutex> g(lock_);
+  job.status = job.cancel ? "cancelled" : failure.empty() ? "done" : "failed";
+  job.message = failure;
+  if (job.status == "done") job.fraction = 1;
+}
+
+// Ends a job: a deleted one goes with its files, the oldest finished ones past --keep too.
+void JobPool::finish(const std::shared_ptr<Job>& job) {
+  std::vector<std::string> gone;
+  {
+    std::lock_guard<std::mutex> g(lock_);
+    job->ended = Clock::now();
+    if (job->deleted) {
+      jobs_.erase(job->id);
+      gone.push_back(job->dir);
+    } else {
+      if (job->status != "done") {  // nothing of a failed or cancelled job stays but its record
+        std::error_code ec;
+        fs::remove(job->result, ec);
+      }
+      finished_.push_back(job->id);
+      while (finished_.size() > options_.keep_finished) {
+        auto it = jobs_.find(finished_.front());
+        if (it != jobs_.end()) {
+          gone.push_back(it->second->dir);
+          jobs_.erase(it);
+        }
+        finished_.pop_front();
+      }
+    }
+  }
+  std::error_code ec;
+  for (const auto& d : gone) fs::remove_all(d, ec);
+}
+
+void JobPool::shutdown() {
+  std::vector<std::shared_ptr<Job>> unfinished;
+  {
+    std::lock_guard<std::mutex> g(lock_);
+    if (stopping_ && threads_.empty()) return;
+    stopping_ = true;
+    for (auto& [id, j] : jobs_) j->cancel = true;
+    for (auto& j : queue_) j->status = "cancelled";
+    queue_.clear();
+    wake_.notify_all();
+  }
+  for (auto& t : threads_) t.join();
+  threads_.clear();
+  std::lock_guard<std::mutex> g(lock_);
+  std::error_code ec;
+  for (auto& [id, j] : jobs_)
+    if (j->status != "done") fs::remove_all(j->dir, ec);
+}
+
+}  // namespace mv::serve

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# `cmake --install` into a scratch prefix, then what a user does with it: the library exports only mv*
+# symbols under a versioned SONAME and needs no baseline; the tree is moved (relocatable), an outside CMake
+# project finds it with find_package(megavox) and traces rays into a .mvx the installed CLI builds; the same
+# program builds again from pkg-config's flags alone.
+# Usage: install_package.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$1
+src=$2
+source "$src/tests/cli/common.sh"
+
+cmake --install "$build" --prefix "$dir/first" > /dev/null
+mv "$dir/first" "$dir/prefix"  # relocatable: nothing may point back at the first place
+prefix=$dir/prefix
+lib=$(ls "$prefix"/lib*/libmegavox.so.*.*.* 2>/dev/null | head -1)
+[[ -n "$lib" ]] || fail "no libmegavox.so.X.Y.Z under $prefix: $(find "$prefix" -type f)"
+soname=$(objdump -p "$lib" | awk '/SONAME/ {print $2}')
+[[ $soname =~ ^libmegavox\.so\.[0-9]+\.[0-9]+$ ]] || fail "SONAME '$soname'"
+[[ -e "$(dirname "$lib")/$soname" && -e "$(dirname "$lib")/libmegavox.so" ]] || fail "the SONAME and dev links"
+others=$(nm -D --defined-only "$lib" | awk '{print $NF}' | grep -v '^mv[A-Z]' | grep -v '^MEGAVOX_' || true)
+[[ -z "$others" ]] || fail "exports beyond mv*: $(echo "$others" | head -5)"
+nm -D --defined-only "$lib" | grep -q ' mvTraceRays' || fail "mvTraceRays not exported"
+if objdump -p "$lib" | grep NEEDED | grep -Eiq 'embree|boost|hwy|gomp'; then fail "a baseline library is linked"; fi
+for f in include/megavox/megavox.h include/megavox/megavox.hpp include/megavox/version.h bin/megavox; do
+  [[ -e "$prefix/$f" ]] || fail "$f not installed"
+done
+[[ ! -e "$prefix/include/megavox/trace.h" ]] || fail "the internal C++ headers are installed"
+grep -rq "$dir/first" "$prefix" && fail "the tree names where it was installed first"
+
+write_tetra_ply "$dir/tetra.ply"
+"$prefix/bin/megavox" build "$dir/tetra.ply" --resolution 32 -o "$dir/tetra.mvx" > /dev/null
+
+cmake -S "$src/tests/install/consumer" -B "$dir/consumer" -DCMAKE_PREFIX_PATH="$prefix" > "$dir/configure.log" ||
+  fail "configure: $(cat "$dir/configure.log")"
+cmake --build "$dir/consumer" > "$dir/build.log" || fail "build: $(cat "$dir/build.log")"
+out=$("$dir/consumer/trace_mvx" "$dir/tetra.mvx") || fail "trace_mvx: $out"
+hits=$(echo "$out" | awk '/^hits/ {print $2}')
+[[ -n "$hits" && $hits -gt 64 && $hits -lt 256 ]] || fail "trace_mvx: $out"
+
+pcdir=$(dirname "$(ls "$prefix"/lib*/pkgconfig/megavox.pc)")
+flags=$(PKG_CONFIG_PATH=$pcdir pkg-config --cflags --libs megavox)
+cc -std=c99 -o "$dir/trace_pc" "$src/tests/install/consumer/trace_mvx.c" $flags -lm
+out2=$(LD_LIBRARY_PATH=$(dirname "$lib") "$dir/trace_pc" "$dir/tetra.mvx") || fail "pkg-config build: $out2"
+[[ $(echo "$out2" | awk '/^hits/ {print $2}') == "$hits" ]] || fail "pkg-config build: $out2"
+echo "installed, found by CMake and pkg-config, $hits of 256 rays hit"

@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
   mv::cli::add_bench_reductions_command(*bench, g);
   mv::cli::add_bench_trace_command(*bench, g);
   mv::cli::add_bench_points_command(*bench, g);
+  mv::cli::add_bench_page_layout_command(*bench);
 
   try {
     app.parse(argc, argv);

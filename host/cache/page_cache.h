@@ -37,7 +37,7 @@ struct CacheUpdateStats {
                                // not fit: the used pages stay, the rest waits)
   uint64_t bytes_uploaded = 0;
   double manage_seconds = 0;   // the kernels and the host's waits on them
-  double produce_seconds = 0;  // the producer and the upload of its batch
+  double produce_seconds = 0;  // the producer, the upload of its batch and its placement into the slots
   std::string first_error;     // the first producer failure's message, if it threw one
 };
 
@@ -58,7 +58,8 @@ class PageCache {
   uint32_t begin_pass();
   uint32_t stamp() const { return stamp_; }
 
-  // The update pass after the current pass. Waits for the device (twice: for the counts, then for the victims).
+  // The update pass after the current pass. Waits for the device four times when pages load (the counts, the
+  // victims, the placed batch, the end) and once when none do.
   CacheUpdateStats update(const PageProducer& produce);
 
   Buffer& usage() { return usage_; }        // slots words: the last stamp that used each slot

@@ -40,6 +40,8 @@ void add_bench_build_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_reductions_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_points_command(CLI::App& bench, const GlobalOptions& g);
+void add_bench_page_layout_command(CLI::App& bench);
+void add_bench_cache_update_command(CLI::App& bench, const GlobalOptions& g);
 void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app, const GlobalOptions& g);
 void add_import_command(CLI::App& app, const GlobalOptions& g);

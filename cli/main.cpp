@@ -87,6 +87,8 @@ int main(int argc, char** argv) {
   mv::cli::add_bench_reductions_command(*bench, g);
   mv::cli::add_bench_trace_command(*bench, g);
   mv::cli::add_bench_points_command(*bench, g);
+  mv::cli::add_bench_page_layout_command(*bench);
+  mv::cli::add_bench_cache_update_command(*bench, g);
 
   try {
     app.parse(argc, argv);

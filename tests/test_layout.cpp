@@ -46,6 +46,7 @@ TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   expect_same_layout(dev, offsets, KernelId::probe_radix_params, mv_probe_radix_params);
   expect_same_layout(dev, offsets, KernelId::probe_scan_params, mv_probe_scan_params);
   expect_same_layout(dev, offsets, KernelId::probe_unique_params, mv_probe_unique_params);
+  expect_same_layout(dev, offsets, KernelId::probe_cache_params, mv_probe_cache_params);
   expect_same_layout(dev, offsets, KernelId::probe_lang_params, mv_probe_lang_params);
   expect_same_layout(dev, offsets, KernelId::probe_voxelize_params, mv_probe_voxelize_params);
   expect_same_layout(dev, offsets, KernelId::probe_dag_params, mv_probe_dag_params);

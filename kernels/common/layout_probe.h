@@ -17,6 +17,7 @@
 #include "lang_probe.h"
 #include "secondary.h"
 #include "unique.h"
+#include "page_cache.h"
 #include "points.h"
 #include "splat.h"
 #include "voxelize.h"
@@ -34,6 +35,7 @@
 #define MV_FIELDS_SCAN(X) X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, wide) X(MV_U32, start_lo) \
   X(MV_U32, start_hi)
 #define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)
+#define MV_FIELDS_CACHE(X) X(MV_U32, n) X(MV_U32, stamp) X(MV_U32, count) X(MV_U32, page_words)
 #define MV_FIELDS_LANG(X) X(MV_U32, n) X(MV_U32, width) X(MV_U32, height) X(MV_U32, pad0)
 #define MV_FIELDS_VOXELIZE(X)                                                                                          \
   X(MV_U32, first_item) X(MV_U32, items) X(MV_U32, grid) X(MV_U32, columns_per_item) X(MV_U32, capacity)                   \
@@ -90,6 +92,7 @@ MV_PROBE(morton_params, MvMortonParams, MV_FIELDS_MORTON)
 MV_PROBE(radix_params, MvRadixParams, MV_FIELDS_RADIX)
 MV_PROBE(scan_params, MvScanParams, MV_FIELDS_SCAN)
 MV_PROBE(unique_params, MvUniqueParams, MV_FIELDS_UNIQUE)
+MV_PROBE(cache_params, MvCacheParams, MV_FIELDS_CACHE)
 MV_PROBE(lang_params, MvLangParams, MV_FIELDS_LANG)
 MV_PROBE(voxelize_params, MvVoxelizeParams, MV_FIELDS_VOXELIZE)
 MV_PROBE(dag_params, MvDagParams, MV_FIELDS_DAG)

@@ -17,6 +17,9 @@
 #elif defined(MV_ENTRY_probe_unique_params)
 #define MV_PROBE_T MvUniqueParams
 #define MV_PROBE_FN mv_probe_unique_params
+#elif defined(MV_ENTRY_probe_cache_params)
+#define MV_PROBE_T MvCacheParams
+#define MV_PROBE_FN mv_probe_cache_params
 #elif defined(MV_ENTRY_probe_lang_params)
 #define MV_PROBE_T MvLangParams
 #define MV_PROBE_FN mv_probe_lang_params

@@ -1,0 +1,148 @@
+#include "cache/page_cache.h"
+
+#include <algorithm>
+#include <chrono>
+#include <exception>
+#include <utility>
+#include <vector>
+
+#include "../kernels/common/page_cache.h"
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+
+namespace mv {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr uint32_t kLocal = 64;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), config_(config) {
+  const PageCacheConfig& c = config_;
+  if (c.slots == 0 || c.pages == 0 || c.page_words == 0)
+    throw Error("page cache: slots (" + std::to_string(c.slots) + "), pages (" + std::to_string(c.pages) +
+                ") and page words (" + std::to_string(c.page_words) + ") must all be at least 1");
+  const uint64_t words = uint64_t{c.slots} * c.page_words;
+  if (words > kMaxDeviceItems || c.pages >= kMaxDeviceItems)
+    throw Error("page cache: " + std::to_string(c.slots) + " slots of " + std::to_string(c.page_words) +
+                " words over " + std::to_string(c.pages) + " pages pass the " + std::to_string(kMaxDeviceItems) +
+                " words one device call indexes");
+  data_ = dev.alloc(words * 4, "page cache slots");
+  usage_ = dev.alloc(uint64_t{c.slots} * 4, "page cache usage stamps");
+  owner_ = dev.alloc(uint64_t{c.slots} * 4, "page cache slot owners");
+  lru_ = dev.alloc(uint64_t{c.slots} * 4, "page cache LRU list");
+  lru_next_ = dev.alloc(uint64_t{c.slots} * 4, "page cache LRU list");
+  lru_pos_ = dev.alloc((uint64_t{c.slots} + 1) * 4, "page cache LRU positions");
+  evicted_ = dev.alloc(uint64_t{c.slots} * 4, "page cache evicted pages");
+  requests_ = dev.alloc(uint64_t{c.pages} * 4, "page cache request stamps");
+  table_ = dev.alloc(uint64_t{c.pages} * 4, "page cache page table");
+  request_pos_ = dev.alloc((uint64_t{c.pages} + 1) * 4, "page cache request positions");
+  list_ = dev.alloc(uint64_t{c.pages} * 4, "page cache request list");
+  counts_ = dev.alloc(8, "page cache counts");
+  lru_scan_ = plan_scan(dev, c.slots);
+  request_scan_ = plan_scan(dev, c.pages);
+  dev.fill(data_, 0, words * 4);
+  dev.fill(usage_, 0, uint64_t{c.slots} * 4);  // stamp 0: never used
+  dev.fill(owner_, MV_CACHE_NONE, uint64_t{c.slots} * 4);
+  dev.fill(requests_, 0, uint64_t{c.pages} * 4);
+  dev.fill(table_, MV_CACHE_NONE, uint64_t{c.pages} * 4);
+  std::vector<uint32_t> order(c.slots);
+  for (uint32_t s = 0; s < c.slots; ++s) order[s] = s;
+  dev.upload(lru_, order.data(), uint64_t{c.slots} * 4);
+  dev.finish();
+}
+
+uint32_t PageCache::begin_pass() {
+  if (stamp_ == 0xffffffffu) throw Error("page cache: 2^32 - 1 passes made; the stamps would wrap");
+  return ++stamp_;
+}
+
+CacheUpdateStats PageCache::update(const PageProducer& produce) {
+  if (stamp_ == 0) throw Error("page cache: update before the first pass (begin_pass)");
+  const auto t0 = Clock::now();
+  const PageCacheConfig& c = config_;
+  CacheUpdateStats st;
+  st.stamp = stamp_;
+
+  // LRU: slots unused in this pass first, then the used ones, each side in its previous order
+  MvCacheParams p{c.slots, stamp_, 0, c.page_words};
+  dev_.dispatch(dev_.kernel(KernelId::cache_lru_flags), dev_.groups_for(c.slots, kLocal), kLocal,
+                {&usage_, &lru_, &lru_pos_}, p);
+  dev_.barrier();
+  record_scan(dev_, lru_scan_, lru_pos_, lru_pos_);
+  dev_.dispatch(dev_.kernel(KernelId::cache_lru_scatter), dev_.groups_for(c.slots, kLocal), kLocal,
+                {&lru_, &lru_pos_, &lru_next_}, p);
+  // requests: the missing pages asked for in this pass, in page order, each once
+  p.n = c.pages;
+  dev_.dispatch(dev_.kernel(KernelId::cache_request_flags), dev_.groups_for(c.pages, kLocal), kLocal,
+                {&requests_, &table_, &request_pos_}, p);
+  dev_.barrier();
+  std::swap(lru_, lru_next_);
+  record_scan(dev_, request_scan_, request_pos_, request_pos_);
+  dev_.dispatch(dev_.kernel(KernelId::cache_request_compact), dev_.groups_for(c.pages, kLocal), kLocal,
+                {&request_pos_, &list_}, p);
+  dev_.copy(lru_pos_, counts_, 4, uint64_t{c.slots} * 4, 0);
+  dev_.copy(request_pos_, counts_, 4, uint64_t{c.pages} * 4, 4);
+  dev_.barrier();
+  uint32_t counts[2] = {0, 0};
+  dev_.download(counts_, counts, 8);
+  const uint32_t unused = counts[0];
+  st.used_slots = c.slots - unused;
+  st.requested = counts[1];
+  st.over_capacity = st.requested > unused;
+  uint32_t n = std::min(st.requested, unused);
+  if (c.max_loads != 0) n = std::min(n, c.max_loads);
+  st.dropped = st.requested - n;
+  if (n == 0) {
+    st.manage_seconds = seconds_since(t0);
+    return st;
+  }
+
+  // the victims: the n least recently used slots, all unused in this pass; their old pages leave the table
+  p.n = n;
+  p.count = n;
+  dev_.dispatch(dev_.kernel(KernelId::cache_evict), dev_.groups_for(n, kLocal), kLocal,
+                {&lru_, &table_, &owner_, &evicted_}, p);
+  dev_.barrier();
+  std::vector<uint32_t> pages(n), evicted(n);
+  dev_.download(list_, pages.data(), uint64_t{n} * 4);
+  dev_.download(evicted_, evicted.data(), uint64_t{n} * 4);
+  for (uint32_t old : evicted) st.evicted += old != MV_CACHE_NONE ? 1u : 0u;
+
+  // one batch from the producer, placed into the victims' slots
+  const auto tp = Clock::now();
+  const uint64_t batch_words = uint64_t{n} * c.page_words;
+  std::vector<uint32_t> staging(batch_words, 0), ok(n, 0);
+  for (uint32_t i = 0; i < n; ++i) {
+    std::span<uint32_t> words(staging.data() + uint64_t{i} * c.page_words, c.page_words);
+    try {
+      ok[i] = produce(pages[i], words) ? 1u : 0u;
+    } catch (const std::exception& e) {
+      if (st.first_error.empty()) st.first_error = "page " + std::to_string(pages[i]) + ": " + e.what();
+    }
+    st.loaded += ok[i];
+  }
+  st.failed = n - st.loaded;
+  Buffer staged = dev_.alloc(batch_words * 4, "page cache upload batch");
+  Buffer ok_buf = dev_.alloc(uint64_t{n} * 4, "page cache produced flags");
+  dev_.upload(staged, staging.data(), batch_words * 4);
+  dev_.upload(ok_buf, ok.data(), uint64_t{n} * 4);
+  st.bytes_uploaded = batch_words * 4;
+  p.n = static_cast<uint32_t>(batch_words);  // at most slots * page_words, checked at construction
+  dev_.dispatch(dev_.kernel(KernelId::cache_place), dev_.groups_for(batch_words, kLocal), kLocal,
+                {&lru_, &ok_buf, &staged, &data_}, p);
+  dev_.finish();  // placing the batch is uploading, timed apart from management
+  st.produce_seconds = seconds_since(tp);
+
+  p.n = n;
+  dev_.dispatch(dev_.kernel(KernelId::cache_publish), dev_.groups_for(n, kLocal), kLocal,
+                {&lru_, &list_, &ok_buf, &table_, &owner_, &usage_}, p);
+  dev_.finish();
+  st.manage_seconds = seconds_since(t0) - st.produce_seconds;
+  return st;
+}
+
+}  // namespace mv

@@ -7,12 +7,18 @@
 // (fuzz/known/), and several such blocks at once below a limit near the 2 GiB RSS limit would still end in
 // an out-of-memory. megavox's own huge allocations still stop the fuzzer,
 // as a bad_alloc that escapes the reader (std::terminate) or as an out-of-memory.
+// The sanitized test suite (tests/sanitizer_new.cpp) uses it with no limit (MV_THROWING_NEW_LIMIT 0): there
+// only a malloc that fails (ASAN_OPTIONS=allocator_may_return_null=1) throws.
 #pragma once
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 
 namespace mv::fuzz {
-inline constexpr std::size_t kMaxAllocation = std::size_t{1} << 26;
+#ifndef MV_THROWING_NEW_LIMIT
+#define MV_THROWING_NEW_LIMIT (std::size_t{1} << 26)
+#endif
+inline constexpr std::size_t kMaxAllocation = MV_THROWING_NEW_LIMIT ? MV_THROWING_NEW_LIMIT : SIZE_MAX;
 }
 
 void* operator new(std::size_t n) {

@@ -1,8 +1,33 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs the whole test suite (every kernel test on every OpenCL and Vulkan device found).
+# Usage: scripts/test.sh             the Release build in build/
+#        scripts/test.sh --sanitize  the same suite built with clang, ASan and UBSan in build-sanitize/ (slow:
+#                                    run it niced). Faults inside third-party libraries (PoCL and its LLVM,
+#                                    Mesa, the ICD loaders) are suppressed by the narrow, commented lists in
+#                                    scripts/sanitize/; megavox's own code is never listed there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
-scripts/build.sh -DMEGAVOX_BASELINES=OFF   # the test path provably needs no baseline library
-cd build
-ctest --output-on-failure --parallel "$(nproc)"
+case "${1:-}" in
+  "")
+    scripts/setup.sh
+    scripts/build.sh -DMEGAVOX_BASELINES=OFF   # the test path provably needs no baseline library
+    cd build
+    ctest --output-on-failure --parallel "$(nproc)"
+    ;;
+  --sanitize)
+    scripts/setup.sh --fuzz   # clang and its sanitizer runtimes
+    generator=()
+    [[ ! -f build-sanitize/CMakeCache.txt ]] && command -v ninja >/dev/null && generator=(-G Ninja)
+    CC=clang CXX=clang++ cmake -S . -B build-sanitize "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DMEGAVOX_BASELINES=OFF -DMEGAVOX_SANITIZE=ON >/dev/null
+    cmake --build build-sanitize --parallel "$(nproc)"
+    supp=$PWD/scripts/sanitize
+    # LSan runs at exit (leaks), ASan at every access; a UBSan report aborts the test (-fno-sanitize-recover).
+    export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:${ASAN_OPTIONS:-}"  # tests/sanitizer_new.cpp
+    export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+    cd build-sanitize
+    ctest --output-on-failure --parallel "$(nproc)" --timeout 1800
+    ;;
+  *) echo "usage: scripts/test.sh [--sanitize]" >&2; exit 2 ;;
+esac

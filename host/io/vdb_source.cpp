@@ -153,7 +153,8 @@ VdbVoxels read_vdb(const std::string& path, const std::string& name, uint32_t re
   out.keys.reserve(coords.size());
   auto cell = [&](int64_t i) { return resample ? uint64_t(i) * resolution / extent : uint64_t(i); };
   for (const auto& c : coords)
-    out.keys.push_back(morton_key(cell(c[0] - lo[0]), cell(c[1] - lo[1]), cell(c[2] - lo[2])));
+    out.keys.push_back(morton_key(cell(int64_t{c[0]} - lo[0]), cell(int64_t{c[1]} - lo[1]),  // 64-bit: a span over
+                                  cell(int64_t{c[2]} - lo[2])));                              // 2^31 (UBSan)
   std::sort(out.keys.begin(), out.keys.end());
   out.keys.erase(std::unique(out.keys.begin(), out.keys.end()), out.keys.end());
   for (int a = 0; a < 3; ++a) out.index_min[a] = lo[a];

@@ -105,7 +105,9 @@ DagCounts ssvdag_counts(const std::vector<uint64_t>& voxels, uint32_t levels) {
     std::map<std::vector<uint64_t>, uint32_t> classes;
     std::vector<uint32_t> stab_here;
     std::map<uint64_t, Ref> refs;
-    for (auto& [key, n] : nodes) {
+    for (auto& entry : nodes) {
+      const auto& key = entry.first;
+      auto& n = entry.second;  // a plain reference: clang 14 cannot capture a structured binding
       auto key_of = [&](uint32_t t) {
         std::vector<uint64_t> k{reflect(n.mask, t)};
         if (l > 1)

@@ -40,10 +40,12 @@ void add_bench_build_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_reductions_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_points_command(CLI::App& bench, const GlobalOptions& g);
+void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g);
 void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app, const GlobalOptions& g);
 void add_import_command(CLI::App& app, const GlobalOptions& g);
 void add_render_command(CLI::App& app, const GlobalOptions& g);
 void add_points_command(CLI::App& app, const GlobalOptions& g);
+void add_mask_command(CLI::App& app, const GlobalOptions& g);
 
 }  // namespace mv::cli

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
       "  megavox build bunny.ply --resolution 4K -o bunny.mvx   voxelize a mesh into a voxel DAG\n"
       "  megavox info bunny.mvx                validate a .mvx file and print what it holds\n"
       "  megavox points build scan.las -o scan.mvx   an LOD point hierarchy (or --format 3dtiles -o DIR)\n"
+      "  megavox mask apply photo.jpg --rect 40,30,300,200 -o masks/   a GrabCut mask of a photograph\n"
       "  megavox bench sort --n 16M            radix-sort 16M (key, value) pairs and compare with std::sort\n"
       "  megavox --device vk:0 bench sort      the same on the first Vulkan device\n"
       "  MEGAVOX_DEVICE=pocl megavox devices   pick a device by (part of) its name\n",
@@ -76,6 +77,7 @@ int main(int argc, char** argv) {
   mv::cli::add_info_command(app);
   mv::cli::add_render_command(app, g);
   mv::cli::add_points_command(app, g);
+  mv::cli::add_mask_command(app, g);
   mv::cli::add_export_command(app, g);
   mv::cli::add_import_command(app, g);
   CLI::App* bench = app.add_subcommand("bench", "Measure megavox against the tools a user would pick instead");
@@ -85,6 +87,7 @@ int main(int argc, char** argv) {
   mv::cli::add_bench_reductions_command(*bench, g);
   mv::cli::add_bench_trace_command(*bench, g);
   mv::cli::add_bench_points_command(*bench, g);
+  mv::cli::add_bench_mask_command(*bench, g);
 
   try {
     app.parse(argc, argv);

@@ -30,6 +30,7 @@
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
+#include "mask_seeds.h"
 
 namespace fs = std::filesystem;
 
@@ -674,6 +675,7 @@ int main(int argc, char** argv) {
     dag_seeds();
     obj_seeds();
     vdb_seeds();
+    mask_seeds::write(out_dir);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

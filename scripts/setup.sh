@@ -27,7 +27,8 @@ packages=(
   libassimp-dev libopenvdb-dev libimath-dev                     # OBJ, glTF, FBX, STL, ... meshes; .vdb volumes
   libboost-dev                                                  # OpenVDB's headers include Boost (not a dependency of libopenvdb-dev)
   libnanovdb-dev                                                # NanoVDB export
-  libpng-dev                                                    # rendered pictures
+  libpng-dev                                                    # rendered pictures; PNG images and seed maps in
+  libjpeg62-turbo-dev                                           # JPEG photographs in (masks)
   libgmp-dev                                                    # tests: exact rational voxelization oracle
 )
 # Node runs the independent 3D Tiles reader (tests/js). A machine that has node and npm already (another

@@ -54,7 +54,7 @@ mv_kernel(trace_rays_ssvdag_params trace/trace.cl    trace/trace.comp     6  MvT
 mv_kernel(secondary_rays           trace/trace.cl    trace/trace.comp     5  MvSecondaryParams MV_ENTRY_secondary_rays)
 mv_kernel(mincut_relax             mask/min_cut.cl   mask/min_cut.comp    5  MvMinCutParams    MV_ENTRY_relax)
 mv_kernel(mincut_active            mask/min_cut.cl   mask/min_cut.comp    3  MvMinCutParams    MV_ENTRY_active)
-mv_kernel(mincut_discharge         mask/min_cut.cl   mask/min_cut.comp    4  MvMinCutParams    MV_ENTRY_discharge)
+mv_kernel(mincut_discharge         mask/min_cut.cl   mask/min_cut.comp    5  MvMinCutParams    MV_ENTRY_discharge)
 mv_kernel(mask_median5             mask/mask_post.cl mask/mask_post.comp  2  MvMaskPostParams  MV_ENTRY_median5)
 mv_kernel(mask_erode               mask/mask_post.cl mask/mask_post.comp  2  MvMaskPostParams  MV_ENTRY_erode)
 mv_kernel(lang_atomics_k32         lang/lang32.cl    lang/lang.comp       3  MvLangParams      MV_ENTRY_atomics)

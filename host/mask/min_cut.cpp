@@ -88,6 +88,8 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   const TilePlan plan = plan_tiles(dev, g, options);
   const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
   Buffer tb = dev.alloc(tiles * 4, "min-cut tile stamps");
+  Buffer ab = dev.alloc(tiles * 4, "min-cut active tiles");
+  dev.fill(ab, 1, tiles * 4);  // every tile may hold excess at first
   dev.upload(eb, excess.data(), n * 4);
   dev.upload(sb, sink.data(), n * 4);
   dev.upload(rb, reversed_edges(g).data(), n * 4 * g.connectivity);
@@ -123,7 +125,7 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
     dev.download(fb, flags, 8);
     if (flags[1] == 0) break;
     for (uint32_t pass = 0; pass < std::max<uint32_t>(options.discharge_passes, 1); ++pass)
-      run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb});
+      run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb, &ab});
   }
   std::vector<uint32_t> heights(n);
   dev.download(hb, heights.data(), n * 4);

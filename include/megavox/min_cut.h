@@ -14,7 +14,7 @@ namespace mv {
 
 struct MinCutOptions {
   uint32_t tile = 32;              // tile side in pixels (>= 2); one work-item per tile
-  uint32_t discharge_passes = 4;   // passes over the four tile colours between two global relabels
+  uint32_t discharge_passes = 8;   // passes over the four tile colours between two global relabels
   uint32_t sweeps = 3;             // sweeps over a tile per dispatch (fewer where the device caps loops)
 };
 

@@ -11,7 +11,8 @@
  *                    The host repeats passes until none does.
  *   mincut_active:   flag[1] is set when a pixel with excess can still reach the sink.
  *   mincut_discharge: push-relabel sweeps over a tile: push to the sink, then along admissible edges
- *                    (height one above the neighbour's), then relabel (1 + the lowest residual neighbour).
+ *                    (height one above the neighbour's), then relabel (1 + the lowest residual neighbour);
+ *                    tiles without movable excess are skipped.
  * Heights of pixels that cannot reach the sink are MV_MINCUT_INF: such pixels never receive flow again.
  * All values are 32-bit unsigned; the host keeps the total capacity below 2^31, so nothing overflows.
  * Loops are bounded by the tile size and the sweep count, which the host keeps within lavapipe's loop cap. */
@@ -119,9 +120,17 @@ MV_INLINE void mv_mincut_active(MvBufU32 excess, MvBufU32 height, MvBufU32 flag,
   if (any) MV_ATOMIC_OR(flag, 1u, 1u);
 }
 
-/* Pushes pixel i's excess, relabelling it when it is left with some (twice at most per visit). */
+/* Marks tile (tx, ty) as holding excess (a push from a neighbouring tile; same-coloured tiles may mark one tile
+ * at once, with the same value). */
+MV_INLINE void mv_mincut_mark(MvBufU32 busy, MvMinCutParams p, mv_u32 x, mv_u32 y) {
+  MV_ATOMIC_OR(busy, (y / p.tile) * p.tiles_x + x / p.tile, 1u);
+}
+
+/* Pushes pixel (x, y)'s excess, relabelling it when it is left with some (twice at most per visit). A push
+ * past the tile [x0, x1) x [y0, y1) marks the neighbour's tile busy. */
 MV_INLINE void mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
-                                         MvMinCutParams p, mv_u32 x, mv_u32 y) {
+                                         MvBufU32 busy, MvMinCutParams p, mv_u32 x, mv_u32 y, mv_u32 x0,
+                                         mv_u32 y0, mv_u32 x1, mv_u32 y1) {
   mv_u32 i = y * p.width + x;
   mv_u32 e = MV_LD(excess, i);
   mv_u32 h = MV_LD(height, i);
@@ -144,6 +153,9 @@ MV_INLINE void mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBuf
       MV_ST(resid, j * p.conn + (d ^ 1u), MV_LD(resid, j * p.conn + (d ^ 1u)) + f);
       MV_ST(excess, j, MV_LD(excess, j) + f);
       e -= f;
+      mv_u32 jx = MV_U32(MV_I32(x) + mv_grid_dx(d));
+      mv_u32 jy = MV_U32(MV_I32(y) + mv_grid_dy(d));
+      if (jx < x0 || jx >= x1 || jy < y0 || jy >= y1) mv_mincut_mark(busy, p, jx, jy);
     }
     if (e == 0u) break;
     mv_u32 low = MV_MINCUT_INF;
@@ -158,11 +170,14 @@ MV_INLINE void mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBuf
   MV_ST(height, i, h);
 }
 
+/* busy[tile] = 0 only when no pixel of the tile has excess it can still move: such a tile is skipped. The
+ * tile's own word is rewritten at the end from what is left in it. */
 MV_INLINE void mv_mincut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
-                                   MvMinCutParams p, mv_u32 t) {
+                                   MvBufU32 busy, MvMinCutParams p, mv_u32 t) {
   mv_u32 tx = mv_mincut_tile_x(p, t);
   mv_u32 ty = mv_mincut_tile_y(p, t);
   if (tx >= p.tiles_x || ty >= p.tiles_y) return;
+  if (MV_LD(busy, ty * p.tiles_x + tx) == 0u) return;
   mv_u32 x0 = tx * p.tile;
   mv_u32 y0 = ty * p.tile;
   mv_u32 x1 = MV_MIN(x0 + p.tile, p.width);
@@ -172,10 +187,19 @@ MV_INLINE void mv_mincut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 si
     mv_u32 x = (s & 1u) != 0u ? x1 - 1u : x0;
     mv_u32 y = (s & 1u) != 0u ? y1 - 1u : y0;
     for (mv_u32 k = 0u; k < count; ++k) {
-      mv_mincut_discharge_pixel(excess, height, sink, resid, p, x, y);
+      mv_mincut_discharge_pixel(excess, height, sink, resid, busy, p, x, y, x0, y0, x1, y1);
       MV_MINCUT_NEXT(s, x, y, x0, y0, x1)
     }
   }
+  mv_u32 left = 0u;
+  mv_u32 x = x0;
+  mv_u32 y = y0;
+  for (mv_u32 k = 0u; k < count; ++k) {
+    mv_u32 i = y * p.width + x;
+    if (MV_LD(excess, i) > 0u && MV_LD(height, i) != MV_MINCUT_INF) left = 1u;
+    MV_MINCUT_NEXT(0u, x, y, x0, y0, x1)
+  }
+  MV_ST(busy, ty * p.tiles_x + tx, left);
 }
 
 #endif /* MV_MIN_CUT_H */

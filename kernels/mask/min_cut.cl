@@ -11,6 +11,6 @@ __kernel void mincut_active(__global uint* excess, __global uint* height, __glob
 }
 
 __kernel void mincut_discharge(__global uint* excess, __global uint* height, __global uint* sink,
-                               __global uint* resid, MvMinCutParams p) {
-  mv_mincut_discharge(excess, height, sink, resid, p, p.first_tile + MV_GLOBAL_ID());
+                               __global uint* resid, __global uint* busy, MvMinCutParams p) {
+  mv_mincut_discharge(excess, height, sink, resid, busy, p, p.first_tile + MV_GLOBAL_ID());
 }

@@ -16,9 +16,10 @@ void main() {
   mv_mincut_active(args.excess, args.height, args.flag, args.p.width * args.p.height, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_discharge)
-MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvMinCutParams p;);
+MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 busy; MvMinCutParams p;);
 void main() {
-  mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.p, args.p.first_tile + MV_GLOBAL_ID());
+  mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.p,
+                      args.p.first_tile + MV_GLOBAL_ID());
 }
 #else
 #error "define MV_ENTRY_relax, active or discharge"

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "baselines/baselines.h"
 #include "bench/mask_bench.h"
 #include "cli_common.h"
 
@@ -21,7 +22,8 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
       "Min-cuts on the device against Boost.Graph's boykov_kolmogorov_max_flow (its max-flow call alone) on\n"
       "GrabCut's first-iteration graphs of the GrabCut database images, at their size and upscaled 2x (about\n"
       "1 MP), 4- and 8-connected, checking every cut is BK's; then GrabCut from the database boxes (--no-post\n"
-      "error, post-processed error, seconds per image). OpenCV's cv::grabCut is not built in (not installed).\n"
+      "error, post-processed error, seconds per image) beside OpenCV's cv::grabCut from the same boxes and\n"
+      "iterations (its error and its call's seconds), where OpenCV is built in (scripts/setup.sh --bench).\n"
       "Example: megavox bench mask --data ../shared/data/grabcut --cut-images 3 --json");
   cmd->add_option("--data", a->data, "The GrabCut database folder (images/*.ppm, masks/*.pgm)");
   cmd->add_option("--cut-images", a->cut_images, "Images whose graphs are cut (first by name; default 3)");
@@ -47,17 +49,36 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
     }
     const double speedup = mv_1mp8 > 0 ? bk_1mp8 / mv_1mp8 : 0;
     const auto gc = bench::bench_grabcut(*dev, a->data, a->images, a->iterations);
-    double err = 0, post = 0, secs = 0;
-    uint64_t px = 0;
+    double err = 0, post = 0, secs = 0, cv_err = 0, cv_secs = 0, mv_secs_cv = 0;  // mv_secs_cv: where OpenCV ran
+    uint64_t px = 0, cv_px = 0;
+    size_t cv_n = 0;
     nlohmann::json jg = nlohmann::json::array();
+    if (!a->json)
+      std::printf("\n%-14s %9s %5s %10s %10s %8s %10s %8s\n", "image", "size", "iters", "error %", "post %", "s",
+                  "opencv %", "opencv s");
     for (const auto& r : gc) {
       err += r.error, post += r.post_error, secs += r.seconds, px += uint64_t{r.width} * r.height;
-      jg.push_back({{"image", r.image}, {"error", r.error}, {"post_error", r.post_error}, {"seconds", r.seconds},
-                    {"iterations", r.iterations}});
+      nlohmann::json j{{"image", r.image}, {"error", r.error}, {"post_error", r.post_error}, {"seconds", r.seconds},
+                       {"iterations", r.iterations}};
+      if (r.opencv) {
+        cv_err += r.opencv_error, cv_secs += r.opencv_seconds, ++cv_n;
+        mv_secs_cv += r.seconds, cv_px += uint64_t{r.width} * r.height;
+        j["opencv_error"] = r.opencv_error;
+        j["opencv_seconds"] = r.opencv_seconds;
+      }
+      jg.push_back(j);
+      if (a->json) continue;
+      std::printf("%-14s %4ux%-4u %5u %10.2f %10.2f %8.2f", r.image.c_str(), r.width, r.height, r.iterations,
+                  100 * r.error, 100 * r.post_error, r.seconds);
+      if (r.opencv)
+        std::printf(" %10.2f %8.2f\n", 100 * r.opencv_error, r.opencv_seconds);
+      else
+        std::printf(" %10s %8s\n", "-", "-");
     }
     const double n = gc.empty() ? 1 : double(gc.size());
+    const auto opencv = baseline::opencv();
     if (a->json) {
-      std::cout << nlohmann::json{{"device", dev->info().name},
+      nlohmann::json out{{"device", dev->info().name},
                                   {"cuts", jc},
                                   {"speedup_vs_bk", speedup},
                                   {"all_cuts_equal_bk", all_same},
@@ -65,17 +86,28 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
                                   {"grabcut_mean_error", err / n},
                                   {"grabcut_mean_post_error", post / n},
                                   {"grabcut_seconds_per_image", secs / n},
-                                  {"grabcut_mpx_per_second", px * 1e-6 / secs},
-                                  {"missing_baselines", {"opencv (libopencv-imgproc-dev)"}}}
-                       .dump(2)
-                << "\n";
+                                  {"grabcut_mpx_per_second", px * 1e-6 / secs}};
+      if (cv_n) {
+        out["opencv_mean_error"] = cv_err / double(cv_n);
+        out["opencv_seconds_per_image"] = cv_secs / double(cv_n);
+        out["opencv_mpx_per_second"] = cv_px * 1e-6 / cv_secs;
+        out["time_ratio_to_opencv"] = mv_secs_cv / cv_secs;
+      }
+      out["missing_baselines"] = nlohmann::json::array();
+      if (!opencv.built_in) out["missing_baselines"].push_back(baseline::missing_note(opencv));
+      std::cout << out.dump(2) << "\n";
       return;
     }
     std::printf("speedup_vs_bk (~1 MP, 8-connected, total time): %.2f\n", speedup);
     std::printf("GrabCut on %zu images from boxes, %u iterations: mean error %.2f %% (--no-post), %.2f %% post-processed; "
                 "%.2f s per image, %.3f Mpx/s\n",
                 gc.size(), a->iterations, 100 * err / n, 100 * post / n, secs / n, px * 1e-6 / secs);
-    std::printf("OpenCV cv::grabCut: not built in (libopencv-imgproc-dev is not installed here)\n");
+    if (cv_n)
+      std::printf("OpenCV cv::grabCut, same boxes and iterations: mean error %.2f %%; %.2f s per image, %.3f Mpx/s "
+                  "(megavox --no-post / OpenCV time: %.2f)\n",
+                  100 * cv_err / double(cv_n), cv_secs / double(cv_n), cv_px * 1e-6 / cv_secs, mv_secs_cv / cv_secs);
+    else
+      std::printf("%s\n", baseline::missing_note(opencv).c_str());
   });
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "baselines/baselines.h"
 #include "io/image_reader.h"
 #include "mask/grabcut.h"
 #include "mask/mask_score.h"
@@ -116,6 +117,14 @@ std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint
     GrabCutRun run{names[k], img.width, img.height, r.iterations, since(t0), mask::mask_error(r.mask, truth.samples), 0};
     run.post_error = mask::mask_error(postprocess_mask(dev, r.grabcut, img.width, img.height, MaskOptions{}.erode_radius),
                                       truth.samples);
+    if (baseline::opencv().built_in && img.channels == 3 && img.max_value == 255) {
+      const std::vector<uint8_t> rgb(img.samples.begin(), img.samples.end());
+      const MaskBox& b = *start.box;
+      const auto cv = baseline::opencv_grabcut(rgb, img.width, img.height, {b.x, b.y, b.w, b.h}, iterations);
+      run.opencv = true;
+      run.opencv_seconds = cv.seconds;
+      run.opencv_error = mask::mask_error(cv.mask, truth.samples);
+    }
     runs.push_back(run);
   }
   return runs;

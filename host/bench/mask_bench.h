@@ -22,6 +22,9 @@ struct GrabCutRun {
   std::string image;
   uint32_t width = 0, height = 0, iterations = 0;
   double seconds = 0, error = 0, post_error = 0;
+  // OpenCV's cv::grabCut from the same box and iterations, where it is built in (baseline::opencv()).
+  bool opencv = false;
+  double opencv_seconds = 0, opencv_error = 0;
 };
 
 // Cuts on the first `cut_images` images (sorted names) of `data`/images; GrabCut from boxes on the first

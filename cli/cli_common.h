@@ -42,11 +42,13 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_points_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_page_layout_command(CLI::App& bench);
 void add_bench_cache_update_command(CLI::App& bench, const GlobalOptions& g);
+void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g);
 void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app, const GlobalOptions& g);
 void add_import_command(CLI::App& app, const GlobalOptions& g);
 void add_render_command(CLI::App& app, const GlobalOptions& g);
 void add_points_command(CLI::App& app, const GlobalOptions& g);
 void add_serve_command(CLI::App& app, const GlobalOptions& g);
+void add_mask_command(CLI::App& app, const GlobalOptions& g);
 
 }  // namespace mv::cli

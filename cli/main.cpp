@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
       "  megavox build bunny.ply --resolution 4K -o bunny.mvx   voxelize a mesh into a voxel DAG\n"
       "  megavox info bunny.mvx                validate a .mvx file and print what it holds\n"
       "  megavox points build scan.las -o scan.mvx   an LOD point hierarchy (or --format 3dtiles -o DIR)\n"
+      "  megavox mask apply photo.jpg --rect 40,30,300,200 -o masks/   a GrabCut mask of a photograph\n"
       "  megavox bench sort --n 16M            radix-sort 16M (key, value) pairs and compare with std::sort\n"
       "  megavox --device vk:0 bench sort      the same on the first Vulkan device\n"
       "  megavox serve --listen 127.0.0.1:0    an HTTP compute service (jobs, progress, ray queries)\n"
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
   mv::cli::add_info_command(app);
   mv::cli::add_render_command(app, g);
   mv::cli::add_points_command(app, g);
+  mv::cli::add_mask_command(app, g);
   mv::cli::add_export_command(app, g);
   mv::cli::add_import_command(app, g);
   mv::cli::add_serve_command(app, g);
@@ -89,6 +91,7 @@ int main(int argc, char** argv) {
   mv::cli::add_bench_points_command(*bench, g);
   mv::cli::add_bench_page_layout_command(*bench);
   mv::cli::add_bench_cache_update_command(*bench, g);
+  mv::cli::add_bench_mask_command(*bench, g);
 
   try {
     app.parse(argc, argv);

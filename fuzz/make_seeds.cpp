@@ -31,6 +31,7 @@
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "serve/job_request.h"
+#include "mask_seeds.h"
 
 namespace fs = std::filesystem;
 
@@ -693,6 +694,7 @@ int main(int argc, char** argv) {
     obj_seeds();
     vdb_seeds();
     job_seeds();
+    mask_seeds::write(out_dir);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

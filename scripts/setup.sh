@@ -27,7 +27,8 @@ packages=(
   libassimp-dev libopenvdb-dev libimath-dev                     # OBJ, glTF, FBX, STL, ... meshes; .vdb volumes
   libboost-dev                                                  # OpenVDB's headers include Boost (not a dependency of libopenvdb-dev)
   libnanovdb-dev                                                # NanoVDB export
-  libpng-dev                                                    # rendered pictures
+  libpng-dev                                                    # rendered pictures; PNG images and seed maps in
+  libjpeg62-turbo-dev                                           # JPEG photographs in (masks)
   libgmp-dev                                                    # tests: exact rational voxelization oracle
   libcpp-httplib-dev                                            # megavox serve: the HTTP server (and the load test's client)
   curl jq                                                       # tests: the serve session as the README runs it
@@ -51,6 +52,7 @@ if ((bench)); then
   packages+=(libembree-dev)   # Embree 3, the triangle ray-tracing baseline of bench trace
   packages+=(libips4o-dev)    # ips4o::parallel::sort (header-only; OpenMP threads), a sort baseline of bench sort
   packages+=(libhwy-dev)      # Highway's vqsort (libhwy_contrib), a sort baseline of bench sort
+  packages+=(libopencv-imgproc-dev)  # OpenCV 4.6 cv::grabCut, the GrabCut baseline of bench mask
   # voxcom, the peer of bench build, is built apart from megavox (scripts/bench.sh) where the shared folder holds
   # it; it also needs assimp, TBB and CLI11, listed above.
   if [[ -d "$(dirname "$0")/../../shared/peers/voxcom" ]]; then

@@ -1,5 +1,5 @@
 // Baselines the benchmarks compare megavox against: libraries a user would pick instead (Boost.Sort's,
-// ips4o's and Highway's vqsort sorts, Embree's triangle ray tracing). They live in their own target (megavox_baselines), linked
+// ips4o's and Highway's vqsort sorts, Embree's triangle ray tracing, OpenCV's GrabCut). They live in their own target (megavox_baselines), linked
 // only into the CLI, so the core library and the tests never depend on them. Whether each is built in is
 // decided at configure time (CMake option MEGAVOX_BASELINES and whether the package is installed); a
 // benchmark asks here and, when one is missing, prints missing_note() instead of a figure.
@@ -21,6 +21,7 @@ Baseline boost_sort();
 Baseline ips4o();
 Baseline vqsort();
 Baseline embree();
+Baseline opencv();
 
 // One line for a benchmark whose baseline is missing: what, which package brings it, how to build it in.
 std::string missing_note(const Baseline& b);
@@ -68,5 +69,18 @@ struct EmbreeResult {
 // Throws mv::Error when Embree is not built in (check embree().built_in first) or cannot start.
 EmbreeResult embree_primary_hits(std::span<const float> positions, std::span<const uint32_t> indices,
                                  const EmbreeFrame& frame, uint32_t repeats);
+
+// OpenCV's cv::grabCut (GC_INIT_WITH_RECT, `iterations`) on 8-bit RGB pixels, rows top to bottom. The mask
+// is 255 where OpenCV labels (probable) foreground, else 0; seconds is the cv::grabCut call alone. Throws
+// mv::Error when OpenCV is not built in (check opencv().built_in first).
+struct GrabCutBox {
+  uint32_t x = 0, y = 0, w = 0, h = 0;
+};
+struct OpenCvMask {
+  std::vector<uint8_t> mask;
+  double seconds = 0;
+};
+OpenCvMask opencv_grabcut(std::span<const uint8_t> rgb, uint32_t width, uint32_t height, const GrabCutBox& box,
+                          uint32_t iterations);
 
 }  // namespace mv::baseline

@@ -11,6 +11,7 @@
 #include "file_ops.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
+#include "png_grey.h"
 
 namespace mv {
 
@@ -39,7 +40,7 @@ void png_warn(png_structp, png_const_charp) {}
 
 // libpng reports errors by longjmp; this wraps the whole encode so no C++ object lives across the jump (`out`
 // lives in the caller: what the write callback sets survives the jump).
-bool encode_png(PngOut& out, const Image& image, std::string& why) {
+bool encode_png(PngOut& out, uint32_t width, uint32_t height, int channels, const uint8_t* pixels, std::string& why) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, &png_fail, &png_warn);
   if (!png) {
     why = "out of memory";
@@ -53,11 +54,10 @@ bool encode_png(PngOut& out, const Image& image, std::string& why) {
     return false;
   }
   png_set_write_fn(png, &out, &png_write_chunk, &png_flush_chunk);
-  png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, width, height, 8, channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
-  for (uint32_t y = 0; y < image.height; ++y)
-    png_write_row(png, const_cast<png_bytep>(&image.rgb[size_t{y} * image.width * 3]));
+  for (uint32_t y = 0; y < height; ++y) png_write_row(png, const_cast<png_bytep>(pixels + size_t{y} * width * channels));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   return true;
@@ -72,11 +72,29 @@ void write_png(const std::string& path, const Image& image) {
   try {
     io::write_atomically(path, [&](std::FILE* f) {
       PngOut out{f};
-      return encode_png(out, image, why);
+      return encode_png(out, image.width, image.height, 3, image.rgb.data(), why);
     });
   } catch (const Error& e) {
     throw Error(why.empty() ? e.what() : "cannot write '" + path + "': " + why);
   }
 }
+
+namespace io {
+
+void write_png_grey(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& grey) {
+  if (width == 0 || height == 0 || grey.size() != size_t{width} * height)
+    throw Error("write_png_grey: the image is empty or its size does not match its pixels");
+  std::string why;
+  try {
+    write_atomically(path, [&](std::FILE* f) {
+      PngOut out{f};
+      return encode_png(out, width, height, 1, grey.data(), why);
+    });
+  } catch (const Error& e) {
+    throw Error(why.empty() ? e.what() : "cannot write '" + path + "': " + why);
+  }
+}
+
+}  // namespace io
 
 }  // namespace mv

@@ -20,6 +20,8 @@
 #include "page_cache.h"
 #include "points.h"
 #include "splat.h"
+#include "min_cut.h"
+#include "mask_post.h"
 #include "voxelize.h"
 
 #define MV_PROBE_FIELDS 32u /* at most, per struct */
@@ -36,6 +38,10 @@
   X(MV_U32, start_hi)
 #define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)
 #define MV_FIELDS_CACHE(X) X(MV_U32, n) X(MV_U32, stamp) X(MV_U32, count) X(MV_U32, page_words)
+#define MV_FIELDS_MINCUT(X)                                                                                            \
+  X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, tile) X(MV_U32, tiles_x) X(MV_U32, tiles_y)           \
+  X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)
+#define MV_FIELDS_MASK_POST(X) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, pad0)
 #define MV_FIELDS_LANG(X) X(MV_U32, n) X(MV_U32, width) X(MV_U32, height) X(MV_U32, pad0)
 #define MV_FIELDS_VOXELIZE(X)                                                                                          \
   X(MV_U32, first_item) X(MV_U32, items) X(MV_U32, grid) X(MV_U32, columns_per_item) X(MV_U32, capacity)                   \
@@ -102,5 +108,7 @@ MV_PROBE(ray, MvRay, MV_FIELDS_RAY)
 MV_PROBE(hit, MvHit, MV_FIELDS_HIT)
 MV_PROBE(point_params, MvPointParams, MV_FIELDS_POINT)
 MV_PROBE(splat_params, MvSplatParams, MV_FIELDS_SPLAT)
+MV_PROBE(mincut_params, MvMinCutParams, MV_FIELDS_MINCUT)
+MV_PROBE(mask_post_params, MvMaskPostParams, MV_FIELDS_MASK_POST)
 
 #endif /* MV_LAYOUT_PROBE_H */

@@ -47,6 +47,12 @@
 #elif defined(MV_ENTRY_probe_splat_params)
 #define MV_PROBE_T MvSplatParams
 #define MV_PROBE_FN mv_probe_splat_params
+#elif defined(MV_ENTRY_probe_mincut_params)
+#define MV_PROBE_T MvMinCutParams
+#define MV_PROBE_FN mv_probe_mincut_params
+#elif defined(MV_ENTRY_probe_mask_post_params)
+#define MV_PROBE_T MvMaskPostParams
+#define MV_PROBE_FN mv_probe_mask_post_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

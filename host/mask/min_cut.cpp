@@ -1,0 +1,143 @@
+// The host side of the tiled push-relabel min-cut: uploads the reversed graph's residual capacities, then
+// alternates global relabels (relaxation passes until no height falls) and discharge passes until no pixel
+// with excess can reach the sink, and reads the cut off the last heights.
+#include "megavox/min_cut.h"
+
+#include <algorithm>
+#include <string>
+
+#include "../kernels/common/min_cut.h"
+#include "megavox/error.h"
+
+namespace mv {
+
+namespace {
+
+struct TilePlan {
+  MvMinCutParams base{};
+  uint32_t tiles_of[4] = {};  // tiles of each colour
+  uint32_t local = 1;
+};
+
+TilePlan plan_tiles(const Device& dev, const GridGraph& g, const MinCutOptions& o) {
+  const DeviceInfo& info = dev.info();
+  uint32_t tile = std::max<uint32_t>(o.tile, 2);
+  uint32_t sweeps = std::max<uint32_t>(o.sweeps, 1);
+  if (info.max_loop_iterations != 0) {
+    // Loops summed per invocation: a discharge visits each pixel's edges up to four times per sweep.
+    while (tile > 2 && uint64_t{tile} * tile * g.connectivity * 4 > info.max_loop_iterations) tile /= 2;
+    sweeps = static_cast<uint32_t>(std::clamp<uint64_t>(
+        info.max_loop_iterations / (uint64_t{tile} * tile * g.connectivity * 4), 1, sweeps));
+  }
+  TilePlan plan;
+  MvMinCutParams& p = plan.base;
+  p.width = g.width;
+  p.height = g.height;
+  p.conn = g.connectivity;
+  p.tile = tile;
+  p.tiles_x = (g.width + tile - 1) / tile;
+  p.tiles_y = (g.height + tile - 1) / tile;
+  p.sweeps = sweeps;
+  for (uint32_t c = 0; c < 4; ++c) {
+    const uint32_t across = (p.tiles_x + 1 - (c & 1)) / 2, down = (p.tiles_y + 1 - (c >> 1)) / 2;
+    plan.tiles_of[c] = across * down;
+  }
+  plan.local = std::max<uint32_t>(info.preferred_work_group_size, 1);
+  return plan;
+}
+
+// One dispatch per colour (split where the group count passes the device's limit), a barrier after each.
+void run_colours(Device& dev, Kernel& k, const TilePlan& plan, std::initializer_list<const Buffer*> buffers) {
+  const uint32_t max_groups = std::max<uint32_t>(dev.info().max_groups, 1);
+  for (uint32_t c = 0; c < 4; ++c) {
+    MvMinCutParams p = plan.base;
+    p.color = c;
+    p.color_tiles_x = (p.tiles_x + 1 - (c & 1)) / 2;
+    if (p.color_tiles_x == 0 || plan.tiles_of[c] == 0) continue;
+    for (uint32_t first = 0; first < plan.tiles_of[c];) {
+      const uint32_t groups = std::min<uint32_t>((plan.tiles_of[c] - first + plan.local - 1) / plan.local, max_groups);
+      p.first_tile = first;
+      dev.dispatch(k, groups, plan.local, buffers, p);
+      first += groups * plan.local;
+    }
+    dev.barrier();
+  }
+}
+
+}  // namespace
+
+MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats) {
+  validate_grid_graph(g);
+  const uint64_t n = uint64_t{g.width} * g.height;
+  // The reversed graph: source and sink swapped, every edge turned around.
+  // Flow through a pixel's two terminal edges cancels first: what is left is excess or sink capacity.
+  uint64_t value = 0, sink_before = 0;
+  std::vector<uint32_t> excess(n), sink(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint32_t m = std::min(g.source[i], g.sink[i]);
+    value += m;
+    excess[i] = g.sink[i] - m;
+    sink[i] = g.source[i] - m;
+    sink_before += sink[i];
+  }
+  Buffer eb = dev.alloc(n * 4, "min-cut excess");
+  Buffer hb = dev.alloc(n * 4, "min-cut heights");
+  Buffer sb = dev.alloc(n * 4, "min-cut sink capacities");
+  Buffer rb = dev.alloc(n * 4 * g.connectivity, "min-cut residual capacities");
+  Buffer fb = dev.alloc(8, "min-cut flags");
+  const TilePlan plan = plan_tiles(dev, g, options);
+  const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
+  Buffer tb = dev.alloc(tiles * 4, "min-cut tile stamps");
+  Buffer ab = dev.alloc(tiles * 4, "min-cut active tiles");
+  dev.fill(ab, 1, tiles * 4);  // every tile may hold excess at first
+  dev.upload(eb, excess.data(), n * 4);
+  dev.upload(sb, sink.data(), n * 4);
+  dev.upload(rb, reversed_edges(g).data(), n * 4 * g.connectivity);
+
+  TilePlan relax_plan = plan;
+  relax_plan.base.sweeps = 4 * plan.base.sweeps;  // one edge loop per pixel and sweep: four times the sweeps fit
+  Kernel& relax = dev.kernel(KernelId::mincut_relax);
+  Kernel& active = dev.kernel(KernelId::mincut_active);
+  Kernel& discharge = dev.kernel(KernelId::mincut_discharge);
+  MinCutStats st;
+  // Each round's discharge moves excess closer to the sink or raises heights; push-relabel's bound on
+  // relabels (2n per pixel) bounds the rounds, so the guard below only catches a broken device.
+  const uint64_t max_rounds = 4 * n + 16;
+  for (;;) {
+    if (++st.rounds > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
+    dev.fill(hb, MV_MINCUT_INF, n * 4);
+    dev.fill(tb, 0, tiles * 4);
+    dev.barrier();
+    uint32_t flags[2] = {1, 0};
+    relax_plan.base.stamp_now = 0;
+    while (flags[0] != 0) {
+      dev.fill(fb, 0, 8);
+      dev.barrier();
+      ++relax_plan.base.stamp_now;  // 1 in a round's first pass: every tile runs
+      run_colours(dev, relax, relax_plan, {&hb, &sb, &rb, &fb, &tb});
+      dev.download(fb, flags, 8);
+      ++st.relabel_passes;
+    }
+    dev.fill(fb, 0, 8);
+    dev.barrier();
+    dev.dispatch(active, dev.groups_for(n, 64), 64, {&eb, &hb, &fb}, plan.base);
+    dev.barrier();
+    dev.download(fb, flags, 8);
+    if (flags[1] == 0) break;
+    for (uint32_t pass = 0; pass < std::max<uint32_t>(options.discharge_passes, 1); ++pass)
+      run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb, &ab});
+  }
+  std::vector<uint32_t> heights(n);
+  dev.download(hb, heights.data(), n * 4);
+  dev.download(sb, sink.data(), n * 4);
+  uint64_t sink_after = 0;
+  for (uint64_t i = 0; i < n; ++i) sink_after += sink[i];
+  MinCut cut;
+  cut.value = value + (sink_before - sink_after);
+  cut.source_side.resize(n);
+  for (uint64_t i = 0; i < n; ++i) cut.source_side[i] = heights[i] != MV_MINCUT_INF ? 1 : 0;
+  if (stats) *stats = st;
+  return cut;
+}
+
+}  // namespace mv

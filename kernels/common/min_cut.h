@@ -1,0 +1,205 @@
+/* Exact min-cut of a pixel-grid graph (grid_graph.h) by tiled push-relabel, rounds driven by the host.
+ *
+ * The grid is cut into tiles of tile x tile pixels, coloured (tx & 1) + 2 (ty & 1). One dispatch runs the
+ * tiles of one colour, one work-item per tile, each walking its tile in a fixed order. Tiles of one colour
+ * never touch (not even diagonally; tiles are at least 2 pixels wide), so an item may read and write its
+ * pixels' neighbours in the adjacent, idle tiles without atomics: every device runs the same operations in
+ * the same order and keeps the same state, bit for bit.
+ *   mincut_relax:    a global relabel, pass by pass: height = distance to the sink in the residual graph
+ *                    (Gauss-Seidel sweeps inside a tile, forward then backward, until the tile is still;
+ *                    tiles with nothing new around them are skipped); flag[0] is set when any height fell.
+ *                    The host repeats passes until none does.
+ *   mincut_active:   flag[1] is set when a pixel with excess can still reach the sink.
+ *   mincut_discharge: push-relabel sweeps over a tile: push to the sink, then along admissible edges
+ *                    (height one above the neighbour's), then relabel (1 + the lowest residual neighbour);
+ *                    tiles without movable excess are skipped.
+ * Heights of pixels that cannot reach the sink are MV_MINCUT_INF: such pixels never receive flow again.
+ * All values are 32-bit unsigned; the host keeps the total capacity below 2^31, so nothing overflows.
+ * Loops are bounded by the tile size and the sweep count, which the host keeps within lavapipe's loop cap. */
+#ifndef MV_MIN_CUT_H
+#define MV_MIN_CUT_H
+#include "grid_graph.h"
+
+#define MV_MINCUT_INF 0xffffffffu
+
+MV_STRUCT_BEGIN(MvMinCutParams)
+  mv_u32 width;
+  mv_u32 height;
+  mv_u32 conn;          /* 4 or 8 */
+  mv_u32 tile;          /* tile side in pixels (>= 2) */
+  mv_u32 tiles_x;       /* tiles across the grid */
+  mv_u32 tiles_y;
+  mv_u32 color;         /* the colour this dispatch runs, 0..3 */
+  mv_u32 color_tiles_x; /* tiles of that colour across */
+  mv_u32 first_tile;    /* index of this dispatch's first tile among the colour's tiles */
+  mv_u32 sweeps;        /* sweeps over a tile per dispatch */
+  mv_u32 stamp_now;     /* mincut_relax: this pass's number, from 1 (tile stamps below it are old) */
+MV_STRUCT_END(MvMinCutParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvMinCutParams, 44);
+MV_LAYOUT_AT(MvMinCutParams, width, 0); MV_LAYOUT_AT(MvMinCutParams, height, 4); MV_LAYOUT_AT(MvMinCutParams, conn, 8);
+MV_LAYOUT_AT(MvMinCutParams, tile, 12); MV_LAYOUT_AT(MvMinCutParams, tiles_x, 16);
+MV_LAYOUT_AT(MvMinCutParams, tiles_y, 20); MV_LAYOUT_AT(MvMinCutParams, color, 24);
+MV_LAYOUT_AT(MvMinCutParams, color_tiles_x, 28); MV_LAYOUT_AT(MvMinCutParams, first_tile, 32);
+MV_LAYOUT_AT(MvMinCutParams, sweeps, 36); MV_LAYOUT_AT(MvMinCutParams, stamp_now, 40);
+#endif
+
+/* Tile t of the dispatch's colour, as tile column and row (past the grid for the colour's last tiles). */
+MV_INLINE mv_u32 mv_mincut_tile_x(MvMinCutParams p, mv_u32 t) { return 2u * (t % p.color_tiles_x) + (p.color & 1u); }
+MV_INLINE mv_u32 mv_mincut_tile_y(MvMinCutParams p, mv_u32 t) { return 2u * (t / p.color_tiles_x) + (p.color >> 1u); }
+
+/* Neighbour d of pixel (x, y), or MV_MINCUT_INF off the grid. */
+MV_INLINE mv_u32 mv_mincut_neighbour(MvMinCutParams p, mv_u32 x, mv_u32 y, mv_u32 d) {
+  mv_i32 nx = MV_I32(x) + mv_grid_dx(d);
+  mv_i32 ny = MV_I32(y) + mv_grid_dy(d);
+  if (nx < 0 || ny < 0 || nx >= MV_I32(p.width) || ny >= MV_I32(p.height)) return MV_MINCUT_INF;
+  return MV_U32(ny) * p.width + MV_U32(nx);
+}
+
+/* Visits the pixels of a tile in order (forward on even sweeps, backward on odd ones), without divisions. */
+#define MV_MINCUT_NEXT(s, x, y, x0, y0, x1)                                                                           \
+  if (((s) & 1u) == 0u) {                                                                                          \
+    if (++(x) == (x1)) { (x) = (x0); ++(y); }                                                                        \
+  } else if ((x) == (x0)) { (x) = (x1) - 1u; --(y); } else { --(x); }
+
+/* stamp[tile] = the last pass in which a height of the tile fell. A tile whose 3 x 3 tiles around have no
+ * stamp from this pass or the one before is still: its last relaxation ran until no height fell and nothing
+ * it reads has changed since, so it is skipped. */
+MV_INLINE void mv_mincut_relax(MvBufU32 height, MvBufU32 sink, MvBufU32 resid, MvBufU32 flag, MvBufU32 stamp,
+                               MvMinCutParams p, mv_u32 t) {
+  mv_u32 tx = mv_mincut_tile_x(p, t);
+  mv_u32 ty = mv_mincut_tile_y(p, t);
+  if (tx >= p.tiles_x || ty >= p.tiles_y) return;
+  bool stale = false;
+  for (mv_u32 k = 0u; k < 9u; ++k) {
+    mv_i32 nx = MV_I32(tx) + MV_I32(k % 3u) - 1;
+    mv_i32 ny = MV_I32(ty) + MV_I32(k / 3u) - 1;
+    if (nx < 0 || ny < 0 || nx >= MV_I32(p.tiles_x) || ny >= MV_I32(p.tiles_y)) continue;
+    if (MV_LD(stamp, MV_U32(ny) * p.tiles_x + MV_U32(nx)) + 1u >= p.stamp_now) stale = true;
+  }
+  if (!stale) return;
+  mv_u32 x0 = tx * p.tile;
+  mv_u32 y0 = ty * p.tile;
+  mv_u32 x1 = MV_MIN(x0 + p.tile, p.width);
+  mv_u32 y1 = MV_MIN(y0 + p.tile, p.height);
+  mv_u32 count = (x1 - x0) * (y1 - y0);
+  bool fell = false;
+  for (mv_u32 s = 0u; s < p.sweeps; ++s) {
+    bool changed = false;
+    mv_u32 x = (s & 1u) != 0u ? x1 - 1u : x0;
+    mv_u32 y = (s & 1u) != 0u ? y1 - 1u : y0;
+    for (mv_u32 k = 0u; k < count; ++k) {
+      mv_u32 i = y * p.width + x;
+      mv_u32 best = MV_LD(sink, i) > 0u ? 1u : MV_MINCUT_INF;
+      for (mv_u32 d = 0u; d < p.conn; ++d) {
+        mv_u32 j = mv_mincut_neighbour(p, x, y, d);
+        if (j == MV_MINCUT_INF || MV_LD(resid, i * p.conn + d) == 0u) continue;
+        mv_u32 hj = MV_LD(height, j);
+        if (hj != MV_MINCUT_INF && hj + 1u < best) best = hj + 1u;
+      }
+      if (best < MV_LD(height, i)) {
+        MV_ST(height, i, best);
+        changed = true;
+      }
+      MV_MINCUT_NEXT(s, x, y, x0, y0, x1)
+    }
+    if (!changed) break;
+    fell = true;
+  }
+  if (fell) {
+    MV_ST(stamp, ty * p.tiles_x + tx, p.stamp_now);
+    MV_ATOMIC_OR(flag, 0u, 1u);
+  }
+}
+
+MV_INLINE void mv_mincut_active(MvBufU32 excess, MvBufU32 height, MvBufU32 flag, mv_u32 n, mv_u32 gid,
+                                mv_u32 stride) {
+  bool any = false;
+  for (mv_u32 i = gid; i < n; i += stride)
+    if (MV_LD(excess, i) > 0u && MV_LD(height, i) != MV_MINCUT_INF) any = true;
+  if (any) MV_ATOMIC_OR(flag, 1u, 1u);
+}
+
+/* Marks tile (tx, ty) as holding excess (a push from a neighbouring tile; same-coloured tiles may mark one tile
+ * at once, with the same value). */
+MV_INLINE void mv_mincut_mark(MvBufU32 busy, MvMinCutParams p, mv_u32 x, mv_u32 y) {
+  MV_ATOMIC_OR(busy, (y / p.tile) * p.tiles_x + x / p.tile, 1u);
+}
+
+/* Pushes pixel (x, y)'s excess, relabelling it when it is left with some (twice at most per visit). A push
+ * past the tile [x0, x1) x [y0, y1) marks the neighbour's tile busy. */
+MV_INLINE void mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
+                                         MvBufU32 busy, MvMinCutParams p, mv_u32 x, mv_u32 y, mv_u32 x0,
+                                         mv_u32 y0, mv_u32 x1, mv_u32 y1) {
+  mv_u32 i = y * p.width + x;
+  mv_u32 e = MV_LD(excess, i);
+  mv_u32 h = MV_LD(height, i);
+  if (e == 0u || h == MV_MINCUT_INF) return;
+  for (mv_u32 attempt = 0u; attempt < 2u; ++attempt) {
+    mv_u32 c = MV_LD(sink, i);
+    if (c > 0u) { /* the sink is at height 0, below every pixel */
+      mv_u32 f = MV_MIN(e, c);
+      MV_ST(sink, i, c - f);
+      e -= f;
+    }
+    for (mv_u32 d = 0u; d < p.conn && e > 0u; ++d) {
+      mv_u32 j = mv_mincut_neighbour(p, x, y, d);
+      if (j == MV_MINCUT_INF) continue;
+      mv_u32 r = MV_LD(resid, i * p.conn + d);
+      mv_u32 hj = MV_LD(height, j);
+      if (r == 0u || hj == MV_MINCUT_INF || hj + 1u != h) continue;
+      mv_u32 f = MV_MIN(e, r);
+      MV_ST(resid, i * p.conn + d, r - f);
+      MV_ST(resid, j * p.conn + (d ^ 1u), MV_LD(resid, j * p.conn + (d ^ 1u)) + f);
+      MV_ST(excess, j, MV_LD(excess, j) + f);
+      e -= f;
+      mv_u32 jx = MV_U32(MV_I32(x) + mv_grid_dx(d));
+      mv_u32 jy = MV_U32(MV_I32(y) + mv_grid_dy(d));
+      if (jx < x0 || jx >= x1 || jy < y0 || jy >= y1) mv_mincut_mark(busy, p, jx, jy);
+    }
+    if (e == 0u) break;
+    mv_u32 low = MV_MINCUT_INF;
+    for (mv_u32 d = 0u; d < p.conn; ++d) {
+      mv_u32 j = mv_mincut_neighbour(p, x, y, d);
+      if (j != MV_MINCUT_INF && MV_LD(resid, i * p.conn + d) > 0u) low = MV_MIN(low, MV_LD(height, j));
+    }
+    h = low >= MV_MINCUT_INF - 1u ? MV_MINCUT_INF : low + 1u;
+    if (h == MV_MINCUT_INF) break;
+  }
+  MV_ST(excess, i, e);
+  MV_ST(height, i, h);
+}
+
+/* busy[tile] = 0 only when no pixel of the tile has excess it can still move: such a tile is skipped. The
+ * tile's own word is rewritten at the end from what is left in it. */
+MV_INLINE void mv_mincut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
+                                   MvBufU32 busy, MvMinCutParams p, mv_u32 t) {
+  mv_u32 tx = mv_mincut_tile_x(p, t);
+  mv_u32 ty = mv_mincut_tile_y(p, t);
+  if (tx >= p.tiles_x || ty >= p.tiles_y) return;
+  if (MV_LD(busy, ty * p.tiles_x + tx) == 0u) return;
+  mv_u32 x0 = tx * p.tile;
+  mv_u32 y0 = ty * p.tile;
+  mv_u32 x1 = MV_MIN(x0 + p.tile, p.width);
+  mv_u32 y1 = MV_MIN(y0 + p.tile, p.height);
+  mv_u32 count = (x1 - x0) * (y1 - y0);
+  for (mv_u32 s = 0u; s < p.sweeps; ++s) {
+    mv_u32 x = (s & 1u) != 0u ? x1 - 1u : x0;
+    mv_u32 y = (s & 1u) != 0u ? y1 - 1u : y0;
+    for (mv_u32 k = 0u; k < count; ++k) {
+      mv_mincut_discharge_pixel(excess, height, sink, resid, busy, p, x, y, x0, y0, x1, y1);
+      MV_MINCUT_NEXT(s, x, y, x0, y0, x1)
+    }
+  }
+  mv_u32 left = 0u;
+  mv_u32 x = x0;
+  mv_u32 y = y0;
+  for (mv_u32 k = 0u; k < count; ++k) {
+    mv_u32 i = y * p.width + x;
+    if (MV_LD(excess, i) > 0u && MV_LD(height, i) != MV_MINCUT_INF) left = 1u;
+    MV_MINCUT_NEXT(0u, x, y, x0, y0, x1)
+  }
+  MV_ST(busy, ty * p.tiles_x + tx, left);
+}
+
+#endif /* MV_MIN_CUT_H */

@@ -1,0 +1,26 @@
+// Vulkan entry points of the tiled push-relabel min-cut, one module per -DMV_ENTRY_<name>
+// (bodies: common/min_cut.h). One invocation per tile.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common/mv_glsl_prelude.h"
+#include "common/min_cut.h"
+
+#if defined(MV_ENTRY_relax)
+MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvMinCutParams p;);
+void main() {
+  mv_mincut_relax(args.height, args.sink, args.resid, args.flag, args.stamp, args.p, args.p.first_tile + MV_GLOBAL_ID());
+}
+#elif defined(MV_ENTRY_active)
+MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 flag; MvMinCutParams p;);
+void main() {
+  mv_mincut_active(args.excess, args.height, args.flag, args.p.width * args.p.height, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+#elif defined(MV_ENTRY_discharge)
+MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 busy; MvMinCutParams p;);
+void main() {
+  mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.p,
+                      args.p.first_tile + MV_GLOBAL_ID());
+}
+#else
+#error "define MV_ENTRY_relax, active or discharge"
+#endif

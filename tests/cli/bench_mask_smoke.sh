@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# `megavox bench mask` on a two-image database written here (a red disc on a green checker, no shared data):
+# every cut equals Boost BK's, every figure is in the JSON, and OpenCV's cv::grabCut is either measured beside
+# ours or named as not built in (the test build has no baselines).
+# Usage: bench_mask_smoke.sh MEGAVOX
+set -euo pipefail
+mv=$1
+source "$(dirname "$0")/common.sh"
+
+# write_disc NAME W H: images/NAME.ppm and masks/NAME.pgm (255 in the disc, 0 outside)
+write_disc() {
+  local w=$2 h=$3 x y
+  { printf 'P6\n%d %d\n255\n' "$w" "$h"
+    for ((y = 0; y < h; y++)); do for ((x = 0; x < w; x++)); do
+      if (( (2 * x - w) * (2 * x - w) + (2 * y - h) * (2 * y - h) < h * h / 2 )); then printf '\310\060\050'
+      elif (( (x / 6 + y / 6) % 2 )); then printf '\050\226\074'; else printf '\064\156\100'; fi
+    done; done; } > "$dir/db/images/$1.ppm"
+  { printf 'P5\n%d %d\n255\n' "$w" "$h"
+    for ((y = 0; y < h; y++)); do for ((x = 0; x < w; x++)); do
+      if (( (2 * x - w) * (2 * x - w) + (2 * y - h) * (2 * y - h) < h * h / 2 )); then printf '\377'; else printf '\000'; fi
+    done; done; } > "$dir/db/masks/$1.pgm"
+}
+mkdir -p "$dir/db/images" "$dir/db/masks"
+write_disc a 48 36
+write_disc b 40 40
+
+json=$("$mv" bench mask --data "$dir/db" --cut-images 1 --images 2 --iterations 2 --json)
+for key in speedup_vs_bk grabcut_mean_error grabcut_mean_post_error grabcut_seconds_per_image grabcut_mpx_per_second \
+           megavox_cuts_per_second bk_cuts_per_second missing_baselines; do
+  grep -q "\"$key\"" <<<"$json" || fail "bench mask --json lacks $key: $json"
+done
+grep -q '"all_cuts_equal_bk": true' <<<"$json" || fail "a cut differs from BK's: $json"
+[[ $(grep -c '"same_cut_as_bk": true' <<<"$json") == 4 ]] || fail "not 4 cuts (2 sizes, 4- and 8-connected): $json"
+[[ $(grep -c '"post_error"' <<<"$json") == 2 ]] || fail "not 2 GrabCut images: $json"
+
+text=$("$mv" bench mask --data "$dir/db" --cut-images 0 --images 2 --iterations 2)
+grep -q '^a  .* 48x36 ' <<<"$text" && grep -q '^b  .* 40x40 ' <<<"$text" || fail "no per-image rows: $text"
+if grep -q '"opencv_mean_error"' <<<"$json"; then
+  [[ $(grep -c '"opencv_error"' <<<"$json") == 2 ]] || fail "OpenCV did not run on both images: $json"
+  grep -q '^OpenCV cv::grabCut, same boxes and iterations: mean error' <<<"$text" || fail "no OpenCV line: $text"
+else
+  grep -q 'OpenCV cv::grabCut: not built in (needs libopencv-imgproc-dev' <<<"$json" ||
+    fail "OpenCV neither measured nor named as missing: $json"
+  grep -q '^OpenCV cv::grabCut: not built in' <<<"$text" || fail "the text does not say OpenCV is missing: $text"
+fi
+
+# A folder that is not a database: one clear error, non-zero exit.
+if "$mv" bench mask --data "$dir/nowhere" --json > "$dir/out.txt" 2> "$dir/err.txt"; then fail "a missing database passed"; fi
+grep -q "no images in" "$dir/err.txt" || fail "unclear error: $(cat "$dir/err.txt")"
+echo "bench mask smoke: ok"

@@ -1,0 +1,203 @@
+// The min-cut kernels on every device against Boost.Graph's Boykov-Kolmogorov: the same cut value and the same
+// source set (the canonical minimal one) on random 4- and 8-connected grids, extreme capacities, split grids,
+// all-source and all-sink graphs and image-like graphs, plus the graph checks' messages.
+#include <random>
+
+#include "host/ref/min_cut_reference.h"
+#include "megavox/min_cut.h"
+#include "test_support.h"
+
+namespace mv::test {
+namespace {
+
+constexpr int kDx[8] = {1, -1, 0, 0, 1, -1, 1, -1};
+constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, -1, 1};
+
+bool inside(const GridGraph& g, uint32_t x, uint32_t y, uint32_t d) {
+  const long nx = long{x} + kDx[d], ny = long{y} + kDy[d];
+  return nx >= 0 && ny >= 0 && nx < long{g.width} && ny < long{g.height};
+}
+
+GridGraph empty_graph(uint32_t w, uint32_t h, uint32_t conn) {
+  GridGraph g;
+  g.width = w;
+  g.height = h;
+  g.connectivity = conn;
+  g.source.assign(size_t{w} * h, 0);
+  g.sink.assign(size_t{w} * h, 0);
+  g.edges.assign(size_t{w} * h * conn, 0);
+  return g;
+}
+
+// Random capacities below `cap`; a terminal edge on about `terminal_share` of the pixels, either side.
+GridGraph random_graph(uint32_t w, uint32_t h, uint32_t conn, uint32_t cap, double terminal_share, uint64_t seed) {
+  GridGraph g = empty_graph(w, h, conn);
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<uint32_t> c(0, cap - 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t{y} * w + x;
+      if (u(rng) < terminal_share) g.source[i] = c(rng);
+      if (u(rng) < terminal_share) g.sink[i] = c(rng);
+      for (uint32_t d = 0; d < conn; ++d)
+        if (inside(g, x, y, d)) g.edges[i * conn + d] = c(rng);
+    }
+  return g;
+}
+
+// An image-like graph: a bright disc on a dark, noisy background; data terms from the distance to either
+// brightness, contrast-sensitive smoothness (GrabCut's shape, integer weights).
+GridGraph disc_graph(uint32_t w, uint32_t h, uint32_t conn, uint64_t seed) {
+  GridGraph g = empty_graph(w, h, conn);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0, 40);
+  std::vector<double> v(size_t{w} * h);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const double dx = x - 0.45 * w, dy = y - 0.55 * h;
+      v[size_t{y} * w + x] = (dx * dx + dy * dy < 0.09 * w * h ? 180 : 70) + noise(rng);
+    }
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t{y} * w + x;
+      g.source[i] = static_cast<uint32_t>(std::abs(v[i] - 70));
+      g.sink[i] = static_cast<uint32_t>(std::abs(v[i] - 180));
+      for (uint32_t d = 0; d < conn; ++d) {
+        if (!inside(g, x, y, d)) continue;
+        const double diff = v[i] - v[size_t(long{y} + kDy[d]) * w + size_t(long{x} + kDx[d])];
+        g.edges[i * conn + d] = static_cast<uint32_t>(50.0 * (d < 4 ? 1.0 : 0.7071) * std::exp(-diff * diff / 3200));
+      }
+    }
+  return g;
+}
+
+class MinCutTest : public ::testing::TestWithParam<DeviceInfo> {
+ protected:
+  Device& dev() { return shared_device(GetParam()); }
+
+  void expect_bk(const GridGraph& g, const std::string& what, const MinCutOptions& o = {}) {
+    SCOPED_TRACE(what + " (" + std::to_string(g.width) + " x " + std::to_string(g.height) + ", " +
+                 std::to_string(g.connectivity) + "-connected)");
+    const MinCut want = ref::bk_min_cut(g);
+    const MinCut got = min_cut(dev(), g, o);
+    ASSERT_EQ(got.value, want.value);
+    ASSERT_EQ(got.source_side.size(), want.source_side.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < want.source_side.size(); ++i) differ += got.source_side[i] != want.source_side[i];
+    ASSERT_EQ(differ, 0u) << "pixels on another side than Boost's source tree";
+  }
+};
+
+TEST_P(MinCutTest, RandomGridsMatchBoykovKolmogorov) {
+  struct Size {
+    uint32_t w, h;
+  };
+  uint64_t seed = 1;
+  for (uint32_t conn : {4u, 8u})
+    for (Size s : {Size{1, 1}, Size{1, 9}, Size{13, 1}, Size{2, 2}, Size{7, 5}, Size{33, 17}, Size{70, 65}})
+      for (uint32_t cap : {1u, 2u, 10u, 1000u})
+        for (double share : {0.1, 0.6}) expect_bk(random_graph(s.w, s.h, conn, cap, share, seed++), "random");
+}
+
+// Tiles of 2 and 3 pixels (every pixel near a tile seam), one discharge pass per relabel, many sweeps.
+TEST_P(MinCutTest, SmallTilesAndOtherScheduleGiveTheSameCut) {
+  for (uint32_t conn : {4u, 8u}) {
+    const GridGraph g = random_graph(23, 19, conn, 100, 0.3, conn);
+    expect_bk(g, "tile 2", {2, 1, 1});
+    expect_bk(g, "tile 3", {3, 2, 5});
+    expect_bk(g, "tile 64", {64, 8, 2});
+  }
+}
+
+// Capacities at the edge of the 2^31 total; one edge holding nearly all of it; zero everywhere.
+TEST_P(MinCutTest, ExtremeCapacities) {
+  for (uint32_t conn : {4u, 8u}) {
+    const uint32_t w = 20, h = 15;
+    const uint64_t slots = uint64_t{w} * h * (conn + 2);
+    expect_bk(random_graph(w, h, conn, static_cast<uint32_t>(kMaxGraphCapacity / slots), 1.0, 7 + conn), "near 2^31");
+    GridGraph g = random_graph(w, h, conn, 5, 0.5, 9 + conn);
+    g.source[0] = 0x7fff0000u;
+    g.edges[0] = 0;  // the big source pixel reaches the rest through its other edges only
+    expect_bk(g, "one huge source edge");
+    g.sink[size_t{w} * h - 1] = 0x7f00u;
+    expect_bk(g, "huge source, large sink");
+    expect_bk(empty_graph(w, h, conn), "all zero");
+  }
+}
+
+// A wall of zero capacity splits the grid into regions with their own terminals, one region has none.
+TEST_P(MinCutTest, DisconnectedRegions) {
+  for (uint32_t conn : {4u, 8u}) {
+    GridGraph g = random_graph(40, 30, conn, 50, 0.4, 11 + conn);
+    for (uint32_t y = 0; y < g.height; ++y)
+      for (uint32_t x = 0; x < g.width; ++x)
+        for (uint32_t d = 0; d < conn; ++d) {
+          if (!inside(g, x, y, d)) continue;
+          const long nx = long{x} + kDx[d], ny = long{y} + kDy[d];
+          const bool crosses = (x < 17) != (nx < 17) || (y < 12) != (ny < 12);
+          if (crosses) g.edges[(size_t{y} * g.width + x) * conn + d] = 0;
+        }
+    for (uint32_t y = 12; y < g.height; ++y)
+      for (uint32_t x = 17; x < g.width; ++x) g.source[size_t{y} * g.width + x] = g.sink[size_t{y} * g.width + x] = 0;
+    expect_bk(g, "four regions");
+  }
+}
+
+TEST_P(MinCutTest, AllSourceAndAllSink) {
+  for (uint32_t conn : {4u, 8u}) {
+    GridGraph g = random_graph(37, 29, conn, 30, 0.0, 13 + conn);
+    for (auto& c : g.source) c = 9;
+    expect_bk(g, "all source");  // no flow; every pixel on the source side
+    const MinCut cut = min_cut(dev(), g);
+    EXPECT_EQ(cut.value, 0u);
+    EXPECT_EQ(std::count(cut.source_side.begin(), cut.source_side.end(), 1), long(g.source.size()));
+    g.sink = g.source;
+    std::fill(g.source.begin(), g.source.end(), 0);
+    expect_bk(g, "all sink");
+    const MinCut none = min_cut(dev(), g);
+    EXPECT_EQ(std::count(none.source_side.begin(), none.source_side.end(), 1), 0);
+    g.source.assign(g.sink.size(), 10);  // both everywhere: everything cancels at the pixels
+    expect_bk(g, "all both");
+  }
+}
+
+TEST_P(MinCutTest, ImageLikeGraphs) {
+  for (uint32_t conn : {4u, 8u}) expect_bk(disc_graph(150, 110, conn, 21 + conn), "disc");
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(MinCutTest);
+
+TEST(GridGraph, BadGraphsAreRefusedWithReasons) {
+  GridGraph g = empty_graph(4, 3, 8);
+  EXPECT_EQ(error_message([&] { validate_grid_graph(g); }), "");
+  GridGraph bad = g;
+  bad.connectivity = 6;
+  EXPECT_NE(error_message([&] { validate_grid_graph(bad); }).find("connectivity 6"), std::string::npos);
+  bad = g;
+  bad.sink.pop_back();
+  EXPECT_NE(error_message([&] { validate_grid_graph(bad); }).find("do not match"), std::string::npos);
+  bad = g;
+  bad.edges[1] = 3;  // pixel (0, 0) toward -x
+  EXPECT_NE(error_message([&] { validate_grid_graph(bad); }).find("leaves the grid"), std::string::npos);
+  bad = g;
+  bad.source[0] = 0x7fffffffu;
+  bad.sink[1] = 1;
+  EXPECT_NE(error_message([&] { validate_grid_graph(bad); }).find("2^31"), std::string::npos);
+  bad = g;
+  bad.width = 0;
+  EXPECT_NE(error_message([&] { validate_grid_graph(bad); }).find("empty"), std::string::npos);
+}
+
+TEST(GridGraph, ReversalSwapsTerminalsAndEdges) {
+  GridGraph g = random_graph(9, 7, 8, 100, 0.5, 3);
+  GridGraph r = reversed_grid_graph(g);
+  EXPECT_EQ(r.source, g.sink);
+  EXPECT_EQ(r.sink, g.source);
+  EXPECT_EQ(reversed_grid_graph(r).edges, g.edges);
+  const MinCut a = ref::bk_min_cut(g), b = ref::bk_min_cut(r);
+  EXPECT_EQ(a.value, b.value);
+}
+
+}  // namespace
+}  // namespace mv::test

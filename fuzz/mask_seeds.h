@@ -2,9 +2,7 @@
 // RGB, with a comment), PNG (grey 8, grey 16, RGB) and JPEG (grey, RGB) images, a seed map, and .mvm models of
 // both channel counts; each read back through its reader before it is kept.
 #pragma once
-#include <cstdio>  // before jpeglib.h
 
-#include <jpeglib.h>
 #include <png.h>
 
 #include <filesystem>
@@ -13,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "../tests/jpeg_encode.h"
 #include "io/image_reader.h"
 #include "io/mvm_file.h"
 #include "io/png_grey.h"
@@ -28,27 +27,7 @@ inline void put_file(const std::filesystem::path& p, const std::vector<uint8_t>&
 inline std::vector<uint8_t> jpeg_bytes(uint32_t w, uint32_t h, int channels) {
   std::vector<uint8_t> px(size_t{w} * h * channels);
   for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(i * 37 % 251);
-  jpeg_compress_struct c;
-  jpeg_error_mgr err;
-  c.err = jpeg_std_error(&err);
-  jpeg_create_compress(&c);
-  unsigned char* out = nullptr;
-  unsigned long size = 0;
-  jpeg_mem_dest(&c, &out, &size);
-  c.image_width = w, c.image_height = h, c.input_components = channels;
-  c.in_color_space = channels == 3 ? JCS_RGB : JCS_GRAYSCALE;
-  jpeg_set_defaults(&c);
-  jpeg_set_quality(&c, 60, TRUE);
-  jpeg_start_compress(&c, TRUE);
-  while (c.next_scanline < h) {
-    JSAMPROW row = &px[size_t{c.next_scanline} * w * channels];
-    jpeg_write_scanlines(&c, &row, 1);
-  }
-  jpeg_finish_compress(&c);
-  std::vector<uint8_t> bytes(out, out + size);
-  jpeg_destroy_compress(&c);
-  std::free(out);
-  return bytes;
+  return mv::test::encode_jpeg(w, h, channels, px, 60);
 }
 
 inline std::vector<uint8_t> read_back(const std::filesystem::path& p) {

@@ -8,6 +8,7 @@
 
 #include "host/io/image_reader.h"
 #include "megavox/render.h"
+#include "jpeg_encode.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -18,10 +19,6 @@ std::vector<uint8_t> bytes_of(const std::string& s) { return {s.begin(), s.end()
 std::vector<uint8_t> read_all(const std::string& path) {
   std::vector<char> c = file_bytes(path);
   return {c.begin(), c.end()};
-}
-
-void write_bytes(const std::string& path, const std::vector<uint8_t>& b) {
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
 }
 
 // A one-channel PNG of `bits` (8 or 16) through libpng, samples given in host order.
@@ -47,32 +44,6 @@ std::string write_grey_png(const std::string& name, uint32_t w, uint32_t h, int 
   png_destroy_write_struct(&png, &info);
   std::fclose(f);
   return path;
-}
-
-std::vector<uint8_t> encode_jpeg(uint32_t w, uint32_t h, int channels, const std::vector<uint8_t>& px) {
-  jpeg_compress_struct c;
-  jpeg_error_mgr err;
-  c.err = jpeg_std_error(&err);
-  jpeg_create_compress(&c);
-  unsigned char* out = nullptr;
-  unsigned long size = 0;
-  jpeg_mem_dest(&c, &out, &size);
-  c.image_width = w;
-  c.image_height = h;
-  c.input_components = channels;
-  c.in_color_space = channels == 3 ? JCS_RGB : JCS_GRAYSCALE;
-  jpeg_set_defaults(&c);
-  jpeg_set_quality(&c, 100, TRUE);
-  jpeg_start_compress(&c, TRUE);
-  while (c.next_scanline < h) {
-    JSAMPROW row = const_cast<JSAMPLE*>(&px[size_t{c.next_scanline} * w * channels]);
-    jpeg_write_scanlines(&c, &row, 1);
-  }
-  jpeg_finish_compress(&c);
-  std::vector<uint8_t> bytes(out, out + size);
-  jpeg_destroy_compress(&c);
-  std::free(out);
-  return bytes;
 }
 
 TEST(ImageReader, PnmEightAndSixteenBit) {

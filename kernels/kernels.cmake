@@ -58,6 +58,7 @@ mv_kernel(dag_emit                 dag/dag.cl        dag/dag.comp         8  MvD
 mv_kernel(trace_rays               trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays MV_TRACE_ENC=2u MV_TRACE_PARAMS=0u)
 mv_kernel(trace_rays_ssvdag        trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays MV_TRACE_ENC=4u MV_TRACE_PARAMS=0u)
 mv_kernel(trace_rays_ssvdag_params trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays MV_TRACE_ENC=4u MV_TRACE_PARAMS=1u)
+mv_kernel(trace_rays_paged         trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays_paged)
 mv_kernel(secondary_rays           trace/trace.cl    trace/trace.comp     5  MvSecondaryParams MV_ENTRY_secondary_rays)
 mv_kernel(mincut_relax             mask/min_cut.cl   mask/min_cut.comp    5  MvMinCutParams    MV_ENTRY_relax)
 mv_kernel(mincut_active            mask/min_cut.cl   mask/min_cut.comp    3  MvMinCutParams    MV_ENTRY_active)

@@ -23,7 +23,7 @@ class HostTracer {
     MvTraceParams p = params_;
     p.proj = proj;
     p.max_steps = max_steps;
-    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), enc_, 0u, r, p);  // level starts from memory
+    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), nullptr, nullptr, enc_, 0u, r, p);  // level starts from memory
   }
 
  private:

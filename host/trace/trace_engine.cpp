@@ -6,6 +6,7 @@
 #include <string>
 #include <thread>
 
+#include "cache/page_cache.h"
 #include "megavox/error.h"
 #include "megavox/trace.h"
 #include "trace/trace_layout.h"
@@ -30,6 +31,16 @@ TraceEngine::TraceEngine(Device& dev, const EncodedDag& dag) : dev_(dev), levels
   }
   set_trace_levels(params_, dag);
   set_level_starts(LevelStarts::automatic);
+}
+
+TraceEngine::TraceEngine(Device& dev, uint32_t levels, PageCache& cache)
+    : dev_(dev), levels_(levels), encoding_(static_cast<uint32_t>(Encoding::svdag)), cache_(&cache) {
+  if (levels == 0 || levels > 21) throw Error("trace: the DAG has " + std::to_string(levels) + " levels");
+  const uint32_t words = cache.config().page_words;
+  if (words < 16 || (words & (words - 1)) != 0)
+    throw Error("trace: pages of " + std::to_string(words) + " words; paged tracing needs a power of two >= 16");
+  page_shift_ = static_cast<uint32_t>(__builtin_ctz(words));
+  params_.levels = levels;
 }
 
 void TraceEngine::set_level_starts(LevelStarts where) {
@@ -77,7 +88,8 @@ void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
 void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count, uint32_t width, float proj,
                         uint32_t max_steps, bool occlusion, Buffer& results) {
   const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
-  Kernel& k = dev_.kernel(!bricks              ? KernelId::trace_rays
+  Kernel& k = dev_.kernel(cache_              ? KernelId::trace_rays_paged
+                          : !bricks           ? KernelId::trace_rays
                           : starts_in_params_ ? KernelId::trace_rays_ssvdag_params
                                               : KernelId::trace_rays_ssvdag);
   const Buffer* offsets = bricks ? &level_offsets_ : nullptr;
@@ -91,6 +103,15 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count
     p.width = width;
     p.max_steps = step_limit(max_steps);
     p.proj = proj;
+    if (cache_) {
+      p.level_base[MV_TRACE_PAGE_STAMP] = cache_->stamp();
+      p.level_base[MV_TRACE_PAGE_SHIFT] = page_shift_;
+      dev_.dispatch(k, groups, local,
+                    {camera ? camera : rays, &cache_->data(), &cache_->table(), &cache_->usage(),
+                     &cache_->requests(), &results},
+                    p);
+      return;
+    }
     dev_.dispatch(k, groups, local, {rays, camera, &words_, bricks, offsets, &results}, p);
   });
   dev_.barrier();
@@ -114,7 +135,37 @@ void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buff
 Tracer::Tracer(Device& dev, const MvxFile& file)
     : grid_(file.grid), engine_(std::make_unique<TraceEngine>(dev, file.dag)) {}
 
+Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes) : grid_(dag.grid), paged_(std::move(dag)) {
+  if (paged_.encoding == Encoding::ssvdag) throw Error("trace: an ssvdag is not paged; it renders resident");
+  if (paged_.pages == 0 || paged_.page_words == 0 || !paged_.read) throw Error("trace: the paged DAG has no pages");
+  const uint64_t page_bytes = uint64_t{paged_.page_words} * 4;
+  if (cache_bytes < page_bytes)
+    throw Error("trace: a page cache of " + std::to_string(cache_bytes) + " bytes holds no page of " +
+                std::to_string(page_bytes) + " bytes");
+  PageCacheConfig c;
+  c.page_words = paged_.page_words;
+  c.pages = paged_.pages;
+  // more slots than pages would never be used
+  c.slots = static_cast<uint32_t>(std::min<uint64_t>(cache_bytes / page_bytes, paged_.pages));
+  cache_ = std::make_unique<PageCache>(dev, c);
+  engine_ = std::make_unique<TraceEngine>(dev, paged_.levels, *cache_);
+}
+
 Tracer::~Tracer() = default;
+
+void Tracer::begin_pass() {
+  if (cache_) cache_->begin_pass();
+}
+
+CacheUpdateStats Tracer::end_pass() {
+  if (!cache_) return {};
+  CacheUpdateStats st = cache_->update([this](uint32_t page, std::span<uint32_t> words) {
+    paged_.read(page, words);
+    return true;
+  });
+  passes_.push_back(st);
+  return st;
+}
 
 std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptions& options) {
   std::vector<RayHit> out(rays.size());
@@ -140,7 +191,14 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
   Buffer ray_buf = dev.alloc(cube.size() * 4, "rays");
   dev.upload(ray_buf, cube.data(), cube.size() * 4);
   Buffer hit_buf = dev.alloc(uint64_t{n} * MV_HIT_WORDS * 4, "ray hits");
-  engine_->trace(&ray_buf, nullptr, n, 0, 0.0f, options.max_steps, false, hit_buf);
+  passes_.clear();
+  for (uint32_t pass = 1;; ++pass) {
+    begin_pass();
+    engine_->trace(&ray_buf, nullptr, n, 0, 0.0f, options.max_steps, false, hit_buf);
+    if (!cache_) break;
+    const CacheUpdateStats st = end_pass();
+    if (st.requested == 0 || st.loaded == 0 || pass == options.max_passes) break;  // done, stuck, or enough
+  }
   std::vector<uint32_t> words(uint64_t{n} * MV_HIT_WORDS);
   dev.download(hit_buf, words.data(), words.size() * 4);
   for (uint32_t i = 0; i < n; ++i) {
@@ -150,6 +208,7 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
     h.gave_up = MV_INFO_STATUS(w.info) == MV_TRACE_GAVE_UP;
     h.steps = w.steps;
     if (!h.hit) continue;
+    h.coarse = MV_INFO_COARSE(w.info) != 0;
     h.t = w.t;
     h.level = MV_INFO_LEVEL(w.info);
     h.cell[0] = w.x;

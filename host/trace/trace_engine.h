@@ -9,9 +9,14 @@
 
 namespace mv {
 
+class PageCache;
+
 class TraceEngine {
  public:
   TraceEngine(Device& dev, const EncodedDag& dag);
+  // A 32-bit word encoding of `levels` levels read through `cache` (kernel trace_rays_paged): traces stamp the
+  // cache's current pass; a ray that meets a missing page requests it and stops there (a coarse hit).
+  TraceEngine(Device& dev, uint32_t levels, PageCache& cache);
 
   Device& device() { return dev_; }
   uint32_t levels() const { return levels_; }
@@ -41,6 +46,8 @@ class TraceEngine {
   uint32_t encoding_ = 0;
   Buffer words_, bricks_, level_offsets_;
   bool starts_in_params_ = false;
+  PageCache* cache_ = nullptr;
+  uint32_t page_shift_ = 0;
   MvTraceParams params_{};  // levels and ssvdag level starts
 };
 

@@ -19,12 +19,16 @@ struct RayHit {
   int normal[3] = {0, 0, 0};  // the face entered (axis-aligned); zero when the ray starts in a full voxel
   uint32_t cell[3] = {0, 0, 0};  // the cell at `level`; its first voxel is cell << level
   uint32_t steps = 0;            // traversal steps taken (a cost measure)
+  bool coarse = false;           // paged: stopped at this cell because the page below it was not loaded
 };
 
 struct TraceOptions {
   // Traversal steps after which a ray gives up (the same limit on every device; lavapipe caps shader
   // loops at 65535 iterations).
   uint32_t max_steps = 60000;
+  // Paged tracers: passes at most, each loading the pages the previous one missed (RayHit::coarse marks
+  // rays that still stopped at a missing page); 0 = until none is missed.
+  uint32_t max_passes = 0;
 };
 
 }  // namespace mv

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "megavox/cache_stats.h"
 #include "megavox/mvx.h"
 
 namespace mv {
@@ -40,6 +41,10 @@ struct RenderOptions {
   uint32_t ao_samples = 8;   // ambient-occlusion rays per hit (0 = no AO); at most 256
   double ao_radius = 0;      // in model units; 0 = 1/20 of the grid's side
   uint32_t max_steps = 60000;
+  // Paged tracers (megavox/trace.h): frame passes at most, each tracing every ray of the frame and then loading
+  // the pages it missed; 0 = until a pass misses none. The picture is the last pass's: where it still met
+  // missing pages, it shows the finest resident level.
+  uint32_t cache_passes = 0;
 };
 
 struct Image {
@@ -55,8 +60,14 @@ struct RenderPass {
 
 struct RenderResult {
   Image image;
-  std::vector<RenderPass> passes;
+  std::vector<RenderPass> passes;  // of the last frame pass
   uint64_t hits = 0;  // pixels whose primary ray hit
+  // Paged tracers: one update per frame pass; converged when the last pass met no missing page, so the
+  // picture equals the resident render's.
+  std::vector<CacheUpdateStats> cache;
+  bool converged = true;
+  uint64_t coarse_pixels = 0;  // primary hits of the last pass that stopped at a missing page
+  double trace_seconds = 0;    // all frame passes' tracing
 };
 
 // Renders on the tracer's device.

@@ -7,9 +7,12 @@
 // equal those of a plain voxel-by-voxel DDA (host/ref/trace_reference.h), which the tests check.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <span>
 #include <vector>
 
+#include "megavox/cache_stats.h"
 #include "megavox/device.h"
 #include "megavox/mvx.h"
 #include "megavox/ray.h"
@@ -17,23 +20,52 @@
 namespace mv {
 
 class TraceEngine;
+class PageCache;
+
+// A DAG in pages (a paged .mvx, version 3: svo, svdag or ussvdag): its shape and a reader of page `page` into
+// `words` (page_words of them), called by the cache's producer. The reader throws mv::Error when it cannot;
+// the page stays missing and tracing goes on.
+struct PagedDag {
+  GridTransform grid;
+  Encoding encoding = Encoding::svdag;
+  uint32_t levels = 0;
+  uint32_t page_words = 0;  // a power of two
+  uint32_t pages = 0;
+  std::function<void(uint32_t page, std::span<uint32_t> words)> read;
+};
 
 // Uploads one encoded DAG to a device and answers batches of rays with the same kernel the renderer uses.
 class Tracer {
  public:
   Tracer(Device& dev, const MvxFile& file);
+  // Streams `dag` through a device page cache of `cache_bytes` (whole pages; counted in the device budget):
+  // only the pages rays touch are loaded. Throws mv::Error when cache_bytes holds no page.
+  Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes);
   ~Tracer();
   Tracer(const Tracer&) = delete;
   Tracer& operator=(const Tracer&) = delete;
 
+  // Paged: passes over the batch until no ray misses a page (or options.max_passes); the hits equal those of
+  // the resident DAG once it converges. last_passes() tells what each pass loaded.
   std::vector<RayHit> trace(const std::vector<Ray>& rays, const TraceOptions& options = {});
 
   TraceEngine& engine() { return *engine_; }
   const GridTransform& grid() const { return grid_; }
 
+  // The page cache of a paged tracer (null when resident): a pass starts with begin_pass(), traces through
+  // engine(), and ends with end_pass(), the cache's update (loads what the pass missed).
+  bool paged() const { return cache_ != nullptr; }
+  PageCache* cache() { return cache_.get(); }
+  void begin_pass();
+  CacheUpdateStats end_pass();
+  const std::vector<CacheUpdateStats>& last_passes() const { return passes_; }
+
  private:
   GridTransform grid_;
+  PagedDag paged_;
+  std::unique_ptr<PageCache> cache_;
   std::unique_ptr<TraceEngine> engine_;
+  std::vector<CacheUpdateStats> passes_;
 };
 
 }  // namespace mv

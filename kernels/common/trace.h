@@ -25,6 +25,7 @@
  * (trace_nodes.h), the seam where a paged address layer goes. */
 #ifndef MV_TRACE_H
 #define MV_TRACE_H
+#include "page_cache.h"
 #include "trace_nodes.h"
 
 /* 1 / x for |x| in [1e-20, 1e20], identical on every device (not always correctly rounded). */
@@ -111,9 +112,30 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
   return e;
 }
 
-/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). */
-MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u32 enc, mv_u32 in_params, MvRay r,
-                         MvTraceParams p) {
+/* Paged traversal: where stream word `addr` is in the cache's slots (data word slot << shift | offset), or
+ * MV_CACHE_NONE when its page is not resident; then the page is requested for this pass (request[page] =
+ * stamp: every writer writes the same value, so duplicates collapse without atomics), else its slot is stamped
+ * as used. A stamp already there is not written again, so the rays sharing a page share its cache line. Each
+ * node lies in one page, so a node's header and pointers resolve once, through the node's first word. */
+MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvBufU32 request, MvTraceParams p, mv_u32 addr) {
+  const mv_u32 shift = p.level_base[MV_TRACE_PAGE_SHIFT];
+  const mv_u32 stamp = p.level_base[MV_TRACE_PAGE_STAMP];
+  mv_u32 page = addr >> shift;
+  mv_u32 slot = MV_LD(table, page);
+  if (slot == MV_CACHE_NONE) {
+    if (MV_LD(request, page) != stamp) MV_ST(request, page, stamp);
+    return MV_CACHE_NONE;
+  }
+  if (MV_LD(usage, slot) != stamp) MV_ST(usage, slot, stamp);
+  return (slot << shift) | (addr & ((1u << shift) - 1u));
+}
+
+/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). enc =
+ * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
+ * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse. Other
+ * encodings ignore usage and request. */
+MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBufU32 usage, MvBufU32 request,
+                         mv_u32 enc, mv_u32 in_params, MvRay r, MvTraceParams p) {
   const mv_u32 L = p.levels;
   const mv_f32 proj = p.proj;
   const mv_u32 max_steps = p.max_steps;
@@ -140,9 +162,11 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_u32 mir_at[22];
   mv_u32 occ_at[22];
   mv_u32 nl = L;
-  node_at[L] = 0u;
+  mv_u32 root_at = enc == MV_ENC_PAGED ? mv_page_resolve(bricks, usage, request, p, 0u) : 0u;
+  mv_u32 coarse = root_at == MV_CACHE_NONE ? 1u : 0u; /* paged, root page missing: the root cube is the hit */
+  node_at[L] = root_at;
   mir_at[L] = 0u;
-  mv_u64 root = mv_node_load(words, bricks, enc, L, 0u); /* an ssvdag has L >= 3: its root is an inner node */
+  mv_u64 root = mv_node_load(words, bricks, enc, L, coarse != 0u ? 0u : root_at); /* ssvdag: L >= 3, inner */
   hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner_word(root, 0u) : MV_U32(root);
   occ_at[L] = mv_node_occupancy(enc, hdr_at[L]);
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
@@ -150,9 +174,13 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   mv_u32 idx[3];
   for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = mv_child_half(0u, s, o[k], inv[k], k, te, ae);
 
-  mv_u32 status = MV_TRACE_MISS;
+  mv_u32 status = coarse != 0u ? MV_TRACE_HIT : MV_TRACE_MISS;
   mv_u32 steps = 0u;
-  while (true) {
+  if (coarse != 0u) {
+    lc = L;
+    for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 0u;
+  }
+  while (coarse == 0u) {
     if (steps == max_steps) {
       status = MV_TRACE_GAVE_UP;
       break;
@@ -171,6 +199,14 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
       mv_u32 lv = nl - 1u;
       if (enc != MV_ENC_SSVDAG) {
         mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
+        if (enc == MV_ENC_PAGED) {
+          child = mv_page_resolve(bricks, usage, request, p, child);
+          if (child == MV_CACHE_NONE) {
+            coarse = 1u;
+            status = MV_TRACE_HIT;
+            break;
+          }
+        }
         mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
         node_at[lv] = child;
         hdr_at[lv] = child_hdr;
@@ -242,23 +278,24 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, mv_u
   h.t = te;
   h.x = idx[0]; h.y = idx[1]; h.z = idx[2];
   mv_u32 negative = ae != MV_AXIS_NONE && inv[ae] > 0.0f ? 1u : 0u;
-  h.info = MV_TRACE_HIT | (ae << 2) | (negative << 4) | (lc << 8);
+  h.info = MV_TRACE_HIT | (ae << 2) | (negative << 4) | (lc << 8) | (coarse != 0u ? MV_INFO_COARSE_BIT : 0u);
   return h;
 }
 
 #if !defined(MV_CPP)
 /* One work-item's share of a trace dispatch. `enc` and `in_params` are constants of the entry point (`enc`:
- * MV_ENC_SVDAG for every 32-bit word encoding, or MV_ENC_SSVDAG; `in_params`: see mv_level_base), so each kernel
+ * MV_ENC_SVDAG for every 32-bit word encoding, MV_ENC_PAGED for them through the page cache, or MV_ENC_SSVDAG;
+ * `in_params`: see mv_level_base), so each kernel
  * compiles only its own decode. */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
-                             MvBufU32 results, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc,
-                             mv_u32 in_params) {
+                             MvBufU32 usage, MvBufU32 request, MvBufU32 results, MvTraceParams p, mv_u32 gid,
+                             mv_u32 gsize, mv_u32 enc, mv_u32 in_params) {
   mv_u32 begin = p.block != 0u ? gid * p.block : gid;
   mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
   mv_u32 stride = p.block != 0u ? 1u : gsize;
   for (mv_u32 j = begin; j < end; j += stride) {
     mv_u32 i = p.first + j;
-    MvHit h = mv_trace(words, bricks, lvl_off, enc, in_params, mv_trace_source_ray(rays, cam, i, p), p);
+    MvHit h = mv_trace(words, bricks, lvl_off, usage, request, enc, in_params, mv_trace_source_ray(rays, cam, i, p), p);
     if (p.occlusion == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {

@@ -7,6 +7,7 @@
 
 #define MV_ENC_SVDAG 2u  /* also stands for svo and ussvdag: the same 32-bit word decode */
 #define MV_ENC_SSVDAG 4u
+#define MV_ENC_PAGED 8u  /* 32-bit word encodings read through the page cache (trace.h: mv_page_resolve) */
 #define MV_TRACE_MISS 0u
 #define MV_TRACE_HIT 1u
 #define MV_TRACE_GAVE_UP 2u /* max_steps reached */
@@ -23,11 +24,18 @@
 #define MV_TRACE_PARAM_LEVELS 11u /* the parameters can hold where ssvdag levels 3 .. 13 start (every tree up
                                      to 16K^3); the push constants hold no more (128 bytes) */
 
-/* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 */
+/* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 |
+ * coarse << 13 (paged: the walk stopped at that cell because the page below it was missing) */
+#define MV_INFO_COARSE_BIT (1u << 13)
 #define MV_INFO_STATUS(i) ((i) & 3u)
 #define MV_INFO_AXIS(i) (((i) >> 2) & 3u)
 #define MV_INFO_NEGATIVE(i) (((i) >> 4) & 1u)
 #define MV_INFO_LEVEL(i) (((i) >> 8) & 31u)
+#define MV_INFO_COARSE(i) (((i) >> 13) & 1u)
+/* Paged traversal (MV_ENC_PAGED) needs no level starts: level_base carries the pass's stamp and log2 of the
+ * page size in words instead. */
+#define MV_TRACE_PAGE_STAMP 0
+#define MV_TRACE_PAGE_SHIFT 1
 
 MV_STRUCT_BEGIN(MvTraceParams)
   mv_u32 first;     /* rays [first, first + count) in this dispatch */

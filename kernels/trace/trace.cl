@@ -5,18 +5,26 @@
 // (level starts read from memory, or taken from the parameters: mv_level_base).
 __kernel void trace_rays(__global float* rays, __global float* cam, __global uint* words, __global uint* bricks,
                          __global uint* lvl_off, __global uint* out, MvTraceParams p) {
-  mv_trace_rays(rays, cam, words, bricks, lvl_off, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SVDAG, 0u);
+  mv_trace_rays(rays, cam, words, bricks, lvl_off, words, words, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SVDAG, 0u);
 }
 
 __kernel void trace_rays_ssvdag(__global float* rays, __global float* cam, __global uint* words,
                                 __global uint* bricks, __global uint* lvl_off, __global uint* out, MvTraceParams p) {
-  mv_trace_rays(rays, cam, words, bricks, lvl_off, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG, 0u);
+  mv_trace_rays(rays, cam, words, bricks, lvl_off, words, words, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG, 0u);
 }
 
 __kernel void trace_rays_ssvdag_params(__global float* rays, __global float* cam, __global uint* words,
                                        __global uint* bricks, __global uint* lvl_off, __global uint* out,
                                        MvTraceParams p) {
-  mv_trace_rays(rays, cam, words, bricks, lvl_off, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG, 1u);
+  mv_trace_rays(rays, cam, words, bricks, lvl_off, words, words, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG, 1u);
+}
+
+// 32-bit word encodings through the page cache: slots, page table, usage and request stamps (mv_page_resolve);
+// the rays come from `src`, the ray buffer or (p.camera) the camera record.
+__kernel void trace_rays_paged(__global float* src, __global uint* slots, __global uint* table, __global uint* usage,
+                               __global uint* request, __global uint* out, MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED,
+                0u);
 }
 
 __kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global float* table,

@@ -1,0 +1,28 @@
+// megavox — what one update of the device page cache did (plain data): reported per pass by paged ray
+// queries and renders (megavox/trace.h, megavox/render.h).
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace mv {
+
+// What one update after a pass did. requested counts the distinct missing pages asked for in the pass; of those, the first
+// `loaded + failed` (in page order) got a victim slot, and `dropped` did not (over the unused slots or
+// max_loads: asked again by the next pass that still needs them).
+struct CacheUpdateStats {
+  uint32_t stamp = 0;          // the pass this update followed
+  uint32_t used_slots = 0;     // slots whose usage stamp is this pass (read in it, or loaded for it)
+  uint32_t requested = 0;
+  uint32_t loaded = 0;         // produced and entered into the page table
+  uint32_t failed = 0;         // the producer could not make them: still missing, their slots free
+  uint32_t evicted = 0;        // resident pages whose slots were reused
+  uint32_t dropped = 0;
+  bool over_capacity = false;  // more requests than slots unused in the pass (the frame's working set does
+                               // not fit: the used pages stay, the rest waits)
+  uint64_t bytes_uploaded = 0;
+  double manage_seconds = 0;   // the kernels and the host's waits on them
+  double produce_seconds = 0;  // the producer, the upload of its batch and its placement into the slots
+  std::string first_error;     // the first producer failure's message, if it threw one
+};
+
+}  // namespace mv

@@ -1,0 +1,313 @@
+// Paged traversal (issue 27): the trace kernel reading a paged DAG through the device page cache.
+//  - one pass of the kernel equals the same code on the host over the same cache state: hits (coarse where a
+//    page was missing), usage stamps and page requests;
+//  - ray queries and renders converge to the resident results, byte for byte, with a cache far smaller than
+//    the DAG when the view's working set fits;
+//  - a one-page cache gives the root's level of detail, a failing producer leaves pages missing, and neither
+//    ends in an error or a corrupt picture; the page table stays the inverse of the slot owners throughout.
+#include <algorithm>
+#include <random>
+
+#include "cache/page_cache.h"
+#include "cache/page_layout.h"
+#include "cache/paged_stream.h"
+#include "host/build_steps.h"
+#include "host/ref/reference.h"
+#include "host/trace/trace_engine.h"
+#include "kernels/common/trace.h"
+#include "megavox/error.h"
+#include "megavox/render.h"
+#include "megavox/trace.h"
+#include "test_support.h"
+
+namespace mv::test {
+namespace {
+
+constexpr uint32_t kPageWords = 16;  // small pages, so that small models have many
+
+// The octahedron voxelized at 2^levels with random voxels strewn around it (so that the DAG does not reduce
+// to a handful of pages), placed like a built .mvx, in a 32-bit word encoding.
+MvxFile octahedron(Device& dev, uint32_t levels, Encoding e) {
+  const uint32_t n = 1u << levels;
+  Bounds b;
+  b.extend(-1, -1, -1);
+  b.extend(1, 1, 1);
+  std::vector<uint64_t> voxels = ref::voxelize(octahedron_grid_triangles(n), n);
+  std::mt19937_64 rng(levels);
+  for (uint32_t i = 0; i < 40 * n; ++i) voxels.push_back(rng() & ((uint64_t{1} << (3 * levels)) - 1));
+  std::sort(voxels.begin(), voxels.end());
+  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+  const std::string format = encoding_name(e);
+  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, format), format, grid_for_bounds(b, n), b);
+}
+
+// The file's DAG in pages (subtree order), read from memory; `fail` pages throw.
+struct Paged {
+  EncodedDag stream;
+  PagedDag dag;
+};
+Paged paged(const MvxFile& f, std::vector<uint32_t> fail = {}) {
+  Paged p;
+  p.stream = paged_stream(f.dag, page_layout(f.dag, NodeOrder::subtree, kPageWords));
+  p.dag.grid = f.grid;
+  p.dag.encoding = f.dag.encoding;
+  p.dag.levels = f.dag.levels;
+  p.dag.page_words = kPageWords;
+  p.dag.pages = static_cast<uint32_t>((p.stream.words.size() + kPageWords - 1) / kPageWords);
+  const std::vector<uint32_t>* words = &p.stream.words;
+  p.dag.read = [words, fail](uint32_t page, std::span<uint32_t> out) {
+    if (std::find(fail.begin(), fail.end(), page) != fail.end()) throw Error("injected read failure");
+    for (uint32_t i = 0; i < out.size(); ++i) {
+      const uint64_t w = uint64_t{page} * out.size() + i;
+      out[i] = w < words->size() ? (*words)[w] : 0u;
+    }
+  };
+  return p;
+}
+
+std::vector<uint32_t> download_words(Device& dev, const Buffer& b) {
+  std::vector<uint32_t> v(b.bytes() / 4);
+  dev.download(b, v.data(), b.bytes());
+  return v;
+}
+
+// Every resident page's slot names it back, and every owned slot's page points at it.
+void expect_table_consistent(Device& dev, PageCache& c) {
+  const std::vector<uint32_t> table = download_words(dev, c.table()), owner = download_words(dev, c.owners());
+  for (uint32_t pg = 0; pg < table.size(); ++pg)
+    if (table[pg] != MV_CACHE_NONE) ASSERT_EQ(owner[table[pg]], pg) << "page " << pg;
+  for (uint32_t s = 0; s < owner.size(); ++s)
+    if (owner[s] != MV_CACHE_NONE) ASSERT_EQ(table[owner[s]], s) << "slot " << s;
+}
+
+// Camera-like rays from outside toward random points of the unit cube around the model.
+std::vector<Ray> rays_at(const MvxFile& f, uint32_t n, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Ray> rays(n);
+  for (Ray& r : rays) {
+    for (int a = 0; a < 3; ++a) {
+      r.origin[a] = 3.0f * u(rng);
+      r.direction[a] = 0.8f * u(rng) - r.origin[a];
+    }
+  }
+  (void)f;
+  return rays;
+}
+
+void expect_same_hits(const std::vector<RayHit>& got, const std::vector<RayHit>& want) {
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t i = 0; i < got.size(); ++i) {
+    SCOPED_TRACE("ray " + std::to_string(i));
+    ASSERT_EQ(got[i].hit, want[i].hit);
+    ASSERT_FALSE(got[i].coarse);
+    EXPECT_EQ(got[i].t, want[i].t);
+    EXPECT_EQ(got[i].level, want[i].level);
+    EXPECT_EQ(got[i].steps, want[i].steps);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(got[i].cell[a], want[i].cell[a]);
+      EXPECT_EQ(got[i].normal[a], want[i].normal[a]);
+    }
+  }
+}
+
+class PagedTraceTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+// Each pass of the kernel against the host build of the same code, started from the cache state the pass
+// found (downloaded), until the cache holds everything the rays need.
+TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
+  Device& dev = shared_device(GetParam());
+  const MvxFile f = octahedron(dev, 6, Encoding::svdag);
+  Paged p = paged(f);
+  ASSERT_GT(p.dag.pages, 8u);
+  Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+  PageCache& cache = *tracer.cache();
+  const uint32_t n = 2000;
+  std::vector<uint32_t> rays(uint64_t{n} * MV_RAY_FLOATS);
+  {
+    const std::vector<Ray> world = rays_at(f, n, 5);
+    const double side = f.grid.voxel_size * f.grid.resolution;
+    for (uint32_t i = 0; i < n; ++i) {
+      float c[6];
+      for (int a = 0; a < 3; ++a) {
+        c[a] = static_cast<float>((world[i].origin[a] - f.grid.origin[a]) / side);
+        c[3 + a] = static_cast<float>(world[i].direction[a] / side);
+      }
+      mv_store_ray(rays.data(), i, MvRay{c[0], c[1], c[2], c[3], c[4], c[5], 1e30f, 0.0f});
+    }
+  }
+  Buffer ray_buf = dev.alloc(rays.size() * 4, "rays");
+  dev.upload(ray_buf, rays.data(), rays.size() * 4);
+  Buffer hit_buf = dev.alloc(uint64_t{n} * MV_HIT_WORDS * 4, "hits");
+  uint32_t coarse_total = 0;
+  for (uint32_t pass = 1; pass <= 64; ++pass) {
+    SCOPED_TRACE("pass " + std::to_string(pass));
+    tracer.begin_pass();
+    std::vector<uint32_t> data = download_words(dev, cache.data()), table = download_words(dev, cache.table()),
+                          usage = download_words(dev, cache.usage()), request = download_words(dev, cache.requests());
+    tracer.engine().trace(&ray_buf, nullptr, n, 0, 0.0f, 60000, false, hit_buf);
+    const std::vector<uint32_t> hits = download_words(dev, hit_buf);
+    MvTraceParams tp{};
+    tp.levels = f.dag.levels;
+    tp.max_steps = tracer.engine().step_limit(60000);
+    tp.level_base[MV_TRACE_PAGE_STAMP] = cache.stamp();
+    tp.level_base[MV_TRACE_PAGE_SHIFT] = 4;  // 16 words
+    uint32_t coarse = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+      const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), MV_ENC_PAGED, 0u,
+                                  mv_load_ray(reinterpret_cast<const float*>(rays.data()), i), tp);
+      const MvHit got = mv_load_hit(hits.data(), i);
+      ASSERT_EQ(got.info, want.info) << "ray " << i;
+      ASSERT_EQ(MV_FBITS(got.t), MV_FBITS(want.t)) << "ray " << i;
+      ASSERT_EQ(got.x, want.x);
+      ASSERT_EQ(got.y, want.y);
+      ASSERT_EQ(got.z, want.z);
+      ASSERT_EQ(got.steps, want.steps);
+      coarse += MV_INFO_COARSE(want.info);
+    }
+    EXPECT_EQ(download_words(dev, cache.usage()), usage);
+    EXPECT_EQ(download_words(dev, cache.requests()), request);
+    coarse_total += coarse;
+    const CacheUpdateStats st = tracer.end_pass();
+    expect_table_consistent(dev, cache);
+    if (st.requested == 0) {
+      EXPECT_EQ(coarse, 0u);
+      EXPECT_GT(coarse_total, 0u);  // the early passes did stop at missing pages
+      EXPECT_GT(pass, 2u);
+      return;
+    }
+    EXPECT_GT(coarse, 0u);  // a request means some ray stopped at the missing page
+  }
+  FAIL() << "no convergence in 64 passes";
+}
+
+// Ray queries through a cache of an eighth of the pages equal the resident tracer's, for every 32-bit
+// word encoding, once enough passes load what the batch needs (a narrow bundle: its working set fits).
+TEST_P(PagedTraceTest, RayQueriesConvergeToTheResidentHits) {
+  Device& dev = shared_device(GetParam());
+  for (Encoding e : {Encoding::svo, Encoding::svdag, Encoding::ussvdag}) {
+    SCOPED_TRACE(encoding_name(e));
+    const MvxFile f = octahedron(dev, 7, e);
+    Paged p = paged(f);
+    std::vector<Ray> rays(400);
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<float> u(-0.05f, 0.05f);
+    for (Ray& r : rays) {  // from one eye toward a small patch of the surface
+      r.origin[0] = 3, r.origin[1] = 0.2f, r.origin[2] = 0.1f;
+      r.direction[0] = -3, r.direction[1] = -0.2f + u(rng), r.direction[2] = -0.1f + u(rng);
+    }
+    Tracer resident(dev, f);
+    const std::vector<RayHit> want = resident.trace(rays);
+    const uint64_t cache = std::max<uint64_t>(p.dag.pages / 8, 1) * kPageWords * 4;
+    Tracer tracer(dev, p.dag, cache);
+    ASSERT_LE(uint64_t{tracer.cache()->config().slots} * 8, p.dag.pages);
+    const std::vector<RayHit> got = tracer.trace(rays);
+    ASSERT_FALSE(tracer.last_passes().empty());
+    EXPECT_EQ(tracer.last_passes().back().requested, 0u);
+    expect_same_hits(got, want);
+    expect_table_consistent(dev, *tracer.cache());
+  }
+}
+
+// A picture through a cache 8 times smaller than the DAG (a close view: its working set fits), and a shaded
+// one (shadow and AO rays reach further) through half of it: byte-identical to the resident renders.
+TEST_P(PagedTraceTest, RenderConvergesToTheResidentPicture) {
+  Device& dev = shared_device(GetParam());
+  const MvxFile f = octahedron(dev, 7, Encoding::svdag);
+  Paged p = paged(f);
+  Camera cam;
+  cam.eye[0] = 0.3, cam.eye[1] = 1.6, cam.eye[2] = 0.4;  // close to the top vertex
+  cam.target[0] = 0, cam.target[1] = 0.9, cam.target[2] = 0;
+  cam.fov = 10;
+  for (Shading shading : {Shading::normal, Shading::shaded}) {
+    SCOPED_TRACE(shading_name(shading));
+    RenderOptions o;
+    o.width = 96;
+    o.height = 64;
+    o.shading = shading;
+    o.ao_samples = 2;
+    Tracer resident(dev, f);
+    const RenderResult want = render(resident, cam, o);
+    const uint32_t share = shading == Shading::normal ? 8 : 2;
+    const uint64_t cache = std::max<uint64_t>(p.dag.pages / share, 1) * kPageWords * 4;
+    Tracer tracer(dev, p.dag, cache);
+    const RenderResult got = render(tracer, cam, o);
+    EXPECT_TRUE(got.converged);
+    EXPECT_GT(got.cache.size(), 2u);
+    EXPECT_EQ(got.coarse_pixels, 0u);
+    EXPECT_EQ(got.hits, want.hits);
+    EXPECT_TRUE(got.image.rgb == want.image.rgb) << "the converged picture differs from the resident one";
+    EXPECT_GT(got.cache.front().requested, 0u);
+  }
+}
+
+// One slot: the root's page and nothing more. The picture is the coarse one (no error, every pixel shaded
+// from resident data) and the render says it did not converge.
+TEST_P(PagedTraceTest, OnePageCacheRendersTheRootsLevelOfDetail) {
+  Device& dev = shared_device(GetParam());
+  const MvxFile f = octahedron(dev, 6, Encoding::ussvdag);
+  Paged p = paged(f);
+  Tracer tracer(dev, p.dag, kPageWords * 4);
+  ASSERT_EQ(tracer.cache()->config().slots, 1u);
+  RenderOptions o;
+  o.width = 48;
+  o.height = 32;
+  o.shading = Shading::level;
+  o.lod_pixels = 0;  // voxels: more than the root's page
+  const RenderResult r = render(tracer, view_camera(f.bounds, "iso"), o);
+  EXPECT_FALSE(r.converged);
+  EXPECT_GT(r.hits, 0u);
+  EXPECT_GT(r.coarse_pixels, 0u);
+  ASSERT_GE(r.cache.size(), 2u);
+  EXPECT_EQ(r.cache[0].loaded, 1u);  // the root's page
+  EXPECT_TRUE(r.cache.back().over_capacity);
+  EXPECT_EQ(r.image.rgb.size(), size_t{48} * 32 * 3);
+  expect_table_consistent(dev, *tracer.cache());
+  EXPECT_THROW(Tracer(dev, p.dag, kPageWords * 4 - 1), Error);
+}
+
+// Pages whose reads fail stay missing: the error is reported, the rest loads, and rendering goes on.
+TEST_P(PagedTraceTest, FailingProducerLeavesPagesMissing) {
+  Device& dev = shared_device(GetParam());
+  const MvxFile f = octahedron(dev, 6, Encoding::svdag);
+  Paged good = paged(f);
+  std::vector<uint32_t> fail;
+  for (uint32_t pg = 1; pg < good.dag.pages; pg += 3) fail.push_back(pg);
+  Paged p = paged(f, fail);
+  Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+  RenderOptions o;
+  o.width = 48;
+  o.height = 32;
+  const RenderResult r = render(tracer, view_camera(f.bounds, "front"), o);
+  EXPECT_FALSE(r.converged);
+  uint32_t failed = 0, loaded = 0;
+  std::string error;
+  for (const CacheUpdateStats& st : r.cache) {
+    failed += st.failed;
+    loaded += st.loaded;
+    if (error.empty()) error = st.first_error;
+  }
+  EXPECT_GT(failed, 0u);
+  EXPECT_GT(loaded, 1u);
+  EXPECT_NE(error.find("injected read failure"), std::string::npos) << error;
+  EXPECT_GT(r.coarse_pixels, 0u);
+  const std::vector<uint32_t> table = download_words(dev, tracer.cache()->table());
+  for (uint32_t pg : fail) EXPECT_EQ(table[pg], MV_CACHE_NONE) << "page " << pg;
+  expect_table_consistent(dev, *tracer.cache());
+}
+
+TEST_P(PagedTraceTest, SsvdagIsNotPaged) {
+  Device& dev = shared_device(GetParam());
+  PagedDag d;
+  d.encoding = Encoding::ssvdag;
+  d.levels = 6;
+  d.page_words = kPageWords;
+  d.pages = 4;
+  d.read = [](uint32_t, std::span<uint32_t>) {};
+  EXPECT_THROW(Tracer(dev, d, 1 << 20), Error);
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(PagedTraceTest);
+
+}  // namespace
+}  // namespace mv::test

@@ -43,7 +43,10 @@ class BackendKernel {
 // All work is ordered in one stream per backend. dispatch/fill/copy are recorded (OpenCL: enqueued on an
 // in-order queue; Vulkan: recorded into a command buffer) and run no later than finish(). barrier() makes
 // every earlier write visible to every later command; without one, consecutive commands may overlap.
-// upload/download are synchronous: they wait for all earlier work, then copy.
+// upload/download are synchronous: they wait for all earlier work, then copy. upload_async is recorded in the
+// stream like copy: it returns at once and the copy runs in order with the other commands, no later than
+// finish() (OpenCL: a non-blocking write, `src` read while it runs; Vulkan: `src` copied into staging memory
+// now, then a recorded copy); the caller keeps `src` unchanged until finish().
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -54,6 +57,7 @@ class Backend {
 
   virtual void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) = 0;
   virtual void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) = 0;
+  virtual void upload_async(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) = 0;
   // Fill `bytes` (multiple of 4) at `offset` (multiple of 4) with a 32-bit pattern; recorded in the stream.
   virtual void fill(BackendBuffer& dst, uint64_t offset, uint64_t bytes, uint32_t pattern) = 0;
   // Copy `bytes` (multiple of 4) between buffers; recorded in the stream.

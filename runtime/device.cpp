@@ -119,6 +119,11 @@ void Device::upload(Buffer& dst, const void* src, uint64_t bytes, uint64_t offse
   if (bytes) impl_->backend->upload(*dst.impl_, offset, src, bytes);
 }
 
+void Device::upload_async(Buffer& dst, const void* src, uint64_t bytes, uint64_t offset) {
+  check_range(dst, offset, bytes, "upload");
+  if (bytes) impl_->backend->upload_async(*dst.impl_, offset, src, bytes);
+}
+
 void Device::download(const Buffer& src, void* dst, uint64_t bytes, uint64_t offset) const {
   check_range(src, offset, bytes, "download");
   if (bytes) impl_->backend->download(*src.impl_, offset, dst, bytes);

@@ -39,6 +39,7 @@ class CountingBackend : public rt::Backend {
   std::unique_ptr<rt::BackendBuffer> create_buffer(rt::BackendArena&, uint64_t, uint64_t) override { unused(); }
   void upload(rt::BackendBuffer&, uint64_t, const void*, uint64_t) override { unused(); }
   void download(rt::BackendBuffer&, uint64_t, void*, uint64_t) override { unused(); }
+  void upload_async(rt::BackendBuffer&, uint64_t, const void*, uint64_t) override { unused(); }
   void fill(rt::BackendBuffer&, uint64_t, uint64_t, uint32_t) override { unused(); }
   void copy(rt::BackendBuffer&, uint64_t, rt::BackendBuffer&, uint64_t, uint64_t) override { unused(); }
   rt::BackendKernel& kernel(const rt::KernelDesc&) override { unused(); }

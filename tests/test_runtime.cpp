@@ -111,6 +111,29 @@ TEST_P(RuntimeTest, UploadFillCopyDownload) {
   EXPECT_THROW(d.download(a, got.data(), 8, data.size() * 4), Error);  // out of range
 }
 
+// Asynchronous uploads run in order with the other commands: a fill before, an upload over part of it, a copy
+// after that reads it, all recorded without a wait; the source may change only after finish().
+TEST_P(RuntimeTest, AsynchronousUploadsRunInStreamOrder) {
+  Device& d = dev();
+  std::vector<uint32_t> data = random_u32(50000, 2), more = random_u32(1000, 3);
+  Buffer a = d.alloc(data.size() * 4, "a");
+  Buffer b = d.alloc(data.size() * 4, "b");
+  d.fill(a, 7, data.size() * 4);
+  d.barrier();
+  d.upload_async(a, data.data() + 100, 20000 * 4, 100 * 4);
+  d.upload_async(a, more.data(), more.size() * 4, 30000 * 4);
+  d.barrier();
+  d.copy(a, b, data.size() * 4);
+  d.finish();
+  std::vector<uint32_t> got(data.size());
+  d.download(b, got.data(), got.size() * 4);
+  for (size_t i = 0; i < got.size(); ++i) {
+    const uint32_t expect = i >= 100 && i < 20100 ? data[i] : i >= 30000 && i < 31000 ? more[i - 30000] : 7u;
+    ASSERT_EQ(got[i], expect) << "at " << i;
+  }
+  EXPECT_THROW(d.upload_async(a, data.data(), 8, data.size() * 4), Error);  // out of range
+}
+
 TEST_P(RuntimeTest, UnknownKernelIsAnError) { EXPECT_THROW(dev().kernel(static_cast<KernelId>(kKernelCount)), Error); }
 
 // Every kernel kernels/kernels.cmake lists builds on every device that has what it needs, and its OpenCL

@@ -1,8 +1,11 @@
 #include "cache/page_cache.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -112,24 +115,30 @@ CacheUpdateStats PageCache::update(const PageProducer& produce) {
   dev_.download(evicted_, evicted.data(), uint64_t{n} * 4);
   for (uint32_t old : evicted) st.evicted += old != MV_CACHE_NONE ? 1u : 0u;
 
-  // one batch from the producer, placed into the victims' slots
+  // one batch from the producer: the pages read in parallel off the calling thread (TBB workers), then one
+  // asynchronous upload of the batch and its flags, placed into the victims' slots
   const auto tp = Clock::now();
   const uint64_t batch_words = uint64_t{n} * c.page_words;
   std::vector<uint32_t> staging(batch_words, 0), ok(n, 0);
-  for (uint32_t i = 0; i < n; ++i) {
+  std::vector<std::string> errors(n);
+  tbb::parallel_for(uint32_t{0}, n, [&](uint32_t i) {
     std::span<uint32_t> words(staging.data() + uint64_t{i} * c.page_words, c.page_words);
     try {
       ok[i] = produce(pages[i], words) ? 1u : 0u;
     } catch (const std::exception& e) {
-      if (st.first_error.empty()) st.first_error = "page " + std::to_string(pages[i]) + ": " + e.what();
+      errors[i] = "page " + std::to_string(pages[i]) + ": " + e.what();
     }
+  });
+  for (uint32_t i = 0; i < n; ++i) {
     st.loaded += ok[i];
+    if (st.first_error.empty() && !errors[i].empty()) st.first_error = errors[i];  // the lowest page's
   }
   st.failed = n - st.loaded;
   Buffer staged = dev_.alloc(batch_words * 4, "page cache upload batch");
   Buffer ok_buf = dev_.alloc(uint64_t{n} * 4, "page cache produced flags");
-  dev_.upload(staged, staging.data(), batch_words * 4);
-  dev_.upload(ok_buf, ok.data(), uint64_t{n} * 4);
+  dev_.upload_async(staged, staging.data(), batch_words * 4);
+  dev_.upload_async(ok_buf, ok.data(), uint64_t{n} * 4);
+  dev_.barrier();
   st.bytes_uploaded = batch_words * 4;
   p.n = static_cast<uint32_t>(batch_words);  // at most slots * page_words, checked at construction
   dev_.dispatch(dev_.kernel(KernelId::cache_place), dev_.groups_for(batch_words, kLocal), kLocal,

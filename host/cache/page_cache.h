@@ -24,7 +24,8 @@ struct PageCacheConfig {
 };
 
 // Fills `words` (page_words of them) with page `page`. Returns false, or throws, when it cannot: the page
-// stays missing and the update goes on.
+// stays missing and the update goes on. Called for several pages at once from worker threads (a batch is
+// read in parallel), so it must be thread-safe.
 using PageProducer = std::function<bool(uint32_t page, std::span<uint32_t> words)>;
 
 class PageCache {

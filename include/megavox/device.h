@@ -167,6 +167,10 @@ class Device {
 
   void upload(Buffer& dst, const void* src, uint64_t bytes, uint64_t offset = 0);
   void download(const Buffer& src, void* dst, uint64_t bytes, uint64_t offset = 0) const;
+  // An upload recorded in the stream like copy(): returns at once, runs in order with the other commands
+  // (barrier() before a dispatch that reads it) and no later than finish(); `src` must stay unchanged until
+  // finish(). The host goes on while it runs (OpenCL: a non-blocking write; Vulkan: staged now, copied then).
+  void upload_async(Buffer& dst, const void* src, uint64_t bytes, uint64_t offset = 0);
   void fill(Buffer& dst, uint32_t pattern, uint64_t bytes, uint64_t offset = 0);
   void copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_offset = 0, uint64_t dst_offset = 0);
 

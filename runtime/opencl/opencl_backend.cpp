@@ -187,6 +187,11 @@ class OpenCLBackend final : public Backend {
     check(clEnqueueWriteBuffer(queue_, mem(dst), CL_TRUE, offset, bytes, src, 0, nullptr, nullptr), "upload");
   }
 
+  void upload_async(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override {
+    if (bytes == 0) return;
+    check(clEnqueueWriteBuffer(queue_, mem(dst), CL_FALSE, offset, bytes, src, 0, nullptr, nullptr), "upload");
+  }
+
   void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) override {
     if (bytes == 0) return;
     check(clEnqueueReadBuffer(queue_, mem(src), CL_TRUE, offset, bytes, dst, 0, nullptr, nullptr), "download");

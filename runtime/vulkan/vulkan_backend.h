@@ -88,6 +88,7 @@ class VulkanBackend final : public Backend {
   std::unique_ptr<BackendBuffer> create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) override;
   void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override;
   void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) override;
+  void upload_async(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override;
   void fill(BackendBuffer& dst, uint64_t offset, uint64_t bytes, uint32_t pattern) override;
   void copy(BackendBuffer& src, uint64_t src_offset, BackendBuffer& dst, uint64_t dst_offset, uint64_t bytes) override;
 
@@ -150,6 +151,8 @@ class VulkanBackend final : public Backend {
   // Parameter buffers for kernels whose arguments exceed the push constants: host-visible chunks filled
   // front to back during a recording. A few KiB per recording, outside the page pool's budget.
   std::vector<std::unique_ptr<VulkanArena>> arg_chunks_;
+  // Staging memory of the asynchronous uploads recorded since the last finish(), freed by it.
+  std::vector<std::unique_ptr<VulkanArena>> staged_uploads_;
   size_t arg_chunk_ = 0;
   uint64_t arg_used_ = 0;
 };

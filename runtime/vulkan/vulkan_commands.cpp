@@ -137,6 +137,7 @@ void VulkanBackend::finish() {
   check(vkResetFences(device_, 1, &fence_), "vkResetFences");
   check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
   arg_chunk_ = 0;  // the recorded work that read the parameter buffers is done
+  staged_uploads_.clear();
   arg_used_ = 0;
   if (queries) collect_timings(queries, names);
 }

@@ -63,6 +63,18 @@ void VulkanBackend::upload(BackendBuffer& dst, uint64_t offset, const void* src,
   transfer(as_vk(dst), offset, bytes, src, nullptr);
 }
 
+void VulkanBackend::upload_async(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) {
+  VulkanBuffer& b = as_vk(dst);
+  check_range(b, offset, bytes, "upload");
+  if (bytes == 0) return;
+  auto staging = allocate(bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                          {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT});
+  std::memcpy(staging->mapped, src, bytes);
+  const VkBufferCopy region{0, b.offset + offset, bytes};
+  vkCmdCopyBuffer(recording(), staging->buffer, b.arena->buffer, 1, &region);
+  staged_uploads_.push_back(std::move(staging));
+}
+
 void VulkanBackend::download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) {
   transfer(as_vk(src), offset, bytes, nullptr, dst);
 }

@@ -70,6 +70,11 @@ struct RenderResult {
   double trace_seconds = 0;    // all frame passes' tracing
 };
 
+// A camera flight: {"fov": F, "frames": [{"eye": [x,y,z], "target": [x,y,z], "up": [x,y,z]}, ...]} in model
+// units (fov: degrees, default 40; up: default 0,1,0). Throws mv::Error naming the file and the frame.
+std::vector<Camera> read_flight(const std::string& path);
+std::vector<Camera> parse_flight(const std::string& text, const std::string& name);
+
 // Renders on the tracer's device.
 RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& options);
 

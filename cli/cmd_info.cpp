@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cache/page_layout.h"
 #include "cli_common.h"
 #include "megavox/mvx.h"
 
@@ -12,7 +13,8 @@ namespace mv::cli {
 void add_info_command(CLI::App& app) {
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  auto* cmd = app.add_subcommand("info", "Validate a .mvx file (checksums, structure) and print its header and counts");
+  auto* cmd = app.add_subcommand("info", "Validate a .mvx file (checksums, every page, structure) and print its header, "
+                                          "counts and paging");
   cmd->add_option("file", *path, "The .mvx file")->required();
   cmd->add_flag("--json", *json, "Print one JSON object");
   cmd->callback([path, json] {
@@ -21,6 +23,8 @@ void add_info_command(CLI::App& app) {
     for (size_t l = 2; l < f.dag_nodes.size(); ++l) total += f.dag_nodes[l];
     const uint64_t bytes = f.dag.bytes();
     const double bpv = f.voxels ? 8.0 * double(bytes) / double(f.voxels) : 0;
+    const uint32_t pw = f.paging.page_words;
+    const uint64_t pages = pw ? (f.paged_words + pw - 1) / pw : 0;
     if (*json) {
       nlohmann::json j = {{"file", *path},
                           {"format", encoding_name(f.dag.encoding)},
@@ -35,6 +39,12 @@ void add_info_command(CLI::App& app) {
                           {"nodes_total", total},
                           {"bytes", bytes},
                           {"bits_per_voxel", bpv}};
+      if (pw)
+        j["paging"] = {{"page_words", pw}, {"page_bytes", uint64_t{pw} * 4}, {"pages", pages},
+                       {"node_order", node_order_name(f.paging.order)}, {"paged_words", f.paged_words},
+                       {"size_ratio", f.dag.words.empty() ? 1.0 : double(f.paged_words) / double(f.dag.words.size())}};
+      else
+        j["paging"] = nullptr;
       std::cout << j.dump(2) << "\n";
       return;
     }
@@ -48,6 +58,13 @@ void add_info_command(CLI::App& app) {
       std::printf("  %-6zu %14llu %14llu\n", l, (unsigned long long)f.svo_nodes[l], (unsigned long long)f.dag_nodes[l]);
     std::printf("  DAG nodes (levels >= 2): %llu; encoded %llu bytes, %.3f bits per voxel\n",
                 (unsigned long long)total, (unsigned long long)bytes, bpv);
+    if (pw)
+      std::printf("  paged: %u-word pages (%u KiB), %llu pages, %s order, %llu words with padding (x%.4f); every "
+                  "page checked\n", pw, pw / 256, (unsigned long long)pages, node_order_name(f.paging.order).c_str(),
+                  (unsigned long long)f.paged_words,
+                  f.dag.words.empty() ? 1.0 : double(f.paged_words) / double(f.dag.words.size()));
+    else
+      std::printf("  not paged: renders resident only\n");
   });
 }
 

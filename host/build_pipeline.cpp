@@ -171,7 +171,7 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
                       BuildReport& r, const Lap& lap) {
   MvxFile file = mvx_for_dag(dag, o.format, grid, bounds);
   lap("encode");
-  write_mvx(o.output, file);
+  write_mvx(o.output, file, o.paging);
   lap("write");
   r.grid = grid;
   r.voxels = dag.voxels;

@@ -68,6 +68,7 @@ const char* kind_name(Kind k) {
     case Kind::kReadError: return "EIO on read";
     case Kind::kShortRead: return "short read";
     case Kind::kRenameFails: return "failing rename";
+    case Kind::kMappedRead: return "EIO on a mapped page read";
   }
   return "?";
 }

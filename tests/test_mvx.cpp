@@ -133,8 +133,8 @@ TEST_P(MvxTest, DamageIsAClearError) {
   expect_error(b, "checksum mismatch in the counts section");
   b = good;
   b[b.size() - 4096 - 1] ^= 0;  // padding is not checked; a flip in the nodes is:
-  b[3 * 4096 + 4] ^= 0x10;
-  expect_error(b, "checksum mismatch in the nodes section");
+  b[3 * 4096 + 4] ^= 0x10;  // paged (version 3): each page has its hash in the page index
+  expect_error(b, "checksum mismatch in page 0 of the nodes");
   // Every single-byte flip of the header page fails cleanly or is harmless padding.
   for (size_t i = 0; i < 4096; i += 7) {
     b = good;
@@ -157,9 +157,10 @@ TEST_P(MvxTest, DamageIsAClearError) {
 
 TEST_P(MvxTest, ValidChecksumsButBadPointersAreCaught) {
   MvxFile f = sample_file(shared_device(GetParam()));
-  f.dag.words[1] = 0;  // a cycle, written with correct checksums
+  f.dag.words[1] = 0;  // a cycle, written with correct checksums (unpaged: paging validates the stream first)
   const std::string p = temp_path("cycle.mvx");
-  write_mvx(p, f);
+  EXPECT_NE(error_message([&] { write_mvx(p, f); }).find("points to"), std::string::npos);
+  write_mvx(p, f, {0, NodeOrder::level});
   try {
     read_mvx(p);
     FAIL() << "expected an error";

@@ -86,7 +86,8 @@ TEST(MvxPoints, RoundTripsEveryColumn) {
 class MvxVersionTest : public ::testing::TestWithParam<DeviceInfo> {};
 
 TEST_P(MvxVersionTest, VersionOneVoxelFilesStillOpen) {
-  // A version 1 header is a version 2 header with 0 in the content field: patch a voxel file back to 1.
+  // A version 1 header is a version 2 (or unpaged version 3) header with 0 in the content field: patch an
+  // unpaged voxel file back to 1.
   std::vector<uint64_t> voxels{0, 9, 63, 64 * 64 * 64 - 1};
   Dag dag = build_svdag(shared_device(GetParam()), voxels, 6);
   MvxFile f;
@@ -98,14 +99,14 @@ TEST_P(MvxVersionTest, VersionOneVoxelFilesStillOpen) {
   f.dag = encode_svdag(dag);
   const std::string p = temp_path("v1.mvx");
   try {
-    write_mvx(p, f);
+    write_mvx(p, f, {0, NodeOrder::level});
   } catch (const Error& e) {
     GTEST_FAIL() << "the sample voxel file is not valid: " << e.what();
   }
   std::vector<char> b = file_bytes(p);
   mvx_format::Header h;
   std::memcpy(&h, b.data(), sizeof h);
-  EXPECT_EQ(h.version, 2u);
+  EXPECT_EQ(h.version, 3u);
   h.version = 1;
   h.checksum = XXH3_64bits(&h, offsetof(mvx_format::Header, checksum));
   std::memcpy(b.data(), &h, sizeof h);

@@ -11,45 +11,6 @@
 namespace mv::test {
 namespace {
 
-// The octree of sorted unique Morton keys in a 2^levels grid (level 1 = 2^3 masks), optionally reduced to its
-// minimal DAG by plain maps: written here so the test needs no device.
-Dag host_dag(const std::vector<uint64_t>& voxels, uint32_t levels, bool reduce) {
-  Dag d;
-  d.levels = levels;
-  d.reduced = reduce;
-  d.voxels = voxels.size();
-  d.level.resize(levels + 1);
-  std::vector<uint64_t> keys = voxels;  // keys of level l - 1's nodes (level 0: the voxels)
-  std::vector<uint32_t> ids(keys.size(), 0);  // their ids
-  for (uint32_t l = 1; l <= levels; ++l) {
-    DagLevel& lv = d.level[l];
-    std::map<std::vector<uint32_t>, uint32_t> classes;
-    std::vector<uint64_t> up;
-    std::vector<uint32_t> up_ids;
-    for (size_t i = 0; i < keys.size();) {
-      const uint64_t parent = keys[i] >> 3;
-      std::vector<uint32_t> sig{0};
-      for (; i < keys.size() && keys[i] >> 3 == parent; ++i) {
-        sig[0] |= 1u << (keys[i] & 7);
-        if (l > 1) sig.push_back(ids[i]);
-      }
-      uint32_t id = static_cast<uint32_t>(lv.mask.size());
-      auto [it, fresh] = reduce ? classes.emplace(sig, id) : std::make_pair(classes.end(), true);
-      if (!fresh) id = it->second;
-      if (fresh) {
-        lv.mask.push_back(sig[0]);
-        lv.first.push_back(static_cast<uint32_t>(lv.children.size()));
-        lv.children.insert(lv.children.end(), sig.begin() + 1, sig.end());
-      }
-      up.push_back(parent);
-      up_ids.push_back(id);
-    }
-    keys.swap(up);
-    ids.swap(up_ids);
-  }
-  return d;
-}
-
 void expect_valid(const EncodedDag& enc, const PageLayout& lay) {
   std::vector<std::pair<uint64_t, uint64_t>> spans;  // (new start, size)
   for (size_t k = 0; k < lay.at.size(); ++k) {

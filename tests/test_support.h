@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "megavox/dag_types.h"
 #include "megavox/device.h"
 #include "megavox/error.h"
 #include "megavox/voxelize.h"
@@ -45,6 +46,10 @@ std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom =
 // Voxel sets (sorted unique 64-bit Morton keys of a 2^levels grid) with little, some and much sharing:
 // "random" (3000 random voxels), "shell" (a sphere's shell), "tiled" (a repeating pattern), "one voxel".
 std::vector<std::pair<std::string, std::vector<uint64_t>>> voxel_sets(uint32_t levels);
+
+// The octree of sorted unique Morton keys in a 2^levels grid (level 1 = 2^3 masks), optionally reduced to its
+// minimal DAG by plain maps: built on the host, so a test of the encodings or of paging needs no device.
+Dag host_dag(const std::vector<uint64_t>& voxels, uint32_t levels, bool reduce);
 
 // Writes a binary little-endian PLY: vertices `pos` (3 floats each), triangles `idx` (3 indices each).
 void write_ply(const std::string& path, const std::vector<float>& pos, const std::vector<uint32_t>& idx);

@@ -17,8 +17,7 @@
 
 namespace mv {
 
-enum class NodeOrder { level, subtree };
-
+// NodeOrder (level, subtree) is in megavox/encode.h: the paged .mvx stores it.
 std::string node_order_name(NodeOrder o);
 
 // Where every node goes: node k (in stream order) starts at word `at[k]` of the paged stream, in page

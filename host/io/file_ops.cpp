@@ -19,10 +19,15 @@ std::atomic<bool> armed{false}, hit{false}, at_end{false};
 std::atomic<Kind> kind{Kind::kNoSpace};
 std::atomic<uint64_t> count{0}, target{0};
 
-enum class Op { kRead, kWrite, kRename };
+enum class Op { kRead, kWrite, kRename, kMappedRead };
 
 Op op_of(Kind k) {
-  return k == Kind::kNoSpace ? Op::kWrite : k == Kind::kRenameFails ? Op::kRename : Op::kRead;
+  switch (k) {
+    case Kind::kNoSpace: return Op::kWrite;
+    case Kind::kRenameFails: return Op::kRename;
+    case Kind::kMappedRead: return Op::kMappedRead;
+    default: return Op::kRead;
+  }
 }
 
 // Whether this operation is the one to fail (counts operations of the armed kind's sort).
@@ -131,6 +136,15 @@ ssize_t pwrite_some(int fd, const void* data, size_t bytes, off_t offset) {
     return -1;
   }
   return ::pwrite(fd, data, bytes, offset);
+}
+
+bool copy_mapped(void* out, const void* mapped, size_t bytes) {
+  if (faults::strikes(Op::kMappedRead)) {
+    errno = EIO;
+    return false;
+  }
+  std::memcpy(out, mapped, bytes);
+  return true;
 }
 
 int rename_path(const char* from, const char* to) {

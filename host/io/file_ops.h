@@ -25,6 +25,8 @@ bool write_all(std::FILE* f, const void* data, size_t bytes);
 // pread / pwrite of a file descriptor: as the POSIX calls (-1 and errno on failure).
 ssize_t pread_some(int fd, void* data, size_t bytes, off_t offset);
 ssize_t pwrite_some(int fd, const void* data, size_t bytes, off_t offset);
+// A copy out of a memory-mapped file (a page of MvxPages): true, or false with errno set (an injected fault).
+bool copy_mapped(void* out, const void* mapped, size_t bytes);
 // rename(2) and renameat2(2) with RENAME_EXCHANGE: 0, or -1 and errno.
 int rename_path(const char* from, const char* to);
 int exchange_paths(const char* a, const char* b);
@@ -35,7 +37,8 @@ enum class Kind {
   kNoSpace,     // a write (fwrite or pwrite) fails with ENOSPC
   kReadError,   // a read (fread or pread) fails with EIO
   kShortRead,   // a read returns half of what it was asked, and every later read 0: the file ended there
-  kRenameFails  // a rename fails with EIO
+  kRenameFails,  // a rename fails with EIO
+  kMappedRead    // a copy out of a mapped file (copy_mapped) fails with EIO
 };
 void arm(Kind kind, uint64_t nth);
 void disarm();

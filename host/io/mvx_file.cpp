@@ -10,6 +10,8 @@
 #include <memory>
 
 #include "atomic_file.h"
+#include "cache/page_layout.h"
+#include "cache/paged_stream.h"
 #include "file_ops.h"
 #include "mvx_format.h"
 #include "megavox/error.h"
@@ -35,17 +37,49 @@ std::string encoding_name(Encoding e) {
   return "unknown(" + std::to_string(static_cast<uint32_t>(e)) + ")";
 }
 
-void write_mvx(const std::string& path, const MvxFile& in) {
+namespace {
+
+bool is_power_of_two(uint32_t v) { return v && !(v & (v - 1)); }
+
+// The paged stream of `dag` (with its page index) that write_mvx stores.
+struct PagedNodes {
+  EncodedDag stream;
+  std::vector<uint64_t> index;  // PageIndexHead's 3 words, then the page hashes
+};
+
+PagedNodes paged_nodes(const EncodedDag& dag, const MvxPaging& paging) {
+  if (!is_power_of_two(paging.page_words) || paging.page_words < kMinPageWords || paging.page_words > kMaxPageWords)
+    throw Error(".mvx pages of " + std::to_string(paging.page_words) + " words: a power of two from " +
+                std::to_string(kMinPageWords) + " to " + std::to_string(kMaxPageWords) + " is needed");
+  PagedNodes p;
+  p.stream = paged_stream(dag, page_layout(dag, paging.order, paging.page_words));
+  const uint64_t words = p.stream.words.size(), pw = paging.page_words;
+  const PageIndexHead head{paging.page_words, static_cast<uint32_t>(paging.order), (words + pw - 1) / pw, words};
+  p.index.resize(3 + head.pages);
+  std::memcpy(p.index.data(), &head, sizeof head);
+  for (uint64_t page = 0; page < head.pages; ++page)
+    p.index[3 + page] = page_hash(p.stream.words.data() + page * pw, std::min(pw, words - page * pw), paging.page_words);
+  return p;
+}
+
+}  // namespace
+
+void write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& paging) {
   const uint32_t L = in.dag.levels;
   std::vector<uint64_t> counts = in.svo_nodes;
   counts.insert(counts.end(), in.dag_nodes.begin(), in.dag_nodes.end());
   std::vector<Blob> blobs = {{kCounts, counts.data(), counts.size() * 8},
                              {kLevels, in.dag.level_offset.data(), in.dag.level_offset.size() * 8}};
+  PagedNodes paged;
   if (in.dag.encoding == Encoding::ssvdag) {
     blobs.push_back({kInner, in.dag.inner.data(), in.dag.inner.size() * 2});
     blobs.push_back({kBricks, in.dag.bricks.data(), in.dag.bricks.size() * 8});
-  } else {
+  } else if (paging.page_words == 0) {
     blobs.push_back({kNodes, in.dag.words.data(), in.dag.words.size() * 4});
+  } else {
+    paged = paged_nodes(in.dag, paging);
+    blobs.push_back({kNodes, paged.stream.words.data(), paged.stream.words.size() * 4, false});
+    blobs.push_back({kPageIndex, paged.index.data(), paged.index.size() * 8});
   }
   Header h{};
   h.version = kMvxVersion;
@@ -70,7 +104,7 @@ void write_file(const std::string& path, Header& h, const std::vector<Blob>& blo
   h.sections = static_cast<uint32_t>(blobs.size());
   uint64_t offset = kPage;
   for (uint32_t i = 0; i < h.sections; ++i) {
-    h.table[i] = {blobs[i].kind, 0, offset, blobs[i].bytes, hash(blobs[i].data, blobs[i].bytes)};
+    h.table[i] = {blobs[i].kind, 0, offset, blobs[i].bytes, blobs[i].checked ? hash(blobs[i].data, blobs[i].bytes) : 0};
     offset += (blobs[i].bytes + kPage - 1) / kPage * kPage;
   }
   h.checksum = hash(&h, offsetof(Header, checksum));
@@ -122,17 +156,13 @@ Opened open_file(const std::string& path) {
                                                std::to_string(expected_bytes));
   if (file_bytes > expected_bytes) throw Error(path + ": " + std::to_string(file_bytes - expected_bytes) +
                                                " unexpected bytes after the last section");
+  if (o.find[kPageIndex] && (h.version < 3 || h.content != kVoxels))
+    throw Error(path + ": bad section table (a page index in a version " + std::to_string(h.version) + " " +
+                (h.content == kVoxels ? "voxel" : "point") + " file)");
   return o;
 }
 
-}  // namespace mvx_format
-
-MvxContent mvx_content(const std::string& path) {
-  return open_file(path).header.content == kPoints ? MvxContent::points : MvxContent::voxels;
-}
-
-MvxFile read_mvx(const std::string& path) {
-  Opened o = open_file(path);
+void check_voxel_file(const Opened& o, const std::string& path) {
   const Header& h = o.header;
   if (h.content == kPoints)
     throw Error(path + ": holds a point cloud (.mvx content 'points'), not voxels: use `megavox points info` or "
@@ -142,10 +172,88 @@ MvxFile read_mvx(const std::string& path) {
   const bool compact = h.encoding == static_cast<uint32_t>(Encoding::ssvdag);
   if (h.levels < 1 || h.levels > 21) throw Error(path + ": bad level count " + std::to_string(h.levels));
   if (h.resolution != (1u << h.levels)) throw Error(path + ": resolution does not match the level count");
-  if (!(h.voxel_size > 0) || h.sections != (compact ? 4u : 3u)) throw Error(path + ": bad grid or section count");
+  const bool paged = o.find[kPageIndex] != nullptr;
+  if (!(h.voxel_size > 0) || h.sections != (compact || paged ? 4u : 3u)) throw Error(path + ": bad grid or section count");
   const bool kinds_ok = o.find[kCounts] && o.find[kLevels] &&
-                        (compact ? o.find[kInner] && o.find[kBricks] : o.find[kNodes] != nullptr);
+                        (compact ? o.find[kInner] && o.find[kBricks] && !paged : o.find[kNodes] != nullptr);
   if (!kinds_ok) throw Error(path + ": bad section table");
+}
+
+uint64_t page_hash(const uint32_t* words, uint64_t count, uint32_t page_words) {
+  if (count == page_words) return hash(words, count * 4);
+  std::vector<uint32_t> page(page_words, 0);
+  std::copy(words, words + count, page.begin());
+  return hash(page.data(), uint64_t{page_words} * 4);
+}
+
+PageIndex read_page_index(const Opened& o, const std::string& path) {
+  const Section& s = *o.find[kPageIndex];
+  auto fail = [&](const std::string& why) { return Error(path + ": bad page index: " + why); };
+  if (s.bytes < sizeof(PageIndexHead)) throw fail("truncated (" + std::to_string(s.bytes) + " bytes)");
+  const std::vector<uint64_t> raw = section_data<uint64_t>(o.file.get(), s, path, "page index");
+  PageIndex pi;
+  std::memcpy(&pi.head, raw.data(), sizeof pi.head);
+  const PageIndexHead& h = pi.head;
+  if (!is_power_of_two(h.page_words) || h.page_words < kMinPageWords || h.page_words > kMaxPageWords)
+    throw fail("pages of " + std::to_string(h.page_words) + " words (a power of two from " +
+               std::to_string(kMinPageWords) + " to " + std::to_string(kMaxPageWords) + " is needed)");
+  if (h.order > static_cast<uint32_t>(NodeOrder::subtree)) throw fail("unknown node order " + std::to_string(h.order));
+  const uint64_t node_bytes = o.find[kNodes]->bytes;
+  if (h.words != node_bytes / 4 || node_bytes % 4)
+    throw fail(std::to_string(h.words) + " words, but the nodes section holds " + std::to_string(node_bytes) + " bytes");
+  const uint64_t needed = (h.words + h.page_words - 1) / h.page_words;  // (no product that could overflow)
+  if (h.pages < needed)
+    throw fail(std::to_string(h.pages) + " pages of " + std::to_string(h.page_words) + " words cannot hold " +
+               std::to_string(h.words) + " words");
+  if (h.pages > needed)
+    throw fail(std::to_string(h.pages) + " pages for " + std::to_string(h.words) + " words (an empty page at the end)");
+  if (raw.size() != 3 + h.pages)
+    throw fail("holds " + std::to_string(raw.size() - 3) + " page hashes for " + std::to_string(h.pages) + " pages");
+  pi.hashes.assign(raw.begin() + 3, raw.end());
+  return pi;
+}
+
+}  // namespace mvx_format
+
+MvxContent mvx_content(const std::string& path) {
+  return open_file(path).header.content == kPoints ? MvxContent::points : MvxContent::voxels;
+}
+
+namespace {
+
+// The paged nodes of `o` into out.dag, in level order: every page checked against the page index, the
+// structure by level_order_stream, the level offsets against the levels section (already in out.dag).
+void read_paged_nodes(const Opened& o, const std::string& path, MvxFile& out) {
+  const PageIndex pi = read_page_index(o, path);
+  const uint32_t pw = pi.head.page_words;
+  EncodedDag paged;
+  paged.encoding = out.dag.encoding;
+  paged.levels = out.dag.levels;
+  paged.words = section_data<uint32_t>(o.file.get(), *o.find[kNodes], path, "nodes", false);
+  for (uint64_t p = 0; p < pi.head.pages; ++p)
+    if (page_hash(paged.words.data() + p * pw, std::min<uint64_t>(pw, paged.words.size() - p * pw), pw) != pi.hashes[p])
+      throw Error(path + ": checksum mismatch in page " + std::to_string(p) + " of the nodes");
+  EncodedDag level_order;
+  try {
+    level_order = level_order_stream(paged, pw);
+  } catch (const Error& e) {
+    throw Error(path + ": " + e.what());
+  }
+  if (level_order.level_offset != out.dag.level_offset)
+    throw Error(path + ": the paged nodes' levels disagree with the levels section");
+  out.dag.words = std::move(level_order.words);
+  out.paging = {pw, static_cast<NodeOrder>(pi.head.order)};
+  out.paged_words = pi.head.words;
+}
+
+}  // namespace
+
+MvxFile read_mvx(const std::string& path) {
+  Opened o = open_file(path);
+  check_voxel_file(o, path);
+  const Header& h = o.header;
+  const bool compact = h.encoding == static_cast<uint32_t>(Encoding::ssvdag);
+  const bool paged = o.find[kPageIndex] != nullptr;
   const Section* const* find = o.find;
   std::FILE* file = o.file.get();
   MvxFile out;
@@ -167,6 +275,8 @@ MvxFile read_mvx(const std::string& path) {
   if (compact) {
     out.dag.inner = section_data<uint16_t>(file, *find[kInner], path, "inner nodes");
     out.dag.bricks = section_data<uint64_t>(file, *find[kBricks], path, "bricks");
+  } else if (paged) {
+    read_paged_nodes(o, path, out);
   } else {
     out.dag.words = section_data<uint32_t>(file, *find[kNodes], path, "nodes");
   }

@@ -18,13 +18,14 @@ namespace mv::mvx_format {
 constexpr char kMagic[8] = {'M', 'E', 'G', 'A', 'V', 'O', 'X', '\x1a'};
 constexpr uint64_t kPage = 4096;
 constexpr uint32_t kMaxSections = 16;
-// Voxel content: counts, levels, nodes (or inner + bricks). Point content (version 2): the rest.
+// Voxel content: counts, levels, nodes (or inner + bricks), the page index of paged nodes (version 3).
+// Point content (version 2 on): the rest. Kinds are shared by both contents: a new one takes the next number.
 enum SectionKind : uint32_t {
   kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5,
   kSecPointMeta = 6, kSecPointNodes = 7, kSecPointXyz = 8, kSecPointRgb = 9, kSecPointNormal = 10,
-  kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13,
+  kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13, kPageIndex = 14,
 };
-constexpr uint32_t kKinds = 14;
+constexpr uint32_t kKinds = 15;
 // Header::content (version 2; version 1 files are voxels and hold 0 there).
 enum Content : uint32_t { kVoxels = 0, kPoints = 1 };
 
@@ -45,6 +46,25 @@ struct Header {
 };
 static_assert(sizeof(Header) < kPage);
 
+// The page index section: this head, then one XXH3-64 per page (over page_words words, the last page
+// zero-padded).
+struct PageIndexHead {
+  uint32_t page_words, order;  // order: NodeOrder
+  uint64_t pages, words;       // words: of the paged stream (the nodes section holds words * 4 bytes)
+};
+static_assert(sizeof(PageIndexHead) == 24);
+constexpr uint32_t kMinPageWords = 16;        // the smallest power of two that holds a node of 9 words
+constexpr uint32_t kMaxPageWords = 1u << 24;  // 64 MiB
+
+// The page index of a version 3 voxel file, as read_page_index checked it.
+struct PageIndex {
+  PageIndexHead head{};
+  std::vector<uint64_t> hashes;
+};
+
+// The hash a page's page_words words must have; `words` may be shorter (the last page): zeros follow.
+uint64_t page_hash(const uint32_t* words, uint64_t count, uint32_t page_words);
+
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
@@ -56,13 +76,14 @@ struct Blob {
   uint32_t kind;
   const void* data;
   uint64_t bytes;
+  bool checked = true;  // false: checksum 0 (paged nodes: the page index checks each page)
 };
 
 // Fills h's magic, section table and checksum from `blobs` (each on its own 4 KiB pages after the header page)
 // and writes the file through a temporary name.
 void write_file(const std::string& path, Header& h, const std::vector<Blob>& blobs);
 
-// An opened file whose header, checksum, section table and total size were checked; versions 1 and 2.
+// An opened file whose header, checksum, section table and total size were checked; versions 1 to 3.
 struct Opened {
   File file;
   Header header{};
@@ -70,14 +91,24 @@ struct Opened {
 };
 Opened open_file(const std::string& path);
 
+// The header and section table of a voxel file (encoding, levels, grid, which sections): mv::Error otherwise.
+void check_voxel_file(const Opened& o, const std::string& path);
+
+// The page index of an opened file with both its nodes and page index sections, checked: its checksum,
+// page_words, the counts against the nodes section's size. mv::Error naming the fault.
+PageIndex read_page_index(const Opened& o, const std::string& path);
+
 // Section `s` read whole, its size and checksum checked.
+// `checked` false: the checksum is not looked at (paged nodes, whose pages the caller checks).
 template <class T>
-std::vector<T> section_data(std::FILE* f, const Section& s, const std::string& path, const char* what) {
+std::vector<T> section_data(std::FILE* f, const Section& s, const std::string& path, const char* what,
+                            bool checked = true) {
   if (s.bytes % sizeof(T)) throw Error(path + ": " + what + " section has a partial element");
   std::vector<T> v(s.bytes / sizeof(T));
   if (std::fseek(f, static_cast<long>(s.offset), SEEK_SET) != 0 || io::read_some(f, v.data(), s.bytes, path) != s.bytes)
     throw Error(path + ": truncated: the " + what + " section ends past the end of the file");
-  if (hash(v.data(), s.bytes) != s.checksum) throw Error(path + ": checksum mismatch in the " + what + " section");
+  if (checked && hash(v.data(), s.bytes) != s.checksum)
+    throw Error(path + ": checksum mismatch in the " + what + " section");
   return v;
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/mvx.h"
 #include "megavox/voxelize.h"
 
 namespace mv {
@@ -34,6 +35,8 @@ struct BuildOptions {
   uint64_t memory = 0;
   // Instead of reading `input`: this mesh (then `input` only names it in messages).
   const MeshArrays* mesh = nullptr;
+  // How an svo / svdag / ussvdag file is paged (megavox/mvx.h; ssvdag never is).
+  MvxPaging paging;
 };
 
 struct BuildReport {

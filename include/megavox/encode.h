@@ -53,6 +53,10 @@ void validate_ssvdag(const EncodedDag& enc);
 std::vector<uint64_t> decode_svdag(const EncodedDag& enc);
 std::vector<uint64_t> decode_ssvdag(const EncodedDag& enc);
 
+// The order of nodes in a paged node stream (host/cache/page_layout.h, the paged .mvx): `level` keeps the
+// stream's own order (levels root first), `subtree` clusters each page around a subtree.
+enum class NodeOrder : uint32_t { level = 0, subtree = 1 };
+
 // Validates / decodes whichever encoding `enc` holds.
 void validate_encoded(const EncodedDag& enc);
 std::vector<uint64_t> decode_encoded(const EncodedDag& enc);

@@ -1,0 +1,88 @@
+#include "mvx_pages.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "file_ops.h"
+#include "megavox/error.h"
+#include "mvx_format.h"
+
+namespace mv {
+
+using namespace mvx_format;
+
+MvxPages::MvxPages(const std::string& path) : path_(path) {
+  PageIndex pi;
+  uint64_t file_bytes = 0;
+  {
+    const Opened o = open_file(path);  // the header page alone, read through stdio
+    check_voxel_file(o, path);
+    const Header& h = o.header;
+    if (!o.find[kPageIndex]) {
+      const bool compact = h.encoding == static_cast<uint32_t>(Encoding::ssvdag);
+      throw Error(path + ": not paged (" +
+                  (compact ? std::string("the ssvdag encoding is never paged")
+                           : ".mvx version " + std::to_string(h.version) + ", no page index") +
+                  "): it renders resident, without --cache-memory (or rewrite it as svdag with this megavox)");
+    }
+    pi = read_page_index(o, path);
+    encoding_ = static_cast<Encoding>(h.encoding);
+    levels_ = h.levels;
+    grid_.resolution = h.resolution;
+    grid_.voxel_size = h.voxel_size;
+    for (int a = 0; a < 3; ++a) {
+      grid_.origin[a] = h.origin[a];
+      bounds_.lo[a] = h.bounds_lo[a];
+      bounds_.hi[a] = h.bounds_hi[a];
+    }
+    voxels_ = h.voxels;
+    nodes_offset_ = o.find[kNodes]->offset;
+    file_bytes = nodes_offset_ + o.find[kNodes]->bytes;
+  }
+  page_words_ = pi.head.page_words;
+  order_ = static_cast<NodeOrder>(pi.head.order);
+  words_ = pi.head.words;
+  hashes_ = std::move(pi.hashes);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || static_cast<uint64_t>(st.st_size) < file_bytes) {
+    ::close(fd);
+    throw Error(path + ": truncated: it changed since its header was read");
+  }
+  map_bytes_ = static_cast<uint64_t>(st.st_size);
+  void* m = ::mmap(nullptr, map_bytes_, PROT_READ, MAP_SHARED, fd, 0);
+  const int map_errno = errno;
+  ::close(fd);  // the mapping keeps the file
+  if (m == MAP_FAILED) throw Error(path + ": cannot map: " + std::strerror(map_errno));
+  map_ = static_cast<const unsigned char*>(m);
+}
+
+MvxPages::~MvxPages() {
+  if (map_) ::munmap(const_cast<unsigned char*>(map_), map_bytes_);
+}
+
+bool MvxPages::read_page(uint32_t page, std::span<uint32_t> out, std::string* error) const {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = path_ + ": page " + std::to_string(page) + ": " + why;
+    return false;
+  };
+  if (page >= pages()) return fail("past the end (" + std::to_string(pages()) + " pages)");
+  if (out.size() != page_words_)
+    return fail("a buffer of " + std::to_string(out.size()) + " words for pages of " + std::to_string(page_words_));
+  const uint64_t first = uint64_t{page} * page_words_;
+  const uint64_t count = std::min<uint64_t>(page_words_, words_ - first);
+  if (!io::copy_mapped(out.data(), map_ + nodes_offset_ + first * 4, count * 4))
+    return fail(std::string("read error: ") + std::strerror(errno));
+  std::fill(out.begin() + count, out.end(), 0u);
+  if (hash(out.data(), out.size_bytes()) != hashes_[page]) return fail("checksum mismatch (the file is damaged)");
+  return true;
+}
+
+}  // namespace mv

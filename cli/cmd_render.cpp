@@ -1,19 +1,50 @@
 // `megavox render`: a picture of a .mvx file through the traversal kernel.
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
 #include "cli_common.h"
+#include "io/atomic_dir.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"
 
 namespace mv::cli {
 
+namespace {
+
+// One frame's cache figures, summed over its passes (a paged render; empty otherwise).
+nlohmann::json cache_json(const RenderResult& r, double frame_seconds) {
+  uint64_t requested = 0, loaded = 0, evicted = 0, failed = 0, used = 0, bytes = 0;
+  double manage = 0, produce = 0;
+  for (const CacheUpdateStats& st : r.cache) {
+    requested += st.requested, loaded += st.loaded, evicted += st.evicted, failed += st.failed;
+    used += st.used_slots, bytes += st.bytes_uploaded;
+    manage += st.manage_seconds, produce += st.produce_seconds;
+  }
+  nlohmann::json j = {{"passes", r.cache.size()}, {"converged", r.converged}, {"pages_requested", requested},
+                      {"pages_loaded", loaded}, {"pages_evicted", evicted}, {"pages_failed", failed},
+                      {"hit_rate", used + requested ? double(used) / double(used + requested) : 1.0},
+                      {"bytes_uploaded", bytes}, {"cache_seconds", manage}, {"io_seconds", produce},
+                      {"trace_seconds", r.trace_seconds}, {"frame_seconds", frame_seconds},
+                      {"cache_share", frame_seconds > 0 ? manage / frame_seconds : 0.0},
+                      {"coarse_pixels", r.coarse_pixels}};
+  for (const CacheUpdateStats& st : r.cache)
+    if (!st.first_error.empty()) {
+      j["first_error"] = st.first_error;
+      break;
+    }
+  return j;
+}
+
+}  // namespace
+
 void add_render_command(CLI::App& app, const GlobalOptions& g) {
   struct Args {
-    std::string input, output, view = "iso", eye, target, up = "0,1,0", shading = "shaded";
+    std::string input, output, view = "iso", eye, target, up = "0,1,0", shading = "shaded", cache_memory, path;
     double fov = 40;
     RenderOptions opt;
     bool json = false, quiet = false;
@@ -25,12 +56,23 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
       "units (the coordinates of the mesh the file was built from). Shading: shaded (light, hard shadows and\n"
       "ambient occlusion), normal, depth, level (false colour per level of detail) or heat (traversal steps).\n"
       "Rays stop at cells smaller than --lod-pixels pixels (0: always go down to voxels).\n\n"
+      "Streaming: --cache-memory SIZE renders a paged file (built by this version: svo, svdag, ussvdag)\n"
+      "through a device page cache of SIZE, which counts toward --device-memory: only the pages rays touch\n"
+      "are read from the memory-mapped file. Each frame takes passes until no ray meets a missing page (the\n"
+      "picture then equals the resident render, byte for byte) or --cache-passes; a cache too small for the\n"
+      "view's pages gives the finest level that fits, with a warning.\n"
+      "Flights: --path FLIGHT.json renders every camera of {\"fov\": F, \"frames\": [{\"eye\": [x,y,z],\n"
+      "\"target\": [x,y,z], \"up\": [x,y,z]}, ...]} (model units) into the folder -o DIR as frame_0000.png, ...;\n"
+      "--json prints one JSON line per frame (pages requested, loaded and evicted, hit rate, bytes uploaded,\n"
+      "time in cache management and in reading and uploading pages).\n\n"
       "Examples:\n"
       "  megavox render bunny.mvx -o bunny.png\n"
       "  megavox render bunny.mvx -o front.png --view front --width 1280 --height 720 --shading normal\n"
-      "  megavox render bunny.mvx -o close.png --eye 0.1,0.2,0.3 --target 0,0.1,0 --fov 30 --lod-pixels 0\n");
+      "  megavox render bunny.mvx -o close.png --eye 0.1,0.2,0.3 --target 0,0.1,0 --fov 30 --lod-pixels 0\n"
+      "  megavox render koala16k.mvx -o koala.png --cache-memory 16M\n"
+      "  megavox render koala16k.mvx --path flight.json -o frames --cache-memory 16M --json\n");
   cmd->add_option("file", a->input, "The .mvx file")->required();
-  cmd->add_option("-o,--output", a->output, "The PNG to write")->required();
+  cmd->add_option("-o,--output", a->output, "The PNG to write (with --path: the folder of frames)")->required();
   cmd->add_option("--width", a->opt.width, "Image width in pixels")->capture_default_str();
   cmd->add_option("--height", a->opt.height, "Image height in pixels")->capture_default_str();
   cmd->add_option("--view", a->view, "Preset camera: front, back, left, right, top or iso")->capture_default_str();
@@ -38,52 +80,121 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("--target", a->target, "Point looked at X,Y,Z (default: the model's centre)");
   cmd->add_option("--up", a->up, "Up direction X,Y,Z")->capture_default_str();
   cmd->add_option("--fov", a->fov, "Vertical field of view in degrees")->capture_default_str();
+  cmd->add_option("--path", a->path, "A camera flight (JSON): render its frames into the folder -o");
   cmd->add_option("--shading", a->shading, "shaded, normal, depth, level or heat")->capture_default_str();
   cmd->add_option("--lod-pixels", a->opt.lod_pixels, "Stop at cells smaller than this many pixels; 0 = voxels")
       ->capture_default_str();
   cmd->add_option("--ao-samples", a->opt.ao_samples, "Ambient-occlusion rays per hit (shaded)")->capture_default_str();
   cmd->add_option("--ao-radius", a->opt.ao_radius, "Ambient-occlusion radius in model units (0: 1/20 of the grid)")
       ->capture_default_str();
-  cmd->add_flag("--json", a->json, "Print one JSON object instead of the summary");
+  cmd->add_option("--cache-memory", a->cache_memory, "Stream a paged file through a device page cache of SIZE (16M)");
+  cmd->add_option("--cache-passes", a->opt.cache_passes, "Passes per frame at most when streaming; 0 = until complete")
+      ->capture_default_str();
+  cmd->add_flag("--json", a->json, "Print JSON (one line per frame of a flight) instead of the summary");
   cmd->add_flag("--quiet", a->quiet, "Print nothing but errors");
   cmd->callback([a, &g] {
-    MvxFile file = read_mvx(a->input);
     a->opt.shading = parse_shading(a->shading);
-    Camera cam = view_camera(file.bounds, a->view, a->fov);
-    if (!a->eye.empty()) {
-      parse_vec3(a->eye, "--eye", cam.eye);
-      if (!a->target.empty()) parse_vec3(a->target, "--target", cam.target);
-      parse_vec3(a->up, "--up", cam.up);
-    } else if (!a->target.empty()) {
-      throw Error("--target needs --eye (or use --view)");
-    }
     auto dev = open_device(g);
-    Tracer tracer(*dev, file);
-    RenderResult r = render(tracer, cam, a->opt);
-    write_png(a->output, r.image);
-    if (g.profile) print_kernel_totals(*dev);
-    if (a->quiet) return;
-    if (a->json) {
-      nlohmann::json passes = nlohmann::json::array();
-      for (const RenderPass& p : r.passes)
-        passes.push_back({{"name", p.name}, {"rays", p.rays}, {"seconds", p.seconds},
-                          {"mrays_per_second", p.seconds > 0 ? p.rays / p.seconds / 1e6 : 0.0}});
-      nlohmann::json j = {{"file", a->input}, {"output", a->output}, {"device", dev->info().name},
-                          {"format", encoding_name(file.dag.encoding)}, {"width", a->opt.width},
-                          {"height", a->opt.height}, {"shading", a->shading}, {"lod_pixels", a->opt.lod_pixels},
-                          {"eye", {cam.eye[0], cam.eye[1], cam.eye[2]}},
-                          {"target", {cam.target[0], cam.target[1], cam.target[2]}}, {"fov", cam.fov},
-                          {"hits", r.hits}, {"passes", passes}};
-      std::cout << j.dump(2) << "\n";
-      return;
+    std::unique_ptr<Tracer> tracer;
+    Bounds bounds;
+    std::string format;
+    uint32_t resolution = 0;
+    if (!a->cache_memory.empty()) {
+      PagedDag dag = open_paged_mvx(a->input);
+      bounds = dag.bounds;
+      format = encoding_name(dag.encoding);
+      resolution = dag.grid.resolution;
+      tracer = std::make_unique<Tracer>(*dev, std::move(dag), parse_size(a->cache_memory));
+    } else {
+      MvxFile file = read_mvx(a->input);
+      bounds = file.bounds;
+      format = encoding_name(file.dag.encoding);
+      resolution = file.grid.resolution;
+      tracer = std::make_unique<Tracer>(*dev, file);
     }
-    std::printf("%s (%s, %u^3) -> %s: %ux%u %s on %s, %llu of %llu pixels hit\n", a->input.c_str(),
-                encoding_name(file.dag.encoding).c_str(), file.grid.resolution, a->output.c_str(), a->opt.width,
-                a->opt.height, a->shading.c_str(), dev->info().name.c_str(), (unsigned long long)r.hits,
-                (unsigned long long)a->opt.width * a->opt.height);
-    for (const RenderPass& p : r.passes)
-      std::printf("  %-8s %12llu rays %9.3f s %9.2f Mrays/s\n", p.name.c_str(), (unsigned long long)p.rays, p.seconds,
-                  p.seconds > 0 ? p.rays / p.seconds / 1e6 : 0.0);
+    std::vector<Camera> cams;
+    if (!a->path.empty()) {
+      if (!a->eye.empty() || !a->target.empty()) throw Error("--path gives the cameras: drop --eye and --target");
+      cams = read_flight(a->path);
+    } else {
+      Camera cam = view_camera(bounds, a->view, a->fov);
+      if (!a->eye.empty()) {
+        parse_vec3(a->eye, "--eye", cam.eye);
+        if (!a->target.empty()) parse_vec3(a->target, "--target", cam.target);
+        parse_vec3(a->up, "--up", cam.up);
+      } else if (!a->target.empty()) {
+        throw Error("--target needs --eye (or use --view)");
+      }
+      cams.push_back(cam);
+    }
+    bool warned = false;
+    auto render_frame = [&](size_t i, const std::string& png) {
+      const auto t0 = std::chrono::steady_clock::now();
+      RenderResult r = render(*tracer, cams[i], a->opt);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      write_png(png, r.image);
+      if (!r.converged && !warned && !a->quiet) {
+        warned = true;
+        const CacheUpdateStats& last = r.cache.back();
+        std::fprintf(stderr, "megavox: warning: %s: %llu pixels show a coarser level: %s\n", png.c_str(),
+                     (unsigned long long)r.coarse_pixels,
+                     !last.first_error.empty() ? ("pages could not be read (" + last.first_error + ")").c_str()
+                     : last.over_capacity
+                         ? "the view needs more pages than --cache-memory holds (raise it, or --lod-pixels)"
+                         : "--cache-passes ended the frame first");
+      }
+      if (a->quiet) return;
+      if (a->json) {
+        nlohmann::json passes = nlohmann::json::array();
+        for (const RenderPass& p : r.passes)
+          passes.push_back({{"name", p.name}, {"rays", p.rays}, {"seconds", p.seconds},
+                            {"mrays_per_second", p.seconds > 0 ? p.rays / p.seconds / 1e6 : 0.0}});
+        const Camera& cam = cams[i];
+        nlohmann::json j = {{"file", a->input}, {"output", png}, {"device", dev->info().name},
+                            {"format", format}, {"width", a->opt.width},
+                            {"height", a->opt.height}, {"shading", a->shading}, {"lod_pixels", a->opt.lod_pixels},
+                            {"eye", {cam.eye[0], cam.eye[1], cam.eye[2]}},
+                            {"target", {cam.target[0], cam.target[1], cam.target[2]}}, {"fov", cam.fov},
+                            {"hits", r.hits}, {"seconds", seconds}, {"passes", passes}};
+        if (!a->path.empty()) j["frame"] = i;
+        if (tracer->paged()) j["cache"] = cache_json(r, seconds);
+        std::cout << (a->path.empty() ? j.dump(2) : j.dump()) << "\n";
+        return;
+      }
+      if (a->path.empty()) {
+        std::printf("%s (%s, %u^3) -> %s: %ux%u %s on %s, %llu of %llu pixels hit\n", a->input.c_str(), format.c_str(),
+                    resolution, png.c_str(), a->opt.width, a->opt.height, a->shading.c_str(),
+                    dev->info().name.c_str(), (unsigned long long)r.hits,
+                    (unsigned long long)a->opt.width * a->opt.height);
+        for (const RenderPass& p : r.passes)
+          std::printf("  %-8s %12llu rays %9.3f s %9.2f Mrays/s\n", p.name.c_str(), (unsigned long long)p.rays,
+                      p.seconds, p.seconds > 0 ? p.rays / p.seconds / 1e6 : 0.0);
+      } else {
+        std::printf("frame %zu: %llu pixels hit, %.3f s\n", i, (unsigned long long)r.hits, seconds);
+      }
+      if (tracer->paged()) {
+        const nlohmann::json c = cache_json(r, seconds);
+        std::printf("  cache: %zu passes%s, %llu pages loaded, %llu evicted, hit rate %.3f, %.1f MiB uploaded, "
+                    "management %.1f %% of the frame, reading and uploading %.3f s\n",
+                    r.cache.size(), r.converged ? "" : " (incomplete)",
+                    (unsigned long long)c["pages_loaded"].get<uint64_t>(),
+                    (unsigned long long)c["pages_evicted"].get<uint64_t>(), c["hit_rate"].get<double>(),
+                    c["bytes_uploaded"].get<uint64_t>() / 1048576.0, 100 * c["cache_share"].get<double>(),
+                    c["io_seconds"].get<double>());
+      }
+    };
+    if (a->path.empty()) {
+      render_frame(0, a->output);
+    } else {
+      io::write_dir_atomically(a->output, "frame_0000.png", [&](const std::string& dir) {
+        for (size_t i = 0; i < cams.size(); ++i) {
+          char name[32];
+          std::snprintf(name, sizeof name, "/frame_%04zu.png", i);
+          render_frame(i, dir + name);
+        }
+      });
+    }
+    if (g.profile) print_kernel_totals(*dev);
   });
 }
 

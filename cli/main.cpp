@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
   mv::cli::add_bench_points_command(*bench, g);
   mv::cli::add_bench_page_layout_command(*bench);
   mv::cli::add_bench_cache_update_command(*bench, g);
+  mv::cli::add_bench_cache_command(*bench, g);
   mv::cli::add_bench_mask_command(*bench, g);
 
   try {

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "megavox/cache_stats.h"
@@ -27,6 +28,7 @@ class PageCache;
 // the page stays missing and tracing goes on.
 struct PagedDag {
   GridTransform grid;
+  Bounds bounds;  // of the input model, in its own units
   Encoding encoding = Encoding::svdag;
   uint32_t levels = 0;
   uint32_t page_words = 0;  // a power of two
@@ -35,6 +37,10 @@ struct PagedDag {
 };
 
 // Uploads one encoded DAG to a device and answers batches of rays with the same kernel the renderer uses.
+// A paged .mvx (version 3) opened by memory map, its pages read (and checked against the page index) on
+// demand. Throws mv::Error for a file that is not paged (versions 1 and 2, ssvdag: they render resident).
+PagedDag open_paged_mvx(const std::string& path);
+
 class Tracer {
  public:
   Tracer(Device& dev, const MvxFile& file);

@@ -1,0 +1,47 @@
+// `megavox bench cache`: a camera flight over a paged .mvx rendered through the device page cache, against
+// the fully resident render of the same file in the same run (today's kernel, the whole DAG on the device).
+// Per frame: wall time of both, the cache's share of the paged frame (management: stamp, LRU, request and
+// invalidation kernels and the host's waits; reading and uploading pages apart), pages and bytes streamed,
+// the hit rate, whether the picture equals the resident one byte for byte, and the address layer's cost on
+// the resident path: the frame's last pass (every page it reads resident) against the resident kernel.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "megavox/device.h"
+#include "megavox/render.h"
+
+namespace mv::bench {
+
+struct FlightFrame {
+  double resident_seconds = 0, paged_seconds = 0;  // whole frames (trace, shading, downloads)
+  double resident_trace_seconds = 0;               // the resident frame's trace passes
+  double last_pass_trace_seconds = 0;              // the paged frame's last pass's trace (all its pages resident)
+  double manage_seconds = 0, produce_seconds = 0;  // the cache's, summed over the frame's passes
+  uint32_t passes = 0;
+  uint64_t pages_loaded = 0, pages_evicted = 0, bytes_uploaded = 0;
+  double hit_rate = 0;
+  bool converged = false, identical = false;
+};
+
+struct FlightBenchResult {
+  std::vector<FlightFrame> frames;
+  uint32_t slots = 0, pages = 0, page_words = 0;
+  double resident_seconds = 0, paged_seconds = 0, manage_seconds = 0, produce_seconds = 0;
+  double resident_trace_seconds = 0, last_pass_trace_seconds = 0;
+  double manage_share = 0;   // manage_seconds / paged_seconds
+  double address_cost = 0;   // last_pass_trace_seconds / resident_trace_seconds
+  double hit_rate = 0;
+  uint64_t bytes_uploaded = 0;
+  uint32_t identical = 0;    // frames byte-identical to the resident render
+};
+
+// `frames` cameras orbiting the model's centre at `distance` times the distance that frames it (the iso view's
+// height, looking at the centre).
+std::vector<Camera> orbit_flight(const Bounds& bounds, uint32_t frames, double distance, double fov);
+
+FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, const std::vector<Camera>& flight,
+                                   const RenderOptions& options, uint64_t cache_bytes);
+
+}  // namespace mv::bench

@@ -1,0 +1,26 @@
+// open_paged_mvx (megavox/trace.h): a PagedDag whose reader copies pages out of the mapped file.
+#include <memory>
+
+#include "io/mvx_pages.h"
+#include "megavox/error.h"
+#include "megavox/trace.h"
+
+namespace mv {
+
+PagedDag open_paged_mvx(const std::string& path) {
+  auto file = std::make_shared<const MvxPages>(path);
+  PagedDag d;
+  d.grid = file->grid();
+  d.bounds = file->bounds();
+  d.encoding = file->encoding();
+  d.levels = file->levels();
+  d.page_words = file->page_words();
+  d.pages = file->pages();
+  d.read = [file](uint32_t page, std::span<uint32_t> words) {
+    std::string error;
+    if (!file->read_page(page, words, &error)) throw Error(error);
+  };
+  return d;
+}
+
+}  // namespace mv

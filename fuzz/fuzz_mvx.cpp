@@ -1,8 +1,10 @@
-// The .mvx readers (include/megavox/mvx.h): read_mvx and read_mvx_points on the same bytes.
+// The .mvx readers (include/megavox/mvx.h): read_mvx, read_mvx_points and MvxPages (a version 3 paged
+// file's pages read one by one) on the same bytes.
 //
-// Every section and the header carry an XXH3 checksum, which random mutations almost never keep right; so
-// each input is read twice: as it is (the checksum checks), and with its checksums recomputed over what its
-// section table points at (what lies behind them: the sizes, the counts, the encoding's validation).
+// Every section, every page of paged nodes and the header carry an XXH3 checksum, which random mutations
+// almost never keep right; so each input is read twice: as it is (the checksum checks), and with its
+// checksums recomputed over what its section table and page index point at (what lies behind them: the
+// sizes, the counts, the paged stream's structure, the encoding's validation).
 #include <algorithm>
 #include <cstddef>
 #include <cstring>
@@ -10,6 +12,7 @@
 
 #include "fuzz_support.h"
 #include "io/mvx_format.h"
+#include "io/mvx_pages.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 
@@ -35,9 +38,45 @@ void read_all(const std::string& path) {
   } catch (const mv::Error&) {
   }
   try {
+    const mv::MvxPages pages(path);
+    MV_FUZZ_CHECK(pages.page_words() >= 16 && uint64_t{pages.pages()} * pages.page_words() >= pages.words());
+    std::vector<uint32_t> page(pages.page_words());
+    std::string error;
+    for (uint32_t p = 0; p < std::min<uint32_t>(pages.pages(), 64); ++p) pages.read_page(p, page, &error);
+    MV_FUZZ_CHECK(!pages.read_page(pages.pages(), page, &error));
+  } catch (const mv::Error&) {
+  }
+  try {
     mv::PointHierarchy h = mv::read_mvx_points(path);
     MV_FUZZ_CHECK(!h.nodes.empty() && h.nodes_per_level.size() == h.depth + 1u);
   } catch (const mv::Error&) {
+  }
+}
+
+const fmt::Section* section(const fmt::Header& h, uint32_t kind, size_t size) {
+  for (uint32_t i = 0; i < std::min(h.sections, fmt::kMaxSections); ++i) {
+    const fmt::Section& s = h.table[i];
+    if (s.kind == kind && s.offset <= size && s.bytes <= size - s.offset) return &s;
+  }
+  return nullptr;
+}
+
+// The page hashes of a page index made right for the nodes they index, where both sections lie in the file
+// and the index says where its pages are.
+void fix_page_hashes(const fmt::Header& h, std::vector<uint8_t>& bytes) {
+  const fmt::Section* index = section(h, fmt::kPageIndex, bytes.size());
+  const fmt::Section* nodes = section(h, fmt::kNodes, bytes.size());
+  if (!index || !nodes || index->bytes < sizeof(fmt::PageIndexHead)) return;
+  fmt::PageIndexHead head;
+  std::memcpy(&head, bytes.data() + index->offset, sizeof head);
+  if (head.page_words < fmt::kMinPageWords || head.page_words > fmt::kMaxPageWords) return;
+  const uint64_t words = nodes->bytes / 4, room = (index->bytes - sizeof head) / 8;
+  std::vector<uint32_t> stream(words);
+  std::memcpy(stream.data(), bytes.data() + nodes->offset, words * 4);
+  for (uint64_t p = 0; p < std::min(head.pages, room) && p * head.page_words < words; ++p) {
+    const uint64_t hash = fmt::page_hash(stream.data() + p * head.page_words,
+                                         std::min<uint64_t>(head.page_words, words - p * head.page_words), head.page_words);
+    std::memcpy(bytes.data() + index->offset + sizeof head + p * 8, &hash, 8);
   }
 }
 
@@ -49,6 +88,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<uint8_t> fixed(data, data + size);
   fmt::Header h;
   std::memcpy(&h, fixed.data(), sizeof h);
+  fix_page_hashes(h, fixed);
   for (uint32_t i = 0; i < std::min(h.sections, fmt::kMaxSections); ++i) {
     fmt::Section& s = h.table[i];
     if (s.offset <= size && s.bytes <= size - s.offset) s.checksum = fmt::hash(fixed.data() + s.offset, s.bytes);

@@ -549,10 +549,14 @@ void dag_seeds() {
       require(mv::decode_encoded(*e) == voxels, "a CPU-built DAG decodes to its voxels (" + mv::encoding_name(e->encoding) + ")");
     require(sym.nodes(1) < plain.nodes(1), "the symmetric DAG merges reflections");
     if (levels == 3) {  // the .mvx seeds: 4 KiB pages make them 16-20 KiB whatever the grid
-      for (const auto& [name, dag, enc] : {std::tuple{"svdag", &plain, &e_svdag}, {"svo", &svo, &e_svo},
-                                           {"ussvdag", &sym, &e_ussvdag}, {"ssvdag", &sym, &e_ssvdag}}) {
+      // Version 3: the 32-bit encodings paged in 16-word pages (so several pages), one svdag unpaged.
+      const mv::MvxPaging small{16, mv::NodeOrder::subtree}, unpaged{0, mv::NodeOrder::level};
+      for (const auto& [name, dag, enc, paging] :
+           {std::tuple{"svdag", &plain, &e_svdag, small}, {"svo", &svo, &e_svo, small},
+            {"ussvdag", &sym, &e_ussvdag, mv::MvxPaging{16, mv::NodeOrder::level}}, {"ssvdag", &sym, &e_ssvdag, unpaged},
+            {"svdag_unpaged", &plain, &e_svdag, unpaged}}) {
         const std::string p = seed_path("fuzz_mvx", std::string("voxels_") + name + ".mvx");
-        mv::write_mvx(p, mvx_of(*dag, *enc));
+        mv::write_mvx(p, mvx_of(*dag, *enc), paging);
         require(mv::decode_encoded(mv::read_mvx(p).dag) == voxels, p + ": voxels");
         check_size(p);
       }

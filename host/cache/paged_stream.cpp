@@ -33,6 +33,11 @@ EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& lay) {
   if (lay.at.size() != lay.old_at.size() || lay.page_words < kMaxNodeWords) throw fail("bad layout");
   if (lay.words > UINT32_MAX) throw Error("paged stream: " + std::to_string(lay.words) + " words exceed 32-bit pointers");
   if (enc.level_offset.size() != enc.levels + 1u) throw fail("bad level offsets");
+  // Each node's new word by its old one (4 bytes a word: a pointer is resolved in one load, not a search).
+  constexpr uint32_t kNone = UINT32_MAX;
+  std::vector<uint32_t> moved(enc.words.size(), kNone);
+  for (size_t j = 0; j < lay.old_at.size(); ++j)
+    if (lay.old_at[j] < moved.size()) moved[lay.old_at[j]] = static_cast<uint32_t>(lay.at[j]);
   out.words.assign(lay.words, 0);
   std::vector<bool> used(lay.words, false);  // so that overlapping nodes (one placed twice, one never) are caught
   size_t k = 0;
@@ -53,9 +58,8 @@ EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& lay) {
       out.words[at] = enc.words[w];
       for (uint32_t q = 1; q < size; ++q) {  // the child at old word p moves to its node's new word
         const uint32_t p = enc.words[w + q];
-        const auto child = std::lower_bound(lay.old_at.begin(), lay.old_at.end(), p);
-        if (child == lay.old_at.end() || *child != p) throw fail("a pointer to word " + std::to_string(p));
-        out.words[at + q] = static_cast<uint32_t>(lay.at[child - lay.old_at.begin()]);
+        if (p >= moved.size() || moved[p] == kNone) throw fail("a pointer to word " + std::to_string(p));
+        out.words[at + q] = moved[p];
       }
       w += size;
     }

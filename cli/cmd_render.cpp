@@ -18,19 +18,13 @@ namespace {
 
 // One frame's cache figures, summed over its passes (a paged render; empty otherwise).
 nlohmann::json cache_json(const RenderResult& r, double frame_seconds) {
-  uint64_t requested = 0, loaded = 0, evicted = 0, failed = 0, used = 0, bytes = 0;
-  double manage = 0, produce = 0;
-  for (const CacheUpdateStats& st : r.cache) {
-    requested += st.requested, loaded += st.loaded, evicted += st.evicted, failed += st.failed;
-    used += st.used_slots, bytes += st.bytes_uploaded;
-    manage += st.manage_seconds, produce += st.produce_seconds;
-  }
-  nlohmann::json j = {{"passes", r.cache.size()}, {"converged", r.converged}, {"pages_requested", requested},
-                      {"pages_loaded", loaded}, {"pages_evicted", evicted}, {"pages_failed", failed},
-                      {"hit_rate", used + requested ? double(used) / double(used + requested) : 1.0},
-                      {"bytes_uploaded", bytes}, {"cache_seconds", manage}, {"io_seconds", produce},
+  const CacheTotals t = cache_totals(r.cache);
+  nlohmann::json j = {{"passes", r.cache.size()}, {"converged", r.converged}, {"pages_requested", t.requested},
+                      {"pages_loaded", t.loaded}, {"pages_evicted", t.evicted}, {"pages_failed", t.failed},
+                      {"hit_rate", t.hit_rate()}, {"bytes_uploaded", t.bytes_uploaded},
+                      {"cache_seconds", t.manage_seconds}, {"io_seconds", t.produce_seconds},
                       {"trace_seconds", r.trace_seconds}, {"frame_seconds", frame_seconds},
-                      {"cache_share", frame_seconds > 0 ? manage / frame_seconds : 0.0},
+                      {"cache_share", frame_seconds > 0 ? t.manage_seconds / frame_seconds : 0.0},
                       {"coarse_pixels", r.coarse_pixels}};
   for (const CacheUpdateStats& st : r.cache)
     if (!st.first_error.empty()) {

@@ -81,7 +81,7 @@ void expect_table_consistent(Device& dev, PageCache& c) {
 }
 
 // Camera-like rays from outside toward random points of the unit cube around the model.
-std::vector<Ray> rays_at(const MvxFile& f, uint32_t n, uint64_t seed) {
+std::vector<Ray> rays_at(uint32_t n, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   std::vector<Ray> rays(n);
@@ -91,7 +91,6 @@ std::vector<Ray> rays_at(const MvxFile& f, uint32_t n, uint64_t seed) {
       r.direction[a] = 0.8f * u(rng) - r.origin[a];
     }
   }
-  (void)f;
   return rays;
 }
 
@@ -125,7 +124,7 @@ TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
   const uint32_t n = 2000;
   std::vector<uint32_t> rays(uint64_t{n} * MV_RAY_FLOATS);
   {
-    const std::vector<Ray> world = rays_at(f, n, 5);
+    const std::vector<Ray> world = rays_at(n, 5);
     const double side = f.grid.voxel_size * f.grid.resolution;
     for (uint32_t i = 0; i < n; ++i) {
       float c[6];

@@ -59,21 +59,16 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
     f.passes = static_cast<uint32_t>(r.cache.size());
     f.converged = r.converged;
     f.identical = r.image.rgb == want.image.rgb;
-    uint64_t fu = 0, fr = 0;
-    for (const CacheUpdateStats& st : r.cache) {
-      f.manage_seconds += st.manage_seconds;
-      f.produce_seconds += st.produce_seconds;
-      f.pages_loaded += st.loaded;
-      f.pages_evicted += st.evicted;
-      f.bytes_uploaded += st.bytes_uploaded;
-      fu += st.used_slots;
-      fr += st.requested;
-    }
-    f.hit_rate = fu + fr ? double(fu) / double(fu + fr) : 1.0;
+    const CacheTotals t = cache_totals(r.cache);
+    f.manage_seconds = t.manage_seconds;
+    f.produce_seconds = t.produce_seconds;
+    f.pages_loaded = t.loaded;
+    f.pages_evicted = t.evicted;
+    f.bytes_uploaded = t.bytes_uploaded;
+    f.hit_rate = t.hit_rate();
     // The address layer on the resident path: this view again through the warm cache (one pass, nothing
     // missing) against today's kernel, interleaved, best of 2 each.
     f.resident_trace_seconds = want.trace_seconds;
-    f.last_pass_trace_seconds = r.passes.empty() ? 0 : r.trace_seconds;
     if (f.converged) {
       RenderOptions once = options;
       once.cache_passes = 1;
@@ -88,7 +83,7 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
       out.last_pass_trace_seconds += f.last_pass_trace_seconds;
       resident_trace_converged += f.resident_trace_seconds;
     }
-    used += fu, requested += fr;
+    used += t.used, requested += t.requested;
     out.resident_seconds += f.resident_seconds;
     out.paged_seconds += f.paged_seconds;
     out.manage_seconds += f.manage_seconds;

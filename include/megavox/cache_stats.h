@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace mv {
 
@@ -24,5 +25,23 @@ struct CacheUpdateStats {
   double produce_seconds = 0;  // the producer, the upload of its batch and its placement into the slots
   std::string first_error;     // the first producer failure's message, if it threw one
 };
+
+// A frame's or a batch's updates summed. hit_rate: of the pages its passes needed (used slots plus requests),
+// the share already resident.
+struct CacheTotals {
+  uint64_t requested = 0, loaded = 0, evicted = 0, failed = 0, used = 0, bytes_uploaded = 0;
+  double manage_seconds = 0, produce_seconds = 0;
+  double hit_rate() const { return used + requested ? double(used) / double(used + requested) : 1.0; }
+};
+
+inline CacheTotals cache_totals(const std::vector<CacheUpdateStats>& passes) {
+  CacheTotals t;
+  for (const CacheUpdateStats& st : passes) {
+    t.requested += st.requested, t.loaded += st.loaded, t.evicted += st.evicted, t.failed += st.failed;
+    t.used += st.used_slots, t.bytes_uploaded += st.bytes_uploaded;
+    t.manage_seconds += st.manage_seconds, t.produce_seconds += st.produce_seconds;
+  }
+  return t;
+}
 
 }  // namespace mv

@@ -228,6 +228,24 @@ TEST(MvxPaged, PageReadsFailCleanly) {
   fs::remove(p);
 }
 
+// A file truncated by someone else while it is mapped (a download restarted, a build writing over it in
+// place): the pages past its new end raise SIGBUS on access, which a page read turns into a clear failure.
+TEST(MvxPaged, AFileTruncatedWhileMappedFailsItsReads) {
+  const std::string p = temp_path("shrunk.mvx");
+  write_mvx(p, sample_files()[0], {16, NodeOrder::subtree});
+  const MvxPages pages(p);
+  std::vector<uint32_t> page(16);
+  std::string error;
+  ASSERT_TRUE(pages.read_page(1, page, &error)) << error;
+  fs::resize_file(p, 0);  // every mapped page now lies past the end
+  for (uint32_t i = 0; i < 2; ++i) {  // twice: the guard is reset after a caught fault
+    EXPECT_FALSE(pages.read_page(i, page, &error));
+    EXPECT_NE(error.find("page " + std::to_string(i) + ": the file is shorter than when it was opened"), std::string::npos)
+        << error;
+  }
+  fs::remove(p);
+}
+
 // Damage to the page index or the pages under right checksums: each a clear error from read_mvx (and from
 // MvxPages where it reads what is damaged).
 TEST(MvxPaged, PageIndexDamageIsAClearError) {

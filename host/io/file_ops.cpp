@@ -1,12 +1,15 @@
 #include "file_ops.h"
 
 #include <fcntl.h>
+#include <setjmp.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <memory>
+#include <mutex>
 
 #include "megavox/error.h"
 
@@ -138,12 +141,54 @@ ssize_t pwrite_some(int fd, const void* data, size_t bytes, off_t offset) {
   return ::pwrite(fd, data, bytes, offset);
 }
 
+namespace {
+// A mapped file that another process truncates raises SIGBUS on the pages past its new end. copy_mapped turns
+// that into a failed copy: a handler, installed once, jumps back to the copy that set this thread's guard;
+// a SIGBUS with no guard set goes to the disposition that was there before.
+thread_local sigjmp_buf* t_copy_guard = nullptr;
+struct sigaction g_previous_sigbus {};
+
+void on_sigbus(int sig, siginfo_t* info, void* context) {
+  if (sigjmp_buf* guard = t_copy_guard) siglongjmp(*guard, 1);
+  if (g_previous_sigbus.sa_flags & SA_SIGINFO) {
+    g_previous_sigbus.sa_sigaction(sig, info, context);
+  } else if (g_previous_sigbus.sa_handler != SIG_DFL && g_previous_sigbus.sa_handler != SIG_IGN) {
+    g_previous_sigbus.sa_handler(sig);
+  } else {  // the default: die of SIGBUS, as without us
+    ::signal(SIGBUS, SIG_DFL);
+    ::raise(SIGBUS);
+  }
+}
+
+void install_sigbus_guard() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    struct sigaction sa {};
+    sa.sa_sigaction = on_sigbus;
+    sa.sa_flags = SA_SIGINFO | SA_NODEFER;
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(SIGBUS, &sa, &g_previous_sigbus);
+  });
+}
+}  // namespace
+
 bool copy_mapped(void* out, const void* mapped, size_t bytes) {
   if (faults::strikes(Op::kMappedRead)) {
     errno = EIO;
     return false;
   }
+  install_sigbus_guard();
+  sigjmp_buf guard;
+  if (sigsetjmp(guard, 1) != 0) {  // the mapping ended inside the range: the file shrank after it was mapped
+    t_copy_guard = nullptr;
+    errno = EFAULT;
+    return false;
+  }
+  t_copy_guard = &guard;
+  std::atomic_signal_fence(std::memory_order_seq_cst);  // the guard is set before the copy, cleared after it
   std::memcpy(out, mapped, bytes);
+  std::atomic_signal_fence(std::memory_order_seq_cst);
+  t_copy_guard = nullptr;
   return true;
 }
 

@@ -25,7 +25,8 @@ bool write_all(std::FILE* f, const void* data, size_t bytes);
 // pread / pwrite of a file descriptor: as the POSIX calls (-1 and errno on failure).
 ssize_t pread_some(int fd, void* data, size_t bytes, off_t offset);
 ssize_t pwrite_some(int fd, const void* data, size_t bytes, off_t offset);
-// A copy out of a memory-mapped file (a page of MvxPages): true, or false with errno set (an injected fault).
+// A copy out of a memory-mapped file (a page of MvxPages): true, or false with errno set: EFAULT when the
+// range lies past the file's end (the file shrank after it was mapped: SIGBUS, caught), EIO when injected.
 bool copy_mapped(void* out, const void* mapped, size_t bytes);
 // rename(2) and renameat2(2) with RENAME_EXCHANGE: 0, or -1 and errno.
 int rename_path(const char* from, const char* to);

@@ -79,7 +79,8 @@ bool MvxPages::read_page(uint32_t page, std::span<uint32_t> out, std::string* er
   const uint64_t first = uint64_t{page} * page_words_;
   const uint64_t count = std::min<uint64_t>(page_words_, words_ - first);
   if (!io::copy_mapped(out.data(), map_ + nodes_offset_ + first * 4, count * 4))
-    return fail(std::string("read error: ") + std::strerror(errno));
+    return fail(errno == EFAULT ? std::string("the file is shorter than when it was opened (truncated while in use)")
+                                : std::string("read error: ") + std::strerror(errno));
   std::fill(out.begin() + count, out.end(), 0u);
   if (hash(out.data(), out.size_bytes()) != hashes_[page]) return fail("checksum mismatch (the file is damaged)");
   return true;

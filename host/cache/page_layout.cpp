@@ -4,6 +4,7 @@
 #include <deque>
 #include <random>
 
+#include "encode/node_starts.h"
 #include "megavox/error.h"
 
 namespace mv {
@@ -31,12 +32,12 @@ Nodes parse(const EncodedDag& enc) {
       w += size;
     }
   }
+  NodeStarts starts(enc.words.size());  // node k starts at n.at[k], ascending: its index is k
+  for (uint32_t w : n.at) starts.set(w);
+  starts.count();
   n.first.push_back(0);
   for (size_t k = 0; k < n.at.size(); ++k) {
-    for (uint32_t q = 1; q < n.size[k]; ++q) {
-      const uint32_t target = enc.words[n.at[k] + q];
-      n.child.push_back(static_cast<uint32_t>(std::lower_bound(n.at.begin(), n.at.end(), target) - n.at.begin()));
-    }
+    for (uint32_t q = 1; q < n.size[k]; ++q) n.child.push_back(starts.index(enc.words[n.at[k] + q]));
     n.first.push_back(static_cast<uint32_t>(n.child.size()));
   }
   return n;

@@ -5,6 +5,7 @@
 #include "../../kernels/common/trace_nodes.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
+#include "node_starts.h"
 
 namespace mv {
 
@@ -62,14 +63,16 @@ void validate_svdag(const EncodedDag& enc) {
   if (enc.level_offset[L] != 0) throw fail("the root level must start at word 0");
   // One linear walk per level, bottom-up: node sizes must tile the level, and every pointer must land on a
   // node start one level down (so the graph is acyclic and complete without following any path).
-  std::vector<uint32_t> below, here;
+  NodeStarts starts(enc.words.size());
+  uint64_t below_begin = 0, below_end = 0, here_nodes = 0;
   for (uint32_t l = 1; l <= L; ++l) {
     uint64_t begin = enc.level_offset[l];
     uint64_t end = l == 1 ? enc.words.size() : enc.level_offset[l - 1];
     if (begin > end || end > enc.words.size()) throw fail("level " + std::to_string(l) + " lies outside the stream");
-    here.clear();
+    here_nodes = 0;
     for (uint64_t w = begin; w < end;) {
-      here.push_back(static_cast<uint32_t>(w));
+      starts.set(w);
+      ++here_nodes;
       uint32_t header = enc.words[w];
       uint32_t mask = header & 0xff;
       uint32_t mirrors = enc.encoding == Encoding::ussvdag && l > 1 ? header >> 8 : 0;
@@ -78,15 +81,17 @@ void validate_svdag(const EncodedDag& enc) {
         throw fail("word " + std::to_string(w) + " is not a node header");
       uint64_t next = w + (l == 1 ? 1 : 1 + __builtin_popcount(mask));
       if (next > end) throw fail("node at word " + std::to_string(w) + " runs past its level");
-      for (uint64_t q = w + 1; q < next; ++q)
-        if (!std::binary_search(below.begin(), below.end(), enc.words[q]))
+      for (uint64_t q = w + 1; q < next; ++q) {
+        const uint32_t p = enc.words[q];
+        if (p < below_begin || p >= below_end || !starts.test(p))
           throw fail("word " + std::to_string(q) + " points to " + std::to_string(enc.words[q]) +
                      ", not a node of level " + std::to_string(l - 1));
+      }
       w = next;
     }
-    below.swap(here);
+    below_begin = begin, below_end = end;
   }
-  if (below.size() != 1) throw fail("the root level must hold exactly one node");
+  if (here_nodes != 1) throw fail("the root level must hold exactly one node");
 }
 
 std::vector<uint64_t> decode_svdag(const EncodedDag& enc) {

@@ -19,7 +19,7 @@ namespace {
 // One frame's cache figures, summed over its passes (a paged render; empty otherwise).
 nlohmann::json cache_json(const RenderResult& r, double frame_seconds) {
   const CacheTotals t = cache_totals(r.cache);
-  nlohmann::json j = {{"passes", r.cache.size()}, {"converged", r.converged}, {"pages_requested", t.requested},
+  nlohmann::json j = {{"passes", r.cache.size()}, {"converged", r.converged}, {"tiles", r.tiles}, {"pages_requested", t.requested},
                       {"pages_loaded", t.loaded}, {"pages_evicted", t.evicted}, {"pages_failed", t.failed},
                       {"hit_rate", t.hit_rate()}, {"bytes_uploaded", t.bytes_uploaded},
                       {"cache_seconds", t.manage_seconds}, {"io_seconds", t.produce_seconds},
@@ -53,8 +53,9 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
       "Streaming: --cache-memory SIZE renders a paged file (built by this version: svo, svdag, ussvdag)\n"
       "through a device page cache of SIZE, which counts toward --device-memory: only the pages rays touch\n"
       "are read from the memory-mapped file. Each frame takes passes until no ray meets a missing page (the\n"
-      "picture then equals the resident render, byte for byte) or --cache-passes; a cache too small for the\n"
-      "view's pages gives the finest level that fits, with a warning.\n"
+      "picture then equals the resident render, byte for byte) or --cache-passes. A view whose pages exceed\n"
+      "the cache is rendered in bands of rows, halved until each band's pages fit (down to 1/256 of the\n"
+      "frame); a cache too small even for those gives the finest level that fits, with a warning.\n"
       "Flights: --path FLIGHT.json renders every camera of {\"fov\": F, \"frames\": [{\"eye\": [x,y,z],\n"
       "\"target\": [x,y,z], \"up\": [x,y,z]}, ...]} (model units) into the folder -o DIR as frame_0000.png, ...;\n"
       "--json prints one JSON line per frame (pages requested, loaded and evicted, hit rate, bytes uploaded,\n"
@@ -82,7 +83,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("--ao-radius", a->opt.ao_radius, "Ambient-occlusion radius in model units (0: 1/20 of the grid)")
       ->capture_default_str();
   cmd->add_option("--cache-memory", a->cache_memory, "Stream a paged file through a device page cache of SIZE (16M)");
-  cmd->add_option("--cache-passes", a->opt.cache_passes, "Passes per frame at most when streaming; 0 = until complete")
+  cmd->add_option("--cache-passes", a->opt.cache_passes, "Passes per frame (per band, when banded) at most when streaming; 0 = until complete")
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print JSON (one line per frame of a flight) instead of the summary");
   cmd->add_flag("--quiet", a->quiet, "Print nothing but errors");

@@ -2,7 +2,7 @@
 //  - one pass of the kernel equals the same code on the host over the same cache state: hits (coarse where a
 //    page was missing), usage stamps and page requests;
 //  - ray queries and renders converge to the resident results, byte for byte, with a cache far smaller than
-//    the DAG when the view's working set fits;
+//    the DAG when the view's working set fits, and renders in bands of rows when it does not;
 //  - a one-page cache gives the root's level of detail, a failing producer leaves pages missing, and neither
 //    ends in an error or a corrupt picture; the page table stays the inverse of the slot owners throughout.
 #include <algorithm>
@@ -144,7 +144,7 @@ TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
     tracer.begin_pass();
     std::vector<uint32_t> data = download_words(dev, cache.data()), table = download_words(dev, cache.table()),
                           usage = download_words(dev, cache.usage()), request = download_words(dev, cache.requests());
-    tracer.engine().trace(&ray_buf, nullptr, n, 0, 0.0f, 60000, false, hit_buf);
+    tracer.engine().trace(&ray_buf, nullptr, 0, n, 0, 0.0f, 60000, false, hit_buf);
     const std::vector<uint32_t> hits = download_words(dev, hit_buf);
     MvTraceParams tp{};
     tp.levels = f.dag.levels;
@@ -238,6 +238,37 @@ TEST_P(PagedTraceTest, RenderConvergesToTheResidentPicture) {
     EXPECT_TRUE(got.image.rgb == want.image.rgb) << "the converged picture differs from the resident one";
     EXPECT_GT(got.cache.front().requested, 0u);
   }
+}
+
+// A whole view whose pages are twice the cache: no single pass can hold them, so the frame is rendered in
+// bands of rows, each converging in turn, and the picture is still the resident one, byte for byte.
+TEST_P(PagedTraceTest, ViewLargerThanTheCacheConvergesInBands) {
+  Device& dev = shared_device(GetParam());
+  const MvxFile f = octahedron(dev, 7, Encoding::svdag);
+  Paged p = paged(f);
+  const Camera cam = view_camera(f.bounds, "iso");
+  RenderOptions o;
+  o.width = 96;
+  o.height = 64;
+  o.shading = Shading::normal;
+  o.lod_pixels = 0;
+  Tracer resident(dev, f);
+  const RenderResult want = render(resident, cam, o);
+  Tracer whole(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+  const RenderResult all = render(whole, cam, o);
+  ASSERT_TRUE(all.converged);
+  EXPECT_EQ(all.tiles, 1u);
+  const uint32_t working_set = all.cache.back().used_slots;
+  ASSERT_GT(working_set, 8u);
+  Tracer tracer(dev, p.dag, uint64_t{working_set / 2} * kPageWords * 4);
+  const RenderResult got = render(tracer, cam, o);
+  EXPECT_TRUE(got.converged);
+  EXPECT_GT(got.tiles, 1u);
+  EXPECT_EQ(got.coarse_pixels, 0u);
+  EXPECT_EQ(got.hits, want.hits);
+  EXPECT_TRUE(got.image.rgb == want.image.rgb) << "the banded picture differs from the resident one";
+  EXPECT_TRUE(std::any_of(got.cache.begin(), got.cache.end(), [](const CacheUpdateStats& st) { return st.over_capacity; }));
+  expect_table_consistent(dev, *tracer.cache());
 }
 
 // One slot: the root's page and nothing more. The picture is the coarse one (no error, every pixel shaded

@@ -204,7 +204,7 @@ TEST_P(TraceTest, LevelOfDetailStopsWhereTheReferenceStops) {
       TraceEngine engine(dev, file.dag);
       Buffer rb = dev.alloc(cube.size() * 4, "rays"), hb = dev.alloc(want.size() * MV_HIT_WORDS * 4, "hits");
       dev.upload(rb, cube.data(), cube.size() * 4);
-      engine.trace(&rb, nullptr, uint32_t(want.size()), 0, proj, 60000, false, hb);
+      engine.trace(&rb, nullptr, 0, uint32_t(want.size()), 0, proj, 60000, false, hb);
       std::vector<uint32_t> words(want.size() * MV_HIT_WORDS);
       dev.download(hb, words.data(), words.size() * 4);
       size_t coarse = 0;

@@ -3,7 +3,8 @@
 // Per frame: wall time of both, the cache's share of the paged frame (management: stamp, LRU, request and
 // invalidation kernels and the host's waits; reading and uploading pages apart), pages and bytes streamed,
 // the hit rate, whether the picture equals the resident one byte for byte, and the address layer's cost on
-// the resident path: the frame's last pass (every page it reads resident) against the resident kernel.
+// the resident path: the view's last pass through a second cache that holds every page it reads (as large as
+// one binding allows) against the resident kernel, best of 3 each, interleaved.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -17,7 +18,7 @@ namespace mv::bench {
 struct FlightFrame {
   double resident_seconds = 0, paged_seconds = 0;  // whole frames (trace, shading, downloads)
   double resident_trace_seconds = 0;               // the resident frame's trace passes
-  double last_pass_trace_seconds = 0;              // the paged frame's last pass's trace (all its pages resident)
+  double last_pass_trace_seconds = 0;              // the paged kernel's trace, every page of the view resident
   double manage_seconds = 0, produce_seconds = 0;  // the cache's, summed over the frame's passes
   uint32_t passes = 0;
   uint64_t pages_loaded = 0, pages_evicted = 0, bytes_uploaded = 0;
@@ -28,6 +29,7 @@ struct FlightFrame {
 struct FlightBenchResult {
   std::vector<FlightFrame> frames;
   uint32_t slots = 0, pages = 0, page_words = 0;
+  uint32_t warm_slots = 0;   // the address measurement's cache (0: it did not fit; no address figure)
   double resident_seconds = 0, paged_seconds = 0, manage_seconds = 0, produce_seconds = 0;
   double resident_trace_seconds = 0, last_pass_trace_seconds = 0;
   double manage_share = 0;   // manage_seconds / paged_seconds

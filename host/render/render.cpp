@@ -10,6 +10,9 @@
 
 namespace mv {
 
+// The smallest band a frame is split into, as a share of its pixels.
+constexpr uint32_t kMinTileShare = 256;
+
 RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& options) {
   TraceEngine& engine = tracer.engine();
   Device& dev = engine.device();
@@ -18,13 +21,14 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   RenderResult out;
   FrameResults res;
   using clock = std::chrono::steady_clock;
+  std::vector<RenderPass> passes;  // the current tile pass's
   auto pass = [&](const std::string& name, uint64_t rays, auto&& work) {
     dev.finish();
     auto t0 = clock::now();
     work();
     dev.finish();
     const double sec = std::chrono::duration<double>(clock::now() - t0).count();
-    out.passes.push_back({name, rays, sec});
+    passes.push_back({name, rays, sec});
     out.trace_seconds += sec;
   };
 
@@ -40,52 +44,88 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
       table = dev.alloc(s.ao_table.size() * 4, "AO directions");
       dev.upload(table, s.ao_table.data(), s.ao_table.size() * 4);
     }
+    res.shadow.assign(n, 0);
+    if (s.ao_samples) res.ao.assign(n, 0);
   }
   res.hits.resize(uint64_t{n} * MV_HIT_WORDS);
-  // One frame pass traces every ray of the picture; a paged tracer then loads what it missed, and the next
-  // pass traces again, until a pass misses nothing (the picture is then the resident one) or makes no progress.
-  for (uint32_t frame_pass = 1;; ++frame_pass) {
-    out.passes.clear();
-    tracer.begin_pass();
-    pass("primary", n, [&] { engine.trace(nullptr, &cam, n, s.width, s.proj, options.max_steps, false, hits); });
-    dev.download(hits, res.hits.data(), res.hits.size() * 4);
-    out.hits = 0;
-    out.coarse_pixels = 0;
-    for (uint32_t i = 0; i < n; ++i) {
+
+  // One pass over the pixels [first, first + count) (a band of rows): primary rays, then for their hits the
+  // shadow and AO rays; the results land in `res` at those pixels.
+  struct Tile {
+    uint32_t first, count;
+  };
+  struct TileHits {
+    uint64_t hits = 0, coarse = 0;
+  };
+  auto trace_tile = [&](const Tile& t) {
+    TileHits h;
+    pass("primary", t.count,
+         [&] { engine.trace(nullptr, &cam, t.first, t.count, s.width, s.proj, options.max_steps, false, hits); });
+    dev.download(hits, res.hits.data() + uint64_t{t.first} * MV_HIT_WORDS, uint64_t{t.count} * MV_HIT_WORDS * 4,
+                 uint64_t{t.first} * MV_HIT_WORDS * 4);
+    for (uint32_t i = t.first; i < t.first + t.count; ++i) {
       const uint32_t info = mv_load_hit(res.hits.data(), i).info;
       const bool hit = MV_INFO_STATUS(info) == MV_TRACE_HIT;
-      out.hits += hit;
-      out.coarse_pixels += hit && MV_INFO_COARSE(info);
+      h.hits += hit;
+      h.coarse += hit && MV_INFO_COARSE(info);
     }
-    res.shadow.clear();
-    res.ao.clear();
-    if (shaded && out.hits) {
-      dev.fill(counts, 0, uint64_t{n} * 4);
-      pass("shadow", out.hits, [&] {
-        engine.secondary(nullptr, &cam, hits, nullptr, n, s.shadow, rays);
-        engine.trace(&rays, nullptr, n, 0, s.proj, options.max_steps, true, counts);
+    if (!shaded || !h.hits) return h;
+    auto occlusion = [&](const std::string& name, uint64_t rays_traced, uint32_t* into, auto&& make_rays) {
+      dev.fill(counts, 0, uint64_t{t.count} * 4, uint64_t{t.first} * 4);
+      pass(name, rays_traced, make_rays);
+      dev.download(counts, into + t.first, uint64_t{t.count} * 4, uint64_t{t.first} * 4);
+    };
+    occlusion("shadow", h.hits, res.shadow.data(), [&] {
+      engine.secondary(nullptr, &cam, hits, nullptr, t.first, t.count, s.shadow, rays);
+      engine.trace(&rays, nullptr, t.first, t.count, 0, s.proj, options.max_steps, true, counts);
+    });
+    if (s.ao_samples)
+      occlusion("ao", h.hits * s.ao_samples, res.ao.data(), [&] {
+        for (uint32_t k = 0; k < s.ao_samples; ++k) {
+          MvSecondaryParams p = s.ao;
+          p.sample_k = k;
+          engine.secondary(nullptr, &cam, hits, &table, t.first, t.count, p, rays);
+          engine.trace(&rays, nullptr, t.first, t.count, 0, s.proj, options.max_steps, true, counts);
+        }
       });
-      res.shadow.resize(n);
-      dev.download(counts, res.shadow.data(), uint64_t{n} * 4);
-      if (s.ao_samples) {
-        dev.fill(counts, 0, uint64_t{n} * 4);
-        pass("ao", out.hits * s.ao_samples, [&] {
-          for (uint32_t k = 0; k < s.ao_samples; ++k) {
-            MvSecondaryParams p = s.ao;
-            p.sample_k = k;
-            engine.secondary(nullptr, &cam, hits, &table, n, p, rays);
-            engine.trace(&rays, nullptr, n, 0, s.proj, options.max_steps, true, counts);
-          }
-        });
-        res.ao.resize(n);
-        dev.download(counts, res.ao.data(), uint64_t{n} * 4);
-      }
+    return h;
+  };
+
+  // A tile pass traces every ray of its pixels; a paged tracer then loads what they missed, and the next pass
+  // traces again, until a pass misses nothing (those pixels are then the resident render's) or makes no
+  // progress. A tile whose pages do not fit the cache (its pass used and requested more pages than there are
+  // slots) is halved and its halves rendered in turn, down to 1/kMinTileShare of the frame: then a view whose pages
+  // exceed the cache still converges to the resident picture, a band at a time.
+  const uint32_t min_tile = std::max<uint32_t>(64, n / kMinTileShare);
+  std::vector<Tile> todo = {{0, n}};  // a stack: the next tile at the back, bands in row order
+  out.converged = true;
+  while (!todo.empty()) {
+    const Tile t = todo.back();
+    todo.pop_back();
+    TileHits h;
+    bool done = !tracer.paged(), split = false;
+    for (uint32_t tile_pass = 1;; ++tile_pass) {
+      passes.clear();
+      tracer.begin_pass();
+      h = trace_tile(t);
+      if (done) break;
+      const CacheUpdateStats st = tracer.end_pass();
+      out.cache.push_back(st);
+      done = st.requested == 0;
+      split = !done && st.over_capacity && t.count >= 2 * min_tile;
+      if (done || split || st.loaded == 0 || tile_pass == options.cache_passes) break;
     }
-    if (!tracer.paged()) break;
-    const CacheUpdateStats st = tracer.end_pass();
-    out.cache.push_back(st);
-    out.converged = st.requested == 0;
-    if (out.converged || st.loaded == 0 || frame_pass == options.cache_passes) break;
+    if (split) {
+      const uint32_t half = t.count / 2;
+      todo.push_back({t.first + half, t.count - half});
+      todo.push_back({t.first, half});
+      continue;
+    }
+    ++out.tiles;
+    out.converged = out.converged && done;
+    out.hits += h.hits;
+    out.coarse_pixels += h.coarse;
+    out.passes.insert(out.passes.end(), passes.begin(), passes.end());
   }
   out.image = shade(s, options, res);
   return out;

@@ -64,15 +64,16 @@ uint32_t TraceEngine::step_limit(uint32_t wanted) const {
 // CPU devices without a loop cap (PoCL) give each work-item a contiguous block of rays: neighbouring rays
 // walk the same nodes, so the block stays in cache; 64 blocks per hardware thread keep the load balanced.
 template <class F>
-void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
+void TraceEngine::for_each_dispatch(uint32_t begin, uint32_t count, F&& dispatch) {
   const DeviceInfo& info = dev_.info();
   const bool gpu = info.massively_parallel;
   const uint32_t local = std::max<uint32_t>(info.preferred_work_group_size, 1);
   const uint64_t max_groups = std::max<uint32_t>(info.max_groups, 1);
   const uint64_t per_dispatch = info.max_loop_iterations ? max_groups * local : count;
   const uint32_t threads = std::max<uint32_t>({info.compute_units, std::thread::hardware_concurrency(), 1u});
-  for (uint64_t first = 0; first < count; first += per_dispatch) {
-    uint32_t n = static_cast<uint32_t>(std::min<uint64_t>(per_dispatch, count - first));
+  for (uint64_t done = 0; done < count; done += per_dispatch) {
+    const uint64_t first = begin + done;
+    uint32_t n = static_cast<uint32_t>(std::min<uint64_t>(per_dispatch, count - done));
     uint64_t groups = (uint64_t{n} + local - 1) / local;
     uint32_t block = 0;
     if (!info.max_loop_iterations && !gpu) {
@@ -85,7 +86,8 @@ void TraceEngine::for_each_dispatch(uint32_t count, F&& dispatch) {
   }
 }
 
-void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count, uint32_t width, float proj,
+void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first_ray, uint32_t count, uint32_t width,
+                        float proj,
                         uint32_t max_steps, bool occlusion, Buffer& results) {
   const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
   Kernel& k = dev_.kernel(cache_              ? KernelId::trace_rays_paged
@@ -93,7 +95,7 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count
                           : starts_in_params_ ? KernelId::trace_rays_ssvdag_params
                                               : KernelId::trace_rays_ssvdag);
   const Buffer* offsets = bricks ? &level_offsets_ : nullptr;
-  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
+  for_each_dispatch(first_ray, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
     MvTraceParams p = params_;
     p.block = block;
     p.first = first;
@@ -118,11 +120,11 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t count
 }
 
 void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table,
-                            uint32_t count, MvSecondaryParams p, Buffer& out) {
+                            uint32_t first_ray, uint32_t count, MvSecondaryParams p, Buffer& out) {
   Kernel& k = dev_.kernel(KernelId::secondary_rays);
   p.levels = levels_;
   p.camera = camera ? 1u : 0u;
-  for_each_dispatch(count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t) {
+  for_each_dispatch(first_ray, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t) {
     p.first = first;
     p.count = n;
     dev_.dispatch(k, groups, local, {rays, camera, &hits, table, &out}, p);
@@ -194,7 +196,7 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
   passes_.clear();
   for (uint32_t pass = 1;; ++pass) {
     begin_pass();
-    engine_->trace(&ray_buf, nullptr, n, 0, 0.0f, options.max_steps, false, hit_buf);
+    engine_->trace(&ray_buf, nullptr, 0, n, 0, 0.0f, options.max_steps, false, hit_buf);
     if (!cache_) break;
     const CacheUpdateStats st = end_pass();
     if (st.requested == 0 || st.loaded == 0 || pass == options.max_passes) break;  // done, stuck, or enough

@@ -28,18 +28,18 @@ class TraceEngine {
   // A step limit the device can run (lavapipe ends loops at 65535 iterations).
   uint32_t step_limit(uint32_t wanted) const;
 
-  // Traces `count` rays: from `rays` (MV_RAY_FLOATS each) or, with `camera`, the camera's pixel rays. Writes
-  // MV_HIT_WORDS per ray into `results`, or with `occlusion` adds 1 to results[i] when ray i hits.
-  void trace(const Buffer* rays, const Buffer* camera, uint32_t count, uint32_t width, float proj,
+  // Traces rays [first, first + count): from `rays` (MV_RAY_FLOATS each) or, with `camera`, the camera's pixel
+  // rays. Writes MV_HIT_WORDS per ray into `results`, or with `occlusion` adds 1 to results[i] when ray i hits.
+  void trace(const Buffer* rays, const Buffer* camera, uint32_t first, uint32_t count, uint32_t width, float proj,
              uint32_t max_steps, bool occlusion, Buffer& results);
 
-  // Writes one secondary ray per primary ray (p.first / p.count are set here).
-  void secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table, uint32_t count,
-                 MvSecondaryParams p, Buffer& out);
+  // Writes one secondary ray per primary ray of [first, first + count) (p.first / p.count are set here).
+  void secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table, uint32_t first,
+                 uint32_t count, MvSecondaryParams p, Buffer& out);
 
  private:
   template <class F>
-  void for_each_dispatch(uint32_t count, F&& dispatch);
+  void for_each_dispatch(uint32_t first, uint32_t count, F&& dispatch);
 
   Device& dev_;
   uint32_t levels_ = 0;

@@ -41,9 +41,10 @@ struct RenderOptions {
   uint32_t ao_samples = 8;   // ambient-occlusion rays per hit (0 = no AO); at most 256
   double ao_radius = 0;      // in model units; 0 = 1/20 of the grid's side
   uint32_t max_steps = 60000;
-  // Paged tracers (megavox/trace.h): frame passes at most, each tracing every ray of the frame and then loading
-  // the pages it missed; 0 = until a pass misses none. The picture is the last pass's: where it still met
-  // missing pages, it shows the finest resident level.
+  // Paged tracers (megavox/trace.h): passes per tile at most, each tracing every ray of the tile (the frame,
+  // or a band of it when the frame's pages exceed the cache) and then loading the pages it missed; 0 = until a
+  // pass misses none. The picture is the last passes': where they still met missing pages, it shows the finest
+  // resident level.
   uint32_t cache_passes = 0;
 };
 
@@ -60,13 +61,15 @@ struct RenderPass {
 
 struct RenderResult {
   Image image;
-  std::vector<RenderPass> passes;  // of the last frame pass
+  std::vector<RenderPass> passes;  // of each tile's last pass
   uint64_t hits = 0;  // pixels whose primary ray hit
-  // Paged tracers: one update per frame pass; converged when the last pass met no missing page, so the
-  // picture equals the resident render's.
+  // Paged tracers: one update per pass; converged when every tile's last pass met no missing page, so the
+  // picture equals the resident render's. A frame is one tile unless its pages exceed the cache: then bands
+  // of rows, halved until each fits (render.cpp).
   std::vector<CacheUpdateStats> cache;
   bool converged = true;
-  uint64_t coarse_pixels = 0;  // primary hits of the last pass that stopped at a missing page
+  uint32_t tiles = 0;
+  uint64_t coarse_pixels = 0;  // primary hits of the tiles' last passes that stopped at a missing page
   double trace_seconds = 0;    // all frame passes' tracing
 };
 

@@ -44,6 +44,10 @@ else
   grep -q '^OpenCV cv::grabCut: not built in' <<<"$text" || fail "the text does not say OpenCV is missing: $text"
 fi
 
+# Images far below ~1 MP: the BK speedup, defined over ~1 MP 8-connected cuts, is not measured, and says so.
+grep -q '"speedup_vs_bk": null' <<<"$json" || fail "a speedup from no ~1 MP cut: $json"
+grep -q '^speedup_vs_bk: not measured (no ~1 MP 8-connected cut' <<<"$text" || fail "no 'not measured' line: $text"
+
 # A folder that is not a database: one clear error, non-zero exit.
 if "$mv" bench mask --data "$dir/nowhere" --json > "$dir/out.txt" 2> "$dir/err.txt"; then fail "a missing database passed"; fi
 grep -q "no images in" "$dir/err.txt" || fail "unclear error: $(cat "$dir/err.txt")"

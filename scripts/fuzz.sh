@@ -6,12 +6,14 @@
 # (-DMEGAVOX_FUZZ=ON), then runs each for SECONDS on a copy of its seed corpus (fuzz/corpus/TARGET, which is
 # never written; the grown copy is build-fuzz/corpus/TARGET, fresh each run). Prints one line per target:
 # executions, crashes (0, or the paths of their inputs under build-fuzz/artifacts/TARGET/, kept until that
-# target's next run) and new coverage (inputs that reached new code: libFuzzer's NEW lines; its final cov:
+# target's next run) and new coverage (inputs the corpus grew by: the fork parent's corp: figures; its final cov:
 # and ft: figures). Full logs: build-fuzz/logs/TARGET.log. Exit status 1 when any target found a crash, a
 # leak, a timeout (an input over 10 s), an out-of-memory (over 2 GiB) or a failed MV_FUZZ_CHECK.
+# Every target runs in libFuzzer's fork mode with one worker per core (-fork=N: the parent merges their corpora
+# and counts their executions), its scratch input files on /dev/shm where that exists (the readers take paths).
 # fuzz_vdb is the exception for the last two: OpenVDB's own time and memory on a damaged file are unbounded
-# (third-party; BENCHMARKS.md, "Fuzzing"), so it runs in libFuzzer's fork mode, which records such inputs
-# (build-fuzz/artifacts/fuzz_vdb/oom-*, timeout-*), counts them apart and goes on; its crashes still fail.
+# (third-party; BENCHMARKS.md, "Fuzzing"), so its run records such inputs (build-fuzz/artifacts/fuzz_vdb/oom-*,
+# timeout-*), counts them apart and goes on; its crashes still fail.
 # Reproduce a crash: build-fuzz/TARGET build-fuzz/artifacts/TARGET/crash-...
 # Re-make the committed seeds: cmake --build build-fuzz --target make_seeds && build-fuzz/make_seeds fuzz/corpus
 set -euo pipefail
@@ -39,6 +41,8 @@ cmake --build build-fuzz --parallel "$(nproc)" --target "${targets[@]}"
 resource_third_party=" fuzz_vdb "
 
 mkdir -p build-fuzz/logs
+scratch=${TMPDIR:-/tmp}
+[[ -d /dev/shm && -w /dev/shm ]] && scratch=/dev/shm
 failed=0
 summary=()
 for t in "${targets[@]}"; do
@@ -47,32 +51,27 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus" "$artifacts"
   cp fuzz/corpus/"$t"/* "$corpus"/
   echo "fuzz: $t for ${seconds} s (log: $log)" >&2
-  fork=0 mode=()
-  if [[ $resource_third_party == *" $t "* ]]; then fork=1 mode=(-fork=1 -ignore_ooms=1 -ignore_timeouts=1); fi
+  third=0 mode=(-fork="$(nproc)")
+  if [[ $resource_third_party == *" $t "* ]]; then third=1 mode+=(-ignore_ooms=1 -ignore_timeouts=1); fi
   rc=0
-  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \
+  TMPDIR=$scratch UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \
     build-fuzz/"$t" "${mode[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || rc=$?
-  if ((fork)); then  # the parent prints "#EXECS: cov: C ft: F corp: N ..." per job
-    execs=$(grep -oE '^#[0-9]+:' "$log" | tail -1 | tr -d '#:')
-    first=$(grep -oE '^#[0-9]+: cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | head -1 | awk '{print $NF}')
-    last=$(grep -oE '^#[0-9]+: cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | tail -1 | awk '{print $NF}')
-    new=$(( ${last:-0} - ${first:-0} ))
-  else
-    execs=$(awk '/^stat::number_of_executed_units:/{print $2}' "$log" | tail -1)
-    [[ -n $execs ]] || execs=$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')
-    new=$(grep -cE '^#[0-9]+[[:space:]]+NEW ' "$log" || true)
-  fi
+  # the parent prints "#EXECS: cov: C ft: F corp: N ..." per finished job
+  execs=$(grep -oE '^#[0-9]+:' "$log" | tail -1 | tr -d '#:')
+  first=$(grep -oE '^#[0-9]+: cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | head -1 | awk '{print $NF}')
+  last=$(grep -oE '^#[0-9]+: cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | tail -1 | awk '{print $NF}')
+  new=$(( ${last:-0} - ${first:-0} ))
   cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1 | sed 's/: /=/g')
   mapfile -t found < <(find "$artifacts" -type f | sort)
   findings=() resources=()
   for a in "${found[@]}"; do
-    if ((fork)) && [[ $(basename "$a") =~ ^(oom|timeout|slow-unit)- ]]; then resources+=("$a"); else findings+=("$a"); fi
+    if ((third)) && [[ $(basename "$a") =~ ^(oom|timeout|slow-unit)- ]]; then resources+=("$a"); else findings+=("$a"); fi
   done
   if ((${#findings[@]})); then
     failed=1
     crashes="${#findings[@]}: ${findings[*]}"
-  elif ((rc != 0)) && ! ((fork && ${#resources[@]})); then
+  elif ((rc != 0)) && ! ((third && ${#resources[@]})); then
     failed=1
     crashes="? (exit status $rc, no input saved: see $log)"
   else

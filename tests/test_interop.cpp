@@ -22,10 +22,6 @@
 namespace mv::test {
 namespace {
 
-void spit(const std::string& path, const std::vector<char>& bytes) {
-  std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-}
-
 template <class T>
 T at(const std::vector<char>& b, size_t offset) {
   T v;
@@ -211,7 +207,7 @@ TEST_P(SymVoxTest, VoxcomFilesAreRecognisedAndUntransposed) {
   std::vector<char> bytes = file_bytes(temp_path("vc.svdag"));
   const float box[7] = {0, 0, 0, 32, 20, 30, 32};
   std::memcpy(bytes.data(), box, sizeof box);
-  spit(temp_path("vc.svdag"), bytes);
+  write_bytes(temp_path("vc.svdag"), bytes);
   ImportReport r = import_symvox(dev, {temp_path("vc.svdag"), temp_path("vc_back.mvx"), "auto", ""});
   EXPECT_EQ(r.convention, "voxcom");
   MvxFile back = read_mvx(temp_path("vc_back.mvx"));
@@ -235,7 +231,7 @@ TEST_P(SymVoxTest, CorruptAndTruncatedFilesAreClearErrors) {
     export_mvx(dev, {mvx, good, layout});
     const std::vector<char> bytes = file_bytes(good);
     auto outcome = [&](const std::vector<char>& b) {
-      spit(bad, b);
+      write_bytes(bad, b);
       try {
         io::SymvoxFile f = io::read_symvox(bad);
         decode_encoded(f.dag);  // a valid file must decode
@@ -263,11 +259,11 @@ TEST_P(SymVoxTest, CorruptAndTruncatedFilesAreClearErrors) {
   for (uint32_t target : {0u, 0x7fffffffu}) {
     std::vector<char> c = b;
     std::memcpy(c.data() + 48, &target, 4);  // the root's first pointer
-    spit(temp_path("p_bad.svdag"), c);
+    write_bytes(temp_path("p_bad.svdag"), c);
     EXPECT_THROW(io::read_symvox(temp_path("p_bad.svdag")), Error) << target;
   }
   EXPECT_THROW(io::read_symvox(temp_path("no_such_file.svdag")), Error);
-  spit(temp_path("text.svdag"), std::vector<char>(100, 'x'));
+  write_bytes(temp_path("text.svdag"), std::vector<char>(100, 'x'));
   EXPECT_THROW(io::read_symvox(temp_path("text.svdag")), Error);
 }
 

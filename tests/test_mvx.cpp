@@ -45,10 +45,6 @@ MvxFile sample_file(Device& dev, std::vector<uint64_t>* voxels = nullptr) {
   return f;
 }
 
-void write_all(const std::string& p, const std::vector<char>& bytes) {
-  std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
 class SvdagTest : public ::testing::TestWithParam<DeviceInfo> {};
 class MvxTest : public ::testing::TestWithParam<DeviceInfo> {};
 
@@ -112,7 +108,7 @@ TEST_P(MvxTest, DamageIsAClearError) {
   const std::vector<char> good = file_bytes(p);
   const std::string q = temp_path("damaged.mvx");
   auto expect_error = [&](const std::vector<char>& bytes, const std::string& words) {
-    write_all(q, bytes);
+    write_bytes(q, bytes);
     try {
       read_mvx(q);
       ADD_FAILURE() << "no error for damage expected to say '" << words << "'";
@@ -139,7 +135,7 @@ TEST_P(MvxTest, DamageIsAClearError) {
   for (size_t i = 0; i < 4096; i += 7) {
     b = good;
     b[i] ^= 0x5a;
-    write_all(q, b);
+    write_bytes(q, b);
     try {
       read_mvx(q);
     } catch (const Error&) {
@@ -147,7 +143,7 @@ TEST_P(MvxTest, DamageIsAClearError) {
   }
   // Every truncation is an error.
   for (size_t n = 0; n < good.size(); n += 997) {
-    write_all(q, std::vector<char>(good.begin(), good.begin() + n));
+    write_bytes(q, std::vector<char>(good.begin(), good.begin() + n));
     EXPECT_THROW(read_mvx(q), Error) << "truncated to " << n;
   }
   EXPECT_THROW(read_mvx(temp_path("no_such_file.mvx")), Error);

@@ -48,10 +48,6 @@ std::vector<MvxFile> sample_files() {
   return {file_of(encode_svdag(svo), svo), file_of(encode_svdag(dag), dag), file_of(us, dag)};
 }
 
-void spit(const std::string& p, const std::vector<char>& bytes) {
-  std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
 // A written file's bytes with its header and section table at hand, to damage and then make every checksum
 // right again (checked sections, the page index's page hashes, the header).
 struct Bytes {
@@ -83,7 +79,7 @@ struct Bytes {
     }
     h.checksum = fmt::hash(&h, offsetof(fmt::Header, checksum));
     std::memcpy(b.data(), &h, sizeof h);
-    spit(p, b);
+    write_bytes(p, b);
   }
   bool find_index() const {
     for (uint32_t i = 0; i < h.sections; ++i)
@@ -216,7 +212,7 @@ TEST(MvxPaged, PageReadsFailCleanly) {
   // A flip inside one page: that page fails its hash, the others read. read_mvx names the page.
   Bytes b(p);
   b.at<uint32_t>(fmt::kNodes)[3 * 16 + 5] ^= 0x100;
-  spit(p, b.b);  // checksums as they were
+  write_bytes(p, b.b);  // checksums as they were
   const MvxPages pages(p);
   std::vector<uint32_t> page(16);
   std::string error;
@@ -284,7 +280,7 @@ TEST(MvxPaged, PageIndexDamageIsAClearError) {
     b.section(fmt::kPageIndex).checksum ^= 1;
     b.h.checksum = fmt::hash(&b.h, offsetof(fmt::Header, checksum));
     std::memcpy(b.b.data(), &b.h, sizeof b.h);
-    spit(q, b.b);
+    write_bytes(q, b.b);
     EXPECT_NE(error_message([&] { MvxPages pages(q); }).find("checksum mismatch in the page index"), std::string::npos);
   }
   // The structure behind right page hashes: a pointer leaving the stream, into a node, a header gone, a node

@@ -48,10 +48,6 @@ PointHierarchy sample_points(bool attributes) {
   return ref::build_point_hierarchy(c, info, ref::PointLodRule{7, 100, 6});
 }
 
-void write_all(const std::string& p, const std::vector<char>& bytes) {
-  std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
 TEST(MvxPoints, RoundTripsEveryColumn) {
   for (bool attributes : {false, true}) {
     PointHierarchy h = sample_points(attributes);
@@ -110,7 +106,7 @@ TEST_P(MvxVersionTest, VersionOneVoxelFilesStillOpen) {
   h.version = 1;
   h.checksum = XXH3_64bits(&h, offsetof(mvx_format::Header, checksum));
   std::memcpy(b.data(), &h, sizeof h);
-  write_all(p, b);
+  write_bytes(p, b);
   EXPECT_EQ(read_mvx(p).voxels, 4u);
   EXPECT_EQ(mvx_content(p), MvxContent::voxels);
   EXPECT_NE(error_message([&] { read_mvx_points(p); }).find("holds voxels"), std::string::npos);
@@ -118,7 +114,7 @@ TEST_P(MvxVersionTest, VersionOneVoxelFilesStillOpen) {
   h.content = mvx_format::kPoints;
   h.checksum = XXH3_64bits(&h, offsetof(mvx_format::Header, checksum));
   std::memcpy(b.data(), &h, sizeof h);
-  write_all(p, b);
+  write_bytes(p, b);
   EXPECT_NE(error_message([&] { read_mvx(p); }).find("version 1"), std::string::npos);
 }
 
@@ -133,14 +129,14 @@ TEST(MvxPoints, DamageIsAClearError) {
   for (int i = 0; i < 600; ++i) {
     std::vector<char> b = good;
     b[rng() % b.size()] ^= static_cast<char>(1 + rng() % 255);
-    write_all(q, b);
+    write_bytes(q, b);
     try {
       read_mvx_points(q);
     } catch (const Error&) {
     }
   }
   for (size_t n = 0; n < good.size(); n += 1499) {
-    write_all(q, std::vector<char>(good.begin(), good.begin() + n));
+    write_bytes(q, std::vector<char>(good.begin(), good.begin() + n));
     EXPECT_THROW(read_mvx_points(q), Error) << "truncated to " << n;
   }
   // Structure broken with valid checksums: the writer refuses, and so would the reader.

@@ -24,6 +24,9 @@ Device& shared_device(const DeviceInfo& info);
 // Every byte of a file (empty when it cannot be read).
 std::vector<char> file_bytes(const std::string& path);
 
+// Writes `bytes` as the whole file at `path` (a test's damaged or hand-made input).
+void write_bytes(const std::string& path, const std::vector<char>& bytes);
+
 // A path for `name` in this test process's own temporary folder, removed at exit: ctest runs a test's
 // instances for the different devices at the same time.
 std::string temp_path(const std::string& name);

@@ -5,6 +5,7 @@
 
 #include "baselines/baselines.h"
 #include "megavox/error.h"
+#include "timing.h"
 
 #if MEGAVOX_HAVE_EMBREE
 #include <embree3/rtcore.h>
@@ -15,12 +16,6 @@
 namespace mv::baseline {
 
 #if MEGAVOX_HAVE_EMBREE
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 EmbreeResult embree_primary_hits(std::span<const float> positions, std::span<const uint32_t> indices,
                                  const EmbreeFrame& f, uint32_t repeats) {
   EmbreeResult out;

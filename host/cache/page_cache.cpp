@@ -11,6 +11,7 @@
 
 #include "../kernels/common/page_cache.h"
 #include "megavox/error.h"
+#include "timing.h"
 #include "megavox/primitives.h"
 
 namespace mv {
@@ -18,8 +19,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr uint32_t kLocal = 64;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "megavox/error.h"
+#include "timing.h"
 #include "omicron.h"
 #include "omicron_front.h"
 #include "point_gather.h"
@@ -14,10 +15,6 @@
 namespace mv {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The front's entries as the leaves of a flat hierarchy, in front order; point i of node order is sorted point
 // order[i].

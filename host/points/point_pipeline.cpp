@@ -12,14 +12,11 @@
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "megavox/point_build.h"
+#include "timing.h"
 
 namespace mv {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Host bytes per point while building in core: the columns, the codes and indices with the sort's copies, the
 // node-order list and the output columns.

@@ -3,6 +3,7 @@
 
 #include "baselines/baselines.h"
 #include "megavox/error.h"
+#include "timing.h"
 
 #if MEGAVOX_HAVE_OPENCV
 #include <opencv2/imgproc.hpp>
@@ -29,7 +30,7 @@ OpenCvMask opencv_grabcut(std::span<const uint8_t> rgb, uint32_t width, uint32_t
   } catch (const cv::Exception& e) {
     throw Error(std::string("bench mask: cv::grabCut failed: ") + e.what());
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.seconds = seconds_since(t0);
   out.mask.resize(size_t{width} * height);
   for (size_t i = 0; i < out.mask.size(); ++i) out.mask[i] = (mask.data[i] & 1) ? 255 : 0;  // GC_FGD, GC_PR_FGD
   return out;

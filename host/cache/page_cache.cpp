@@ -11,8 +11,8 @@
 
 #include "../kernels/common/page_cache.h"
 #include "megavox/error.h"
-#include "timing.h"
 #include "megavox/primitives.h"
+#include "timing.h"
 
 namespace mv {
 namespace {

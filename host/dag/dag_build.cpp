@@ -8,6 +8,7 @@
 #include "megavox/dag.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
+#include "timing.h"
 
 namespace mv {
 
@@ -130,7 +131,7 @@ void finish_build(Device& dev, Dag& dag, const Reduced& root, const Reduction& r
   store_root_unreflected(dag, mv_row_field(root_row, 0));
   if (times) {
     times->svo_seconds = std::chrono::duration<double>(t1 - t0).count();
-    times->reduce_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    times->reduce_seconds = seconds_since(t1);
   }
 }
 

@@ -108,7 +108,7 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
     sorter.add_run(run);
   }
   if (sorter.points() != n) throw Error(o.input + ": the file changed while it was read");
-  r.read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.read_seconds = seconds_since(t0);
   r.sort_runs = sorter.runs();
 
   t0 = std::chrono::steady_clock::now();
@@ -141,7 +141,7 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
   for (uint64_t q : order) points::unpack(layout, map + q * layout.bytes, h.points);
   io::TempFile::unmap(const_cast<uint8_t*>(map), bytes);
   r.sort_seconds = 0;  // the runs are sorted inside the read pass, the merge inside the build
-  r.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.build_seconds = seconds_since(t0);
   r.build.host_groups = builder.stats().host_groups;
   r.build.steps = builder.stats().fixes;
 

@@ -2,6 +2,7 @@
 // its reverse as one pair of Boost edges (a residual pair), terminal edges paired with zero-capacity reverses.
 // Written apart from the kernels: the neighbour offsets are spelled out here from grid_graph.h's documentation.
 #include "min_cut_reference.h"
+#include "timing.h"
 
 // Boost 1.74's BK trips GCC 12's -Wmaybe-uninitialized inside its own edge iterators (third-party code), a
 // warning given where the template is inlined: off for this whole file.
@@ -61,7 +62,7 @@ MinCut bk_min_cut(const GridGraph& g, double* solve_seconds) {
     }
   const auto start = std::chrono::steady_clock::now();
   const long flow = boost::boykov_kolmogorov_max_flow(graph, s, t);
-  if (solve_seconds) *solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (solve_seconds) *solve_seconds = seconds_since(start);
   MinCut cut;
   cut.value = static_cast<uint64_t>(flow);
   cut.source_side.resize(n);

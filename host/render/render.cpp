@@ -6,6 +6,7 @@
 #include "megavox/render.h"
 #include "megavox/trace.h"
 #include "render/frame.h"
+#include "timing.h"
 #include "trace/trace_engine.h"
 
 namespace mv {
@@ -27,7 +28,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     auto t0 = clock::now();
     work();
     dev.finish();
-    const double sec = std::chrono::duration<double>(clock::now() - t0).count();
+    const double sec = seconds_since(t0);
     passes.push_back({name, rays, sec});
     out.trace_seconds += sec;
   };

@@ -1,6 +1,7 @@
 #include "serve/http_api.h"
 
 #include <httplib.h>
+#include <sys/socket.h>
 
 #include <bit>
 #include <chrono>
@@ -63,6 +64,10 @@ HttpApi::HttpApi(JobPool& pool, const HttpOptions& options)
   // Connections stay open for many requests: reconnecting clients would overflow the listen backlog
   // (cpp-httplib listens with 5) and wait out a SYN retransmit.
   server_->set_keep_alive_max_count(1000);
+  server_->set_socket_options([this](socket_t sock) {
+    httplib::default_socket_options(sock);
+    listen_socket_ = sock;
+  });
   server_->set_read_timeout(10, 0);
   server_->set_write_timeout(10, 0);
   routes();
@@ -78,6 +83,11 @@ int HttpApi::bind() {
   } else if (!server_->bind_to_port(options_.host, port)) {
     throw Error("serve: cannot listen on " + options_.host + ":" + std::to_string(port) + " (in use?)");
   }
+  // Debian's compiled cpp-httplib listens with a backlog of 5: a burst of new connections (32 clients
+  // starting at once) overflowed it, and a dropped handshake became a client's read error. Listening again
+  // on the bound socket only raises the backlog.
+  if (listen_socket_ >= 0 && ::listen(listen_socket_, SOMAXCONN) != 0)
+    throw Error("serve: cannot listen on " + options_.host + ":" + std::to_string(port) + ": " + std::strerror(errno));
   return port;
 }
 

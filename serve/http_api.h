@@ -35,6 +35,7 @@ class HttpApi {
   JobPool& pool_;
   HttpOptions options_;
   std::unique_ptr<httplib::Server> server_;
+  int listen_socket_ = -1;  // the server's socket, seen as it is created (bind() widens its backlog)
 };
 
 // The OpenAPI 3 document of the routes (serve/openapi.json, built in).

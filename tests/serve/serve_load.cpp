@@ -107,7 +107,8 @@ int main(int argc, char** argv) {
                                         : c.Post(("/v1/jobs/" + scene + "/rays").c_str(), auth(token), ray_body, "application/octet-stream");
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         if (!r) {
-          shared.error("no answer (" + httplib::to_string(r.error()) + ")");
+          shared.error("no answer (" + httplib::to_string(r.error()) + ") to request " + std::to_string(i) + " of client " +
+                       std::to_string(t) + ", a " + (kind == 0 ? "status" : kind == 1 ? "submit" : "rays") + " request");
           continue;
         }
         std::lock_guard<std::mutex> g(shared.lock);

@@ -156,6 +156,9 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
   const bool may_hybrid = !coop && (strategy == SortStrategy::Hybrid ||
                                     (strategy == SortStrategy::Auto && !info.massively_parallel));
   const BlockShape pass_shape = coop ? coop_shape(info, n) : s;  // the digit passes' shape
+  // The block passes scatter through line buffers with streaming stores (3x faster on PoCL: 16M pairs 0.155 s
+  // -> 0.046 s), except under a loop cap, where the buffers' flush loops would count against it.
+  const bool stream = !coop && info.max_loop_iterations == 0;
 
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
   const uint64_t hist_words = uint64_t{std::max(s.blocks, pass_shape.blocks)} * MV_RADIX_BUCKETS;
@@ -196,8 +199,9 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
               p,
               dev.kernel(coop ? (k64 ? KernelId::radix_coop_histogram_k64 : KernelId::radix_coop_histogram_k32)
                               : (k64 ? KernelId::radix_histogram_k64 : KernelId::radix_histogram_k32)),
-              dev.kernel(coop ? (k64 ? KernelId::radix_coop_scatter_k64 : KernelId::radix_coop_scatter_k32)
-                              : (k64 ? KernelId::radix_scatter_k64 : KernelId::radix_scatter_k32)),
+              dev.kernel(coop     ? (k64 ? KernelId::radix_coop_scatter_k64 : KernelId::radix_coop_scatter_k32)
+                         : stream ? (k64 ? KernelId::radix_scatter_stream_k64 : KernelId::radix_scatter_stream_k32)
+                                  : (k64 ? KernelId::radix_scatter_k64 : KernelId::radix_scatter_k32)),
               hist,
               plan_scan(dev, uint64_t{pass_shape.blocks} * MV_RADIX_BUCKETS)};
   report.cooperative = coop;

@@ -9,6 +9,8 @@ mv_kernel(radix_histogram_k32      sort/sort.cl      sort/radix_sort.comp 2  MvR
 mv_kernel(radix_histogram_k64      sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_histogram MV_KEY64)
 mv_kernel(radix_scatter_k32        sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_scatter)
 mv_kernel(radix_scatter_k64        sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_scatter MV_KEY64)
+mv_kernel(radix_scatter_stream_k32 sort/sort.cl     sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_scatter_stream)
+mv_kernel(radix_scatter_stream_k64 sort/sort.cl     sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_scatter_stream MV_KEY64)
 mv_kernel(radix_local_sort_k32     sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_local_sort)
 mv_kernel(radix_local_sort_k64     sort/sort.cl      sort/radix_sort.comp 5  MvRadixParams     MV_ENTRY_local_sort MV_KEY64)
 mv_kernel(radix_coop_histogram_k32 sort/sort.cl      sort/radix_sort.comp 2  MvRadixParams     MV_ENTRY_coop_histogram)

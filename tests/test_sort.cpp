@@ -2,8 +2,10 @@
 // in runs merged on the host.
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 #include "host/chunking.h"
+#include "kernels/common/radix_sort.h"
 #include "host/ref/reference.h"
 #include "megavox/primitives.h"
 #include "test_support.h"
@@ -223,6 +225,63 @@ TEST_P(SortTest, OneDeviceCallIsCappedAtMaxDeviceItems) {
   Buffer keys = dev().alloc(8, "keys");
   std::string msg = error_message([&] { radix_sort(dev(), keys, nullptr, kMaxDeviceItems + 1, KeyBits::k64); });
   EXPECT_NE(msg.find(std::to_string(kMaxDeviceItems)), std::string::npos) << msg;
+}
+
+// The streaming scatter, dispatched directly on every device (the sort picks it only where loops are not capped):
+// one pass over blocks of any length must equal the stable sort by the pass's digit, with and without values,
+// for random keys, keys sharing one digit, a few digits (long runs that fill whole lines) and short blocks.
+template <class Key>
+void check_streaming_scatter(Device& d) {
+  const bool k64 = sizeof(Key) == 8;
+  Kernel& k = d.kernel(k64 ? KernelId::radix_scatter_stream_k64 : KernelId::radix_scatter_stream_k32);
+  const uint32_t local = d.info().preferred_work_group_size;
+  for (uint32_t n : {1u, 15u, 16u, 17u, 1000u, 20011u})
+    for (uint32_t shape = 0; shape < 3; ++shape)
+      for (uint32_t shift : {0u, 5u, uint32_t(sizeof(Key) * 8 - 8)}) {
+        std::vector<Key> keys(n);
+        if constexpr (sizeof(Key) == 8) keys = random_u64(n, n + shift);
+        else keys = random_u32(n, n + shift);
+        if (shape == 1) for (auto& x : keys) x |= Key(0xff) << shift;                  // every key in digit 255
+        if (shape == 2) for (auto& x : keys) x &= ~(Key(0xfc) << shift);               // digits 0..3 only
+        const uint32_t blocks = std::min<uint32_t>(n, 7), block_size = (n + blocks - 1) / blocks;
+        auto digit = [&](Key x) { return uint32_t(x >> shift) & 0xffu; };
+        std::vector<uint32_t> offsets(256 * blocks + 2, 0);
+        for (uint32_t i = 0; i < n; ++i) offsets[digit(keys[i]) * blocks + i / block_size] += 1;
+        for (uint32_t i = 0, acc = 0; i < 256 * blocks; ++i) acc += std::exchange(offsets[i], acc);
+        std::vector<Key> expect = keys;
+        std::vector<uint32_t> values(n), expect_values(n);
+        std::iota(values.begin(), values.end(), 0u);
+        std::iota(expect_values.begin(), expect_values.end(), 0u);
+        std::stable_sort(expect_values.begin(), expect_values.end(),
+                         [&](uint32_t a, uint32_t b) { return digit(keys[a]) < digit(keys[b]); });
+        for (uint32_t i = 0; i < n; ++i) expect[i] = keys[expect_values[i]];
+        for (uint32_t has_values : {0u, 1u}) {
+          SCOPED_TRACE("n " + std::to_string(n) + ", shape " + std::to_string(shape) + ", shift " +
+                       std::to_string(shift) + ", values " + std::to_string(has_values));
+          Buffer kin = d.alloc(n * sizeof(Key), "keys"), kout = d.alloc(n * sizeof(Key), "sorted keys");
+          Buffer vin = d.alloc(n * 4, "values"), vout = d.alloc(n * 4, "sorted values");
+          Buffer off = d.alloc(offsets.size() * 4, "offsets");
+          d.upload(kin, keys.data(), n * sizeof(Key));
+          d.upload(vin, values.data(), n * 4);
+          d.upload(off, offsets.data(), offsets.size() * 4);
+          MvRadixParams p{n, blocks, block_size, shift, has_values, 0, 0, 0, 0};
+          d.dispatch(k, (blocks + local - 1) / local, local, {&kin, &kout, &vin, &vout, &off}, p);
+          d.finish();
+          std::vector<Key> got(n);
+          std::vector<uint32_t> got_values(n);
+          d.download(kout, got.data(), n * sizeof(Key));
+          d.download(vout, got_values.data(), n * 4);
+          ASSERT_TRUE(got == expect);
+          if (has_values) {
+            ASSERT_TRUE(got_values == expect_values);
+          }
+        }
+      }
+}
+
+TEST_P(SortTest, StreamingScatterIsTheStableSortByTheDigit) {
+  check_streaming_scatter<uint32_t>(dev());
+  if (!HasFatalFailure()) check_streaming_scatter<uint64_t>(dev());
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(SortTest);

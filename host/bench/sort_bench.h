@@ -13,7 +13,7 @@ struct SortBenchOptions {
   uint64_t n = 16u << 20;
   int key_bits = 64;    // 32 or 64
   bool pairs = true;    // move a 32-bit value (the original index) with each key
-  int repeats = 3;      // runs of megavox and of each baseline; the best of each is reported
+  int repeats = 5;      // runs of megavox and of each baseline; the best of each is reported
   SortStrategy strategy = SortStrategy::Auto;
   uint64_t seed = 1;
 };
@@ -48,7 +48,8 @@ struct SortBenchResult {
   std::vector<SortBaselineRun> baselines;  // every baseline run: std::sort, tbb, boost, ips4o, vqsort (when built in)
   const SortBaselineRun* baseline(const std::string& name) const;  // null when it did not run
   double copy_gb_per_s = 0;      // host memcpy, bytes read + written per second, measured in this run
-  double floor_seconds = 0;      // passes x 2 x n x pair bytes / copy bandwidth
+  double floor_bytes = 0;        // bytes the variant must move through memory (sort_bench.cpp)
+  double floor_seconds = 0;      // floor_bytes / copy bandwidth
   double floor_fraction = 0;     // floor_seconds / seconds
   bool verified = false;         // output is the stable sort of the input (checked in full)
   std::vector<KernelTiming> kernel_totals;  // per kernel over the best run (with profiling)

@@ -175,6 +175,26 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair
 #elif defined(MV_CPP)
 #define MV_ST_U64(buf, i, v) (((mv_u64*)(buf))[i] = (v))
 #endif
+/* MV_ST_STREAM(buf, i, v): a store that need not stay in cache (a streaming, non-temporal store where the
+ * compiler has one: clang, which PoCL uses; a plain store elsewhere). Whole aligned lines of them write memory
+ * without first reading it. MV_STREAM_FENCE() at the end of a kernel that streams orders them before the
+ * dispatch's end (x86 streaming stores are weakly ordered). */
+#if defined(MV_OPENCL) && defined(__clang__) && defined(__has_builtin)
+#if __has_builtin(__builtin_nontemporal_store)
+#define MV_ST_STREAM(buf, i, v) __builtin_nontemporal_store((v), &(buf)[i])
+#endif
+#if (defined(__x86_64__) || defined(__i386__)) && __has_builtin(__builtin_ia32_sfence)
+#define MV_STREAM_FENCE() __builtin_ia32_sfence()
+#endif
+#endif
+#if !defined(MV_ST_STREAM)
+#define MV_ST_STREAM(buf, i, v) MV_ST(buf, i, v)
+#endif
+#if !defined(MV_STREAM_FENCE) && defined(MV_GLSL)
+#define MV_STREAM_FENCE() /* GLSL has no (void) cast */
+#elif !defined(MV_STREAM_FENCE)
+#define MV_STREAM_FENCE() ((void)0)
+#endif
 #define MV_MAX_ITEMS 0x7fffffffu /* items one call of a primitive covers */
 
 /* ---- a private 256-entry array passed to a helper: a pointer in C and OpenCL, an inout array in GLSL ---- */

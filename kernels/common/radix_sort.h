@@ -16,6 +16,7 @@
 
 #define MV_RADIX_BITS 8
 #define MV_RADIX_BUCKETS 256
+#define MV_RADIX_LINE 16  /* entries per line buffer of the streaming scatter (a power of two) */
 #define MV_RADIX_SMALL 32 /* in-bucket ranges of at most this many keys are finished by insertion sort */
 
 /* The work-group-cooperative variant (radix_coop_*.h): work-groups of MV_COOP_WG items; each takes blocks of

@@ -32,6 +32,10 @@ MV_ALWAYS_INLINE bool mv_edge_axis_separates(mv_f64 v0x, mv_f64 v0y, mv_f64 v0z,
  * walk along a runs them once per column (mv_tri_box_column) with the same outcome as per voxel. One
  * straight-line function per axis, always inlined: called, a loop over axes and edges with selects was half
  * of the voxelizer's time on PoCL. */
+#if defined(MV_CPP) && defined(__GNUC__) /* each axis reads six of the nine edge components it names */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-variable"
+#endif
 #define MV_EDGE_AXES(name, X0, Y0, Z0, X1, Y1, Z1, X2, Y2, Z2)                                                         \
   MV_ALWAYS_INLINE bool name(mv_f64 v0x, mv_f64 v0y, mv_f64 v0z, mv_f64 v1x, mv_f64 v1y, mv_f64 v1z, mv_f64 v2x, mv_f64 v2y,  \
                       mv_f64 v2z) {                                                                                    \
@@ -46,6 +50,9 @@ MV_EDGE_AXES(mv_edge_axes_x_separate, 0.0, -e0z, e0y, 0.0, -e1z, e1y, 0.0, -e2z,
 MV_EDGE_AXES(mv_edge_axes_y_separate, e0z, 0.0, -e0x, e1z, 0.0, -e1x, e2z, 0.0, -e2x)
 MV_EDGE_AXES(mv_edge_axes_z_separate, -e0y, e0x, 0.0, -e1y, e1x, 0.0, -e2y, e2x, 0.0)
 #undef MV_EDGE_AXES
+#if defined(MV_CPP) && defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 /* Triangle (a, b, c) in grid units against voxel (i, j, k), leaving out the tests mv_tri_box_column already
  * passed for the column along axis `column` through the voxel (3: none left out; the outcome is the same,

@@ -41,6 +41,15 @@ void main() {
   if (b < args.p.blocks)
     MV_KFN(mv_radix_scatter)(args.keys_in, args.keys_out, args.vals_in, args.vals_out, args.offsets, args.p, b);
 }
+#elif defined(MV_ENTRY_scatter_stream)
+layout(push_constant) uniform Args {
+  MvBufKey keys_in; MvBufKey keys_out; MvBufU32 vals_in; MvBufU32 vals_out; MvBufU32 offsets; MvRadixParams p;
+} args;
+void main() {
+  uint b = MV_GLOBAL_ID();
+  if (b < args.p.blocks)
+    MV_KFN(mv_radix_scatter_stream)(args.keys_in, args.keys_out, args.vals_in, args.vals_out, args.offsets, args.p, b);
+}
 #elif defined(MV_ENTRY_local_sort)
 layout(push_constant) uniform Args {
   MvBufKey keys; MvBufKey scratch; MvBufU32 vals; MvBufU32 vscratch; MvBufU32 offsets; MvRadixParams p;

@@ -39,6 +39,11 @@
     uint b = MV_GLOBAL_ID();                                                                                  \
     if (b < p.blocks) mv_radix_scatter_##K(keys_in, keys_out, vals_in, vals_out, offsets, p, b);             \
   }                                                                                                           \
+  __kernel void radix_scatter_stream_##K(__global KT* keys_in, __global KT* keys_out, __global uint* vals_in,  \
+                                         __global uint* vals_out, __global uint* offsets, MvRadixParams p) {  \
+    uint b = MV_GLOBAL_ID();                                                                                  \
+    if (b < p.blocks) mv_radix_scatter_stream_##K(keys_in, keys_out, vals_in, vals_out, offsets, p, b);      \
+  }                                                                                                           \
   __kernel void radix_local_sort_##K(__global KT* keys, __global KT* scratch, __global uint* vals,           \
                                      __global uint* vscratch, __global uint* offsets, MvRadixParams p) {      \
     mv_radix_local_sort_##K(keys, scratch, vals, vscratch, offsets, p, MV_GLOBAL_ID());                      \

@@ -11,7 +11,12 @@ target_include_directories(megavox_shared PRIVATE ${CMAKE_SOURCE_DIR}/include ${
 set_target_properties(megavox_shared PROPERTIES OUTPUT_NAME megavox EXPORT_NAME megavox
   VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
   CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON LINK_DEPENDS ${CMAKE_SOURCE_DIR}/cmake/megavox.map)
-target_link_options(megavox_shared PRIVATE -Wl,--version-script=${CMAKE_SOURCE_DIR}/cmake/megavox.map -Wl,--no-undefined)
+target_link_options(megavox_shared PRIVATE -Wl,--version-script=${CMAKE_SOURCE_DIR}/cmake/megavox.map)
+# Every symbol resolved at link time, except in the sanitizer build: clang leaves the ASan runtime to the
+# executable that loads the library.
+if(NOT MEGAVOX_SANITIZE)
+  target_link_options(megavox_shared PRIVATE -Wl,--no-undefined)
+endif()
 target_link_libraries(megavox_shared PRIVATE "$<LINK_LIBRARY:WHOLE_ARCHIVE,megavox_capi>" megavox_lib)
 target_include_directories(megavox_shared INTERFACE
   $<BUILD_INTERFACE:${CMAKE_SOURCE_DIR}/include> $<BUILD_INTERFACE:${CMAKE_BINARY_DIR}/include>

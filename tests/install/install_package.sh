@@ -30,7 +30,16 @@ grep -rq "$dir/first" "$prefix" && fail "the tree names where it was installed f
 write_tetra_ply "$dir/tetra.ply"
 "$prefix/bin/megavox" build "$dir/tetra.ply" --resolution 32 -o "$dir/tetra.mvx" > /dev/null
 
-cmake -S "$src/tests/install/consumer" -B "$dir/consumer" -DCMAKE_PREFIX_PATH="$prefix" > "$dir/configure.log" ||
+# The sanitizer build's library leaves the ASan runtime to the program, so its consumers build the same way.
+sanitize=()
+sanitize_link=()
+if [[ $(nm -D --undefined-only "$lib") == *" __asan_"* ]]; then  # (grep -q would end nm early under pipefail)
+  export CC=clang
+  sanitize=(-fsanitize=address,undefined)
+  sanitize_link=(-fsanitize-link-c++-runtime -lstdc++)  # the library's C++ checks (UBSan's vptr) need these
+fi
+cmake -S "$src/tests/install/consumer" -B "$dir/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_C_FLAGS="${sanitize[*]}" -DCMAKE_EXE_LINKER_FLAGS="${sanitize_link[*]}" > "$dir/configure.log" ||
   fail "configure: $(cat "$dir/configure.log")"
 cmake --build "$dir/consumer" > "$dir/build.log" || fail "build: $(cat "$dir/build.log")"
 out=$("$dir/consumer/trace_mvx" "$dir/tetra.mvx") || fail "trace_mvx: $out"
@@ -39,7 +48,8 @@ hits=$(echo "$out" | awk '/^hits/ {print $2}')
 
 pcdir=$(dirname "$(ls "$prefix"/lib*/pkgconfig/megavox.pc)")
 flags=$(PKG_CONFIG_PATH=$pcdir pkg-config --cflags --libs megavox)
-cc -std=c99 -o "$dir/trace_pc" "$src/tests/install/consumer/trace_mvx.c" $flags -lm
+"${CC:-cc}" -std=c99 "${sanitize[@]}" -o "$dir/trace_pc" "$src/tests/install/consumer/trace_mvx.c" $flags -lm \
+  "${sanitize_link[@]}"
 out2=$(LD_LIBRARY_PATH=$(dirname "$lib") "$dir/trace_pc" "$dir/tetra.mvx") || fail "pkg-config build: $out2"
 [[ $(echo "$out2" | awk '/^hits/ {print $2}') == "$hits" ]] || fail "pkg-config build: $out2"
 echo "installed, found by CMake and pkg-config, $hits of 256 rays hit"

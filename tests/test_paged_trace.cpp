@@ -74,10 +74,16 @@ std::vector<uint32_t> download_words(Device& dev, const Buffer& b) {
 // Every resident page's slot names it back, and every owned slot's page points at it.
 void expect_table_consistent(Device& dev, PageCache& c) {
   const std::vector<uint32_t> table = download_words(dev, c.table()), owner = download_words(dev, c.owners());
-  for (uint32_t pg = 0; pg < table.size(); ++pg)
-    if (table[pg] != MV_CACHE_NONE) ASSERT_EQ(owner[table[pg]], pg) << "page " << pg;
-  for (uint32_t s = 0; s < owner.size(); ++s)
-    if (owner[s] != MV_CACHE_NONE) ASSERT_EQ(table[owner[s]], s) << "slot " << s;
+  for (uint32_t pg = 0; pg < table.size(); ++pg) {
+    if (table[pg] != MV_CACHE_NONE) {
+      ASSERT_EQ(owner[table[pg]], pg) << "page " << pg;
+    }
+  }
+  for (uint32_t s = 0; s < owner.size(); ++s) {
+    if (owner[s] != MV_CACHE_NONE) {
+      ASSERT_EQ(table[owner[s]], s) << "slot " << s;
+    }
+  }
 }
 
 // Camera-like rays from outside toward random points of the unit cube around the model.

@@ -1,9 +1,12 @@
 // OpenVDB input: level sets give their surface voxels, fog volumes their voxels > 0, one VDB voxel each.
 #include <openvdb/openvdb.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/tools/LevelSetSphere.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "io/vdb_source.h"
 #include "megavox/build.h"
@@ -105,6 +108,58 @@ TEST(Vdb, DamagedFileIsAClearError) {
   EXPECT_TRUE(io::is_vdb(path));
   EXPECT_THROW(io::read_vdb(path, "", 0), Error);
   fs::remove(path);
+}
+
+TEST(Vdb, EveryPrefixOfAFileIsAClearError) {
+  // A file cut anywhere: an mv::Error (never another exception, a hang, or a grid read from part of the file).
+  const std::string path = temp_path("whole.vdb"), cut = temp_path("cut.vdb");
+  write_ball_and_fog(path);
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  ASSERT_GT(bytes.size(), 1000u);
+  const size_t step = bytes.size() / 97 + 1;
+  for (size_t n = 0; n < bytes.size(); n += step) {
+    std::ofstream(cut, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(n));
+    EXPECT_THROW(io::read_vdb(cut, "density", 0), Error) << n << " of " << bytes.size() << " bytes";
+  }
+  fs::remove(path);
+  fs::remove(cut);
+}
+
+TEST(Vdb, StreamWrittenFilesAndInstancesRead) {
+  // io::Stream writes no grid offsets: the grids before the wanted one are read and dropped. A grid sharing
+  // its tree with an earlier one is an instance: its tree comes from that grid.
+  openvdb::initialize();
+  auto fog = openvdb::FloatGrid::create(0.0f);
+  fog->setName("density");
+  fog->setGridClass(openvdb::GRID_FOG_VOLUME);
+  fog->tree().setValue(openvdb::Coord(1, 2, 3), 0.5f);
+  fog->tree().setValue(openvdb::Coord(7, 2, 3), 1.0f);
+  auto shared = fog->copyGrid();  // shares fog's tree
+  shared->setName("copy");
+  auto other = openvdb::MaskGrid::create();
+  other->setName("mask");
+  other->tree().setValueOn(openvdb::Coord(0, 0, 0));
+
+  const std::string streamed = temp_path("streamed.vdb"), instanced = temp_path("instanced.vdb");
+  {
+    std::ofstream os(streamed, std::ios::binary);
+    openvdb::io::Stream(os).write({other, fog});
+  }
+  io::VdbVoxels s = io::read_vdb(streamed, "density", 0);
+  EXPECT_EQ(s.keys.size(), 2u);
+  EXPECT_EQ(io::read_vdb(streamed, "", 0).grid_name, "mask");
+  EXPECT_THROW(io::read_vdb(streamed, "nosuch", 0), Error);
+
+  openvdb::io::File(instanced).write({fog, other, shared});
+  io::VdbVoxels c = io::read_vdb(instanced, "copy", 0);
+  EXPECT_EQ(c.grid_name, "copy");
+  EXPECT_TRUE(c.keys == s.keys);
+  fs::remove(streamed);
+  fs::remove(instanced);
 }
 
 TEST(Vdb, SharedSamples) {

@@ -8,7 +8,8 @@
 # executions, crashes (0, or the paths of their inputs under build-fuzz/artifacts/TARGET/, kept until that
 # target's next run) and new coverage (inputs the corpus grew by: the fork parent's corp: figures; its final cov:
 # and ft: figures). Full logs: build-fuzz/logs/TARGET.log. Exit status 1 when any target found a crash, a
-# leak, a timeout (an input over 10 s), an out-of-memory (over 2 GiB) or a failed MV_FUZZ_CHECK.
+# leak, a timeout (an input over 10 s), an out-of-memory (over 2 GiB) or a failed MV_FUZZ_CHECK. A slow input
+# (slow-unit-*) that runs again in under 1 s is listed apart as a stall of the machine, not a finding.
 # Every target runs in libFuzzer's fork mode with one worker per core (-fork=N: the parent merges their corpora
 # and counts their executions), its scratch input files on /dev/shm where that exists (the readers take paths).
 # fuzz_vdb is the exception for the last two: OpenVDB's own time and memory on a damaged file are unbounded
@@ -53,6 +54,14 @@ openvdb_crash() {
   [[ $first =~ libopenvdb|/usr/include/openvdb/ ]]
 }
 
+# Whether the slow input $2 of target $1 runs again in under a second: then it was the machine that stalled
+# (this VM pauses both cores now and then), not the reader.
+stalled() {
+  local start=$EPOCHREALTIME
+  ASAN_OPTIONS=detect_leaks=0 timeout 10 build-fuzz/"$1" "$2" >/dev/null 2>&1 || return 1
+  awk -v a="$start" -v b="$EPOCHREALTIME" 'BEGIN { exit !(b - a < 1) }'
+}
+
 mkdir -p build-fuzz/logs
 scratch=${TMPDIR:-/tmp}
 [[ -d /dev/shm && -w /dev/shm ]] && scratch=/dev/shm
@@ -77,8 +86,9 @@ for t in "${targets[@]}"; do
   new=$(( ${last:-0} - ${first:-0} ))
   cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1 | sed 's/: /=/g')
   mapfile -t found < <(find "$artifacts" -type f | sort)
-  findings=() resources=()
+  findings=() resources=() stalls=()
   for a in "${found[@]}"; do
+    if [[ $(basename "$a") == slow-unit-* ]] && stalled "$t" "$a"; then stalls+=("$a"); continue; fi
     if ((third)) && { [[ $(basename "$a") =~ ^(oom|timeout|slow-unit)- ]] ||
                       { [[ $(basename "$a") == crash-* ]] && openvdb_crash "$t" "$a"; }; }; then
       resources+=("$a")
@@ -95,6 +105,7 @@ for t in "${targets[@]}"; do
   else
     crashes=0
   fi
+  ((${#stalls[@]})) && crashes+="   slow inputs that rerun in under 1 s (machine stalls) ${#stalls[@]}"
   ((${#resources[@]})) && crashes+="   third-party (OpenVDB) oom/timeout/crash inputs ${#resources[@]} (in $artifacts)"
   summary+=("$(printf '%-18s executions %10s   crashes %s   new coverage %s inputs (%s)' "$t" "${execs:-0}" "$crashes" "$new" "${cov:-no cov line}")")
   echo "${summary[-1]}"

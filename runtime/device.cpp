@@ -219,6 +219,10 @@ void Device::finish() {
   impl_->backend->finish();
   impl_->pool->reclaim();
 }
+void Device::trim() {
+  finish();
+  impl_->pool->trim();
+}
 std::vector<KernelTiming> Device::take_timings() { return impl_->backend->take_timings(); }
 
 uint32_t Device::groups_for(uint64_t items, uint32_t local_size) const {

@@ -90,6 +90,19 @@ bool MemoryPool::place(uint64_t pages, Range& out) {
   return true;
 }
 
+uint64_t MemoryPool::trim() {
+  uint64_t freed = 0;
+  for (Arena& a : arenas_) {
+    if (!a.memory || std::find(a.used.begin(), a.used.end(), true) != a.used.end()) continue;
+    const uint64_t bytes = a.used.size() * page_bytes_;
+    a.memory.reset();
+    a.used.clear();  // no run fits an arena without pages: place() passes over it
+    arena_bytes_total_ -= bytes;
+    freed += bytes;
+  }
+  return freed;
+}
+
 void MemoryPool::release(const Range& range) { retired_.push_back(range); }
 
 void MemoryPool::reclaim() {

@@ -31,6 +31,9 @@ class MemoryPool {
   Range allocate(uint64_t bytes, std::string_view what);
   void release(const Range& range);  // retire: free again after the next reclaim()
   void reclaim();                     // call only when the device is idle
+  // Frees the storage of every arena that holds no pages (call only when the device is idle, after reclaim);
+  // a later allocation creates a new arena. Returns the bytes freed.
+  uint64_t trim();
 
   BackendArena& arena(uint32_t index) { return *arenas_[index].memory; }
   uint64_t budget() const { return budget_; }

@@ -34,6 +34,34 @@ TEST_P(MemoryTest, ReleasedPagesAreReused) {
   EXPECT_EQ(dev->memory_used(), 0u);
 }
 
+// trim() gives back only storage that holds no buffer: a live buffer keeps its contents, the budget is whole
+// again afterwards, and allocations after it work (in a new arena).
+TEST_P(MemoryTest, TrimFreesOnlyEmptyStorage) {
+  auto dev = Device::open({GetParam().selector(), 8u << 20, false});
+  {
+    Buffer a = dev->alloc(3u << 20, "released before the trim");
+    dev->fill(a, 1, 3u << 20);
+  }
+  Buffer kept = dev->alloc(4096, "kept across the trim");
+  dev->fill(kept, 0x5eed, 4096);
+  dev->trim();
+  uint32_t v = 0;
+  dev->download(kept, &v, 4, 4092);
+  EXPECT_EQ(v, 0x5eedu);
+  EXPECT_EQ(dev->memory_used(), dev->page_bytes());
+  kept = Buffer();
+  dev->trim();
+  EXPECT_EQ(dev->memory_used(), 0u);
+  for (int i = 0; i < 3; ++i) {  // the whole budget again, each time in storage made anew
+    Buffer b = dev->alloc(7u << 20, "after the trim");
+    dev->fill(b, static_cast<uint32_t>(i), 7u << 20);
+    dev->download(b, &v, 4, (7u << 20) - 4);
+    EXPECT_EQ(v, static_cast<uint32_t>(i));
+    b = Buffer();
+    dev->trim();
+  }
+}
+
 TEST_P(MemoryTest, SmallBuffersSharePagesOfOneArena) {
   auto dev = Device::open({GetParam().selector(), 8u << 20, false});
   std::vector<Buffer> bufs;

@@ -123,8 +123,9 @@ TEST_P(OmicronFrontTest, InvariantsHoldAfterEveryStepAndTheEndIsTheCut) {
       if (HasFatalFailure() || end == codes.size()) break;
     }
     std::vector<PointNode> nodes;
-    std::vector<uint64_t> order, per_level;
-    b.assemble(nodes, order, per_level);
+    std::vector<points::NodePoints> sources;
+    std::vector<uint64_t> per_level;
+    b.assemble(nodes, sources, per_level);
     std::vector<std::pair<uint32_t, uint64_t>> front;
     for (const FrontEntry& e : f.entries()) {
       EXPECT_FALSE(e.placeholder);

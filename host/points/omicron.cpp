@@ -90,39 +90,64 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
     // candidates may exceed that: it then has a call to itself).
     const uint32_t fine = (l - 1) + rule_.grid_bits;
     const uint32_t cell_bits = fine >= 21 ? 0 : 3 * (21 - fine);
+    // A parent whose children are all leaves (every parent of the deepest level's cells) has one contiguous range
+    // of the sorted stream as its candidates: its codes are copied as a block, and a kept position maps back by
+    // offset. Other parents list their candidates one by one (cand_).
     size_t k = 0;
     while (k < inner.size()) {
       std::vector<uint64_t>& cand = cand_;  // reused across calls: fresh memory is slow to touch
+      std::vector<uint64_t>& codes = cand_codes_;
       cand.clear();
+      codes.clear();
       std::vector<uint32_t> bounds{0};
+      std::vector<int64_t> range_first;  // per parent of the call: its first sorted point if its candidates are a range
       size_t end = k;
       while (end < inner.size()) {
         const auto [b, e] = groups[inner[end]];
         uint64_t size = 0;
-        for (uint64_t c = b; c < e; ++c) size += list[c].child_mask == 0 ? list[c].points : list[c].rep_count;
-        if (end > k && cand.size() + size > kCallCandidates) break;
-        if (cand.size() + size > UINT32_MAX) throw Error("points: a node has more than 2^32 candidate points");
+        bool all_leaves = true;
         for (uint64_t c = b; c < e; ++c) {
-          const LodNode& child = list[c];
-          if (child.child_mask == 0)
-            for (uint64_t q = child.first; q < child.first + child.points; ++q) cand.push_back(q);
-          else
-            cand.insert(cand.end(), reps_.begin() + child.rep_begin, reps_.begin() + child.rep_begin + child.rep_count);
+          size += list[c].child_mask == 0 ? list[c].points : list[c].rep_count;
+          all_leaves &= list[c].child_mask == 0;
         }
-        bounds.push_back(static_cast<uint32_t>(cand.size()));
+        if (end > k && codes.size() + size > kCallCandidates) break;
+        if (codes.size() + size > UINT32_MAX) throw Error("points: a node has more than 2^32 candidate points");
+        if (all_leaves) {
+          const uint64_t first = list[b].first;
+          if (list[e - 1].first + list[e - 1].points != first + size)
+            throw Error("points: internal error: sibling leaves do not cover one range of the sorted stream");
+          codes.insert(codes.end(), sorted.begin() + first, sorted.begin() + first + size);
+          range_first.push_back(static_cast<int64_t>(first));
+        } else {
+          range_first.push_back(-1);
+          const size_t from = cand.size();
+          for (uint64_t c = b; c < e; ++c) {
+            const LodNode& child = list[c];
+            if (child.child_mask == 0)
+              for (uint64_t q = child.first; q < child.first + child.points; ++q) cand.push_back(q);
+            else
+              cand.insert(cand.end(), reps_.begin() + child.rep_begin, reps_.begin() + child.rep_begin + child.rep_count);
+          }
+          for (size_t q = from; q < cand.size(); ++q) codes.push_back(sorted[cand[q]]);
+        }
+        bounds.push_back(static_cast<uint32_t>(codes.size()));
         ++end;
       }
-      std::vector<uint64_t>& codes = cand_codes_;
-      codes.resize(cand.size());
-      for (size_t q = 0; q < cand.size(); ++q) codes[q] = sorted[cand[q]];
       RepSelection sel = select_representatives(dev_, codes, bounds, cell_bits, rule_.max_node_points);
       ++stats_.dispatches;
       stats_.host_groups += sel.host_groups;
+      uint64_t listed = 0;  // candidates of the listed parents before this one
       for (size_t g = k; g < end; ++g) {
         LodNode& p = parents[inner[g]];
+        const uint64_t b = bounds[g - k];
         p.rep_begin = reps_.size();
         p.rep_count = static_cast<uint32_t>(sel.offsets[g - k + 1] - sel.offsets[g - k]);
-        for (uint64_t q = sel.offsets[g - k]; q < sel.offsets[g - k + 1]; ++q) reps_.push_back(cand[sel.positions[q]]);
+        const int64_t first = range_first[g - k];
+        for (uint64_t q = sel.offsets[g - k]; q < sel.offsets[g - k + 1]; ++q) {
+          const uint64_t pos = sel.positions[q] - b;  // within the parent's candidates
+          reps_.push_back(first >= 0 ? static_cast<uint64_t>(first) + pos : cand[listed + pos]);
+        }
+        if (first < 0) listed += bounds[g - k + 1] - b;
       }
       k = end;
     }
@@ -131,21 +156,36 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
   }
 }
 
-PointNode OmicronBuilder::emit(const LodNode& src, uint32_t level, std::vector<uint64_t>& order) const {
+PointNode OmicronBuilder::node_of(const LodNode& src, uint32_t level, uint64_t first_point, NodePoints& points) const {
   PointNode node;
   node.code = (uint64_t{1} << (3 * level)) | src.prefix;
   node.level = static_cast<uint8_t>(level);
   node.subtree_points = src.points;
-  node.first_point = order.size();
+  node.first_point = first_point;
   node.child_mask = src.child_mask;
-  if (src.child_mask == 0) {
-    node.point_count = static_cast<uint32_t>(src.points);
-    for (uint64_t q = src.first; q < src.first + src.points; ++q) order.push_back(q);
-  } else {
-    node.point_count = src.rep_count;
-    order.insert(order.end(), reps_.begin() + src.rep_begin, reps_.begin() + src.rep_begin + src.rep_count);
-  }
+  if (src.child_mask == 0) points = {src.first, static_cast<uint32_t>(src.points), false};
+  else points = {src.rep_begin, src.rep_count, true};
+  node.point_count = points.count;
   return node;
+}
+
+PointNode OmicronBuilder::emit(const LodNode& src, uint32_t level, std::vector<uint64_t>& order) const {
+  NodePoints points;
+  PointNode node = node_of(src, level, order.size(), points);
+  const NodePoints one[1] = {points};
+  expand_order(one, reps_, order);
+  return node;
+}
+
+void expand_order(std::span<const NodePoints> sources, std::span<const uint64_t> reps, std::vector<uint64_t>& order) {
+  for (const NodePoints& s : sources) {
+    if (s.reps) {
+      order.insert(order.end(), reps.begin() + static_cast<std::ptrdiff_t>(s.first),
+                   reps.begin() + static_cast<std::ptrdiff_t>(s.first + s.count));
+    } else {
+      for (uint64_t q = s.first; q < s.first + s.count; ++q) order.push_back(q);
+    }
+  }
 }
 
 void OmicronBuilder::snapshot(std::vector<PointNode>& nodes, std::vector<uint64_t>& order,
@@ -175,13 +215,12 @@ void OmicronBuilder::snapshot(std::vector<PointNode>& nodes, std::vector<uint64_
     }
 }
 
-void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<uint64_t>& order,
+void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<NodePoints>& sources,
                               std::vector<uint64_t>& per_level) const {
   if (levels_[0].size() != 1)
     throw Error("points: the hierarchy is not finished (" + std::to_string(levels_[0].size()) + " roots)");
   nodes.clear();
-  order.clear();
-  reserve_huge(order, formed_ + reps_.size());  // every leaf point and representative at most once
+  sources.clear();
   per_level.assign(rule_.depth + 1, 0);
   // Breadth-first: level by level, each level's nodes in Morton order, so a node's children are the next
   // survivors of the level below.
@@ -189,17 +228,21 @@ void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<uint64_
   for (uint32_t l = 0; l <= rule_.depth; ++l)
     for (const LodNode& src : levels_[l]) survivors[l] += src.absorbed ? 0 : 1;
   uint64_t next_level_start = 0;  // index of the first node of the level below
+  uint64_t first_point = 0;
   for (uint32_t l = 0; l <= rule_.depth; ++l) {
     next_level_start += survivors[l];
     uint64_t children_taken = 0;
     for (const LodNode& src : levels_[l]) {
       if (src.absorbed) continue;
-      PointNode node = emit(src, l, order);
+      NodePoints points;
+      PointNode node = node_of(src, l, first_point, points);
+      first_point += points.count;
       if (src.child_mask != 0) {
         node.first_child = static_cast<uint32_t>(next_level_start + children_taken);
         children_taken += static_cast<uint64_t>(__builtin_popcount(src.child_mask));
       }
       nodes.push_back(node);
+      sources.push_back(points);
       ++per_level[l];
     }
   }

@@ -38,6 +38,17 @@ struct LodNode {
   bool absorbed = false;   // a leaf merged into its parent by leaf collapse
 };
 
+// Where an output node's points come from: the sorted points [first, first + count) for a leaf, the
+// representatives reps()[first, first + count) for an inner node.
+struct NodePoints {
+  uint64_t first = 0;
+  uint32_t count = 0;
+  bool reps = false;
+};
+
+// The flat node order those sources describe: point i of node order is sorted point order[i].
+void expand_order(std::span<const NodePoints> sources, std::span<const uint64_t> reps, std::vector<uint64_t>& order);
+
 struct OmicronStats {
   uint64_t fixes = 0;
   uint64_t dispatches = 0;    // rep_count + rep_select pairs
@@ -53,9 +64,9 @@ class OmicronBuilder {
   // fixes. Returns the frontier: leaf cells below it are complete.
   uint64_t concatenate(std::span<const uint64_t> sorted, bool last);
 
-  // The hierarchy's nodes in breadth-first order, after concatenate(..., true). Point i of node order is
-  // sorted point order[i]; the caller gathers the columns.
-  void assemble(std::vector<PointNode>& nodes, std::vector<uint64_t>& order, std::vector<uint64_t>& per_level) const;
+  // The hierarchy's nodes in breadth-first order, after concatenate(..., true), and where each node's points
+  // come from (sources[i] for nodes[i]; with reps()); the caller gathers the columns.
+  void assemble(std::vector<PointNode>& nodes, std::vector<NodePoints>& sources, std::vector<uint64_t>& per_level) const;
 
   // The finished part so far, as a forest: every subtree whose root has no parent yet (the lists' roots, every
   // level), breadth-first per root with children contiguous; roots[k] is root k's index in nodes. Point i of
@@ -66,6 +77,7 @@ class OmicronBuilder {
   const std::vector<LodNode>& level(uint32_t l) const { return levels_[l]; }
   uint64_t first_root(uint32_t l) const { return parented_[l]; }
   const std::vector<uint64_t>& reps() const { return reps_; }
+  std::vector<uint64_t> take_reps() { return std::move(reps_); }  // after assemble(), for the gather
   uint64_t formed() const { return formed_; }
   uint64_t frontier() const { return frontier_; }
   const OmicronRule& rule() const { return rule_; }
@@ -73,7 +85,10 @@ class OmicronBuilder {
 
  private:
   void fix(std::span<const uint64_t> sorted);
-  // A node of the output (all but first_child), its points appended to `order`.
+  // A node of the output (all but first_child) whose points start at first_point of node order, and where they
+  // come from.
+  PointNode node_of(const LodNode& src, uint32_t level, uint64_t first_point, NodePoints& points) const;
+  // The same, its points appended to `order`.
   PointNode emit(const LodNode& src, uint32_t level, std::vector<uint64_t>& order) const;
 
   Device& dev_;

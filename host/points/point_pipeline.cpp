@@ -133,8 +133,10 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
   });
   builder.concatenate(codes, true);
   PointHierarchy h;
+  std::vector<points::NodePoints> sources;
+  builder.assemble(h.nodes, sources, h.nodes_per_level);
   std::vector<uint64_t> order;
-  builder.assemble(h.nodes, order, h.nodes_per_level);
+  points::expand_order(sources, builder.reps(), order);
   codes = {};
   const uint64_t bytes = n * layout.bytes;
   const uint8_t* map = static_cast<const uint8_t*>(sorted.map(bytes));

@@ -201,6 +201,10 @@ class Device {
   }
   void barrier();
   void finish();
+  // finish(), then gives the storage of every device allocation that holds no buffers back to the system (later
+  // allocations make new ones). Where device memory is host memory (CPU devices) a host stage that follows a
+  // device stage then reuses pages the device already touched instead of fresh ones, whose first touch is slow.
+  void trim();
 
   // Timings of the dispatches finished since the last call (empty unless opened with profile = true).
   std::vector<KernelTiming> take_timings();

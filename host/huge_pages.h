@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <new>
 #include <vector>
 
@@ -37,16 +38,20 @@ inline void prefault(void* p, size_t bytes) {
                     });
 }
 
-// v.reserve(n), the new storage marked for huge pages before anything touches it, and large storage touched
-// from all cores (prefault) so that whoever fills it writes to memory that is already there.
+// v.reserve(n) on fresh storage marked for huge pages before anything touches it (the elements move over after
+// the mark: copied first, they would land on 4 KiB pages), and large storage touched from all cores (prefault)
+// so that whoever fills it writes to memory that is already there.
 template <class T>
 void reserve_huge(std::vector<T>& v, size_t n) {
   if (n <= v.capacity()) return;
-  v.reserve(n);
-  advise_huge_pages(v.data(), v.capacity() * sizeof(T));
+  std::vector<T> fresh;
+  fresh.reserve(n);
+  const size_t bytes = fresh.capacity() * sizeof(T);
+  advise_huge_pages(fresh.data(), bytes);
   constexpr size_t kPrefaultFrom = size_t{64} << 20;
-  const size_t used = v.size() * sizeof(T), bytes = v.capacity() * sizeof(T);
-  if (bytes - used >= kPrefaultFrom) prefault(reinterpret_cast<char*>(v.data()) + used, bytes - used);
+  if (bytes >= kPrefaultFrom) prefault(fresh.data(), bytes);
+  fresh.insert(fresh.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
+  v.swap(fresh);
 }
 
 // An anonymous mapping aligned to 2 MiB and marked for huge pages before anything touches it: the storage of

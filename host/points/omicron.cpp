@@ -136,18 +136,26 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
       RepSelection sel = select_representatives(dev_, codes, bounds, cell_bits, rule_.max_node_points);
       ++stats_.dispatches;
       stats_.host_groups += sel.host_groups;
+      // reps_ grows geometrically on huge pages (tens of millions of entries at 100M points)
+      const uint64_t at = reps_.size();
+      if (at + sel.positions.size() > reps_.capacity())
+        reserve_huge(reps_, std::max<uint64_t>(at + sel.positions.size(), 2 * reps_.capacity()));
+      reps_.resize(at + sel.positions.size());
       uint64_t listed = 0;  // candidates of the listed parents before this one
       for (size_t g = k; g < end; ++g) {
         LodNode& p = parents[inner[g]];
         const uint64_t b = bounds[g - k];
-        p.rep_begin = reps_.size();
+        p.rep_begin = at + sel.offsets[g - k];
         p.rep_count = static_cast<uint32_t>(sel.offsets[g - k + 1] - sel.offsets[g - k]);
         const int64_t first = range_first[g - k];
-        for (uint64_t q = sel.offsets[g - k]; q < sel.offsets[g - k + 1]; ++q) {
-          const uint64_t pos = sel.positions[q] - b;  // within the parent's candidates
-          reps_.push_back(first >= 0 ? static_cast<uint64_t>(first) + pos : cand[listed + pos]);
+        uint64_t* out = reps_.data() + p.rep_begin;
+        const uint32_t* pos = sel.positions.data() + sel.offsets[g - k];  // within the call's candidates
+        if (first >= 0) {
+          for (uint32_t q = 0; q < p.rep_count; ++q) out[q] = static_cast<uint64_t>(first) + (pos[q] - b);
+        } else {
+          for (uint32_t q = 0; q < p.rep_count; ++q) out[q] = cand[listed + (pos[q] - b)];
+          listed += bounds[g - k + 1] - b;
         }
-        if (first < 0) listed += bounds[g - k + 1] - b;
       }
       k = end;
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "huge_pages.h"
 #include "megavox/device.h"
 #include "megavox/error.h"
 
@@ -54,11 +55,11 @@ MemoryPool::Range MemoryPool::allocate(uint64_t bytes, std::string_view what) {
     throw fail("more than one allocation may hold on " + backend_.info().name + " (" +
                format_bytes(max_arena_bytes_) + ")");
   Range range;
-  if (place(pages, range)) return range;
+  if (place(pages, range)) return touch(range);
   if (!retired_.empty()) {
     backend_.finish();  // the retired pages are needed: wait until no recorded work can touch them
     reclaim();
-    if (place(pages, range)) return range;
+    if (place(pages, range)) return touch(range);
   }
   if (need > budget_ - used()) throw fail("more than the budget has left");
   throw fail("no free run of pages is large enough");
@@ -88,6 +89,18 @@ bool MemoryPool::place(uint64_t pages, Range& out) {
   used_pages_ += pages;
   out = {static_cast<uint32_t>(arenas_.size() - 1), 0, pages};
   return true;
+}
+
+MemoryPool::Range MemoryPool::touch(const Range& range) {
+  Arena& a = arenas_[range.arena];
+  const uint64_t end = (range.first_page + range.pages) * page_bytes_;
+  if (a.memory->host && end > a.touched) {
+    // Fresh host memory faults on its first touch; whoever fills the range next (an upload's single memcpy,
+    // a kernel) would take those faults alone. Storage below `touched` holds data or did: never written here.
+    prefault(static_cast<char*>(a.memory->host) + a.touched, end - a.touched);
+    a.touched = end;
+  }
+  return range;
 }
 
 uint64_t MemoryPool::trim() {

@@ -45,7 +45,10 @@ class MemoryPool {
   struct Arena {
     std::unique_ptr<BackendArena> memory;
     std::vector<bool> used;  // one flag per page
+    uint64_t touched = 0;    // host-visible storage: bytes from the start already touched (handed out once)
   };
+  // Touches the part of a freshly placed range that no earlier range reached (host-visible arenas only).
+  Range touch(const Range& range);
   bool find_run(const Arena& arena, uint64_t pages, uint64_t& first) const;
   bool place(uint64_t pages, Range& out);
   uint64_t largest_free_run() const;

@@ -124,7 +124,7 @@ DeviceInfo describe(const ClDevice& d, int index) {
 
 struct ClArena final : BackendArena {
   cl_mem mem = nullptr;
-  std::unique_ptr<HugeBlock> host;  // the storage, where the device computes in host memory
+  std::unique_ptr<HugeBlock> storage;  // ours, where the device computes in host memory
   ~ClArena() override {
     if (mem) clReleaseMemObject(mem);  // before the storage it may use
   }
@@ -176,8 +176,9 @@ class OpenCLBackend final : public Backend {
       // A CPU device's memory is host memory that the driver would take in 4 KiB pages, whose first touch costs
       // a fault each (0.4 GB/s on the 2-core VMs measured here, 18 GB/s on huge pages): the arena uses storage
       // of ours on huge pages instead, which the driver computes in place (CL_MEM_USE_HOST_PTR).
-      arena->host = std::make_unique<HugeBlock>(bytes);
-      arena->mem = clCreateBuffer(context_, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, arena->host->data(), &err);
+      arena->storage = std::make_unique<HugeBlock>(bytes);
+      arena->mem = clCreateBuffer(context_, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, arena->storage->data(), &err);
+      arena->host = arena->storage->data();
     } else {
       arena->mem = clCreateBuffer(context_, CL_MEM_READ_WRITE, bytes, nullptr, &err);
     }

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "huge_pages.h"
 #include "vulkan_backend.h"
 #include "vulkan_device.h"
 
@@ -40,10 +41,18 @@ std::unique_ptr<BackendArena> VulkanBackend::create_arena(uint64_t bytes) {
                                        VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   // Device-local memory the host can map (CPU devices, ReBAR GPUs) avoids staging copies entirely.
-  return allocate(bytes, usage,
-                  {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                       VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                   VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+  auto arena = allocate(bytes, usage,
+                        {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                             VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                         VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+  auto& a = static_cast<VulkanArena&>(*arena);
+  if (info_.type == "cpu" && a.mapped) {
+    // A CPU device's memory is host memory the driver allocated (lavapipe: in 4 KiB pages): mark its untouched
+    // whole 2 MiB pages for huge pages, and let the pool touch fresh ranges from all cores.
+    advise_huge_pages(a.mapped, bytes);
+    a.host = a.mapped;
+  }
+  return arena;
 }
 
 std::unique_ptr<BackendBuffer> VulkanBackend::create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) {

@@ -57,6 +57,9 @@ class Backend {
 
   virtual std::unique_ptr<BackendArena> create_arena(uint64_t bytes) = 0;  // throws mv::Error on failure
   virtual std::unique_ptr<BackendBuffer> create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) = 0;
+  // The buffer's bytes as the host sees them where the device computes in host memory (its arena's `host`);
+  // nullptr elsewhere.
+  virtual const void* host_pointer(BackendBuffer&) const { return nullptr; }
 
   virtual void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) = 0;
   virtual void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) = 0;

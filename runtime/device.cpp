@@ -129,6 +129,10 @@ void Device::download(const Buffer& src, void* dst, uint64_t bytes, uint64_t off
   if (bytes) impl_->backend->download(*src.impl_, offset, dst, bytes);
 }
 
+const void* Device::host_view(const Buffer& buffer) const {
+  return buffer.impl_ ? impl_->backend->host_pointer(*buffer.impl_) : nullptr;
+}
+
 void Device::fill(Buffer& dst, uint32_t pattern, uint64_t bytes, uint64_t offset) {
   check_range(dst, offset, bytes, "fill");
   if (bytes % 4 || offset % 4) throw Error("fill: offset and size must be multiples of 4");

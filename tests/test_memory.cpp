@@ -1,5 +1,8 @@
 // The device memory budget and page pool.
 #include <algorithm>
+#include <cstring>
+#include <vector>
+
 #include "megavox/error.h"
 #include "test_support.h"
 
@@ -60,6 +63,32 @@ TEST_P(MemoryTest, TrimFreesOnlyEmptyStorage) {
     b = Buffer();
     dev->trim();
   }
+}
+
+// A CPU device's buffers can be read in place: after finish(), host_view holds what the device wrote (here a
+// fill and a copy), the same bytes as a download. Other devices have no view.
+TEST_P(MemoryTest, HostViewShowsWhatTheDeviceWrote) {
+  auto dev = Device::open({GetParam().selector(), 8u << 20, false});
+  Buffer a = dev->alloc(1u << 20, "filled");
+  Buffer b = dev->alloc(1u << 20, "copied");
+  dev->fill(a, 0xa5a5a5a5u, 1u << 20);
+  dev->fill(a, 0x01020304u, 4096, 8192);
+  dev->barrier();
+  dev->copy(a, b, 1u << 20);
+  dev->finish();
+  const void* view = dev->host_view(b);
+  if (GetParam().type != "cpu") {
+    EXPECT_EQ(view, nullptr);
+    return;
+  }
+  ASSERT_NE(view, nullptr);
+  std::vector<uint8_t> down(1u << 20);
+  dev->download(b, down.data(), down.size());
+  EXPECT_EQ(std::memcmp(view, down.data(), down.size()), 0);
+  uint32_t word = 0;
+  std::memcpy(&word, static_cast<const uint8_t*>(view) + 8192, 4);
+  EXPECT_EQ(word, 0x01020304u);
+  EXPECT_EQ(dev->host_view(Buffer()), nullptr);
 }
 
 TEST_P(MemoryTest, SmallBuffersSharePagesOfOneArena) {

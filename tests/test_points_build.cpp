@@ -114,6 +114,35 @@ TEST_P(PointsBuildTest, MatchesTheTopDownReference) {
   }
 }
 
+// CPU devices sort the codes in place on the device (points::sorted_codes_in_place); a budget too small for
+// that takes the host vectors' path (point_codes, then radix_sort in device-sized runs merged on the host):
+// the same bytes either way.
+TEST_P(PointsBuildTest, BothSortPathsGiveTheReference) {
+  PointColumns cloud = make_cloud("sheet", 120000, 5, true);
+  const PointCloudInfo info = info_for(cloud);
+  ref::PointLodRule rule{7, 400, 6};
+  const PointHierarchy want = ref::build_point_hierarchy(cloud, info, rule);
+  PointBuildOptions options;
+  options.depth = 7;
+  options.max_node_points = 400;
+  for (uint64_t budget : {uint64_t{0}, uint64_t{2} << 20}) {  // the default, then 2 MiB: under 24 B a point
+    SCOPED_TRACE("device budget " + std::to_string(budget));
+    auto dev = Device::open({GetParam().selector(), budget, false});
+    if (budget == 0 && GetParam().type == "cpu") {
+      points::SortedCodes sorted;
+      ASSERT_TRUE(points::sorted_codes_in_place(*dev, cloud.xyz, points::cube_of(cloud.xyz), sorted));
+      ASSERT_TRUE(std::is_sorted(sorted.codes.begin(), sorted.codes.end()));
+    }
+    if (budget != 0) {
+      points::SortedCodes sorted;
+      EXPECT_FALSE(points::sorted_codes_in_place(*dev, cloud.xyz, points::cube_of(cloud.xyz), sorted));
+    }
+    PointColumns copy = cloud;
+    PointHierarchy got = build_point_hierarchy(*dev, std::move(copy), info, options);
+    expect_same(got, want);
+  }
+}
+
 TEST_P(PointsBuildTest, PrefixSizeDoesNotChangeTheBytes) {
   Device& dev = shared_device(GetParam());
   PointColumns cloud = make_cloud("sheet", 40000, 5, false);

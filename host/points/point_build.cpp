@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "huge_pages.h"
 #include "megavox/error.h"
 #include "timing.h"
 #include "omicron.h"
@@ -55,14 +56,27 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
 
   auto t0 = std::chrono::steady_clock::now();
   const points::PointCube cube = points::cube_of(points.xyz);
-  std::vector<uint64_t> codes;
-  std::vector<uint32_t> index;
-  points::point_codes(dev, points.xyz, cube, codes, index);
-  rep.codes_seconds = seconds_since(t0);
-
-  t0 = std::chrono::steady_clock::now();
-  rep.sort = radix_sort(dev, codes, &index);
-  rep.sort_seconds = seconds_since(t0);
+  // Sorted (code, index) pairs: read in place on the device where it is host memory, else host vectors.
+  points::SortedCodes in_place;
+  std::vector<uint64_t> host_codes;
+  std::vector<uint32_t> host_index;
+  std::span<const uint64_t> codes;
+  std::span<const uint32_t> index;
+  if (points::sorted_codes_in_place(dev, points.xyz, cube, in_place)) {
+    rep.codes_seconds = seconds_since(t0) - in_place.sort_seconds;
+    rep.sort_seconds = in_place.sort_seconds;
+    rep.sort = in_place.sort;
+    codes = in_place.codes;
+    index = in_place.index;
+  } else {
+    points::point_codes(dev, points.xyz, cube, host_codes, host_index);
+    rep.codes_seconds = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    rep.sort = radix_sort(dev, host_codes, &host_index);
+    rep.sort_seconds = seconds_since(t0);
+    codes = host_codes;
+    index = host_index;
+  }
 
   // The builder consumes the sorted codes a prefix at a time: its cut advances as a stream's would.
   t0 = std::chrono::steady_clock::now();
@@ -130,11 +144,19 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   t0 = std::chrono::steady_clock::now();
   // What the gathers no longer need goes back first, so that their fresh columns land on memory this process has
   // already touched (a first touch is the slow part of fresh memory): the codes, the builder's lists and the
-  // device's storage (host memory on a CPU device).
+  // device's storage (host memory on a CPU device; trim() frees it once no buffer lives there).
   front.reset();
   const std::vector<uint64_t> reps = builder.take_reps();
   owned_builder.reset();
   codes = {};
+  host_codes = {};
+  in_place.keys = Buffer();
+  if (!in_place.values.empty()) {  // the index leaves the device's storage (a third of it), so that all of it goes back
+    reserve_huge(host_index, n);
+    host_index.assign(index.begin(), index.end());
+    index = host_index;
+    in_place.values = Buffer();
+  }
   dev.trim();
 
   // The columns into sorted order first (one random read per input point), then into node order: a leaf is a run
@@ -144,6 +166,7 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   PointColumns sorted = points::gather_columns(points, std::span<const uint32_t>(index), info.extra_bytes);
   points = PointColumns();
   index = {};
+  host_index = {};
   h.points = points::gather_node_points(sorted, sources, reps, info.extra_bytes);
   rep.gather_seconds = seconds_since(t0);
 

@@ -11,6 +11,9 @@
 #include "megavox/error.h"
 #include "megavox/primitives.h"
 #include "ref/points_reference.h"
+#include "timing.h"
+
+#include <chrono>
 
 namespace mv::points {
 
@@ -74,6 +77,52 @@ void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cub
     dev.barrier();
     dev.download(kb, codes.data() + first, m * 8);
     dev.download(ib, index.data() + first, m * 4);
+  }
+}
+
+bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out) {
+  const uint64_t n = xyz.size() / 3;
+  if (n == 0 || n > std::numeric_limits<uint32_t>::max() || uint64_t{n} * 8 > dev.info().max_binding_bytes) return false;
+  auto t0 = std::chrono::steady_clock::now();
+  try {
+    Buffer keys = dev.alloc(n * 8, "point codes");
+    Buffer values = dev.alloc(n * 4, "point indices");
+    if (!dev.host_view(keys) || !dev.host_view(values)) return false;
+    const uint64_t chunk = std::min<uint64_t>({n, uint64_t{1} << 23, detail::device_chunk(dev, "point_codes", 12, 12)});
+    {
+      Buffer xb = dev.alloc(chunk * 12, "point coordinates");
+      Kernel& k = dev.kernel(KernelId::point_codes);
+      const uint32_t local = 64;
+      for (uint64_t first = 0; first < n; first += chunk) {
+        const uint64_t m = std::min(chunk, n - first);
+        dev.upload(xb, xyz.data() + 3 * first, m * 12);
+        MvPointParams p{};
+        p.n = static_cast<uint32_t>(m);
+        p.shift = cube.shift > 0 ? static_cast<uint32_t>(cube.shift) : 0;
+        p.lshift = cube.shift < 0 ? static_cast<uint32_t>(-cube.shift) : 0;
+        p.min_x = static_cast<uint32_t>(static_cast<int32_t>(cube.min[0]));
+        p.min_y = static_cast<uint32_t>(static_cast<int32_t>(cube.min[1]));
+        p.min_z = static_cast<uint32_t>(static_cast<int32_t>(cube.min[2]));
+        p.base = static_cast<uint32_t>(first);
+        p.first = static_cast<uint32_t>(first);
+        dev.dispatch(k, dev.groups_for(m, local), local, {&xb, &keys, &values}, p);
+        dev.barrier();
+      }
+      dev.finish();  // the coordinates' buffer goes back before the sort takes its scratch
+    }
+    out.codes_seconds = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64);
+    dev.finish();
+    out.sort_seconds = seconds_since(t0);
+    out.codes = {static_cast<const uint64_t*>(dev.host_view(keys)), n};
+    out.index = {static_cast<const uint32_t*>(dev.host_view(values)), n};
+    out.keys = std::move(keys);
+    out.values = std::move(values);
+    return true;
+  } catch (const DeviceMemoryError&) {
+    dev.finish();
+    return false;
   }
 }
 

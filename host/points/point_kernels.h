@@ -7,6 +7,7 @@
 
 #include "megavox/device.h"
 #include "megavox/points.h"
+#include "megavox/primitives.h"
 
 namespace mv::points {
 
@@ -25,6 +26,19 @@ PointCube cube_of_bounds(const int64_t lo[3], const int64_t hi[3]);
 // codes[i] = the 63-bit Morton code of point i's cell, index[i] = i; computed on the device in chunks.
 void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,
                  std::vector<uint32_t>& index);
+
+// The codes and index of point_codes, sorted by code (stable), left on the device where the host reads them in
+// place (Device::host_view): no host copies of 12 bytes a point, written, uploaded and read back. For CPU
+// devices; returns false (nothing kept) where it does not apply: no host view, or the arrays past the device's
+// binding limit or budget. The caller then takes point_codes and radix_sort over host vectors (same bytes).
+struct SortedCodes {
+  Buffer keys, values;
+  std::span<const uint64_t> codes;
+  std::span<const uint32_t> index;
+  SortReport sort;
+  double codes_seconds = 0, sort_seconds = 0;
+};
+bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out);
 
 // Representatives of many parents at one level. Parent g's candidates are codes[bounds[g], bounds[g + 1]), in
 // Morton order; its sub-grid cells are the codes >> cell_bits. Of each occupied cell the candidate nearest the

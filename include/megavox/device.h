@@ -172,6 +172,10 @@ class Device {
   // finish(). The host goes on while it runs (OpenCL: a non-blocking write; Vulkan: staged now, copied then).
   void upload_async(Buffer& dst, const void* src, uint64_t bytes, uint64_t offset = 0);
   void fill(Buffer& dst, uint32_t pattern, uint64_t bytes, uint64_t offset = 0);
+  // Where the device computes in host memory (CPU devices: PoCL, lavapipe), the buffer's bytes as the host sees
+  // them, read in place instead of downloaded: valid while the buffer lives, and what the device wrote once
+  // finish() has returned. nullptr on other devices (download instead).
+  const void* host_view(const Buffer& buffer) const;
   void copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_offset = 0, uint64_t dst_offset = 0);
 
   // Kernels embedded at build time (kernels/kernels.cmake); built on first use, once per Device.

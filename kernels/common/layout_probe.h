@@ -62,7 +62,7 @@
   X(MV_FBITS, tmax) X(MV_FBITS, lod_t)
 #define MV_FIELDS_POINT(X)                                                                                             \
   X(MV_U32, n) X(MV_U32, shift) X(MV_U32, min_x) X(MV_U32, min_y) X(MV_U32, min_z) X(MV_U32, base) X(MV_U32, cell_bits) \
-  X(MV_U32, cap) X(MV_U32, lshift)
+  X(MV_U32, cap) X(MV_U32, lshift) X(MV_U32, first)
 #define MV_FIELDS_SPLAT(X)                                                                                             \
   X(MV_U32, n) X(MV_U32, base) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, focal_q8)               \
   X(MV_U32, cx_q8) X(MV_U32, cy_q8) X(MV_U32, near_q14) X(MV_U32, depth_shift) X(MV_U32, eye_x) X(MV_U32, eye_y)        \

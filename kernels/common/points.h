@@ -19,13 +19,14 @@ MV_STRUCT_BEGIN(MvPointParams)
   mv_u32 cell_bits;  /* rep_*: 3 x the bits per axis below a sub-grid cell (a cell id is code >> cell_bits) */
   mv_u32 cap;        /* rep_*: most representatives per parent */
   mv_u32 lshift;     /* point_codes: a cloud narrower than 2^21 units is scaled up: cells are d << lshift */
+  mv_u32 first;      /* point_codes: where this dispatch's first code and index go in keys and index */
 MV_STRUCT_END(MvPointParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvPointParams, 36);
+MV_LAYOUT_SIZE(MvPointParams, 40);
 MV_LAYOUT_AT(MvPointParams, n, 0); MV_LAYOUT_AT(MvPointParams, shift, 4); MV_LAYOUT_AT(MvPointParams, min_x, 8);
 MV_LAYOUT_AT(MvPointParams, min_y, 12); MV_LAYOUT_AT(MvPointParams, min_z, 16); MV_LAYOUT_AT(MvPointParams, base, 20);
 MV_LAYOUT_AT(MvPointParams, cell_bits, 24); MV_LAYOUT_AT(MvPointParams, cap, 28);
-MV_LAYOUT_AT(MvPointParams, lshift, 32);
+MV_LAYOUT_AT(MvPointParams, lshift, 32); MV_LAYOUT_AT(MvPointParams, first, 36);
 #endif
 
 /* xyz: 3 int32 per point (as their bits). The difference to the min corner is taken modulo 2^32, which is exact
@@ -36,8 +37,8 @@ MV_INLINE void mv_point_codes(MvBufU32 xyz, MvBufU64 keys, MvBufU32 index, MvPoi
     mv_u32 x = ((MV_LD_FAR(xyz, j) - p.min_x) >> p.shift) << p.lshift;
     mv_u32 y = ((MV_LD_FAR(xyz, j + MV_U64(1u)) - p.min_y) >> p.shift) << p.lshift;
     mv_u32 z = ((MV_LD_FAR(xyz, j + MV_U64(2u)) - p.min_z) >> p.shift) << p.lshift;
-    MV_ST(keys, i, mv_morton3_64(x, y, z));
-    MV_ST(index, i, p.base + i);
+    MV_ST(keys, p.first + i, mv_morton3_64(x, y, z));
+    MV_ST(index, p.first + i, p.base + i);
   }
 }
 

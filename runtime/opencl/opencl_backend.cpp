@@ -132,6 +132,7 @@ struct ClArena final : BackendArena {
 
 struct ClBuffer final : BackendBuffer {
   cl_mem mem = nullptr;  // a sub-buffer of the arena
+  const void* host = nullptr;  // its storage, where the arena's is host memory of ours
   ~ClBuffer() override {
     if (mem) clReleaseMemObject(mem);
   }
@@ -193,8 +194,12 @@ class OpenCLBackend final : public Backend {
     buf->mem = clCreateSubBuffer(static_cast<ClArena&>(arena).mem, CL_MEM_READ_WRITE,
                                  CL_BUFFER_CREATE_TYPE_REGION, &region, &err);
     check(err, "creating a sub-buffer at offset " + std::to_string(offset));
+    if (arena.host) buf->host = static_cast<const char*>(arena.host) + offset;
     return buf;
   }
+
+  // CL_MEM_USE_HOST_PTR storage that a CPU device computes in: after finish() it holds what the kernels wrote.
+  const void* host_pointer(BackendBuffer& buffer) const override { return static_cast<ClBuffer&>(buffer).host; }
 
   void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override {
     if (bytes == 0) return;

@@ -40,7 +40,7 @@ struct VulkanArena final : BackendArena {
   }
 };
 
-struct VulkanBuffer final : BackendBuffer {
+struct VulkanBuffer final : BackendBuffer {  // a range of an arena
   VulkanArena* arena = nullptr;
   uint64_t offset = 0;
   uint64_t bytes = 0;
@@ -86,6 +86,7 @@ class VulkanBackend final : public Backend {
   // vulkan_memory.cpp
   std::unique_ptr<BackendArena> create_arena(uint64_t bytes) override;
   std::unique_ptr<BackendBuffer> create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) override;
+  const void* host_pointer(BackendBuffer& buffer) const override;
   void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override;
   void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) override;
   void upload_async(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override;

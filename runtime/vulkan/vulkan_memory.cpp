@@ -55,6 +55,12 @@ std::unique_ptr<BackendArena> VulkanBackend::create_arena(uint64_t bytes) {
   return arena;
 }
 
+// Host-coherent mapped memory of a CPU device: after finish() it holds what the shaders wrote.
+const void* VulkanBackend::host_pointer(BackendBuffer& buffer) const {
+  auto& b = static_cast<VulkanBuffer&>(buffer);
+  return b.arena->host ? static_cast<const char*>(b.arena->host) + b.offset : nullptr;
+}
+
 std::unique_ptr<BackendBuffer> VulkanBackend::create_buffer(BackendArena& arena, uint64_t offset, uint64_t bytes) {
   auto& a = static_cast<VulkanArena&>(arena);
   if (offset > a.bytes || bytes > a.bytes - offset)

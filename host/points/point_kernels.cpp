@@ -43,6 +43,29 @@ PointCube cube_of_bounds(const int64_t lo[3], const int64_t hi[3]) {
   return cube;
 }
 
+namespace {
+
+// One point_codes dispatch: points [first, first + m) of the cloud through the coordinates' buffer xb, their
+// codes and indices written to keys and values from position `out` on.
+void dispatch_codes(Device& dev, Buffer& xb, std::span<const int32_t> xyz, const PointCube& cube, uint64_t first,
+                    uint64_t m, Buffer& keys, Buffer& values, uint64_t out) {
+  dev.upload(xb, xyz.data() + 3 * first, m * 12);
+  MvPointParams p{};
+  p.n = static_cast<uint32_t>(m);
+  p.shift = cube.shift > 0 ? static_cast<uint32_t>(cube.shift) : 0;
+  p.lshift = cube.shift < 0 ? static_cast<uint32_t>(-cube.shift) : 0;
+  p.min_x = static_cast<uint32_t>(static_cast<int32_t>(cube.min[0]));
+  p.min_y = static_cast<uint32_t>(static_cast<int32_t>(cube.min[1]));
+  p.min_z = static_cast<uint32_t>(static_cast<int32_t>(cube.min[2]));
+  p.base = static_cast<uint32_t>(first);
+  p.first = static_cast<uint32_t>(out);
+  const uint32_t local = 64;
+  dev.dispatch(dev.kernel(KernelId::point_codes), dev.groups_for(m, local), local, {&xb, &keys, &values}, p);
+  dev.barrier();
+}
+
+}  // namespace
+
 void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,
                  std::vector<uint32_t>& index) {
   const uint64_t n = xyz.size() / 3;
@@ -60,21 +83,9 @@ void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cub
   Buffer xb = dev.alloc(chunk * 12, "point coordinates");
   Buffer kb = dev.alloc(chunk * 8, "point codes");
   Buffer ib = dev.alloc(chunk * 4, "point indices");
-  Kernel& k = dev.kernel(KernelId::point_codes);
-  const uint32_t local = 64;
   for (uint64_t first = 0; first < n; first += chunk) {
     const uint64_t m = std::min(chunk, n - first);
-    dev.upload(xb, xyz.data() + 3 * first, m * 12);
-    MvPointParams p{};
-    p.n = static_cast<uint32_t>(m);
-    p.shift = cube.shift > 0 ? static_cast<uint32_t>(cube.shift) : 0;
-    p.lshift = cube.shift < 0 ? static_cast<uint32_t>(-cube.shift) : 0;
-    p.min_x = static_cast<uint32_t>(static_cast<int32_t>(cube.min[0]));
-    p.min_y = static_cast<uint32_t>(static_cast<int32_t>(cube.min[1]));
-    p.min_z = static_cast<uint32_t>(static_cast<int32_t>(cube.min[2]));
-    p.base = static_cast<uint32_t>(first);
-    dev.dispatch(k, dev.groups_for(m, local), local, {&xb, &kb, &ib}, p);
-    dev.barrier();
+    dispatch_codes(dev, xb, xyz, cube, first, m, kb, ib, 0);
     dev.download(kb, codes.data() + first, m * 8);
     dev.download(ib, index.data() + first, m * 4);
   }
@@ -91,23 +102,8 @@ bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const Poin
     const uint64_t chunk = std::min<uint64_t>({n, uint64_t{1} << 23, detail::device_chunk(dev, "point_codes", 12, 12)});
     {
       Buffer xb = dev.alloc(chunk * 12, "point coordinates");
-      Kernel& k = dev.kernel(KernelId::point_codes);
-      const uint32_t local = 64;
-      for (uint64_t first = 0; first < n; first += chunk) {
-        const uint64_t m = std::min(chunk, n - first);
-        dev.upload(xb, xyz.data() + 3 * first, m * 12);
-        MvPointParams p{};
-        p.n = static_cast<uint32_t>(m);
-        p.shift = cube.shift > 0 ? static_cast<uint32_t>(cube.shift) : 0;
-        p.lshift = cube.shift < 0 ? static_cast<uint32_t>(-cube.shift) : 0;
-        p.min_x = static_cast<uint32_t>(static_cast<int32_t>(cube.min[0]));
-        p.min_y = static_cast<uint32_t>(static_cast<int32_t>(cube.min[1]));
-        p.min_z = static_cast<uint32_t>(static_cast<int32_t>(cube.min[2]));
-        p.base = static_cast<uint32_t>(first);
-        p.first = static_cast<uint32_t>(first);
-        dev.dispatch(k, dev.groups_for(m, local), local, {&xb, &keys, &values}, p);
-        dev.barrier();
-      }
+      for (uint64_t first = 0; first < n; first += chunk)
+        dispatch_codes(dev, xb, xyz, cube, first, std::min(chunk, n - first), keys, values, first);
       dev.finish();  // the coordinates' buffer goes back before the sort takes its scratch
     }
     out.codes_seconds = seconds_since(t0);

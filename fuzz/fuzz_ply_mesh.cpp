@@ -7,7 +7,7 @@
 #include "megavox/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string& path = mv::fuzz::write_input(data, size, ".ply");
+  const std::string& path = mv::fuzz::memory_input(data, size, ".ply");
   // The input's size picks the reader's options, so that one corpus covers them all: odd sizes put the
   // vertex positions in the mapped scratch file (a RAM budget of 0), and batches are 1 to 61 triangles (a
   // polygon may be split between batches).

@@ -1,5 +1,7 @@
-// What the fuzz targets share. The readers take paths, so each input is written to one scratch file per
-// process (under $TMPDIR, else /tmp; the same path for every input, removed at exit) and read from there.
+// What the fuzz targets share. The readers take paths. megavox's own readers get each input as a memory file
+// (io::memory_files: a path whose reads come from the input's bytes, no system calls); readers of Debian
+// libraries (assimp, OpenVDB), which open files themselves, get it written to one scratch file per process
+// (under $TMPDIR, else /tmp; the same path for every input, removed at exit).
 // An mv::Error is the expected outcome of bad input and is caught by the target; anything else -- another
 // exception (std::terminate), a crash, an ASan or UBSan report, a leak, a broken promise of the reader's
 // interface (MV_FUZZ_CHECK) -- stops the fuzzer and is a finding.
@@ -10,6 +12,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+
+#include "io/file_ops.h"
 
 #define MV_FUZZ_CHECK(cond)                                                                      \
   do {                                                                                           \
@@ -42,6 +46,14 @@ inline const std::string& write_input(const uint8_t* data, size_t size, const ch
     std::perror(path.c_str());  // the harness itself cannot run: not a finding of the reader
     std::exit(2);
   }
+  return path;
+}
+
+// Puts the input as the memory file at input_path(suffix) (nothing is written) and returns that path. The
+// bytes must outlive the reads: they are the caller's.
+inline const std::string& memory_input(const uint8_t* data, size_t size, const char* suffix) {
+  const std::string& path = input_path(suffix);
+  io::memory_files::put(path, data, size);
   return path;
 }
 

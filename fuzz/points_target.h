@@ -10,7 +10,7 @@
 namespace mv::fuzz {
 
 inline int read_points(const uint8_t* data, size_t size, const char* suffix) {
-  const std::string& path = write_input(data, size, suffix);
+  const std::string& path = memory_input(data, size, suffix);
   // The input's size picks the options: odd sizes a 64-byte LAS read buffer, every other pair of sizes
   // without the extra bytes; batches of 1 to 97 points.
   io::PointReadOptions options;

@@ -3,6 +3,8 @@
 #include <fcntl.h>
 #include <setjmp.h>
 #include <signal.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -10,6 +12,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <utility>
 
 #include "megavox/error.h"
 
@@ -88,8 +91,94 @@ size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path
   return got;
 }
 
+namespace memory_files {
+namespace {
+struct MemoryFile {
+  std::string path;
+  const void* bytes = nullptr;
+  size_t size = 0;
+} g_file;
+}  // namespace
+
+void put(const std::string& path, const void* bytes, size_t size) { g_file = {path, bytes, size}; }
+void clear() { g_file = {}; }
+
+// The memory file put for `path`, or nullptr.
+const MemoryFile* find(const std::string& path) {
+  return !g_file.path.empty() && g_file.path == path ? &g_file : nullptr;
+}
+}  // namespace memory_files
+
+FilePtr open_read(const std::string& path) {
+  if (const auto* m = memory_files::find(path)) {
+    static char empty = 0;  // an empty input may come with no buffer
+    return FilePtr(::fmemopen(m->size ? const_cast<void*>(m->bytes) : &empty, m->size, "rb"), &std::fclose);
+  }
+  return FilePtr(std::fopen(path.c_str(), "rb"), &std::fclose);
+}
+
+FilePtr open_regular(const std::string& path, uint64_t* size) {
+  FilePtr f = open_read(path);
+  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  if (const auto* m = memory_files::find(path)) {
+    *size = m->size;
+  } else {
+    struct stat st {};
+    if (::fstat(::fileno(f.get()), &st) != 0) throw Error(path + ": cannot read its size: " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) throw Error(path + ": not a regular file");
+    *size = static_cast<uint64_t>(st.st_size);
+  }
+  std::setvbuf(f.get(), nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
+  return f;
+}
+
+MappedFile::MappedFile(const std::string& path) {
+  if (const auto* m = memory_files::find(path)) {
+    data_ = static_cast<const unsigned char*>(m->bytes);
+    size_ = m->size;
+    return;
+  }
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    const int e = errno;
+    ::close(fd);
+    throw Error(path + ": cannot read its size: " + std::strerror(e));
+  }
+  size_ = static_cast<uint64_t>(st.st_size);
+  if (size_ > 0) {
+    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
+    const int e = errno;
+    ::close(fd);  // the mapping keeps the file
+    if (p == MAP_FAILED) throw Error(path + ": cannot map: " + std::strerror(e));
+    data_ = static_cast<const unsigned char*>(p);
+    mapped_ = true;
+  } else {
+    ::close(fd);
+  }
+}
+
+MappedFile::MappedFile(MappedFile&& other) noexcept
+    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)),
+      mapped_(std::exchange(other.mapped_, false)) {}
+
+MappedFile& MappedFile::operator=(MappedFile&& other) noexcept {
+  if (this != &other) {
+    this->~MappedFile();
+    data_ = std::exchange(other.data_, nullptr);
+    size_ = std::exchange(other.size_, 0);
+    mapped_ = std::exchange(other.mapped_, false);
+  }
+  return *this;
+}
+
+MappedFile::~MappedFile() {
+  if (mapped_) ::munmap(const_cast<unsigned char*>(data_), size_);
+}
+
 std::string first_bytes(const std::string& path, size_t n) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  FilePtr f = open_read(path);
   if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   std::string head(n, '\0');
   head.resize(read_some(f.get(), head.data(), n, path));
@@ -97,7 +186,7 @@ std::string first_bytes(const std::string& path, size_t n) {
 }
 
 std::vector<char> read_whole_file(const std::string& path) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  FilePtr f = open_read(path);
   if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   std::vector<char> bytes;
   // the size is a hint only (a pipe has none); reading stops at the end of the data

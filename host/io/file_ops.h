@@ -7,10 +7,47 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace mv::io {
+
+using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+// `path` opened for reading: fopen(path, "rb"), or a stream over a memory file's bytes (below). nullptr with
+// errno set when it cannot be opened.
+FilePtr open_read(const std::string& path);
+// `path` opened for reading, unbuffered (the readers' reads are large), with its size in *size: the size bounds
+// every count a header declares, so a pipe or a directory, which have none, are refused. mv::Error naming
+// what is wrong.
+FilePtr open_regular(const std::string& path, uint64_t* size);
+
+// A whole file, read-only: mapped (mmap), or a memory file's bytes in place. mv::Error when it cannot be
+// opened or mapped. Reads from a mapping go through copy_mapped (the file may shrink while mapped).
+class MappedFile {
+ public:
+  MappedFile() = default;
+  explicit MappedFile(const std::string& path);
+  MappedFile(MappedFile&& other) noexcept;
+  MappedFile& operator=(MappedFile&& other) noexcept;
+  ~MappedFile();
+  const unsigned char* data() const { return data_; }
+  uint64_t size() const { return size_; }
+
+ private:
+  const unsigned char* data_ = nullptr;
+  uint64_t size_ = 0;
+  bool mapped_ = false;  // false: a memory file's bytes, not ours to unmap
+};
+
+// A test seam for the fuzz targets: while a path is put here, open_read, open_regular, first_bytes,
+// read_whole_file and MappedFile read `bytes` (owned by the caller) for it instead of the file system, so a
+// fuzz input costs no system calls. One path at a time; put and clear must not race with the readers.
+namespace memory_files {
+void put(const std::string& path, const void* bytes, size_t size);
+void clear();
+}  // namespace memory_files
 
 // Up to `bytes` from `f`: fewer only at the end of the file. A read error throws mv::Error
 // "PATH: read error: ...".

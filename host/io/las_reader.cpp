@@ -6,7 +6,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <vector>
 
 #include "las_header.h"
@@ -24,15 +23,8 @@ constexpr uint64_t kBufferBytes = 1 << 20;
 class LasSource final : public PointSource {
  public:
   LasSource(const std::string& path, const PointReadOptions& options)
-      : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
-    if (!file_) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-    std::error_code ec;
-    // The size bounds every count in the header; a pipe or directory has none.
-    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": not a regular file");
-    const uint64_t size = std::filesystem::file_size(path, ec);
-    if (ec) throw Error(path + ": cannot read its size: " + ec.message());
-    std::setvbuf(file_.get(), nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
-    h_ = detail::read_las_header(file_.get(), path, size);
+      : path_(path), file_(io::open_regular(path, &size_)) {
+    h_ = detail::read_las_header(file_.get(), path, size_);
 
     info_.format = "LAS " + std::to_string(h_.version_major) + "." + std::to_string(h_.version_minor) +
                    ", point format " + std::to_string(h_.point_format);
@@ -101,7 +93,8 @@ class LasSource final : public PointSource {
   }
 
   std::string path_;
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  uint64_t size_ = 0;  // before file_: opening it sets the size
+  io::FilePtr file_;
   detail::LasHeader h_;
   PointCloudInfo info_;
   uint32_t rgb_offset_ = 0;

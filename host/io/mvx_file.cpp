@@ -7,7 +7,9 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <memory>
+#include <new>
 
 #include "atomic_file.h"
 #include "cache/page_layout.h"
@@ -124,7 +126,7 @@ void write_file(const std::string& path, Header& h, const std::vector<Blob>& blo
 
 Opened open_file(const std::string& path) {
   Opened o;
-  o.file.reset(std::fopen(path.c_str(), "rb"));
+  o.file = io::open_read(path);
   if (!o.file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   std::FILE* f = o.file.get();
   std::fseek(f, 0, SEEK_END);
@@ -181,9 +183,21 @@ void check_voxel_file(const Opened& o, const std::string& path) {
 
 uint64_t page_hash(const uint32_t* words, uint64_t count, uint32_t page_words) {
   if (count == page_words) return hash(words, count * 4);
-  std::vector<uint32_t> page(page_words, 0);
-  std::copy(words, words + count, page.begin());
-  return hash(page.data(), uint64_t{page_words} * 4);
+  // A short last page hashes as if padded with zeros, streamed: no page-sized copy (up to 64 MiB) is made.
+  static constexpr uint32_t kZeros[1024] = {};
+  struct StateFree {
+    void operator()(XXH3_state_t* s) const { XXH3_freeState(s); }
+  };
+  const std::unique_ptr<XXH3_state_t, StateFree> state(XXH3_createState());
+  if (!state) throw std::bad_alloc();
+  XXH3_64bits_reset(state.get());
+  XXH3_64bits_update(state.get(), words, count * 4);
+  for (uint64_t left = page_words - count; left > 0;) {
+    const uint64_t n = std::min<uint64_t>(left, std::size(kZeros));
+    XXH3_64bits_update(state.get(), kZeros, n * 4);
+    left -= n;
+  }
+  return XXH3_64bits_digest(state.get());
 }
 
 PageIndex read_page_index(const Opened& o, const std::string& path) {

@@ -65,10 +65,6 @@ struct PageIndex {
 // The hash a page's page_words words must have; `words` may be shorter (the last page): zeros follow.
 uint64_t page_hash(const uint32_t* words, uint64_t count, uint32_t page_words);
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
 
 inline uint64_t hash(const void* data, size_t bytes) { return XXH3_64bits(data, bytes); }
 
@@ -85,7 +81,7 @@ void write_file(const std::string& path, Header& h, const std::vector<Blob>& blo
 
 // An opened file whose header, checksum, section table and total size were checked; versions 1 to 3.
 struct Opened {
-  File file;
+  io::FilePtr file{nullptr, &std::fclose};
   Header header{};
   const Section* find[kKinds] = {};  // the section of each kind, or null
 };

@@ -1,9 +1,5 @@
 #include "mvx_pages.h"
 
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -49,23 +45,8 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
   order_ = static_cast<NodeOrder>(pi.head.order);
   words_ = pi.head.words;
   hashes_ = std::move(pi.hashes);
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || static_cast<uint64_t>(st.st_size) < file_bytes) {
-    ::close(fd);
-    throw Error(path + ": truncated: it changed since its header was read");
-  }
-  map_bytes_ = static_cast<uint64_t>(st.st_size);
-  void* m = ::mmap(nullptr, map_bytes_, PROT_READ, MAP_SHARED, fd, 0);
-  const int map_errno = errno;
-  ::close(fd);  // the mapping keeps the file
-  if (m == MAP_FAILED) throw Error(path + ": cannot map: " + std::strerror(map_errno));
-  map_ = static_cast<const unsigned char*>(m);
-}
-
-MvxPages::~MvxPages() {
-  if (map_) ::munmap(const_cast<unsigned char*>(map_), map_bytes_);
+  map_ = io::MappedFile(path);
+  if (map_.size() < file_bytes) throw Error(path + ": truncated: it changed since its header was read");
 }
 
 bool MvxPages::read_page(uint32_t page, std::span<uint32_t> out, std::string* error) const {
@@ -78,7 +59,7 @@ bool MvxPages::read_page(uint32_t page, std::span<uint32_t> out, std::string* er
     return fail("a buffer of " + std::to_string(out.size()) + " words for pages of " + std::to_string(page_words_));
   const uint64_t first = uint64_t{page} * page_words_;
   const uint64_t count = std::min<uint64_t>(page_words_, words_ - first);
-  if (!io::copy_mapped(out.data(), map_ + nodes_offset_ + first * 4, count * 4))
+  if (!io::copy_mapped(out.data(), map_.data() + nodes_offset_ + first * 4, count * 4))
     return fail(errno == EFAULT ? std::string("the file is shorter than when it was opened (truncated while in use)")
                                 : std::string("read error: ") + std::strerror(errno));
   std::fill(out.begin() + count, out.end(), 0u);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "file_ops.h"
 #include "megavox/encode.h"
 #include "megavox/grid.h"
 
@@ -18,7 +19,6 @@ class MvxPages {
   // Throws mv::Error for a file that is not a paged voxel .mvx: versions 1 and 2 and ssvdag files say they
   // render resident; damage in the header or page index is named.
   explicit MvxPages(const std::string& path);
-  ~MvxPages();
   MvxPages(const MvxPages&) = delete;
   MvxPages& operator=(const MvxPages&) = delete;
 
@@ -49,8 +49,7 @@ class MvxPages {
   uint32_t page_words_ = 0;
   uint64_t words_ = 0;
   std::vector<uint64_t> hashes_;
-  const unsigned char* map_ = nullptr;  // the whole file, read-only
-  uint64_t map_bytes_ = 0;
+  io::MappedFile map_;                  // the whole file, read-only
   uint64_t nodes_offset_ = 0;           // of the nodes section in the file
 };
 

@@ -5,21 +5,13 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <filesystem>
 
 #include "file_ops.h"
 #include "megavox/error.h"
 
 namespace mv::io::detail {
 
-Source::Source(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
-  if (!file_) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  std::error_code ec;
-  // The size bounds every count in the header; a pipe or directory has none.
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": not a regular file");
-  size_ = std::filesystem::file_size(path, ec);
-  if (ec) throw Error(path + ": cannot read its size: " + ec.message());
-  std::setvbuf(file_.get(), nullptr, _IONBF, 0);  // reads are large already; stdio's buffer would add a copy
+Source::Source(const std::string& path) : path_(path), file_(open_regular(path, &size_)) {
   capacity_ = std::clamp<uint64_t>(size_, 4096, kBufferBytes);
   buffer_ = std::make_unique_for_overwrite<char[]>(capacity_);
   pos_ = end_ = buffer_.get();

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <utility>
 
+#include "file_ops.h"
 #include "megavox/error.h"
 #include "ply_header.h"
 
@@ -78,8 +79,8 @@ class Source final : public HeaderLines {
   bool fill(size_t n);
 
   std::string path_;
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
-  uint64_t size_ = 0;
+  uint64_t size_ = 0;  // before file_: opening it sets the size
+  FilePtr file_;
   size_t capacity_ = 0;
   std::unique_ptr<char[]> buffer_;
   char* pos_ = nullptr;

@@ -75,6 +75,7 @@ void fix_page_hashes(const fmt::Header& h, std::vector<uint8_t>& bytes) {
   std::memcpy(&head, bytes.data() + index->offset, sizeof head);
   if (head.page_words < fmt::kMinPageWords || head.page_words > fmt::kMaxPageWords) return;
   const uint64_t words = nodes->bytes / 4, room = (index->bytes - sizeof head) / 8;
+  if (words == 0) return;  // no pages to hash (and memcpy from an empty vector's null data is UB)
   std::vector<uint32_t> stream(words);
   std::memcpy(stream.data(), bytes.data() + nodes->offset, words * 4);
   for (uint64_t p = 0; p < std::min(head.pages, room) && p * head.page_words < words; ++p) {

@@ -112,14 +112,17 @@ const MemoryFile* find(const std::string& path) {
 FilePtr open_read(const std::string& path) {
   if (const auto* m = memory_files::find(path)) {
     static char empty = 0;  // an empty input may come with no buffer
-    return FilePtr(::fmemopen(m->size ? const_cast<void*>(m->bytes) : &empty, m->size, "rb"), &std::fclose);
+    FilePtr f(::fmemopen(m->size ? const_cast<void*>(m->bytes) : &empty, m->size, "rb"), &std::fclose);
+    if (!f) throw Error("cannot open '" + path + "' (a memory file): " + std::strerror(errno));
+    return f;
   }
-  return FilePtr(std::fopen(path.c_str(), "rb"), &std::fclose);
+  FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  return f;
 }
 
 FilePtr open_regular(const std::string& path, uint64_t* size) {
   FilePtr f = open_read(path);
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   if (const auto* m = memory_files::find(path)) {
     *size = m->size;
   } else {
@@ -164,12 +167,9 @@ MappedFile::MappedFile(MappedFile&& other) noexcept
       mapped_(std::exchange(other.mapped_, false)) {}
 
 MappedFile& MappedFile::operator=(MappedFile&& other) noexcept {
-  if (this != &other) {
-    this->~MappedFile();
-    data_ = std::exchange(other.data_, nullptr);
-    size_ = std::exchange(other.size_, 0);
-    mapped_ = std::exchange(other.mapped_, false);
-  }
+  std::swap(data_, other.data_);  // what this held is unmapped with `other`
+  std::swap(size_, other.size_);
+  std::swap(mapped_, other.mapped_);
   return *this;
 }
 
@@ -179,7 +179,6 @@ MappedFile::~MappedFile() {
 
 std::string first_bytes(const std::string& path, size_t n) {
   FilePtr f = open_read(path);
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   std::string head(n, '\0');
   head.resize(read_some(f.get(), head.data(), n, path));
   return head;
@@ -187,7 +186,6 @@ std::string first_bytes(const std::string& path, size_t n) {
 
 std::vector<char> read_whole_file(const std::string& path) {
   FilePtr f = open_read(path);
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   std::vector<char> bytes;
   // the size is a hint only (a pipe has none); reading stops at the end of the data
   if (std::fseek(f.get(), 0, SEEK_END) == 0) {

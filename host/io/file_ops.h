@@ -15,8 +15,8 @@ namespace mv::io {
 
 using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
 
-// `path` opened for reading: fopen(path, "rb"), or a stream over a memory file's bytes (below). nullptr with
-// errno set when it cannot be opened.
+// `path` opened for reading: fopen(path, "rb"), or a stream over a memory file's bytes (below). mv::Error
+// "cannot open 'PATH': ..." when it cannot be opened.
 FilePtr open_read(const std::string& path);
 // `path` opened for reading, unbuffered (the readers' reads are large), with its size in *size: the size bounds
 // every count a header declares, so a pipe or a directory, which have none, are refused. mv::Error naming

@@ -127,7 +127,6 @@ void write_file(const std::string& path, Header& h, const std::vector<Blob>& blo
 Opened open_file(const std::string& path) {
   Opened o;
   o.file = io::open_read(path);
-  if (!o.file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
   std::FILE* f = o.file.get();
   std::fseek(f, 0, SEEK_END);
   const auto file_bytes = static_cast<uint64_t>(std::ftell(f));

@@ -65,7 +65,6 @@ struct PageIndex {
 // The hash a page's page_words words must have; `words` may be shorter (the last page): zeros follow.
 uint64_t page_hash(const uint32_t* words, uint64_t count, uint32_t page_words);
 
-
 inline uint64_t hash(const void* data, size_t bytes) { return XXH3_64bits(data, bytes); }
 
 struct Blob {

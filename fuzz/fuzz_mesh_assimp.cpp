@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "fuzz_support.h"
+#include "throwing_new.h"  // its large blocks kept: assimp's OBJ importer fills two 16 MiB buffers per file
 #include "io/mesh_source.h"
 #include "megavox/error.h"
 
@@ -13,7 +14,7 @@
 extern "C" const char* __lsan_default_suppressions() { return "leak:libassimp.so\n"; }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string& path = mv::fuzz::write_input(data, size, ".obj");
+  const std::string& path = mv::fuzz::memory_input(data, size, ".obj");
   const size_t batch = 1 + size % 61;
   try {
     auto mesh = mv::io::open_mesh(path);

@@ -1,8 +1,8 @@
 // What the fuzz targets share. The readers take paths. The readers that open through io::open_read or
-// io::MappedFile (PLY, LAS, .mvx) get each input as a memory file (io::memory_files: a path whose reads come
-// from the input's bytes, no system calls); the others (SymVox, images, .mvm, and assimp and OpenVDB, which open
-// files themselves) get it written to one scratch file per process (under $TMPDIR, else /tmp; the same path
-// for every input, removed at exit).
+// io::MappedFile (PLY, LAS, .mvx, and assimp and OpenVDB through io::AssimpFiles and io::FileStreambuf) get
+// each input as a memory file (io::memory_files: a path whose reads come from the input's bytes, no system
+// calls); the others (SymVox, images, .mvm) get it written to one scratch file per process (under $TMPDIR, else
+// /tmp; the same path for every input, removed at exit).
 // An mv::Error is the expected outcome of bad input and is caught by the target; anything else -- another
 // exception (std::terminate), a crash, an ASan or UBSan report, a leak, a broken promise of the reader's
 // interface (MV_FUZZ_CHECK) -- stops the fuzzer and is a finding.

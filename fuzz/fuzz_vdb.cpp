@@ -13,7 +13,7 @@
 extern "C" const char* __lsan_default_suppressions() { return "leak:libopenvdb.so\n"; }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string& path = mv::fuzz::write_input(data, size, ".vdb");
+  const std::string& path = mv::fuzz::memory_input(data, size, ".vdb");
   // Odd sizes resample to 4 voxels per axis, even ones keep one VDB voxel per voxel.
   const uint32_t resolution = size % 2 ? 4 : 0;
   try {

@@ -43,13 +43,6 @@ std::string sphere_ply(const std::string& name, int rings = 24, int segs = 48) {
   return ply;
 }
 
-void write_obj(const std::string& path, std::span<const float> pos, const std::vector<uint32_t>& idx) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  for (size_t v = 0; v < pos.size(); v += 3) std::fprintf(f, "v %.9g %.9g %.9g\n", pos[v], pos[v + 1], pos[v + 2]);
-  for (size_t t = 0; t < idx.size(); t += 3) std::fprintf(f, "f %u %u %u\n", idx[t] + 1, idx[t + 1] + 1, idx[t + 2] + 1);
-  std::fclose(f);
-}
-
 std::vector<uint32_t> built_words(Device& dev, const std::string& input, const std::string& format) {
   BuildOptions o;
   o.input = input;

@@ -133,8 +133,8 @@ uint64_t sweep(const std::string& dir, const std::string& output, const std::fun
   return injected;
 }
 
-// A closed bumpy sphere as a binary PLY (a few thousand triangles).
-std::string sphere_mesh(const std::string& dir) {
+// A closed bumpy sphere (a few thousand triangles), as a binary PLY or, with `obj`, a Wavefront OBJ (assimp's).
+std::string sphere_mesh(const std::string& dir, bool obj = false) {
   std::vector<float> pos;
   std::vector<uint32_t> idx;
   const int rings = 16, segs = 32;
@@ -149,8 +149,12 @@ std::string sphere_mesh(const std::string& dir) {
       const uint32_t a = r * segs + s, b = r * segs + (s + 1) % segs, c = a + segs, d = b + segs;
       idx.insert(idx.end(), {a, c, b, b, c, d});
     }
-  const std::string path = dir + "/sphere.ply";
-  write_ply(path, pos, idx);
+  const std::string path = dir + (obj ? "/sphere.obj" : "/sphere.ply");
+  if (obj) {
+    write_obj(path, pos, idx);
+  } else {
+    write_ply(path, pos, idx);
+  }
   return path;
 }
 
@@ -186,6 +190,27 @@ BuildOptions mesh_build(const std::string& dir) {
 TEST_P(IoFaults, Build) {
   const std::string dir = scratch("faults_build");
   const BuildOptions o = mesh_build(dir);
+  EXPECT_GT(sweep(dir, o.output, [&] { build_mvx(dev(), o); }), 4u);
+}
+
+// The mesh read by assimp, whose file access goes through the file layer (io/assimp_files.h).
+TEST_P(IoFaults, BuildFromObj) {
+  const std::string dir = scratch("faults_obj");
+  BuildOptions o = mesh_build(dir);
+  o.input = sphere_mesh(dir, /*obj=*/true);
+  EXPECT_GT(sweep(dir, o.output, [&] { build_mvx(dev(), o); }), 4u);
+}
+
+// A .vdb read by OpenVDB, from a stream over the file layer (io/file_streambuf.h).
+TEST_P(IoFaults, BuildFromVdb) {
+  const std::string dir = scratch("faults_vdb");
+  const BuildOptions b = mesh_build(dir);
+  build_mvx(dev(), b);
+  const ExportOptions e{b.output, dir + "/in.vdb", "vdb"};
+  export_mvx(dev(), e);
+  BuildOptions o;
+  o.input = e.output;
+  o.output = dir + "/from_vdb.mvx";
   EXPECT_GT(sweep(dir, o.output, [&] { build_mvx(dev(), o); }), 4u);
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/file_ops.h"
+#include "io/mesh_source.h"
 #include "io/mvx_pages.h"
 #include "io/point_source.h"
 #include "megavox/error.h"
@@ -32,6 +33,15 @@ std::vector<float> memfile_cloud_positions(const std::string& path) {
   return xyz;
 }
 
+// A mesh's positions and triangles, as open_mesh delivers them.
+std::pair<std::vector<float>, std::vector<uint32_t>> memfile_mesh(const std::string& path) {
+  auto mesh = io::open_mesh(path);
+  std::vector<float> positions(mesh->positions().begin(), mesh->positions().end());
+  std::vector<uint32_t> all, batch;
+  while (mesh->next_triangles(batch, 100)) all.insert(all.end(), batch.begin(), batch.end());
+  return {positions, all};
+}
+
 struct MemoryFileGuard {
   ~MemoryFileGuard() { io::memory_files::clear(); }
 };
@@ -53,6 +63,22 @@ TEST(MemoryFiles, PointReadersReadTheBytesInPlaceOfThePath) {
   io::memory_files::clear();
   EXPECT_THROW(io::first_bytes(kMemfilePath, 4), Error);
   EXPECT_THROW(memfile_cloud_positions(kMemfilePath), Error);
+}
+
+// assimp opens the file itself, through io::AssimpFiles: the memory file reaches it too.
+TEST(MemoryFiles, MeshReadersReadTheBytes) {
+  MemoryFileGuard guard;
+  for (const std::string& file : {memfile_seed("fuzz_mesh_assimp", "quad_cube.obj"), memfile_seed("fuzz_ply_mesh", "pyramid_le.ply")}) {
+    SCOPED_TRACE(file);
+    const std::vector<char> bytes = file_bytes(file);
+    const auto expected = memfile_mesh(file);
+    ASSERT_FALSE(expected.second.empty());
+    const std::string path = kMemfilePath + file.substr(file.size() - 4);  // assimp picks its importer by name
+    io::memory_files::put(path, bytes.data(), bytes.size());
+    EXPECT_EQ(memfile_mesh(path), expected);
+  }
+  io::memory_files::clear();
+  EXPECT_THROW(memfile_mesh(kMemfilePath + ".obj"), Error);
 }
 
 TEST(MemoryFiles, MvxReadersAndTheMappedFileReadTheBytes) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -112,6 +113,13 @@ void write_ply(const std::string& path, const std::vector<float>& pos, const std
     out.write(reinterpret_cast<const char*>(&three), 1);
     out.write(reinterpret_cast<const char*>(&idx[t]), 12);
   }
+}
+
+void write_obj(const std::string& path, std::span<const float> pos, const std::vector<uint32_t>& idx) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  for (size_t v = 0; v < pos.size(); v += 3) std::fprintf(f, "v %.9g %.9g %.9g\n", pos[v], pos[v + 1], pos[v + 2]);
+  for (size_t t = 0; t < idx.size(); t += 3) std::fprintf(f, "f %u %u %u\n", idx[t] + 1, idx[t + 1] + 1, idx[t + 2] + 1);
+  std::fclose(f);
 }
 
 std::vector<uint64_t> sorted_unique(std::vector<uint64_t> k) {

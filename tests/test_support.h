@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,6 +57,8 @@ Dag host_dag(const std::vector<uint64_t>& voxels, uint32_t levels, bool reduce);
 
 // Writes a binary little-endian PLY: vertices `pos` (3 floats each), triangles `idx` (3 indices each).
 void write_ply(const std::string& path, const std::vector<float>& pos, const std::vector<uint32_t>& idx);
+// Writes the same as a Wavefront OBJ (text: read through assimp).
+void write_obj(const std::string& path, std::span<const float> pos, const std::vector<uint32_t>& idx);
 
 // Morton keys sorted, each once.
 std::vector<uint64_t> sorted_unique(std::vector<uint64_t> keys);

@@ -1,7 +1,7 @@
 // The one door of megavox's own file code to the file system: every read, write and rename of a reader or
 // writer goes through here, so tests can make one of them fail (io::faults below) without root-only tricks.
-// In normal runs these are the plain stdio / POSIX calls. (Files that assimp and OpenVDB open themselves do
-// not pass here; their outputs still go through our rename.)
+// In normal runs these are the plain stdio / POSIX calls. assimp and OpenVDB read through here too
+// (io/assimp_files.h, io/file_streambuf.h); the files OpenVDB writes itself still go through our rename.
 #pragma once
 #include <sys/types.h>
 

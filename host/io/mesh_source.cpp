@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "io/assimp_files.h"
 #include "io/ply_reader.h"
 #include "io/file_ops.h"
 #include "megavox/error.h"
@@ -35,7 +36,10 @@ class AssimpSource final : public MeshSource {
  public:
   explicit AssimpSource(const std::string& path) {
     Assimp::Importer importer;
+    auto* files = new AssimpFiles;  // the importer owns it
+    importer.SetIOHandler(files);
     const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices);
+    if (!files->error().empty()) throw Error(files->error());
     if (!scene || !scene->mRootNode)
       throw Error(path + ": cannot read the mesh (" + std::string(importer.GetErrorString()) + ")");
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {

@@ -4,11 +4,11 @@
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/io/io.h>
 
-#include <fstream>
+#include <istream>
 #include <map>
 #include <memory>
 
-#include "megavox/error.h"
+#include "io/file_streambuf.h"
 
 namespace mv::io {
 
@@ -63,8 +63,8 @@ class GridReader : public openvdb::io::Archive {
 }  // namespace
 
 openvdb::GridBase::Ptr read_vdb_grid(const std::string& path, std::string& name) {
-  std::ifstream is(path, std::ios::binary);
-  if (!is) throw Error(path + ": cannot open the OpenVDB file");
+  FileStreambuf file(path);  // through the file layer: its read faults and memory files reach OpenVDB
+  std::istream is(&file);
   is.exceptions(std::ios::failbit | std::ios::badbit);
   return GridReader().read(is, name);
 }

@@ -4,7 +4,12 @@
 #include <vector>
 
 #include "fuzz_support.h"
-#include "throwing_new.h"  // OpenVDB allocates sizes read from the file: over 64 MiB is a bad_alloc
+// OpenVDB allocates sizes read from the file: over 64 MiB is a bad_alloc. Large blocks are not kept for reuse
+// here: in fork mode that bought no executions (about 430/s against 412/s over 120 s), while OpenVDB's leaked
+// nodes, held in power-of-two blocks, took jobs to their 2 GiB limit, where clang 14's heap profile then hung
+// them (BENCHMARKS.md, "Fuzzing").
+#define MV_REUSE_LARGE_BLOCKS 0
+#include "throwing_new.h"
 #include "io/vdb_source.h"
 #include "megavox/error.h"
 

@@ -9,10 +9,11 @@
 //   stop the fuzzer, as a bad_alloc that escapes the reader (std::terminate) or as an out-of-memory.
 // - keep large blocks (128 KiB and more) for the next allocation instead of freeing them (LargeBlocks below).
 //   ASan serves each such block from a fresh mmap and unmaps it on free, so every input paid for its page
-//   faults again: assimp's OBJ importer fills two 16 MiB buffers per file, OpenVDB a 256 KiB table per top-level
-//   node and the sizes a file declares. That was most of these targets' time (BENCHMARKS.md, "Fuzzing").
-// The sanitized test suite (tests/sanitizer_new.cpp) uses it with neither (MV_THROWING_NEW_LIMIT 0,
-// MV_REUSE_LARGE_BLOCKS 0): there only a malloc that fails (ASAN_OPTIONS=allocator_may_return_null=1) throws.
+//   faults again: assimp's OBJ importer fills two 16 MiB buffers per file, which was 80 % of fuzz_mesh_assimp's
+//   time (BENCHMARKS.md, "Fuzzing").
+// fuzz_vdb takes the limit without the reuse (MV_REUSE_LARGE_BLOCKS 0: fuzz_vdb.cpp says why). The sanitized test
+// suite (tests/sanitizer_new.cpp) takes neither (MV_THROWING_NEW_LIMIT 0 too): there only a malloc that fails
+// (ASAN_OPTIONS=allocator_may_return_null=1) throws.
 #pragma once
 #include <cstdint>
 #include <cstdlib>

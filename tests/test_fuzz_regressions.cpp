@@ -58,6 +58,16 @@ TEST(FuzzRegressions, VdbDelayedLoadTableIsNotTrusted) {
   }
 }
 
+TEST(FuzzRegressions, VdbLeavesOfManyVoxelsRead) {
+  // 27 KB of compressed leaves that select millions of voxels. The fuzz build caps the voxels a file selects
+  // (2^15) but counted tiles only: the leaves' voxels grew its coordinate list past the fuzz build's 64 MiB
+  // allocations (std::bad_alloc, std::terminate). Its seed corpus holds the file since; here, without a cap,
+  // it is simply read.
+  const std::string p = std::string(MEGAVOX_SOURCE_DIR) + "/fuzz/corpus/fuzz_vdb/regression_leaves_many_voxels.vdb";
+  const io::VdbVoxels v = io::read_vdb(p, "", 0);
+  EXPECT_GT(v.keys.size(), uint64_t{1} << 15);
+}
+
 TEST(FuzzRegressions, VdbHugeDeclaredSizeIsAnError) {
   // A blosc block size of 64 GiB, which OpenVDB allocates before reading: std::bad_alloc escaped read_vdb
   // (megavox: internal error). Where the allocation succeeds the read fails after it: an mv::Error either way.

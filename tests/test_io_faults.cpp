@@ -206,11 +206,10 @@ TEST_P(IoFaults, BuildFromVdb) {
   const std::string dir = scratch("faults_vdb");
   const BuildOptions b = mesh_build(dir);
   build_mvx(dev(), b);
-  const ExportOptions e{b.output, dir + "/in.vdb", "vdb"};
-  export_mvx(dev(), e);
   BuildOptions o;
-  o.input = e.output;
+  o.input = dir + "/in.vdb";
   o.output = dir + "/from_vdb.mvx";
+  export_mvx(dev(), ExportOptions{b.output, o.input, "vdb"});
   EXPECT_GT(sweep(dir, o.output, [&] { build_mvx(dev(), o); }), 4u);
 }
 

@@ -9,8 +9,8 @@ namespace mv::io {
 // Reads grid `name` (empty: the first in the file) of the .vdb file at `path` and sets `name` to the grid's
 // name; nullptr when the file holds no grids or none named `name` (matched as OpenVDB names it, or with the
 // "[N]" suffix OpenVDB gives repeated names). Throws mv::Error when the file cannot be opened or read (it is
-// read through io::FileStreambuf), and openvdb::Exception, std::ios_base::failure or std::bad_alloc as OpenVDB and the stream do (read_vdb turns
-// them into mv::Error).
+// read through io::FileStreambuf), and openvdb::Exception, std::ios_base::failure or std::bad_alloc as OpenVDB
+// and the stream do (read_vdb turns them into mv::Error).
 //
 // Why not openvdb::io::File: its reader keeps going after its stream has run out. A damaged node count made it
 // build hundreds of thousands of empty nodes from a 10 KB file (seconds and gigabytes per file under the fuzzer,

@@ -40,7 +40,7 @@ namespace {
 // compressed leaves, legitimately stand for millions of voxels (fuzz/known/vdb_tiles_63M_voxels.vdb: 10 KB,
 // 63 M voxels; fuzz/corpus/fuzz_vdb/regression_leaves_many_voxels.vdb: 27 KB of leaves), which only makes fuzzing
 // slow (at 2^20, mutants near the limit made one execution 50 ms of expanding and sorting) and, past the fuzz
-// build's 64 MiB allocations, stops it. Elsewhere there is no limit but memory's (read_vdb reports running out).
+// build's 64 MiB allocations, stops it. Elsewhere there is no limit but memory's (host budgets: issue 29's item 4).
 #ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
 constexpr uint64_t kMaxVoxels = uint64_t{1} << 15;
 #else

@@ -44,12 +44,13 @@ class BackendKernel {
 };
 
 // All work is ordered in one stream per backend. dispatch/fill/copy are recorded (OpenCL: enqueued on an
-// in-order queue; Vulkan: recorded into a command buffer) and run no later than finish(). barrier() makes
-// every earlier write visible to every later command; without one, consecutive commands may overlap.
+// in-order queue; Vulkan: recorded into a command buffer), start running no later than the next submit() and
+// finish no later than the wait() for its mark or finish(). barrier() makes every earlier write visible to every
+// later command; without one, consecutive commands may overlap.
 // upload/download are synchronous: they wait for all earlier work, then copy. upload_async is recorded in the
-// stream like copy: it returns at once and the copy runs in order with the other commands, no later than
-// finish() (OpenCL: a non-blocking write, `src` read while it runs; Vulkan: `src` copied into staging memory
-// now, then a recorded copy); the caller keeps `src` unchanged until finish().
+// stream like copy: it returns at once and the copy runs in order with the other commands (OpenCL: a
+// non-blocking write, `src` read while it runs; Vulkan: `src` copied into staging memory now, then a recorded
+// copy); the caller keeps `src` unchanged until the copy has finished.
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -82,7 +83,12 @@ class Backend {
   virtual void dispatch(BackendKernel& kernel, const LaunchGrid& grid, std::span<BackendBuffer* const> buffers,
                         const void* params, size_t params_bytes) = 0;
   virtual void barrier() = 0;
-  virtual void finish() = 0;
+  // Stream marks (1, 2, ...). submit() starts every command recorded so far and returns at once with a mark of
+  // that point; wait(mark) blocks until the commands before the mark have finished, their writes visible to the
+  // host. Waiting for a mark waits for every earlier one; a mark already waited for (or finished) returns at once.
+  virtual uint64_t submit() = 0;
+  virtual void wait(uint64_t mark) = 0;
+  virtual void finish() = 0;  // submit() and wait for everything
 
   // Per-dispatch device timings (kernel name, nanoseconds), collected while profiling is on.
   virtual void set_profiling(bool on) = 0;

@@ -219,6 +219,8 @@ void Device::dispatch_raw(Kernel& k, const LaunchGrid& grid, std::initializer_li
 }
 
 void Device::barrier() { impl_->backend->barrier(); }
+Device::StreamMark Device::submit() { return impl_->backend->submit(); }
+void Device::wait(StreamMark mark) { impl_->backend->wait(mark); }
 void Device::finish() {
   impl_->backend->finish();
   impl_->pool->reclaim();

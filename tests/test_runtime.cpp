@@ -3,6 +3,7 @@
 
 #include "kernels/common/morton.h"
 #include "megavox/error.h"
+#include "host/ref/reference.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -134,6 +135,55 @@ TEST_P(RuntimeTest, AsynchronousUploadsRunInStreamOrder) {
   EXPECT_THROW(d.upload_async(a, data.data(), 8, data.size() * 4), Error);  // out of range
 }
 
+// Stream marks: work submitted in parts runs while the host goes on. Waiting for a mark makes the work before it
+// readable (in place where the device has host views) and frees what it read (an asynchronous upload's source
+// may change then), while later parts finish at their own marks.
+TEST_P(RuntimeTest, StreamMarksWaitForTheWorkBeforeThem) {
+  Device& d = dev();
+  constexpr int kParts = 4;
+  constexpr uint32_t kPoints = 1 << 15;
+  std::vector<std::vector<uint32_t>> xyz(kParts);
+  std::vector<Buffer> pts(kParts), keys(kParts);
+  std::vector<Device::StreamMark> marks;
+  Kernel& morton = d.kernel(KernelId::morton_encode64);
+  for (int part = 0; part < kParts; ++part) {
+    xyz[part] = random_u32(3 * kPoints, 10 + part);
+    for (uint32_t& c : xyz[part]) c &= 0x1fffff;
+    pts[part] = d.alloc(xyz[part].size() * 4, "points");
+    keys[part] = d.alloc(uint64_t{kPoints} * 8, "keys");
+    d.upload_async(pts[part], xyz[part].data(), xyz[part].size() * 4);
+    d.barrier();
+    d.dispatch(morton, kPoints / 64, 64, {&pts[part], &keys[part]}, MvMortonParams{kPoints, 0});
+    d.barrier();
+    marks.push_back(d.submit());
+    if (part > 0) EXPECT_GT(marks[part], marks[part - 1]);
+  }
+  auto expect_keys = [&](int part, const uint64_t* got, const std::vector<uint32_t>& from) {
+    for (uint32_t i = 0; i < kPoints; ++i)
+      ASSERT_EQ(got[i], ref::morton3(from[3 * i], from[3 * i + 1], from[3 * i + 2], 21)) << "part " << part << " at " << i;
+  };
+  d.wait(marks[1]);
+  d.wait(marks[0]);  // already reached: returns at once
+  std::vector<std::vector<uint32_t>> sent = {xyz[0], xyz[1]};
+  for (int part = 0; part < 2; ++part) {
+    std::fill(xyz[part].begin(), xyz[part].end(), 0xdeadbeefu);  // the uploads that read them are done
+    if (const void* view = d.host_view(keys[part])) expect_keys(part, static_cast<const uint64_t*>(view), sent[part]);
+  }
+  d.wait(marks[kParts - 1]);
+  sent.push_back(xyz[2]);
+  sent.push_back(xyz[3]);
+  std::vector<uint64_t> got(kPoints);
+  for (int part = 0; part < kParts; ++part) {
+    d.download(keys[part], got.data(), got.size() * 8);
+    expect_keys(part, got.data(), sent[part]);
+  }
+  const Device::StreamMark last = d.submit();  // nothing new recorded: a mark all the same
+  EXPECT_GE(last, marks.back());
+  d.wait(last);
+  EXPECT_THROW(d.wait(last + 1000), Error);
+  d.finish();
+}
+
 TEST_P(RuntimeTest, UnknownKernelIsAnError) { EXPECT_THROW(dev().kernel(static_cast<KernelId>(kKernelCount)), Error); }
 
 // Every kernel kernels/kernels.cmake lists builds on every device that has what it needs, and its OpenCL
@@ -212,6 +262,12 @@ TEST_P(RuntimeTest, ProfilingReportsKernelTimes) {
   ASSERT_EQ(t.size(), 1u);
   EXPECT_EQ(t[0].kernel, "morton_encode64");
   EXPECT_TRUE(d->take_timings().empty());
+  // Dispatches of several submissions are all timed.
+  d->dispatch(d->kernel(KernelId::morton_encode64), 16, 64, {&pts, &kb}, p);
+  d->wait(d->submit());
+  d->dispatch(d->kernel(KernelId::morton_encode64), 16, 64, {&pts, &kb}, p);
+  d->finish();
+  EXPECT_EQ(d->take_timings().size(), 2u);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(RuntimeTest);

@@ -3,8 +3,8 @@
 // A Device is one OpenCL or Vulkan device opened with a memory budget. Device memory comes only from its
 // page pool (fixed-size pages carved out of a few large allocations); a request the budget cannot hold
 // throws mv::Error naming what was asked and what is left. Work is recorded in one ordered stream:
-// dispatch/fill/copy may overlap until barrier(); finish() waits for everything; upload/download wait
-// for earlier work first.
+// dispatch/fill/copy may overlap until barrier(); submit() starts what is recorded and wait() waits for a
+// point of it; finish() waits for everything; upload/download wait for earlier work first.
 #pragma once
 // File readers (host/io) and reference code (host/ref) are built with MEGAVOX_NO_DEVICE: they use the plain
 // types (grid.h, dag_types.h, ray.h, encode.h, mvx.h) alone, and this stops any path to device types.
@@ -174,7 +174,7 @@ class Device {
   void fill(Buffer& dst, uint32_t pattern, uint64_t bytes, uint64_t offset = 0);
   // Where the device computes in host memory (CPU devices: PoCL, lavapipe), the buffer's bytes as the host sees
   // them, read in place instead of downloaded: valid while the buffer lives, and what the device wrote once
-  // finish() has returned. nullptr on other devices (download instead).
+  // finish() (or the wait() for a mark after the writes) has returned. nullptr on other devices (download instead).
   const void* host_view(const Buffer& buffer) const;
   void copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_offset = 0, uint64_t dst_offset = 0);
 
@@ -204,6 +204,13 @@ class Device {
     dispatch_raw(k, LaunchGrid{{groups, 1}, {local_size, 1}}, buffers, params, params_bytes, params_type);
   }
   void barrier();
+  // A point in the stream. submit() starts the work recorded so far and returns at once with its mark; the
+  // host goes on while the device runs it. wait(mark) returns once that work has finished: what it wrote can
+  // then be read (host_view, download). Marks grow (1, 2, ...); waiting for one waits for every earlier one,
+  // and waiting again returns at once. Buffers destroyed meanwhile return to the pool at finish().
+  using StreamMark = uint64_t;
+  StreamMark submit();
+  void wait(StreamMark mark);
   void finish();
   // finish(), then gives the storage of every device allocation that holds no buffers back to the system (later
   // allocations make new ones). Where device memory is host memory (CPU devices) a host stage that follows a

@@ -5,6 +5,8 @@
 #define CL_USE_DEPRECATED_OPENCL_1_2_APIS
 #include <CL/cl.h>
 
+#include <deque>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <string>
@@ -162,6 +164,7 @@ class OpenCLBackend final : public Backend {
   ~OpenCLBackend() override {
     if (queue_) clFinish(queue_);
     for (auto& t : pending_) clReleaseEvent(t.event);
+    for (auto& m : marks_) clReleaseEvent(m.event);
     kernels_.clear();
     for (auto& [name, prog] : programs_) clReleaseProgram(prog);
     if (queue_) clReleaseCommandQueue(queue_);
@@ -272,8 +275,31 @@ class OpenCLBackend final : public Backend {
 
   void barrier() override {}  // the queue is in order
 
+  // A mark is a marker event after the work recorded so far; clFlush starts that work without waiting for it.
+  uint64_t submit() override {
+    cl_event event = nullptr;
+    check(clEnqueueMarkerWithWaitList(queue_, 0, nullptr, &event), "marking the stream");
+    marks_.push_back({++last_mark_, event});
+    check(clFlush(queue_), "starting the device's work");
+    return last_mark_;
+  }
+
+  void wait(uint64_t mark) override {
+    if (mark > last_mark_) throw Error("wait for stream mark " + std::to_string(mark) + ", which was never made");
+    auto done = marks_.begin();
+    while (done != marks_.end() && done->mark <= mark) ++done;
+    if (done == marks_.begin()) return;  // already waited for
+    cl_event last = std::prev(done)->event;
+    const cl_int err = clWaitForEvents(1, &last);  // the queue is in order: the earlier marks are done too
+    for (auto m = marks_.begin(); m != done; ++m) clReleaseEvent(m->event);
+    marks_.erase(marks_.begin(), done);
+    check(err, "waiting for the device");
+  }
+
   void finish() override {
     check(clFinish(queue_), "waiting for the device");
+    for (auto& m : marks_) clReleaseEvent(m.event);
+    marks_.clear();
     for (auto& t : pending_) {
       cl_ulong start = 0, end = 0;
       clGetEventProfilingInfo(t.event, CL_PROFILING_COMMAND_START, sizeof start, &start, nullptr);
@@ -321,6 +347,10 @@ class OpenCLBackend final : public Backend {
     std::string kernel;
     cl_event event;
   };
+  struct Mark {
+    uint64_t mark;
+    cl_event event;
+  };
 
   cl_device_id device_;
   DeviceInfo info_;
@@ -331,6 +361,8 @@ class OpenCLBackend final : public Backend {
   std::map<std::string, std::unique_ptr<ClKernel>> kernels_;
   bool profiling_ = false;
   std::vector<PendingTiming> pending_;
+  std::deque<Mark> marks_;  // submitted and not yet waited for, oldest first
+  uint64_t last_mark_ = 0;
   std::vector<KernelTiming> timings_;
 };
 

@@ -81,23 +81,20 @@ void VulkanBackend::init(int index) {
   pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pi.queueFamilyIndex = family_index;
   check(vkCreateCommandPool(device_, &pi, nullptr, &pool_), "vkCreateCommandPool");
-  auto ai = vk<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
-  ai.commandPool = pool_;
-  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  ai.commandBufferCount = 1;
-  check(vkAllocateCommandBuffers(device_, &ai, &cmd_), "vkAllocateCommandBuffers");
-  auto fi = vk<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
-  check(vkCreateFence(device_, &fi, nullptr, &fence_), "vkCreateFence");
 }
 
 void VulkanBackend::release() noexcept {
   if (device_) {
     vkDeviceWaitIdle(device_);
     kernels_.clear();
-    arg_chunks_.clear();  // their memory belongs to device_
+    for (Submission& s : in_flight_) spare_fences_.push_back(s.fence);
+    in_flight_.clear();  // its memory, like the chunks', belongs to device_
+    arg_chunks_.clear();
+    arg_free_.clear();
+    staged_uploads_.clear();
     vkDestroyQueryPool(device_, query_pool_, nullptr);
-    vkDestroyFence(device_, fence_, nullptr);
-    vkDestroyCommandPool(device_, pool_, nullptr);  // frees cmd_
+    for (VkFence f : spare_fences_) vkDestroyFence(device_, f, nullptr);
+    vkDestroyCommandPool(device_, pool_, nullptr);  // frees the command buffers
     vkDestroyDevice(device_, nullptr);
   }
   if (instance_) vkDestroyInstance(instance_, nullptr);

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <initializer_list>
 #include <memory>
 #include <span>
@@ -100,7 +101,9 @@ class VulkanBackend final : public Backend {
   void dispatch(BackendKernel& k, const LaunchGrid& grid, std::span<BackendBuffer* const> buffers,
                 const void* params, size_t params_bytes) override;
   void barrier() override;
-  void finish() override;
+  uint64_t submit() override;
+  void wait(uint64_t mark) override;
+  void finish() override { wait(submit()); }
   void set_profiling(bool on) override;
   std::vector<KernelTiming> take_timings() override { return std::exchange(timings_, {}); }
 
@@ -123,17 +126,28 @@ class VulkanBackend final : public Backend {
   // vulkan_commands.cpp
   VkCommandBuffer recording();
   void collect_timings(uint32_t queries, const std::vector<std::string>& names);
-  // Copies one dispatch's arguments into the parameter buffers and returns their device address; valid
-  // until finish() (recorded work runs no later), after which the space is reused.
+  // Copies one dispatch's arguments into the parameter buffers and returns their device address; valid until
+  // the recording's submission has finished, after which the space is reused.
   VkDeviceAddress argument_block(const void* bytes, size_t size);
 
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
   VkCommandPool pool_ = VK_NULL_HANDLE;
-  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
-  VkFence fence_ = VK_NULL_HANDLE;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // the one being recorded, if recording_
   bool recording_ = false;
+
+  // Command buffers submitted and not yet waited for, oldest first, with the memory their commands read.
+  struct Submission {
+    uint64_t mark = 0;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    std::vector<std::unique_ptr<VulkanArena>> staged, args;
+  };
+  std::deque<Submission> in_flight_;
+  uint64_t last_mark_ = 0;
+  std::vector<VkCommandBuffer> spare_cmds_;  // reset, for the next recordings
+  std::vector<VkFence> spare_fences_;        // unsignalled
 
   DeviceInfo info_;
   VkPhysicalDeviceMemoryProperties memory_{};
@@ -150,12 +164,12 @@ class VulkanBackend final : public Backend {
   std::vector<KernelTiming> timings_;
 
   // Parameter buffers for kernels whose arguments exceed the push constants: host-visible chunks filled
-  // front to back during a recording. A few KiB per recording, outside the page pool's budget.
-  std::vector<std::unique_ptr<VulkanArena>> arg_chunks_;
-  // Staging memory of the asynchronous uploads recorded since the last finish(), freed by it.
-  std::vector<std::unique_ptr<VulkanArena>> staged_uploads_;
-  size_t arg_chunk_ = 0;
+  // front to back during a recording (the last one up to arg_used_), handed to its submission and back to
+  // arg_free_ once it has finished. A few KiB per recording, outside the page pool's budget.
+  std::vector<std::unique_ptr<VulkanArena>> arg_chunks_, arg_free_;
   uint64_t arg_used_ = 0;
+  // Staging memory of the asynchronous uploads in the current recording; freed when its submission finishes.
+  std::vector<std::unique_ptr<VulkanArena>> staged_uploads_;
 };
 
 }  // namespace mv::rt::vulkan

@@ -1,5 +1,6 @@
-// Vulkan backend commands: the one command buffer recorded lazily (dispatches with their push constants,
-// barriers), submitted and waited for by finish(), and the timestamp queries that time profiled dispatches.
+// Vulkan backend commands: the command buffer recorded lazily (dispatches with their push constants, barriers),
+// submitted with a fence by submit() and waited for by wait() (finish() does both), and the timestamp queries
+// that time profiled dispatches.
 #include <vulkan/vulkan.h>
 
 #include <array>
@@ -23,6 +24,17 @@ constexpr VkPipelineStageFlags kWorkStages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BI
 
 VkCommandBuffer VulkanBackend::recording() {
   if (!recording_) {
+    if (!cmd_ && !spare_cmds_.empty()) {
+      cmd_ = spare_cmds_.back();
+      spare_cmds_.pop_back();
+    }
+    if (!cmd_) {
+      auto ai = vk<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+      ai.commandPool = pool_;
+      ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+      ai.commandBufferCount = 1;
+      check(vkAllocateCommandBuffers(device_, &ai, &cmd_), "vkAllocateCommandBuffers");
+    }
     auto bi = vk<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
@@ -85,20 +97,21 @@ void VulkanBackend::dispatch(BackendKernel& k, const LaunchGrid& grid, std::span
 VkDeviceAddress VulkanBackend::argument_block(const void* bytes, size_t size) {
   constexpr uint64_t kChunkBytes = 64 << 10;
   const uint64_t need = (size + 15) & ~uint64_t{15};  // 16-byte aligned blocks (std430 alignment of any field)
-  if (arg_chunk_ < arg_chunks_.size() && arg_used_ + need > arg_chunks_[arg_chunk_]->bytes) {
-    ++arg_chunk_;
+  if (arg_chunks_.empty() || arg_used_ + need > arg_chunks_.back()->bytes) {
+    if (!arg_free_.empty()) {
+      arg_chunks_.push_back(std::move(arg_free_.back()));
+      arg_free_.pop_back();
+    } else {
+      arg_chunks_.push_back(allocate(kChunkBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                                      VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                     {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                          VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
+      if (!arg_chunks_.back()->mapped) fail("no host-visible memory for kernel parameter buffers on " + info_.name);
+    }
     arg_used_ = 0;
   }
-  if (arg_chunk_ == arg_chunks_.size()) {
-    arg_chunks_.push_back(allocate(kChunkBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                                    VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                                   {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                        VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                    VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT}));
-    if (!arg_chunks_.back()->mapped) fail("no host-visible memory for kernel parameter buffers on " + info_.name);
-    arg_used_ = 0;
-  }
-  VulkanArena& chunk = *arg_chunks_[arg_chunk_];
+  VulkanArena& chunk = *arg_chunks_.back();
   std::memcpy(static_cast<unsigned char*>(chunk.mapped) + arg_used_, bytes, size);
   const VkDeviceAddress address = chunk.address + arg_used_;
   arg_used_ += need;
@@ -113,33 +126,59 @@ void VulkanBackend::barrier() {
   vkCmdPipelineBarrier(recording(), kWorkStages, kWorkStages, 0, 1, &mb, 0, nullptr, 0, nullptr);
 }
 
-void VulkanBackend::finish() {
-  if (!recording_) return;
-  recording_ = false;
-  // Taken now so that a failed submission cannot leave stale queries behind for the next recording.
-  const uint32_t queries = std::exchange(queries_used_, 0);
-  const std::vector<std::string> names = std::exchange(query_names_, {});
-
+uint64_t VulkanBackend::submit() {
+  if (!recording_) return last_mark_;  // nothing recorded since: the last mark covers everything
   // A fence wait alone does not make device writes visible to the host; this barrier does.
   auto to_host = vk<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
   to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
   to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
   vkCmdPipelineBarrier(cmd_, kWorkStages, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0, nullptr, 0, nullptr);
+  recording_ = false;  // a failed end or submission leaves cmd_ to be begun (and so reset) again
   check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
 
+  Submission sub;
+  if (spare_fences_.empty()) {
+    auto fi = vk<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+    check(vkCreateFence(device_, &fi, nullptr, &sub.fence), "vkCreateFence");
+  } else {
+    sub.fence = spare_fences_.back();
+    spare_fences_.pop_back();
+  }
   auto si = vk<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd_;
-  check(vkQueueSubmit(queue_, 1, &si, fence_), "vkQueueSubmit");
-  const VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, kFenceTimeoutNs);
-  if (waited == VK_TIMEOUT) fail("device work did not finish within 30 minutes on " + info_.name);
-  check(waited, "vkWaitForFences");
-  check(vkResetFences(device_, 1, &fence_), "vkResetFences");
-  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
-  arg_chunk_ = 0;  // the recorded work that read the parameter buffers is done
-  staged_uploads_.clear();
+  const VkResult submitted = vkQueueSubmit(queue_, 1, &si, sub.fence);
+  if (submitted != VK_SUCCESS) spare_fences_.push_back(sub.fence);
+  check(submitted, "vkQueueSubmit");
+  sub.mark = ++last_mark_;
+  sub.cmd = std::exchange(cmd_, VK_NULL_HANDLE);
+  sub.staged = std::exchange(staged_uploads_, {});
+  sub.args = std::exchange(arg_chunks_, {});
   arg_used_ = 0;
-  if (queries) collect_timings(queries, names);
+  in_flight_.push_back(std::move(sub));
+  return last_mark_;
+}
+
+void VulkanBackend::wait(uint64_t mark) {
+  if (mark > last_mark_) fail("wait for stream mark " + std::to_string(mark) + ", which was never made");
+  while (!in_flight_.empty() && in_flight_.front().mark <= mark) {
+    Submission& sub = in_flight_.front();
+    const VkResult waited = vkWaitForFences(device_, 1, &sub.fence, VK_TRUE, kFenceTimeoutNs);
+    if (waited == VK_TIMEOUT) fail("device work did not finish within 30 minutes on " + info_.name);
+    check(waited, "vkWaitForFences");
+    check(vkResetFences(device_, 1, &sub.fence), "vkResetFences");
+    check(vkResetCommandBuffer(sub.cmd, 0), "vkResetCommandBuffer");
+    spare_fences_.push_back(sub.fence);
+    spare_cmds_.push_back(sub.cmd);
+    for (auto& chunk : sub.args) arg_free_.push_back(std::move(chunk));  // the work that read them is done
+    in_flight_.pop_front();                                                // frees its staging memory
+  }
+  // Timestamps are read once no recorded work is left: the queries of one recording may span submissions.
+  if (in_flight_.empty() && !recording_ && queries_used_) {
+    const uint32_t queries = std::exchange(queries_used_, 0);
+    const std::vector<std::string> names = std::exchange(query_names_, {});
+    collect_timings(queries, names);
+  }
 }
 
 void VulkanBackend::set_profiling(bool on) {

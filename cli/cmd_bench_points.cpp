@@ -23,6 +23,7 @@ struct BenchPointsArgs {
   uint64_t seed = 1;
   int repeats = 3, sample_repeats = 1;
   uint32_t max_node_points = 16384;
+  uint32_t sort_ranges = PointBuildOptions().sort_ranges;
   bool json = false, quiet = false;
 };
 
@@ -182,6 +183,9 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_option("--max-node-points", a->max_node_points, "As points build's (default 16384)");
+  cmd->add_option("--sort-ranges", a->sort_ranges,
+                  "Ranges of buckets the in-place sort hands the builder while it sorts (1: after the sort)")
+      ->capture_default_str();
   cmd->add_option("--memory", a->memory, "As points build's: host budget, e.g. 16G (default: half the RAM)");
   cmd->add_flag("--json", a->json, "One JSON object per cloud (one a line) instead of the tables");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress lines on stderr");
@@ -195,6 +199,7 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g) {
     };
     PointBuildOptions build;
     build.max_node_points = a->max_node_points;
+    build.sort_ranges = std::max(1u, a->sort_ranges);
     const uint64_t memory = a->memory.empty() ? 0 : parse_size(a->memory);
 
     const auto t = bench::Clock::now();

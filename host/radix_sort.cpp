@@ -65,17 +65,26 @@ struct SortRun {
   }
 };
 
-// Largest bucket of the counted digit (the counts are read back: one wait).
-uint32_t largest_bucket(Device& dev, const Buffer& hist, uint32_t blocks) {
+// Sizes of the counted digit's buckets (the counts are read back: one wait).
+std::vector<uint64_t> bucket_sizes(Device& dev, const Buffer& hist, uint32_t blocks) {
   std::vector<uint32_t> h(size_t{blocks} * MV_RADIX_BUCKETS);
   dev.download(hist, h.data(), h.size() * 4);
-  uint32_t largest = 0;
+  std::vector<uint64_t> sizes(MV_RADIX_BUCKETS, 0);
+  for (uint32_t d = 0; d < MV_RADIX_BUCKETS; ++d)
+    for (uint32_t b = 0; b < blocks; ++b) sizes[d] += h[size_t{d} * blocks + b];
+  return sizes;
+}
+
+// Cuts the buckets into at most `ranges` ranges of about equal key counts: the ends of the ranges (buckets).
+std::vector<uint32_t> bucket_ranges(const std::vector<uint64_t>& sizes, uint64_t n, uint32_t ranges) {
+  std::vector<uint32_t> ends;
+  uint64_t acc = 0;
   for (uint32_t d = 0; d < MV_RADIX_BUCKETS; ++d) {
-    uint64_t size = 0;
-    for (uint32_t b = 0; b < blocks; ++b) size += h[size_t{d} * blocks + b];
-    largest = std::max<uint32_t>(largest, static_cast<uint32_t>(size));
+    acc += sizes[d];
+    if (acc * ranges >= n * (ends.size() + 1) && d + 1 < MV_RADIX_BUCKETS) ends.push_back(d + 1);
   }
-  return largest;
+  ends.push_back(MV_RADIX_BUCKETS);
+  return ends;
 }
 
 // Device memory the passes allocate: scratch copies of keys and values, the histograms and their scan, in whole
@@ -87,20 +96,25 @@ uint64_t scratch_bytes(Device& dev, uint64_t hist, uint64_t n, uint64_t key_byte
          pages((uint64_t{block_shape(dev.info(), hist).blocks} + 1) * 8);
 }
 
-// The hybrid's second stage: the global pass left 256 buckets in kin / vin; each is sorted there on the bits
-// [low, top), moving through scratch slices of kout / vout. With no loop cap a few work-items (two per compute
-// unit) each take bucket after bucket through one slice of the largest bucket's size, which stays in cache; under
-// a cap every bucket gets its own work-item and works through its own range.
+// The hybrid's second stage over the buckets [first, end): the global pass left 256 buckets in kin / vin; each is
+// sorted there on the bits [low, top), moving through scratch slices of kout / vout. With no loop cap a few
+// work-items (two per compute unit) each take bucket after bucket through one slice of the largest bucket's size,
+// which stays in cache; under a cap every bucket gets its own work-item and works through its own range.
 void sort_buckets(SortRun& run, const Buffer& kin, Buffer& kout, const Buffer* vin, Buffer* vout, uint32_t top,
-                  uint32_t low, uint32_t largest, Kernel& local_sort) {
+                  uint32_t low, uint32_t largest, Kernel& local_sort, uint32_t first, uint32_t end) {
   const DeviceInfo& info = run.dev.info();
   run.p.local_top = top;
   run.p.local_low = low;
-  uint32_t items = MV_RADIX_BUCKETS;
+  run.p.bucket_first = first;
+  run.p.bucket_end = end;
+  uint32_t items = end - first;
   run.p.scratch_stride = 0;
   if (info.max_loop_iterations == 0 && run.p.n / largest >= 2) {
     items = std::min({items, 2 * std::max(1u, info.compute_units), run.p.n / largest});
     run.p.scratch_stride = largest;
+    // the bucket counter (after the histograms and the scan total) starts at the range
+    run.dev.fill(run.hist, first, 4, (uint64_t{run.p.blocks} * MV_RADIX_BUCKETS + 1) * 4);
+    run.dev.barrier();
   }
   const uint32_t local = run.shape.local_size;
   run.dev.dispatch(local_sort, (items + local - 1) / local, local,
@@ -135,7 +149,10 @@ bool prefers_cooperative_sort(const DeviceInfo& info) {
   return info.massively_parallel && cooperative_sort_fits(info);
 }
 
-SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy) {
+namespace {
+
+SortReport sort_on_device(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy,
+                          const SortedPrefix* on_prefix, uint32_t ranges) {
   SortReport report;
   if (n <= 1) return report;
   detail::check_device_items("radix_sort", n);
@@ -162,8 +179,7 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
 
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
   const uint64_t hist_words = uint64_t{std::max(s.blocks, pass_shape.blocks)} * MV_RADIX_BUCKETS;
-  Buffer hist = dev.alloc((hist_words + 2) * 4, "radix sort histograms");
-  dev.fill(hist, 0, 4, (hist_words + 1) * 4);  // the hybrid's bucket counter
+  Buffer hist = dev.alloc((hist_words + 2) * 4, "radix sort histograms");  // + the scan total, the bucket counter
   MvRadixParams p{static_cast<uint32_t>(n), s.blocks, s.block_size, 0, values ? 1u : 0u, 0, 0, 0, 0};
   // Where the hybrid may run, the reduction also counts the top digit: random keys vary there, and the global
   // pass then needs no histogram pass of its own. Not under a loop cap, where a private histogram is slow.
@@ -212,10 +228,12 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
   const uint32_t msd = high >= low + MV_RADIX_BITS ? high + 1 - MV_RADIX_BITS : low;
   bool hybrid = may_hybrid && msd > low;
   uint32_t largest = 0;
+  std::vector<uint64_t> sizes;
   if (hybrid) {
     if (counted_top && msd == key_bits - MV_RADIX_BITS) run.p.shift = msd;
     else run.count(keys, msd);
-    largest = largest_bucket(dev, run.hist, s.blocks);
+    sizes = bucket_sizes(dev, run.hist, s.blocks);
+    largest = static_cast<uint32_t>(*std::max_element(sizes.begin(), sizes.end()));
     const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
     // Under a loop cap (lavapipe) the in-bucket sort's nested loops add up to about 900 iterations per key of
     // the largest bucket; only tiny buckets stay inside it.
@@ -225,8 +243,31 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
   }
   if (hybrid) {
     run.scan_and_scatter(keys, keys_alt, values, values ? &values_alt : nullptr);
-    sort_buckets(run, keys_alt, keys, values ? &values_alt : nullptr, values, msd, low, largest,
-                 dev.kernel(k64 ? KernelId::radix_local_sort_k64 : KernelId::radix_local_sort_k32));
+    Kernel& local_sort = dev.kernel(k64 ? KernelId::radix_local_sort_k64 : KernelId::radix_local_sort_k32);
+    Buffer* sorted_values = values ? &values_alt : nullptr;
+    if (!on_prefix) {
+      sort_buckets(run, keys_alt, keys, sorted_values, values, msd, low, largest, local_sort, 0, MV_RADIX_BUCKETS);
+    } else {
+      // A range of buckets at a time, each submitted as recorded; while one range sorts, the caller reads the
+      // prefix the one before it finished (its own device work then waits behind the running range alone).
+      uint32_t first = 0;
+      uint64_t end = 0, ready_end = 0;
+      Device::StreamMark ready = 0;
+      for (uint32_t last : bucket_ranges(sizes, n, ranges)) {
+        sort_buckets(run, keys_alt, keys, sorted_values, values, msd, low, largest, local_sort, first, last);
+        const Device::StreamMark mark = dev.submit();
+        for (; first < last; ++first) end += sizes[first];
+        if (ready) {
+          dev.wait(ready);
+          (*on_prefix)(keys_alt, sorted_values, ready_end);
+        }
+        ready = mark;
+        ready_end = end;
+      }
+      dev.wait(ready);
+      (*on_prefix)(keys_alt, sorted_values, n);
+      report.prefixes = true;
+    }
     std::swap(keys, keys_alt);  // the buckets were sorted where the global pass left them
     if (values) std::swap(*values, values_alt);
     report.passes = 1 + (msd - low + MV_RADIX_BITS - 1) / MV_RADIX_BITS;
@@ -248,6 +289,23 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
   if (kin != &keys) {  // an odd number of passes: the sorted data sits in the scratch buffers
     std::swap(keys, keys_alt);
     if (values) std::swap(*values, values_alt);
+  }
+  return report;
+}
+
+}  // namespace
+
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy) {
+  return sort_on_device(dev, keys, values, n, bits, strategy, nullptr, 1);
+}
+
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy,
+                      const SortedPrefix& on_prefix, uint32_t ranges) {
+  SortReport report = sort_on_device(dev, keys, values, n, bits, strategy, on_prefix ? &on_prefix : nullptr,
+                                     std::max(1u, ranges));
+  if (on_prefix && !report.prefixes) {  // another path: the whole result at once
+    dev.wait(dev.submit());
+    on_prefix(keys, values, n);
   }
   return report;
 }

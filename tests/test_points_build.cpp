@@ -143,6 +143,25 @@ TEST_P(PointsBuildTest, BothSortPathsGiveTheReference) {
   }
 }
 
+// Where the hybrid sort runs in place (CPU devices without a loop cap), the builder takes its sorted prefixes
+// while the later buckets still sort: several steps before the sort ends, and the reference's bytes.
+TEST_P(PointsBuildTest, SortedPrefixesFeedTheBuilderWhileItSorts) {
+  Device& dev = shared_device(GetParam());
+  PointColumns cloud = make_cloud("uniform", 200000, 11, true);
+  const PointCloudInfo info = info_for(cloud);
+  const PointHierarchy want = ref::build_point_hierarchy(cloud, info, ref::PointLodRule{6, 300, 6});
+  PointBuildOptions options;
+  options.depth = 6;
+  options.max_node_points = 300;
+  PointBuildReport report;
+  PointHierarchy got = build_point_hierarchy(dev, PointColumns(cloud), info, options, &report);
+  expect_same(got, want);
+  if (dev.host_view(dev.alloc(4, "probe")) && dev.info().max_loop_iterations == 0) {
+    EXPECT_TRUE(report.sort.prefixes);
+    EXPECT_GE(report.steps, 4u);  // one step per prefix: each is under the default step of 1M points
+  }
+}
+
 TEST_P(PointsBuildTest, PrefixSizeDoesNotChangeTheBytes) {
   Device& dev = shared_device(GetParam());
   PointColumns cloud = make_cloud("sheet", 40000, 5, false);

@@ -1,6 +1,7 @@
 // Radix sort on every device vs std::stable_sort, byte for byte, keys-only and (key, value) pairs; host vectors
 // in runs merged on the host.
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 #include <utility>
 
@@ -165,6 +166,57 @@ TEST_P(SortTest, HybridRunsWhereBucketsFit) {
   EXPECT_TRUE(values == expect_values);
   EXPECT_EQ(r.passes, 8u);
   EXPECT_TRUE(keys == expect);
+}
+
+// The hybrid hands over sorted prefixes while it sorts: each is the start of the final sorted data (read in place
+// where the device has host views, so without waiting for the ranges still sorting), they grow to n, and work the
+// callee records in between runs. Other strategies hand over the whole result once.
+TEST_P(SortTest, SortedPrefixesAreFinalAsTheyArrive) {
+  Device& d = dev();
+  // buckets of ~12 keys under lavapipe's loop cap, as above
+  const uint64_t n = d.info().max_loop_iterations ? 3000 : 200000;
+  const std::vector<uint64_t> keys = random_u64(n, 21);
+  std::vector<uint32_t> index(n);
+  for (uint32_t i = 0; i < n; ++i) index[i] = i;
+  std::vector<uint64_t> expect = keys;
+  std::vector<uint32_t> expect_values = index;
+  ref::stable_sort<uint64_t>(expect, &expect_values);
+  for (SortStrategy s : {SortStrategy::Hybrid, SortStrategy::Lsd}) {
+    SCOPED_TRACE(s == SortStrategy::Hybrid ? "Hybrid" : "Lsd");
+    Buffer kb = d.alloc(n * 8, "keys"), vb = d.alloc(n * 4, "values"), side = d.alloc(64, "callee's work");
+    d.upload(kb, keys.data(), n * 8);
+    d.upload(vb, index.data(), n * 4);
+    std::vector<uint64_t> ends;
+    auto on_prefix = [&](const Buffer& k, const Buffer* v, uint64_t end) {
+      ASSERT_NE(v, nullptr);
+      ASSERT_TRUE(ends.empty() || end >= ends.back());
+      ends.push_back(end);
+      std::vector<uint64_t> got(end);
+      std::vector<uint32_t> got_values(end);
+      if (const void* view = d.host_view(k)) std::memcpy(got.data(), view, end * 8);
+      else d.download(k, got.data(), end * 8);
+      if (const void* view = d.host_view(*v)) std::memcpy(got_values.data(), view, end * 4);
+      else d.download(*v, got_values.data(), end * 4);
+      ASSERT_TRUE(std::equal(got.begin(), got.end(), expect.begin())) << "prefix of " << end;
+      ASSERT_TRUE(std::equal(got_values.begin(), got_values.end(), expect_values.begin())) << "prefix of " << end;
+      uint32_t word = 0;
+      d.fill(side, static_cast<uint32_t>(ends.size()), 64);
+      d.download(side, &word, 4);
+      EXPECT_EQ(word, ends.size());
+    };
+    const SortReport r = radix_sort(d, kb, &vb, n, KeyBits::k64, s, on_prefix, 5);
+    EXPECT_EQ(r.prefixes, r.hybrid);
+    EXPECT_EQ(r.hybrid, s == SortStrategy::Hybrid);
+    ASSERT_FALSE(ends.empty());
+    EXPECT_EQ(ends.back(), n);
+    EXPECT_EQ(ends.size(), r.hybrid ? 5u : 1u);
+    std::vector<uint64_t> got(n);
+    std::vector<uint32_t> got_values(n);
+    d.download(kb, got.data(), n * 8);
+    d.download(vb, got_values.data(), n * 4);
+    EXPECT_TRUE(got == expect);
+    EXPECT_TRUE(got_values == expect_values);
+  }
 }
 
 // Host vectors through the chunked path with small runs: runs of one key, of a few, one run longer than the

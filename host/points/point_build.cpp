@@ -56,30 +56,9 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
 
   auto t0 = std::chrono::steady_clock::now();
   const points::PointCube cube = points::cube_of(points.xyz);
-  // Sorted (code, index) pairs: read in place on the device where it is host memory, else host vectors.
-  points::SortedCodes in_place;
-  std::vector<uint64_t> host_codes;
-  std::vector<uint32_t> host_index;
-  std::span<const uint64_t> codes;
-  std::span<const uint32_t> index;
-  if (points::sorted_codes_in_place(dev, points.xyz, cube, in_place)) {
-    rep.codes_seconds = seconds_since(t0) - in_place.sort_seconds;
-    rep.sort_seconds = in_place.sort_seconds;
-    rep.sort = in_place.sort;
-    codes = in_place.codes;
-    index = in_place.index;
-  } else {
-    points::point_codes(dev, points.xyz, cube, host_codes, host_index);
-    rep.codes_seconds = seconds_since(t0);
-    t0 = std::chrono::steady_clock::now();
-    rep.sort = radix_sort(dev, host_codes, &host_index);
-    rep.sort_seconds = seconds_since(t0);
-    codes = host_codes;
-    index = host_index;
-  }
 
-  // The builder consumes the sorted codes a prefix at a time: its cut advances as a stream's would.
-  t0 = std::chrono::steady_clock::now();
+  // The builder consumes the sorted codes a prefix at a time, as the sort finishes them: its cut advances as a
+  // stream's would.
   points::OmicronRule rule;
   rule.depth = options.depth ? options.depth : point_depth_for(n, options.max_node_points);
   rule.max_node_points = options.max_node_points;
@@ -100,46 +79,82 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
     front = std::make_unique<points::OmicronFront>(builder);
     fine = [&](uint32_t level, uint64_t prefix) { return options.front_fine_enough(grid, level, prefix); };
   }
+  // Sorted (code, index) pairs: read in place on the device where it is host memory, else host vectors.
+  std::span<const uint64_t> codes;
+  std::span<const uint32_t> index;
   const uint64_t step = std::max<uint64_t>(1, options.prefix_points);
   uint64_t next_checkpoint = options.checkpoint_points;
-  for (uint64_t end = std::min(step, n);; end = std::min(end + step, n)) {
-    builder.concatenate(std::span<const uint64_t>(codes.data(), end), end == n);
-    ++rep.steps;
-    if (front) front->update(fine);
-    if (options.on_checkpoint && end < n && builder.formed() >= next_checkpoint) {
-      while (next_checkpoint <= builder.formed()) next_checkpoint += std::max<uint64_t>(1, options.checkpoint_points);
-      PointHierarchy partial = grid;
-      std::vector<uint64_t> order;
-      std::vector<uint32_t> roots;
-      if (front) {
-        front_nodes(*front, builder, partial.nodes, order, roots);
-        for (uint32_t l = 0; l <= rule.depth; ++l) {
-          const auto& list = builder.level(l);
-          partial.nodes_per_level.push_back(static_cast<uint64_t>(
-              std::count_if(list.begin(), list.end(), [](const points::LodNode& x) { return !x.absorbed; })));
+  uint64_t consumed = 0;       // sorted points handed to the builder
+  double build_in_sort = 0;    // seconds the builder took while the sort went on
+  auto consume = [&](uint64_t available) {
+    const auto tb = std::chrono::steady_clock::now();
+    while (consumed < available) {
+      const uint64_t end = std::min(consumed + step, available);
+      builder.concatenate(codes.first(end), end == n);
+      consumed = end;
+      ++rep.steps;
+      if (front) front->update(fine);
+      if (options.on_checkpoint && end < n && builder.formed() >= next_checkpoint) {
+        while (next_checkpoint <= builder.formed()) next_checkpoint += std::max<uint64_t>(1, options.checkpoint_points);
+        PointHierarchy partial = grid;
+        std::vector<uint64_t> order;
+        std::vector<uint32_t> roots;
+        if (front) {
+          front_nodes(*front, builder, partial.nodes, order, roots);
+          for (uint32_t l = 0; l <= rule.depth; ++l) {
+            const auto& list = builder.level(l);
+            partial.nodes_per_level.push_back(static_cast<uint64_t>(
+                std::count_if(list.begin(), list.end(), [](const points::LodNode& x) { return !x.absorbed; })));
+          }
+        } else {
+          builder.snapshot(partial.nodes, order, roots);
         }
-      } else {
-        builder.snapshot(partial.nodes, order, roots);
+        for (uint64_t& q : order) q = index[q];
+        partial.points = points::gather_columns(points, order, info.extra_bytes);
+        partial.points_kept = builder.formed();
+        options.on_checkpoint(partial, roots);
       }
-      for (uint64_t& q : order) q = index[q];
-      partial.points = points::gather_columns(points, order, info.extra_bytes);
-      partial.points_kept = builder.formed();
-      options.on_checkpoint(partial, roots);
+      if (progress) {
+        PointBuildProgress p;
+        p.points_formed = builder.formed();
+        p.points_total = n;
+        for (uint32_t l = 0; l <= rule.depth; ++l) p.nodes += builder.level(l).size();
+        progress(p);
+      }
     }
-    if (progress) {
-      PointBuildProgress p;
-      p.points_formed = builder.formed();
-      p.points_total = n;
-      for (uint32_t l = 0; l <= rule.depth; ++l) p.nodes += builder.level(l).size();
-      progress(p);
-    }
-    if (end == n) break;
+    build_in_sort += seconds_since(tb);
+  };
+
+  points::SortedCodes in_place;
+  std::vector<uint64_t> host_codes;
+  std::vector<uint32_t> host_index;
+  const auto on_prefix = [&](std::span<const uint64_t> c, std::span<const uint32_t> i, uint64_t end) {
+    codes = c;
+    index = i;
+    consume(end);
+  };
+  if (points::sorted_codes_in_place(dev, points.xyz, cube, in_place, on_prefix, options.sort_ranges)) {
+    rep.codes_seconds = seconds_since(t0) - in_place.sort_seconds;
+    rep.sort_seconds = in_place.sort_seconds - build_in_sort;  // the builder's share of that time is its own
+    rep.sort = in_place.sort;
+    codes = in_place.codes;
+    index = in_place.index;
+  } else {
+    points::point_codes(dev, points.xyz, cube, host_codes, host_index);
+    rep.codes_seconds = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    rep.sort = radix_sort(dev, host_codes, &host_index);
+    rep.sort_seconds = seconds_since(t0);
+    codes = host_codes;
+    index = host_index;
+    consume(n);
   }
+  t0 = std::chrono::steady_clock::now();
   PointHierarchy h;
   std::vector<points::NodePoints> sources;
   builder.assemble(h.nodes, sources, h.nodes_per_level);
   rep.host_groups = builder.stats().host_groups;
-  rep.build_seconds = seconds_since(t0);
+  rep.build_seconds = build_in_sort + seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
   // What the gathers no longer need goes back first, so that their fresh columns land on memory this process has

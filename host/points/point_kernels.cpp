@@ -91,10 +91,12 @@ void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cub
   }
 }
 
-bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out) {
+bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out,
+                           const SortedCodesPrefix& on_prefix, uint32_t ranges) {
   const uint64_t n = xyz.size() / 3;
   if (n == 0 || n > std::numeric_limits<uint32_t>::max() || uint64_t{n} * 8 > dev.info().max_binding_bytes) return false;
   auto t0 = std::chrono::steady_clock::now();
+  bool handed = false;  // the caller has had a prefix: from then on an error is its own, not a sort that did not fit
   try {
     Buffer keys = dev.alloc(n * 8, "point codes");
     Buffer values = dev.alloc(n * 4, "point indices");
@@ -108,7 +110,17 @@ bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const Poin
     }
     out.codes_seconds = seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
-    out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64);
+    if (on_prefix) {
+      out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64, SortStrategy::Auto,
+                            [&](const Buffer& k, const Buffer* v, uint64_t end) {
+                              handed = true;
+                              on_prefix({static_cast<const uint64_t*>(dev.host_view(k)), n},
+                                        {static_cast<const uint32_t*>(dev.host_view(*v)), n}, end);
+                            },
+                            ranges);
+    } else {
+      out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64);
+    }
     dev.finish();
     out.sort_seconds = seconds_since(t0);
     out.codes = {static_cast<const uint64_t*>(dev.host_view(keys)), n};
@@ -117,6 +129,7 @@ bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const Poin
     out.values = std::move(values);
     return true;
   } catch (const DeviceMemoryError&) {
+    if (handed) throw;
     dev.finish();
     return false;
   }

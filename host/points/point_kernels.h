@@ -2,6 +2,7 @@
 // the choice of each inner node's representatives. The plain C++ references are in host/ref/points_reference.h.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -38,7 +39,12 @@ struct SortedCodes {
   SortReport sort;
   double codes_seconds = 0, sort_seconds = 0;
 };
-bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out);
+// `on_prefix`, when set, gets the sorted codes and index whose first `end` are final while the sort goes on (see
+// radix_sort's SortedPrefix, cut into `ranges`), the last time with every point.
+using SortedCodesPrefix =
+    std::function<void(std::span<const uint64_t> codes, std::span<const uint32_t> index, uint64_t end)>;
+bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out,
+                           const SortedCodesPrefix& on_prefix = {}, uint32_t ranges = 8);
 
 // Representatives of many parents at one level. Parent g's candidates are codes[bounds[g], bounds[g + 1]), in
 // Morton order; its sub-grid cells are the codes >> cell_bits. Of each occupied cell the candidate nearest the

@@ -18,6 +18,9 @@ struct PointBuildOptions {
   uint32_t max_node_points = 16384;  // a subtree of at most this many points is one leaf; caps representatives
   uint32_t grid_bits = 6;            // an inner node keeps one point per cell of a 2^grid_bits grid over its cube
   uint64_t prefix_points = uint64_t{1} << 20;  // sorted points handed to the builder per step (its cut advances)
+  // Where the in-place hybrid sort runs, it hands the builder its top-digit buckets in this many ranges, each
+  // while the next one sorts (radix_sort's SortedPrefix); 1: the builder starts once the sort has ended.
+  uint32_t sort_ranges = 8;
   // When set: called after a step once checkpoint_points more sorted points are in leaves, with the finished
   // part as a forest (the subtrees whose roots have no parent yet; roots holds their node indices), points
   // gathered: a picture while building (OMiCroN's oblique cut).

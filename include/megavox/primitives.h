@@ -9,6 +9,7 @@
 // (a running total, an output position, the key at the seam) from one chunk to the next.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -55,6 +56,7 @@ struct SortReport {
   bool cooperative = false;     // the work-group-cooperative LSD passes (tiles ranked in shared memory)
   uint64_t runs = 1;            // host vectors: runs sorted on the device and merged on the host; with more than
                                 // one, the most passes, the fewest skipped digits and whether any run was hybrid
+  bool prefixes = false;        // radix_sort with a SortedPrefix: prefixes were handed over while it sorted
 };
 
 // Lsd: one global pass per varying digit, each work-item walking one block of keys (any device). Hybrid: one
@@ -78,6 +80,18 @@ bool prefers_cooperative_sort(const DeviceInfo& info);
 // the scratch does not fit what is left of the budget this throws mv::DeviceMemoryError naming what it needs.
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits,
                       SortStrategy strategy = SortStrategy::Auto);
+
+// Sorted prefixes while the sort goes on: [0, end) of `keys` (and `values`) is sorted and final, readable on the
+// host (Device::host_view; a download waits for the rest too), and `end` grows from call to call up to n. Work
+// the callee records on the device runs after the part of the sort that is running then.
+using SortedPrefix = std::function<void(const Buffer& keys, const Buffer* values, uint64_t end)>;
+// The same sort, handing over sorted prefixes as it goes (each such Buffer is one of the two this call ends with
+// in `keys` / `values`). Where the hybrid runs, its in-bucket stage is cut into up to `ranges` ranges of top-digit
+// buckets of about equal size, each submitted when recorded: while one range sorts, `on_prefix` gets the prefix
+// the ones before it finished (SortReport::prefixes). Other paths call it once, with n, when the sort is done.
+// Waits for the device.
+SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy,
+                      const SortedPrefix& on_prefix, uint32_t ranges = 8);
 
 // Host convenience: upload, sort, download (keys-only when values is null). Waits. Any length: keys the device
 // cannot hold at once are sorted there in runs it can, merged on the host (which takes a second copy of keys

@@ -33,7 +33,7 @@
 #define MV_FIELDS_MORTON(X) X(MV_U32, n) X(MV_U32, pad0)
 #define MV_FIELDS_RADIX(X)                                                                                             \
   X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, has_values) X(MV_U32, count)     \
-  X(MV_U32, local_top) X(MV_U32, local_low) X(MV_U32, scratch_stride)
+  X(MV_U32, local_top) X(MV_U32, local_low) X(MV_U32, scratch_stride) X(MV_U32, bucket_first) X(MV_U32, bucket_end)
 #define MV_FIELDS_SCAN(X) X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, wide) X(MV_U32, start_lo) \
   X(MV_U32, start_hi)
 #define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)

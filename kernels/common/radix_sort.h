@@ -39,13 +39,16 @@ MV_STRUCT_BEGIN(MvRadixParams)
   mv_u32 local_top;  /* radix_local_sort: sort the bits below this one ... */
   mv_u32 local_low;  /* ... down to this one (the lowest varying bit) */
   mv_u32 scratch_stride; /* radix_local_sort: keys per work-item scratch slice; 0 = each bucket's own range */
+  mv_u32 bucket_first;   /* radix_local_sort: the buckets [bucket_first, bucket_end) of the top digit */
+  mv_u32 bucket_end;
 MV_STRUCT_END(MvRadixParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvRadixParams, 36);
+MV_LAYOUT_SIZE(MvRadixParams, 44);
 MV_LAYOUT_AT(MvRadixParams, n, 0); MV_LAYOUT_AT(MvRadixParams, blocks, 4); MV_LAYOUT_AT(MvRadixParams, block_size, 8);
 MV_LAYOUT_AT(MvRadixParams, shift, 12); MV_LAYOUT_AT(MvRadixParams, has_values, 16);
 MV_LAYOUT_AT(MvRadixParams, count, 20); MV_LAYOUT_AT(MvRadixParams, local_top, 24);
 MV_LAYOUT_AT(MvRadixParams, local_low, 28); MV_LAYOUT_AT(MvRadixParams, scratch_stride, 32);
+MV_LAYOUT_AT(MvRadixParams, bucket_first, 36); MV_LAYOUT_AT(MvRadixParams, bucket_end, 40);
 #endif
 
 #endif

@@ -159,12 +159,12 @@ MV_INLINE void MV_KFN(mv_radix_insertion)(MvBufKey src, MvBufU32 vsrc, mv_u32 so
 }
 
 /* Hybrid second stage. One global pass on the most significant varying digit (at p.local_top) has grouped the
- * keys into 256 buckets in `keys` (values `vals`); each bucket is sorted there on bits [p.local_low,
- * p.local_top), the bits below the top digit that vary. Work-items take buckets from a counter until none is
- * left (offsets[blocks * 256 + 1], zero before the dispatch), each moving its bucket through a scratch slice of
- * `scratch` (values `vscratch`) that starts at w * p.scratch_stride and is reused for every bucket it takes, so
- * it stays in cache. With p.scratch_stride 0 (where loops are capped) work-item w sorts bucket w alone, through
- * the bucket's own range of `scratch`.
+ * keys into 256 buckets in `keys` (values `vals`); each bucket of [p.bucket_first, p.bucket_end) is sorted there
+ * on bits [p.local_low, p.local_top), the bits below the top digit that vary. Work-items take buckets from a
+ * counter until none of the range is left (offsets[blocks * 256 + 1], p.bucket_first before the dispatch), each
+ * moving its bucket through a scratch slice of `scratch` (values `vscratch`) that starts at w * p.scratch_stride
+ * and is reused for every bucket it takes, so it stays in cache. With p.scratch_stride 0 (where loops are
+ * capped) work-item w sorts bucket p.bucket_first + w alone, through the bucket's own range of `scratch`.
  * Within a bucket it is an MSD radix sort on 8-bit digits: a range whose keys agree on every bit from `top` up
  * is split on the digit just below `top` (ping-ponging between bucket and slice), a range of at most
  * MV_RADIX_SMALL keys (or whose children are all that small) is finished by insertion sort back into the
@@ -181,8 +181,8 @@ MV_INLINE void MV_KFN(mv_radix_local_sort)(MvBufKey keys, MvBufKey scratch, MvBu
   mv_u32 next[MV_RADIX_BUCKETS];
   for (mv_u32 c = 0u; c < MV_U32(MV_RADIX_BUCKETS); ++c) count[c] = 0u;
   const mv_u32 counter = p.blocks * MV_U32(MV_RADIX_BUCKETS) + 1u;
-  mv_u32 d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : w;
-  for (; d < MV_U32(MV_RADIX_BUCKETS); d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : d + 256u) {
+  mv_u32 d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : p.bucket_first + w;
+  for (; d < p.bucket_end; d = p.scratch_stride != 0u ? MV_ATOMIC_ADD(offsets, counter, 1u) : d + 256u) {
     mv_u32 b = MV_LD(offsets, d * p.blocks);
     mv_u32 e = d + 1u < MV_U32(MV_RADIX_BUCKETS) ? MV_LD(offsets, (d + 1u) * p.blocks) : p.n;
     mv_u32 soff = p.scratch_stride != 0u ? w * p.scratch_stride - b : 0u; /* slice index = bucket index + soff */

@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -17,7 +18,7 @@ namespace {
 
 struct PointsBuildArgs {
   std::string input, output, format = "mvx", memory;
-  uint32_t depth = 0, max_node_points = 16384;
+  uint32_t depth = 0, max_node_points = 16384, sort_ranges = PointBuildOptions().sort_ranges;
   bool skip_extra = false, json = false, quiet = false;
 };
 
@@ -82,6 +83,9 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
   cmd->add_option("--max-node-points", a->max_node_points,
                   "Most points in a leaf subtree and representatives per inner node (default 16384)");
   cmd->add_option("--memory", a->memory, "Host memory budget, e.g. 8G (default: half the machine's RAM)");
+  cmd->add_option("--sort-ranges", a->sort_ranges,
+                  "Parts of the in-memory sort the builder takes while the rest sorts (1: after the whole sort)")
+      ->capture_default_str();
   cmd->add_flag("--skip-extra-bytes", a->skip_extra, "Do not carry a LAS file's extra bytes per point");
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the summary");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
@@ -92,6 +96,7 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     o.format = a->format;
     o.build.depth = a->depth;
     o.build.max_node_points = a->max_node_points;
+    o.build.sort_ranges = std::max(1u, a->sort_ranges);
     o.memory = a->memory.empty() ? 0 : parse_size(a->memory);
     o.carry_extra_bytes = !a->skip_extra;
     auto dev = open_device(g);

@@ -19,6 +19,10 @@
 # "Fuzzing"), any other fails. Its per-input leak checks are off as well
 # (-detect_leaks=0): every damaged file leaks a node inside libopenvdb (third-party, suppressed), so libFuzzer
 # would re-run nearly every input under a full heap scan (10x slower); LSan still checks each job at its exit.
+# Nor does it get libFuzzer's RSS limit: those leaks add up over a long job past any limit, and on reaching it
+# clang 14's runtime printed its heap profile from a stopped world and deadlocked, hanging the run (its
+# -malloc_limit_mb of 2 GiB per allocation stays). Every run has a watchdog: 5 minutes past SECONDS, the target
+# and its jobs are stopped and the run counts as failed.
 # Reproduce a crash: build-fuzz/TARGET build-fuzz/artifacts/TARGET/crash-...
 # Re-make the committed seeds: cmake --build build-fuzz --target make_seeds && build-fuzz/make_seeds fuzz/corpus
 set -euo pipefail
@@ -74,11 +78,19 @@ for t in "${targets[@]}"; do
   cp fuzz/corpus/"$t"/* "$corpus"/
   echo "fuzz: $t for ${seconds} s (log: $log)" >&2
   third=0 mode=(-fork="$(nproc)")
-  if [[ $resource_third_party == *" $t "* ]]; then third=1 mode+=(-ignore_ooms=1 -ignore_timeouts=1 -ignore_crashes=1 -detect_leaks=0); fi
+  if [[ $resource_third_party == *" $t "* ]]; then
+    third=1
+    mode+=(-ignore_ooms=1 -ignore_timeouts=1 -ignore_crashes=1 -detect_leaks=0 -rss_limit_mb=0 -malloc_limit_mb=2048)
+  else
+    mode+=(-rss_limit_mb=2048)
+  fi
   rc=0
+  # timeout signals the target's whole process group (its fork-mode jobs too)
   TMPDIR=$scratch UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \
-    build-fuzz/"$t" "${mode[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || rc=$?
+    timeout -k 30 $((seconds + 300)) build-fuzz/"$t" "${mode[@]}" -max_total_time="$seconds" -timeout=10 \
+    -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || rc=$?
+  watchdog=0
+  ((rc == 124 || rc == 137)) && watchdog=1
   # the parent prints "#EXECS: cov: C ft: F corp: N ..." per finished job
   execs=$(grep -oE '^#[0-9]+:' "$log" | tail -1 | tr -d '#:')
   first=$(grep -oE '^#[0-9]+: cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | head -1 | awk '{print $NF}')
@@ -96,7 +108,10 @@ for t in "${targets[@]}"; do
       findings+=("$a")
     fi
   done
-  if ((${#findings[@]})); then
+  if ((watchdog)); then
+    failed=1
+    crashes="? (stopped by the watchdog $((seconds + 300)) s in: a job hung; see $log)"
+  elif ((${#findings[@]})); then
     failed=1
     crashes="${#findings[@]}: ${findings[*]}"
   elif ((rc != 0)) && ! ((third && ${#resources[@]})); then

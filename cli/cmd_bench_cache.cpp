@@ -17,6 +17,7 @@ void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g) {
     uint32_t frames = 8;
     double distance = 0.6, fov = 40;
     RenderOptions opt;
+    std::string read_ahead = "auto";
     bool json = false;
   };
   auto a = std::make_shared<Args>();
@@ -45,9 +46,14 @@ void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g) {
   cmd->add_option("--ao-samples", a->opt.ao_samples, "Ambient-occlusion rays per hit")->capture_default_str();
   cmd->add_option("--lod-pixels", a->opt.lod_pixels, "Stop at cells smaller than this many pixels")
       ->capture_default_str();
+  cmd->add_option("--read-ahead", a->read_ahead,
+                  "Read the primary rays' missing pages while shadow and AO rays trace: on, off, or auto (on GPUs)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   cmd->add_flag("--json", a->json, "Print one JSON object");
   cmd->callback([&g, a] {
     a->opt.shading = parse_shading(a->shading);
+    if (a->read_ahead != "auto") a->opt.read_ahead = a->read_ahead == "on";
     if (a->frames == 0 && a->path.empty()) throw Error("--frames must be at least 1");
     auto dev = open_device(g);
     std::vector<Camera> flight = !a->path.empty()
@@ -65,6 +71,7 @@ void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g) {
         frames.push_back({{"resident_seconds", f.resident_seconds}, {"paged_seconds", f.paged_seconds},
                           {"passes", f.passes}, {"converged", f.converged}, {"identical", f.identical},
                           {"cache_seconds", f.manage_seconds}, {"io_seconds", f.produce_seconds},
+                          {"read_ahead_seconds", f.read_ahead_seconds}, {"pages_read_ahead", f.pages_read_ahead},
                           {"pages_loaded", f.pages_loaded}, {"pages_evicted", f.pages_evicted},
                           {"bytes_uploaded", f.bytes_uploaded}, {"hit_rate", f.hit_rate},
                           {"resident_trace_seconds", f.resident_trace_seconds},
@@ -76,6 +83,8 @@ void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g) {
                           {"resident_frame_seconds", r.resident_seconds / n}, {"paged_frame_seconds", r.paged_seconds / n},
                           {"cache_share", r.manage_share}, {"io_share", r.paged_seconds > 0 ? r.produce_seconds / r.paged_seconds : 0.0},
                           {"bytes_per_frame", double(r.bytes_uploaded) / n}, {"hit_rate", r.hit_rate},
+                          {"pages_read_ahead", r.pages_read_ahead}, {"read_ahead_seconds", r.read_ahead_seconds},
+                          {"read_ahead", a->read_ahead},
                           {"identical_frames", r.identical}, {"address_layer_cost", r.address_cost}, {"address_cache_slots", r.warm_slots},
                           {"frames", frames}};
       std::cout << j.dump(2) << "\n";
@@ -99,6 +108,8 @@ void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g) {
                 100 * r.manage_share, r.paged_seconds > 0 ? 100 * r.produce_seconds / r.paged_seconds : 0.0);
     std::printf("  %.2f MiB streamed per frame, hit rate %.3f, %u of %zu frames byte-identical to the resident render\n",
                 r.bytes_uploaded / n / 1048576.0, r.hit_rate, r.identical, r.frames.size());
+    std::printf("  %llu pages read ahead while shadow and AO rays traced (%.3f s on their own thread)\n",
+                (unsigned long long)r.pages_read_ahead, r.read_ahead_seconds);
     if (r.warm_slots)
       std::printf("  address layer on the resident path: paged kernel, every page resident (%u slots) / today's "
                   "kernel = %.3f\n", r.warm_slots, r.address_cost);

@@ -23,6 +23,7 @@ nlohmann::json cache_json(const RenderResult& r, double frame_seconds) {
                       {"pages_loaded", t.loaded}, {"pages_evicted", t.evicted}, {"pages_failed", t.failed},
                       {"hit_rate", t.hit_rate()}, {"bytes_uploaded", t.bytes_uploaded},
                       {"cache_seconds", t.manage_seconds}, {"io_seconds", t.produce_seconds},
+                      {"pages_read_ahead", t.read_ahead}, {"read_ahead_seconds", t.read_ahead_seconds},
                       {"trace_seconds", r.trace_seconds}, {"frame_seconds", frame_seconds},
                       {"cache_share", frame_seconds > 0 ? t.manage_seconds / frame_seconds : 0.0},
                       {"coarse_pixels", r.coarse_pixels}};

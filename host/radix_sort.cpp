@@ -180,7 +180,8 @@ SortReport sort_on_device(Device& dev, Buffer& keys, Buffer* values, uint64_t n,
   Buffer red = dev.alloc(uint64_t{s.blocks} * 2 * key_bytes, "radix sort key reduction");
   const uint64_t hist_words = uint64_t{std::max(s.blocks, pass_shape.blocks)} * MV_RADIX_BUCKETS;
   Buffer hist = dev.alloc((hist_words + 2) * 4, "radix sort histograms");  // + the scan total, the bucket counter
-  MvRadixParams p{static_cast<uint32_t>(n), s.blocks, s.block_size, 0, values ? 1u : 0u, 0, 0, 0, 0};
+  MvRadixParams p{static_cast<uint32_t>(n), s.blocks, s.block_size, 0, values ? 1u : 0u, 0, 0, 0, 0,
+                  0, MV_RADIX_BUCKETS};
   // Where the hybrid may run, the reduction also counts the top digit: random keys vary there, and the global
   // pass then needs no histogram pass of its own. Not under a loop cap, where a private histogram is slow.
   if (may_hybrid && info.max_loop_iterations == 0) {

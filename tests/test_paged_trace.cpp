@@ -231,6 +231,7 @@ TEST_P(PagedTraceTest, RenderConvergesToTheResidentPicture) {
     o.height = 64;
     o.shading = shading;
     o.ao_samples = 2;
+    o.read_ahead = true;  // on CPU devices too
     Tracer resident(dev, f);
     const RenderResult want = render(resident, cam, o);
     const uint32_t share = shading == Shading::normal ? 8 : 2;
@@ -243,6 +244,11 @@ TEST_P(PagedTraceTest, RenderConvergesToTheResidentPicture) {
     EXPECT_EQ(got.hits, want.hits);
     EXPECT_TRUE(got.image.rgb == want.image.rgb) << "the converged picture differs from the resident one";
     EXPECT_GT(got.cache.front().requested, 0u);
+    // shaded frames read the primary rays' missing pages ahead, while shadow and AO rays trace
+    const CacheTotals t = cache_totals(got.cache);
+    if (shading == Shading::shaded) EXPECT_GT(t.read_ahead, 0u);
+    else EXPECT_EQ(t.read_ahead, 0u);
+    EXPECT_LE(t.read_ahead, t.loaded);
   }
 }
 
@@ -310,26 +316,32 @@ TEST_P(PagedTraceTest, FailingProducerLeavesPagesMissing) {
   std::vector<uint32_t> fail;
   for (uint32_t pg = 1; pg < good.dag.pages; pg += 3) fail.push_back(pg);
   Paged p = paged(f, fail);
-  Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
-  RenderOptions o;
-  o.width = 48;
-  o.height = 32;
-  const RenderResult r = render(tracer, view_camera(f.bounds, "front"), o);
-  EXPECT_FALSE(r.converged);
-  uint32_t failed = 0, loaded = 0;
-  std::string error;
-  for (const CacheUpdateStats& st : r.cache) {
-    failed += st.failed;
-    loaded += st.loaded;
-    if (error.empty()) error = st.first_error;
+  for (Shading shading : {Shading::normal, Shading::shaded}) {  // shaded: the read-ahead meets the failures first
+    SCOPED_TRACE(shading_name(shading));
+    Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+    RenderOptions o;
+    o.width = 48;
+    o.height = 32;
+    o.shading = shading;
+    o.ao_samples = 2;
+    o.read_ahead = true;
+    const RenderResult r = render(tracer, view_camera(f.bounds, "front"), o);
+    EXPECT_FALSE(r.converged);
+    uint32_t failed = 0, loaded = 0;
+    std::string error;
+    for (const CacheUpdateStats& st : r.cache) {
+      failed += st.failed;
+      loaded += st.loaded;
+      if (error.empty()) error = st.first_error;
+    }
+    EXPECT_GT(failed, 0u);
+    EXPECT_GT(loaded, 1u);
+    EXPECT_NE(error.find("injected read failure"), std::string::npos) << error;
+    EXPECT_GT(r.coarse_pixels, 0u);
+    const std::vector<uint32_t> table = download_words(dev, tracer.cache()->table());
+    for (uint32_t pg : fail) EXPECT_EQ(table[pg], MV_CACHE_NONE) << "page " << pg;
+    expect_table_consistent(dev, *tracer.cache());
   }
-  EXPECT_GT(failed, 0u);
-  EXPECT_GT(loaded, 1u);
-  EXPECT_NE(error.find("injected read failure"), std::string::npos) << error;
-  EXPECT_GT(r.coarse_pixels, 0u);
-  const std::vector<uint32_t> table = download_words(dev, tracer.cache()->table());
-  for (uint32_t pg : fail) EXPECT_EQ(table[pg], MV_CACHE_NONE) << "page " << pg;
-  expect_table_consistent(dev, *tracer.cache());
 }
 
 TEST_P(PagedTraceTest, SsvdagIsNotPaged) {

@@ -316,7 +316,7 @@ void check_streaming_scatter(Device& d) {
           d.upload(kin, keys.data(), n * sizeof(Key));
           d.upload(vin, values.data(), n * 4);
           d.upload(off, offsets.data(), offsets.size() * 4);
-          MvRadixParams p{n, blocks, block_size, shift, has_values, 0, 0, 0, 0};
+          MvRadixParams p{n, blocks, block_size, shift, has_values, 0, 0, 0, 0, 0, 0};
           d.dispatch(k, (blocks + local - 1) / local, local, {&kin, &kout, &vin, &vout, &off}, p);
           d.finish();
           std::vector<Key> got(n);

@@ -77,6 +77,8 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
     const CacheTotals t = cache_totals(r.cache);
     f.manage_seconds = t.manage_seconds;
     f.produce_seconds = t.produce_seconds;
+    f.read_ahead_seconds = t.read_ahead_seconds;
+    f.pages_read_ahead = t.read_ahead;
     f.pages_loaded = t.loaded;
     f.pages_evicted = t.evicted;
     f.bytes_uploaded = t.bytes_uploaded;
@@ -100,6 +102,8 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
     out.paged_seconds += f.paged_seconds;
     out.manage_seconds += f.manage_seconds;
     out.produce_seconds += f.produce_seconds;
+    out.read_ahead_seconds += f.read_ahead_seconds;
+    out.pages_read_ahead += f.pages_read_ahead;
     out.resident_trace_seconds += f.resident_trace_seconds;
     out.bytes_uploaded += f.bytes_uploaded;
     out.identical += f.identical;

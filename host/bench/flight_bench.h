@@ -20,8 +20,9 @@ struct FlightFrame {
   double resident_trace_seconds = 0;               // the resident frame's trace passes
   double last_pass_trace_seconds = 0;              // the paged kernel's trace, every page of the view resident
   double manage_seconds = 0, produce_seconds = 0;  // the cache's, summed over the frame's passes
+  double read_ahead_seconds = 0;                   // pages read ahead on their own thread, while tracing
   uint32_t passes = 0;
-  uint64_t pages_loaded = 0, pages_evicted = 0, bytes_uploaded = 0;
+  uint64_t pages_loaded = 0, pages_evicted = 0, bytes_uploaded = 0, pages_read_ahead = 0;
   double hit_rate = 0;
   bool converged = false, identical = false;
 };
@@ -30,7 +31,8 @@ struct FlightBenchResult {
   std::vector<FlightFrame> frames;
   uint32_t slots = 0, pages = 0, page_words = 0;
   uint32_t warm_slots = 0;   // the address measurement's cache (0: it did not fit; no address figure)
-  double resident_seconds = 0, paged_seconds = 0, manage_seconds = 0, produce_seconds = 0;
+  double resident_seconds = 0, paged_seconds = 0, manage_seconds = 0, produce_seconds = 0, read_ahead_seconds = 0;
+  uint64_t pages_read_ahead = 0;
   double resident_trace_seconds = 0, last_pass_trace_seconds = 0;
   double manage_share = 0;   // manage_seconds / paged_seconds
   double address_cost = 0;   // last_pass_trace_seconds / resident_trace_seconds

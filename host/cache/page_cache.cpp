@@ -9,7 +9,6 @@
 #include <utility>
 #include <vector>
 
-#include "../kernels/common/page_cache.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
 #include "timing.h"
@@ -57,6 +56,29 @@ PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), co
   dev.finish();
 }
 
+// The missing pages asked for in this pass, in page order, each once.
+void PageCache::record_requests(const MvCacheParams& p) {
+  dev_.dispatch(dev_.kernel(KernelId::cache_request_flags), dev_.groups_for(p.n, kLocal), kLocal,
+                {&requests_, &table_, &request_pos_}, p);
+  dev_.barrier();
+  record_scan(dev_, request_scan_, request_pos_, request_pos_);
+  dev_.dispatch(dev_.kernel(KernelId::cache_request_compact), dev_.groups_for(p.n, kLocal), kLocal,
+                {&request_pos_, &list_}, p);
+}
+
+std::vector<uint32_t> PageCache::missing_so_far(uint32_t cap) {
+  if (stamp_ == 0) throw Error("page cache: no pass has begun (begin_pass)");
+  const PageCacheConfig& c = config_;
+  record_requests(MvCacheParams{c.pages, stamp_, 0, c.page_words});
+  dev_.copy(request_pos_, counts_, 4, uint64_t{c.pages} * 4, 4);
+  dev_.barrier();
+  uint32_t count = 0;
+  dev_.download(counts_, &count, 4, 4);
+  std::vector<uint32_t> pages(std::min(count, cap));
+  if (!pages.empty()) dev_.download(list_, pages.data(), pages.size() * 4);
+  return pages;
+}
+
 uint32_t PageCache::begin_pass() {
   if (stamp_ == 0xffffffffu) throw Error("page cache: 2^32 - 1 passes made; the stamps would wrap");
   return ++stamp_;
@@ -77,15 +99,9 @@ CacheUpdateStats PageCache::update(const PageProducer& produce) {
   record_scan(dev_, lru_scan_, lru_pos_, lru_pos_);
   dev_.dispatch(dev_.kernel(KernelId::cache_lru_scatter), dev_.groups_for(c.slots, kLocal), kLocal,
                 {&lru_, &lru_pos_, &lru_next_}, p);
-  // requests: the missing pages asked for in this pass, in page order, each once
   p.n = c.pages;
-  dev_.dispatch(dev_.kernel(KernelId::cache_request_flags), dev_.groups_for(c.pages, kLocal), kLocal,
-                {&requests_, &table_, &request_pos_}, p);
-  dev_.barrier();
+  record_requests(p);
   std::swap(lru_, lru_next_);
-  record_scan(dev_, request_scan_, request_pos_, request_pos_);
-  dev_.dispatch(dev_.kernel(KernelId::cache_request_compact), dev_.groups_for(c.pages, kLocal), kLocal,
-                {&request_pos_, &list_}, p);
   dev_.copy(lru_pos_, counts_, 4, uint64_t{c.slots} * 4, 0);
   dev_.copy(request_pos_, counts_, 4, uint64_t{c.pages} * 4, 4);
   dev_.barrier();

@@ -9,7 +9,9 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <vector>
 
+#include "../kernels/common/page_cache.h"
 #include "megavox/cache_stats.h"
 #include "megavox/device.h"
 #include "scan_plan.h"
@@ -45,6 +47,10 @@ class PageCache {
   // victims, the placed batch, the end) and once when none do.
   CacheUpdateStats update(const PageProducer& produce);
 
+  // The distinct missing pages the current pass has asked for so far, in page order, at most `cap` of them (one
+  // wait). For reading pages ahead while the pass goes on; update() then finds them again with the later ones.
+  std::vector<uint32_t> missing_so_far(uint32_t cap);
+
   Buffer& usage() { return usage_; }        // slots words: the last stamp that used each slot
   Buffer& requests() { return requests_; }  // pages words: the last stamp that asked for each page
   const Buffer& table() const { return table_; }  // pages words: slot of each page, or MV_CACHE_NONE
@@ -55,6 +61,10 @@ class PageCache {
   const Buffer& request_list() const { return list_; }
 
  private:
+  // Records the compaction of the pages asked for in this pass (p.n = pages) into list_, their count at
+  // request_pos_[pages].
+  void record_requests(const MvCacheParams& p);
+
   Device& dev_;
   PageCacheConfig config_;
   uint32_t stamp_ = 0;

@@ -37,6 +37,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   dev.upload(cam, s.camera, sizeof(s.camera));
   Buffer hits = dev.alloc(uint64_t{n} * MV_HIT_WORDS * 4, "primary hits");
   const bool shaded = options.shading == Shading::shaded;
+  const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
   Buffer rays, counts, table;
   if (shaded) {
     rays = dev.alloc(uint64_t{n} * MV_RAY_FLOATS * 4, "secondary rays");
@@ -71,6 +72,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
       h.coarse += hit && MV_INFO_COARSE(info);
     }
     if (!shaded || !h.hits) return h;
+    if (read_ahead) tracer.read_ahead();  // the primary rays' missing pages read while shadow and AO trace
     auto occlusion = [&](const std::string& name, uint64_t rays_traced, uint32_t* into, auto&& make_rays) {
       dev.fill(counts, 0, uint64_t{t.count} * 4, uint64_t{t.first} * 4);
       pass(name, rays_traced, make_rays);

@@ -2,13 +2,18 @@
 #include "trace/trace_engine.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <exception>
+#include <future>
 #include <string>
 #include <thread>
 
 #include "cache/page_cache.h"
 #include "megavox/error.h"
 #include "megavox/trace.h"
+#include "timing.h"
 #include "trace/trace_layout.h"
 
 namespace mv {
@@ -159,12 +164,48 @@ void Tracer::begin_pass() {
   if (cache_) cache_->begin_pass();
 }
 
+void Tracer::read_ahead() {
+  if (!cache_) return;
+  if (ahead_.valid()) ahead_.get();  // one read-ahead per pass: the last one's pages go unused
+  std::vector<uint32_t> pages = cache_->missing_so_far(cache_->config().slots);
+  if (pages.empty()) return;
+  ahead_ = std::async(std::launch::async, [this, pages = std::move(pages)] {
+    const auto t0 = std::chrono::steady_clock::now();
+    const uint32_t words = paged_.page_words;
+    PagesRead r;
+    r.pages = pages;
+    r.words.resize(uint64_t{words} * pages.size());
+    r.ok.assign(pages.size(), 0);
+    for (size_t i = 0; i < pages.size(); ++i) {
+      try {
+        paged_.read(pages[i], std::span<uint32_t>(r.words.data() + i * words, words));
+        r.ok[i] = 1;
+      } catch (const std::exception&) {
+        // left to the update, which reads the page again and reports why it fails
+      }
+    }
+    r.seconds = seconds_since(t0);
+    return r;
+  });
+}
+
 CacheUpdateStats Tracer::end_pass() {
   if (!cache_) return {};
-  CacheUpdateStats st = cache_->update([this](uint32_t page, std::span<uint32_t> words) {
-    paged_.read(page, words);
+  const PagesRead ahead = ahead_.valid() ? ahead_.get() : PagesRead();
+  std::atomic<uint32_t> from_ahead{0};
+  CacheUpdateStats st = cache_->update([&](uint32_t page, std::span<uint32_t> words) {
+    const auto at = std::lower_bound(ahead.pages.begin(), ahead.pages.end(), page);
+    const size_t i = static_cast<size_t>(at - ahead.pages.begin());
+    if (at != ahead.pages.end() && *at == page && ahead.ok[i]) {
+      std::copy_n(ahead.words.begin() + static_cast<std::ptrdiff_t>(i * words.size()), words.size(), words.begin());
+      from_ahead.fetch_add(1, std::memory_order_relaxed);
+    } else {
+      paged_.read(page, words);
+    }
     return true;
   });
+  st.read_ahead = from_ahead.load();
+  st.read_ahead_seconds = ahead.seconds;
   passes_.push_back(st);
   return st;
 }

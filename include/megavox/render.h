@@ -2,6 +2,7 @@
 // through the traversal kernel, shading on the host, PNG out.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,10 @@ struct RenderOptions {
   // pass misses none. The picture is the last passes': where they still met missing pages, it shows the finest
   // resident level.
   uint32_t cache_passes = 0;
+  // Paged, shaded: read the pages the primary rays missed while the shadow and AO rays trace (Tracer::read_ahead).
+  // Unset: where the device does not trace on the host's cores (GPUs). On the 2-core CPU devices measured, the
+  // reading thread took cores from the tracing: shaded flight frames 5 % slower with it (BENCHMARKS.md).
+  std::optional<bool> read_ahead;
 };
 
 struct Image {

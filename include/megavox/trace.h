@@ -8,6 +8,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <future>
 #include <memory>
 #include <span>
 #include <string>
@@ -64,14 +65,25 @@ class Tracer {
   PageCache* cache() { return cache_.get(); }
   void begin_pass();
   CacheUpdateStats end_pass();
+  // Paged: reads the pages the current pass has missed so far (as many as the cache has slots) on a thread of its
+  // own while the device goes on tracing (the renderer calls it between the primary and the shadow rays);
+  // end_pass() then takes them from there instead of the file. Does nothing when resident.
+  void read_ahead();
   const std::vector<CacheUpdateStats>& last_passes() const { return passes_; }
 
  private:
+  struct PagesRead {
+    std::vector<uint32_t> pages;  // in page order
+    std::vector<uint32_t> words;  // page_words for each
+    std::vector<uint8_t> ok;
+    double seconds = 0;
+  };
   GridTransform grid_;
   PagedDag paged_;
   std::unique_ptr<PageCache> cache_;
   std::unique_ptr<TraceEngine> engine_;
   std::vector<CacheUpdateStats> passes_;
+  std::future<PagesRead> ahead_;
 };
 
 }  // namespace mv

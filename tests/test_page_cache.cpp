@@ -177,6 +177,34 @@ TEST_P(PageCacheTest, RequestsAreUniqueAndStaleStampsIgnored) {
   EXPECT_EQ(st3.loaded, 0u);
 }
 
+// Read-ahead's list: the missing pages asked for so far in the pass, each once, in page order, capped; the same
+// whether the host reads the stamps in place or the request kernels compact them.
+TEST_P(PageCacheTest, MissingSoFarListsTheUpdatesRequests) {
+  Harness h(dev(), {64, 9000, 1, 0});
+  std::mt19937 rng(12);
+  h.view(100, 40, rng);  // 40 pages resident
+  std::vector<uint32_t> asked;
+  for (int k = 0; k < 300; ++k) asked.push_back(rng() % 9000);
+  for (uint32_t pg = 100; pg < 140; ++pg) asked.push_back(pg);  // resident: not missing
+  const uint32_t t = h.cache.begin_pass();
+  for (uint32_t pg : asked) h.ref.requests[pg] = t;
+  dev().upload(h.cache.requests(), h.ref.requests.data(), h.ref.requests.size() * 4);
+  std::set<uint32_t> want;
+  for (uint32_t pg : asked)
+    if (pg < 100 || pg >= 140) want.insert(pg);
+  for (bool in_place : {true, false}) {
+    SCOPED_TRACE(in_place ? "in place" : "on the device");
+    const std::vector<uint32_t> all = h.cache.missing_so_far(100000, in_place);
+    ASSERT_EQ(all.size(), want.size());
+    EXPECT_TRUE(std::equal(want.begin(), want.end(), all.begin()));
+    const std::vector<uint32_t> capped = h.cache.missing_so_far(17, in_place);
+    ASSERT_EQ(capped.size(), 17u);
+    EXPECT_TRUE(std::equal(capped.begin(), capped.end(), all.begin()));
+  }
+  const CacheUpdateStats st = h.cache.update(make_page);  // the update lists the same pages
+  EXPECT_EQ(st.requested, want.size());
+}
+
 // Eviction safety: a slot used in the pass keeps its page while unused slots exist; when the requests outnumber
 // the unused slots (a working set larger than the cache), only the unused slots are reused and the rest of
 // the requests wait (dropped, over_capacity), so no page a pass used disappears under it.

@@ -66,9 +66,18 @@ void PageCache::record_requests(const MvCacheParams& p) {
                 {&request_pos_, &list_}, p);
 }
 
-std::vector<uint32_t> PageCache::missing_so_far(uint32_t cap) {
+std::vector<uint32_t> PageCache::missing_so_far(uint32_t cap, bool in_place) {
   if (stamp_ == 0) throw Error("page cache: no pass has begun (begin_pass)");
   const PageCacheConfig& c = config_;
+  const auto* asked = static_cast<const uint32_t*>(dev_.host_view(requests_));
+  const auto* table = static_cast<const uint32_t*>(dev_.host_view(table_));
+  if (in_place && asked && table) {  // a CPU device: the stamps and the table are read in place, with no kernels to wait for
+    dev_.finish();
+    std::vector<uint32_t> pages;
+    for (uint32_t page = 0; page < c.pages && pages.size() < cap; ++page)
+      if (asked[page] == stamp_ && table[page] == MV_CACHE_NONE) pages.push_back(page);
+    return pages;
+  }
   record_requests(MvCacheParams{c.pages, stamp_, 0, c.page_words});
   dev_.copy(request_pos_, counts_, 4, uint64_t{c.pages} * 4, 4);
   dev_.barrier();

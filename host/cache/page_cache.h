@@ -47,9 +47,11 @@ class PageCache {
   // victims, the placed batch, the end) and once when none do.
   CacheUpdateStats update(const PageProducer& produce);
 
-  // The distinct missing pages the current pass has asked for so far, in page order, at most `cap` of them (one
-  // wait). For reading pages ahead while the pass goes on; update() then finds them again with the later ones.
-  std::vector<uint32_t> missing_so_far(uint32_t cap);
+  // The distinct missing pages the current pass has asked for so far, in page order, at most `cap` of them. For
+  // reading pages ahead while the pass goes on; update() then finds them again with the later ones. Where the
+  // host sees the device's memory (CPU devices) it reads the stamps and the table in place once the stream is
+  // idle; elsewhere (or with in_place false) the update's request kernels compact them (one wait).
+  std::vector<uint32_t> missing_so_far(uint32_t cap, bool in_place = true);
 
   Buffer& usage() { return usage_; }        // slots words: the last stamp that used each slot
   Buffer& requests() { return requests_; }  // pages words: the last stamp that asked for each page

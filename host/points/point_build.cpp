@@ -79,7 +79,6 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
     front = std::make_unique<points::OmicronFront>(builder);
     fine = [&](uint32_t level, uint64_t prefix) { return options.front_fine_enough(grid, level, prefix); };
   }
-  // Sorted (code, index) pairs: read in place on the device where it is host memory, else host vectors.
   std::span<const uint64_t> codes;
   std::span<const uint32_t> index;
   const uint64_t step = std::max<uint64_t>(1, options.prefix_points);
@@ -125,6 +124,7 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
     build_in_sort += seconds_since(tb);
   };
 
+  // Sorted (code, index) pairs: read in place on the device where it is host memory, else host vectors.
   points::SortedCodes in_place;
   std::vector<uint64_t> host_codes;
   std::vector<uint32_t> host_index;

@@ -110,17 +110,14 @@ bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const Poin
     }
     out.codes_seconds = seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
-    if (on_prefix) {
-      out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64, SortStrategy::Auto,
-                            [&](const Buffer& k, const Buffer* v, uint64_t end) {
-                              handed = true;
-                              on_prefix({static_cast<const uint64_t*>(dev.host_view(k)), n},
-                                        {static_cast<const uint32_t*>(dev.host_view(*v)), n}, end);
-                            },
-                            ranges);
-    } else {
-      out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64);
-    }
+    SortedPrefix hand;  // empty without on_prefix: then the sort hands nothing over
+    if (on_prefix)
+      hand = [&](const Buffer& k, const Buffer* v, uint64_t end) {
+        handed = true;
+        on_prefix({static_cast<const uint64_t*>(dev.host_view(k)), n},
+                  {static_cast<const uint32_t*>(dev.host_view(*v)), n}, end);
+      };
+    out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64, SortStrategy::Auto, hand, ranges);
     dev.finish();
     out.sort_seconds = seconds_since(t0);
     out.codes = {static_cast<const uint64_t*>(dev.host_view(keys)), n};

@@ -169,16 +169,16 @@ void Tracer::read_ahead() {
   if (ahead_.valid()) ahead_.get();  // one read-ahead per pass: the last one's pages go unused
   std::vector<uint32_t> pages = cache_->missing_so_far(cache_->config().slots);
   if (pages.empty()) return;
-  ahead_ = std::async(std::launch::async, [this, pages = std::move(pages)] {
+  ahead_ = std::async(std::launch::async, [this, pages = std::move(pages)]() mutable {
     const auto t0 = std::chrono::steady_clock::now();
     const uint32_t words = paged_.page_words;
     PagesRead r;
-    r.pages = pages;
-    r.words.resize(uint64_t{words} * pages.size());
-    r.ok.assign(pages.size(), 0);
-    for (size_t i = 0; i < pages.size(); ++i) {
+    r.pages = std::move(pages);
+    r.words.resize(uint64_t{words} * r.pages.size());
+    r.ok.assign(r.pages.size(), 0);
+    for (size_t i = 0; i < r.pages.size(); ++i) {
       try {
-        paged_.read(pages[i], std::span<uint32_t>(r.words.data() + i * words, words));
+        paged_.read(r.pages[i], std::span<uint32_t>(r.words.data() + i * words, words));
         r.ok[i] = 1;
       } catch (const std::exception&) {
         // left to the update, which reads the page again and reports why it fails

@@ -89,7 +89,7 @@ using SortedPrefix = std::function<void(const Buffer& keys, const Buffer* values
 // in `keys` / `values`). Where the hybrid runs, its in-bucket stage is cut into up to `ranges` ranges of top-digit
 // buckets of about equal size, each submitted when recorded: while one range sorts, `on_prefix` gets the prefix
 // the ones before it finished (SortReport::prefixes). Other paths call it once, with n, when the sort is done.
-// Waits for the device.
+// Waits for the device. An empty `on_prefix` makes it the sort above.
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy,
                       const SortedPrefix& on_prefix, uint32_t ranges = 8);
 

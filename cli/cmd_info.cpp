@@ -42,7 +42,7 @@ void add_info_command(CLI::App& app) {
       if (pw)
         j["paging"] = {{"page_words", pw}, {"page_bytes", uint64_t{pw} * 4}, {"pages", pages},
                        {"node_order", node_order_name(f.paging.order)}, {"paged_words", f.paged_words},
-                       {"size_ratio", f.dag.words.empty() ? 1.0 : double(f.paged_words) / double(f.dag.words.size())}};
+                       {"size_ratio", bytes == 0 ? 1.0 : 4.0 * double(f.paged_words) / double(bytes)}};
       else
         j["paging"] = nullptr;
       std::cout << j.dump(2) << "\n";
@@ -62,7 +62,7 @@ void add_info_command(CLI::App& app) {
       std::printf("  paged: %u-word pages (%u KiB), %llu pages, %s order, %llu words with padding (x%.4f); every "
                   "page checked\n", pw, pw / 256, (unsigned long long)pages, node_order_name(f.paging.order).c_str(),
                   (unsigned long long)f.paged_words,
-                  f.dag.words.empty() ? 1.0 : double(f.paged_words) / double(f.dag.words.size()));
+                  bytes == 0 ? 1.0 : 4.0 * double(f.paged_words) / double(bytes));
     else
       std::printf("  not paged: renders resident only\n");
   });

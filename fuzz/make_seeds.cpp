@@ -549,11 +549,12 @@ void dag_seeds() {
       require(mv::decode_encoded(*e) == voxels, "a CPU-built DAG decodes to its voxels (" + mv::encoding_name(e->encoding) + ")");
     require(sym.nodes(1) < plain.nodes(1), "the symmetric DAG merges reflections");
     if (levels == 3) {  // the .mvx seeds: 4 KiB pages make them 16-20 KiB whatever the grid
-      // Version 3: the 32-bit encodings paged in 16-word pages (so several pages), one svdag unpaged.
+      // Version 3: every encoding paged in 16-word pages (so several pages), one svdag and one ssvdag unpaged.
       const mv::MvxPaging small{16, mv::NodeOrder::subtree}, unpaged{0, mv::NodeOrder::level};
       for (const auto& [name, dag, enc, paging] :
            {std::tuple{"svdag", &plain, &e_svdag, small}, {"svo", &svo, &e_svo, small},
             {"ussvdag", &sym, &e_ussvdag, mv::MvxPaging{16, mv::NodeOrder::level}}, {"ssvdag", &sym, &e_ssvdag, unpaged},
+            {"ssvdag_paged", &sym, &e_ssvdag, small},
             {"svdag_unpaged", &plain, &e_svdag, unpaged}}) {
         const std::string p = seed_path("fuzz_mvx", std::string("voxels_") + name + ".mvx");
         mv::write_mvx(p, mvx_of(*dag, *enc), paging);

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <thread>
 
+#include "cache/paged_ssvdag.h"
 #include "cache/paged_stream.h"
 #include "io/file_ops.h"
 #include "io/mvx_format.h"
@@ -220,7 +221,6 @@ TEST(MvxPaged, PageReadsFailCleanly) {
   EXPECT_FALSE(pages.read_page(3, page, &error));
   EXPECT_NE(error.find("page 3: checksum mismatch"), std::string::npos) << error;
   EXPECT_NE(error_message([&] { read_mvx(p); }).find("checksum mismatch in page 3"), std::string::npos);
-  // The ssvdag is never paged: it says so.
   fs::remove(p);
 }
 
@@ -332,16 +332,52 @@ TEST(MvxPaged, PageIndexDamageIsAClearError) {
   fs::remove(q);
 }
 
-TEST(MvxPaged, SsvdagAndPointFilesAreNotPaged) {
-  const std::string p = temp_path("not_paged.mvx");
-  MvxFile f = sample_files()[1];
-  f.dag.encoding = Encoding::ssvdag;  // an empty ssvdag (no voxels) is a valid one
-  f.dag.words.clear();
-  f.dag.level_offset.assign(7, 0);
-  f.voxels = 0;
-  write_mvx(p, f);
+// An ssvdag is written paged in its own layout (level order, paged_ssvdag.h) with its level starts, reads back
+// byte for byte at every page size, streams page by page, and says so when its starts are damaged.
+TEST(MvxPaged, SsvdagIsPagedInLevelOrder) {
+  const std::string p = temp_path("paged_ssvdag.mvx");
+  const std::vector<uint64_t> voxels = voxel_sets(6)[0].second;  // random: many nodes
+  const Dag dag = host_dag(voxels, 6, true);
+  const MvxFile f = file_of(encode_ssvdag(dag), dag);
+  for (MvxPaging paging : {MvxPaging{}, MvxPaging{16, NodeOrder::subtree}, MvxPaging{64, NodeOrder::level}}) {
+    SCOPED_TRACE(std::to_string(paging.page_words));
+    write_mvx(p, f, paging);
+    ASSERT_TRUE(Bytes(p).find_index());
+    const MvxFile g = read_mvx(p);
+    EXPECT_TRUE(g.dag.inner == f.dag.inner && g.dag.bricks == f.dag.bricks);
+    EXPECT_EQ(g.dag.level_offset, f.dag.level_offset);
+    EXPECT_EQ(g.paging.page_words, paging.page_words);
+    EXPECT_EQ(g.paging.order, NodeOrder::level);  // whatever was asked for
+    const MvxPages pages(p);
+    ASSERT_EQ(pages.level_starts().size(), 7u);
+    std::vector<uint32_t> words(uint64_t{pages.pages()} * paging.page_words);
+    std::string error;
+    for (uint32_t pg = 0; pg < pages.pages(); ++pg)
+      ASSERT_TRUE(pages.read_page(pg, std::span<uint32_t>(words.data() + uint64_t{pg} * paging.page_words, paging.page_words), &error)) << error;
+    words.resize(pages.words());
+    const EncodedDag back = ssvdag_from_pages(words, pages.level_starts(), 6, paging.page_words);
+    EXPECT_TRUE(back.inner == f.dag.inner && back.bricks == f.dag.bricks);
+  }
+  // Damaged starts, checksums made right: the structure check or MvxPages names them.
+  write_mvx(p, f, {16, NodeOrder::level});
+  Bytes b(p);
+  b.at<uint64_t>(fmt::kPagedStarts)[4] = b.at<uint64_t>(fmt::kPagedStarts)[6] + 2;
+  b.write(p);
+  EXPECT_NE(error_message([&] { MvxPages pages(p); }).find("bad paged level starts"), std::string::npos);
+  EXPECT_NE(error_message([&] { read_mvx(p); }).find("out of order"), std::string::npos);
+  // Unpaged, it renders resident and says so.
+  write_mvx(p, f, {0, NodeOrder::level});
   EXPECT_FALSE(Bytes(p).find_index());
-  EXPECT_NE(error_message([&] { MvxPages pages(p); }).find("ssvdag encoding is never paged"), std::string::npos);
+  EXPECT_TRUE(read_mvx(p).dag.inner == f.dag.inner);
+  EXPECT_NE(error_message([&] { MvxPages pages(p); }).find("renders resident"), std::string::npos);
+  // An empty ssvdag (no voxels) pages to no pages.
+  MvxFile e = f;
+  e.dag.inner.clear();
+  e.dag.bricks.clear();
+  e.dag.level_offset.assign(7, 0);
+  e.voxels = 0;
+  write_mvx(p, e);
+  EXPECT_TRUE(read_mvx(p).dag.inner.empty());
   fs::remove(p);
 }
 

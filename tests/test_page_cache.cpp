@@ -119,7 +119,7 @@ class PageCacheTest : public ::testing::TestWithParam<DeviceInfo> {
 // LRU oracle: after each update the list is a permutation with the slots unused in the pass first and the
 // used ones after, each side in the order it had before (checked on the device's lists themselves).
 TEST_P(PageCacheTest, LruUpdateIsAStablePartition) {
-  Harness h(dev(), {1000, 1000, 2, 0});
+  Harness h(dev(), {1000, 1000, 2, 0, {}});
   std::mt19937 rng(7);
   std::vector<uint32_t> before = fetch(dev(), h.cache.lru(), 1000);
   for (int pass = 0; pass < 12; ++pass) {
@@ -148,7 +148,7 @@ TEST_P(PageCacheTest, LruUpdateIsAStablePartition) {
 // Request oracle: the list holds each missing page asked for in this pass once, in page order; pages asked
 // for in an earlier pass (stale stamps, never cleared) and resident pages are not in it.
 TEST_P(PageCacheTest, RequestsAreUniqueAndStaleStampsIgnored) {
-  Harness h(dev(), {64, 9000, 1, 0});
+  Harness h(dev(), {64, 9000, 1, 0, {}});
   std::mt19937 rng(11);
   auto [st1, step1] = h.view(100, 40, rng);  // 40 pages resident
   ASSERT_EQ(st1.loaded, 40u);
@@ -180,7 +180,7 @@ TEST_P(PageCacheTest, RequestsAreUniqueAndStaleStampsIgnored) {
 // Read-ahead's list: the missing pages asked for so far in the pass, each once, in page order, capped; the same
 // whether the host reads the stamps in place or the request kernels compact them.
 TEST_P(PageCacheTest, MissingSoFarListsTheUpdatesRequests) {
-  Harness h(dev(), {64, 9000, 1, 0});
+  Harness h(dev(), {64, 9000, 1, 0, {}});
   std::mt19937 rng(12);
   h.view(100, 40, rng);  // 40 pages resident
   std::vector<uint32_t> asked;
@@ -209,7 +209,7 @@ TEST_P(PageCacheTest, MissingSoFarListsTheUpdatesRequests) {
 // the unused slots (a working set larger than the cache), only the unused slots are reused and the rest of
 // the requests wait (dropped, over_capacity), so no page a pass used disappears under it.
 TEST_P(PageCacheTest, UsedSlotsAreNeverEvicted) {
-  Harness h(dev(), {100, 2000, 3, 0});
+  Harness h(dev(), {100, 2000, 3, 0, {}});
   std::mt19937 rng(3);
   for (int pass = 0; pass < 25; ++pass) {
     const uint32_t width = pass % 5 == 4 ? 300 : 30 + rng() % 80;  // sometimes 3x the cache
@@ -235,8 +235,8 @@ TEST_P(PageCacheTest, UsedSlotsAreNeverEvicted) {
 // Page-table coherence as slots are reused many times: random views over a page range much larger than the
 // cache, a producer failing now and then, with and without a per-update load cap; sizes past one scan block.
 TEST_P(PageCacheTest, PageTableStaysConsistentAfterSlotReuse) {
-  for (PageCacheConfig cfg : {PageCacheConfig{257, 5000, 5, 0}, PageCacheConfig{257, 5000, 5, 7},
-                              PageCacheConfig{4099, 70001, 1, 0}}) {
+  for (PageCacheConfig cfg : {PageCacheConfig{257, 5000, 5, 0, {}}, PageCacheConfig{257, 5000, 5, 7, {}},
+                              PageCacheConfig{4099, 70001, 1, 0, {}}}) {
     SCOPED_TRACE(std::to_string(cfg.slots) + " slots, " + std::to_string(cfg.pages) + " pages, cap " +
                  std::to_string(cfg.max_loads));
     Harness h(dev(), cfg);
@@ -262,7 +262,7 @@ TEST_P(PageCacheTest, PageTableStaysConsistentAfterSlotReuse) {
 // A producer that fails (returns false or throws): the pages stay missing, their slots free, the failure is
 // counted and the first message kept; the next pass asks again and a working producer loads them.
 TEST_P(PageCacheTest, FailingProducerLeavesPagesMissing) {
-  Harness h(dev(), {16, 100, 4, 0});
+  Harness h(dev(), {16, 100, 4, 0, {}});
   std::mt19937 rng(5);
   auto [st0, step0] = h.view(0, 10, rng);
   ASSERT_EQ(st0.loaded, 10u);
@@ -290,7 +290,7 @@ TEST_P(PageCacheTest, FailingProducerLeavesPagesMissing) {
 // A one-page cache: each update loads at most one page, never while the pass used the slot; the view's
 // other pages wait (over capacity), so a deeper page replaces a coarser one only in a pass that did not use it.
 TEST_P(PageCacheTest, OnePageCache) {
-  Harness h(dev(), {1, 10, 8, 0});
+  Harness h(dev(), {1, 10, 8, 0, {}});
   auto [a, sa] = h.pass({}, {3, 1, 2});
   EXPECT_EQ(a.loaded, 1u);
   EXPECT_TRUE(a.over_capacity);
@@ -309,14 +309,14 @@ TEST_P(PageCacheTest, OnePageCache) {
 }
 
 TEST_P(PageCacheTest, BadConfigurationsAreClearErrors) {
-  std::string msg = error_message([&] { PageCache(dev(), {0, 10, 4, 0}); });
+  std::string msg = error_message([&] { PageCache(dev(), {0, 10, 4, 0, {}}); });
   EXPECT_NE(msg.find("at least 1"), std::string::npos) << msg;
-  msg = error_message([&] { PageCache(dev(), {1u << 20, 10, 1u << 12, 0}); });
+  msg = error_message([&] { PageCache(dev(), {1u << 20, 10, 1u << 12, 0, {}}); });
   EXPECT_NE(msg.find("words one device call"), std::string::npos) << msg;
   auto small = Device::open({GetParam().selector(), 4u << 20, false});
-  msg = error_message([&] { PageCache(*small, {512, 10, 4096, 0}); });  // 8 MiB of slots
+  msg = error_message([&] { PageCache(*small, {512, 10, 4096, 0, {}}); });  // 8 MiB of slots
   EXPECT_NE(msg.find("page cache slots"), std::string::npos) << msg;
-  PageCache c(dev(), {4, 4, 1, 0});
+  PageCache c(dev(), {4, 4, 1, 0, {}});
   msg = error_message([&] { c.update(make_page); });
   EXPECT_NE(msg.find("before the first pass"), std::string::npos) << msg;
 }

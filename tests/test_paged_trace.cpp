@@ -10,6 +10,7 @@
 
 #include "cache/page_cache.h"
 #include "cache/page_layout.h"
+#include "cache/paged_ssvdag.h"
 #include "cache/paged_stream.h"
 #include "host/build_steps.h"
 #include "host/ref/reference.h"
@@ -26,7 +27,7 @@ namespace {
 constexpr uint32_t kPageWords = 16;  // small pages, so that small models have many
 
 // The octahedron voxelized at 2^levels with random voxels strewn around it (so that the DAG does not reduce
-// to a handful of pages), placed like a built .mvx, in a 32-bit word encoding.
+// to a handful of pages), placed like a built .mvx, in encoding `e`.
 MvxFile octahedron(Device& dev, uint32_t levels, Encoding e) {
   const uint32_t n = 1u << levels;
   Bounds b;
@@ -41,14 +42,20 @@ MvxFile octahedron(Device& dev, uint32_t levels, Encoding e) {
   return mvx_for_dag(build_dag_for_format(dev, voxels, levels, format), format, grid_for_bounds(b, n), b);
 }
 
-// The file's DAG in pages (subtree order), read from memory; `fail` pages throw.
+// The file's DAG in pages (subtree order; an ssvdag in its own layout), read from memory; `fail` pages throw.
 struct Paged {
-  EncodedDag stream;
+  EncodedDag stream;  // its words
   PagedDag dag;
 };
 Paged paged(const MvxFile& f, std::vector<uint32_t> fail = {}) {
   Paged p;
-  p.stream = paged_stream(f.dag, page_layout(f.dag, NodeOrder::subtree, kPageWords));
+  if (f.dag.encoding == Encoding::ssvdag) {
+    PagedSsvdag s = paged_ssvdag(f.dag, kPageWords);
+    p.stream.words = std::move(s.words);
+    p.dag.level_starts = std::move(s.starts);
+  } else {
+    p.stream = paged_stream(f.dag, page_layout(f.dag, NodeOrder::subtree, kPageWords));
+  }
   p.dag.grid = f.grid;
   p.dag.encoding = f.dag.encoding;
   p.dag.levels = f.dag.levels;
@@ -74,7 +81,7 @@ std::vector<uint32_t> download_words(Device& dev, const Buffer& b) {
 // Every resident page's slot names it back, and every owned slot's page points at it.
 void expect_table_consistent(Device& dev, PageCache& c) {
   const std::vector<uint32_t> table = download_words(dev, c.table()), owner = download_words(dev, c.owners());
-  for (uint32_t pg = 0; pg < table.size(); ++pg) {
+  for (uint32_t pg = 0; pg < c.config().pages; ++pg) {
     if (table[pg] != MV_CACHE_NONE) {
       ASSERT_EQ(owner[table[pg]], pg) << "page " << pg;
     }
@@ -120,9 +127,17 @@ class PagedTraceTest : public ::testing::TestWithParam<DeviceInfo> {};
 
 // Each pass of the kernel against the host build of the same code, started from the cache state the pass
 // found (downloaded), until the cache holds everything the rays need.
+void each_pass_matches_the_host(Device& dev, const MvxFile& f);
+
 TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
   Device& dev = shared_device(GetParam());
-  const MvxFile f = octahedron(dev, 6, Encoding::svdag);
+  for (Encoding e : {Encoding::svdag, Encoding::ssvdag}) {
+    SCOPED_TRACE(encoding_name(e));
+    each_pass_matches_the_host(dev, octahedron(dev, 6, e));
+  }
+}
+
+void each_pass_matches_the_host(Device& dev, const MvxFile& f) {
   Paged p = paged(f);
   ASSERT_GT(p.dag.pages, 8u);
   Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
@@ -144,6 +159,7 @@ TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
   Buffer ray_buf = dev.alloc(rays.size() * 4, "rays");
   dev.upload(ray_buf, rays.data(), rays.size() * 4);
   Buffer hit_buf = dev.alloc(uint64_t{n} * MV_HIT_WORDS * 4, "hits");
+  const uint32_t enc = f.dag.encoding == Encoding::ssvdag ? MV_ENC_PAGED_SSVDAG : MV_ENC_PAGED;
   uint32_t coarse_total = 0;
   for (uint32_t pass = 1; pass <= 64; ++pass) {
     SCOPED_TRACE("pass " + std::to_string(pass));
@@ -157,9 +173,10 @@ TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
     tp.max_steps = tracer.engine().step_limit(60000);
     tp.level_base[MV_TRACE_PAGE_STAMP] = cache.stamp();
     tp.level_base[MV_TRACE_PAGE_SHIFT] = 4;  // 16 words
+    tp.level_base[MV_TRACE_PAGE_LEVELS] = p.dag.pages;
     uint32_t coarse = 0;
     for (uint32_t i = 0; i < n; ++i) {
-      const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), MV_ENC_PAGED, 0u,
+      const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), enc, 0u,
                                   mv_load_ray(reinterpret_cast<const float*>(rays.data()), i), tp);
       const MvHit got = mv_load_hit(hits.data(), i);
       ASSERT_EQ(got.info, want.info) << "ray " << i;
@@ -190,7 +207,7 @@ TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
 // word encoding, once enough passes load what the batch needs (a narrow bundle: its working set fits).
 TEST_P(PagedTraceTest, RayQueriesConvergeToTheResidentHits) {
   Device& dev = shared_device(GetParam());
-  for (Encoding e : {Encoding::svo, Encoding::svdag, Encoding::ussvdag}) {
+  for (Encoding e : {Encoding::svo, Encoding::svdag, Encoding::ussvdag, Encoding::ssvdag}) {
     SCOPED_TRACE(encoding_name(e));
     const MvxFile f = octahedron(dev, 7, e);
     Paged p = paged(f);
@@ -214,18 +231,20 @@ TEST_P(PagedTraceTest, RayQueriesConvergeToTheResidentHits) {
   }
 }
 
-// A picture through a cache 8 times smaller than the DAG (a close view: its working set fits), and a shaded
-// one (shadow and AO rays reach further) through half of it: byte-identical to the resident renders.
+// A picture through a cache 8 times smaller than the DAG (4 for an ssvdag; a close view: its working set
+// fits), and a shaded one (shadow and AO rays reach further) through half of it: byte-identical to the
+// resident renders.
 TEST_P(PagedTraceTest, RenderConvergesToTheResidentPicture) {
   Device& dev = shared_device(GetParam());
-  const MvxFile f = octahedron(dev, 7, Encoding::svdag);
-  Paged p = paged(f);
   Camera cam;
   cam.eye[0] = 0.3, cam.eye[1] = 1.6, cam.eye[2] = 0.4;  // close to the top vertex
   cam.target[0] = 0, cam.target[1] = 0.9, cam.target[2] = 0;
   cam.fov = 10;
+  for (Encoding e : {Encoding::svdag, Encoding::ssvdag})
   for (Shading shading : {Shading::normal, Shading::shaded}) {
-    SCOPED_TRACE(shading_name(shading));
+    SCOPED_TRACE(encoding_name(e) + " " + shading_name(shading));
+    const MvxFile f = octahedron(dev, 7, e);
+    Paged p = paged(f);
     RenderOptions o;
     o.width = 96;
     o.height = 64;
@@ -234,7 +253,8 @@ TEST_P(PagedTraceTest, RenderConvergesToTheResidentPicture) {
     o.read_ahead = true;  // on CPU devices too
     Tracer resident(dev, f);
     const RenderResult want = render(resident, cam, o);
-    const uint32_t share = shading == Shading::normal ? 8 : 2;
+    // an ssvdag's pages hold levels, not subtrees (paged_ssvdag.h): a ray's path meets more of them
+    const uint32_t share = shading == Shading::shaded ? 2 : e == Encoding::ssvdag ? 4 : 8;
     const uint64_t cache = std::max<uint64_t>(p.dag.pages / share, 1) * kPageWords * 4;
     Tracer tracer(dev, p.dag, cache);
     const RenderResult got = render(tracer, cam, o);
@@ -283,11 +303,19 @@ TEST_P(PagedTraceTest, ViewLargerThanTheCacheConvergesInBands) {
   expect_table_consistent(dev, *tracer.cache());
 }
 
+void one_page_cache_renders_the_roots_lod(Device& dev, const MvxFile& f);
+
 // One slot: the root's page and nothing more. The picture is the coarse one (no error, every pixel shaded
 // from resident data) and the render says it did not converge.
 TEST_P(PagedTraceTest, OnePageCacheRendersTheRootsLevelOfDetail) {
   Device& dev = shared_device(GetParam());
-  const MvxFile f = octahedron(dev, 6, Encoding::ussvdag);
+  for (Encoding e : {Encoding::ussvdag, Encoding::ssvdag}) {
+    SCOPED_TRACE(encoding_name(e));
+    one_page_cache_renders_the_roots_lod(dev, octahedron(dev, 6, e));
+  }
+}
+
+void one_page_cache_renders_the_roots_lod(Device& dev, const MvxFile& f) {
   Paged p = paged(f);
   Tracer tracer(dev, p.dag, kPageWords * 4);
   ASSERT_EQ(tracer.cache()->config().slots, 1u);
@@ -311,13 +339,14 @@ TEST_P(PagedTraceTest, OnePageCacheRendersTheRootsLevelOfDetail) {
 // Pages whose reads fail stay missing: the error is reported, the rest loads, and rendering goes on.
 TEST_P(PagedTraceTest, FailingProducerLeavesPagesMissing) {
   Device& dev = shared_device(GetParam());
-  const MvxFile f = octahedron(dev, 6, Encoding::svdag);
-  Paged good = paged(f);
-  std::vector<uint32_t> fail;
-  for (uint32_t pg = 1; pg < good.dag.pages; pg += 3) fail.push_back(pg);
-  Paged p = paged(f, fail);
+  for (Encoding e : {Encoding::svdag, Encoding::ssvdag})
   for (Shading shading : {Shading::normal, Shading::shaded}) {  // shaded: the read-ahead meets the failures first
-    SCOPED_TRACE(shading_name(shading));
+    SCOPED_TRACE(encoding_name(e) + " " + shading_name(shading));
+    const MvxFile f = octahedron(dev, 6, e);
+    Paged good = paged(f);
+    std::vector<uint32_t> fail;
+    for (uint32_t pg = 1; pg < good.dag.pages; pg += 3) fail.push_back(pg);
+    Paged p = paged(f, fail);
     Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
     RenderOptions o;
     o.width = 48;
@@ -344,7 +373,7 @@ TEST_P(PagedTraceTest, FailingProducerLeavesPagesMissing) {
   }
 }
 
-TEST_P(PagedTraceTest, SsvdagIsNotPaged) {
+TEST_P(PagedTraceTest, PagedSsvdagNeedsItsLevelStarts) {
   Device& dev = shared_device(GetParam());
   PagedDag d;
   d.encoding = Encoding::ssvdag;
@@ -352,7 +381,10 @@ TEST_P(PagedTraceTest, SsvdagIsNotPaged) {
   d.page_words = kPageWords;
   d.pages = 4;
   d.read = [](uint32_t, std::span<uint32_t>) {};
-  EXPECT_THROW(Tracer(dev, d, 1 << 20), Error);
+  EXPECT_NE(error_message([&] { Tracer(dev, d, 1 << 20); }).find("level starts"), std::string::npos);
+  d.level_starts.assign(7, 0);
+  d.level_starts[6] = 4 * kPageWords * 2;  // past the pages
+  EXPECT_NE(error_message([&] { Tracer(dev, d, 1 << 20); }).find("past its pages"), std::string::npos);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PagedTraceTest);

@@ -53,7 +53,7 @@ class CpuLru {
 
 CacheBenchResult run_cache_bench(Device& dev, const CacheBenchConfig& c) {
   if (c.passes == 0 || c.view == 0 || c.view > c.pages) throw Error("bench cache-update: need passes >= 1 and 1 <= view <= pages");
-  PageCache cache(dev, {c.slots, c.pages, c.page_words, 0});
+  PageCache cache(dev, {c.slots, c.pages, c.page_words, 0, {}});
   CpuLru cpu(c.slots, c.pages);
   // the "file": every page's words in host memory, so producing a page is one copy
   std::vector<uint32_t> source(uint64_t{c.pages} * c.page_words);

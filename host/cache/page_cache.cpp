@@ -31,7 +31,7 @@ PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), co
     throw Error("page cache: " + std::to_string(c.slots) + " slots of " + std::to_string(c.page_words) +
                 " words over " + std::to_string(c.pages) + " pages pass the " + std::to_string(kMaxDeviceItems) +
                 " words one device call indexes");
-  data_ = dev.alloc(words * 4, "page cache slots");
+  data_ = dev.alloc((words + kDataSpareWords) * 4, "page cache slots");
   usage_ = dev.alloc(uint64_t{c.slots} * 4, "page cache usage stamps");
   owner_ = dev.alloc(uint64_t{c.slots} * 4, "page cache slot owners");
   lru_ = dev.alloc(uint64_t{c.slots} * 4, "page cache LRU list");
@@ -39,17 +39,18 @@ PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), co
   lru_pos_ = dev.alloc((uint64_t{c.slots} + 1) * 4, "page cache LRU positions");
   evicted_ = dev.alloc(uint64_t{c.slots} * 4, "page cache evicted pages");
   requests_ = dev.alloc(uint64_t{c.pages} * 4, "page cache request stamps");
-  table_ = dev.alloc(uint64_t{c.pages} * 4, "page cache page table");
+  table_ = dev.alloc((uint64_t{c.pages} + c.table_tail.size()) * 4, "page cache page table");
   request_pos_ = dev.alloc((uint64_t{c.pages} + 1) * 4, "page cache request positions");
   list_ = dev.alloc(uint64_t{c.pages} * 4, "page cache request list");
   counts_ = dev.alloc(8, "page cache counts");
   lru_scan_ = plan_scan(dev, c.slots);
   request_scan_ = plan_scan(dev, c.pages);
-  dev.fill(data_, 0, words * 4);
+  dev.fill(data_, 0, (words + kDataSpareWords) * 4);
   dev.fill(usage_, 0, uint64_t{c.slots} * 4);  // stamp 0: never used
   dev.fill(owner_, MV_CACHE_NONE, uint64_t{c.slots} * 4);
   dev.fill(requests_, 0, uint64_t{c.pages} * 4);
   dev.fill(table_, MV_CACHE_NONE, uint64_t{c.pages} * 4);
+  if (!c.table_tail.empty()) dev.upload(table_, c.table_tail.data(), c.table_tail.size() * 4, uint64_t{c.pages} * 4);
   std::vector<uint32_t> order(c.slots);
   for (uint32_t s = 0; s < c.slots; ++s) order[s] = s;
   dev.upload(lru_, order.data(), uint64_t{c.slots} * 4);

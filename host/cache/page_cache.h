@@ -23,6 +23,9 @@ struct PageCacheConfig {
   uint32_t pages = 0;       // page ids [0, pages)
   uint32_t page_words = 0;  // 32-bit words per page
   uint32_t max_loads = 0;   // pages loaded per update at most; 0: as many as the pass left unused slots
+  // Words stored after the page table (at table()[pages] on) for the reader's own constants (a paged ssvdag's
+  // level starts, read by the traversal with the table); the cache never touches them.
+  std::vector<uint32_t> table_tail;
 };
 
 // Fills `words` (page_words of them) with page `page`. Returns false, or throws, when it cannot: the page
@@ -55,10 +58,13 @@ class PageCache {
 
   Buffer& usage() { return usage_; }        // slots words: the last stamp that used each slot
   Buffer& requests() { return requests_; }  // pages words: the last stamp that asked for each page
-  const Buffer& table() const { return table_; }  // pages words: slot of each page, or MV_CACHE_NONE
+  const Buffer& table() const { return table_; }  // pages words: slot of each page, or MV_CACHE_NONE; then the tail
   const Buffer& owners() const { return owner_; } // slots words: page in each slot, or MV_CACHE_NONE
   const Buffer& lru() const { return lru_; }      // slots words: every slot once, least recently used first
-  const Buffer& data() const { return data_; }    // slots * page_words words: slot s at word s * page_words
+  // slots * page_words words, slot s at word s * page_words, then kDataSpareWords zeros (a 64-bit read at a
+  // slot's last word stays inside the buffer)
+  const Buffer& data() const { return data_; }
+  static constexpr uint32_t kDataSpareWords = 2;
   // After update(): its `requested` missing pages in page order, each once (those given slots first).
   const Buffer& request_list() const { return list_; }
 

@@ -88,7 +88,9 @@ std::vector<uint32_t> subtree_order(const Nodes& n, uint32_t page_words) {
 std::string node_order_name(NodeOrder o) { return o == NodeOrder::level ? "level" : "subtree"; }
 
 PageLayout page_layout(const EncodedDag& enc, NodeOrder order, uint32_t page_words) {
-  if (enc.encoding == Encoding::ssvdag) throw Error("page layout: the ssvdag encoding is not paged yet (svo, svdag, ussvdag are)");
+  if (enc.encoding == Encoding::ssvdag)
+    throw Error("page layout: node orders are for svo, svdag and ussvdag; the ssvdag is paged in level order only "
+                "(host/cache/paged_ssvdag.h)");
   if (page_words < kMaxNodeWords)
     throw Error("page layout: a page of " + std::to_string(page_words) + " words cannot hold a node of " +
                 std::to_string(kMaxNodeWords));

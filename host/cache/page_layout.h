@@ -7,7 +7,7 @@
 //            descendants level by level until full; the frontier left over roots the next pages, and a walk
 //            that ends before its page is full lets the next root continue that page. A DAG node shared by
 //            several parents lives where the first walk meets it.
-// 32-bit word encodings (svo, svdag, ussvdag).
+// 32-bit word encodings (svo, svdag, ussvdag); the ssvdag has its own layout (paged_ssvdag.h).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -31,7 +31,8 @@ struct PageLayout {
   uint64_t pages() const { return (words + page_words - 1) / page_words; }
 };
 
-// Throws mv::Error for an ssvdag or a page smaller than the largest node (9 words). Validates the stream first.
+// Throws mv::Error for an ssvdag (paged_ssvdag.h) or a page smaller than the largest node (9 words). Validates
+// the stream first.
 PageLayout page_layout(const EncodedDag& enc, NodeOrder order, uint32_t page_words);
 
 struct PageLayoutStats {

@@ -24,7 +24,7 @@ uint32_t pointer_of(uint32_t header, uint32_t c) {
 }  // namespace
 
 EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& lay) {
-  if (enc.encoding == Encoding::ssvdag) throw Error("paged stream: the ssvdag encoding is not paged (svo, svdag, ussvdag are)");
+  if (enc.encoding == Encoding::ssvdag) throw Error("paged stream: svo, svdag and ussvdag only (an ssvdag: paged_ssvdag.h)");
   EncodedDag out;
   out.encoding = enc.encoding;
   out.levels = enc.levels;
@@ -70,7 +70,7 @@ EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& lay) {
 
 EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words) {
   auto fail = [](const std::string& why) { return Error("paged stream: " + why); };
-  if (paged.encoding == Encoding::ssvdag) throw fail("the ssvdag encoding is not paged (svo, svdag, ussvdag are)");
+  if (paged.encoding == Encoding::ssvdag) throw fail("svo, svdag and ussvdag only (an ssvdag: paged_ssvdag.h)");
   if (page_words < kMaxNodeWords) throw fail("pages of " + std::to_string(page_words) + " words cannot hold a node");
   const std::vector<uint32_t>& in = paged.words;
   const uint64_t n = in.size();

@@ -45,16 +45,32 @@ EncodedDag encode_ssvdag(const Dag& dag) {
   enc.level_offset.assign(L + 1, 0);
   if (dag.voxels == 0) return enc;
 
-  // Order of each level (2 .. L): nodes by descending reference count, ties by id (deterministic).
+  // Order of each level (2 .. L): nodes by descending reference count, ties by the order in which a walk from
+  // the root first meets them (level by level, parents in that order, children by ascending Morton octant):
+  // a function of the DAG's shape alone, which the paged ssvdag's way back computes again
+  // (host/cache/paged_ssvdag.h), and close in space for the many nodes referenced once.
   std::vector<std::vector<uint32_t>> order(L + 1), position(L + 1);
+  std::vector<std::vector<uint32_t>> seen(L + 1);  // level l's nodes in first-met order
+  seen[L].push_back(0);
+  for (uint32_t l = L; l >= 3; --l) {
+    const DagLevel& lv = dag.level[l];
+    std::vector<bool> met(dag.level[l - 1].mask.size(), false);
+    for (uint32_t i : seen[l])
+      for (uint32_t j = lv.first[i]; j < lv.first[i] + __builtin_popcount(lv.mask[i]); ++j)  // ascending octant
+        if (!met[lv.children[j]]) {
+          met[lv.children[j]] = true;
+          seen[l - 1].push_back(lv.children[j]);
+        }
+    for (uint32_t i = 0; i < met.size(); ++i)  // none in a reduced DAG; kept, after the others, all the same
+      if (!met[i]) seen[l - 1].push_back(i);
+  }
   for (uint32_t l = 2; l <= L; ++l) {
     const size_t n = dag.level[l].mask.size();
     std::vector<uint64_t> refs(n, 0);
     if (l == L) refs.assign(n, 1);
     else
       for (uint32_t child : dag.level[l + 1].children) ++refs[child];
-    order[l].resize(n);
-    std::iota(order[l].begin(), order[l].end(), 0u);
+    order[l] = seen[l];
     std::stable_sort(order[l].begin(), order[l].end(), [&](uint32_t a, uint32_t b) { return refs[a] > refs[b]; });
     position[l].resize(n);
     for (uint32_t p = 0; p < n; ++p) position[l][order[l][p]] = p;

@@ -13,6 +13,7 @@
 
 #include "atomic_file.h"
 #include "cache/page_layout.h"
+#include "cache/paged_ssvdag.h"
 #include "cache/paged_stream.h"
 #include "file_ops.h"
 #include "mvx_format.h"
@@ -45,22 +46,35 @@ bool is_power_of_two(uint32_t v) { return v && !(v & (v - 1)); }
 
 // The paged stream of `dag` (with its page index) that write_mvx stores.
 struct PagedNodes {
-  EncodedDag stream;
-  std::vector<uint64_t> index;  // PageIndexHead's 3 words, then the page hashes
+  std::vector<uint32_t> words;
+  std::vector<uint64_t> index;   // PageIndexHead's 3 words, then the page hashes
+  std::vector<uint64_t> starts;  // ssvdag: PagedSsvdag::starts
+  std::vector<uint64_t> level_offset;  // of the level-order stream the way back gives
 };
 
+// An ssvdag is always in level order (its offsets count from level starts; see paged_ssvdag.h).
 PagedNodes paged_nodes(const EncodedDag& dag, const MvxPaging& paging) {
   if (!is_power_of_two(paging.page_words) || paging.page_words < kMinPageWords || paging.page_words > kMaxPageWords)
     throw Error(".mvx pages of " + std::to_string(paging.page_words) + " words: a power of two from " +
                 std::to_string(kMinPageWords) + " to " + std::to_string(kMaxPageWords) + " is needed");
   PagedNodes p;
-  p.stream = paged_stream(dag, page_layout(dag, paging.order, paging.page_words));
-  const uint64_t words = p.stream.words.size(), pw = paging.page_words;
-  const PageIndexHead head{paging.page_words, static_cast<uint32_t>(paging.order), (words + pw - 1) / pw, words};
+  NodeOrder order = paging.order;
+  if (dag.encoding == Encoding::ssvdag) {
+    PagedSsvdag s = paged_ssvdag(dag, paging.page_words);
+    p.words = std::move(s.words);
+    p.starts = std::move(s.starts);
+    p.level_offset = std::move(s.level_offset);
+    order = NodeOrder::level;
+  } else {
+    p.words = paged_stream(dag, page_layout(dag, order, paging.page_words)).words;
+    p.level_offset = dag.level_offset;
+  }
+  const uint64_t words = p.words.size(), pw = paging.page_words;
+  const PageIndexHead head{paging.page_words, static_cast<uint32_t>(order), (words + pw - 1) / pw, words};
   p.index.resize(3 + head.pages);
   std::memcpy(p.index.data(), &head, sizeof head);
   for (uint64_t page = 0; page < head.pages; ++page)
-    p.index[3 + page] = page_hash(p.stream.words.data() + page * pw, std::min(pw, words - page * pw), paging.page_words);
+    p.index[3 + page] = page_hash(p.words.data() + page * pw, std::min(pw, words - page * pw), paging.page_words);
   return p;
 }
 
@@ -70,18 +84,19 @@ void write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& pagi
   const uint32_t L = in.dag.levels;
   std::vector<uint64_t> counts = in.svo_nodes;
   counts.insert(counts.end(), in.dag_nodes.begin(), in.dag_nodes.end());
-  std::vector<Blob> blobs = {{kCounts, counts.data(), counts.size() * 8},
-                             {kLevels, in.dag.level_offset.data(), in.dag.level_offset.size() * 8}};
   PagedNodes paged;
-  if (in.dag.encoding == Encoding::ssvdag) {
+  if (paging.page_words != 0) paged = paged_nodes(in.dag, paging);
+  const std::vector<uint64_t>& levels = paging.page_words != 0 ? paged.level_offset : in.dag.level_offset;
+  std::vector<Blob> blobs = {{kCounts, counts.data(), counts.size() * 8}, {kLevels, levels.data(), levels.size() * 8}};
+  if (paging.page_words != 0) {
+    blobs.push_back({kNodes, paged.words.data(), paged.words.size() * 4, false});
+    blobs.push_back({kPageIndex, paged.index.data(), paged.index.size() * 8});
+    if (in.dag.encoding == Encoding::ssvdag) blobs.push_back({kPagedStarts, paged.starts.data(), paged.starts.size() * 8});
+  } else if (in.dag.encoding == Encoding::ssvdag) {
     blobs.push_back({kInner, in.dag.inner.data(), in.dag.inner.size() * 2});
     blobs.push_back({kBricks, in.dag.bricks.data(), in.dag.bricks.size() * 8});
-  } else if (paging.page_words == 0) {
-    blobs.push_back({kNodes, in.dag.words.data(), in.dag.words.size() * 4});
   } else {
-    paged = paged_nodes(in.dag, paging);
-    blobs.push_back({kNodes, paged.stream.words.data(), paged.stream.words.size() * 4, false});
-    blobs.push_back({kPageIndex, paged.index.data(), paged.index.size() * 8});
+    blobs.push_back({kNodes, in.dag.words.data(), in.dag.words.size() * 4});
   }
   Header h{};
   h.version = kMvxVersion;
@@ -174,10 +189,22 @@ void check_voxel_file(const Opened& o, const std::string& path) {
   if (h.levels < 1 || h.levels > 21) throw Error(path + ": bad level count " + std::to_string(h.levels));
   if (h.resolution != (1u << h.levels)) throw Error(path + ": resolution does not match the level count");
   const bool paged = o.find[kPageIndex] != nullptr;
-  if (!(h.voxel_size > 0) || h.sections != (compact || paged ? 4u : 3u)) throw Error(path + ": bad grid or section count");
+  // counts, levels, then inner + bricks (an unpaged ssvdag), nodes (unpaged), or nodes + page index (paged)
+  // + paged level starts (a paged ssvdag)
+  const uint32_t sections = paged ? (compact ? 5 : 4) : (compact ? 4 : 3);
+  if (!(h.voxel_size > 0) || h.sections != sections) throw Error(path + ": bad grid or section count");
   const bool kinds_ok = o.find[kCounts] && o.find[kLevels] &&
-                        (compact ? o.find[kInner] && o.find[kBricks] && !paged : o.find[kNodes] != nullptr);
+                        (compact && !paged ? o.find[kInner] && o.find[kBricks] : o.find[kNodes] != nullptr) &&
+                        (compact && paged) == (o.find[kPagedStarts] != nullptr);
   if (!kinds_ok) throw Error(path + ": bad section table");
+}
+
+std::vector<uint64_t> read_paged_starts(const Opened& o, const std::string& path) {
+  std::vector<uint64_t> starts = section_data<uint64_t>(o.file.get(), *o.find[kPagedStarts], path, "paged level starts");
+  if (starts.size() != o.header.levels + 1u)
+    throw Error(path + ": " + std::to_string(starts.size()) + " paged level starts for " +
+                std::to_string(o.header.levels) + " levels");
+  return starts;
 }
 
 uint64_t page_hash(const uint32_t* words, uint64_t count, uint32_t page_words) {
@@ -246,15 +273,21 @@ void read_paged_nodes(const Opened& o, const std::string& path, MvxFile& out) {
   for (uint64_t p = 0; p < pi.head.pages; ++p)
     if (page_hash(paged.words.data() + p * pw, std::min<uint64_t>(pw, paged.words.size() - p * pw), pw) != pi.hashes[p])
       throw Error(path + ": checksum mismatch in page " + std::to_string(p) + " of the nodes");
+  const bool compact = out.dag.encoding == Encoding::ssvdag;
+  if (compact && pi.head.order != static_cast<uint32_t>(NodeOrder::level))
+    throw Error(path + ": bad page index: a paged ssvdag is in level order");
+  const std::vector<uint64_t> starts = compact ? read_paged_starts(o, path) : std::vector<uint64_t>();
   EncodedDag level_order;
   try {
-    level_order = level_order_stream(paged, pw);
+    level_order = compact ? ssvdag_from_pages(paged.words, starts, out.dag.levels, pw) : level_order_stream(paged, pw);
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }
   if (level_order.level_offset != out.dag.level_offset)
     throw Error(path + ": the paged nodes' levels disagree with the levels section");
   out.dag.words = std::move(level_order.words);
+  out.dag.inner = std::move(level_order.inner);
+  out.dag.bricks = std::move(level_order.bricks);
   out.paging = {pw, static_cast<NodeOrder>(pi.head.order)};
   out.paged_words = pi.head.words;
 }
@@ -285,11 +318,11 @@ MvxFile read_mvx(const std::string& path) {
   out.dag.encoding = static_cast<Encoding>(h.encoding);
   out.dag.levels = h.levels;
   out.dag.level_offset = section_data<uint64_t>(file, *find[kLevels], path, "levels");
-  if (compact) {
+  if (paged) {
+    read_paged_nodes(o, path, out);
+  } else if (compact) {
     out.dag.inner = section_data<uint16_t>(file, *find[kInner], path, "inner nodes");
     out.dag.bricks = section_data<uint64_t>(file, *find[kBricks], path, "bricks");
-  } else if (paged) {
-    read_paged_nodes(o, path, out);
   } else {
     out.dag.words = section_data<uint32_t>(file, *find[kNodes], path, "nodes");
   }

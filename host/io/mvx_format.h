@@ -18,14 +18,15 @@ namespace mv::mvx_format {
 constexpr char kMagic[8] = {'M', 'E', 'G', 'A', 'V', 'O', 'X', '\x1a'};
 constexpr uint64_t kPage = 4096;
 constexpr uint32_t kMaxSections = 16;
-// Voxel content: counts, levels, nodes (or inner + bricks), the page index of paged nodes (version 3).
+// Voxel content: counts, levels, nodes (or inner + bricks), the page index of paged nodes (version 3), and
+// for a paged ssvdag where its levels start in the paged stream (PagedSsvdag::starts).
 // Point content (version 2 on): the rest. Kinds are shared by both contents: a new one takes the next number.
 enum SectionKind : uint32_t {
   kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5,
   kSecPointMeta = 6, kSecPointNodes = 7, kSecPointXyz = 8, kSecPointRgb = 9, kSecPointNormal = 10,
-  kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13, kPageIndex = 14,
+  kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13, kPageIndex = 14, kPagedStarts = 15,
 };
-constexpr uint32_t kKinds = 15;
+constexpr uint32_t kKinds = 16;
 // Header::content (version 2; version 1 files are voxels and hold 0 there).
 enum Content : uint32_t { kVoxels = 0, kPoints = 1 };
 
@@ -88,6 +89,10 @@ Opened open_file(const std::string& path);
 
 // The header and section table of a voxel file (encoding, levels, grid, which sections): mv::Error otherwise.
 void check_voxel_file(const Opened& o, const std::string& path);
+
+// The paged level starts of a paged ssvdag (levels + 1 of them), read and checksummed; their order and
+// the stream they describe are checked where they are used (ssvdag_from_pages, MvxPages).
+std::vector<uint64_t> read_paged_starts(const Opened& o, const std::string& path);
 
 // The page index of an opened file with both its nodes and page index sections, checked: its checksum,
 // page_words, the counts against the nodes section's size. mv::Error naming the fault.

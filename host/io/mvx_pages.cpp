@@ -20,14 +20,18 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
     const Opened o = open_file(path);  // the header page alone, read through stdio
     check_voxel_file(o, path);
     const Header& h = o.header;
-    if (!o.find[kPageIndex]) {
-      const bool compact = h.encoding == static_cast<uint32_t>(Encoding::ssvdag);
-      throw Error(path + ": not paged (" +
-                  (compact ? std::string("the ssvdag encoding is never paged")
-                           : ".mvx version " + std::to_string(h.version) + ", no page index") +
-                  "): it renders resident, without --cache-memory (or rewrite it as svdag with this megavox)");
-    }
+    if (!o.find[kPageIndex])
+      throw Error(path + ": not paged (.mvx version " + std::to_string(h.version) +
+                  ", no page index): it renders resident, without --cache-memory (or rebuild it with this megavox)");
     pi = read_page_index(o, path);
+    if (h.encoding == static_cast<uint32_t>(Encoding::ssvdag)) {
+      starts_ = read_paged_starts(o, path);
+      // What the traversal reads of them: in order, inside the stream (ssvdag_from_pages checks the rest).
+      bool ok = starts_[0] == 0 && starts_[2] == 0 && starts_[1] * 4 <= starts_[3] &&
+                pi.head.order == static_cast<uint32_t>(NodeOrder::level);
+      for (uint32_t l = 4; l <= h.levels; ++l) ok = ok && starts_[l] > starts_[l - 1];
+      if (!ok || (pi.head.words > 0 && starts_[h.levels] >= 2 * pi.head.words)) throw Error(path + ": bad paged level starts");
+    }
     encoding_ = static_cast<Encoding>(h.encoding);
     levels_ = h.levels;
     grid_.resolution = h.resolution;

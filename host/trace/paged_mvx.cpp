@@ -16,6 +16,7 @@ PagedDag open_paged_mvx(const std::string& path) {
   d.levels = file->levels();
   d.page_words = file->page_words();
   d.pages = file->pages();
+  d.level_starts = file->level_starts();
   d.read = [file](uint32_t page, std::span<uint32_t> words) {
     std::string error;
     if (!file->read_page(page, words, &error)) throw Error(error);

@@ -38,14 +38,22 @@ TraceEngine::TraceEngine(Device& dev, const EncodedDag& dag) : dev_(dev), levels
   set_level_starts(LevelStarts::automatic);
 }
 
-TraceEngine::TraceEngine(Device& dev, uint32_t levels, PageCache& cache)
-    : dev_(dev), levels_(levels), encoding_(static_cast<uint32_t>(Encoding::svdag)), cache_(&cache) {
+TraceEngine::TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCache& cache)
+    : dev_(dev), levels_(levels), encoding_(static_cast<uint32_t>(encoding)), cache_(&cache) {
   if (levels == 0 || levels > 21) throw Error("trace: the DAG has " + std::to_string(levels) + " levels");
-  const uint32_t words = cache.config().page_words;
-  if (words < 16 || (words & (words - 1)) != 0)
-    throw Error("trace: pages of " + std::to_string(words) + " words; paged tracing needs a power of two >= 16");
-  page_shift_ = static_cast<uint32_t>(__builtin_ctz(words));
+  const PageCacheConfig& c = cache.config();
+  if (c.page_words < 16 || (c.page_words & (c.page_words - 1)) != 0)
+    throw Error("trace: pages of " + std::to_string(c.page_words) + " words; paged tracing needs a power of two >= 16");
+  page_shift_ = static_cast<uint32_t>(__builtin_ctz(c.page_words));
   params_.levels = levels;
+  if (encoding == Encoding::ssvdag) {
+    // inner nodes are addressed in 16-bit words of the slots; the level starts follow the page table
+    if (uint64_t{c.slots} * c.page_words >= (uint64_t{1} << 31))
+      throw Error("trace: a paged ssvdag addresses at most 2^31 words of cache slots (8 GiB)");
+    if (levels < 3 || c.table_tail.size() != levels + 1u)
+      throw Error("trace: a paged ssvdag needs its level starts after the page table");
+    params_.level_base[MV_TRACE_PAGE_LEVELS] = c.pages;
+  }
 }
 
 void TraceEngine::set_level_starts(LevelStarts where) {
@@ -94,8 +102,9 @@ void TraceEngine::for_each_dispatch(uint32_t begin, uint32_t count, F&& dispatch
 void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first_ray, uint32_t count, uint32_t width,
                         float proj,
                         uint32_t max_steps, bool occlusion, Buffer& results) {
-  const Buffer* bricks = encoding_ == static_cast<uint32_t>(Encoding::ssvdag) ? &bricks_ : nullptr;
-  Kernel& k = dev_.kernel(cache_              ? KernelId::trace_rays_paged
+  const bool ssvdag = encoding_ == static_cast<uint32_t>(Encoding::ssvdag);
+  const Buffer* bricks = ssvdag ? &bricks_ : nullptr;
+  Kernel& k = dev_.kernel(cache_              ? (ssvdag ? KernelId::trace_rays_paged_ssvdag : KernelId::trace_rays_paged)
                           : !bricks           ? KernelId::trace_rays
                           : starts_in_params_ ? KernelId::trace_rays_ssvdag_params
                                               : KernelId::trace_rays_ssvdag);
@@ -143,7 +152,6 @@ Tracer::Tracer(Device& dev, const MvxFile& file)
     : grid_(file.grid), engine_(std::make_unique<TraceEngine>(dev, file.dag)) {}
 
 Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes) : grid_(dag.grid), paged_(std::move(dag)) {
-  if (paged_.encoding == Encoding::ssvdag) throw Error("trace: an ssvdag is not paged; it renders resident");
   if (paged_.pages == 0 || paged_.page_words == 0 || !paged_.read) throw Error("trace: the paged DAG has no pages");
   const uint64_t page_bytes = uint64_t{paged_.page_words} * 4;
   if (cache_bytes < page_bytes)
@@ -154,8 +162,15 @@ Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes) : grid_(dag.grid
   c.pages = paged_.pages;
   // more slots than pages would never be used
   c.slots = static_cast<uint32_t>(std::min<uint64_t>(cache_bytes / page_bytes, paged_.pages));
+  if (paged_.encoding == Encoding::ssvdag) {
+    if (paged_.level_starts.size() != paged_.levels + 1u) throw Error("trace: the paged ssvdag has no level starts");
+    for (uint64_t s : paged_.level_starts) {
+      if (s >= uint64_t{paged_.pages} * paged_.page_words * 2) throw Error("trace: a paged ssvdag level starts past its pages");
+      c.table_tail.push_back(static_cast<uint32_t>(s));
+    }
+  }
   cache_ = std::make_unique<PageCache>(dev, c);
-  engine_ = std::make_unique<TraceEngine>(dev, paged_.levels, *cache_);
+  engine_ = std::make_unique<TraceEngine>(dev, paged_.encoding, paged_.levels, *cache_);
 }
 
 Tracer::~Tracer() = default;

@@ -14,9 +14,10 @@ class PageCache;
 class TraceEngine {
  public:
   TraceEngine(Device& dev, const EncodedDag& dag);
-  // A 32-bit word encoding of `levels` levels read through `cache` (kernel trace_rays_paged): traces stamp the
-  // cache's current pass; a ray that meets a missing page requests it and stops there (a coarse hit).
-  TraceEngine(Device& dev, uint32_t levels, PageCache& cache);
+  // An encoding of `levels` levels read through `cache` (kernel trace_rays_paged, or trace_rays_paged_ssvdag
+  // for an ssvdag, whose level starts the cache holds after its page table): traces stamp the cache's current
+  // pass; a ray that meets a missing page requests it and stops there (a coarse hit).
+  TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCache& cache);
 
   Device& device() { return dev_; }
   uint32_t levels() const { return levels_; }

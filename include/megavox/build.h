@@ -35,7 +35,7 @@ struct BuildOptions {
   uint64_t memory = 0;
   // Instead of reading `input`: this mesh (then `input` only names it in messages).
   const MeshArrays* mesh = nullptr;
-  // How an svo / svdag / ussvdag file is paged (megavox/mvx.h; ssvdag never is).
+  // How the file is paged (megavox/mvx.h; an ssvdag always in level order).
   MvxPaging paging;
 };
 

@@ -34,12 +34,14 @@ struct PagedDag {
   uint32_t levels = 0;
   uint32_t page_words = 0;  // a power of two
   uint32_t pages = 0;
+  // ssvdag: where its levels start in the paged stream (host/cache/paged_ssvdag.h: levels + 1 entries)
+  std::vector<uint64_t> level_starts;
   std::function<void(uint32_t page, std::span<uint32_t> words)> read;
 };
 
 // Uploads one encoded DAG to a device and answers batches of rays with the same kernel the renderer uses.
 // A paged .mvx (version 3) opened by memory map, its pages read (and checked against the page index) on
-// demand. Throws mv::Error for a file that is not paged (versions 1 and 2, ssvdag: they render resident).
+// demand. Throws mv::Error for a file that is not paged (versions 1 and 2, unpaged files: they render resident).
 PagedDag open_paged_mvx(const std::string& path);
 
 class Tracer {

@@ -130,10 +130,37 @@ MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvBufU32 reques
   return (slot << shift) | (addr & ((1u << shift) - 1u));
 }
 
+/* Paged traversal's walk state: the page resolved last and how far its words moved into their slot (mod 2^32),
+ * and `at`, the slot word of the stream word followed last (MV_CACHE_NONE: its page is missing). */
+MV_STRUCT_BEGIN(MvPageStep)
+  mv_u32 at;
+  mv_u32 page;
+  mv_u32 move;
+MV_STRUCT_END(MvPageStep)
+
+/* Follows stream word `word` from walk state `last`. A word in the page resolved last (most children in subtree
+ * order) skips the table and the stamp: one add instead of a dependent load on the way to its node. */
+MV_INLINE MvPageStep mv_page_follow(MvBufU32 table, MvBufU32 usage, MvBufU32 request, MvTraceParams p, mv_u32 word,
+                                    MvPageStep last) {
+  MvPageStep s = last;
+  mv_u32 page = word >> p.level_base[MV_TRACE_PAGE_SHIFT];
+  if (page == last.page) {
+    s.at = word + last.move;
+    return s;
+  }
+  s.at = mv_page_resolve(table, usage, request, p, word);
+  if (s.at != MV_CACHE_NONE) {
+    s.page = page;
+    s.move = s.at - word;
+  }
+  return s;
+}
+
 /* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
- * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse. Other
- * encodings ignore usage and request. */
+ * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse.
+ * MV_ENC_PAGED_SSVDAG: the same for an ssvdag, its level starts after the page table (MV_TRACE_PAGE_LEVELS).
+ * Other encodings ignore usage and request. */
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBufU32 usage, MvBufU32 request,
                          mv_u32 enc, mv_u32 in_params, MvRay r, MvTraceParams p) {
   const mv_u32 L = p.levels;
@@ -162,16 +189,21 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   mv_u32 mir_at[22];
   mv_u32 occ_at[22];
   mv_u32 nl = L;
-  mv_u32 root_at = enc == MV_ENC_PAGED ? mv_page_resolve(bricks, usage, request, p, 0u) : 0u;
-  /* paged: the page last resolved (the root's at first) and how far its words moved into their slot (mod 2^32) */
-  const mv_u32 page_shift = enc == MV_ENC_PAGED ? p.level_base[MV_TRACE_PAGE_SHIFT] : 0u;
-  mv_u32 last_page = root_at == MV_CACHE_NONE ? MV_CACHE_NONE : 0u;
-  mv_u32 last_move = root_at;
+  /* paged: the root's stream word (0; a paged ssvdag: its level's start, in 16-bit words, halved) */
+  const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? p.level_base[MV_TRACE_PAGE_LEVELS] : 0u;
+  const mv_u32 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD(bricks, levels_at + L) : 0u;
+  const mv_u32 root_word = root_half >> 1;
+  mv_u32 root_at = mv_enc_paged(enc) ? mv_page_resolve(bricks, usage, request, p, root_word) : 0u;
+  MvPageStep last; /* paged: the root's page first */
+  last.at = root_at;
+  last.page = root_at == MV_CACHE_NONE || !mv_enc_paged(enc) ? MV_CACHE_NONE : root_word >> p.level_base[MV_TRACE_PAGE_SHIFT];
+  last.move = root_at - root_word;
   mv_u32 coarse = root_at == MV_CACHE_NONE ? 1u : 0u; /* paged, root page missing: the root cube is the hit */
+  if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | (root_half & 1u);
   node_at[L] = root_at;
   mir_at[L] = 0u;
   mv_u64 root = mv_node_load(words, bricks, enc, L, coarse != 0u ? 0u : root_at); /* ssvdag: L >= 3, inner */
-  hdr_at[L] = enc == MV_ENC_SSVDAG ? mv_inner_word(root, 0u) : MV_U32(root);
+  hdr_at[L] = mv_enc_compact(enc) ? mv_inner_word(root, coarse != 0u ? 0u : root_at) : MV_U32(root);
   occ_at[L] = mv_node_occupancy(enc, hdr_at[L]);
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
   mv_f32 s = mv_cell_side(lc, L);
@@ -201,27 +233,14 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
       mv_u32 node = node_at[nl];
       mv_u32 hdr = hdr_at[nl];
       mv_u32 lv = nl - 1u;
-      if (enc != MV_ENC_SSVDAG) {
+      if (!mv_enc_compact(enc)) {
         mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
-        if (enc == MV_ENC_PAGED) {
-          /* a child in the page of the last one resolved (most children, in subtree order) skips the table and
-           * the stamp: one add instead of a dependent load on the way to its header */
-          mv_u32 page = child >> page_shift;
-          if (page == last_page) {
-            child += last_move;
-          } else {
-            mv_u32 word = child;
-            child = mv_page_resolve(bricks, usage, request, p, child);
-            if (child != MV_CACHE_NONE) {
-              last_page = page;
-              last_move = child - word;
-            }
-          }
-          if (child == MV_CACHE_NONE) {
-            coarse = 1u;
-            status = MV_TRACE_HIT;
-            break;
-          }
+        if (enc == MV_ENC_PAGED) { /* a missing page: the walk stops here, a coarse hit */
+          MvPageStep st = mv_page_follow(bricks, usage, request, p, child, last);
+          coarse = st.at == MV_CACHE_NONE ? 1u : 0u;
+          if (coarse != 0u) break;
+          last = st;
+          child = st.at;
         }
         mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
         node_at[lv] = child;
@@ -237,8 +256,18 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           mv_u32 off = mv_ssvdag_offset(ptr, code);
           tag = mv_ssvdag_tag(ptr);
           bool inner = lv > 2u;
-          child = mv_level_base(p, lvl_off, lv, in_params) + off;
-          mv_u64 data = mv_node_load(words, bricks, enc, lv, inner ? child : off);
+          if (enc == MV_ENC_PAGED_SSVDAG) {
+            /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each) */
+            mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
+            MvPageStep st = mv_page_follow(bricks, usage, request, p, inner ? w16 >> 1 : w16, last);
+            coarse = st.at == MV_CACHE_NONE ? 1u : 0u;
+            if (coarse != 0u) break;
+            last = st;
+            child = inner ? (st.at << 1) | (w16 & 1u) : st.at;
+          } else {
+            child = mv_level_base(p, lvl_off, lv, in_params) + off;
+          }
+          mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
           if (inner) {
             child_hdr = mv_inner_word(data, child);
             child_occ = mv_node_occupancy(enc, child_hdr);
@@ -292,6 +321,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
     }
   }
   h.steps = steps;
+  if (coarse != 0u) status = MV_TRACE_HIT;
   if (status != MV_TRACE_HIT) {
     h.info = status | (MV_AXIS_NONE << 2);
     return h;
@@ -306,7 +336,8 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
 
 #if !defined(MV_CPP)
 /* One work-item's share of a trace dispatch. `enc` and `in_params` are constants of the entry point (`enc`:
- * MV_ENC_SVDAG for every 32-bit word encoding, MV_ENC_PAGED for them through the page cache, or MV_ENC_SSVDAG;
+ * MV_ENC_SVDAG for every 32-bit word encoding, MV_ENC_PAGED for them through the page cache, MV_ENC_SSVDAG, or
+ * MV_ENC_PAGED_SSVDAG;
  * `in_params`: see mv_level_base), so each kernel
  * compiles only its own decode. */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,

@@ -12,15 +12,23 @@
 /* Thesis octant index (4x + 2y + z) of a Morton octant (x + 2y + 4z); its own inverse. */
 MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) | ((m >> 2) & 1u); }
 
+/* The compact ssvdag decode (resident or paged), and reads through the page cache (either encoding family):
+ * constants of each entry point, so each kernel compiles only its own path. */
+MV_INLINE bool mv_enc_compact(mv_u32 enc) { return enc == MV_ENC_SSVDAG || enc == MV_ENC_PAGED_SSVDAG; }
+MV_INLINE bool mv_enc_paged(mv_u32 enc) { return enc == MV_ENC_PAGED || enc == MV_ENC_PAGED_SSVDAG; }
+
 /* The walk's one read of the node streams: every header, pointer and brick it reads comes from here, by the
  * level of the node read, so a paged address layer can take its place. 32-bit word encodings: word `addr`.
  * ssvdag inner levels (lv > 2; 16-bit words stored two per 32-bit word, low half first): the two 32-bit words
  * from the one holding 16-bit word `addr`, so a header or both words of a pointer come in one read (any
  * parity; the stream ends with a spare word); ssvdag level 2: brick `addr`, low half first. One load whatever
- * the level: buffer and index are picked by selects, as lavapipe pays per load instruction (see trace.h). */
+ * the level: buffer and index are picked by selects, as lavapipe pays per load instruction (see trace.h).
+ * A paged ssvdag reads both from the cache's slots: inner nodes at 16-bit word `addr`, bricks at 32-bit word
+ * `addr` (the slots end with spare words). */
 MV_INLINE mv_u64 mv_node_load(MvBufU32 words, MvBufU32 bricks, mv_u32 enc, mv_u32 lv, mv_u32 addr) {
-  if (enc != MV_ENC_SSVDAG) return MV_U64(MV_LD(words, addr));
+  if (!mv_enc_compact(enc)) return MV_U64(MV_LD(words, addr));
   bool inner = lv > 2u;
+  if (enc == MV_ENC_PAGED_SSVDAG) return MV_LD_PAIR(words, inner ? addr >> 1 : addr);
   return MV_LD_PAIR(inner ? words : bricks, inner ? addr >> 1 : 2u * addr);
 }
 
@@ -78,7 +86,7 @@ MV_INLINE mv_u32 mv_thesis_mask(mv_u32 h) {
 
 /* 32-bit word encodings: the child mask in the header's low byte. ssvdag inner nodes: 2-bit codes, 0 = empty. */
 MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
-  if (enc != MV_ENC_SSVDAG) return mv_thesis_mask(hdr & 0xffu);
+  if (!mv_enc_compact(enc)) return mv_thesis_mask(hdr & 0xffu);
   /* bit 2k (k = 4x + 2y + z): code k != 0; the x = 1 byte onto the odd bits gives bit x + 2z + 4y; then swap
    * the y and z bits (2 <-> 4, 3 <-> 5) for x + 2y + 4z */
   mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u;

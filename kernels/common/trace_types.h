@@ -8,6 +8,7 @@
 #define MV_ENC_SVDAG 2u  /* also stands for svo and ussvdag: the same 32-bit word decode */
 #define MV_ENC_SSVDAG 4u
 #define MV_ENC_PAGED 8u  /* 32-bit word encodings read through the page cache (trace.h: mv_page_resolve) */
+#define MV_ENC_PAGED_SSVDAG 12u /* ssvdag read through the page cache (host/cache/paged_ssvdag.h) */
 #define MV_TRACE_MISS 0u
 #define MV_TRACE_HIT 1u
 #define MV_TRACE_GAVE_UP 2u /* max_steps reached */
@@ -32,10 +33,12 @@
 #define MV_INFO_NEGATIVE(i) (((i) >> 4) & 1u)
 #define MV_INFO_LEVEL(i) (((i) >> 8) & 31u)
 #define MV_INFO_COARSE(i) (((i) >> 13) & 1u)
-/* Paged traversal (MV_ENC_PAGED) needs no level starts: level_base carries the pass's stamp and log2 of the
- * page size in words instead. */
+/* Paged traversal (MV_ENC_PAGED, MV_ENC_PAGED_SSVDAG): level_base carries the pass's stamp, log2 of the page
+ * size in words and, for a paged ssvdag, where its level starts follow the page table (table[that + l]: the
+ * first node of inner level l in 16-bit words, l = 3 .. L; l = 2: the bricks' first 32-bit word). */
 #define MV_TRACE_PAGE_STAMP 0
 #define MV_TRACE_PAGE_SHIFT 1
+#define MV_TRACE_PAGE_LEVELS 2
 
 MV_STRUCT_BEGIN(MvTraceParams)
   mv_u32 first;     /* rays [first, first + count) in this dispatch */

@@ -27,6 +27,13 @@ __kernel void trace_rays_paged(__global float* src, __global uint* slots, __glob
                 0u);
 }
 
+// The same for an ssvdag through the page cache (its level starts follow the page table).
+__kernel void trace_rays_paged_ssvdag(__global float* src, __global uint* slots, __global uint* table,
+                                      __global uint* usage, __global uint* request, __global uint* out, MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(),
+                MV_ENC_PAGED_SSVDAG, 0u);
+}
+
 __kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global float* table,
                              __global uint* out, MvSecondaryParams p) {
   mv_secondary_rays(rays, cam, hits, table, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());

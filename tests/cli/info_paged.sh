@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `megavox info` on the paged .mvx (version 3) a build writes: the paging it prints (text and --json), every
-# page checked (a flipped byte inside a page is named), and an ssvdag file said to be unpaged.
+# page checked (a flipped byte inside a page is named), and an ssvdag file paged in level order.
 # Usage: info_paged.sh MEGAVOX
 set -euo pipefail
 megavox=$1
@@ -23,7 +23,9 @@ printf '\x5a' | dd of="$dir/bad.mvx" bs=1 seek=$((3 * 4096 + 10)) conv=notrunc s
 if err=$("$megavox" info "$dir/bad.mvx" 2>&1); then fail "a damaged page passed: $err"; fi
 grep -q "checksum mismatch in page 0" <<<"$err" || fail "no clear message: $err"
 "$megavox" build "$dir/tetra.ply" --resolution 256 --format ssvdag -o "$dir/s.mvx" >/dev/null
-"$megavox" info "$dir/s.mvx" | grep -q "not paged" || fail "ssvdag not said to be unpaged"
-[[ $("$megavox" info "$dir/s.mvx" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["paging"])') == None ]] \
-  || fail "ssvdag --json paging is not null"
+"$megavox" info "$dir/s.mvx" | grep -q "paged: .* level order" || fail "ssvdag not said to be paged in level order"
+"$megavox" info "$dir/s.mvx" --json | python3 -c '
+import json, sys
+p = json.load(sys.stdin)["paging"]
+assert p["node_order"] == "level" and 1.0 <= p["size_ratio"] < 1.05, p' || fail "bad ssvdag --json paging"
 echo "info paged: ok"

@@ -130,32 +130,6 @@ MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvBufU32 reques
   return (slot << shift) | (addr & ((1u << shift) - 1u));
 }
 
-/* Paged traversal's walk state: the page resolved last and how far its words moved into their slot (mod 2^32),
- * and `at`, the slot word of the stream word followed last (MV_CACHE_NONE: its page is missing). */
-MV_STRUCT_BEGIN(MvPageStep)
-  mv_u32 at;
-  mv_u32 page;
-  mv_u32 move;
-MV_STRUCT_END(MvPageStep)
-
-/* Follows stream word `word` from walk state `last`. A word in the page resolved last (most children in subtree
- * order) skips the table and the stamp: one add instead of a dependent load on the way to its node. */
-MV_INLINE MvPageStep mv_page_follow(MvBufU32 table, MvBufU32 usage, MvBufU32 request, MvTraceParams p, mv_u32 word,
-                                    MvPageStep last) {
-  MvPageStep s = last;
-  mv_u32 page = word >> p.level_base[MV_TRACE_PAGE_SHIFT];
-  if (page == last.page) {
-    s.at = word + last.move;
-    return s;
-  }
-  s.at = mv_page_resolve(table, usage, request, p, word);
-  if (s.at != MV_CACHE_NONE) {
-    s.page = page;
-    s.move = s.at - word;
-  }
-  return s;
-}
-
 /* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
  * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse.
@@ -194,10 +168,12 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   const mv_u32 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD(bricks, levels_at + L) : 0u;
   const mv_u32 root_word = root_half >> 1;
   mv_u32 root_at = mv_enc_paged(enc) ? mv_page_resolve(bricks, usage, request, p, root_word) : 0u;
-  MvPageStep last; /* paged: the root's page first */
-  last.at = root_at;
-  last.page = root_at == MV_CACHE_NONE || !mv_enc_paged(enc) ? MV_CACHE_NONE : root_word >> p.level_base[MV_TRACE_PAGE_SHIFT];
-  last.move = root_at - root_word;
+  /* paged: the page last resolved (the root's at first) and how far its words moved into their slot (mod 2^32);
+   * a child in that page (most children, in subtree order) skips the table and the stamp: one add instead of a
+   * dependent load on the way to its node */
+  const mv_u32 page_shift = mv_enc_paged(enc) ? p.level_base[MV_TRACE_PAGE_SHIFT] : 0u;
+  mv_u32 last_page = root_at == MV_CACHE_NONE ? MV_CACHE_NONE : root_word >> page_shift;
+  mv_u32 last_move = root_at - root_word;
   mv_u32 coarse = root_at == MV_CACHE_NONE ? 1u : 0u; /* paged, root page missing: the root cube is the hit */
   if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | (root_half & 1u);
   node_at[L] = root_at;
@@ -235,12 +211,23 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
       mv_u32 lv = nl - 1u;
       if (!mv_enc_compact(enc)) {
         mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
-        if (enc == MV_ENC_PAGED) { /* a missing page: the walk stops here, a coarse hit */
-          MvPageStep st = mv_page_follow(bricks, usage, request, p, child, last);
-          coarse = st.at == MV_CACHE_NONE ? 1u : 0u;
-          if (coarse != 0u) break;
-          last = st;
-          child = st.at;
+        if (enc == MV_ENC_PAGED) {
+          mv_u32 page = child >> page_shift;
+          if (page == last_page) {
+            child += last_move;
+          } else {
+            mv_u32 word = child;
+            child = mv_page_resolve(bricks, usage, request, p, child);
+            if (child != MV_CACHE_NONE) {
+              last_page = page;
+              last_move = child - word;
+            }
+          }
+          if (child == MV_CACHE_NONE) {
+            coarse = 1u;
+            status = MV_TRACE_HIT;
+            break;
+          }
         }
         mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
         node_at[lv] = child;
@@ -259,11 +246,18 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           if (enc == MV_ENC_PAGED_SSVDAG) {
             /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each) */
             mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
-            MvPageStep st = mv_page_follow(bricks, usage, request, p, inner ? w16 >> 1 : w16, last);
-            coarse = st.at == MV_CACHE_NONE ? 1u : 0u;
-            if (coarse != 0u) break;
-            last = st;
-            child = inner ? (st.at << 1) | (w16 & 1u) : st.at;
+            mv_u32 word = inner ? w16 >> 1 : w16, at = word + last_move;
+            if (word >> page_shift != last_page) { /* as for the word encodings above */
+              at = mv_page_resolve(bricks, usage, request, p, word);
+              if (at == MV_CACHE_NONE) {
+                coarse = 1u;
+                status = MV_TRACE_HIT;
+                break;
+              }
+              last_page = word >> page_shift;
+              last_move = at - word;
+            }
+            child = inner ? (at << 1) | (w16 & 1u) : at;
           } else {
             child = mv_level_base(p, lvl_off, lv, in_params) + off;
           }
@@ -321,7 +315,6 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
     }
   }
   h.steps = steps;
-  if (coarse != 0u) status = MV_TRACE_HIT;
   if (status != MV_TRACE_HIT) {
     h.info = status | (MV_AXIS_NONE << 2);
     return h;

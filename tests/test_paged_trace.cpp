@@ -373,6 +373,40 @@ TEST_P(PagedTraceTest, FailingProducerLeavesPagesMissing) {
   }
 }
 
+// A device budget that leaves too little beside the page cache for the frame's per-pixel buffers: the frame is
+// traced in bands of rows (each with its own first pixel, AO samples hashed by the frame's pixel), byte-identical
+// to the frame traced whole, resident and paged; a budget without room for one row is a clear error.
+TEST_P(PagedTraceTest, FrameBuffersOverTheBudgetAreTiled) {
+  Device& dev = shared_device(GetParam());
+  const MvxFile f = octahedron(dev, 6, Encoding::svdag);
+  Paged p = paged(f);
+  RenderOptions o;
+  o.width = 320;
+  o.height = 240;
+  o.shading = Shading::shaded;
+  o.ao_samples = 2;
+  const Camera cam = view_camera(f.bounds, "iso");
+  Tracer whole(dev, f);
+  const RenderResult want = render(whole, cam, o);
+  ASSERT_EQ(want.tiles, 1u);
+  auto small = Device::open({GetParam().selector(), 2u << 20, false});  // 2 MiB: 60 bytes a pixel is 4.6 MB
+  for (bool paged_dag : {false, true}) {
+    SCOPED_TRACE(paged_dag ? "paged" : "resident");
+    Tracer tracer = paged_dag ? Tracer(*small, p.dag, uint64_t{p.dag.pages} * kPageWords * 4) : Tracer(*small, f);
+    const RenderResult got = render(tracer, cam, o);
+    EXPECT_GT(got.tiles, 2u);
+    EXPECT_TRUE(got.converged);
+    EXPECT_EQ(got.hits, want.hits);
+    EXPECT_TRUE(got.image.rgb == want.image.rgb) << "the tiled frame differs from the whole one";
+  }
+  auto tiny = Device::open({GetParam().selector(), 512u << 10, false});
+  Tracer tracer(*tiny, f);
+  o.width = 8192;
+  o.height = 2;
+  const std::string msg = error_message([&] { render(tracer, cam, o); });
+  EXPECT_NE(msg.find("one row of 8192 pixels needs"), std::string::npos) << msg;
+}
+
 TEST_P(PagedTraceTest, PagedSsvdagNeedsItsLevelStarts) {
   Device& dev = shared_device(GetParam());
   PagedDag d;

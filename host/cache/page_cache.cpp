@@ -57,6 +57,12 @@ PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), co
   dev.finish();
 }
 
+uint64_t PageCache::update_scratch_bytes() const {
+  const uint64_t page = dev_.page_bytes(), n = config_.max_loads ? std::min(config_.max_loads, config_.slots) : config_.slots;
+  auto pages = [&](uint64_t bytes) { return (bytes + page - 1) / page * page; };
+  return pages(n * config_.page_words * 4) + pages(n * 4);
+}
+
 // The missing pages asked for in this pass, in page order, each once.
 void PageCache::record_requests(const MvCacheParams& p) {
   dev_.dispatch(dev_.kernel(KernelId::cache_request_flags), dev_.groups_for(p.n, kLocal), kLocal,

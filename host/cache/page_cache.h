@@ -50,6 +50,10 @@ class PageCache {
   // victims, the placed batch, the end) and once when none do.
   CacheUpdateStats update(const PageProducer& produce);
 
+  // The most device memory an update allocates for its duration (the upload batch of up to `slots` pages and
+  // their flags), which whoever sizes other buffers beside the cache leaves free.
+  uint64_t update_scratch_bytes() const;
+
   // The distinct missing pages the current pass has asked for so far, in page order, at most `cap` of them. For
   // reading pages ahead while the pass goes on; update() then finds them again with the later ones. Where the
   // host sees the device's memory (CPU devices) it reads the stamps and the table in place once the stream is

@@ -1,7 +1,10 @@
 // The device renderer: primary rays from the camera, then shadow and ambient-occlusion passes through the
 // same traversal kernel; shading on the host (frame.h).
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 
+#include "cache/page_cache.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"
@@ -33,19 +36,43 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     out.trace_seconds += sec;
   };
 
-  Buffer cam = dev.alloc(sizeof(s.camera), "camera");
-  dev.upload(cam, s.camera, sizeof(s.camera));
-  Buffer hits = dev.alloc(uint64_t{n} * MV_HIT_WORDS * 4, "primary hits");
   const bool shaded = options.shading == Shading::shaded;
   const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
+  Buffer cam = dev.alloc(sizeof(s.camera), "camera");
   Buffer rays, counts, table;
-  if (shaded) {
-    rays = dev.alloc(uint64_t{n} * MV_RAY_FLOATS * 4, "secondary rays");
-    counts = dev.alloc(uint64_t{n} * 4, "occlusion counts");
-    if (s.ao_samples) {
-      table = dev.alloc(s.ao_table.size() * 4, "AO directions");
-      dev.upload(table, s.ao_table.data(), s.ao_table.size() * 4);
+  if (shaded && s.ao_samples) {
+    table = dev.alloc(s.ao_table.size() * 4, "AO directions");
+    dev.upload(table, s.ao_table.data(), s.ao_table.size() * 4);
+  }
+  // The per-pixel buffers hold one tile: the whole frame when the device budget left beside the page cache (and
+  // the rest) holds it, else bands of whole rows that do, each traced with its own first pixel (MV_CAMERA_FIRST).
+  const uint64_t per_pixel = 4 * (MV_HIT_WORDS + (shaded ? MV_RAY_FLOATS + 1 : 0));
+  // each buffer rounds up to whole pages; a paged tracer's cache update needs its batch beside them
+  const uint64_t keep = 4 * dev.page_bytes() + (tracer.paged() ? tracer.cache()->update_scratch_bytes() : 0);
+  const uint64_t left = dev.memory_budget() > dev.memory_used() + keep ? dev.memory_budget() - dev.memory_used() - keep : 0;
+  uint32_t rows = static_cast<uint32_t>(std::clamp<uint64_t>(left / (per_pixel * s.width), 1, s.height));
+  Buffer hits;
+  for (;;) {  // fewer rows when the pool cannot place them (its pages are carved out of a few arenas)
+    try {
+      hits = dev.alloc(uint64_t{rows} * s.width * MV_HIT_WORDS * 4, "primary hits");
+      if (shaded) {
+        rays = dev.alloc(uint64_t{rows} * s.width * MV_RAY_FLOATS * 4, "secondary rays");
+        counts = dev.alloc(uint64_t{rows} * s.width * 4, "occlusion counts");
+      }
+      break;
+    } catch (const DeviceMemoryError&) {
+      hits = Buffer(), rays = Buffer(), counts = Buffer();
+      if (rows == 1)
+        throw DeviceMemoryError("render: one row of " + std::to_string(s.width) + " pixels needs " +
+                                format_bytes(per_pixel * s.width) + " of device memory, and " + format_bytes(left) +
+                                " of the " + format_bytes(dev.memory_budget()) +
+                                " budget is left beside the page cache (and its update's batch) and the DAG: raise --device-memory, or lower "
+                                "--cache-memory or --width");
+      rows /= 2;
     }
+  }
+  const uint32_t tile_pixels = rows * s.width;
+  if (shaded) {
     res.shadow.assign(n, 0);
     if (s.ao_samples) res.ao.assign(n, 0);
   }
@@ -61,10 +88,13 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   };
   auto trace_tile = [&](const Tile& t) {
     TileHits h;
+    float tile_cam[MV_CAMERA_FLOATS];
+    std::copy(std::begin(s.camera), std::end(s.camera), tile_cam);
+    tile_cam[MV_CAMERA_FIRST] = MV_BITSF(t.first);
+    dev.upload(cam, tile_cam, sizeof tile_cam);
     pass("primary", t.count,
-         [&] { engine.trace(nullptr, &cam, t.first, t.count, s.width, s.proj, options.max_steps, false, hits); });
-    dev.download(hits, res.hits.data() + uint64_t{t.first} * MV_HIT_WORDS, uint64_t{t.count} * MV_HIT_WORDS * 4,
-                 uint64_t{t.first} * MV_HIT_WORDS * 4);
+         [&] { engine.trace(nullptr, &cam, 0, t.count, s.width, s.proj, options.max_steps, false, hits); });
+    dev.download(hits, res.hits.data() + uint64_t{t.first} * MV_HIT_WORDS, uint64_t{t.count} * MV_HIT_WORDS * 4);
     for (uint32_t i = t.first; i < t.first + t.count; ++i) {
       const uint32_t info = mv_load_hit(res.hits.data(), i).info;
       const bool hit = MV_INFO_STATUS(info) == MV_TRACE_HIT;
@@ -74,21 +104,21 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     if (!shaded || !h.hits) return h;
     if (read_ahead) tracer.read_ahead();  // the primary rays' missing pages read while shadow and AO trace
     auto occlusion = [&](const std::string& name, uint64_t rays_traced, uint32_t* into, auto&& make_rays) {
-      dev.fill(counts, 0, uint64_t{t.count} * 4, uint64_t{t.first} * 4);
+      dev.fill(counts, 0, uint64_t{t.count} * 4);
       pass(name, rays_traced, make_rays);
-      dev.download(counts, into + t.first, uint64_t{t.count} * 4, uint64_t{t.first} * 4);
+      dev.download(counts, into + t.first, uint64_t{t.count} * 4);
     };
     occlusion("shadow", h.hits, res.shadow.data(), [&] {
-      engine.secondary(nullptr, &cam, hits, nullptr, t.first, t.count, s.shadow, rays);
-      engine.trace(&rays, nullptr, t.first, t.count, 0, s.proj, options.max_steps, true, counts);
+      engine.secondary(nullptr, &cam, hits, nullptr, 0, t.count, s.shadow, rays);
+      engine.trace(&rays, nullptr, 0, t.count, 0, s.proj, options.max_steps, true, counts);
     });
     if (s.ao_samples)
       occlusion("ao", h.hits * s.ao_samples, res.ao.data(), [&] {
         for (uint32_t k = 0; k < s.ao_samples; ++k) {
           MvSecondaryParams p = s.ao;
           p.sample_k = k;
-          engine.secondary(nullptr, &cam, hits, &table, t.first, t.count, p, rays);
-          engine.trace(&rays, nullptr, t.first, t.count, 0, s.proj, options.max_steps, true, counts);
+          engine.secondary(nullptr, &cam, hits, &table, 0, t.count, p, rays);
+          engine.trace(&rays, nullptr, 0, t.count, 0, s.proj, options.max_steps, true, counts);
         }
       });
     return h;
@@ -98,9 +128,14 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   // traces again, until a pass misses nothing (those pixels are then the resident render's) or makes no
   // progress. A tile whose pages do not fit the cache (its pass used and requested more pages than there are
   // slots) is halved and its halves rendered in turn, down to 1/kMinTileShare of the frame: then a view whose pages
-  // exceed the cache still converges to the resident picture, a band at a time.
+  // exceed the cache still converges to the resident picture, a band at a time. The first tiles are the
+  // bands the per-pixel buffers hold.
   const uint32_t min_tile = std::max<uint32_t>(64, n / kMinTileShare);
-  std::vector<Tile> todo = {{0, n}};  // a stack: the next tile at the back, bands in row order
+  std::vector<Tile> todo;  // a stack: the next tile at the back, bands in row order
+  for (uint32_t first = (n - 1) / tile_pixels * tile_pixels;; first -= tile_pixels) {
+    todo.push_back({first, std::min(tile_pixels, n - first)});
+    if (first == 0) break;
+  }
   out.converged = true;
   while (!todo.empty()) {
     const Tile t = todo.back();

@@ -69,8 +69,9 @@ struct RenderResult {
   std::vector<RenderPass> passes;  // of each tile's last pass
   uint64_t hits = 0;  // pixels whose primary ray hit
   // Paged tracers: one update per pass; converged when every tile's last pass met no missing page, so the
-  // picture equals the resident render's. A frame is one tile unless its pages exceed the cache: then bands
-  // of rows, halved until each fits (render.cpp).
+  // picture equals the resident render's. A frame is one tile unless its per-pixel device buffers (60 bytes a
+  // pixel shaded, 24 otherwise) exceed the device budget left beside the cache and the DAG, or its pages
+  // exceed the cache: then bands of rows that fit, halved until their pages fit too (render.cpp).
   std::vector<CacheUpdateStats> cache;
   bool converged = true;
   uint32_t tiles = 0;

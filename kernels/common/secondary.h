@@ -108,7 +108,9 @@ MV_INLINE void mv_secondary_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 hits, MvB
   for (mv_u32 j = gid; j < p.count; j += gsize) {
     mv_u32 i = p.first + j;
     MvRay pr = p.camera == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);
-    mv_store_ray(rays_out, i, mv_make_secondary(pr, mv_load_hit(hits, i), table, i, p));
+    /* AO samples hash the frame's pixel, so a frame rendered in tiles gets the same rays */
+    mv_u32 pixel = p.camera == 1u ? mv_camera_pixel(cam, i) : i;
+    mv_store_ray(rays_out, i, mv_make_secondary(pr, mv_load_hit(hits, i), table, pixel, p));
   }
 }
 #endif

@@ -22,6 +22,7 @@
 #define MV_CAMERA_DU 6u
 #define MV_CAMERA_DV 9u
 #define MV_CAMERA_TMAX 12u
+#define MV_CAMERA_FIRST 13u /* the pixel of ray 0 (float bits of a u32): a tile's rays index its own buffers */
 #define MV_TRACE_PARAM_LEVELS 11u /* the parameters can hold where ssvdag levels 3 .. 13 start (every tree up
                                      to 16K^3); the push constants hold no more (128 bytes) */
 
@@ -127,11 +128,15 @@ MV_INLINE MvHit mv_load_hit(MvBufConstU32 hits, mv_u32 i) {
   return h;
 }
 
-/* The camera ray of a pixel (row 0 at the top): camera buffer = eye[3], base[3], du[3], dv[3], tmax (the
- * MV_CAMERA_* offsets), where the direction is base + x du + y dv (not normalized: its component along the
- * view axis is 1, so t is depth along the view axis). */
-MV_INLINE MvRay mv_camera_ray(MvBufF32 cam, mv_u32 pixel, mv_u32 width) {
+/* The frame's pixel of camera ray `ray` (MV_CAMERA_FIRST on). */
+MV_INLINE mv_u32 mv_camera_pixel(MvBufF32 cam, mv_u32 ray) { return ray + MV_FBITS(MV_LD(cam, MV_CAMERA_FIRST)); }
+
+/* The camera ray of ray `ray`, pixel mv_camera_pixel (row 0 at the top): camera buffer = eye[3], base[3],
+ * du[3], dv[3], tmax, first (the MV_CAMERA_* offsets), where the direction is base + x du + y dv (not
+ * normalized: its component along the view axis is 1, so t is depth along the view axis). */
+MV_INLINE MvRay mv_camera_ray(MvBufF32 cam, mv_u32 ray, mv_u32 width) {
   MvRay r;
+  mv_u32 pixel = mv_camera_pixel(cam, ray);
   mv_f32 fx = MV_F32(pixel % width), fy = MV_F32(pixel / width);
   r.ox = MV_LD(cam, MV_CAMERA_EYE); r.oy = MV_LD(cam, MV_CAMERA_EYE + 1u); r.oz = MV_LD(cam, MV_CAMERA_EYE + 2u);
   MV_PRECISE mv_f32 dx = MV_LD(cam, MV_CAMERA_BASE) + fx * MV_LD(cam, MV_CAMERA_DU) + fy * MV_LD(cam, MV_CAMERA_DV);

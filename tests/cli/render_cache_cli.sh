@@ -4,7 +4,8 @@
 # frames and one JSON line each with the cache's figures, a one-page cache warns and still writes a picture,
 # an ssvdag (paged level by level) renders the resident PNG through a quarter of its pages, and what cannot work
 # fails with a clear message and no output: a cache smaller
-# than a page, a cache over --device-memory, a malformed flight.
+# than a page, a cache over --device-memory, a row of pixels that does not fit beside the cache (a frame that
+# does not fit renders in bands, the same PNG), a malformed flight.
 # Usage: render_cache_cli.sh MEGAVOX
 set -euo pipefail
 megavox=$1
@@ -84,7 +85,13 @@ expect_error() {  # expect_error PATTERN ARGS...: fails with a message matching 
   [[ ! -e $dir/bad.png && ! -e $dir/badframes ]] || fail "output left behind by $*"
 }
 expect_error "holds no page" render "$dir/t.mvx" -o "$dir/bad.png" --cache-memory 1K
-expect_error "device memory\|budget" --device-memory 4M render "$dir/t.mvx" -o "$dir/bad.png" --cache-memory 64M
+expect_error "device memory.*page cache slots" --device-memory 256K render "$dir/t.mvx" -o "$dir/bad.png" --cache-memory 1M
+expect_error "one row of 16384 pixels needs" --device-memory 2M render "$dir/t.mvx" -o "$dir/bad.png" --cache-memory 512K \
+  --width 16384 --height 4
+# a frame whose buffers do not fit beside the cache renders in bands of rows: the resident PNG all the same
+"$megavox" --device-memory 4M render "$dir/t.mvx" -o "$dir/banded.png" "${view[@]/160/640}" --cache-memory 1M --quiet
+"$megavox" render "$dir/t.mvx" -o "$dir/whole.png" "${view[@]/160/640}" --quiet
+cmp "$dir/whole.png" "$dir/banded.png" || fail "the banded frame differs from the whole one"
 echo '{"frames": [{"eye": [1, 1, 1]}]}' >"$dir/bad.json"
 expect_error "frame 0: no \"target\"" render "$dir/t.mvx" --path "$dir/bad.json" -o "$dir/badframes" --cache-memory "$cache"
 echo "render --cache-memory / --path: ok"

@@ -42,7 +42,9 @@ bool same_ssvdag(const EncodedDag& a, const EncodedDag& b) {
   return a.inner == b.inner && a.bricks == b.bricks && a.level_offset == b.level_offset && a.levels == b.levels;
 }
 
-uint32_t paged_header_at(const PagedSsvdag& p, uint64_t w16) { return reinterpret_cast<const uint16_t*>(p.words.data())[w16]; }
+uint32_t paged_header_at(const PagedSsvdag& p, uint64_t w16) {
+  return reinterpret_cast<const uint16_t*>(p.words.data())[w16];
+}
 
 TEST(PagedSsvdag, RoundTripIsByteForByte) {
   for (const auto& [name, enc0] : ssvdag_cases(7)) {
@@ -109,8 +111,9 @@ TEST(PagedSsvdag, EmptyAndUnpageable) {
   EXPECT_TRUE(ssvdag_from_pages({}, {}, 5, 4096).inner.empty());
   const EncodedDag enc = ssvdag_cases(5)[0].second;
   EXPECT_NE(error_message([&] { paged_ssvdag(enc, 8); }).find("cannot hold a node"), std::string::npos);
-  EXPECT_NE(error_message([&] { paged_ssvdag(encode_svdag(host_dag(voxel_sets(5)[0].second, 5, true)), 64); })
-                .find("not an ssvdag"),
+  EXPECT_NE(error_message([&] {
+              paged_ssvdag(encode_svdag(host_dag(voxel_sets(5)[0].second, 5, true)), 64);
+            }).find("not an ssvdag"),
             std::string::npos);
 }
 

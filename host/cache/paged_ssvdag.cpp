@@ -27,8 +27,8 @@ Error fail(const std::string& why) { return Error("ssvdag pages: " + why); }
 // The nodes of inner level `l` in 16-bit words in[begin, end) (absolute indices). `below`: the starts of the
 // level below's nodes, relative to its begin, ascending (level 3: null, and `bricks` bricks). page16 != 0:
 // zero padding may run from a node's end to the next multiple of page16 (or to the level's end, when the next
-// level starts there), and no node crosses such a multiple. `root`: the level holds one node, and at most one zero word follows it.
-// Returns the level's node starts relative to begin.
+// level starts there), and no node crosses such a multiple. `root`: the level holds one node, and at most one
+// zero word follows it. Returns the level's node starts relative to begin.
 std::vector<uint64_t> parse_level(std::span<const uint16_t> in, uint64_t begin, uint64_t end, uint64_t page16,
                                   uint32_t l, const std::vector<uint64_t>* below, uint64_t bricks, bool root,
                                   Level& out) {
@@ -49,7 +49,8 @@ std::vector<uint64_t> parse_level(std::span<const uint16_t> in, uint64_t begin, 
     }
     uint64_t size = 1;
     for (uint32_t t = 0; t < 8; ++t) size += std::min<uint32_t>(header >> (2 * t) & 3, 2);
-    if (w + size > end) throw fail("the node at 16-bit word " + std::to_string(w) + " runs past level " + std::to_string(l));
+    if (w + size > end)
+      throw fail("the node at 16-bit word " + std::to_string(w) + " runs past level " + std::to_string(l));
     if (page16 && w / page16 != (w + size - 1) / page16)
       throw fail("the node at 16-bit word " + std::to_string(w) + " crosses a page boundary");
     starts.push_back(w - begin);
@@ -72,7 +73,8 @@ std::vector<uint64_t> parse_level(std::span<const uint16_t> in, uint64_t begin, 
       if (below) {
         const auto at = std::lower_bound(below->begin(), below->end(), off);
         if (at == below->end() || *at != off)
-          throw fail("the node at 16-bit word " + std::to_string(w) + " points to no node of level " + std::to_string(l - 1));
+          throw fail("the node at 16-bit word " + std::to_string(w) + " points to no node of level " +
+                     std::to_string(l - 1));
         target = static_cast<uint64_t>(at - below->begin());
       } else if (off >= bricks) {
         throw fail("the node at 16-bit word " + std::to_string(w) + " points past the bricks");
@@ -143,7 +145,8 @@ std::vector<std::vector<uint32_t>> first_met(const Parsed& in, uint32_t L) {
     for (uint32_t k : seen[l]) {
       std::pair<uint32_t, uint32_t> kids[8];  // (Morton octant, child)
       uint32_t n = 0;
-      for (uint32_t j = lv.first[k]; j < lv.first[k + 1]; ++j) kids[n++] = {mv_thesis_octant(lv.octant[j]), lv.target[j]};
+      for (uint32_t j = lv.first[k]; j < lv.first[k + 1]; ++j)
+        kids[n++] = {mv_thesis_octant(lv.octant[j]), lv.target[j]};
       std::sort(kids, kids + n);
       for (uint32_t j = 0; j < n; ++j)
         if (!met[kids[j].second]) {
@@ -218,7 +221,8 @@ EncodedDag resident(const Parsed& in, uint32_t L) {
 
 PagedSsvdag paged_ssvdag(const EncodedDag& enc, uint32_t page_words) {
   if (enc.encoding != Encoding::ssvdag) throw Error("paged ssvdag: the DAG is not an ssvdag");
-  if (2 * uint64_t{page_words} < kMaxNodeWords16 || page_words % 2) throw fail("pages of " + std::to_string(page_words) + " words cannot hold a node");
+  if (2 * uint64_t{page_words} < kMaxNodeWords16 || page_words % 2)
+    throw fail("pages of " + std::to_string(page_words) + " words cannot hold a node");
   validate_ssvdag(enc);
   PagedSsvdag out;
   const uint32_t L = enc.levels;
@@ -233,8 +237,8 @@ PagedSsvdag paged_ssvdag(const EncodedDag& enc, uint32_t page_words) {
   std::vector<uint64_t> below;
   for (uint32_t l = 3; l <= L; ++l) {
     const uint64_t end = l == 3 ? enc.inner.size() : enc.level_offset[l - 1];
-    below = parse_level(enc.inner, enc.level_offset[l], end, 0, l, l == 3 ? nullptr : &below, enc.bricks.size(),
-                        l == L, parsed.level[l]);
+    below = parse_level(enc.inner, enc.level_offset[l], end, 0, l, l == 3 ? nullptr : &below, enc.bricks.size(), l == L,
+                        parsed.level[l]);
   }
   const Parsed canon = reorder(parsed, resident_order(parsed, L), L);  // the input itself, if encode_ssvdag made it
   const EncodedDag res = resident(canon, L);
@@ -287,19 +291,23 @@ EncodedDag ssvdag_from_pages(std::span<const uint32_t> words, std::span<const ui
   if (L < 3 || L > 21) throw fail("bad level count " + std::to_string(L));
   enc.level_offset.assign(L + 1, 0);
   if (words.empty()) return enc;
-  if (2 * uint64_t{page_words} < kMaxNodeWords16 || page_words % 2) throw fail("pages of " + std::to_string(page_words) + " words cannot hold a node");
-  if (starts.size() != L + 1u) throw fail(std::to_string(starts.size()) + " level starts for " + std::to_string(L) + " levels");
+  if (2 * uint64_t{page_words} < kMaxNodeWords16 || page_words % 2)
+    throw fail("pages of " + std::to_string(page_words) + " words cannot hold a node");
+  if (starts.size() != L + 1u)
+    throw fail(std::to_string(starts.size()) + " level starts for " + std::to_string(L) + " levels");
   const uint64_t n16 = uint64_t{words.size()} * 2;
   if (starts[0] || starts[2]) throw fail("the bricks must start at word 0");
   for (uint32_t l = 3; l <= L; ++l)
     if (starts[l] > n16 || (l > 3 && starts[l] <= starts[l - 1]))
-      throw fail("level " + std::to_string(l) + " starts at 16-bit word " + std::to_string(starts[l]) + ", out of order");
+      throw fail("level " + std::to_string(l) + " starts at 16-bit word " + std::to_string(starts[l]) +
+                 ", out of order");
   const uint64_t bricks = starts[1];
   const uint64_t page16 = uint64_t{page_words} * 2;
   const std::span<const uint16_t> in(reinterpret_cast<const uint16_t*>(words.data()), n16);
   // between the bricks and level 3: nothing, or zero padding up to a page boundary
   if (bricks > starts[3] / 4 || (starts[3] != bricks * 4 && starts[3] % page16 != 0))
-    throw fail(std::to_string(bricks) + " bricks do not end where level 3 starts (16-bit word " + std::to_string(starts[3]) + ")");
+    throw fail(std::to_string(bricks) + " bricks do not end where level 3 starts (16-bit word " +
+               std::to_string(starts[3]) + ")");
   for (uint64_t w = bricks * 4; w < starts[3]; ++w)
     if (in[w] != 0) throw fail("16-bit word " + std::to_string(w) + " lies in padding but is not zero");
   // Levels bottom-up; padding before a level's first node lies at the end of the level below.

@@ -24,11 +24,11 @@
 namespace mv {
 
 struct PagedSsvdag {
+  std::vector<uint32_t> words;   // the paged stream (its last page not padded)
+  std::vector<uint64_t> starts;  // levels + 1 entries: [0] 0, [1] the brick count, [2] the bricks' first
+                                 // 32-bit word (0), [3 .. levels] each inner level's first node (16-bit words)
   std::vector<uint64_t> level_offset;  // of the resident encoding the way back gives (the input's, when
                                        // encode_ssvdag made it)
-  std::vector<uint32_t> words;   // the paged stream (its last page not padded)
-  std::vector<uint64_t> starts;  // levels + 1 entries: [0] 0, [1] the brick count, [2] the bricks' first 32-bit
-                                 // word (0), [3 .. levels] each inner level's first node (16-bit words)
 };
 
 // The paged stream of a valid ssvdag (validated first); an empty DAG gives no words. Throws mv::Error for a

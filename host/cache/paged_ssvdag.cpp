@@ -5,6 +5,7 @@
 #include <string>
 
 #include "../../kernels/common/trace_nodes.h"
+#include "encode/node_order.h"
 #include "megavox/error.h"
 
 namespace mv {
@@ -133,43 +134,18 @@ struct Parsed {
   std::vector<uint64_t> bricks;
 };
 
-// Level l's nodes (2: bricks) in the order a walk from the root first meets them: level by level, parents in
-// that order, children by ascending Morton octant; nodes never met follow in index order. encode_ssvdag
-// breaks its ties by the same order.
-std::vector<std::vector<uint32_t>> first_met(const Parsed& in, uint32_t L) {
-  std::vector<std::vector<uint32_t>> seen(L + 1);
-  seen[L].push_back(0);
-  for (uint32_t l = L; l >= 3; --l) {
+// The node-order callbacks (encode/node_order.h) over `in`: children carry thesis octants, Morton is their image.
+struct Shape {
+  const Parsed& in;
+  uint32_t operator()(uint32_t l) const {
+    return l == 2 ? static_cast<uint32_t>(in.bricks.size()) : in.level[l].nodes();
+  }
+  template <class F>
+  void operator()(uint32_t l, uint32_t k, F&& f) const {
     const Level& lv = in.level[l];
-    std::vector<bool> met(l == 3 ? in.bricks.size() : in.level[l - 1].nodes(), false);
-    for (uint32_t k : seen[l]) {
-      std::pair<uint32_t, uint32_t> kids[8];  // (Morton octant, child)
-      uint32_t n = 0;
-      for (uint32_t j = lv.first[k]; j < lv.first[k + 1]; ++j)
-        kids[n++] = {mv_thesis_octant(lv.octant[j]), lv.target[j]};
-      std::sort(kids, kids + n);
-      for (uint32_t j = 0; j < n; ++j)
-        if (!met[kids[j].second]) {
-          met[kids[j].second] = true;
-          seen[l - 1].push_back(kids[j].second);
-        }
-    }
-    for (uint32_t i = 0; i < met.size(); ++i)
-      if (!met[i]) seen[l - 1].push_back(i);
+    for (uint32_t j = lv.first[k]; j < lv.first[k + 1]; ++j) f(mv_thesis_octant(lv.octant[j]), lv.target[j]);
   }
-  return seen;
-}
-
-// The resident encoding's order (encode_ssvdag): by descending reference count, ties by first_met.
-std::vector<std::vector<uint32_t>> resident_order(const Parsed& in, uint32_t L) {
-  std::vector<std::vector<uint32_t>> order = first_met(in, L);
-  for (uint32_t l = 2; l < L; ++l) {
-    std::vector<uint32_t> refs(l == 2 ? in.bricks.size() : in.level[l].nodes(), 0);
-    for (uint32_t t : in.level[l + 1].target) ++refs[t];
-    std::stable_sort(order[l].begin(), order[l].end(), [&](uint32_t a, uint32_t b) { return refs[a] > refs[b]; });
-  }
-  return order;
-}
+};
 
 // `in` with its nodes placed in `order` (order[l][p]: the node of `in` that goes p-th), pointers following.
 Parsed reorder(const Parsed& in, const std::vector<std::vector<uint32_t>>& order, uint32_t L) {
@@ -240,12 +216,13 @@ PagedSsvdag paged_ssvdag(const EncodedDag& enc, uint32_t page_words) {
     below = parse_level(enc.inner, enc.level_offset[l], end, 0, l, l == 3 ? nullptr : &below, enc.bricks.size(), l == L,
                         parsed.level[l]);
   }
-  const Parsed canon = reorder(parsed, resident_order(parsed, L), L);  // the input itself, if encode_ssvdag made it
+  // the input itself, if encode_ssvdag made it
+  const Parsed canon = reorder(parsed, resident_node_order(L, Shape{parsed}, Shape{parsed}), L);
   const EncodedDag res = resident(canon, L);
   out.level_offset = res.level_offset;
   // The paged order of each level: the nodes the resident encoding reaches with 13-bit offsets (the most
   // referenced) first, as there, then the rest in first-met order, so that a page holds neighbours in space.
-  const std::vector<std::vector<uint32_t>> met = first_met(canon, L);
+  const std::vector<std::vector<uint32_t>> met = first_met_order(L, Shape{canon}, Shape{canon});
   std::vector<std::vector<uint32_t>> order(L + 1);
   for (uint32_t l = 2; l <= L; ++l) {
     uint32_t head = 0;  // resident nodes at offsets under 2^13 (positions, as canon is in resident order)
@@ -321,7 +298,7 @@ EncodedDag ssvdag_from_pages(std::span<const uint32_t> words, std::span<const ui
   }
   paged.bricks.resize(bricks);
   std::memcpy(paged.bricks.data(), words.data(), bricks * 8);
-  enc = resident(reorder(paged, resident_order(paged, L), L), L);
+  enc = resident(reorder(paged, resident_node_order(L, Shape{paged}, Shape{paged}), L), L);
   validate_ssvdag(enc);
   return enc;
 }

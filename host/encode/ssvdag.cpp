@@ -1,10 +1,10 @@
 // The compact ssvdag encoding (layout in include/megavox/encode.h).
 #include <algorithm>
-#include <numeric>
 #include <string>
 
 #include "../../kernels/common/ssvdag.h"
 #include "../../kernels/common/trace_nodes.h"
+#include "encode/node_order.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
 
@@ -45,35 +45,19 @@ EncodedDag encode_ssvdag(const Dag& dag) {
   enc.level_offset.assign(L + 1, 0);
   if (dag.voxels == 0) return enc;
 
-  // Order of each level (2 .. L): nodes by descending reference count, ties by the order in which a walk from
-  // the root first meets them (level by level, parents in that order, children by ascending Morton octant):
-  // a function of the DAG's shape alone, which the paged ssvdag's way back computes again
-  // (host/cache/paged_ssvdag.h), and close in space for the many nodes referenced once.
-  std::vector<std::vector<uint32_t>> order(L + 1), position(L + 1);
-  std::vector<std::vector<uint32_t>> seen(L + 1);  // level l's nodes in first-met order
-  seen[L].push_back(0);
-  for (uint32_t l = L; l >= 3; --l) {
+  // Order of each level (2 .. L): by descending reference count, ties by first-met order (node_order.h: a
+  // function of the DAG's shape alone, which the paged ssvdag's way back computes again).
+  auto count = [&](uint32_t l) { return static_cast<uint32_t>(dag.level[l].mask.size()); };
+  auto children = [&](uint32_t l, uint32_t i, auto&& f) {
     const DagLevel& lv = dag.level[l];
-    std::vector<bool> met(dag.level[l - 1].mask.size(), false);
-    for (uint32_t i : seen[l])
-      for (uint32_t j = lv.first[i]; j < lv.first[i] + __builtin_popcount(lv.mask[i]); ++j)  // ascending octant
-        if (!met[lv.children[j]]) {
-          met[lv.children[j]] = true;
-          seen[l - 1].push_back(lv.children[j]);
-        }
-    for (uint32_t i = 0; i < met.size(); ++i)  // none in a reduced DAG; kept, after the others, all the same
-      if (!met[i]) seen[l - 1].push_back(i);
-  }
+    for (uint32_t c = 0, k = 0; c < 8; ++c)
+      if (lv.mask[i] >> c & 1) f(c, lv.children[lv.first[i] + k++]);
+  };
+  const std::vector<std::vector<uint32_t>> order = resident_node_order(L, count, children);
+  std::vector<std::vector<uint32_t>> position(L + 1);
   for (uint32_t l = 2; l <= L; ++l) {
-    const size_t n = dag.level[l].mask.size();
-    std::vector<uint64_t> refs(n, 0);
-    if (l == L) refs.assign(n, 1);
-    else
-      for (uint32_t child : dag.level[l + 1].children) ++refs[child];
-    order[l] = seen[l];
-    std::stable_sort(order[l].begin(), order[l].end(), [&](uint32_t a, uint32_t b) { return refs[a] > refs[b]; });
-    position[l].resize(n);
-    for (uint32_t p = 0; p < n; ++p) position[l][order[l][p]] = p;
+    position[l].resize(order[l].size());
+    for (uint32_t p = 0; p < order[l].size(); ++p) position[l][order[l][p]] = p;
   }
   for (uint32_t i : order[2]) enc.bricks.push_back(make_brick(dag, i));
   if (enc.bricks.size() > (uint64_t{1} << 30)) throw Error("ssvdag: more than 2^30 bricks");

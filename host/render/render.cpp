@@ -49,7 +49,8 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   const uint64_t per_pixel = 4 * (MV_HIT_WORDS + (shaded ? MV_RAY_FLOATS + 1 : 0));
   // each buffer rounds up to whole pages; a paged tracer's cache update needs its batch beside them
   const uint64_t keep = 4 * dev.page_bytes() + (tracer.paged() ? tracer.cache()->update_scratch_bytes() : 0);
-  const uint64_t left = dev.memory_budget() > dev.memory_used() + keep ? dev.memory_budget() - dev.memory_used() - keep : 0;
+  const uint64_t budget = dev.memory_budget(), used = dev.memory_used();
+  const uint64_t left = budget > used + keep ? budget - used - keep : 0;
   uint32_t rows = static_cast<uint32_t>(std::clamp<uint64_t>(left / (per_pixel * s.width), 1, s.height));
   Buffer hits;
   for (;;) {  // fewer rows when the pool cannot place them (its pages are carved out of a few arenas)
@@ -65,9 +66,9 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
       if (rows == 1)
         throw DeviceMemoryError("render: one row of " + std::to_string(s.width) + " pixels needs " +
                                 format_bytes(per_pixel * s.width) + " of device memory, and " + format_bytes(left) +
-                                " of the " + format_bytes(dev.memory_budget()) +
-                                " budget is left beside the page cache (and its update's batch) and the DAG: raise --device-memory, or lower "
-                                "--cache-memory or --width");
+                                " of the " + format_bytes(budget) +
+                                " budget is left beside the page cache (and its update's batch) and the DAG: raise "
+                                "--device-memory, or lower --cache-memory or --width");
       rows /= 2;
     }
   }
@@ -131,15 +132,15 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   // exceed the cache still converges to the resident picture, a band at a time. The first tiles are the
   // bands the per-pixel buffers hold.
   const uint32_t min_tile = std::max<uint32_t>(64, n / kMinTileShare);
-  std::vector<Tile> todo;  // a stack: the next tile at the back, bands in row order
+  std::vector<Tile> pending;  // a stack: the next tile at the back, bands in row order
   for (uint32_t first = (n - 1) / tile_pixels * tile_pixels;; first -= tile_pixels) {
-    todo.push_back({first, std::min(tile_pixels, n - first)});
+    pending.push_back({first, std::min(tile_pixels, n - first)});
     if (first == 0) break;
   }
   out.converged = true;
-  while (!todo.empty()) {
-    const Tile t = todo.back();
-    todo.pop_back();
+  while (!pending.empty()) {
+    const Tile t = pending.back();
+    pending.pop_back();
     TileHits h;
     bool done = !tracer.paged(), split = false;
     for (uint32_t tile_pass = 1;; ++tile_pass) {
@@ -155,8 +156,8 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     }
     if (split) {
       const uint32_t half = t.count / 2;
-      todo.push_back({t.first + half, t.count - half});
-      todo.push_back({t.first, half});
+      pending.push_back({t.first + half, t.count - half});
+      pending.push_back({t.first, half});
       continue;
     }
     ++out.tiles;

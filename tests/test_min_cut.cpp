@@ -166,6 +166,18 @@ TEST_P(MinCutTest, ImageLikeGraphs) {
   for (uint32_t conn : {4u, 8u}) expect_bk(disc_graph(150, 110, conn, 21 + conn), "disc");
 }
 
+// Each global relabel starts from the heights the last round left (invalidation, then relaxation): with
+// little discharge between them, several rounds run, and each must leave exact distances for the cut.
+TEST_P(MinCutTest, ManyIncrementalRelabelsGiveTheSameCut) {
+  for (uint32_t conn : {4u, 8u}) {
+    const GridGraph g = disc_graph(150, 110, conn, 31 + conn);
+    MinCutStats st;
+    min_cut(dev(), g, {4, 1, 1}, &st);
+    EXPECT_GE(st.rounds, 4u);
+    expect_bk(g, "tile 4, one discharge pass of one sweep", {4, 1, 1});
+  }
+}
+
 MV_INSTANTIATE_ON_ALL_DEVICES(MinCutTest);
 
 TEST(GridGraph, BadGraphsAreRefusedWithReasons) {

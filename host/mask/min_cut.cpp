@@ -1,6 +1,6 @@
 // The host side of the tiled push-relabel min-cut: uploads the reversed graph's residual capacities, then
-// alternates global relabels (relaxation passes until no height falls) and discharge passes until no pixel
-// with excess can reach the sink, and reads the cut off the last heights.
+// alternates global relabels (invalidation passes, then relaxation passes, each until nothing changes) and
+// discharge passes until no pixel with excess can reach the sink, and reads the cut off the last heights.
 #include "megavox/min_cut.h"
 
 #include <algorithm>
@@ -89,43 +89,56 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
   Buffer tb = dev.alloc(tiles * 4, "min-cut tile stamps");
   Buffer ab = dev.alloc(tiles * 4, "min-cut active tiles");
+  Buffer ub = dev.alloc(tiles * 4, "min-cut touched tiles");
+  dev.fill(hb, MV_MINCUT_INF, n * 4);  // no pixel is known to reach the sink: the first relax finds them all
+  dev.fill(tb, 0, tiles * 4);
   dev.fill(ab, 1, tiles * 4);  // every tile may hold excess at first
+  dev.fill(ub, 1, tiles * 4);  // and is relaxed in the first round
   dev.upload(eb, excess.data(), n * 4);
   dev.upload(sb, sink.data(), n * 4);
   dev.upload(rb, reversed_edges(g).data(), n * 4 * g.connectivity);
 
-  TilePlan relax_plan = plan;
-  relax_plan.base.sweeps = 4 * plan.base.sweeps;  // one edge loop per pixel and sweep: four times the sweeps fit
+  TilePlan still_plan = plan;
+  still_plan.base.sweeps = 4 * plan.base.sweeps;  // one edge loop per pixel and sweep: four times the sweeps fit
+  Kernel& invalidate = dev.kernel(KernelId::mincut_invalidate);
   Kernel& relax = dev.kernel(KernelId::mincut_relax);
   Kernel& active = dev.kernel(KernelId::mincut_active);
   Kernel& discharge = dev.kernel(KernelId::mincut_discharge);
   MinCutStats st;
+  uint32_t flags[2] = {0, 0};
+  MvMinCutParams& sp = still_plan.base;
+  // One step of a global relabel (mincut_invalidate or mincut_relax), pass after pass until nothing changes:
+  // first the touched tiles, then the tiles around each change of the pass before.
+  auto settle = [&](Kernel& k) {
+    sp.from_touched = 1;
+    for (bool changed = true; changed; sp.from_touched = 0) {
+      dev.fill(fb, 0, 8);
+      dev.barrier();
+      ++sp.stamp_now;
+      run_colours(dev, k, still_plan, {&hb, &sb, &rb, &fb, &tb, &ub});
+      dev.download(fb, flags, 8);
+      ++st.relabel_passes;
+      changed = flags[0] != 0;
+      sp.stamp_since = sp.stamp_now;
+    }
+  };
   // Each round's discharge moves excess closer to the sink or raises heights; push-relabel's bound on
   // relabels (2n per pixel) bounds the rounds, so the guard below only catches a broken device.
   const uint64_t max_rounds = 4 * n + 16;
   for (;;) {
     if (++st.rounds > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
-    dev.fill(hb, MV_MINCUT_INF, n * 4);
-    dev.fill(tb, 0, tiles * 4);
-    dev.barrier();
-    uint32_t flags[2] = {1, 0};
-    relax_plan.base.stamp_now = 0;
-    while (flags[0] != 0) {
-      dev.fill(fb, 0, 8);
-      dev.barrier();
-      ++relax_plan.base.stamp_now;  // 1 in a round's first pass: every tile runs
-      run_colours(dev, relax, relax_plan, {&hb, &sb, &rb, &fb, &tb});
-      dev.download(fb, flags, 8);
-      ++st.relabel_passes;
-    }
+    // The global relabel, from the heights the last round left: heights without support rise to unreachable,
+    // then all fall to the distances.
+    settle(invalidate);
+    settle(relax);
     dev.fill(fb, 0, 8);
     dev.barrier();
     dev.dispatch(active, dev.groups_for(n, 64), 64, {&eb, &hb, &fb}, plan.base);
     dev.barrier();
     dev.download(fb, flags, 8);
     if (flags[1] == 0) break;
-    for (uint32_t pass = 0; pass < std::max<uint32_t>(options.discharge_passes, 1); ++pass)
-      run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb, &ab});
+    for (uint32_t p = 0; p < std::max<uint32_t>(options.discharge_passes, 1); ++p)
+      run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb, &ab, &ub});
   }
   std::vector<uint32_t> heights(n);
   dev.download(hb, heights.data(), n * 4);

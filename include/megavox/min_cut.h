@@ -13,14 +13,14 @@
 namespace mv {
 
 struct MinCutOptions {
-  uint32_t tile = 32;              // tile side in pixels (>= 2); one work-item per tile
-  uint32_t discharge_passes = 8;   // passes over the four tile colours between two global relabels
+  uint32_t tile = 16;              // tile side in pixels (>= 2); one work-item per tile
+  uint32_t discharge_passes = 12;  // passes over the four tile colours between two global relabels
   uint32_t sweeps = 3;             // sweeps over a tile per dispatch (fewer where the device caps loops)
 };
 
 struct MinCutStats {
   uint32_t rounds = 0;          // global relabels (each followed by discharge passes but the last)
-  uint32_t relabel_passes = 0;  // relaxation passes over the four colours, summed over the rounds
+  uint32_t relabel_passes = 0;  // invalidation and relaxation passes over the four colours, summed over the rounds
 };
 
 // Throws mv::Error on an invalid graph (validate_grid_graph) or when the device memory cannot hold it.

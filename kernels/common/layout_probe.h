@@ -40,7 +40,8 @@
 #define MV_FIELDS_CACHE(X) X(MV_U32, n) X(MV_U32, stamp) X(MV_U32, count) X(MV_U32, page_words)
 #define MV_FIELDS_MINCUT(X)                                                                                            \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, tile) X(MV_U32, tiles_x) X(MV_U32, tiles_y)           \
-  X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)
+  X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)  \
+  X(MV_U32, stamp_since) X(MV_U32, from_touched)
 #define MV_FIELDS_MASK_POST(X) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, pad0)
 #define MV_FIELDS_LANG(X) X(MV_U32, n) X(MV_U32, width) X(MV_U32, height) X(MV_U32, pad0)
 #define MV_FIELDS_VOXELIZE(X)                                                                                          \

@@ -1,9 +1,14 @@
 // OpenCL entry points of the tiled push-relabel min-cut (bodies: common/min_cut.h). One work-item per tile.
 #include "common/min_cut.h"
 
+__kernel void mincut_invalidate(__global uint* height, __global uint* sink, __global uint* resid,
+                                __global uint* flag, __global uint* stamp, __global uint* touched, MvMinCutParams p) {
+  mv_mincut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), false);
+}
+
 __kernel void mincut_relax(__global uint* height, __global uint* sink, __global uint* resid, __global uint* flag,
-                           __global uint* stamp, MvMinCutParams p) {
-  mv_mincut_relax(height, sink, resid, flag, stamp, p, p.first_tile + MV_GLOBAL_ID());
+                           __global uint* stamp, __global uint* touched, MvMinCutParams p) {
+  mv_mincut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), true);
 }
 
 __kernel void mincut_active(__global uint* excess, __global uint* height, __global uint* flag, MvMinCutParams p) {
@@ -11,6 +16,6 @@ __kernel void mincut_active(__global uint* excess, __global uint* height, __glob
 }
 
 __kernel void mincut_discharge(__global uint* excess, __global uint* height, __global uint* sink,
-                               __global uint* resid, __global uint* busy, MvMinCutParams p) {
-  mv_mincut_discharge(excess, height, sink, resid, busy, p, p.first_tile + MV_GLOBAL_ID());
+                               __global uint* resid, __global uint* busy, __global uint* touched, MvMinCutParams p) {
+  mv_mincut_discharge(excess, height, sink, resid, busy, touched, p, p.first_tile + MV_GLOBAL_ID());
 }

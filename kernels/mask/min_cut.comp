@@ -5,10 +5,19 @@
 #include "common/mv_glsl_prelude.h"
 #include "common/min_cut.h"
 
-#if defined(MV_ENTRY_relax)
-MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvMinCutParams p;);
+#if defined(MV_ENTRY_invalidate)
+MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvBufU32 touched;
+        MvMinCutParams p;);
 void main() {
-  mv_mincut_relax(args.height, args.sink, args.resid, args.flag, args.stamp, args.p, args.p.first_tile + MV_GLOBAL_ID());
+  mv_mincut_settle(args.height, args.sink, args.resid, args.flag, args.stamp, args.touched, args.p,
+                   args.p.first_tile + MV_GLOBAL_ID(), false);
+}
+#elif defined(MV_ENTRY_relax)
+MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvBufU32 touched;
+        MvMinCutParams p;);
+void main() {
+  mv_mincut_settle(args.height, args.sink, args.resid, args.flag, args.stamp, args.touched, args.p,
+                   args.p.first_tile + MV_GLOBAL_ID(), true);
 }
 #elif defined(MV_ENTRY_active)
 MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 flag; MvMinCutParams p;);
@@ -16,11 +25,12 @@ void main() {
   mv_mincut_active(args.excess, args.height, args.flag, args.p.width * args.p.height, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_discharge)
-MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 busy; MvMinCutParams p;);
+MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 busy; MvBufU32 touched;
+        MvMinCutParams p;);
 void main() {
-  mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.p,
+  mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.touched, args.p,
                       args.p.first_tile + MV_GLOBAL_ID());
 }
 #else
-#error "define MV_ENTRY_relax, active or discharge"
+#error "define MV_ENTRY_invalidate, relax, active or discharge"
 #endif

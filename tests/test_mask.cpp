@@ -130,10 +130,13 @@ TEST_P(MaskTest, RealPhotographGraphsMatchBoykovKolmogorov) {
   o.iterations = 3;
   uint32_t cuts = 0;
   const auto labels = start_labels(img, MaskStart{mask::box_from_truth(truth, w, h), {}, nullptr});
+  MinCutFlow flow;  // as mask_image cuts: each iteration from the last one's flow
   const mask::GrabCutResult r = mask::grabcut(img, labels, o, [&](const GridGraph& g) {
-    const MinCut want = ref::bk_min_cut(g), got = min_cut(dev(), g);
+    MinCutStats st;
+    const MinCut want = ref::bk_min_cut(g), got = min_cut(dev(), g, {}, &st, &flow);
     EXPECT_EQ(got.value, want.value) << "cut " << cuts;
     EXPECT_TRUE(got.source_side == want.source_side) << "cut " << cuts;
+    EXPECT_EQ(st.warm, cuts > 0) << "cut " << cuts;
     ++cuts;
     return got;
   });

@@ -178,6 +178,36 @@ TEST_P(MinCutTest, ManyIncrementalRelabelsGiveTheSameCut) {
   }
 }
 
+// GrabCut's iterations: the same edges, new terminals. Each cut starting from the last one's flow gives BK's
+// value and source set; terminals that cannot carry that flow grow on both sides (the value is corrected).
+TEST_P(MinCutTest, WarmStartFromTheLastFlowGivesTheSameCut) {
+  for (uint32_t conn : {4u, 8u}) {
+    GridGraph g = disc_graph(120, 90, conn, 41 + conn);
+    MinCutFlow flow;
+    MinCutStats st;
+    min_cut(dev(), g, {}, &st, &flow);
+    EXPECT_FALSE(st.warm);
+    std::mt19937 rng(conn);
+    for (int step = 0; step < 4; ++step) {
+      for (size_t i = 0; i < g.source.size(); ++i) {  // move the terminals by up to +-40 %, zero some
+        const uint32_t k = rng() % 100;
+        if (k < 5) g.source[i] = 0;
+        else if (k < 10) g.sink[i] = 0;
+        else g.source[i] = static_cast<uint32_t>(g.source[i] * (0.6 + 0.8 * (rng() % 1000) / 1000.0));
+      }
+      const MinCut want = ref::bk_min_cut(g);
+      const MinCut got = min_cut(dev(), g, {}, &st, &flow);
+      EXPECT_TRUE(st.warm);
+      ASSERT_EQ(got.value, want.value) << "step " << step;
+      ASSERT_TRUE(got.source_side == want.source_side) << "step " << step;
+    }
+    g.edges[size_t{g.width} * conn * 5 + 2] += 1;  // other edges: a cold start
+    const MinCut got = min_cut(dev(), g, {}, &st, &flow);
+    EXPECT_FALSE(st.warm);
+    EXPECT_EQ(got.value, ref::bk_min_cut(g).value);
+  }
+}
+
 MV_INSTANTIATE_ON_ALL_DEVICES(MinCutTest);
 
 TEST(GridGraph, BadGraphsAreRefusedWithReasons) {

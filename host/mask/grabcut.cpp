@@ -108,6 +108,7 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
   std::vector<Colour> fs, bs;
   std::vector<uint8_t> fk, bk;
   std::vector<double> source(n), sink(n);
+  double scale = 0;
   for (uint32_t iter = 0; iter < std::max<uint32_t>(o.iterations, 1); ++iter) {
     {  // re-estimate: each pixel to its likeliest component, then learn (OpenCV's order, every iteration)
       fs.clear(), bs.clear(), fk.clear(), bk.clear();
@@ -138,8 +139,8 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
       total += source[i] + sink[i];
     }
     for (double v : smooth) total += v;
-    const double caps = static_cast<double>(n * 10);
-    const double scale = total > 0 ? std::min(256.0, (2147483647.0 - caps) / total) : 256.0;
+    const double room = (2147483647.0 - static_cast<double>(n * 10)) / 2;  // rounding: at most +1 per capacity
+    if (scale == 0 || total * scale > room) scale = total > 0 ? std::min(256.0, room / total) : 256.0;
     GridGraph g;
     g.width = W, g.height = H, g.connectivity = 8;
     g.source.resize(n), g.sink.resize(n), g.edges.resize(n * 8);

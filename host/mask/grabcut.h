@@ -2,8 +2,10 @@
 // contrast-sensitive 8-neighbour smoothness in double, quantized to an integer grid graph whose min-cut a
 // caller supplies (the device kernels, or Boost's BK in tests and benchmarks).
 //
-// Quantization: every capacity is llround(w * scale) with scale = min(256, (2^31 - 1 - capacities) / sum of
-// all weights), so the total stays below 2^31 whatever the rounding. Before that a pixel's two terminal weights
+// Quantization: every capacity is llround(w * scale), the total kept within half of 2^31 - 1 - capacities
+// whatever the rounding; the other half is room for a warm start's growth (MinCutFlow). The first iteration
+// takes scale = min(256, room / sum of all weights); later ones keep it while their sum fits, so their edges
+// stay the same and each cut can start from the last one's flow. Before that a pixel's two terminal weights
 // lose their common part (min of the two), which changes every cut by the same constant and no label.
 #pragma once
 #include <array>

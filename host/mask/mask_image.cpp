@@ -41,8 +41,10 @@ std::vector<uint8_t> start_labels(const RasterImage& image, const MaskStart& sta
 MaskResult mask_image(Device& dev, const RasterImage& image, const MaskStart& start, const MaskOptions& options) {
   mask::GrabCutOptions go;
   go.iterations = options.iterations;
-  const mask::GrabCutResult gc =
-      mask::grabcut(image, start_labels(image, start), go, [&](const GridGraph& g) { return min_cut(dev, g); });
+  MinCutFlow flow;  // GrabCut's iterations keep the edges: each cut starts from the last one's flow
+  const mask::GrabCutResult gc = mask::grabcut(image, start_labels(image, start), go, [&](const GridGraph& g) {
+    return min_cut(dev, g, {}, nullptr, &flow);
+  });
   MaskResult r;
   r.grabcut = mask::labels_to_mask(gc.labels);
   r.mask = options.post ? postprocess_mask(dev, r.grabcut, image.width, image.height, options.erode_radius) : r.grabcut;

@@ -64,22 +64,59 @@ void run_colours(Device& dev, Kernel& k, const TilePlan& plan, std::initializer_
   }
 }
 
+// The reversed graph's residual edges to start from: the flow an earlier cut left where it fits g (same size
+// and edges, and the total after the terminals grow stays under kMaxGraphCapacity), else g's capacities.
+// Grows the terminals where the edges carry more out of a pixel than its source brings (excess), and returns
+// the amount added to every cut.
+uint64_t start_edges(const GridGraph& g, const MinCutFlow* flow, std::vector<uint32_t>& residual,
+                     std::vector<uint32_t>& excess, std::vector<uint32_t>& sink, bool& warm) {
+  residual = reversed_edges(g);
+  warm = flow && flow->width == g.width && flow->height == g.height && flow->connectivity == g.connectivity &&
+         flow->edges == g.edges && flow->residual.size() == residual.size();
+  if (!warm) return 0;
+  const uint64_t n = uint64_t{g.width} * g.height;
+  const uint32_t conn = g.connectivity;
+  uint64_t total = 0;
+  for (uint64_t i = 0; i < n; ++i) total += uint64_t{g.source[i]} + g.sink[i];
+  for (uint32_t c : g.edges) total += c;
+  std::vector<int64_t> out(n, 0);  // net flow out of each pixel along its edges
+  for (uint64_t i = 0; i < n; ++i)
+    for (uint32_t d = 0; d < conn; ++d) out[i] += int64_t{residual[i * conn + d]} - flow->residual[i * conn + d];
+  uint64_t added = 0;
+  for (uint64_t i = 0; i < n; ++i)
+    if (out[i] > int64_t{excess[i]}) added += uint64_t(out[i] - int64_t{excess[i]});
+  if (total + 2 * added > kMaxGraphCapacity) {
+    warm = false;
+    return 0;
+  }
+  for (uint64_t i = 0; i < n; ++i) {
+    const int64_t left = int64_t{excess[i]} - out[i];
+    if (left < 0) sink[i] += static_cast<uint32_t>(-left);
+    excess[i] = static_cast<uint32_t>(std::max<int64_t>(left, 0));
+  }
+  residual = flow->residual;
+  return added;
+}
+
 }  // namespace
 
-MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats) {
+MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats,
+               MinCutFlow* flow) {
   validate_grid_graph(g);
   const uint64_t n = uint64_t{g.width} * g.height;
   // The reversed graph: source and sink swapped, every edge turned around.
   // Flow through a pixel's two terminal edges cancels first: what is left is excess or sink capacity.
   uint64_t value = 0, sink_before = 0;
-  std::vector<uint32_t> excess(n), sink(n);
+  std::vector<uint32_t> excess(n), sink(n), residual;
   for (uint64_t i = 0; i < n; ++i) {
     const uint32_t m = std::min(g.source[i], g.sink[i]);
     value += m;
     excess[i] = g.sink[i] - m;
     sink[i] = g.source[i] - m;
-    sink_before += sink[i];
   }
+  MinCutStats st;
+  const uint64_t added = start_edges(g, flow, residual, excess, sink, st.warm);
+  for (uint64_t i = 0; i < n; ++i) sink_before += sink[i];
   Buffer eb = dev.alloc(n * 4, "min-cut excess");
   Buffer hb = dev.alloc(n * 4, "min-cut heights");
   Buffer sb = dev.alloc(n * 4, "min-cut sink capacities");
@@ -96,7 +133,7 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   dev.fill(ub, 1, tiles * 4);  // and is relaxed in the first round
   dev.upload(eb, excess.data(), n * 4);
   dev.upload(sb, sink.data(), n * 4);
-  dev.upload(rb, reversed_edges(g).data(), n * 4 * g.connectivity);
+  dev.upload(rb, residual.data(), n * 4 * g.connectivity);
 
   TilePlan still_plan = plan;
   still_plan.base.sweeps = 4 * plan.base.sweeps;  // one edge loop per pixel and sweep: four times the sweeps fit
@@ -104,7 +141,6 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   Kernel& relax = dev.kernel(KernelId::mincut_relax);
   Kernel& active = dev.kernel(KernelId::mincut_active);
   Kernel& discharge = dev.kernel(KernelId::mincut_discharge);
-  MinCutStats st;
   uint32_t flags[2] = {0, 0};
   MvMinCutParams& sp = still_plan.base;
   // One step of a global relabel (mincut_invalidate or mincut_relax), pass after pass until nothing changes:
@@ -146,9 +182,17 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   uint64_t sink_after = 0;
   for (uint64_t i = 0; i < n; ++i) sink_after += sink[i];
   MinCut cut;
-  cut.value = value + (sink_before - sink_after);
+  cut.value = value + (sink_before - sink_after) - added;
   cut.source_side.resize(n);
   for (uint64_t i = 0; i < n; ++i) cut.source_side[i] = heights[i] != MV_MINCUT_INF ? 1 : 0;
+  if (flow) {
+    flow->width = g.width;
+    flow->height = g.height;
+    flow->connectivity = g.connectivity;
+    flow->edges = g.edges;
+    flow->residual.resize(n * g.connectivity);
+    dev.download(rb, flow->residual.data(), n * 4 * g.connectivity);
+  }
   if (stats) *stats = st;
   return cut;
 }

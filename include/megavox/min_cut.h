@@ -21,9 +21,23 @@ struct MinCutOptions {
 struct MinCutStats {
   uint32_t rounds = 0;          // global relabels (each followed by discharge passes but the last)
   uint32_t relabel_passes = 0;  // invalidation and relaxation passes over the four colours, summed over the rounds
+  bool warm = false;            // started from the flow of an earlier cut (MinCutFlow)
+};
+
+// The maximum flow a cut left on its graph's edges, to start the next cut of a graph with the same size and
+// edge capacities from (GrabCut's iterations change only the terminal capacities). Where a pixel's new
+// terminals cannot carry the flow its edges hold, the same amount is added to both of them, which adds it to
+// every cut: the value is corrected and the canonical source set is unchanged, so a warm cut gives the cold
+// cut's bytes. A graph whose edges differ, or whose total would pass kMaxGraphCapacity, starts cold.
+struct MinCutFlow {
+  uint32_t width = 0, height = 0, connectivity = 0;
+  std::vector<uint32_t> edges;     // the graph's edge capacities
+  std::vector<uint32_t> residual;  // the reversed graph's residual edge capacities at the end of the cut
 };
 
 // Throws mv::Error on an invalid graph (validate_grid_graph) or when the device memory cannot hold it.
-MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options = {}, MinCutStats* stats = nullptr);
+// With `flow`, starts from the flow it holds where it fits g, and leaves g's flow in it.
+MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options = {}, MinCutStats* stats = nullptr,
+               MinCutFlow* flow = nullptr);
 
 }  // namespace mv

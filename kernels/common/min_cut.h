@@ -41,7 +41,7 @@ MV_STRUCT_BEGIN(MvMinCutParams)
   mv_u32 sweeps;        /* sweeps over a tile per dispatch */
   mv_u32 stamp_now;     /* invalidate, relax: this pass's number (tile stamps count passes of every round) */
   mv_u32 stamp_since;   /* invalidate, relax: a tile runs when a stamp around it is at least this */
-  mv_u32 from_touched;  /* invalidate: 1 in a round's first pass, which runs the touched tiles instead */
+  mv_u32 from_touched;  /* invalidate, relax: 1 in a step's first pass, which runs the touched tiles instead */
 MV_STRUCT_END(MvMinCutParams)
 #if defined(MV_CPP)
 MV_LAYOUT_SIZE(MvMinCutParams, 52);
@@ -67,17 +67,15 @@ MV_INLINE mv_u32 mv_mincut_step(MvMinCutParams p, mv_u32 i, mv_u32 d) {
 /* The lowest height among pixel i's neighbours across residual edges (MV_MINCUT_INF when none). Branch-free:
  * every neighbour's height is read (clamped into the grid; a step off the grid's side lands on the next row)
  * and one without residual capacity counts as unreachable. Branches on capacities mispredict half the time. */
-#define MV_MINCUT_LOWER(d, step)                                                                                   \
-  low = MV_MIN(low, MV_LD(resid, e + (d)) != 0u ? MV_LD(height, MV_MIN(MV_U32(MV_I32(i) + (step)), last))         \
-                                                : MV_MINCUT_INF);
+#define MV_MINCUT_LOWER(d)                                                                                         \
+  low = MV_MIN(low, MV_LD(resid, e + (d)) != 0u ? MV_LD(height, MV_MIN(mv_mincut_step(p, i, d), last)) : MV_MINCUT_INF);
 MV_INLINE mv_u32 mv_mincut_lowest(MvBufU32 height, MvBufU32 resid, MvMinCutParams p, mv_u32 i) {
   mv_u32 e = i * p.conn;
-  mv_i32 w = MV_I32(p.width);
   mv_u32 last = p.width * p.height - 1u;
   mv_u32 low = MV_MINCUT_INF;
-  MV_MINCUT_LOWER(0u, 1) MV_MINCUT_LOWER(1u, -1) MV_MINCUT_LOWER(2u, w) MV_MINCUT_LOWER(3u, -w)
+  MV_MINCUT_LOWER(0u) MV_MINCUT_LOWER(1u) MV_MINCUT_LOWER(2u) MV_MINCUT_LOWER(3u)
   if (p.conn == 8u) {
-    MV_MINCUT_LOWER(4u, w + 1) MV_MINCUT_LOWER(5u, -w - 1) MV_MINCUT_LOWER(6u, 1 - w) MV_MINCUT_LOWER(7u, w - 1)
+    MV_MINCUT_LOWER(4u) MV_MINCUT_LOWER(5u) MV_MINCUT_LOWER(6u) MV_MINCUT_LOWER(7u)
   }
   return low;
 }
@@ -186,8 +184,8 @@ MV_INLINE void mv_mincut_mark(MvBufU32 busy, MvBufU32 touched, MvMinCutParams p,
 /* Pushes pixel (x, y)'s excess, relabelling it when it is left with some (twice at most per visit). A push
  * past the tile [x0, x1) x [y0, y1) marks the neighbour's tile busy. False when the pixel had nothing to move. */
 MV_INLINE bool mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
-                                         MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y, mv_u32 x0,
-                                         mv_u32 y0, mv_u32 x1, mv_u32 y1) {
+                                         MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y,
+                                         mv_u32 x0, mv_u32 y0, mv_u32 x1, mv_u32 y1) {
   mv_u32 i = y * p.width + x;
   mv_u32 e = MV_LD(excess, i);
   mv_u32 h = MV_LD(height, i);

@@ -177,6 +177,29 @@ TEST(MaskGroundTruth, GrabCutAndClassifierOnSixImages) {
   EXPECT_LT(classifier_sum / 6, 0.25);
 }
 
+// A graph too large for scale 256: the first iteration's scale is kept, so every iteration's edges are the first
+// one's and each cut can start from the last one's flow (MinCutFlow needs the same edges).
+TEST(MaskQuantization, LaterIterationsKeepTheFirstScale) {
+  std::vector<uint16_t> truth;
+  const RasterImage img = ellipse_image(800, 600, truth, 5);
+  const MaskBox box = mask::box_from_truth(truth, img.width, img.height);
+  std::vector<uint32_t> first_edges;
+  uint32_t cuts = 0;
+  mask::GrabCutOptions o;
+  const mask::GrabCutResult r =
+      mask::grabcut(img, mask::box_labels(img.width, img.height, box.x, box.y, box.w, box.h), o, [&](const GridGraph& g) {
+        if (cuts == 0) first_edges = g.edges;
+        EXPECT_TRUE(g.edges == first_edges) << "cut " << cuts;
+        MinCut c;  // a cut that moves every time (the truth, thinned by one more pixel a cut), so all five run
+        c.source_side.resize(truth.size());
+        for (size_t i = 0; i < truth.size(); ++i) c.source_side[i] = truth[i] != 0 && (i % img.width) % 5 != cuts;
+        ++cuts;
+        return c;
+      });
+  EXPECT_EQ(cuts, 5u);
+  EXPECT_LT(r.scale, 256.0);  // the case that needs the rule
+}
+
 TEST(MaskStarts, CombineAndFail) {
   std::vector<uint16_t> truth;
   const RasterImage img = ellipse_image(20, 10, truth, 1);

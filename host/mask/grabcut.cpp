@@ -139,8 +139,10 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
       total += source[i] + sink[i];
     }
     for (double v : smooth) total += v;
-    const double room = (2147483647.0 - static_cast<double>(n * 10)) / 2;  // rounding: at most +1 per capacity
-    if (scale == 0 || total * scale > room) scale = total > 0 ? std::min(256.0, room / total) : 256.0;
+    // Rounding adds at most 1 per capacity (10 a pixel). The first graph takes half the room, later ones keep
+    // its scale while they fit, so their edges stay the first one's.
+    const double room = 2147483647.0 - static_cast<double>(n * 10);
+    if (scale == 0 || total * scale > room) scale = total > 0 ? std::min(256.0, room / (2 * total)) : 256.0;
     GridGraph g;
     g.width = W, g.height = H, g.connectivity = 8;
     g.source.resize(n), g.sink.resize(n), g.edges.resize(n * 8);

@@ -2,10 +2,11 @@
 // contrast-sensitive 8-neighbour smoothness in double, quantized to an integer grid graph whose min-cut a
 // caller supplies (the device kernels, or Boost's BK in tests and benchmarks).
 //
-// Quantization: every capacity is llround(w * scale), the total kept within half of 2^31 - 1 - capacities
-// whatever the rounding; the other half is room for a warm start's growth (MinCutFlow). The first iteration
-// takes scale = min(256, room / sum of all weights); later ones keep it while their sum fits, so their edges
-// stay the same and each cut can start from the last one's flow. Before that a pixel's two terminal weights
+// Quantization: every capacity is llround(w * scale), the total kept within room = 2^31 - 1 - capacities
+// whatever the rounding. The first iteration takes scale = min(256, room / (2 * sum of all weights)): half the
+// room, the other half left for later iterations' sums and a warm start's growth (MinCutFlow). Later ones keep
+// the scale while their sum fits the room, so their edges stay the same and each cut can start from the last
+// one's flow. Before that a pixel's two terminal weights
 // lose their common part (min of the two), which changes every cut by the same constant and no label.
 #pragma once
 #include <array>

@@ -56,6 +56,7 @@ void Gmm::learn(const std::vector<Colour>& samples, const std::vector<uint8_t>& 
       det = det3(c);
     }
     g.det = det;
+    g.factor = g.weight / std::sqrt(det);
     g.inverse[0] = (c[4] * c[8] - c[5] * c[7]) / det;
     g.inverse[1] = (c[2] * c[7] - c[1] * c[8]) / det;
     g.inverse[2] = (c[1] * c[5] - c[2] * c[4]) / det;
@@ -75,23 +76,22 @@ double Gmm::component_density(int k, const Colour& z) const {
   double m = 0;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) m += d[a] * g.inverse[3 * a + b] * d[b];
-  return g.weight / std::sqrt(g.det) * std::exp(-0.5 * m);
+  return g.factor * std::exp(-0.5 * m);
 }
 
-double Gmm::density(const Colour& z) const {
-  double p = 0;
-  for (int k = 0; k < kComponents; ++k) p += component_density(k, z);
-  return p;
-}
+double Gmm::density(const Colour& z) const { return fit(z).density; }
 
-int Gmm::component_of(const Colour& z) const {
-  int best = 0;
+int Gmm::component_of(const Colour& z) const { return fit(z).component; }
+
+Gmm::Fit Gmm::fit(const Colour& z) const {
+  Fit f{0, 0};
   double top = -1;
   for (int k = 0; k < kComponents; ++k) {
     const double p = component_density(k, z);
-    if (p > top) top = p, best = k;
+    f.density += p;
+    if (p > top) top = p, f.component = k;
   }
-  return best;
+  return f;
 }
 
 std::vector<uint8_t> kmeans_components(const std::vector<Colour>& samples) {
@@ -117,10 +117,10 @@ std::vector<uint8_t> kmeans_components(const std::vector<Colour>& samples) {
         break;
       }
     centre.push_back(samples[chosen]);
-    for (size_t i = 0; i < n; ++i) d2[i] = std::min(d2[i], dist2(samples[i], centre.back()));
+    for_each_sample(n, [&](size_t i) { d2[i] = std::min(d2[i], dist2(samples[i], centre.back())); });
   }
   for (int iter = 0; iter < 10; ++iter) {
-    for (size_t i = 0; i < n; ++i) {
+    for_each_sample(n, [&](size_t i) {
       int best = 0;
       double bd = dist2(samples[i], centre[0]);
       for (size_t k = 1; k < centre.size(); ++k) {
@@ -128,7 +128,7 @@ std::vector<uint8_t> kmeans_components(const std::vector<Colour>& samples) {
         if (d < bd) bd = d, best = static_cast<int>(k);
       }
       label[i] = static_cast<uint8_t>(best);
-    }
+    });
     std::vector<Colour> sum(centre.size(), Colour{});
     std::vector<double> count(centre.size(), 0);
     for (size_t i = 0; i < n; ++i) {

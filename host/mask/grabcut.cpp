@@ -76,18 +76,18 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
   const std::vector<Colour> colours = image_colours(image);
   const double beta = smoothness_beta(colours, W, H);
 
-  // Smoothness weights do not change between iterations: one double per (pixel, d).
+  // Smoothness weights do not change between iterations: one double per (pixel, d), each pair's weight
+  // computed from both ends alike.
   std::vector<double> smooth(n * 8, 0.0);
-  for (uint32_t y = 0; y < H; ++y)
-    for (uint32_t x = 0; x < W; ++x)
-      for (int d = 0; d < 8; d += 2) {
-        const long nx = long{x} + kDx[d], ny = long{y} + kDy[d];
-        if (nx < 0 || ny < 0 || nx >= long{W} || ny >= long{H}) continue;
-        const size_t i = size_t{y} * W + x, j = size_t(ny) * W + size_t(nx);
-        const double wgt = (d < 4 ? o.gamma : o.gamma / std::sqrt(2.0)) * std::exp(-beta * colour_dist2(colours[i], colours[j]));
-        smooth[i * 8 + d] = wgt;
-        smooth[j * 8 + (d ^ 1)] = wgt;
-      }
+  for_each_sample(n, [&](size_t i) {
+    const long x = long(i % W), y = long(i / W);
+    for (int d = 0; d < 8; ++d) {
+      const long nx = x + kDx[d], ny = y + kDy[d];
+      if (nx < 0 || ny < 0 || nx >= long{W} || ny >= long{H}) continue;
+      const size_t j = size_t(ny) * W + size_t(nx), a = d % 2 == 0 ? i : j, b = d % 2 == 0 ? j : i;
+      smooth[i * 8 + d] = (d < 4 ? o.gamma : o.gamma / std::sqrt(2.0)) * std::exp(-beta * colour_dist2(colours[a], colours[b]));
+    }
+  });
 
   // Mixtures from k-means over the labelled pixels of each side (unknown pixels take no part).
   Gmm fg, bg;
@@ -108,6 +108,14 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
   std::vector<Colour> fs, bs;
   std::vector<uint8_t> fk, bk;
   std::vector<double> source(n), sink(n);
+  // Each pixel's likeliest component under the current mixtures, in either (a hard label needs its own side's
+  // only). Found with the data terms, which evaluate the same mixtures; first from the k-means mixtures.
+  std::vector<uint8_t> fg_component(n), bg_component(n);
+  for_each_sample(n, [&](size_t i) {
+    if (labels[i] == kUnknown) return;
+    (is_foreground(labels[i]) ? fg_component : bg_component)[i] =
+        static_cast<uint8_t>((is_foreground(labels[i]) ? fg : bg).component_of(colours[i]));
+  });
   double scale = 0;
   for (uint32_t iter = 0; iter < std::max<uint32_t>(o.iterations, 1); ++iter) {
     {  // re-estimate: each pixel to its likeliest component, then learn (OpenCV's order, every iteration)
@@ -116,10 +124,10 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
         if (labels[i] == kUnknown) continue;
         if (is_foreground(labels[i])) {
           fs.push_back(colours[i]);
-          fk.push_back(static_cast<uint8_t>(fg.component_of(colours[i])));
+          fk.push_back(fg_component[i]);
         } else {
           bs.push_back(colours[i]);
-          bk.push_back(static_cast<uint8_t>(bg.component_of(colours[i])));
+          bk.push_back(bg_component[i]);
         }
       }
       if (fs.empty() || bs.empty()) break;  // the last cut took every pixel to one side: nothing to learn
@@ -127,17 +135,26 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
       bg.learn(bs, bk);
     }
     // Data terms; hard labels get lambda toward their side.
-    double total = 0;
-    for (size_t i = 0; i < n; ++i) {
+    for_each_sample(n, [&](size_t i) {
       double s, t;
-      if (labels[i] == kForeground) s = o.lambda, t = 0;
-      else if (labels[i] == kBackground) s = 0, t = o.lambda;
-      else s = neg_log(bg.density(colours[i])), t = neg_log(fg.density(colours[i]));
+      if (labels[i] == kForeground) {
+        s = o.lambda, t = 0;
+        fg_component[i] = static_cast<uint8_t>(fg.component_of(colours[i]));
+      } else if (labels[i] == kBackground) {
+        s = 0, t = o.lambda;
+        bg_component[i] = static_cast<uint8_t>(bg.component_of(colours[i]));
+      } else {
+        const Gmm::Fit f = fg.fit(colours[i]), b = bg.fit(colours[i]);
+        s = neg_log(b.density), t = neg_log(f.density);
+        fg_component[i] = static_cast<uint8_t>(f.component);
+        bg_component[i] = static_cast<uint8_t>(b.component);
+      }
       const double common = std::min(s, t);
       source[i] = s - common;
       sink[i] = t - common;
-      total += source[i] + sink[i];
-    }
+    });
+    double total = 0;
+    for (size_t i = 0; i < n; ++i) total += source[i] + sink[i];
     for (double v : smooth) total += v;
     // Rounding adds at most 1 per capacity (10 a pixel). The first graph takes half the room, later ones keep
     // its scale while they fit, so their edges stay the first one's.
@@ -146,11 +163,11 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
     GridGraph g;
     g.width = W, g.height = H, g.connectivity = 8;
     g.source.resize(n), g.sink.resize(n), g.edges.resize(n * 8);
-    for (size_t i = 0; i < n; ++i) {
+    for_each_sample(n, [&](size_t i) {
       g.source[i] = static_cast<uint32_t>(std::llround(source[i] * scale));
       g.sink[i] = static_cast<uint32_t>(std::llround(sink[i] * scale));
-    }
-    for (size_t k = 0; k < n * 8; ++k) g.edges[k] = static_cast<uint32_t>(std::llround(smooth[k] * scale));
+      for (size_t k = i * 8; k < i * 8 + 8; ++k) g.edges[k] = static_cast<uint32_t>(std::llround(smooth[k] * scale));
+    });
     const MinCut c = cut(g);
     ++result.iterations;
     result.cut_value = c.value;

@@ -19,16 +19,22 @@ struct TilePlan {
   uint32_t local = 1;
 };
 
+// Loops are summed per invocation under a loop cap: a discharge sweep runs each pixel's edge loop up to
+// MV_MINCUT_ATTEMPTS times (and the attempt loop), a relabel sweep a loop-free step per pixel (counted as one
+// edge loop, as before, so its sweeps stay four times the discharge's default).
+uint32_t capped_sweeps(const DeviceInfo& info, uint32_t tile, uint64_t per_pixel, uint32_t sweeps) {
+  if (info.max_loop_iterations == 0) return sweeps;
+  return static_cast<uint32_t>(
+      std::clamp<uint64_t>(info.max_loop_iterations / (uint64_t{tile} * tile * per_pixel), 1, sweeps));
+}
+
 TilePlan plan_tiles(const Device& dev, const GridGraph& g, const MinCutOptions& o) {
   const DeviceInfo& info = dev.info();
   uint32_t tile = std::max<uint32_t>(o.tile, 2);
-  uint32_t sweeps = std::max<uint32_t>(o.sweeps, 1);
-  if (info.max_loop_iterations != 0) {
-    // Loops summed per invocation: a discharge visits each pixel's edges up to four times per sweep.
-    while (tile > 2 && uint64_t{tile} * tile * g.connectivity * 4 > info.max_loop_iterations) tile /= 2;
-    sweeps = static_cast<uint32_t>(std::clamp<uint64_t>(
-        info.max_loop_iterations / (uint64_t{tile} * tile * g.connectivity * 4), 1, sweeps));
-  }
+  const uint64_t per_pixel = uint64_t{g.connectivity} * (MV_MINCUT_ATTEMPTS + 1);
+  while (info.max_loop_iterations != 0 && tile > 2 && uint64_t{tile} * tile * per_pixel > info.max_loop_iterations)
+    tile /= 2;
+  const uint32_t sweeps = capped_sweeps(info, tile, per_pixel, std::max<uint32_t>(o.sweeps, 1));
   TilePlan plan;
   MvMinCutParams& p = plan.base;
   p.width = g.width;
@@ -136,7 +142,7 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   dev.upload(rb, residual.data(), n * 4 * g.connectivity);
 
   TilePlan still_plan = plan;
-  still_plan.base.sweeps = 4 * plan.base.sweeps;  // one edge loop per pixel and sweep: four times the sweeps fit
+  still_plan.base.sweeps = capped_sweeps(dev.info(), plan.base.tile, g.connectivity, 4 * std::max<uint32_t>(options.sweeps, 1));
   Kernel& invalidate = dev.kernel(KernelId::mincut_invalidate);
   Kernel& relax = dev.kernel(KernelId::mincut_relax);
   Kernel& active = dev.kernel(KernelId::mincut_active);

@@ -27,6 +27,9 @@
 #include "grid_graph.h"
 
 #define MV_MINCUT_INF 0xffffffffu
+/* Push-then-relabel rounds a discharge gives a pixel per visit (2: 1.05-1.21x BK at 1 MP 8-connected; 4:
+ * 1.21-1.33x; 8: 1.20-1.47x; 16: no better). Each runs one loop over the pixel's edges. */
+#define MV_MINCUT_ATTEMPTS 8u
 
 MV_STRUCT_BEGIN(MvMinCutParams)
   mv_u32 width;
@@ -181,7 +184,7 @@ MV_INLINE void mv_mincut_mark(MvBufU32 busy, MvBufU32 touched, MvMinCutParams p,
   MV_ATOMIC_OR(touched, tile, 1u);
 }
 
-/* Pushes pixel (x, y)'s excess, relabelling it when it is left with some (twice at most per visit). A push
+/* Pushes pixel (x, y)'s excess, relabelling it when it is left with some (MV_MINCUT_ATTEMPTS times at most). A push
  * past the tile [x0, x1) x [y0, y1) marks the neighbour's tile busy. False when the pixel had nothing to move. */
 MV_INLINE bool mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
                                          MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y,
@@ -190,7 +193,7 @@ MV_INLINE bool mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBuf
   mv_u32 e = MV_LD(excess, i);
   mv_u32 h = MV_LD(height, i);
   if (e == 0u || h == MV_MINCUT_INF) return false;
-  for (mv_u32 attempt = 0u; attempt < 2u; ++attempt) {
+  for (mv_u32 attempt = 0u; attempt < MV_MINCUT_ATTEMPTS; ++attempt) {
     mv_u32 c = MV_LD(sink, i);
     if (c > 0u) { /* the sink is at height 0, below every pixel */
       mv_u32 f = MV_MIN(e, c);

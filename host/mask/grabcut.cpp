@@ -85,7 +85,8 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
       const long nx = x + kDx[d], ny = y + kDy[d];
       if (nx < 0 || ny < 0 || nx >= long{W} || ny >= long{H}) continue;
       const size_t j = size_t(ny) * W + size_t(nx), a = d % 2 == 0 ? i : j, b = d % 2 == 0 ? j : i;
-      smooth[i * 8 + d] = (d < 4 ? o.gamma : o.gamma / std::sqrt(2.0)) * std::exp(-beta * colour_dist2(colours[a], colours[b]));
+      const double gamma = d < 4 ? o.gamma : o.gamma / std::sqrt(2.0);
+      smooth[i * 8 + d] = gamma * std::exp(-beta * colour_dist2(colours[a], colours[b]));
     }
   });
 

@@ -6,8 +6,8 @@
 // whatever the rounding. The first iteration takes scale = min(256, room / (2 * sum of all weights)): half the
 // room, the other half left for later iterations' sums and a warm start's growth (MinCutFlow). Later ones keep
 // the scale while their sum fits the room, so their edges stay the same and each cut can start from the last
-// one's flow. Before that a pixel's two terminal weights
-// lose their common part (min of the two), which changes every cut by the same constant and no label.
+// one's flow. Before that a pixel's two terminal weights lose their common part (min of the two), which
+// changes every cut by the same constant and no label.
 #pragma once
 #include <array>
 #include <cstdint>

@@ -142,7 +142,8 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   dev.upload(rb, residual.data(), n * 4 * g.connectivity);
 
   TilePlan still_plan = plan;
-  still_plan.base.sweeps = capped_sweeps(dev.info(), plan.base.tile, g.connectivity, 4 * std::max<uint32_t>(options.sweeps, 1));
+  still_plan.base.sweeps =
+      capped_sweeps(dev.info(), plan.base.tile, g.connectivity, 4 * std::max<uint32_t>(options.sweeps, 1));
   Kernel& invalidate = dev.kernel(KernelId::mincut_invalidate);
   Kernel& relax = dev.kernel(KernelId::mincut_relax);
   Kernel& active = dev.kernel(KernelId::mincut_active);

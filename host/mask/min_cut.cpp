@@ -168,6 +168,9 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   // Each round's discharge moves excess closer to the sink or raises heights; push-relabel's bound on
   // relabels (2n per pixel) bounds the rounds, so the guard below only catches a broken device.
   const uint64_t max_rounds = 4 * n + 16;
+  const uint32_t passes = options.discharge_passes != 0
+                              ? options.discharge_passes
+                              : std::clamp((std::max(plan.base.tiles_x, plan.base.tiles_y) + 4) / 5, 4u, 12u);
   for (;;) {
     if (++st.rounds > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
     // The global relabel, from the heights the last round left: heights without support rise to unreachable,
@@ -180,7 +183,7 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
     dev.barrier();
     dev.download(fb, flags, 8);
     if (flags[1] == 0) break;
-    for (uint32_t p = 0; p < std::max<uint32_t>(options.discharge_passes, 1); ++p)
+    for (uint32_t p = 0; p < passes; ++p)
       run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb, &ab, &ub});
   }
   std::vector<uint32_t> heights(n);

@@ -79,8 +79,6 @@ double Gmm::component_density(int k, const Colour& z) const {
   return g.factor * std::exp(-0.5 * m);
 }
 
-double Gmm::density(const Colour& z) const { return fit(z).density; }
-
 int Gmm::component_of(const Colour& z) const { return fit(z).component; }
 
 Gmm::Fit Gmm::fit(const Colour& z) const {

@@ -19,11 +19,10 @@ class Gmm {
 
   // Learns from the samples with their component labels (0..4); a component without samples gets weight 0.
   void learn(const std::vector<Colour>& samples, const std::vector<uint8_t>& component);
-  // The mixture density (without the (2 pi)^-3/2 factor, which cancels between two mixtures; OpenCV's form).
-  double density(const Colour& z) const;
   // The component of highest weighted density (the lowest index among equals).
   int component_of(const Colour& z) const;
-  // density() and component_of() from one evaluation of the components (the same arithmetic, the same bits).
+  // The mixture density (without the (2 pi)^-3/2 factor, which cancels between two mixtures; OpenCV's form)
+  // and component_of(), from one evaluation of the components.
   struct Fit {
     double density;
     int component;

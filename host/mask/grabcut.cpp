@@ -112,10 +112,12 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
   // Each pixel's likeliest component under the current mixtures, in either (a hard label needs its own side's
   // only). Found with the data terms, which evaluate the same mixtures; first from the k-means mixtures.
   std::vector<uint8_t> fg_component(n), bg_component(n);
+  auto own_side_component = [&](size_t i) {
+    if (is_foreground(labels[i])) fg_component[i] = static_cast<uint8_t>(fg.component_of(colours[i]));
+    else bg_component[i] = static_cast<uint8_t>(bg.component_of(colours[i]));
+  };
   for_each_sample(n, [&](size_t i) {
-    if (labels[i] == kUnknown) return;
-    (is_foreground(labels[i]) ? fg_component : bg_component)[i] =
-        static_cast<uint8_t>((is_foreground(labels[i]) ? fg : bg).component_of(colours[i]));
+    if (labels[i] != kUnknown) own_side_component(i);
   });
   double scale = 0;
   for (uint32_t iter = 0; iter < std::max<uint32_t>(o.iterations, 1); ++iter) {
@@ -138,12 +140,10 @@ GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, con
     // Data terms; hard labels get lambda toward their side.
     for_each_sample(n, [&](size_t i) {
       double s, t;
-      if (labels[i] == kForeground) {
-        s = o.lambda, t = 0;
-        fg_component[i] = static_cast<uint8_t>(fg.component_of(colours[i]));
-      } else if (labels[i] == kBackground) {
-        s = 0, t = o.lambda;
-        bg_component[i] = static_cast<uint8_t>(bg.component_of(colours[i]));
+      if (is_hard(labels[i])) {
+        s = labels[i] == kForeground ? o.lambda : 0;
+        t = labels[i] == kForeground ? 0 : o.lambda;
+        own_side_component(i);
       } else {
         const Gmm::Fit f = fg.fit(colours[i]), b = bg.fit(colours[i]);
         s = neg_log(b.density), t = neg_log(f.density);

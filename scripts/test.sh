@@ -20,12 +20,13 @@ case "${1:-}" in
     [[ ! -f build-sanitize/CMakeCache.txt ]] && command -v ninja >/dev/null && generator=(-G Ninja)
     CC=clang CXX=clang++ cmake -S . -B build-sanitize "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DMEGAVOX_BASELINES=OFF -DMEGAVOX_SANITIZE=ON >/dev/null
-    cmake --build build-sanitize --parallel "$(nproc)"
     supp=$PWD/scripts/sanitize
     # LSan runs at exit (leaks), ASan at every access; a UBSan report aborts the test (-fno-sanitize-recover).
+    # Set before the build: its test discovery runs the test binary, which lists the devices.
     export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:${ASAN_OPTIONS:-}"  # tests/sanitizer_new.cpp
     export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+    cmake --build build-sanitize --parallel "$(nproc)"
     cd build-sanitize
     ctest --output-on-failure --parallel "$(nproc)" --timeout 1800
     ;;

@@ -4,7 +4,12 @@
 #include "megavox/min_cut.h"
 
 #include <algorithm>
+#include <functional>
 #include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "../kernels/common/min_cut.h"
 #include "megavox/error.h"
@@ -30,7 +35,7 @@ uint32_t capped_sweeps(const DeviceInfo& info, uint32_t tile, uint64_t per_pixel
 
 TilePlan plan_tiles(const Device& dev, const GridGraph& g, const MinCutOptions& o) {
   const DeviceInfo& info = dev.info();
-  uint32_t tile = std::max<uint32_t>(o.tile, 2);
+  uint32_t tile = std::clamp<uint32_t>(o.tile, 2, MV_MINCUT_MAX_TILE);
   const uint64_t per_pixel = uint64_t{g.connectivity} * (MV_MINCUT_ATTEMPTS + 1);
   while (info.max_loop_iterations != 0 && tile > 2 && uint64_t{tile} * tile * per_pixel > info.max_loop_iterations)
     tile /= 2;
@@ -73,8 +78,9 @@ void run_colours(Device& dev, Kernel& k, const TilePlan& plan, std::initializer_
 // The reversed graph's residual edges to start from: the flow an earlier cut left where it fits g (same size
 // and edges, and the total after the terminals grow stays under kMaxGraphCapacity), else g's capacities.
 // Grows the terminals where the edges carry more out of a pixel than its source brings (excess), and returns
-// the amount added to every cut.
-uint64_t start_edges(const GridGraph& g, const MinCutFlow* flow, std::vector<uint32_t>& residual,
+// the amount added to every cut. `total` is g's total capacity. A warm start takes the flow's words
+// (flow->residual is left holding g's capacities, a zero flow, until the cut writes its own).
+uint64_t start_edges(const GridGraph& g, uint64_t total, MinCutFlow* flow, std::vector<uint32_t>& residual,
                      std::vector<uint32_t>& excess, std::vector<uint32_t>& sink, bool& warm) {
   residual = reversed_edges(g);
   warm = flow && flow->width == g.width && flow->height == g.height && flow->connectivity == g.connectivity &&
@@ -82,25 +88,34 @@ uint64_t start_edges(const GridGraph& g, const MinCutFlow* flow, std::vector<uin
   if (!warm) return 0;
   const uint64_t n = uint64_t{g.width} * g.height;
   const uint32_t conn = g.connectivity;
-  uint64_t total = 0;
-  for (uint64_t i = 0; i < n; ++i) total += uint64_t{g.source[i]} + g.sink[i];
-  for (uint32_t c : g.edges) total += c;
-  std::vector<int64_t> out(n, 0);  // net flow out of each pixel along its edges
-  for (uint64_t i = 0; i < n; ++i)
-    for (uint32_t d = 0; d < conn; ++d) out[i] += int64_t{residual[i * conn + d]} - flow->residual[i * conn + d];
-  uint64_t added = 0;
-  for (uint64_t i = 0; i < n; ++i)
-    if (out[i] > int64_t{excess[i]}) added += uint64_t(out[i] - int64_t{excess[i]});
+  const uint32_t* capacity = residual.data();
+  const uint32_t* left = flow->residual.data();
+  auto net_out = [&](uint64_t i) {  // the flow out of pixel i along its edges
+    int64_t out = 0;
+    for (uint64_t k = i * conn; k < (i + 1) * conn; ++k) out += int64_t{capacity[k]} - left[k];
+    return out;
+  };
+  // Integer sums: the same whatever the split between threads.
+  const tbb::blocked_range<uint64_t> pixels(0, n, 4096);
+  const uint64_t added = tbb::parallel_reduce(
+      pixels, uint64_t{0},
+      [&](const tbb::blocked_range<uint64_t>& r, uint64_t sum) {
+        for (uint64_t i = r.begin(); i < r.end(); ++i) sum += uint64_t(std::max<int64_t>(net_out(i) - excess[i], 0));
+        return sum;
+      },
+      std::plus<uint64_t>());
   if (total + 2 * added > kMaxGraphCapacity) {
     warm = false;
     return 0;
   }
-  for (uint64_t i = 0; i < n; ++i) {
-    const int64_t left = int64_t{excess[i]} - out[i];
-    if (left < 0) sink[i] += static_cast<uint32_t>(-left);
-    excess[i] = static_cast<uint32_t>(std::max<int64_t>(left, 0));
-  }
-  residual = flow->residual;
+  tbb::parallel_for(pixels, [&](const tbb::blocked_range<uint64_t>& r) {
+    for (uint64_t i = r.begin(); i < r.end(); ++i) {
+      const int64_t rest = int64_t{excess[i]} - net_out(i);
+      if (rest < 0) sink[i] += static_cast<uint32_t>(-rest);
+      excess[i] = static_cast<uint32_t>(std::max<int64_t>(rest, 0));
+    }
+  });
+  residual.swap(flow->residual);
   return added;
 }
 
@@ -108,7 +123,7 @@ uint64_t start_edges(const GridGraph& g, const MinCutFlow* flow, std::vector<uin
 
 MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats,
                MinCutFlow* flow) {
-  validate_grid_graph(g);
+  const uint64_t total = validate_grid_graph(g);
   const uint64_t n = uint64_t{g.width} * g.height;
   // The reversed graph: source and sink swapped, every edge turned around.
   // Flow through a pixel's two terminal edges cancels first: what is left is excess or sink capacity.
@@ -121,7 +136,7 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
     sink[i] = g.source[i] - m;
   }
   MinCutStats st;
-  const uint64_t added = start_edges(g, flow, residual, excess, sink, st.warm);
+  const uint64_t added = start_edges(g, total, flow, residual, excess, sink, st.warm);
   for (uint64_t i = 0; i < n; ++i) sink_before += sink[i];
   Buffer eb = dev.alloc(n * 4, "min-cut excess");
   Buffer hb = dev.alloc(n * 4, "min-cut heights");
@@ -199,7 +214,7 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
     flow->width = g.width;
     flow->height = g.height;
     flow->connectivity = g.connectivity;
-    flow->edges = g.edges;
+    if (!st.warm) flow->edges = g.edges;  // a warm start had them already
     flow->residual.resize(n * g.connectivity);
     dev.download(rb, flow->residual.data(), n * 4 * g.connectivity);
   }

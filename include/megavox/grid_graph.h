@@ -22,9 +22,10 @@ struct GridGraph {
 // residual value then fits in 31 bits, on the host and in the kernels.
 inline constexpr uint64_t kMaxGraphCapacity = (uint64_t{1} << 31) - 1;
 
-// Throws mv::Error saying what is wrong: a zero-sized grid, connectivity other than 4 or 8, array sizes that do
-// not match the grid, capacity on an edge leaving the grid, or a total capacity over kMaxGraphCapacity.
-void validate_grid_graph(const GridGraph& g);
+// Returns the total capacity. Throws mv::Error saying what is wrong: a zero-sized grid, connectivity other than
+// 4 or 8, array sizes that do not match the grid, capacity on an edge leaving the grid, or a total capacity
+// over kMaxGraphCapacity.
+uint64_t validate_grid_graph(const GridGraph& g);
 
 // The same graph with every edge reversed and source and sink swapped (a cut (S, T) of g is the cut (T, S) of
 // the result, at the same value).

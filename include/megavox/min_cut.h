@@ -13,7 +13,7 @@
 namespace mv {
 
 struct MinCutOptions {
-  uint32_t tile = 16;              // tile side in pixels (>= 2); one work-item per tile
+  uint32_t tile = 16;              // tile side in pixels (2 to 32); one work-item per tile
   // Passes over the four tile colours between two global relabels; 0: by size, one per 5 tiles across the
   // longer side, 4 to 12 (each pass is four dispatches: small grids lose more to them than they gain).
   uint32_t discharge_passes = 0;

@@ -122,18 +122,21 @@ typedef double mv_f64;
 #include <bit>
 #define MV_POPCOUNT(x) ((mv_u32)std::popcount((mv_u32)(x)))
 #define MV_FIND_MSB(x) (31u - (mv_u32)std::countl_zero((mv_u32)(x))) /* x != 0 */
+#define MV_FIND_LSB(x) ((mv_u32)std::countr_zero((mv_u32)(x))) /* x != 0 */
 #define MV_FBITS(x) std::bit_cast<mv_u32>((mv_f32)(x))
 #define MV_BITSF(x) std::bit_cast<mv_f32>((mv_u32)(x))
 #define MV_F32(x) ((mv_f32)(x))
 #elif defined(MV_OPENCL)
 #define MV_POPCOUNT(x) popcount((uint)(x))
 #define MV_FIND_MSB(x) (31u - clz((uint)(x)))
+#define MV_FIND_LSB(x) (31u - clz((uint)(x) & (0u - (uint)(x)))) /* OpenCL 1.2 has no ctz */
 #define MV_FBITS(x) as_uint((float)(x))
 #define MV_BITSF(x) as_float((uint)(x))
 #define MV_F32(x) ((float)(x))
 #else
 #define MV_POPCOUNT(x) uint(bitCount(uint(x)))
 #define MV_FIND_MSB(x) uint(findMSB(uint(x)))
+#define MV_FIND_LSB(x) uint(findLSB(uint(x)))
 #define MV_FBITS(x) floatBitsToUint(float(x))
 #define MV_BITSF(x) uintBitsToFloat(uint(x))
 #define MV_F32(x) float(x)

@@ -30,7 +30,7 @@ void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g) {
       "share of the paged frame spent in cache management (stamp, LRU, request and invalidation kernels and\n"
       "the host's waits), reading and uploading pages apart, bytes streamed per frame, the hit rate, frames\n"
       "byte-identical to the resident render, and the address layer's cost on the resident path: the paged\n"
-      "kernel through a second cache holding every page of the view (as large as one buffer binding allows)\n"
+      "kernel through a second cache holding every page of the view (as large as one allocation allows)\n"
       "against today's kernel, per view, best of 3. Default flight: --frames cameras\n"
       "orbiting the model at --distance times the distance that frames it.");
   cmd->add_option("file", a->input, "A paged .mvx (built by this version; svo, svdag or ussvdag)")->required();

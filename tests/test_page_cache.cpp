@@ -28,6 +28,11 @@ std::vector<uint32_t> fetch(Device& dev, const Buffer& b, uint64_t words) {
   return v;
 }
 
+void expect_maximal_runs(Device& dev, const PageCache& cache);
+// The first page and the end of page pg's run, from its run word (runs here are shorter than the word's caps).
+uint32_t run_first(uint32_t word, uint32_t pg) { return pg - MV_CACHE_RUN_BEFORE(word); }
+uint32_t run_end(uint32_t word, uint32_t pg) { return pg + MV_CACHE_RUN_FROM(word); }
+
 // One device cache and its reference, driven by the same passes: each pass writes the same usage and
 // request stamps into both (standing in for the traversal), then both update.
 struct Harness {
@@ -79,6 +84,9 @@ struct Harness {
     ASSERT_EQ(lru, ref.lru);
     ASSERT_EQ(table, ref.table);
     ASSERT_EQ(owner, ref.owner);
+    const auto all = fetch(dev, cache.table(), uint64_t{cache.runs_at()} + cfg.pages);
+    for (uint32_t pg = 0; pg < cfg.pages; ++pg)  // runs: a missing page's word is never read
+      if (table[pg] != MV_CACHE_NONE) ASSERT_EQ(all[cache.runs_at() + pg], ref.runs[pg]) << "page " << pg << "'s run";
     ASSERT_EQ(data, ref.data);
     std::vector<uint32_t> sorted = lru;
     std::sort(sorted.begin(), sorted.end());
@@ -98,8 +106,32 @@ struct Harness {
         --resident;
       }
     ASSERT_EQ(resident, 0u);
+    expect_maximal_runs(dev, cache);
   }
 };
+
+// Runs oracle: each resident page's run holds it, continues exactly while the next page sits in the next slot,
+// and starts exactly where the previous page does not precede it (so runs are maximal and disjoint).
+void expect_maximal_runs(Device& dev, const PageCache& cache) {
+  const uint32_t pages = cache.config().pages, at = cache.runs_at();
+  const auto all = fetch(dev, cache.table(), uint64_t{at} + pages);
+  auto continues = [&](uint32_t pg) {  // resident page pg follows pg - 1 in the slots
+    return pg > 0 && all[pg] != MV_CACHE_NONE && all[pg - 1] != MV_CACHE_NONE && all[pg] == all[pg - 1] + 1;
+  };
+  for (uint32_t pg = 0; pg < pages; ++pg) {
+    if (all[pg] == MV_CACHE_NONE) continue;
+    const uint32_t first = run_first(all[at + pg], pg), end = run_end(all[at + pg], pg);
+    ASSERT_LE(first, pg) << "page " << pg;
+    ASSERT_LT(pg, end) << "page " << pg;
+    if (continues(pg)) {
+      ASSERT_EQ(first, run_first(all[at + pg - 1], pg - 1)) << "page " << pg;
+      ASSERT_EQ(end, run_end(all[at + pg - 1], pg - 1)) << "page " << pg;
+    } else {
+      ASSERT_EQ(first, pg) << "page " << pg;
+    }
+    if (pg + 1 == pages || !continues(pg + 1)) ASSERT_EQ(end, pg + 1) << "page " << pg;
+  }
+}
 
 void expect_same_stats(const CacheUpdateStats& st, const ref::CacheStep& step, uint32_t slots) {
   EXPECT_EQ(st.requested, step.requested);
@@ -306,6 +338,49 @@ TEST_P(PageCacheTest, OnePageCache) {
   EXPECT_EQ(c.evicted, 1u);
   h.expect_same_and_consistent();
   EXPECT_EQ(fetch(dev(), h.cache.table(), 10)[2], 0u);
+}
+
+// Preload (a slot for every page): the pages go into the slots in page order, batch by batch, so the table is
+// one run; a page the producer fails (in the last batch: a later batch would take its free slot) splits it and
+// stays missing until asked for, then takes the one free slot.
+TEST_P(PageCacheTest, PreloadFillsTheSlotsInPageOrder) {
+  PageCache c(dev(), {300, 300, 4, 0, {}});
+  auto failing = [](uint32_t page, std::span<uint32_t> words) { return page != 290 && make_page(page, words); };
+  const CacheUpdateStats st = c.preload(failing, 64);  // 5 batches
+  EXPECT_EQ(st.loaded, 299u);
+  EXPECT_EQ(st.failed, 1u);
+  EXPECT_EQ(st.evicted, 0u);
+  auto all = fetch(dev(), c.table(), c.runs_at() + 300ull);
+  for (uint32_t pg = 0; pg < 300; ++pg) {
+    if (pg == 290) {
+      EXPECT_EQ(all[pg], MV_CACHE_NONE);
+      continue;
+    }
+    ASSERT_EQ(all[pg], pg);
+    ASSERT_EQ(run_first(all[c.runs_at() + pg], pg), pg < 290 ? 0u : 291u) << "page " << pg;
+    ASSERT_EQ(run_end(all[c.runs_at() + pg], pg), pg < 290 ? 290u : 300u) << "page " << pg;
+  }
+  expect_maximal_runs(dev(), c);
+  const uint32_t t = c.begin_pass();
+  dev().upload(c.requests(), &t, 4, 290 * 4);
+  const CacheUpdateStats again = c.update(make_page);
+  EXPECT_EQ(again.loaded, 1u);
+  EXPECT_EQ(again.evicted, 0u);
+  all = fetch(dev(), c.table(), c.runs_at() + 300ull);
+  EXPECT_EQ(all[290], 290u);
+  for (uint32_t pg = 0; pg < 300; ++pg) ASSERT_EQ(all[c.runs_at() + pg], mv_cache_run_word(0, 300, pg)) << "page " << pg;
+  const auto data = fetch(dev(), c.data(), 300ull * 4);
+  for (uint32_t pg = 0; pg < 300; ++pg)
+    for (uint32_t j = 0; j < 4; ++j) ASSERT_EQ(data[pg * 4 + j], page_word(pg, j));
+  PageCache big(dev(), {70000, 70000, 1, 0, {}});  // a run longer than a run word counts: capped at 0xffff
+  EXPECT_EQ(big.preload(make_page, 70000).loaded, 70000u);
+  all = fetch(dev(), big.table(), big.runs_at() + 70000ull);
+  EXPECT_EQ(all[big.runs_at()], 0xffffu);
+  EXPECT_EQ(all[big.runs_at() + 35000], (35000u << 16) | 35000u);
+  EXPECT_EQ(all[big.runs_at() + 69999], (0xffffu << 16) | 1u);
+  PageCache smaller(dev(), {299, 300, 4, 0, {}});  // no slot for every page: nothing preloaded
+  EXPECT_EQ(smaller.preload(make_page).loaded, 0u);
+  EXPECT_EQ(smaller.stamp(), 0u);
 }
 
 TEST_P(PageCacheTest, BadConfigurationsAreClearErrors) {

@@ -127,20 +127,31 @@ class PagedTraceTest : public ::testing::TestWithParam<DeviceInfo> {};
 
 // Each pass of the kernel against the host build of the same code, started from the cache state the pass
 // found (downloaded), until the cache holds everything the rays need.
-void each_pass_matches_the_host(Device& dev, const MvxFile& f);
+// Preloaded: the cache is filled whole in page order before the first pass, which then needs nothing (one
+// run of pages, no usage stamps).
+void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload);
 
 TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
   Device& dev = shared_device(GetParam());
-  for (Encoding e : {Encoding::svdag, Encoding::ssvdag}) {
-    SCOPED_TRACE(encoding_name(e));
-    each_pass_matches_the_host(dev, octahedron(dev, 6, e));
-  }
+  for (Encoding e : {Encoding::svdag, Encoding::ssvdag})
+    for (bool preload : {false, true}) {
+      SCOPED_TRACE(encoding_name(e) + (preload ? " preloaded" : " streamed"));
+      each_pass_matches_the_host(dev, octahedron(dev, 6, e), preload);
+    }
 }
 
-void each_pass_matches_the_host(Device& dev, const MvxFile& f) {
+void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload) {
   Paged p = paged(f);
   ASSERT_GT(p.dag.pages, 8u);
-  Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+  Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4, preload);
+  if (preload) {
+    EXPECT_EQ(tracer.preloaded().loaded, p.dag.pages);
+    const std::vector<uint32_t> all = download_words(dev, tracer.cache()->table());
+    for (uint32_t pg = 0; pg < p.dag.pages; ++pg) {  // slot = page, and one run of every page
+      ASSERT_EQ(all[pg], pg);
+      ASSERT_EQ(all[tracer.cache()->runs_at() + pg], mv_cache_run_word(0, p.dag.pages, pg));
+    }
+  }
   PageCache& cache = *tracer.cache();
   const uint32_t n = 2000;
   std::vector<uint32_t> rays(uint64_t{n} * MV_RAY_FLOATS);
@@ -174,9 +185,10 @@ void each_pass_matches_the_host(Device& dev, const MvxFile& f) {
     tp.level_base[MV_TRACE_PAGE_STAMP] = cache.stamp();
     tp.level_base[MV_TRACE_PAGE_SHIFT] = 4;  // 16 words
     tp.level_base[MV_TRACE_PAGE_LEVELS] = p.dag.pages;
+    tp.level_base[MV_TRACE_PAGE_RUNS] = cache.runs_at();
     uint32_t coarse = 0;
     for (uint32_t i = 0; i < n; ++i) {
-      const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), enc, 0u,
+      const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), enc, preload ? 0u : 1u,
                                   mv_load_ray(reinterpret_cast<const float*>(rays.data()), i), tp);
       const MvHit got = mv_load_hit(hits.data(), i);
       ASSERT_EQ(got.info, want.info) << "ray " << i;
@@ -194,10 +206,16 @@ void each_pass_matches_the_host(Device& dev, const MvxFile& f) {
     expect_table_consistent(dev, cache);
     if (st.requested == 0) {
       EXPECT_EQ(coarse, 0u);
+      if (preload) {
+        EXPECT_EQ(pass, 1u);
+        EXPECT_EQ(usage, download_words(dev, cache.usage()));  // no stamps: nothing to evict
+        return;
+      }
       EXPECT_GT(coarse_total, 0u);  // the early passes did stop at missing pages
       EXPECT_GT(pass, 2u);
       return;
     }
+    ASSERT_FALSE(preload) << "a preloaded cache missed pages";
     EXPECT_GT(coarse, 0u);  // a request means some ray stopped at the missing page
   }
   FAIL() << "no convergence in 64 passes";
@@ -272,6 +290,39 @@ TEST_P(PagedTraceTest, RenderConvergesToTheResidentPicture) {
   }
 }
 
+// A cache with a slot for every page is preloaded in page order: each frame (several views, plain and shaded)
+// converges in its first pass, byte-identical to the resident render, with nothing loaded or evicted.
+TEST_P(PagedTraceTest, PreloadedCacheRendersTheResidentPictureInOnePass) {
+  Device& dev = shared_device(GetParam());
+  for (Encoding e : {Encoding::svdag, Encoding::ssvdag}) {
+    SCOPED_TRACE(encoding_name(e));
+    const MvxFile f = octahedron(dev, 7, e);
+    Paged p = paged(f);
+    Tracer resident(dev, f);
+    Tracer whole(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+    EXPECT_EQ(whole.preloaded().loaded, p.dag.pages);
+    EXPECT_EQ(whole.preloaded().evicted, 0u);
+    for (const char* view : {"iso", "front", "top"})
+    for (Shading shading : {Shading::normal, Shading::shaded}) {
+      SCOPED_TRACE(std::string(view) + " " + shading_name(shading));
+      RenderOptions o;
+      o.width = 64;
+      o.height = 48;
+      o.shading = shading;
+      o.ao_samples = 2;
+      const Camera cam = view_camera(f.bounds, view);
+      const RenderResult want = render(resident, cam, o);
+      const RenderResult got = render(whole, cam, o);
+      EXPECT_TRUE(got.converged);
+      ASSERT_EQ(got.cache.size(), 1u);
+      EXPECT_EQ(got.cache[0].requested, 0u);
+      EXPECT_EQ(got.cache[0].loaded, 0u);
+      EXPECT_EQ(got.coarse_pixels, 0u);
+      EXPECT_TRUE(got.image.rgb == want.image.rgb) << "the preloaded picture differs from the resident one";
+    }
+  }
+}
+
 // A whole view whose pages are twice the cache: no single pass can hold them, so the frame is rendered in
 // bands of rows, each converging in turn, and the picture is still the resident one, byte for byte.
 TEST_P(PagedTraceTest, ViewLargerThanTheCacheConvergesInBands) {
@@ -286,7 +337,7 @@ TEST_P(PagedTraceTest, ViewLargerThanTheCacheConvergesInBands) {
   o.lod_pixels = 0;
   Tracer resident(dev, f);
   const RenderResult want = render(resident, cam, o);
-  Tracer whole(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+  Tracer whole(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4, false);  // streamed: its passes tell the working set
   const RenderResult all = render(whole, cam, o);
   ASSERT_TRUE(all.converged);
   EXPECT_EQ(all.tiles, 1u);
@@ -347,7 +398,7 @@ TEST_P(PagedTraceTest, FailingProducerLeavesPagesMissing) {
     std::vector<uint32_t> fail;
     for (uint32_t pg = 1; pg < good.dag.pages; pg += 3) fail.push_back(pg);
     Paged p = paged(f, fail);
-    Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4);
+    Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4, false);  // streamed: the read-ahead sees failures
     RenderOptions o;
     o.width = 48;
     o.height = 32;

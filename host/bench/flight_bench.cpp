@@ -40,13 +40,15 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
   out.page_words = dag.page_words;
   Tracer paged(dev, std::move(dag), cache_bytes);
   out.slots = paged.cache()->config().slots;
-  // The address layer's cost is measured through a second cache, as large as one binding allows (all of the
-  // DAG when it fits): then each view converges in it and its last pass reads only resident pages.
+  // The address layer's cost is measured through a second cache, as large as one allocation allows (all of the
+  // DAG when it fits, like the resident tracer's words: the kernels reach both through device addresses, not
+  // bindings): a cache of every page is preloaded, else each view converges in it; either way its last pass
+  // reads only resident pages.
   std::unique_ptr<Tracer> warm;
   {
     const uint64_t page_bytes = uint64_t{out.page_words} * 4;
-    const uint64_t binding = dev.info().max_binding_bytes ? dev.info().max_binding_bytes : ~uint64_t{0};
-    const uint64_t slots = std::min<uint64_t>(out.pages, binding / page_bytes);
+    const uint64_t most = dev.info().max_allocation_bytes ? dev.info().max_allocation_bytes : ~uint64_t{0};
+    const uint64_t slots = std::min<uint64_t>(out.pages, (most - PageCache::kDataSpareWords * 4) / page_bytes);
     try {
       warm = std::make_unique<Tracer>(dev, open_paged_mvx(paged_mvx), slots * page_bytes);
       out.warm_slots = static_cast<uint32_t>(slots);

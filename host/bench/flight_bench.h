@@ -4,7 +4,8 @@
 // invalidation kernels and the host's waits; reading and uploading pages apart), pages and bytes streamed,
 // the hit rate, whether the picture equals the resident one byte for byte, and the address layer's cost on
 // the resident path: the view's last pass through a second cache that holds every page it reads (as large as
-// one binding allows) against the resident kernel, best of 3 each, interleaved.
+// one allocation allows; preloaded when it holds every page) against the resident kernel, best of 3 each,
+// interleaved.
 #pragma once
 #include <cstdint>
 #include <string>

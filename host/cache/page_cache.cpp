@@ -39,18 +39,22 @@ PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), co
   lru_pos_ = dev.alloc((uint64_t{c.slots} + 1) * 4, "page cache LRU positions");
   evicted_ = dev.alloc(uint64_t{c.slots} * 4, "page cache evicted pages");
   requests_ = dev.alloc(uint64_t{c.pages} * 4, "page cache request stamps");
-  table_ = dev.alloc((uint64_t{c.pages} + c.table_tail.size()) * 4, "page cache page table");
+  table_ = dev.alloc((uint64_t{runs_at()} + c.pages) * 4, "page cache page table");
   request_pos_ = dev.alloc((uint64_t{c.pages} + 1) * 4, "page cache request positions");
   list_ = dev.alloc(uint64_t{c.pages} * 4, "page cache request list");
   counts_ = dev.alloc(8, "page cache counts");
+  run_pos_ = dev.alloc((uint64_t{c.pages} + 1) * 4, "page cache run positions");
+  run_bounds_ = dev.alloc(2ull * c.pages * 4, "page cache run bounds");
   lru_scan_ = plan_scan(dev, c.slots);
   request_scan_ = plan_scan(dev, c.pages);
+  run_scan_ = plan_scan(dev, c.pages);
   dev.fill(data_, 0, (words + kDataSpareWords) * 4);
   dev.fill(usage_, 0, uint64_t{c.slots} * 4);  // stamp 0: never used
   dev.fill(owner_, MV_CACHE_NONE, uint64_t{c.slots} * 4);
   dev.fill(requests_, 0, uint64_t{c.pages} * 4);
   dev.fill(table_, MV_CACHE_NONE, uint64_t{c.pages} * 4);
   if (!c.table_tail.empty()) dev.upload(table_, c.table_tail.data(), c.table_tail.size() * 4, uint64_t{c.pages} * 4);
+  dev.fill(table_, 0, uint64_t{c.pages} * 4, uint64_t{runs_at()} * 4);
   std::vector<uint32_t> order(c.slots);
   for (uint32_t s = 0; s < c.slots; ++s) order[s] = s;
   dev.upload(lru_, order.data(), uint64_t{c.slots} * 4);
@@ -73,6 +77,38 @@ void PageCache::record_requests(const MvCacheParams& p) {
                 {&request_pos_, &list_}, p);
 }
 
+void PageCache::record_runs() {
+  const MvCacheParams p = params(config_.pages);
+  const uint32_t groups = dev_.groups_for(p.n, kLocal);
+  dev_.dispatch(dev_.kernel(KernelId::cache_run_flags), groups, kLocal, {&table_, &run_pos_}, p);
+  dev_.barrier();
+  record_scan(dev_, run_scan_, run_pos_, run_pos_);
+  dev_.dispatch(dev_.kernel(KernelId::cache_run_bounds), groups, kLocal, {&table_, &run_pos_, &run_bounds_}, p);
+  dev_.barrier();
+  dev_.dispatch(dev_.kernel(KernelId::cache_run_expand), groups, kLocal, {&table_, &run_pos_, &run_bounds_}, p);
+}
+
+CacheUpdateStats PageCache::preload(const PageProducer& produce, uint32_t batch) {
+  const PageCacheConfig& c = config_;
+  CacheUpdateStats total;
+  if (c.slots < c.pages) return total;
+  batch = std::max<uint32_t>(batch, 1);
+  std::vector<uint32_t> asked(batch);
+  for (uint32_t first = 0; first < c.pages; first += batch) {
+    const uint32_t n = std::min(batch, c.pages - first);
+    const uint32_t t = begin_pass();
+    std::fill_n(asked.begin(), n, t);
+    dev_.upload(requests_, asked.data(), uint64_t{n} * 4, uint64_t{first} * 4);
+    const CacheUpdateStats st = update(produce);
+    total.requested += st.requested, total.loaded += st.loaded, total.failed += st.failed;
+    total.evicted += st.evicted, total.bytes_uploaded += st.bytes_uploaded;
+    total.manage_seconds += st.manage_seconds, total.produce_seconds += st.produce_seconds;
+    if (total.first_error.empty()) total.first_error = st.first_error;
+  }
+  total.stamp = stamp_;
+  return total;
+}
+
 std::vector<uint32_t> PageCache::missing_so_far(uint32_t cap, bool in_place) {
   if (stamp_ == 0) throw Error("page cache: no pass has begun (begin_pass)");
   const PageCacheConfig& c = config_;
@@ -85,7 +121,7 @@ std::vector<uint32_t> PageCache::missing_so_far(uint32_t cap, bool in_place) {
       if (asked[page] == stamp_ && table[page] == MV_CACHE_NONE) pages.push_back(page);
     return pages;
   }
-  record_requests(MvCacheParams{c.pages, stamp_, 0, c.page_words});
+  record_requests(params(c.pages));
   dev_.copy(request_pos_, counts_, 4, uint64_t{c.pages} * 4, 4);
   dev_.barrier();
   uint32_t count = 0;
@@ -108,7 +144,7 @@ CacheUpdateStats PageCache::update(const PageProducer& produce) {
   st.stamp = stamp_;
 
   // LRU: slots unused in this pass first, then the used ones, each side in its previous order
-  MvCacheParams p{c.slots, stamp_, 0, c.page_words};
+  MvCacheParams p = params(c.slots);
   dev_.dispatch(dev_.kernel(KernelId::cache_lru_flags), dev_.groups_for(c.slots, kLocal), kLocal,
                 {&usage_, &lru_, &lru_pos_}, p);
   dev_.barrier();
@@ -180,6 +216,8 @@ CacheUpdateStats PageCache::update(const PageProducer& produce) {
   p.n = n;
   dev_.dispatch(dev_.kernel(KernelId::cache_publish), dev_.groups_for(n, kLocal), kLocal,
                 {&lru_, &list_, &ok_buf, &table_, &owner_, &usage_}, p);
+  dev_.barrier();
+  record_runs();
   dev_.finish();
   st.manage_seconds = seconds_since(t0) - st.produce_seconds;
   return st;

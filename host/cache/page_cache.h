@@ -50,6 +50,11 @@ class PageCache {
   // victims, the placed batch, the end) and once when none do.
   CacheUpdateStats update(const PageProducer& produce);
 
+  // Loads every page, in page order into the slots in order, when there is a slot for each (slots == pages):
+  // the table then maps the whole DAG as one run. A pass and an update per `batch` pages; their totals are
+  // returned (a page the producer fails stays missing, to be requested like any other).
+  CacheUpdateStats preload(const PageProducer& produce, uint32_t batch = 1024);
+
   // The most device memory an update allocates for its duration (the upload batch of up to `slots` pages and
   // their flags), which whoever sizes other buffers beside the cache leaves free.
   uint64_t update_scratch_bytes() const;
@@ -62,7 +67,9 @@ class PageCache {
 
   Buffer& usage() { return usage_; }        // slots words: the last stamp that used each slot
   Buffer& requests() { return requests_; }  // pages words: the last stamp that asked for each page
-  const Buffer& table() const { return table_; }  // pages words: slot of each page, or MV_CACHE_NONE; then the tail
+  // pages words: slot of each page, or MV_CACHE_NONE; then the tail; then, from runs_at(), each page's run word
+  const Buffer& table() const { return table_; }
+  uint32_t runs_at() const { return config_.pages + static_cast<uint32_t>(config_.table_tail.size()); }
   const Buffer& owners() const { return owner_; } // slots words: page in each slot, or MV_CACHE_NONE
   const Buffer& lru() const { return lru_; }      // slots words: every slot once, least recently used first
   // slots * page_words words, slot s at word s * page_words, then kDataSpareWords zeros (a 64-bit read at a
@@ -76,13 +83,16 @@ class PageCache {
   // Records the compaction of the pages asked for in this pass (p.n = pages) into list_, their count at
   // request_pos_[pages].
   void record_requests(const MvCacheParams& p);
+  // Records the runs of the table as it will be once the stream reaches this point (runs[] in table_).
+  void record_runs();
+  MvCacheParams params(uint32_t n) const { return MvCacheParams{n, stamp_, 0, config_.page_words, runs_at()}; }
 
   Device& dev_;
   PageCacheConfig config_;
   uint32_t stamp_ = 0;
   Buffer data_, usage_, requests_, table_, owner_, lru_, lru_next_, lru_pos_, request_pos_, list_, evicted_,
-      counts_;
-  ScanPlan lru_scan_, request_scan_;
+      counts_, run_pos_, run_bounds_;
+  ScanPlan lru_scan_, request_scan_, run_scan_;
 };
 
 }  // namespace mv

@@ -13,6 +13,7 @@ CacheState cache_init(uint32_t slots, uint32_t pages, uint32_t page_words) {
   s.owner.assign(slots, kCacheNone);
   for (uint32_t i = 0; i < slots; ++i) s.lru.push_back(i);
   s.data.assign(uint64_t{slots} * page_words, 0);
+  s.runs.assign(pages, 0);
   return s;
 }
 
@@ -54,6 +55,19 @@ CacheStep cache_update(CacheState& s, uint32_t stamp, uint32_t max_loads,
     s.owner[slot] = pg;
     s.usage[slot] = stamp + 1;  // counts as used by the next pass, which asked for it
     ++step.loaded;
+  }
+  // runs: walk the pages once, extending the current run while the next page sits in the next slot
+  const uint32_t pages = static_cast<uint32_t>(s.table.size());
+  for (uint32_t first = 0; first < pages;) {
+    if (s.table[first] == kCacheNone) {
+      ++first;
+      continue;
+    }
+    uint32_t end = first + 1;
+    while (end < pages && s.table[end] != kCacheNone && s.table[end] == s.table[end - 1] + 1) ++end;
+    for (uint32_t pg = first; pg < end; ++pg)
+      s.runs[pg] = (std::min(pg - first, 0xffffu) << 16) | std::min(end - pg, 0xffffu);
+    first = end;
   }
   return step;
 }

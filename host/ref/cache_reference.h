@@ -19,6 +19,10 @@ struct CacheState {
   std::vector<uint32_t> owner;     // per slot: its page or kCacheNone
   std::vector<uint32_t> lru;       // slots, least recently used first
   std::vector<uint32_t> data;      // slots * page_words
+  // per resident page: its run (the most consecutive resident pages around it in consecutive slots) as the
+  // pages before it and from it on, each capped at 0xffff, in the high and low halves; a missing page's word
+  // is left as it was
+  std::vector<uint32_t> runs;
 };
 
 struct CacheStep {

@@ -46,6 +46,8 @@ TraceEngine::TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCa
     throw Error("trace: pages of " + std::to_string(c.page_words) + " words; paged tracing needs a power of two >= 16");
   page_shift_ = static_cast<uint32_t>(__builtin_ctz(c.page_words));
   params_.levels = levels;
+  params_.level_base[MV_TRACE_PAGE_SHIFT] = page_shift_;
+  params_.level_base[MV_TRACE_PAGE_RUNS] = cache.runs_at();
   if (encoding == Encoding::ssvdag) {
     // inner nodes are addressed in 16-bit words of the slots; the level starts follow the page table
     if (uint64_t{c.slots} * c.page_words >= (uint64_t{1} << 31))
@@ -104,7 +106,9 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
                         uint32_t max_steps, bool occlusion, Buffer& results) {
   const bool ssvdag = encoding_ == static_cast<uint32_t>(Encoding::ssvdag);
   const Buffer* bricks = ssvdag ? &bricks_ : nullptr;
-  Kernel& k = dev_.kernel(cache_              ? (ssvdag ? KernelId::trace_rays_paged_ssvdag : KernelId::trace_rays_paged)
+  const KernelId paged = ssvdag ? (stamp_usage_ ? KernelId::trace_rays_paged_ssvdag : KernelId::trace_rays_paged_ssvdag_whole)
+                                : (stamp_usage_ ? KernelId::trace_rays_paged : KernelId::trace_rays_paged_whole);
+  Kernel& k = dev_.kernel(cache_              ? paged
                           : !bricks           ? KernelId::trace_rays
                           : starts_in_params_ ? KernelId::trace_rays_ssvdag_params
                                               : KernelId::trace_rays_ssvdag);
@@ -121,7 +125,6 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
     p.proj = proj;
     if (cache_) {
       p.level_base[MV_TRACE_PAGE_STAMP] = cache_->stamp();
-      p.level_base[MV_TRACE_PAGE_SHIFT] = page_shift_;
       dev_.dispatch(k, groups, local,
                     {camera ? camera : rays, &cache_->data(), &cache_->table(), &cache_->usage(),
                      &cache_->requests(), &results},
@@ -151,7 +154,8 @@ void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buff
 Tracer::Tracer(Device& dev, const MvxFile& file)
     : grid_(file.grid), engine_(std::make_unique<TraceEngine>(dev, file.dag)) {}
 
-Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes) : grid_(dag.grid), paged_(std::move(dag)) {
+Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
+    : grid_(dag.grid), paged_(std::move(dag)) {
   if (paged_.pages == 0 || paged_.page_words == 0 || !paged_.read) throw Error("trace: the paged DAG has no pages");
   const uint64_t page_bytes = uint64_t{paged_.page_words} * 4;
   if (cache_bytes < page_bytes)
@@ -171,6 +175,15 @@ Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes) : grid_(dag.grid
   }
   cache_ = std::make_unique<PageCache>(dev, c);
   engine_ = std::make_unique<TraceEngine>(dev, paged_.encoding, paged_.levels, *cache_);
+  if (preload && c.slots == c.pages) {
+    // the whole DAG fits: load it now, in page order, so the table maps it as one run; nothing can be evicted
+    // from here on, so the traversal stops stamping usage (a failed page is requested again like any other)
+    preloaded_ = cache_->preload([&](uint32_t page, std::span<uint32_t> words) {
+      paged_.read(page, words);
+      return true;
+    });
+    engine_->set_usage_stamps(false);
+  }
 }
 
 Tracer::~Tracer() = default;

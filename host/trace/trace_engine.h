@@ -18,6 +18,13 @@ class TraceEngine {
   // for an ssvdag, whose level starts the cache holds after its page table): traces stamp the cache's current
   // pass; a ray that meets a missing page requests it and stops there (a coarse hit).
   TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCache& cache);
+  // Paged: whether traces stamp the slots they read (on by default: the _paged kernels). Off (the _whole
+  // kernels) only where nothing can be evicted (a cache with a slot for every page, filled in page order:
+  // PageCache::preload), so the stamps would go unread.
+  void set_usage_stamps(bool on) { stamp_usage_ = on; }
+  bool usage_stamps() const { return stamp_usage_; }
+  // The parameters every trace dispatch starts from (levels, level starts, the paged constants but the stamp).
+  const MvTraceParams& params() const { return params_; }
 
   Device& device() { return dev_; }
   uint32_t levels() const { return levels_; }
@@ -49,6 +56,7 @@ class TraceEngine {
   bool starts_in_params_ = false;
   PageCache* cache_ = nullptr;
   uint32_t page_shift_ = 0;
+  bool stamp_usage_ = true;
   MvTraceParams params_{};  // levels and ssvdag level starts
 };
 

@@ -48,8 +48,10 @@ class Tracer {
  public:
   Tracer(Device& dev, const MvxFile& file);
   // Streams `dag` through a device page cache of `cache_bytes` (whole pages; counted in the device budget):
-  // only the pages rays touch are loaded. Throws mv::Error when cache_bytes holds no page.
-  Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes);
+  // only the pages rays touch are loaded. Throws mv::Error when cache_bytes holds no page. A cache with room
+  // for every page is, with `preload`, filled whole here instead, in page order (preloaded() tells how it went):
+  // then the traversal resolves the DAG as one run of pages, the resident path.
+  Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload = true);
   ~Tracer();
   Tracer(const Tracer&) = delete;
   Tracer& operator=(const Tracer&) = delete;
@@ -72,6 +74,8 @@ class Tracer {
   // end_pass() then takes them from there instead of the file. Does nothing when resident.
   void read_ahead();
   const std::vector<CacheUpdateStats>& last_passes() const { return passes_; }
+  // The loads of the constructor's preload, summed (all zero when there was none).
+  const CacheUpdateStats& preloaded() const { return preloaded_; }
 
  private:
   struct PagesRead {
@@ -85,6 +89,7 @@ class Tracer {
   std::unique_ptr<PageCache> cache_;
   std::unique_ptr<TraceEngine> engine_;
   std::vector<CacheUpdateStats> passes_;
+  CacheUpdateStats preloaded_;
   std::future<PagesRead> ahead_;
 };
 

@@ -32,3 +32,15 @@ __kernel void cache_publish(__global uint* lru, __global uint* list, __global ui
                             __global uint* owner, __global uint* usage, MvCacheParams p) {
   mv_cache_publish(lru, list, ok, table, owner, usage, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
+
+__kernel void cache_run_flags(__global uint* table, __global uint* flags, MvCacheParams p) {
+  mv_cache_run_flags(table, flags, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void cache_run_bounds(__global uint* table, __global uint* pos, __global uint* bounds, MvCacheParams p) {
+  mv_cache_run_bounds(table, pos, bounds, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void cache_run_expand(__global uint* table, __global uint* pos, __global uint* bounds, MvCacheParams p) {
+  mv_cache_run_expand(table, pos, bounds, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}

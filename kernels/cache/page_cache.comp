@@ -35,6 +35,15 @@ void main() {
   mv_cache_publish(args.lru, args.list, args.ok, args.table, args.owner, args.usage, args.p, MV_GLOBAL_ID(),
                    MV_GLOBAL_SIZE());
 }
+#elif defined(MV_ENTRY_run_flags)
+layout(push_constant) uniform Args { MvBufU32 table; MvBufU32 flags; MvCacheParams p; } args;
+void main() { mv_cache_run_flags(args.table, args.flags, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_run_bounds)
+layout(push_constant) uniform Args { MvBufU32 table; MvBufU32 pos; MvBufU32 bounds; MvCacheParams p; } args;
+void main() { mv_cache_run_bounds(args.table, args.pos, args.bounds, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_run_expand)
+layout(push_constant) uniform Args { MvBufU32 table; MvBufU32 pos; MvBufU32 bounds; MvCacheParams p; } args;
+void main() { mv_cache_run_expand(args.table, args.pos, args.bounds, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #else
-#error "define MV_ENTRY_lru_flags, _lru_scatter, _request_flags, _request_compact, _evict, _place or _publish"
+#error "define MV_ENTRY_lru_flags, _lru_scatter, _request_flags, _request_compact, _evict, _place, _publish, _run_flags, _run_bounds or _run_expand"
 #endif

@@ -37,7 +37,7 @@
 #define MV_FIELDS_SCAN(X) X(MV_U32, n) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, wide) X(MV_U32, start_lo) \
   X(MV_U32, start_hi)
 #define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)
-#define MV_FIELDS_CACHE(X) X(MV_U32, n) X(MV_U32, stamp) X(MV_U32, count) X(MV_U32, page_words)
+#define MV_FIELDS_CACHE(X) X(MV_U32, n) X(MV_U32, stamp) X(MV_U32, count) X(MV_U32, page_words) X(MV_U32, runs_at)
 #define MV_FIELDS_MINCUT(X)                                                                                            \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, tile) X(MV_U32, tiles_x) X(MV_U32, tiles_y)           \
   X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)  \

@@ -113,30 +113,57 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
 }
 
 /* Paged traversal: where stream word `addr` is in the cache's slots (data word slot << shift | offset), or
- * MV_CACHE_NONE when its page is not resident; then the page is requested for this pass (request[page] =
- * stamp: every writer writes the same value, so duplicates collapse without atomics), else its slot is stamped
- * as used. A stamp already there is not written again, so the rays sharing a page share its cache line. Each
- * node lies in one page, so a node's header and pointers resolve once, through the node's first word. */
-MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvBufU32 request, MvTraceParams p, mv_u32 addr) {
-  const mv_u32 shift = p.level_base[MV_TRACE_PAGE_SHIFT];
-  const mv_u32 stamp = p.level_base[MV_TRACE_PAGE_STAMP];
-  mv_u32 page = addr >> shift;
-  mv_u32 slot = MV_LD(table, page);
-  if (slot == MV_CACHE_NONE) {
-    if (MV_LD(request, page) != stamp) MV_ST(request, page, stamp);
-    return MV_CACHE_NONE;
-  }
+ * MV_CACHE_NONE when its page is not resident (the ray then stops there and requests the page once it has
+ * left its loop: mv_page_request). A resident page's slot is stamped as used when the kernel stamps usage; a
+ * stamp already there is not written again, so the rays sharing a page share its cache line. Each node lies
+ * in one page, so a node's header and pointers resolve once, through the node's first word. */
+MV_INLINE void mv_page_stamp(MvBufU32 usage, mv_u32 slot, mv_u32 stamp) {
   if (MV_LD(usage, slot) != stamp) MV_ST(usage, slot, stamp);
+}
+MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvTraceParams p, mv_u32 stamp_usage, mv_u32 addr) {
+  const mv_u32 shift = p.level_base[MV_TRACE_PAGE_SHIFT];
+  mv_u32 slot = MV_LD(table, addr >> shift);
+  if (slot == MV_CACHE_NONE) return MV_CACHE_NONE;
+  if (stamp_usage != 0u) mv_page_stamp(usage, slot, p.level_base[MV_TRACE_PAGE_STAMP]);
   return (slot << shift) | (addr & ((1u << shift) - 1u));
 }
+/* request[page] = stamp: every writer writes the same value, so duplicates collapse without atomics. */
+MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
+  const mv_u32 stamp = p.level_base[MV_TRACE_PAGE_STAMP];
+  if (MV_LD(request, page) != stamp) MV_ST(request, page, stamp);
+}
 
-/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; in_params: see mv_level_base). enc =
+/* Paged traversal, in mv_trace: stream word `word` into `at`, its word in the slots, or MV_CACHE_NONE. A word
+ * inside the run the ray resolved last (consecutive resident pages in consecutive slots: page_cache.h) moves
+ * by that run's offset: one compare and one add, no table and no dependent load on the way to the node; any
+ * other goes through the table (mv_page_resolve), and its page's run becomes the ray's. A cache that holds
+ * every page is one run once loaded (PageCache::preload). Where the cache stamps usage, a page entered inside
+ * the run is stamped too, so the LRU sees every page read. */
+#define MV_PAGE_STEP(word, at)                                                                                 \
+  if ((word) - run_lo < run_span) {                                                                            \
+    at = (word) + run_move;                                                                                    \
+    if (stamp_usage != 0u && ((word) >> page_shift) != last_page) {                                            \
+      last_page = (word) >> page_shift;                                                                        \
+      mv_page_stamp(usage, at >> page_shift, p.level_base[MV_TRACE_PAGE_STAMP]);                               \
+    }                                                                                                          \
+  } else {                                                                                                     \
+    at = mv_page_resolve(bricks, usage, p, stamp_usage, word);                                                 \
+    last_page = (word) >> page_shift;                                                                          \
+    if (at != MV_CACHE_NONE) {                                                                                 \
+      mv_u32 run_word = MV_LD(bricks, runs_at + last_page);                                                    \
+      run_lo = (last_page - MV_CACHE_RUN_BEFORE(run_word)) << page_shift;                                      \
+      run_span = (MV_CACHE_RUN_BEFORE(run_word) + MV_CACHE_RUN_FROM(run_word)) << page_shift;                  \
+      run_move = at - (word);                                                                                  \
+    }                                                                                                          \
+  }
+
+/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; `variant`: see mv_trace_rays). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
  * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse.
  * MV_ENC_PAGED_SSVDAG: the same for an ssvdag, its level starts after the page table (MV_TRACE_PAGE_LEVELS).
  * Other encodings ignore usage and request. */
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBufU32 usage, MvBufU32 request,
-                         mv_u32 enc, mv_u32 in_params, MvRay r, MvTraceParams p) {
+                         mv_u32 enc, mv_u32 variant, MvRay r, MvTraceParams p) {
   const mv_u32 L = p.levels;
   const mv_f32 proj = p.proj;
   const mv_u32 max_steps = p.max_steps;
@@ -167,13 +194,15 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? p.level_base[MV_TRACE_PAGE_LEVELS] : 0u;
   const mv_u32 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD(bricks, levels_at + L) : 0u;
   const mv_u32 root_word = root_half >> 1;
-  mv_u32 root_at = mv_enc_paged(enc) ? mv_page_resolve(bricks, usage, request, p, root_word) : 0u;
-  /* paged: the page last resolved (the root's at first) and how far its words moved into their slot (mod 2^32);
-   * a child in that page (most children, in subtree order) skips the table and the stamp: one add instead of a
-   * dependent load on the way to its node */
+  /* paged: the ray's run (see MV_PAGE_STEP; none at first) and the page it last stamped */
   const mv_u32 page_shift = mv_enc_paged(enc) ? p.level_base[MV_TRACE_PAGE_SHIFT] : 0u;
-  mv_u32 last_page = root_at == MV_CACHE_NONE ? MV_CACHE_NONE : root_word >> page_shift;
-  mv_u32 last_move = root_at - root_word;
+  const mv_u32 runs_at = p.level_base[MV_TRACE_PAGE_RUNS];
+  const mv_u32 stamp_usage = mv_enc_paged(enc) ? variant : 0u;
+  mv_u32 run_lo = 0u, run_span = 0u, run_move = 0u, last_page = MV_CACHE_NONE;
+  mv_u32 root_at = 0u;
+  if (mv_enc_paged(enc)) {
+    MV_PAGE_STEP(root_word, root_at)
+  }
   mv_u32 coarse = root_at == MV_CACHE_NONE ? 1u : 0u; /* paged, root page missing: the root cube is the hit */
   if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | (root_half & 1u);
   node_at[L] = root_at;
@@ -200,89 +229,78 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
     ++steps;
     mv_u32 slot = ((idx[0] & 1u) | ((idx[1] & 1u) << 1) | ((idx[2] & 1u) << 2)) ^ mir_at[nl];
     if (((occ_at[nl] >> slot) & 1u) != 0u) {
-      if (lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t)) {
-        status = MV_TRACE_HIT;
-        break;
-      }
-      /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
-      mv_u32 t8 = mv_thesis_octant(slot);
-      mv_u32 node = node_at[nl];
-      mv_u32 hdr = hdr_at[nl];
-      mv_u32 lv = nl - 1u;
-      if (!mv_enc_compact(enc)) {
-        mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
-        if (enc == MV_ENC_PAGED) {
-          mv_u32 page = child >> page_shift;
-          if (page == last_page) {
-            child += last_move;
-          } else {
+      /* a hit: a voxel, a cell small enough for the LOD, or (paged) a cell whose child's page is missing; one
+       * exit for all three (another exit from the loop costs lavapipe ~7 % of the trace) */
+      if (!(lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t))) {
+        /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
+        mv_u32 t8 = mv_thesis_octant(slot);
+        mv_u32 node = node_at[nl];
+        mv_u32 hdr = hdr_at[nl];
+        mv_u32 lv = nl - 1u;
+        if (!mv_enc_compact(enc)) {
+          mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
+          if (enc == MV_ENC_PAGED) {
             mv_u32 word = child;
-            child = mv_page_resolve(bricks, usage, request, p, child);
-            if (child != MV_CACHE_NONE) {
-              last_page = page;
-              last_move = child - word;
+            MV_PAGE_STEP(word, child)
+            if (child == MV_CACHE_NONE) coarse = 1u;
+          }
+          if (coarse == 0u) {
+            mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
+            node_at[lv] = child;
+            hdr_at[lv] = child_hdr;
+            occ_at[lv] = mv_node_occupancy(enc, child_hdr);
+            mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
+          }
+        } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
+          mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
+          if (nl >= 3u) {
+            mv_u32 at = mv_ssvdag_child_at(node, hdr, t8);
+            mv_u32 code = mv_ssvdag_child_code(hdr, t8);
+            mv_u32 ptr = mv_inner_words(mv_node_load(words, bricks, enc, nl, at), at);
+            mv_u32 off = mv_ssvdag_offset(ptr, code);
+            tag = mv_ssvdag_tag(ptr);
+            bool inner = lv > 2u;
+            if (enc == MV_ENC_PAGED_SSVDAG) {
+              /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each) */
+              mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
+              mv_u32 word = inner ? w16 >> 1 : w16, at = 0u;
+              MV_PAGE_STEP(word, at)
+              if (at == MV_CACHE_NONE) coarse = 1u;
+              child = inner ? (at << 1) | (w16 & 1u) : at;
+            } else {
+              child = mv_level_base(p, lvl_off, lv, variant) + off;
             }
-          }
-          if (child == MV_CACHE_NONE) {
-            coarse = 1u;
-            status = MV_TRACE_HIT;
-            break;
-          }
-        }
-        mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
-        node_at[lv] = child;
-        hdr_at[lv] = child_hdr;
-        occ_at[lv] = mv_node_occupancy(enc, child_hdr);
-        mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
-      } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
-        mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
-        if (nl >= 3u) {
-          mv_u32 at = mv_ssvdag_child_at(node, hdr, t8);
-          mv_u32 code = mv_ssvdag_child_code(hdr, t8);
-          mv_u32 ptr = mv_inner_words(mv_node_load(words, bricks, enc, nl, at), at);
-          mv_u32 off = mv_ssvdag_offset(ptr, code);
-          tag = mv_ssvdag_tag(ptr);
-          bool inner = lv > 2u;
-          if (enc == MV_ENC_PAGED_SSVDAG) {
-            /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each) */
-            mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
-            mv_u32 word = inner ? w16 >> 1 : w16, at = word + last_move;
-            if (word >> page_shift != last_page) { /* as for the word encodings above */
-              at = mv_page_resolve(bricks, usage, request, p, word);
-              if (at == MV_CACHE_NONE) {
-                coarse = 1u;
-                status = MV_TRACE_HIT;
-                break;
+            if (coarse == 0u) {
+              mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
+              if (inner) {
+                child_hdr = mv_inner_word(data, child);
+                child_occ = mv_node_occupancy(enc, child_hdr);
+              } else {
+                child = MV_U32(data);
+                child_hdr = MV_U32(data >> 32);
+                child_occ = mv_brick_occupancy(child, child_hdr);
               }
-              last_page = word >> page_shift;
-              last_move = at - word;
             }
-            child = inner ? (at << 1) | (w16 & 1u) : at;
-          } else {
-            child = mv_level_base(p, lvl_off, lv, in_params) + off;
+          } else { /* the brick's halves; the same mirror mask */
+            child_occ = mv_sub_block_occupancy(node, hdr, slot);
           }
-          mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
-          if (inner) {
-            child_hdr = mv_inner_word(data, child);
-            child_occ = mv_node_occupancy(enc, child_hdr);
-          } else {
-            child = MV_U32(data);
-            child_hdr = MV_U32(data >> 32);
-            child_occ = mv_brick_occupancy(child, child_hdr);
+          if (coarse == 0u) {
+            node_at[lv] = child;
+            hdr_at[lv] = child_hdr;
+            occ_at[lv] = child_occ;
+            mir_at[lv] = mir_at[nl] ^ tag;
           }
-        } else { /* the brick's halves; the same mirror mask */
-          child_occ = mv_sub_block_occupancy(node, hdr, slot);
         }
-        node_at[lv] = child;
-        hdr_at[lv] = child_hdr;
-        occ_at[lv] = child_occ;
-        mir_at[lv] = mir_at[nl] ^ tag;
+        if (coarse == 0u) {
+          nl -= 1u;
+          lc -= 1u;
+          s = s * 0.5f;
+          for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k] + mv_child_half(idx[k], s, o[k], inv[k], k, te, ae);
+          continue;
+        }
       }
-      nl -= 1u;
-      lc -= 1u;
-      s = s * 0.5f;
-      for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k] + mv_child_half(idx[k], s, o[k], inv[k], k, te, ae);
-      continue;
+      status = MV_TRACE_HIT;
+      break;
     }
     /* empty: step to the next cell of this level (lowest axis first on equal times) */
     mv_u32 a = 0u;
@@ -314,6 +332,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
       s = mv_cell_side(lc, L);
     }
   }
+  if (mv_enc_paged(enc) && coarse != 0u) mv_page_request(request, p, last_page); /* the page it stopped at */
   h.steps = steps;
   if (status != MV_TRACE_HIT) {
     h.info = status | (MV_AXIS_NONE << 2);
@@ -328,20 +347,21 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
 }
 
 #if !defined(MV_CPP)
-/* One work-item's share of a trace dispatch. `enc` and `in_params` are constants of the entry point (`enc`:
- * MV_ENC_SVDAG for every 32-bit word encoding, MV_ENC_PAGED for them through the page cache, MV_ENC_SSVDAG, or
- * MV_ENC_PAGED_SSVDAG;
- * `in_params`: see mv_level_base), so each kernel
- * compiles only its own decode. */
+/* One work-item's share of a trace dispatch. `enc` and `variant` are constants of the entry point, so each
+ * kernel compiles only its own decode. enc: MV_ENC_SVDAG for every 32-bit word encoding, MV_ENC_PAGED for them
+ * through the page cache, MV_ENC_SSVDAG, or MV_ENC_PAGED_SSVDAG. variant: for an ssvdag, its level starts
+ * from the parameters (1) or memory (0: mv_level_base); paged, whether the traversal stamps the slots it reads
+ * for the LRU (1), or not (0: a cache with a slot for every page, preloaded, never evicts, and the stamping
+ * code alone, never run, costs PoCL ~8 % and lavapipe ~15 % of the trace). */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
                              MvBufU32 usage, MvBufU32 request, MvBufU32 results, MvTraceParams p, mv_u32 gid,
-                             mv_u32 gsize, mv_u32 enc, mv_u32 in_params) {
+                             mv_u32 gsize, mv_u32 enc, mv_u32 variant) {
   mv_u32 begin = p.block != 0u ? gid * p.block : gid;
   mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
   mv_u32 stride = p.block != 0u ? 1u : gsize;
   for (mv_u32 j = begin; j < end; j += stride) {
     mv_u32 i = p.first + j;
-    MvHit h = mv_trace(words, bricks, lvl_off, usage, request, enc, in_params, mv_trace_source_ray(rays, cam, i, p), p);
+    MvHit h = mv_trace(words, bricks, lvl_off, usage, request, enc, variant, mv_trace_source_ray(rays, cam, i, p), p);
     if (p.occlusion == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {

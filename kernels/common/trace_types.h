@@ -35,11 +35,12 @@
 #define MV_INFO_LEVEL(i) (((i) >> 8) & 31u)
 #define MV_INFO_COARSE(i) (((i) >> 13) & 1u)
 /* Paged traversal (MV_ENC_PAGED, MV_ENC_PAGED_SSVDAG): level_base carries the pass's stamp, log2 of the page
- * size in words and, for a paged ssvdag, where its level starts follow the page table (table[that + l]: the
+ * size in words, where the runs are and, for a paged ssvdag, where its level starts follow the page table (table[that + l]: the
  * first node of inner level l in 16-bit words, l = 3 .. L; l = 2: the bricks' first 32-bit word). */
 #define MV_TRACE_PAGE_STAMP 0
 #define MV_TRACE_PAGE_SHIFT 1
 #define MV_TRACE_PAGE_LEVELS 2
+#define MV_TRACE_PAGE_RUNS 3  /* where the pages' runs start in the table's buffer (page_cache.h: runs) */
 
 MV_STRUCT_BEGIN(MvTraceParams)
   mv_u32 first;     /* rays [first, first + count) in this dispatch */

@@ -20,9 +20,16 @@ __kernel void trace_rays_ssvdag_params(__global float* rays, __global float* cam
 }
 
 // 32-bit word encodings through the page cache: slots, page table, usage and request stamps (mv_page_resolve);
-// the rays come from `src`, the ray buffer or (p.camera) the camera record.
+// the rays come from `src`, the ray buffer or (p.camera) the camera record. Each stamps the slots it reads for
+// the LRU; the _whole kernels do not (a preloaded cache with a slot for every page: mv_trace_rays).
 __kernel void trace_rays_paged(__global float* src, __global uint* slots, __global uint* table, __global uint* usage,
                                __global uint* request, __global uint* out, MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED,
+                1u);
+}
+
+__kernel void trace_rays_paged_whole(__global float* src, __global uint* slots, __global uint* table,
+                                     __global uint* usage, __global uint* request, __global uint* out, MvTraceParams p) {
   mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED,
                 0u);
 }
@@ -30,6 +37,13 @@ __kernel void trace_rays_paged(__global float* src, __global uint* slots, __glob
 // The same for an ssvdag through the page cache (its level starts follow the page table).
 __kernel void trace_rays_paged_ssvdag(__global float* src, __global uint* slots, __global uint* table,
                                       __global uint* usage, __global uint* request, __global uint* out, MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(),
+                MV_ENC_PAGED_SSVDAG, 1u);
+}
+
+__kernel void trace_rays_paged_ssvdag_whole(__global float* src, __global uint* slots, __global uint* table,
+                                            __global uint* usage, __global uint* request, __global uint* out,
+                                            MvTraceParams p) {
   mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(),
                 MV_ENC_PAGED_SSVDAG, 0u);
 }

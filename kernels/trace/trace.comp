@@ -15,12 +15,12 @@ void main() {
 }
 #elif defined(MV_ENTRY_trace_rays_paged)
 /* the page cache's buffers (see trace.cl); one source for rays or camera keeps the push constants at 128 bytes;
- * MV_TRACE_ENC: MV_ENC_PAGED or MV_ENC_PAGED_SSVDAG */
+ * MV_TRACE_ENC: MV_ENC_PAGED or MV_ENC_PAGED_SSVDAG; MV_TRACE_LRU: stamp usage (1) or not (0, see trace.cl) */
 layout(push_constant) uniform Args {
   MvBufF32 src; MvBufU32 slots; MvBufU32 table; MvBufU32 usage; MvBufU32 request; MvBufU32 out_; MvTraceParams p;
 } a;
 void main() {
-  mv_trace_rays(a.src, a.src, a.slots, a.table, a.table, a.usage, a.request, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC, 0u);
+  mv_trace_rays(a.src, a.src, a.slots, a.table, a.table, a.usage, a.request, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC, MV_TRACE_LRU);
 }
 #elif defined(MV_ENTRY_secondary_rays)
 layout(push_constant) uniform Args {

@@ -230,7 +230,8 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
     mv_u32 slot = ((idx[0] & 1u) | ((idx[1] & 1u) << 1) | ((idx[2] & 1u) << 2)) ^ mir_at[nl];
     if (((occ_at[nl] >> slot) & 1u) != 0u) {
       /* a hit: a voxel, a cell small enough for the LOD, or (paged) a cell whose child's page is missing; one
-       * exit for all three (another exit from the loop costs lavapipe ~7 % of the trace) */
+       * exit for all three, and a miss reads a harmless word by selects instead of branching around the reads
+       * (lavapipe keeps every branch's lane masks: each exit or guard costs it several % of the trace) */
       if (!(lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t))) {
         /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
         mv_u32 t8 = mv_thesis_octant(slot);
@@ -242,15 +243,14 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           if (enc == MV_ENC_PAGED) {
             mv_u32 word = child;
             MV_PAGE_STEP(word, child)
-            if (child == MV_CACHE_NONE) coarse = 1u;
+            coarse = child == MV_CACHE_NONE ? 1u : 0u;
+            child = coarse != 0u ? 0u : child; /* a miss reads the first slot word, then leaves: no branch */
           }
-          if (coarse == 0u) {
-            mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
-            node_at[lv] = child;
-            hdr_at[lv] = child_hdr;
-            occ_at[lv] = mv_node_occupancy(enc, child_hdr);
-            mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
-          }
+          mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
+          node_at[lv] = child;
+          hdr_at[lv] = child_hdr;
+          occ_at[lv] = mv_node_occupancy(enc, child_hdr);
+          mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
         } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
           mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
           if (nl >= 3u) {
@@ -265,31 +265,28 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
               mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
               mv_u32 word = inner ? w16 >> 1 : w16, at = 0u;
               MV_PAGE_STEP(word, at)
-              if (at == MV_CACHE_NONE) coarse = 1u;
+              coarse = at == MV_CACHE_NONE ? 1u : 0u;
+              at = coarse != 0u ? 0u : at; /* as for the word encodings */
               child = inner ? (at << 1) | (w16 & 1u) : at;
             } else {
               child = mv_level_base(p, lvl_off, lv, variant) + off;
             }
-            if (coarse == 0u) {
-              mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
-              if (inner) {
-                child_hdr = mv_inner_word(data, child);
-                child_occ = mv_node_occupancy(enc, child_hdr);
-              } else {
-                child = MV_U32(data);
-                child_hdr = MV_U32(data >> 32);
-                child_occ = mv_brick_occupancy(child, child_hdr);
-              }
+            mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
+            if (inner) {
+              child_hdr = mv_inner_word(data, child);
+              child_occ = mv_node_occupancy(enc, child_hdr);
+            } else {
+              child = MV_U32(data);
+              child_hdr = MV_U32(data >> 32);
+              child_occ = mv_brick_occupancy(child, child_hdr);
             }
           } else { /* the brick's halves; the same mirror mask */
             child_occ = mv_sub_block_occupancy(node, hdr, slot);
           }
-          if (coarse == 0u) {
-            node_at[lv] = child;
-            hdr_at[lv] = child_hdr;
-            occ_at[lv] = child_occ;
-            mir_at[lv] = mir_at[nl] ^ tag;
-          }
+          node_at[lv] = child;
+          hdr_at[lv] = child_hdr;
+          occ_at[lv] = child_occ;
+          mir_at[lv] = mir_at[nl] ^ tag;
         }
         if (coarse == 0u) {
           nl -= 1u;

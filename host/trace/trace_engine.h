@@ -22,9 +22,6 @@ class TraceEngine {
   // kernels) only where nothing can be evicted (a cache with a slot for every page, filled in page order:
   // PageCache::preload), so the stamps would go unread.
   void set_usage_stamps(bool on) { stamp_usage_ = on; }
-  bool usage_stamps() const { return stamp_usage_; }
-  // The parameters every trace dispatch starts from (levels, level starts, the paged constants but the stamp).
-  const MvTraceParams& params() const { return params_; }
 
   Device& device() { return dev_; }
   uint32_t levels() const { return levels_; }

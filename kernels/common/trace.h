@@ -133,28 +133,44 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
   if (MV_LD(request, page) != stamp) MV_ST(request, page, stamp);
 }
 
-/* Paged traversal, in mv_trace: stream word `word` into `at`, its word in the slots, or MV_CACHE_NONE. A word
- * inside the run the ray resolved last (consecutive resident pages in consecutive slots: page_cache.h) moves
- * by that run's offset: one compare and one add, no table and no dependent load on the way to the node; any
- * other goes through the table (mv_page_resolve), and its page's run becomes the ray's. A cache that holds
- * every page is one run once loaded (PageCache::preload). Where the cache stamps usage, a page entered inside
- * the run is stamped too, so the LRU sees every page read. */
+/* Paged traversal, in mv_trace: stream word `word` into `at`, its word in the slots, and `coarse` set where its
+ * page is missing (`at` is then 0, so the walk reads a harmless word by selects before it leaves). A word inside
+ * the run the ray resolved last (consecutive resident pages in consecutive slots: page_cache.h) moves by that
+ * run's offset: one compare and one add, no table and no dependent load on the way to the node. Any other goes
+ * through the table (MV_PAGE_ENTER), and its page's run becomes the ray's:
+ *  - where the cache stamps usage, at once; a page entered inside the run is stamped too, so the LRU sees every
+ *    page read;
+ *  - in a whole cache (no stamps: preloaded, one run), after the walk's loop (mv_trace): the step leaves the loop
+ *    as a miss would, and the walk repeats it once the page is resolved. Lavapipe runs both arms of a branch for
+ *    every lane, so the table's arm inside the loop cost it ~9 % of the trace where no ray ever took it. */
+#define MV_PAGE_ENTER(word, at)                                                                                \
+  at = mv_page_resolve(bricks, usage, p, stamp_usage, word);                                                   \
+  last_page = (word) >> page_shift;                                                                            \
+  if (at != MV_CACHE_NONE) {                                                                                   \
+    mv_u32 run_word = MV_LD(bricks, runs_at + last_page);                                                      \
+    run_lo = (last_page - MV_CACHE_RUN_BEFORE(run_word)) << page_shift;                                        \
+    /* at least the page itself: a whole cache's walk repeats its step inside this run (mv_trace) */           \
+    run_span = (MV_CACHE_RUN_BEFORE(run_word) + MV_MAX(MV_CACHE_RUN_FROM(run_word), 1u)) << page_shift;         \
+    run_move = at - (word);                                                                                    \
+  }
+
 #define MV_PAGE_STEP(word, at)                                                                                 \
-  if ((word) - run_lo < run_span) {                                                                            \
-    at = (word) + run_move;                                                                                    \
-    if (stamp_usage != 0u && ((word) >> page_shift) != last_page) {                                            \
-      last_page = (word) >> page_shift;                                                                        \
-      mv_page_stamp(usage, at >> page_shift, p.level_base[MV_TRACE_PAGE_STAMP]);                               \
-    }                                                                                                          \
+  if (stamp_usage == 0u) {                                                                                     \
+    coarse = (word) - run_lo < run_span ? 0u : 1u;                                                             \
+    left_run = (word);                                                                                         \
+    at = coarse != 0u ? 0u : (word) + run_move;                                                                \
   } else {                                                                                                     \
-    at = mv_page_resolve(bricks, usage, p, stamp_usage, word);                                                 \
-    last_page = (word) >> page_shift;                                                                          \
-    if (at != MV_CACHE_NONE) {                                                                                 \
-      mv_u32 run_word = MV_LD(bricks, runs_at + last_page);                                                    \
-      run_lo = (last_page - MV_CACHE_RUN_BEFORE(run_word)) << page_shift;                                      \
-      run_span = (MV_CACHE_RUN_BEFORE(run_word) + MV_CACHE_RUN_FROM(run_word)) << page_shift;                  \
-      run_move = at - (word);                                                                                  \
+    if ((word) - run_lo < run_span) {                                                                          \
+      at = (word) + run_move;                                                                                  \
+      if (((word) >> page_shift) != last_page) {                                                               \
+        last_page = (word) >> page_shift;                                                                      \
+        mv_page_stamp(usage, at >> page_shift, p.level_base[MV_TRACE_PAGE_STAMP]);                             \
+      }                                                                                                        \
+    } else {                                                                                                   \
+      MV_PAGE_ENTER(word, at)                                                                                  \
     }                                                                                                          \
+    coarse = at == MV_CACHE_NONE ? 1u : 0u;                                                                    \
+    at = coarse != 0u ? 0u : at;                                                                               \
   }
 
 /* One ray through the DAG of p.levels levels (p.proj, p.max_steps; `variant`: see mv_trace_rays). enc =
@@ -199,135 +215,149 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   const mv_u32 runs_at = p.level_base[MV_TRACE_PAGE_RUNS];
   const mv_u32 stamp_usage = mv_enc_paged(enc) ? variant : 0u;
   mv_u32 run_lo = 0u, run_span = 0u, run_move = 0u, last_page = MV_CACHE_NONE;
+  mv_u32 left_run = MV_CACHE_NONE; /* whole cache: the word whose step left the run, resolved after the loop */
   mv_u32 root_at = 0u;
   if (mv_enc_paged(enc)) {
-    MV_PAGE_STEP(root_word, root_at)
+    MV_PAGE_ENTER(root_word, root_at)
   }
   mv_u32 coarse = root_at == MV_CACHE_NONE ? 1u : 0u; /* paged, root page missing: the root cube is the hit */
+  root_at = coarse != 0u ? 0u : root_at;
   if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | (root_half & 1u);
   node_at[L] = root_at;
   mir_at[L] = 0u;
-  mv_u64 root = mv_node_load(words, bricks, enc, L, coarse != 0u ? 0u : root_at); /* ssvdag: L >= 3, inner */
-  hdr_at[L] = mv_enc_compact(enc) ? mv_inner_word(root, coarse != 0u ? 0u : root_at) : MV_U32(root);
+  mv_u64 root = mv_node_load(words, bricks, enc, L, root_at); /* ssvdag: L >= 3, inner */
+  hdr_at[L] = mv_enc_compact(enc) ? mv_inner_word(root, root_at) : MV_U32(root);
   occ_at[L] = mv_node_occupancy(enc, hdr_at[L]);
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
   mv_f32 s = mv_cell_side(lc, L);
   mv_u32 idx[3];
   for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = mv_child_half(0u, s, o[k], inv[k], k, te, ae);
 
-  mv_u32 status = coarse != 0u ? MV_TRACE_HIT : MV_TRACE_MISS;
+  mv_u32 status = MV_TRACE_MISS;
   mv_u32 steps = 0u;
-  if (coarse != 0u) {
-    lc = L;
+  if (coarse != 0u) /* the root's cell (a level up, after the loop) */
     for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 0u;
-  }
-  while (coarse == 0u) {
-    if (steps == max_steps) {
-      status = MV_TRACE_GAVE_UP;
-      break;
-    }
-    ++steps;
-    mv_u32 slot = ((idx[0] & 1u) | ((idx[1] & 1u) << 1) | ((idx[2] & 1u) << 2)) ^ mir_at[nl];
-    if (((occ_at[nl] >> slot) & 1u) != 0u) {
-      /* a hit: a voxel, a cell small enough for the LOD, or (paged) a cell whose child's page is missing; one
-       * exit for all three, and a miss reads a harmless word by selects instead of branching around the reads
-       * (lavapipe keeps every branch's lane masks: each exit or guard costs it several % of the trace) */
-      if (!(lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t))) {
-        /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
-        mv_u32 t8 = mv_thesis_octant(slot);
-        mv_u32 node = node_at[nl];
-        mv_u32 hdr = hdr_at[nl];
-        mv_u32 lv = nl - 1u;
-        if (!mv_enc_compact(enc)) {
-          mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
-          if (enc == MV_ENC_PAGED) {
-            mv_u32 word = child;
-            MV_PAGE_STEP(word, child)
-            coarse = child == MV_CACHE_NONE ? 1u : 0u;
-            child = coarse != 0u ? 0u : child; /* a miss reads the first slot word, then leaves: no branch */
-          }
-          mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
-          node_at[lv] = child;
-          hdr_at[lv] = child_hdr;
-          occ_at[lv] = mv_node_occupancy(enc, child_hdr);
-          mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
-        } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
-          mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
-          if (nl >= 3u) {
-            mv_u32 at = mv_ssvdag_child_at(node, hdr, t8);
-            mv_u32 code = mv_ssvdag_child_code(hdr, t8);
-            mv_u32 ptr = mv_inner_words(mv_node_load(words, bricks, enc, nl, at), at);
-            mv_u32 off = mv_ssvdag_offset(ptr, code);
-            tag = mv_ssvdag_tag(ptr);
-            bool inner = lv > 2u;
-            if (enc == MV_ENC_PAGED_SSVDAG) {
-              /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each) */
-              mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
-              mv_u32 word = inner ? w16 >> 1 : w16, at = 0u;
-              MV_PAGE_STEP(word, at)
-              coarse = at == MV_CACHE_NONE ? 1u : 0u;
-              at = coarse != 0u ? 0u : at; /* as for the word encodings */
-              child = inner ? (at << 1) | (w16 & 1u) : at;
-            } else {
-              child = mv_level_base(p, lvl_off, lv, variant) + off;
+  for (;;) {
+    for (;;) {
+      /* a descent into a missing page (coarse) leaves at the next step: its one exit shared with the step limit
+       * (lavapipe pays for each exit; see the hit below), and the descent is undone after the loop */
+      if (steps == max_steps || coarse != 0u) {
+        status = coarse != 0u ? MV_TRACE_HIT : MV_TRACE_GAVE_UP;
+        break;
+      }
+      ++steps;
+      mv_u32 slot = ((idx[0] & 1u) | ((idx[1] & 1u) << 1) | ((idx[2] & 1u) << 2)) ^ mir_at[nl];
+      if (((occ_at[nl] >> slot) & 1u) != 0u) {
+        /* a hit: a voxel or a cell small enough for the LOD. A descent into a missing page (paged) reads a
+         * harmless word by selects and leaves at the next step instead of branching around the reads (lavapipe
+         * keeps every branch's lane masks: each exit or guard costs it several % of the trace) */
+        if (!(lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t))) {
+          /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
+          mv_u32 t8 = mv_thesis_octant(slot);
+          mv_u32 node = node_at[nl];
+          mv_u32 hdr = hdr_at[nl];
+          mv_u32 lv = nl - 1u;
+          if (!mv_enc_compact(enc)) {
+            mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
+            if (enc == MV_ENC_PAGED) {
+              mv_u32 word = child;
+              MV_PAGE_STEP(word, child) /* a miss reads the first slot word, then leaves: no branch */
             }
-            mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
-            if (inner) {
-              child_hdr = mv_inner_word(data, child);
-              child_occ = mv_node_occupancy(enc, child_hdr);
-            } else {
-              child = MV_U32(data);
-              child_hdr = MV_U32(data >> 32);
-              child_occ = mv_brick_occupancy(child, child_hdr);
+            mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
+            node_at[lv] = child;
+            hdr_at[lv] = child_hdr;
+            occ_at[lv] = mv_node_occupancy(enc, child_hdr);
+            mir_at[lv] = mir_at[nl] ^ mv_word_child_tag(hdr, t8);
+          } else { /* ssvdag: inner node -> inner node (nl > 3) or brick (nl = 3); brick -> 2^3 sub-block */
+            mv_u32 tag = 0u, child = 0u, child_hdr = 0u, child_occ = 0u;
+            if (nl >= 3u) {
+              mv_u32 at = mv_ssvdag_child_at(node, hdr, t8);
+              mv_u32 code = mv_ssvdag_child_code(hdr, t8);
+              mv_u32 ptr = mv_inner_words(mv_node_load(words, bricks, enc, nl, at), at);
+              mv_u32 off = mv_ssvdag_offset(ptr, code);
+              tag = mv_ssvdag_tag(ptr);
+              bool inner = lv > 2u;
+              if (enc == MV_ENC_PAGED_SSVDAG) {
+                /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each) */
+                mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
+                mv_u32 word = inner ? w16 >> 1 : w16, at = 0u;
+                MV_PAGE_STEP(word, at) /* as for the word encodings */
+                child = inner ? (at << 1) | (w16 & 1u) : at;
+              } else {
+                child = mv_level_base(p, lvl_off, lv, variant) + off;
+              }
+              mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
+              if (inner) {
+                child_hdr = mv_inner_word(data, child);
+                child_occ = mv_node_occupancy(enc, child_hdr);
+              } else {
+                child = MV_U32(data);
+                child_hdr = MV_U32(data >> 32);
+                child_occ = mv_brick_occupancy(child, child_hdr);
+              }
+            } else { /* the brick's halves; the same mirror mask */
+              child_occ = mv_sub_block_occupancy(node, hdr, slot);
             }
-          } else { /* the brick's halves; the same mirror mask */
-            child_occ = mv_sub_block_occupancy(node, hdr, slot);
+            node_at[lv] = child;
+            hdr_at[lv] = child_hdr;
+            occ_at[lv] = child_occ;
+            mir_at[lv] = mir_at[nl] ^ tag;
           }
-          node_at[lv] = child;
-          hdr_at[lv] = child_hdr;
-          occ_at[lv] = child_occ;
-          mir_at[lv] = mir_at[nl] ^ tag;
-        }
-        if (coarse == 0u) {
           nl -= 1u;
           lc -= 1u;
           s = s * 0.5f;
           for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k] + mv_child_half(idx[k], s, o[k], inv[k], k, te, ae);
           continue;
         }
+        status = MV_TRACE_HIT;
+        break;
       }
-      status = MV_TRACE_HIT;
-      break;
-    }
-    /* empty: step to the next cell of this level (lowest axis first on equal times) */
-    mv_u32 a = 0u;
-    mv_f32 ta = 0.0f;
-    for (mv_u32 k = 0u; k < 3u; ++k) {
-      mv_f32 t = mv_cross(MV_F32(idx[k] + (inv[k] > 0.0f ? 1u : 0u)) * s, o[k], inv[k]);
-      if (k == 0u || t < ta) {
-        ta = t;
-        a = k;
+      /* empty: step to the next cell of this level (lowest axis first on equal times) */
+      mv_u32 a = 0u;
+      mv_f32 ta = 0.0f;
+      for (mv_u32 k = 0u; k < 3u; ++k) {
+        mv_f32 t = mv_cross(MV_F32(idx[k] + (inv[k] > 0.0f ? 1u : 0u)) * s, o[k], inv[k]);
+        if (k == 0u || t < ta) {
+          ta = t;
+          a = k;
+        }
+      }
+      if (ta > r.tmax) break;
+      te = ta;
+      ae = a;
+      /* idx[a] and inv[a] by selects: one index not known at compile time keeps a whole array in memory, where
+       * the loop's narrow stores and wider vector loads of idx stall store forwarding (PoCL: ~13 % of the paged
+       * trace's samples on one load) */
+      mv_u32 old = a == 0u ? idx[0] : (a == 1u ? idx[1] : idx[2]);
+      mv_f32 inv_a = a == 0u ? inv[0] : (a == 1u ? inv[1] : inv[2]);
+      mv_u32 nw = inv_a > 0.0f ? old + 1u : old - 1u;
+      mv_u32 j = MV_FIND_MSB(old ^ nw) + 1u; /* the node of level lc + j is the first to hold the new cell */
+      if (lc + j > L) break;                 /* left the root */
+      for (mv_u32 k = 0u; k < 3u; ++k)
+        if (k == a) idx[k] = nw;
+      if (j > 1u) {
+        for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> (j - 1u);
+        nl = lc + j;
+        lc = nl - 1u;
+        s = mv_cell_side(lc, L);
       }
     }
-    if (ta > r.tmax) break;
-    te = ta;
-    ae = a;
-    /* idx[a] and inv[a] by selects: one index not known at compile time keeps a whole array in memory, where
-     * the loop's narrow stores and wider vector loads of idx stall store forwarding (PoCL: ~13 % of the paged
-     * trace's samples on one load) */
-    mv_u32 old = a == 0u ? idx[0] : (a == 1u ? idx[1] : idx[2]);
-    mv_f32 inv_a = a == 0u ? inv[0] : (a == 1u ? inv[1] : inv[2]);
-    mv_u32 nw = inv_a > 0.0f ? old + 1u : old - 1u;
-    mv_u32 j = MV_FIND_MSB(old ^ nw) + 1u; /* the node of level lc + j is the first to hold the new cell */
-    if (lc + j > L) break;                 /* left the root */
-    for (mv_u32 k = 0u; k < 3u; ++k)
-      if (k == a) idx[k] = nw;
-    if (j > 1u) {
-      for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> (j - 1u);
-      nl = lc + j;
-      lc = nl - 1u;
-      s = mv_cell_side(lc, L);
-    }
+    if (coarse == 0u) break;
+    /* back to the cell whose child is missing: the coarse hit (a descent keeps te and ae, and doubles s exactly) */
+    nl += 1u;
+    lc += 1u;
+    s = s * 2.0f;
+    for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> 1;
+    /* a whole cache's walk that left its run (MV_PAGE_STEP): resolve the page, then repeat the step from its cell
+     * (the same step count), or keep the coarse hit where the page is missing */
+    if (left_run == MV_CACHE_NONE) break;
+    mv_u32 at = 0u;
+    MV_PAGE_ENTER(left_run, at)
+    left_run = MV_CACHE_NONE;
+    if (at == MV_CACHE_NONE) break;
+    coarse = 0u;
+    status = MV_TRACE_MISS;
+    steps -= 1u;
   }
   if (mv_enc_paged(enc) && coarse != 0u) mv_page_request(request, p, last_page); /* the page it stopped at */
   h.steps = steps;

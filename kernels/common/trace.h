@@ -159,6 +159,7 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
     coarse = (word) - run_lo < run_span ? 0u : 1u;                                                             \
     left_run = (word);                                                                                         \
     at = coarse != 0u ? 0u : (word) + run_move;                                                                \
+    limit = coarse != 0u ? steps : limit;                                                                      \
   } else {                                                                                                     \
     if ((word) - run_lo < run_span) {                                                                          \
       at = (word) + run_move;                                                                                  \
@@ -171,6 +172,7 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
     }                                                                                                          \
     coarse = at == MV_CACHE_NONE ? 1u : 0u;                                                                    \
     at = coarse != 0u ? 0u : at;                                                                               \
+    limit = coarse != 0u ? steps : limit;                                                                      \
   }
 
 /* One ray through the DAG of p.levels levels (p.proj, p.max_steps; `variant`: see mv_trace_rays). enc =
@@ -235,13 +237,15 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
 
   mv_u32 status = MV_TRACE_MISS;
   mv_u32 steps = 0u;
+  /* the step limit, or (paged) the step whose descent met a missing page: the walk leaves before the next */
+  mv_u32 limit = coarse != 0u ? 0u : max_steps;
   if (coarse != 0u) /* the root's cell (a level up, after the loop) */
     for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 0u;
   for (;;) {
     for (;;) {
       /* a descent into a missing page (coarse) leaves at the next step: its one exit shared with the step limit
        * (lavapipe pays for each exit; see the hit below), and the descent is undone after the loop */
-      if (steps == max_steps || coarse != 0u) {
+      if (steps == limit) {
         status = coarse != 0u ? MV_TRACE_HIT : MV_TRACE_GAVE_UP;
         break;
       }
@@ -358,6 +362,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
     coarse = 0u;
     status = MV_TRACE_MISS;
     steps -= 1u;
+    limit = max_steps;
   }
   if (mv_enc_paged(enc) && coarse != 0u) mv_page_request(request, p, last_page); /* the page it stopped at */
   h.steps = steps;

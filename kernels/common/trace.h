@@ -159,7 +159,6 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
     coarse = (word) - run_lo < run_span ? 0u : 1u;                                                             \
     left_run = (word);                                                                                         \
     at = coarse != 0u ? 0u : (word) + run_move;                                                                \
-    limit = coarse != 0u ? steps : limit;                                                                      \
   } else {                                                                                                     \
     if ((word) - run_lo < run_span) {                                                                          \
       at = (word) + run_move;                                                                                  \
@@ -172,8 +171,8 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
     }                                                                                                          \
     coarse = at == MV_CACHE_NONE ? 1u : 0u;                                                                    \
     at = coarse != 0u ? 0u : at;                                                                               \
-    limit = coarse != 0u ? steps : limit;                                                                      \
-  }
+  }                                                                                                            \
+  limit = coarse != 0u ? steps : limit; /* leave at the next step (mv_trace) */
 
 /* One ray through the DAG of p.levels levels (p.proj, p.max_steps; `variant`: see mv_trace_rays). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps

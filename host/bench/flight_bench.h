@@ -4,8 +4,8 @@
 // invalidation kernels and the host's waits; reading and uploading pages apart), pages and bytes streamed,
 // the hit rate, whether the picture equals the resident one byte for byte, and the address layer's cost on
 // the resident path: the view's last pass through a second cache that holds every page it reads (as large as
-// one allocation allows; preloaded when it holds every page) against the resident kernel, best of 3 each,
-// interleaved.
+// one allocation allows; preloaded when it holds every page) against the resident kernel, best of
+// kAddressSamples each, in pairs of alternating order.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -16,10 +16,13 @@
 
 namespace mv::bench {
 
+inline constexpr int kAddressSamples = 5;
+
 struct FlightFrame {
   double resident_seconds = 0, paged_seconds = 0;  // whole frames (trace, shading, downloads)
   double resident_trace_seconds = 0;               // the resident frame's trace passes
   double last_pass_trace_seconds = 0;              // the paged kernel's trace, every page of the view resident
+  double resident_best_trace_seconds = 0;          // the resident kernel's, sampled as last_pass_trace_seconds
   double manage_seconds = 0, produce_seconds = 0;  // the cache's, summed over the frame's passes
   double read_ahead_seconds = 0;                   // pages read ahead on their own thread, while tracing
   uint32_t passes = 0;

@@ -154,11 +154,36 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
     run_move = at - (word);                                                                                    \
   }
 
+/* The whole cache's step (MV_PAGE_STEP). Leaving the run is rare (never in a cache preloaded in page order: one
+ * run), and the two kinds of CPU device want it differently:
+ *  - OpenCL (PoCL runs a work-item as scalar code): a branch that is never taken, out of the loop with the
+ *    descent made (to the child's even cell: the undo after the loop takes it back), so the child's header load
+ *    waits on one add after the pointer; the selects put a compare and a cmov on that chain of dependent loads,
+ *    ~3 % of the trace;
+ *  - GLSL (lavapipe runs every branch for all lanes): selects, and the walk leaves at the next step (limit). */
+#if !defined(MV_GLSL)
+#define MV_PAGE_STEP_WHOLE(word, at)                                                                           \
+  if ((word) - run_lo >= run_span) {                                                                           \
+    left_run = (word);                                                                                         \
+    coarse = 1u;                                                                                               \
+    status = MV_TRACE_HIT;                                                                                     \
+    nl -= 1u;                                                                                                  \
+    lc -= 1u;                                                                                                  \
+    s = s * 0.5f;                                                                                              \
+    for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k];                                                     \
+    break;                                                                                                     \
+  }                                                                                                            \
+  at = (word) + run_move;
+#else
+#define MV_PAGE_STEP_WHOLE(word, at)                                                                           \
+  coarse = (word) - run_lo < run_span ? 0u : 1u;                                                               \
+  left_run = (word);                                                                                           \
+  at = coarse != 0u ? 0u : (word) + run_move;
+#endif
+
 #define MV_PAGE_STEP(word, at)                                                                                 \
   if (stamp_usage == 0u) {                                                                                     \
-    coarse = (word) - run_lo < run_span ? 0u : 1u;                                                             \
-    left_run = (word);                                                                                         \
-    at = coarse != 0u ? 0u : (word) + run_move;                                                                \
+    MV_PAGE_STEP_WHOLE(word, at)                                                                               \
   } else {                                                                                                     \
     if ((word) - run_lo < run_span) {                                                                          \
       at = (word) + run_move;                                                                                  \

@@ -93,11 +93,14 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
       RenderOptions once = options;
       once.cache_passes = 1;
       render(*warm, cam, options);  // converge: every page this view reads is resident from here on
+      auto trace_seconds = [&](bool paged) {
+        return paged ? render(*warm, cam, once).trace_seconds : render(resident, cam, options).trace_seconds;
+      };
       double paged_best = 0, resident_best = 0;
       for (int k = 0; k < kAddressSamples; ++k)
         for (int j = 0; j < 2; ++j) {
           const bool paged_turn = (j == 0) == (k % 2 == 0);
-          const double sec = paged_turn ? render(*warm, cam, once).trace_seconds : render(resident, cam, options).trace_seconds;
+          const double sec = trace_seconds(paged_turn);
           double& best = paged_turn ? paged_best : resident_best;
           best = k == 0 ? sec : std::min(best, sec);
         }

@@ -129,22 +129,29 @@ class PagedTraceTest : public ::testing::TestWithParam<DeviceInfo> {};
 // found (downloaded), until the cache holds everything the rays need.
 // Preloaded: the cache is filled whole in page order before the first pass, which then needs nothing (one
 // run of pages, no usage stamps). Streamed: the stamp-free kernel, which resolves a page outside the ray's run
-// after its loop, walks each pass's state as the stamping kernel does.
-void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload);
+// after its loop, walks each pass's state as the stamping kernel does. An ssvdag's kernels take its level starts
+// from the table, then from the parameters, on every device.
+void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload, bool starts_in_params);
 
 TEST_P(PagedTraceTest, EachPassMatchesTheHostBuildOfTheKernel) {
   Device& dev = shared_device(GetParam());
   for (Encoding e : {Encoding::svdag, Encoding::ssvdag})
-    for (bool preload : {false, true}) {
-      SCOPED_TRACE(encoding_name(e) + (preload ? " preloaded" : " streamed"));
-      each_pass_matches_the_host(dev, octahedron(dev, 6, e), preload);
-    }
+    for (bool preload : {false, true})
+      for (bool params : {false, true}) {
+        if (params && e != Encoding::ssvdag) continue;
+        SCOPED_TRACE(encoding_name(e) + (preload ? " preloaded" : " streamed") +
+                     (params ? ", level starts from the parameters" : ""));
+        each_pass_matches_the_host(dev, octahedron(dev, 6, e), preload, params);
+      }
 }
 
-void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload) {
+void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload, bool starts_in_params) {
   Paged p = paged(f);
   ASSERT_GT(p.dag.pages, 8u);
   Tracer tracer(dev, p.dag, uint64_t{p.dag.pages} * kPageWords * 4, preload);
+  if (f.dag.encoding == Encoding::ssvdag)
+    tracer.engine().set_level_starts(starts_in_params ? TraceEngine::LevelStarts::parameters
+                                                      : TraceEngine::LevelStarts::memory);
   if (preload) {
     EXPECT_EQ(tracer.preloaded().loaded, p.dag.pages);
     const std::vector<uint32_t> all = download_words(dev, tracer.cache()->table());
@@ -189,15 +196,16 @@ void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload) {
     const std::vector<uint32_t> hits = download_words(dev, hit_buf);
     if (!preload) EXPECT_EQ(whole_hits, hits) << "the two kernels walked differently";
     MvTraceParams tp{};
-    tp.levels = f.dag.levels;
+    tp.mode = MV_TRACE_MODE(f.dag.levels, 0u, 0u, 4u);  // pages of 16 words
     tp.max_steps = tracer.engine().step_limit(60000);
+    for (uint32_t k = 0; starts_in_params && k < MV_TRACE_PAGED_PARAM_LEVELS && 3 + k <= f.dag.levels; ++k)
+      tp.level_base[k] = static_cast<uint32_t>(p.dag.level_starts[3 + k]);
     tp.level_base[MV_TRACE_PAGE_STAMP] = cache.stamp();
-    tp.level_base[MV_TRACE_PAGE_SHIFT] = 4;  // 16 words
-    tp.level_base[MV_TRACE_PAGE_LEVELS] = p.dag.pages;
     tp.level_base[MV_TRACE_PAGE_RUNS] = cache.runs_at();
+    const uint32_t variant = (preload ? 0u : MV_TRACE_STAMPS) | (starts_in_params ? MV_TRACE_STARTS_IN_PARAMS : 0u);
     uint32_t coarse = 0;
     for (uint32_t i = 0; i < n; ++i) {
-      const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), enc, preload ? 0u : 1u,
+      const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), enc, variant,
                                   mv_load_ray(reinterpret_cast<const float*>(rays.data()), i), tp);
       const MvHit got = mv_load_hit(hits.data(), i);
       ASSERT_EQ(got.info, want.info) << "ray " << i;
@@ -479,6 +487,9 @@ TEST_P(PagedTraceTest, PagedSsvdagNeedsItsLevelStarts) {
   d.level_starts.assign(7, 0);
   d.level_starts[6] = 4 * kPageWords * 2;  // past the pages
   EXPECT_NE(error_message([&] { Tracer(dev, d, 1 << 20); }).find("past its pages"), std::string::npos);
+  d.level_starts[6] = 4;
+  d.level_starts[2] = 2;  // the walk finds the bricks at word 0
+  EXPECT_NE(error_message([&] { Tracer(dev, d, 1 << 20); }).find("bricks start at word 0"), std::string::npos);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PagedTraceTest);

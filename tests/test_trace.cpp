@@ -225,12 +225,12 @@ TEST_P(TraceTest, LevelOfDetailStopsWhereTheReferenceStops) {
   }
 }
 
-// A tree deeper than the trace parameters hold level starts for (32768^3: the ssvdag kernel reads them from
+// A tree deeper than the trace parameters hold level starts for (131072^3: the ssvdag kernel reads them from
 // memory on every device) walks exactly like the svdag: clusters of voxels far apart, rays aimed at them.
 TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
   Device& dev = shared_device(GetParam());
-  const uint32_t levels = 15, n = 1u << levels;
-  ASSERT_FALSE(mv_trace_params_hold_levels(levels));
+  const uint32_t levels = 17, n = 1u << levels;
+  ASSERT_FALSE(mv_trace_params_hold_levels(levels, false));
   std::mt19937_64 rng(15);
   std::vector<uint64_t> voxels;
   for (int c = 0; c < 40; ++c) {  // 40 blobs of about 100 voxels

@@ -45,25 +45,27 @@ TraceEngine::TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCa
   if (c.page_words < 16 || (c.page_words & (c.page_words - 1)) != 0)
     throw Error("trace: pages of " + std::to_string(c.page_words) + " words; paged tracing needs a power of two >= 16");
   page_shift_ = static_cast<uint32_t>(__builtin_ctz(c.page_words));
-  params_.levels = levels;
-  params_.level_base[MV_TRACE_PAGE_SHIFT] = page_shift_;
   params_.level_base[MV_TRACE_PAGE_RUNS] = cache.runs_at();
   if (encoding == Encoding::ssvdag) {
-    // inner nodes are addressed in 16-bit words of the slots; the level starts follow the page table
+    // inner nodes are addressed in 16-bit words of the slots; the level starts lie between the page table and
+    // the runs (the kernel finds them from the runs), and the parameters carry the first ones too
     if (uint64_t{c.slots} * c.page_words >= (uint64_t{1} << 31))
       throw Error("trace: a paged ssvdag addresses at most 2^31 words of cache slots (8 GiB)");
-    if (levels < 3 || c.table_tail.size() != levels + 1u)
+    if (levels < 3 || c.table_tail.size() != levels + 1u || cache.runs_at() != c.pages + levels + 1u)
       throw Error("trace: a paged ssvdag needs its level starts after the page table");
-    params_.level_base[MV_TRACE_PAGE_LEVELS] = c.pages;
+    if (c.table_tail[2] != 0) throw Error("trace: a paged ssvdag's bricks start at word 0");
+    for (uint32_t k = 0; k < MV_TRACE_PAGED_PARAM_LEVELS && 3 + k <= levels; ++k)
+      params_.level_base[k] = c.table_tail[3 + k];
+    set_level_starts(LevelStarts::automatic);
   }
 }
 
 void TraceEngine::set_level_starts(LevelStarts where) {
   const DeviceInfo& info = dev_.info();
-  const bool fits = mv_trace_params_hold_levels(levels_);
+  const bool fits = mv_trace_params_hold_levels(levels_, cache_ != nullptr);
   if (where == LevelStarts::parameters && !fits)
     throw Error("trace: the parameters hold level starts for at most " +
-                std::to_string(3 + MV_TRACE_PARAM_LEVELS) + " levels");
+                std::to_string(3 + (cache_ ? MV_TRACE_PAGED_PARAM_LEVELS : MV_TRACE_PARAM_LEVELS)) + " levels");
   starts_in_params_ = where == LevelStarts::parameters ||
                       (where == LevelStarts::automatic && fits && !info.cheap_parameter_loads);
 }
@@ -106,7 +108,11 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
                         uint32_t max_steps, bool occlusion, Buffer& results) {
   const bool ssvdag = encoding_ == static_cast<uint32_t>(Encoding::ssvdag);
   const Buffer* bricks = ssvdag ? &bricks_ : nullptr;
-  const KernelId paged = ssvdag ? (stamp_usage_ ? KernelId::trace_rays_paged_ssvdag : KernelId::trace_rays_paged_ssvdag_whole)
+  const KernelId paged_ssvdag =
+      starts_in_params_ ? (stamp_usage_ ? KernelId::trace_rays_paged_ssvdag_params
+                                        : KernelId::trace_rays_paged_ssvdag_whole_params)
+                        : (stamp_usage_ ? KernelId::trace_rays_paged_ssvdag : KernelId::trace_rays_paged_ssvdag_whole);
+  const KernelId paged = ssvdag ? paged_ssvdag
                                 : (stamp_usage_ ? KernelId::trace_rays_paged : KernelId::trace_rays_paged_whole);
   Kernel& k = dev_.kernel(cache_              ? paged
                           : !bricks           ? KernelId::trace_rays
@@ -118,8 +124,7 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
     p.block = block;
     p.first = first;
     p.count = n;
-    p.camera = camera ? 1u : 0u;
-    p.occlusion = occlusion ? 1u : 0u;
+    p.mode = MV_TRACE_MODE(levels_, camera ? 1u : 0u, occlusion ? 1u : 0u, page_shift_);
     p.width = width;
     p.max_steps = step_limit(max_steps);
     p.proj = proj;

@@ -26,8 +26,9 @@ class TraceEngine {
   Device& device() { return dev_; }
   uint32_t levels() const { return levels_; }
   // Where the ssvdag kernel finds each level's start (mv_level_base): by default from the parameters on
-  // lavapipe when they hold every level (each load costs a loop over the SIMD lanes there), else from memory.
-  // Tests pick each kernel on every device; parameters need a tree of at most 3 + MV_TRACE_PARAM_LEVELS levels.
+  // lavapipe when they hold every level (each load costs a loop over the SIMD lanes there), else from memory
+  // (paged: the cache's table). Tests pick each kernel on every device; parameters need a tree of at most
+  // 3 + MV_TRACE_PARAM_LEVELS levels (paged: MV_TRACE_PAGED_PARAM_LEVELS).
   enum class LevelStarts { automatic, memory, parameters };
   void set_level_starts(LevelStarts where);
   // A step limit the device can run (lavapipe ends loops at 65535 iterations).
@@ -54,7 +55,7 @@ class TraceEngine {
   PageCache* cache_ = nullptr;
   uint32_t page_shift_ = 0;
   bool stamp_usage_ = true;
-  MvTraceParams params_{};  // levels and ssvdag level starts
+  MvTraceParams params_{};  // ssvdag level starts; paged, where the runs start
 };
 
 }  // namespace mv

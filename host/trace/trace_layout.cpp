@@ -27,7 +27,7 @@ std::vector<uint32_t> trace_level_offsets(const EncodedDag& dag) {
 }
 
 void set_trace_levels(MvTraceParams& p, const EncodedDag& dag) {
-  p.levels = dag.levels;
+  p.mode = MV_TRACE_MODE(dag.levels, 0u, 0u, 0u);
   if (dag.encoding != Encoding::ssvdag) return;
   for (uint32_t k = 0; k < MV_TRACE_PARAM_LEVELS && 3 + k < dag.level_offset.size(); ++k)
     p.level_base[k] = static_cast<uint32_t>(dag.level_offset[3 + k]);

@@ -20,7 +20,7 @@ std::vector<uint32_t> trace_bricks(const EncodedDag& dag);
 // ssvdag: where each level starts in the inner stream (index = level); empty for the other encodings.
 std::vector<uint32_t> trace_level_offsets(const EncodedDag& dag);
 
-// Sets p.levels and the ssvdag level starts the parameters carry.
+// Sets p.mode (the levels; rays from a buffer, hit records) and the ssvdag level starts the parameters carry.
 void set_trace_levels(MvTraceParams& p, const EncodedDag& dag);
 
 }  // namespace mv

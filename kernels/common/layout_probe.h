@@ -49,11 +49,11 @@
   X(MV_U32, box_size) X(MV_U32, box_x) X(MV_U32, box_y) X(MV_U32, box_z) X(MV_U32, thin)
 #define MV_FIELDS_DAG(X) X(MV_U32, n) X(MV_U32, leaf) X(MV_U32, seed_lo) X(MV_U32, seed_hi) X(MV_U32, block)
 #define MV_FIELDS_TRACE(X)                                                                                             \
-  X(MV_U32, first) X(MV_U32, count) X(MV_U32, levels) X(MV_U32, camera) X(MV_U32, occlusion) X(MV_U32, width)          \
-  X(MV_U32, max_steps) X(MV_FBITS, proj) X(MV_U32, block) X(MV_U32, level_base[0]) X(MV_U32, level_base[1])            \
-  X(MV_U32, level_base[2]) X(MV_U32, level_base[3]) X(MV_U32, level_base[4]) X(MV_U32, level_base[5])                  \
-  X(MV_U32, level_base[6]) X(MV_U32, level_base[7]) X(MV_U32, level_base[8]) X(MV_U32, level_base[9])                  \
-  X(MV_U32, level_base[10])
+  X(MV_U32, first) X(MV_U32, count) X(MV_U32, mode) X(MV_U32, width) X(MV_U32, max_steps) X(MV_FBITS, proj)            \
+  X(MV_U32, block) X(MV_U32, level_base[0]) X(MV_U32, level_base[1]) X(MV_U32, level_base[2])                          \
+  X(MV_U32, level_base[3]) X(MV_U32, level_base[4]) X(MV_U32, level_base[5]) X(MV_U32, level_base[6])                  \
+  X(MV_U32, level_base[7]) X(MV_U32, level_base[8]) X(MV_U32, level_base[9]) X(MV_U32, level_base[10])                 \
+  X(MV_U32, level_base[11]) X(MV_U32, level_base[12])
 #define MV_FIELDS_SECONDARY(X)                                                                                         \
   X(MV_U32, first) X(MV_U32, count) X(MV_U32, levels) X(MV_U32, camera) X(MV_U32, width) X(MV_U32, kind)               \
   X(MV_U32, sample_k) X(MV_U32, stride) X(MV_U32, mask) X(MV_FBITS, lx) X(MV_FBITS, ly) X(MV_FBITS, lz)                \

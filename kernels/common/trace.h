@@ -121,7 +121,7 @@ MV_INLINE void mv_page_stamp(MvBufU32 usage, mv_u32 slot, mv_u32 stamp) {
   if (MV_LD(usage, slot) != stamp) MV_ST(usage, slot, stamp);
 }
 MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvTraceParams p, mv_u32 stamp_usage, mv_u32 addr) {
-  const mv_u32 shift = p.level_base[MV_TRACE_PAGE_SHIFT];
+  const mv_u32 shift = MV_TRACE_PAGE_SHIFT(p);
   mv_u32 slot = MV_LD(table, addr >> shift);
   if (slot == MV_CACHE_NONE) return MV_CACHE_NONE;
   if (stamp_usage != 0u) mv_page_stamp(usage, slot, p.level_base[MV_TRACE_PAGE_STAMP]);
@@ -199,14 +199,14 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
   }                                                                                                            \
   limit = coarse != 0u ? steps : limit; /* leave at the next step (mv_trace) */
 
-/* One ray through the DAG of p.levels levels (p.proj, p.max_steps; `variant`: see mv_trace_rays). enc =
+/* One ray through the DAG of MV_TRACE_LEVELS(p) levels (p.proj, p.max_steps; `variant`: mv_trace_rays). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
  * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse.
- * MV_ENC_PAGED_SSVDAG: the same for an ssvdag, its level starts after the page table (MV_TRACE_PAGE_LEVELS).
+ * MV_ENC_PAGED_SSVDAG: the same for an ssvdag, its level starts after the page table (MV_TRACE_PAGE_RUNS).
  * Other encodings ignore usage and request. */
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBufU32 usage, MvBufU32 request,
                          mv_u32 enc, mv_u32 variant, MvRay r, MvTraceParams p) {
-  const mv_u32 L = p.levels;
+  const mv_u32 L = MV_TRACE_LEVELS(p);
   const mv_f32 proj = p.proj;
   const mv_u32 max_steps = p.max_steps;
   MvHit h;
@@ -232,14 +232,15 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   mv_u32 mir_at[22];
   mv_u32 occ_at[22];
   mv_u32 nl = L;
+  const mv_u32 runs_at = p.level_base[MV_TRACE_PAGE_RUNS];
+  const mv_u32 starts_in_params = variant & MV_TRACE_STARTS_IN_PARAMS;
   /* paged: the root's stream word (0; a paged ssvdag: its level's start, in 16-bit words, halved) */
-  const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? p.level_base[MV_TRACE_PAGE_LEVELS] : 0u;
+  const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? runs_at - (L + 1u) : 0u;
   const mv_u32 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD(bricks, levels_at + L) : 0u;
   const mv_u32 root_word = root_half >> 1;
   /* paged: the ray's run (see MV_PAGE_STEP; none at first) and the page it last stamped */
-  const mv_u32 page_shift = mv_enc_paged(enc) ? p.level_base[MV_TRACE_PAGE_SHIFT] : 0u;
-  const mv_u32 runs_at = p.level_base[MV_TRACE_PAGE_RUNS];
-  const mv_u32 stamp_usage = mv_enc_paged(enc) ? variant : 0u;
+  const mv_u32 page_shift = mv_enc_paged(enc) ? MV_TRACE_PAGE_SHIFT(p) : 0u;
+  const mv_u32 stamp_usage = mv_enc_paged(enc) ? variant & MV_TRACE_STAMPS : 0u;
   mv_u32 run_lo = 0u, run_span = 0u, run_move = 0u, last_page = MV_CACHE_NONE;
   mv_u32 left_run = MV_CACHE_NONE; /* whole cache: the word whose step left the run, resolved after the loop */
   mv_u32 root_at = 0u;
@@ -306,13 +307,17 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
               tag = mv_ssvdag_tag(ptr);
               bool inner = lv > 2u;
               if (enc == MV_ENC_PAGED_SSVDAG) {
-                /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each) */
-                mv_u32 w16 = MV_LD(bricks, levels_at + (inner ? lv : 2u)) + (inner ? off : 2u * off);
+                /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each,
+                 * from word 0) */
+                mv_u32 start = starts_in_params == 0u ? MV_LD(bricks, levels_at + (inner ? lv : 2u))
+                               : inner                  ? mv_params_level_base(p, lv, MV_TRACE_PAGED_PARAM_LEVELS)
+                                                        : 0u;
+                mv_u32 w16 = start + (inner ? off : 2u * off);
                 mv_u32 word = inner ? w16 >> 1 : w16, at = 0u;
                 MV_PAGE_STEP(word, at) /* as for the word encodings */
                 child = inner ? (at << 1) | (w16 & 1u) : at;
               } else {
-                child = mv_level_base(p, lvl_off, lv, variant) + off;
+                child = mv_level_base(p, lvl_off, lv, starts_in_params) + off;
               }
               mv_u64 data = mv_node_load(words, bricks, enc, lv, inner || enc == MV_ENC_PAGED_SSVDAG ? child : off);
               if (inner) {
@@ -405,10 +410,8 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
 #if !defined(MV_CPP)
 /* One work-item's share of a trace dispatch. `enc` and `variant` are constants of the entry point, so each
  * kernel compiles only its own decode. enc: MV_ENC_SVDAG for every 32-bit word encoding, MV_ENC_PAGED for them
- * through the page cache, MV_ENC_SSVDAG, or MV_ENC_PAGED_SSVDAG. variant: for an ssvdag, its level starts
- * from the parameters (1) or memory (0: mv_level_base); paged, whether the traversal stamps the slots it reads
- * for the LRU (1), or not (0: a cache with a slot for every page, preloaded, never evicts, and the stamping
- * code alone, never run, costs PoCL ~8 % and lavapipe ~15 % of the trace). */
+ * through the page cache, MV_ENC_SSVDAG, or MV_ENC_PAGED_SSVDAG. variant: MV_TRACE_STARTS_IN_PARAMS and
+ * MV_TRACE_STAMPS (trace_types.h). */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
                              MvBufU32 usage, MvBufU32 request, MvBufU32 results, MvTraceParams p, mv_u32 gid,
                              mv_u32 gsize, mv_u32 enc, mv_u32 variant) {
@@ -418,7 +421,7 @@ MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU
   for (mv_u32 j = begin; j < end; j += stride) {
     mv_u32 i = p.first + j;
     MvHit h = mv_trace(words, bricks, lvl_off, usage, request, enc, variant, mv_trace_source_ray(rays, cam, i, p), p);
-    if (p.occlusion == 1u) {
+    if (MV_TRACE_OCCLUSION(p) == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {
       mv_store_hit(results, i, h);

@@ -116,12 +116,11 @@ MV_INLINE mv_u32 mv_sub_block_occupancy(mv_u32 lo, mv_u32 hi, mv_u32 sub) {
   return mv_delta_swap(mv_delta_swap((g | (g >> 14)) & 0xffu, 0x22u, 1u), 0x0cu, 2u);
 }
 
-/* Where ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words): read from the level-offset
- * buffer (in_params = 0: one cached load, the cheapest where loads are cheap), or taken from the parameters by
- * a chain of selects (in_params = 1, trees up to 16K^3: no load and no indexed array, for lavapipe, see
- * trace.h; an index into the parameter array would put it in per-lane scratch memory there). */
-MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 in_params) {
-  if (in_params == 0u) return MV_LD(lvl_off, lv);
+/* Where ssvdag level lv (3 <= lv < 3 + n) starts, taken from the parameters by a chain of selects: no load and
+ * no indexed array, for lavapipe (see trace.h; an index into the parameter array would put it in per-lane
+ * scratch memory there). n, a constant: how many level starts the parameters carry (MV_TRACE_PARAM_LEVELS
+ * resident, MV_TRACE_PAGED_PARAM_LEVELS paged). */
+MV_INLINE mv_u32 mv_params_level_base(MvTraceParams p, mv_u32 lv, mv_u32 n) {
   mv_u32 b = p.level_base[0];
   b = lv == 4u ? p.level_base[1] : b;
   b = lv == 5u ? p.level_base[2] : b;
@@ -133,10 +132,25 @@ MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_
   b = lv == 11u ? p.level_base[8] : b;
   b = lv == 12u ? p.level_base[9] : b;
   b = lv == 13u ? p.level_base[10] : b;
+  if (n > 11u) {
+    b = lv == 14u ? p.level_base[11] : b;
+    b = lv == 15u ? p.level_base[12] : b;
+  }
   return b;
 }
 
-/* Can the parameters hold where every level of a tree of L levels starts (mv_level_base's in_params)? */
-MV_INLINE bool mv_trace_params_hold_levels(mv_u32 L) { return L <= 3u + MV_TRACE_PARAM_LEVELS; }
+/* Where resident ssvdag level lv (3 <= lv < L) starts in the inner stream (16-bit words): read from the
+ * level-offset buffer (in_params = 0: one cached load, the cheapest where loads are cheap), or taken from the
+ * parameters (in_params = 1, trees up to 64K^3). */
+MV_INLINE mv_u32 mv_level_base(MvTraceParams p, MvBufU32 lvl_off, mv_u32 lv, mv_u32 in_params) {
+  if (in_params == 0u) return MV_LD(lvl_off, lv);
+  return mv_params_level_base(p, lv, MV_TRACE_PARAM_LEVELS);
+}
+
+/* Can the parameters hold where every level of a tree of L levels starts (mv_level_base's in_params)? Paged,
+ * two of their words hold the cache's (MV_TRACE_PAGE_STAMP). */
+MV_INLINE bool mv_trace_params_hold_levels(mv_u32 L, bool paged) {
+  return L <= 3u + (paged ? MV_TRACE_PAGED_PARAM_LEVELS : MV_TRACE_PARAM_LEVELS);
+}
 
 #endif /* MV_TRACE_NODES_H */

@@ -23,8 +23,8 @@
 #define MV_CAMERA_DV 9u
 #define MV_CAMERA_TMAX 12u
 #define MV_CAMERA_FIRST 13u /* the pixel of ray 0 (float bits of a u32): a tile's rays index its own buffers */
-#define MV_TRACE_PARAM_LEVELS 11u /* the parameters can hold where ssvdag levels 3 .. 13 start (every tree up
-                                     to 16K^3); the push constants hold no more (128 bytes) */
+#define MV_TRACE_PARAM_LEVELS 13u /* the parameters can hold where ssvdag levels 3 .. 15 start (every tree up
+                                     to 64K^3); the push constants hold no more (128 bytes) */
 
 /* info word of a hit record: status | face axis << 2 | (normal points to -axis) << 4 | level << 8 |
  * coarse << 13 (paged: the walk stopped at that cell because the page below it was missing) */
@@ -34,34 +34,52 @@
 #define MV_INFO_NEGATIVE(i) (((i) >> 4) & 1u)
 #define MV_INFO_LEVEL(i) (((i) >> 8) & 31u)
 #define MV_INFO_COARSE(i) (((i) >> 13) & 1u)
-/* Paged traversal (MV_ENC_PAGED, MV_ENC_PAGED_SSVDAG): level_base carries the pass's stamp, log2 of the page
- * size in words, where the runs are and, for a paged ssvdag, where its level starts follow the page table (table[that + l]: the
- * first node of inner level l in 16-bit words, l = 3 .. L; l = 2: the bricks' first 32-bit word). */
-#define MV_TRACE_PAGE_STAMP 0
-#define MV_TRACE_PAGE_SHIFT 1
-#define MV_TRACE_PAGE_LEVELS 2
-#define MV_TRACE_PAGE_RUNS 3  /* where the pages' runs start in the table's buffer (page_cache.h: runs) */
+
+/* The trace parameters' mode word: L (the root cube is 2^L voxels per axis, L <= 21) | camera << 5 (0: rays
+ * from the ray buffer; 1: camera rays, ray index = pixel) | occlusion << 6 (0: hit records; 1: occlusion
+ * counts, count[i] += 1 when ray i hits) | page shift << 8 (paged: log2 of the page size in words). One word for
+ * the four leaves the push constants room for the level starts a paged ssvdag walk selects from. */
+#define MV_TRACE_MODE(levels, camera, occlusion, page_shift)                                                     \
+  ((levels) | ((camera) << 5) | ((occlusion) << 6) | ((page_shift) << 8))
+#define MV_TRACE_LEVELS(p) ((p).mode & 31u)
+#define MV_TRACE_CAMERA(p) (((p).mode >> 5) & 1u)
+#define MV_TRACE_OCCLUSION(p) (((p).mode >> 6) & 1u)
+#define MV_TRACE_PAGE_SHIFT(p) (((p).mode >> 8) & 31u)
+
+/* Paged traversal (MV_ENC_PAGED, MV_ENC_PAGED_SSVDAG): level_base's last two words carry the pass's stamp and
+ * where the pages' runs start in the table's buffer (page_cache.h: runs). A paged ssvdag's level starts lie
+ * just before its runs (table[runs - (L + 1) + l]: the first node of inner level l in 16-bit words, l = 3 .. L;
+ * l = 2, the bricks, always 0), and the first MV_TRACE_PAGED_PARAM_LEVELS of them may come with the parameters
+ * too, where the other words hold them for the resident walk. */
+#define MV_TRACE_PAGE_STAMP 11
+#define MV_TRACE_PAGE_RUNS 12
+#define MV_TRACE_PAGED_PARAM_LEVELS 11u /* levels 3 .. 13: every tree up to 16K^3 */
+
+/* A walk's variant (mv_trace), a constant of each trace kernel: an ssvdag's level starts come with the
+ * parameters (else from memory: mv_level_base); paged, the walk stamps the slots it reads for the LRU (else a
+ * cache with a slot for every page, preloaded, that never evicts: the stamping code alone, never run, costs
+ * PoCL ~8 % and lavapipe ~15 % of the trace). */
+#define MV_TRACE_STARTS_IN_PARAMS 1u
+#define MV_TRACE_STAMPS 2u
 
 MV_STRUCT_BEGIN(MvTraceParams)
   mv_u32 first;     /* rays [first, first + count) in this dispatch */
   mv_u32 count;
-  mv_u32 levels;    /* L: the root cube is 2^L voxels per axis */
-  mv_u32 camera;    /* 0: rays from the ray buffer; 1: camera rays (camera buffer, ray index = pixel) */
-  mv_u32 occlusion; /* 0: hit records; 1: occlusion counts (count[i] += 1 when ray i hits) */
+  mv_u32 mode;      /* MV_TRACE_MODE: levels, ray source, output and page size */
   mv_u32 width;     /* camera rays: image width */
   mv_u32 max_steps; /* give up after this many loop steps (the same on every device) */
   mv_f32 proj;      /* LOD factor, see above; 0 = voxels only */
   mv_u32 block;     /* rays per work-item, contiguous (CPU devices: neighbouring rays share cache lines); 0 =
                        grid-stride */
-  mv_u32 level_base[MV_TRACE_PARAM_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream */
+  mv_u32 level_base[MV_TRACE_PARAM_LEVELS]; /* ssvdag: where level 3 + k starts in the inner stream; paged: see
+                                               MV_TRACE_PAGE_STAMP */
 MV_STRUCT_END(MvTraceParams)
 #if defined(MV_CPP)
 MV_LAYOUT_SIZE(MvTraceParams, 80);
-MV_LAYOUT_AT(MvTraceParams, first, 0); MV_LAYOUT_AT(MvTraceParams, count, 4); MV_LAYOUT_AT(MvTraceParams, levels, 8);
-MV_LAYOUT_AT(MvTraceParams, camera, 12); MV_LAYOUT_AT(MvTraceParams, occlusion, 16);
-MV_LAYOUT_AT(MvTraceParams, width, 20); MV_LAYOUT_AT(MvTraceParams, max_steps, 24);
-MV_LAYOUT_AT(MvTraceParams, proj, 28); MV_LAYOUT_AT(MvTraceParams, block, 32);
-MV_LAYOUT_AT(MvTraceParams, level_base, 36);
+MV_LAYOUT_AT(MvTraceParams, first, 0); MV_LAYOUT_AT(MvTraceParams, count, 4); MV_LAYOUT_AT(MvTraceParams, mode, 8);
+MV_LAYOUT_AT(MvTraceParams, width, 12); MV_LAYOUT_AT(MvTraceParams, max_steps, 16);
+MV_LAYOUT_AT(MvTraceParams, proj, 20); MV_LAYOUT_AT(MvTraceParams, block, 24);
+MV_LAYOUT_AT(MvTraceParams, level_base, 28);
 #endif
 
 MV_STRUCT_BEGIN(MvRay)
@@ -152,7 +170,7 @@ MV_INLINE MvRay mv_camera_ray(MvBufF32 cam, mv_u32 ray, mv_u32 width) {
 }
 
 MV_INLINE MvRay mv_trace_source_ray(MvBufF32 rays, MvBufF32 cam, mv_u32 i, MvTraceParams p) {
-  return p.camera == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);
+  return MV_TRACE_CAMERA(p) == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);
 }
 
 #endif /* MV_TRACE_TYPES_H */

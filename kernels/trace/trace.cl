@@ -16,7 +16,8 @@ __kernel void trace_rays_ssvdag(__global float* rays, __global float* cam, __glo
 __kernel void trace_rays_ssvdag_params(__global float* rays, __global float* cam, __global uint* words,
                                        __global uint* bricks, __global uint* lvl_off, __global uint* out,
                                        MvTraceParams p) {
-  mv_trace_rays(rays, cam, words, bricks, lvl_off, words, words, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG, 1u);
+  mv_trace_rays(rays, cam, words, bricks, lvl_off, words, words, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG,
+                MV_TRACE_STARTS_IN_PARAMS);
 }
 
 // 32-bit word encodings through the page cache: slots, page table, usage and request stamps (mv_page_resolve);
@@ -25,7 +26,7 @@ __kernel void trace_rays_ssvdag_params(__global float* rays, __global float* cam
 __kernel void trace_rays_paged(__global float* src, __global uint* slots, __global uint* table, __global uint* usage,
                                __global uint* request, __global uint* out, MvTraceParams p) {
   mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED,
-                1u);
+                MV_TRACE_STAMPS);
 }
 
 __kernel void trace_rays_paged_whole(__global float* src, __global uint* slots, __global uint* table,
@@ -34,11 +35,19 @@ __kernel void trace_rays_paged_whole(__global float* src, __global uint* slots, 
                 0u);
 }
 
-// The same for an ssvdag through the page cache (its level starts follow the page table).
+// The same for an ssvdag through the page cache (its level starts follow the page table), and the _params
+// kernels that take them from the parameters instead (mv_params_level_base).
 __kernel void trace_rays_paged_ssvdag(__global float* src, __global uint* slots, __global uint* table,
                                       __global uint* usage, __global uint* request, __global uint* out, MvTraceParams p) {
   mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(),
-                MV_ENC_PAGED_SSVDAG, 1u);
+                MV_ENC_PAGED_SSVDAG, MV_TRACE_STAMPS);
+}
+
+__kernel void trace_rays_paged_ssvdag_params(__global float* src, __global uint* slots, __global uint* table,
+                                             __global uint* usage, __global uint* request, __global uint* out,
+                                             MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(),
+                MV_ENC_PAGED_SSVDAG, MV_TRACE_STAMPS | MV_TRACE_STARTS_IN_PARAMS);
 }
 
 __kernel void trace_rays_paged_ssvdag_whole(__global float* src, __global uint* slots, __global uint* table,
@@ -46,6 +55,13 @@ __kernel void trace_rays_paged_ssvdag_whole(__global float* src, __global uint* 
                                             MvTraceParams p) {
   mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(),
                 MV_ENC_PAGED_SSVDAG, 0u);
+}
+
+__kernel void trace_rays_paged_ssvdag_whole_params(__global float* src, __global uint* slots, __global uint* table,
+                                                   __global uint* usage, __global uint* request, __global uint* out,
+                                                   MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(),
+                MV_ENC_PAGED_SSVDAG, MV_TRACE_STARTS_IN_PARAMS);
 }
 
 __kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global float* table,

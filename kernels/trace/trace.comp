@@ -11,16 +11,19 @@ layout(push_constant) uniform Args {
   MvBufF32 rays; MvBufF32 cam; MvBufU32 words; MvBufU32 bricks; MvBufU32 lvl_off; MvBufU32 out_; MvTraceParams p;
 } a;
 void main() {
-  mv_trace_rays(a.rays, a.cam, a.words, a.bricks, a.lvl_off, a.words, a.words, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC, MV_TRACE_PARAMS);
+  mv_trace_rays(a.rays, a.cam, a.words, a.bricks, a.lvl_off, a.words, a.words, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC,
+                MV_TRACE_PARAMS != 0u ? MV_TRACE_STARTS_IN_PARAMS : 0u);
 }
 #elif defined(MV_ENTRY_trace_rays_paged)
 /* the page cache's buffers (see trace.cl); one source for rays or camera keeps the push constants at 128 bytes;
- * MV_TRACE_ENC: MV_ENC_PAGED or MV_ENC_PAGED_SSVDAG; MV_TRACE_LRU: stamp usage (1) or not (0, see trace.cl) */
+ * MV_TRACE_ENC: MV_ENC_PAGED or MV_ENC_PAGED_SSVDAG; MV_TRACE_LRU: stamp usage (1) or not (0, see trace.cl);
+ * MV_TRACE_PARAMS: a paged ssvdag's level starts from the parameters (1) or the table (0) */
 layout(push_constant) uniform Args {
   MvBufF32 src; MvBufU32 slots; MvBufU32 table; MvBufU32 usage; MvBufU32 request; MvBufU32 out_; MvTraceParams p;
 } a;
 void main() {
-  mv_trace_rays(a.src, a.src, a.slots, a.table, a.table, a.usage, a.request, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC, MV_TRACE_LRU);
+  mv_trace_rays(a.src, a.src, a.slots, a.table, a.table, a.usage, a.request, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC,
+                (MV_TRACE_LRU != 0u ? MV_TRACE_STAMPS : 0u) | (MV_TRACE_PARAMS != 0u ? MV_TRACE_STARTS_IN_PARAMS : 0u));
 }
 #elif defined(MV_ENTRY_secondary_rays)
 layout(push_constant) uniform Args {

@@ -294,5 +294,29 @@ TEST(TraceMath, ReciprocalIsAccurate) {
   }
 }
 
+// The mode word keeps each field apart, and the parameters hold level starts for trees up to 64K^3 (paged: two
+// words are the cache's, 16K^3).
+TEST(TraceMath, ParametersPackTheirFields) {
+  MvTraceParams p{};
+  p.mode = MV_TRACE_MODE(21u, 1u, 0u, 31u);
+  EXPECT_EQ(MV_TRACE_LEVELS(p), 21u);
+  EXPECT_EQ(MV_TRACE_CAMERA(p), 1u);
+  EXPECT_EQ(MV_TRACE_OCCLUSION(p), 0u);
+  EXPECT_EQ(MV_TRACE_PAGE_SHIFT(p), 31u);
+  p.mode = MV_TRACE_MODE(3u, 0u, 1u, 4u);
+  EXPECT_EQ(MV_TRACE_LEVELS(p), 3u);
+  EXPECT_EQ(MV_TRACE_CAMERA(p), 0u);
+  EXPECT_EQ(MV_TRACE_OCCLUSION(p), 1u);
+  EXPECT_EQ(MV_TRACE_PAGE_SHIFT(p), 4u);
+  EXPECT_TRUE(mv_trace_params_hold_levels(16, false));
+  EXPECT_FALSE(mv_trace_params_hold_levels(17, false));
+  EXPECT_TRUE(mv_trace_params_hold_levels(14, true));
+  EXPECT_FALSE(mv_trace_params_hold_levels(15, true));
+  // the paged level starts lie before the cache's two words, which lie inside the parameters
+  EXPECT_LE(MV_TRACE_PAGED_PARAM_LEVELS, static_cast<unsigned>(MV_TRACE_PAGE_STAMP));
+  EXPECT_LT(static_cast<unsigned>(MV_TRACE_PAGE_RUNS), MV_TRACE_PARAM_LEVELS);
+  EXPECT_NE(MV_TRACE_PAGE_STAMP, MV_TRACE_PAGE_RUNS);
+}
+
 }  // namespace
 }  // namespace mv::test

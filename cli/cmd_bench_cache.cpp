@@ -33,7 +33,7 @@ void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g) {
       "kernel through a second cache holding every page of the view (as large as one allocation allows)\n"
       "against today's kernel, per view, best of 5 each in pairs of alternating order. Default flight:\n"
       "--frames cameras orbiting the model at --distance times the distance that frames it.");
-  cmd->add_option("file", a->input, "A paged .mvx (built by this version; svo, svdag or ussvdag)")->required();
+  cmd->add_option("file", a->input, "A paged .mvx (built by this version; any encoding)")->required();
   cmd->add_option("--cache-memory", a->cache_memory, "Page cache size")->capture_default_str();
   cmd->add_option("--path", a->path, "A camera flight (JSON, see `megavox render --help`) instead of the orbit");
   cmd->add_option("--frames", a->frames, "Orbit frames")->capture_default_str();

@@ -51,7 +51,7 @@ TraceEngine::TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCa
     // the runs (the kernel finds them from the runs), and the parameters carry the first ones too
     if (uint64_t{c.slots} * c.page_words >= (uint64_t{1} << 31))
       throw Error("trace: a paged ssvdag addresses at most 2^31 words of cache slots (8 GiB)");
-    if (levels < 3 || c.table_tail.size() != levels + 1u || cache.runs_at() != c.pages + levels + 1u)
+    if (levels < 3 || c.table_tail.size() != levels + 1u)  // so the runs start at pages + levels + 1
       throw Error("trace: a paged ssvdag needs its level starts after the page table");
     if (c.table_tail[2] != 0) throw Error("trace: a paged ssvdag's bricks start at word 0");
     for (uint32_t k = 0; k < MV_TRACE_PAGED_PARAM_LEVELS && 3 + k <= levels; ++k)

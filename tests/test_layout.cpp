@@ -57,6 +57,7 @@ TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   expect_same_layout(dev, offsets, KernelId::probe_point_params, mv_probe_point_params);
   expect_same_layout(dev, offsets, KernelId::probe_splat_params, mv_probe_splat_params);
   expect_same_layout(dev, offsets, KernelId::probe_mincut_params, mv_probe_mincut_params);
+  expect_same_layout(dev, offsets, KernelId::probe_mincut_bk_params, mv_probe_mincut_bk_params);
   expect_same_layout(dev, offsets, KernelId::probe_mask_post_params, mv_probe_mask_post_params);
 }
 

@@ -1,6 +1,7 @@
-// The min-cut kernels on every device against Boost.Graph's Boykov-Kolmogorov: the same cut value and the same
-// source set (the canonical minimal one) on random 4- and 8-connected grids, extreme capacities, split grids,
-// all-source and all-sink graphs and image-like graphs, plus the graph checks' messages.
+// Both min-cut solvers (region Boykov-Kolmogorov and tiled push-relabel) on every device against Boost.Graph's
+// Boykov-Kolmogorov: the same cut value and the same source set (the canonical minimal one) on random 4- and
+// 8-connected grids, extreme capacities, split grids, all-source and all-sink graphs and image-like graphs, plus
+// the graph checks' messages.
 #include <random>
 
 #include "host/ref/min_cut_reference.h"
@@ -76,17 +77,24 @@ class MinCutTest : public ::testing::TestWithParam<DeviceInfo> {
  protected:
   Device& dev() { return shared_device(GetParam()); }
 
+  // Both solvers, o's first (its stats go to `stats`), then the other with the same options.
   void expect_bk(const GridGraph& g, const std::string& what, const MinCutOptions& o = {},
                  MinCutStats* stats = nullptr) {
-    SCOPED_TRACE(what + " (" + std::to_string(g.width) + " x " + std::to_string(g.height) + ", " +
-                 std::to_string(g.connectivity) + "-connected)");
     const MinCut want = ref::bk_min_cut(g);
-    const MinCut got = min_cut(dev(), g, o, stats);
-    ASSERT_EQ(got.value, want.value);
-    ASSERT_EQ(got.source_side.size(), want.source_side.size());
-    size_t differ = 0;
-    for (size_t i = 0; i < want.source_side.size(); ++i) differ += got.source_side[i] != want.source_side[i];
-    ASSERT_EQ(differ, 0u) << "pixels on another side than Boost's source tree";
+    MinCutOptions other = o;
+    other.solver = o.solver == MinCutSolver::regions ? MinCutSolver::push_relabel : MinCutSolver::regions;
+    for (int k = 0; k < 2; ++k) {
+      const MinCutOptions& run = k == 0 ? o : other;
+      SCOPED_TRACE(what + " (" + std::to_string(g.width) + " x " + std::to_string(g.height) + ", " +
+                   std::to_string(g.connectivity) + "-connected, " +
+                   (run.solver == MinCutSolver::regions ? "regions" : "push-relabel") + ")");
+      const MinCut got = min_cut(dev(), g, run, k == 0 ? stats : nullptr);
+      ASSERT_EQ(got.value, want.value);
+      ASSERT_EQ(got.source_side.size(), want.source_side.size());
+      size_t differ = 0;
+      for (size_t i = 0; i < want.source_side.size(); ++i) differ += got.source_side[i] != want.source_side[i];
+      ASSERT_EQ(differ, 0u) << "pixels on another side than Boost's source tree";
+    }
   }
 };
 
@@ -101,7 +109,8 @@ TEST_P(MinCutTest, RandomGridsMatchBoykovKolmogorov) {
         for (double share : {0.1, 0.6}) expect_bk(random_graph(s.w, s.h, conn, cap, share, seed++), "random");
 }
 
-// Tiles of 2 and 3 pixels (every pixel near a tile seam), one discharge pass per relabel, many sweeps.
+// Push-relabel: tiles of 2 and 3 pixels (every pixel near a tile seam), one discharge pass per relabel, many
+// sweeps.
 TEST_P(MinCutTest, SmallTilesAndOtherScheduleGiveTheSameCut) {
   for (uint32_t conn : {4u, 8u}) {
     const GridGraph g = random_graph(23, 19, conn, 100, 0.3, conn);
@@ -173,7 +182,9 @@ TEST_P(MinCutTest, ManyIncrementalRelabelsGiveTheSameCut) {
   for (uint32_t conn : {4u, 8u}) {
     const GridGraph g = disc_graph(150, 110, conn, 31 + conn);
     MinCutStats st;
-    expect_bk(g, "tile 4, one discharge pass of one sweep", {4, 1, 1}, &st);
+    MinCutOptions o{4, 1, 1};
+    o.solver = MinCutSolver::push_relabel;
+    expect_bk(g, "tile 4, one discharge pass of one sweep", o, &st);
     EXPECT_GE(st.rounds, 4u);
   }
 }
@@ -181,11 +192,15 @@ TEST_P(MinCutTest, ManyIncrementalRelabelsGiveTheSameCut) {
 // GrabCut's iterations: the same edges, new terminals. Each cut starting from the last one's flow gives BK's
 // value and source set; terminals that cannot carry that flow grow on both sides (the value is corrected).
 TEST_P(MinCutTest, WarmStartFromTheLastFlowGivesTheSameCut) {
+  for (MinCutSolver solver : {MinCutSolver::regions, MinCutSolver::push_relabel})
   for (uint32_t conn : {4u, 8u}) {
+    SCOPED_TRACE(solver == MinCutSolver::regions ? "regions" : "push-relabel");
+    MinCutOptions o;
+    o.solver = solver;
     GridGraph g = disc_graph(120, 90, conn, 41 + conn);
     MinCutFlow flow;
     MinCutStats st;
-    min_cut(dev(), g, {}, &st, &flow);
+    min_cut(dev(), g, o, &st, &flow);
     EXPECT_FALSE(st.warm);
     std::mt19937 rng(conn);
     for (int step = 0; step < 4; ++step) {
@@ -196,16 +211,27 @@ TEST_P(MinCutTest, WarmStartFromTheLastFlowGivesTheSameCut) {
         else g.source[i] = static_cast<uint32_t>(g.source[i] * (0.6 + 0.8 * (rng() % 1000) / 1000.0));
       }
       const MinCut want = ref::bk_min_cut(g);
-      const MinCut got = min_cut(dev(), g, {}, &st, &flow);
+      const MinCut got = min_cut(dev(), g, o, &st, &flow);
       EXPECT_TRUE(st.warm);
       ASSERT_EQ(got.value, want.value) << "step " << step;
       ASSERT_TRUE(got.source_side == want.source_side) << "step " << step;
     }
     g.edges[size_t{g.width} * conn * 5 + 2] += 1;  // other edges: a cold start
-    const MinCut got = min_cut(dev(), g, {}, &st, &flow);
+    const MinCut got = min_cut(dev(), g, o, &st, &flow);
     EXPECT_FALSE(st.warm);
     EXPECT_EQ(got.value, ref::bk_min_cut(g).value);
   }
+}
+
+// Boykov-Kolmogorov over 1 (the whole grid at once), 3 x 3 and 5 x 5 regions, then the whole grid.
+TEST_P(MinCutTest, AnyRegionsGiveTheSameCut) {
+  for (uint32_t conn : {4u, 8u})
+    for (uint32_t regions : {1u, 3u, 5u}) {
+      MinCutOptions o;
+      o.regions = regions;
+      expect_bk(disc_graph(150, 110, conn, 21 + conn), std::to_string(regions) + " regions", o);
+      expect_bk(random_graph(41, 37, conn, 100, 0.3, 50 + regions), std::to_string(regions) + " regions", o);
+    }
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(MinCutTest);

@@ -13,6 +13,7 @@
 
 #include "../kernels/common/min_cut.h"
 #include "megavox/error.h"
+#include "min_cut_regions.h"
 
 namespace mv {
 
@@ -119,29 +120,18 @@ uint64_t start_edges(const GridGraph& g, uint64_t total, MinCutFlow* flow, std::
   return added;
 }
 
-}  // namespace
-
-MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats,
-               MinCutFlow* flow) {
-  const uint64_t total = validate_grid_graph(g);
+// Tiled push-relabel on the reversed graph (kernels/common/min_cut.h), from the residual edges in rb and the
+// pixels' excess and sink capacities: the flow that reached the sink, and in `reaches` the pixels that can
+// still reach it (the canonical source set of the graph before its reversal).
+uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& options, Buffer& rb,
+                      const std::vector<uint32_t>& excess, std::vector<uint32_t>& sink, std::vector<uint8_t>& reaches,
+                      MinCutStats& st) {
   const uint64_t n = uint64_t{g.width} * g.height;
-  // The reversed graph: source and sink swapped, every edge turned around.
-  // Flow through a pixel's two terminal edges cancels first: what is left is excess or sink capacity.
-  uint64_t value = 0, sink_before = 0;
-  std::vector<uint32_t> excess(n), sink(n), residual;
-  for (uint64_t i = 0; i < n; ++i) {
-    const uint32_t m = std::min(g.source[i], g.sink[i]);
-    value += m;
-    excess[i] = g.sink[i] - m;
-    sink[i] = g.source[i] - m;
-  }
-  MinCutStats st;
-  const uint64_t added = start_edges(g, total, flow, residual, excess, sink, st.warm);
+  uint64_t sink_before = 0;
   for (uint64_t i = 0; i < n; ++i) sink_before += sink[i];
   Buffer eb = dev.alloc(n * 4, "min-cut excess");
   Buffer hb = dev.alloc(n * 4, "min-cut heights");
   Buffer sb = dev.alloc(n * 4, "min-cut sink capacities");
-  Buffer rb = dev.alloc(n * 4 * g.connectivity, "min-cut residual capacities");
   Buffer fb = dev.alloc(8, "min-cut flags");
   const TilePlan plan = plan_tiles(dev, g, options);
   const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
@@ -154,7 +144,6 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   dev.fill(ub, 1, tiles * 4);  // and is relaxed in the first round
   dev.upload(eb, excess.data(), n * 4);
   dev.upload(sb, sink.data(), n * 4);
-  dev.upload(rb, residual.data(), n * 4 * g.connectivity);
 
   TilePlan still_plan = plan;
   still_plan.base.sweeps =
@@ -206,10 +195,37 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   dev.download(sb, sink.data(), n * 4);
   uint64_t sink_after = 0;
   for (uint64_t i = 0; i < n; ++i) sink_after += sink[i];
+  for (uint64_t i = 0; i < n; ++i) reaches[i] = heights[i] != MV_MINCUT_INF ? 1 : 0;
+  return sink_before - sink_after;
+}
+
+}  // namespace
+
+MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats,
+               MinCutFlow* flow) {
+  const uint64_t total = validate_grid_graph(g);
+  const uint64_t n = uint64_t{g.width} * g.height;
+  // The reversed graph: source and sink swapped, every edge turned around.
+  // Flow through a pixel's two terminal edges cancels first: what is left is excess or sink capacity.
+  uint64_t value = 0;
+  std::vector<uint32_t> excess(n), sink(n), residual;
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint32_t m = std::min(g.source[i], g.sink[i]);
+    value += m;
+    excess[i] = g.sink[i] - m;
+    sink[i] = g.source[i] - m;
+  }
+  MinCutStats st;
+  const uint64_t added = start_edges(g, total, flow, residual, excess, sink, st.warm);
+  Buffer rb = dev.alloc(n * 4 * g.connectivity, "min-cut residual capacities");
+  dev.upload(rb, residual.data(), n * 4 * g.connectivity);
   MinCut cut;
-  cut.value = value + (sink_before - sink_after) - added;
   cut.source_side.resize(n);
-  for (uint64_t i = 0; i < n; ++i) cut.source_side[i] = heights[i] != MV_MINCUT_INF ? 1 : 0;
+  // Both solvers cut the reversed graph: what can reach its sink is the source set before the reversal.
+  const uint64_t into_sink = options.solver == MinCutSolver::regions
+                                 ? mask::min_cut_regions(dev, g, options.regions, rb, excess, sink, cut.source_side, st)
+                                 : push_relabel(dev, g, options, rb, excess, sink, cut.source_side, st);
+  cut.value = value + into_sink - added;
   if (flow) {
     flow->width = g.width;
     flow->height = g.height;

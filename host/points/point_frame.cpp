@@ -139,11 +139,16 @@ bool fine_enough(const Camera& cam, uint32_t grid_bits, double lod, uint32_t lev
 
 }  // namespace
 
+// Camera lives in this file's anonymous namespace; GCC takes a .cpp included into a unity batch for a header
+// and warns that Impl (declared in one) holds it. Impl is defined here only, so nothing else can see it.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wsubobject-linkage"
 struct LodRule::Impl {
   Camera cam;
   uint32_t grid_bits;
   double lod;
 };
+#pragma GCC diagnostic pop
 
 LodRule::LodRule(const PointHierarchy& grid, const PointRenderOptions& options, const FrameBox& box)
     : impl_(std::make_unique<Impl>(Impl{make_camera(grid, options, &box), grid.grid_bits, options.lod_pixels})) {}

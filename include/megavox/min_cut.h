@@ -1,9 +1,11 @@
-// megavox — exact min-cut of a pixel-grid graph on a device (tiled push-relabel; kernels/common/min_cut.h).
+// megavox — exact min-cut of a pixel-grid graph on a device: Boykov-Kolmogorov over regions, then the whole grid
+// (kernels/common/min_cut_bk.h), or tiled push-relabel (kernels/common/min_cut.h).
 //
 // The answer is the same bytes on every device: the cut value (the maximum flow, exactly) and the canonical
 // minimal source set (the pixels reachable from the source in the residual graph of a maximum flow, which is
 // also Boykov-Kolmogorov's final source tree). The kernels solve the reversed graph (reversed_grid_graph), where
-// that set is what can still reach the sink once no excess can: the heights of a last global relabel.
+// that set is what can still reach the sink in the end: the sink's search tree (regions) or the pixels a last
+// global relabel gives a height (push-relabel).
 #pragma once
 #include <cstdint>
 
@@ -12,16 +14,23 @@
 
 namespace mv {
 
+// How the kernels find the cut: push-relabel over tiles (kernels/common/min_cut.h), or Boykov-Kolmogorov over
+// regions, then the whole grid (kernels/common/min_cut_bk.h).
+enum class MinCutSolver : uint8_t { push_relabel, regions };
+
 struct MinCutOptions {
-  uint32_t tile = 16;              // tile side in pixels (2 to 32); one work-item per tile
+  uint32_t tile = 16;              // push-relabel: tile side in pixels (2 to 32); one work-item per tile
   // Passes over the four tile colours between two global relabels; 0: by size, one per 5 tiles across the
   // longer side, 4 to 12 (each pass is four dispatches: small grids lose more to them than they gain).
   uint32_t discharge_passes = 0;
   uint32_t sweeps = 3;             // sweeps over a tile per dispatch (fewer where the device caps loops)
+  MinCutSolver solver = MinCutSolver::regions;
+  uint32_t regions = 2;            // regions: regions x regions in the first level
 };
 
 struct MinCutStats {
-  uint32_t rounds = 0;          // global relabels (each followed by discharge passes but the last)
+  uint32_t rounds = 0;          // regions: dispatches; push-relabel: global relabels (each followed by discharge
+                                // passes but the last)
   uint32_t relabel_passes = 0;  // invalidation and relaxation passes over the four colours, summed over the rounds
   bool warm = false;            // started from the flow of an earlier cut (MinCutFlow)
 };

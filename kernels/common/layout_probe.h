@@ -21,6 +21,7 @@
 #include "points.h"
 #include "splat.h"
 #include "min_cut.h"
+#include "min_cut_bk.h"
 #include "mask_post.h"
 #include "voxelize.h"
 
@@ -42,6 +43,9 @@
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, tile) X(MV_U32, tiles_x) X(MV_U32, tiles_y)           \
   X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)  \
   X(MV_U32, stamp_since) X(MV_U32, from_touched)
+#define MV_FIELDS_MINCUT_BK(X)                                                                                         \
+  X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, regions_x) X(MV_U32, regions_y) X(MV_U32, whole)        \
+  X(MV_U32, budget) X(MV_U32, walk)
 #define MV_FIELDS_MASK_POST(X) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, pad0)
 #define MV_FIELDS_LANG(X) X(MV_U32, n) X(MV_U32, width) X(MV_U32, height) X(MV_U32, pad0)
 #define MV_FIELDS_VOXELIZE(X)                                                                                          \
@@ -110,6 +114,7 @@ MV_PROBE(hit, MvHit, MV_FIELDS_HIT)
 MV_PROBE(point_params, MvPointParams, MV_FIELDS_POINT)
 MV_PROBE(splat_params, MvSplatParams, MV_FIELDS_SPLAT)
 MV_PROBE(mincut_params, MvMinCutParams, MV_FIELDS_MINCUT)
+MV_PROBE(mincut_bk_params, MvMinCutBkParams, MV_FIELDS_MINCUT_BK)
 MV_PROBE(mask_post_params, MvMaskPostParams, MV_FIELDS_MASK_POST)
 
 #endif /* MV_LAYOUT_PROBE_H */

@@ -1,5 +1,6 @@
 // OpenCL entry points of the tiled push-relabel min-cut (bodies: common/min_cut.h). One work-item per tile.
 #include "common/min_cut.h"
+#include "common/min_cut_bk.h"
 
 __kernel void mincut_invalidate(__global uint* height, __global uint* sink, __global uint* resid,
                                 __global uint* flag, __global uint* stamp, __global uint* touched, MvMinCutParams p) {
@@ -18,4 +19,10 @@ __kernel void mincut_active(__global uint* excess, __global uint* height, __glob
 __kernel void mincut_discharge(__global uint* excess, __global uint* height, __global uint* sink,
                                __global uint* resid, __global uint* busy, __global uint* touched, MvMinCutParams p) {
   mv_mincut_discharge(excess, height, sink, resid, busy, touched, p, p.first_tile + MV_GLOBAL_ID());
+}
+
+__kernel void mincut_bk(__global uint* resid, __global uint* term, __global uint* tree, __global uint* next,
+                        __global uint* ts, __global uint* dist, __global uint* orphans, __global uint* state,
+                        MvMinCutBkParams p) {
+  mv_bk_items(resid, term, tree, next, ts, dist, orphans, state, p);
 }

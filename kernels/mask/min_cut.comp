@@ -4,6 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/min_cut.h"
+#include "common/min_cut_bk.h"
 
 #if defined(MV_ENTRY_invalidate)
 MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvBufU32 touched;
@@ -31,6 +32,12 @@ void main() {
   mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.touched, args.p,
                       args.p.first_tile + MV_GLOBAL_ID());
 }
+#elif defined(MV_ENTRY_bk)
+MV_ARGS(MvBufU32 resid; MvBufU32 term; MvBufU32 tree; MvBufU32 next; MvBufU32 ts; MvBufU32 dist; MvBufU32 orphans;
+        MvBufU32 state; MvMinCutBkParams p;);
+void main() {
+  mv_bk_items(args.resid, args.term, args.tree, args.next, args.ts, args.dist, args.orphans, args.state, args.p);
+}
 #else
-#error "define MV_ENTRY_invalidate, relax, active or discharge"
+#error "define MV_ENTRY_invalidate, relax, active, discharge or bk"
 #endif

@@ -50,6 +50,9 @@
 #elif defined(MV_ENTRY_probe_mincut_params)
 #define MV_PROBE_T MvMinCutParams
 #define MV_PROBE_FN mv_probe_mincut_params
+#elif defined(MV_ENTRY_probe_mincut_bk_params)
+#define MV_PROBE_T MvMinCutBkParams
+#define MV_PROBE_FN mv_probe_mincut_bk_params
 #elif defined(MV_ENTRY_probe_mask_post_params)
 #define MV_PROBE_T MvMaskPostParams
 #define MV_PROBE_FN mv_probe_mask_post_params

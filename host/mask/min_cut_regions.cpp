@@ -1,0 +1,111 @@
+// The host side of the region Boykov-Kolmogorov min-cut (kernels/common/min_cut_bk.h): the terminals cancel on
+// the host, the regions run side by side until each is done, then one item continues over the whole grid from
+// their trees; the pixels in the sink's tree at the end are those that can reach the sink.
+#include "min_cut_regions.h"
+
+#include <algorithm>
+#include <string>
+
+#include "../kernels/common/min_cut_bk.h"
+#include "megavox/error.h"
+
+namespace mv::mask {
+
+namespace {
+
+// Runs the kernel until every item of the level is done. Each dispatch gives an item p.budget steps; the state
+// words say where each stopped.
+uint32_t run_level(Device& dev, Kernel& k, const MvMinCutBkParams& p, uint32_t items, Buffer& sb,
+                   std::vector<uint32_t>& state, std::initializer_list<const Buffer*> buffers, uint64_t max_dispatches) {
+  uint32_t dispatches = 0;
+  for (;;) {
+    if (++dispatches > max_dispatches)
+      throw Error("min-cut: no convergence after " + std::to_string(max_dispatches) + " dispatches");
+    dev.fill(sb, 0, 4, uint64_t{items} * MV_BK_STATE_WORDS * 4);  // the next region to take
+    dev.barrier();
+    dev.dispatch(k, items, 1, buffers, p);
+    dev.barrier();
+    dev.download(sb, state.data(), uint64_t{items} * MV_BK_STATE_WORDS * 4);
+    bool done = true;
+    for (uint32_t r = 0; r < items; ++r) done = done && state[r * MV_BK_STATE_WORDS + MV_BK_W_STEP] == MV_BK_DONE;
+    if (done) return dispatches;
+  }
+}
+
+// A region's state before its first step: `first` (MV_BK_START or MV_BK_SEAMS), nothing queued.
+void start_state(uint32_t* words, uint32_t first, uint32_t time) {
+  std::fill(words, words + MV_BK_STATE_WORDS, 0u);
+  words[MV_BK_W_STEP] = first;
+  words[MV_BK_W_CUR] = words[MV_BK_W_HEAD] = words[MV_BK_W_TAIL] = MV_BK_NONE;
+  words[MV_BK_W_TIME] = time;
+}
+
+}  // namespace
+
+uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, Buffer& rb,
+                         const std::vector<uint32_t>& excess, const std::vector<uint32_t>& sink,
+                         std::vector<uint8_t>& reaches, MinCutStats& st) {
+  const uint64_t n = uint64_t{g.width} * g.height;
+  const uint32_t conn = g.connectivity;
+  uint64_t flow = 0;
+  std::vector<uint32_t> term(n);
+  for (uint64_t i = 0; i < n; ++i) {  // a pixel's two terminal edges cancel (that flow reaches the sink): the rest, signed
+    flow += std::min(excess[i], sink[i]);
+    term[i] = static_cast<uint32_t>(static_cast<int32_t>(excess[i]) - static_cast<int32_t>(sink[i]));
+  }
+  MvMinCutBkParams p{};
+  p.width = g.width;
+  p.height = g.height;
+  p.conn = conn;
+  // Regions at least 2 pixels wide and high, so the seams between them are two distinct lines.
+  p.regions_x = std::clamp<uint32_t>(regions, 1, std::max<uint32_t>(g.width / 2, 1));
+  p.regions_y = std::clamp<uint32_t>(regions, 1, std::max<uint32_t>(g.height / 2, 1));
+  const uint32_t max_loop = dev.info().max_loop_iterations;
+  // Under a loop cap, which counts the iterations of all of an invocation's loops together, a step's loop over a
+  // pixel's edges or along a walk counts with the step. On lavapipe (cap 65,535) a dispatch of 3,500 steps with
+  // 8-pixel walks stayed under it in GrabCut's cuts and one of 5,000 did not: the budget (1,820) keeps a margin.
+  p.walk = max_loop != 0 ? 8 : (1u << 20);
+  p.budget = max_loop != 0 ? max_loop / (4 * (std::max(conn, p.walk) + 1)) : (1u << 26);
+  const uint32_t items = p.regions_x * p.regions_y;
+
+  Buffer tb = dev.alloc(n * 4, "min-cut terminal capacities");
+  Buffer trb = dev.alloc(n * 4, "min-cut search trees");
+  Buffer nb = dev.alloc(n * 4, "min-cut active queue");
+  Buffer tsb = dev.alloc(n * 4, "min-cut time stamps");
+  Buffer db = dev.alloc(n * 4, "min-cut distances");
+  Buffer ob = dev.alloc(n * 4, "min-cut orphans");
+  Buffer sb = dev.alloc(uint64_t{items} * MV_BK_STATE_WORDS * 4 + 4, "min-cut region states");
+  dev.upload(tb, term.data(), n * 4);
+  dev.fill(trb, MV_BK_FREE, n * 4);
+  dev.fill(nb, MV_BK_NONE, n * 4);
+  dev.fill(tsb, 0, n * 4);
+  dev.fill(db, 0, n * 4);
+  std::vector<uint32_t> state(uint64_t{items} * MV_BK_STATE_WORDS);
+  for (uint32_t r = 0; r < items; ++r) start_state(&state[r * MV_BK_STATE_WORDS], MV_BK_START, 0);
+  dev.upload(sb, state.data(), state.size() * 4);
+  Kernel& k = dev.kernel(KernelId::mincut_bk);
+  const std::initializer_list<const Buffer*> buffers = {&rb, &tb, &trb, &nb, &tsb, &db, &ob, &sb};
+  // Each augmentation moves at least one unit of flow in a bounded number of steps, so a working device ends
+  // long before this; the guard catches a broken one.
+  const uint64_t guard = uint64_t{1} << 30;
+  st.rounds = run_level(dev, k, p, items, sb, state, buffers, guard);
+  uint32_t time = 0;
+  for (uint32_t r = 0; r < items; ++r) {
+    flow += state[r * MV_BK_STATE_WORDS + MV_BK_W_FLOW];
+    time = std::max(time, state[r * MV_BK_STATE_WORDS + MV_BK_W_TIME]);
+  }
+  if (items > 1) {  // the whole grid, from the regions' trees; stamps above every region's
+    p.whole = 1;
+    start_state(state.data(), MV_BK_SEAMS, time + 1);
+    dev.upload(sb, state.data(), MV_BK_STATE_WORDS * 4);
+    st.rounds += run_level(dev, k, p, 1, sb, state, buffers, guard);
+    flow += state[MV_BK_W_FLOW];
+  }
+  std::vector<uint32_t> tree(n);
+  dev.download(trb, tree.data(), n * 4);
+  for (uint64_t i = 0; i < n; ++i)
+    reaches[i] = (tree[i] & 15u) != MV_BK_FREE && (tree[i] & MV_BK_SINK) != 0 ? 1 : 0;
+  return flow;
+}
+
+}  // namespace mv::mask

@@ -12,10 +12,10 @@
  * merging, in two levels).
  *
  * The algorithm is sequential inside a region, so every device takes the same steps and leaves the same bits.
- * Tree walks (to a root, along an augmenting path) have no bound but the region's size, and lavapipe stops any
- * loop after 65535 iterations an invocation: so an item runs a state machine, one small step per iteration
- * of a single loop (a step may loop over a pixel's edges), for p.budget steps, keeps its state in `state`, and
- * the host runs it again until it is done.
+ * Tree walks (to a root, along an augmenting path) have no bound but the region's size, and lavapipe stops an
+ * invocation's loops after 65535 iterations, all its loops counted together: so an item runs a state machine,
+ * one small step per iteration of a single loop (a step may loop over a pixel's edges, or over p.walk pixels of
+ * a walk), for p.budget steps, keeps its state in `state`, and the host runs it again until it is done.
  *
  * Capacities follow the graph's direction: resid[i * conn + d] is what is left of the edge from pixel i to
  * its neighbour d; term[i] (signed) what is left of the source's edge to i (> 0) or of i's edge to the sink

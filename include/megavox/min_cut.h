@@ -20,10 +20,10 @@ enum class MinCutSolver : uint8_t { push_relabel, regions };
 
 struct MinCutOptions {
   uint32_t tile = 16;              // push-relabel: tile side in pixels (2 to 32); one work-item per tile
-  // Passes over the four tile colours between two global relabels; 0: by size, one per 5 tiles across the
-  // longer side, 4 to 12 (each pass is four dispatches: small grids lose more to them than they gain).
+  // Push-relabel: passes over the four tile colours between two global relabels; 0: by size, one per 5 tiles
+  // across the longer side, 4 to 12 (each pass is four dispatches: small grids lose more to them than they gain).
   uint32_t discharge_passes = 0;
-  uint32_t sweeps = 3;             // sweeps over a tile per dispatch (fewer where the device caps loops)
+  uint32_t sweeps = 3;             // push-relabel: sweeps over a tile per dispatch (fewer where loops are capped)
   MinCutSolver solver = MinCutSolver::regions;
   uint32_t regions = 2;            // regions: regions x regions in the first level
 };

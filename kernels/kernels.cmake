@@ -74,7 +74,7 @@ mv_kernel(mincut_invalidate        mask/min_cut.cl   mask/min_cut.comp    6  MvM
 mv_kernel(mincut_relax             mask/min_cut.cl   mask/min_cut.comp    6  MvMinCutParams    MV_ENTRY_relax)
 mv_kernel(mincut_active            mask/min_cut.cl   mask/min_cut.comp    3  MvMinCutParams    MV_ENTRY_active)
 mv_kernel(mincut_discharge         mask/min_cut.cl   mask/min_cut.comp    6  MvMinCutParams    MV_ENTRY_discharge)
-mv_kernel(mincut_bk                mask/min_cut.cl   mask/min_cut.comp    8  MvMinCutBkParams  MV_ENTRY_bk)
+mv_kernel(mincut_bk                mask/min_cut.cl   mask/min_cut.comp    6  MvMinCutBkParams  MV_ENTRY_bk)
 mv_kernel(mask_median5             mask/mask_post.cl mask/mask_post.comp  2  MvMaskPostParams  MV_ENTRY_median5)
 mv_kernel(mask_erode               mask/mask_post.cl mask/mask_post.comp  2  MvMaskPostParams  MV_ENTRY_erode)
 mv_kernel(lang_atomics_k32         lang/lang32.cl    lang/lang.comp       3  MvLangParams      MV_ENTRY_atomics)

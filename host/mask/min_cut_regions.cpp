@@ -69,22 +69,22 @@ uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, Buff
   const uint32_t items = p.regions_x * p.regions_y;
 
   Buffer tb = dev.alloc(n * 4, "min-cut terminal capacities");
-  Buffer trb = dev.alloc(n * 4, "min-cut search trees");
-  Buffer nb = dev.alloc(n * 4, "min-cut active queue");
-  Buffer tsb = dev.alloc(n * 4, "min-cut time stamps");
-  Buffer db = dev.alloc(n * 4, "min-cut distances");
+  Buffer nodeb = dev.alloc(n * MV_BK_NODE_WORDS * 4, "min-cut search trees");
   Buffer ob = dev.alloc(n * 4, "min-cut orphans");
   Buffer sb = dev.alloc(uint64_t{items} * MV_BK_STATE_WORDS * 4 + 4, "min-cut region states");
   dev.upload(tb, term.data(), n * 4);
-  dev.fill(trb, MV_BK_FREE, n * 4);
+  Buffer nb = dev.alloc(n * 4, "min-cut active queue");
+  {
+    std::vector<uint32_t> node(n * MV_BK_NODE_WORDS, 0u);  // every pixel free
+    for (uint64_t i = 0; i < n; ++i) node[MV_BK_TREE(i)] = MV_BK_FREE;
+    dev.upload(nodeb, node.data(), node.size() * 4);
+  }
   dev.fill(nb, MV_BK_NONE, n * 4);
-  dev.fill(tsb, 0, n * 4);
-  dev.fill(db, 0, n * 4);
   std::vector<uint32_t> state(uint64_t{items} * MV_BK_STATE_WORDS);
   for (uint32_t r = 0; r < items; ++r) start_state(&state[r * MV_BK_STATE_WORDS], MV_BK_START, 0);
   dev.upload(sb, state.data(), state.size() * 4);
   Kernel& k = dev.kernel(KernelId::mincut_bk);
-  const std::initializer_list<const Buffer*> buffers = {&rb, &tb, &trb, &nb, &tsb, &db, &ob, &sb};
+  const std::initializer_list<const Buffer*> buffers = {&rb, &tb, &nodeb, &nb, &ob, &sb};
   // Each augmentation moves at least one unit of flow in a bounded number of steps, so a working device ends
   // long before this; the guard catches a broken one.
   const uint64_t guard = uint64_t{1} << 30;
@@ -101,10 +101,12 @@ uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, Buff
     st.rounds += run_level(dev, k, p, 1, sb, state, buffers, guard);
     flow += state[MV_BK_W_FLOW];
   }
-  std::vector<uint32_t> tree(n);
-  dev.download(trb, tree.data(), n * 4);
-  for (uint64_t i = 0; i < n; ++i)
-    reaches[i] = (tree[i] & 15u) != MV_BK_FREE && (tree[i] & MV_BK_SINK) != 0 ? 1 : 0;
+  std::vector<uint32_t> node(n * MV_BK_NODE_WORDS);
+  dev.download(nodeb, node.data(), node.size() * 4);
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint32_t tree = node[MV_BK_TREE(i)];
+    reaches[i] = (tree & 15u) != MV_BK_FREE && (tree & MV_BK_SINK) != 0 ? 1 : 0;
+  }
   return flow;
 }
 

@@ -24,8 +24,19 @@
 #define MV_MIN_CUT_BK_H
 #include "grid_graph.h"
 
-/* tree[i]: bits 0-3 the direction to the parent (0..7), MV_BK_ROOT (the parent is the pixel's terminal),
- * MV_BK_ORPHAN or MV_BK_FREE; MV_BK_SINK set in the sink's tree. */
+/* A pixel's words in node[], side by side so that a walk or a growth touching a pixel loads one cache line:
+ * - tree: bits 0-3 the direction to the parent (0..7), MV_BK_ROOT (the parent is the pixel's terminal),
+ *   MV_BK_ORPHAN or MV_BK_FREE; MV_BK_SINK set in the sink's tree;
+ * - ts, dist: Kolmogorov's time stamp and the distance to the terminal it vouches for;
+ * - parent: the parent pixel's index (valid while the direction is), so that a walk's next pixel is one load
+ *   away: computing it from the direction put a multiply and the decode on the walk's chain of dependent loads,
+ *   and walks are most of the time (a third less time without).
+ * The active queue links through next[] (MV_BK_NONE: not queued), apart: it is touched far less often. */
+#define MV_BK_NODE_WORDS 4u
+#define MV_BK_TREE(i) ((i) * MV_BK_NODE_WORDS)
+#define MV_BK_TS(i) ((i) * MV_BK_NODE_WORDS + 1u)
+#define MV_BK_DIST(i) ((i) * MV_BK_NODE_WORDS + 2u)
+#define MV_BK_PARENT(i) ((i) * MV_BK_NODE_WORDS + 3u)
 #define MV_BK_ROOT 8u
 #define MV_BK_ORPHAN 9u
 #define MV_BK_FREE 10u
@@ -124,19 +135,19 @@ MV_INLINE mv_u32 mv_bk_tree_cap(MvBufU32 resid, MvMinCutBkParams p, mv_u32 i, mv
     ohead = ohead == 0u ? size - 1u : ohead - 1u;                                                                 \
     MV_ST(orphans, base + ohead, v);                                                                              \
     ++ocount;                                                                                                     \
-    MV_ST(tree, v, (MV_LD(tree, v) & MV_BK_SINK) | MV_BK_ORPHAN);                                                 \
+    MV_ST(node, MV_BK_TREE(v), (MV_LD(node, MV_BK_TREE(v)) & MV_BK_SINK) | MV_BK_ORPHAN);                         \
   }
 #define MV_BK_ORPHAN_REAR(v)                                                                                      \
   {                                                                                                               \
     MV_ST(orphans, base + (ohead + ocount < size ? ohead + ocount : ohead + ocount - size), v);                   \
     ++ocount;                                                                                                     \
-    MV_ST(tree, v, (MV_LD(tree, v) & MV_BK_SINK) | MV_BK_ORPHAN);                                                 \
+    MV_ST(node, MV_BK_TREE(v), (MV_LD(node, MV_BK_TREE(v)) & MV_BK_SINK) | MV_BK_ORPHAN);                         \
   }
 
 /* Runs region r (the whole grid when p.whole) for `budget` steps at most from state[], stores the state back,
  * and returns the steps it took. */
-MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU32 next, MvBufU32 ts, MvBufU32 dist,
-                           MvBufU32 orphans, MvBufU32 state, MvMinCutBkParams p, mv_u32 r, mv_u32 budget) {
+MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU32 next, MvBufU32 orphans,
+                           MvBufU32 state, MvMinCutBkParams p, mv_u32 r, mv_u32 budget) {
   mv_u32 at = r * MV_BK_STATE_WORDS;
   mv_u32 op = MV_LD(state, at + MV_BK_W_STEP);
   if (op == MV_BK_DONE) return 0u;
@@ -161,21 +172,21 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
     if (op == MV_BK_WALK) {
       for (mv_u32 w = 0u; w < p.walk; ++w) {
         bool rooted = true;
-        if (MV_LD(ts, x) == time) { /* a distance found earlier in this adoption */
-          dc += MV_LD(dist, x);
+        if (MV_LD(node, MV_BK_TS(x)) == time) { /* a distance found earlier in this adoption */
+          dc += MV_LD(node, MV_BK_DIST(x));
         } else {
           ++dc;
-          mv_u32 px = MV_LD(tree, x) & 15u;
+          mv_u32 px = MV_LD(node, MV_BK_TREE(x)) & 15u;
           if (px == MV_BK_ORPHAN) { /* not rooted: no parent */
             op = MV_BK_ADOPT;
             break;
           }
           if (px != MV_BK_ROOT) {
-            x = mv_bk_step(p, x, px);
+            x = MV_LD(node, MV_BK_PARENT(x));
             rooted = false;
           } else {
-            MV_ST(ts, x, time);
-            MV_ST(dist, x, 1u);
+            MV_ST(node, MV_BK_TS(x), time);
+            MV_ST(node, MV_BK_DIST(x), 1u);
           }
         }
         if (rooted) {
@@ -190,25 +201,26 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
       }
     } else if (op == MV_BK_MARK) {
       for (mv_u32 w = 0u; w < p.walk; ++w) {
-        if (MV_LD(ts, x) == time) {
+        if (MV_LD(node, MV_BK_TS(x)) == time) {
           op = MV_BK_ADOPT;
           break;
         }
-        MV_ST(ts, x, time);
-        MV_ST(dist, x, dc);
+        MV_ST(node, MV_BK_TS(x), time);
+        MV_ST(node, MV_BK_DIST(x), dc);
         --dc;
-        x = mv_bk_step(p, x, MV_LD(tree, x) & 15u);
+        x = MV_LD(node, MV_BK_PARENT(x));
       }
     } else if (op == MV_BK_ADOPT) {
       if (d == p.conn) {
-        mv_u32 side = MV_LD(tree, o) & MV_BK_SINK;
+        mv_u32 side = MV_LD(node, MV_BK_TREE(o)) & MV_BK_SINK;
         if (best != MV_BK_NONE) {
-          MV_ST(tree, o, side | best);
-          MV_ST(ts, o, time);
-          MV_ST(dist, o, dmin + 1u);
+          MV_ST(node, MV_BK_TREE(o), side | best);
+          MV_ST(node, MV_BK_PARENT(o), mv_bk_step(p, o, best));
+          MV_ST(node, MV_BK_TS(o), time);
+          MV_ST(node, MV_BK_DIST(o), dmin + 1u);
           op = MV_BK_ORPHANS;
         } else {
-          MV_ST(tree, o, side | MV_BK_FREE);
+          MV_ST(node, MV_BK_TREE(o), side | MV_BK_FREE);
           op = MV_BK_FREE_O;
         }
         continue;
@@ -217,7 +229,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
       ++d;
       if (!mv_bk_in(MV_I32(o % p.width) + mv_grid_dx(dd), MV_I32(o / p.width) + mv_grid_dy(dd), x0, y0, x1, y1)) continue;
       mv_u32 j = mv_bk_step(p, o, dd);
-      mv_u32 to = MV_LD(tree, o), tj = MV_LD(tree, j);
+      mv_u32 to = MV_LD(node, MV_BK_TREE(o)), tj = MV_LD(node, MV_BK_TREE(j));
       if ((tj & MV_BK_SINK) != (to & MV_BK_SINK) || (tj & 15u) == MV_BK_FREE) continue;
       /* j may be o's parent where the edge holds o in the tree: j to o (source), o to j (sink) */
       if (mv_bk_tree_cap(resid, p, j, o, dd ^ 1u, (to & MV_BK_SINK) != 0u) == 0u) continue;
@@ -225,7 +237,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
       dc = 0u;
       op = MV_BK_WALK;
     } else if (op == MV_BK_GROW) { /* all of i's edges in one step, up to the first that meets the other tree */
-      mv_u32 ti = MV_LD(tree, i);
+      mv_u32 ti = MV_LD(node, MV_BK_TREE(i));
       bool sink = (ti & MV_BK_SINK) != 0u;
       mv_i32 ix = MV_I32(i % p.width), iy = MV_I32(i / p.width);
       op = MV_BK_PICK;
@@ -233,11 +245,12 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
         if (!mv_bk_in(ix + mv_grid_dx(e), iy + mv_grid_dy(e), x0, y0, x1, y1)) continue;
         mv_u32 j = mv_bk_step(p, i, e);
         if (mv_bk_tree_cap(resid, p, i, j, e, sink) == 0u) continue;
-        mv_u32 tj = MV_LD(tree, j);
+        mv_u32 tj = MV_LD(node, MV_BK_TREE(j));
         if ((tj & 15u) == MV_BK_FREE) { /* j joins i's tree, i its parent */
-          MV_ST(tree, j, (ti & MV_BK_SINK) | (e ^ 1u));
-          MV_ST(ts, j, MV_LD(ts, i));
-          MV_ST(dist, j, MV_LD(dist, i) + 1u);
+          MV_ST(node, MV_BK_TREE(j), (ti & MV_BK_SINK) | (e ^ 1u));
+          MV_ST(node, MV_BK_PARENT(j), i);
+          MV_ST(node, MV_BK_TS(j), MV_LD(node, MV_BK_TS(i)));
+          MV_ST(node, MV_BK_DIST(j), MV_LD(node, MV_BK_DIST(i)) + 1u);
           MV_BK_ACTIVATE(j)
         } else if ((tj & MV_BK_SINK) != (ti & MV_BK_SINK)) { /* the trees meet: augment along the path */
           cur = i;
@@ -248,11 +261,13 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
           x = u;
           op = MV_BK_NECK_S;
           break;
-        } else if ((tj & 15u) < MV_BK_ROOT && MV_LD(ts, j) <= MV_LD(ts, i) && MV_LD(dist, j) > MV_LD(dist, i)) {
+        } else if ((tj & 15u) < MV_BK_ROOT && MV_LD(node, MV_BK_TS(j)) <= MV_LD(node, MV_BK_TS(i)) &&
+                   MV_LD(node, MV_BK_DIST(j)) > MV_LD(node, MV_BK_DIST(i))) {
           /* j is nearer its terminal through i (Kolmogorov's heuristic) */
-          MV_ST(tree, j, (ti & MV_BK_SINK) | (e ^ 1u));
-          MV_ST(ts, j, MV_LD(ts, i));
-          MV_ST(dist, j, MV_LD(dist, i) + 1u);
+          MV_ST(node, MV_BK_TREE(j), (ti & MV_BK_SINK) | (e ^ 1u));
+          MV_ST(node, MV_BK_PARENT(j), i);
+          MV_ST(node, MV_BK_TS(j), MV_LD(node, MV_BK_TS(i)));
+          MV_ST(node, MV_BK_DIST(j), MV_LD(node, MV_BK_DIST(i)) + 1u);
         }
       }
       ++time;
@@ -272,7 +287,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
         else head = after;
         MV_ST(next, i, MV_BK_NONE);
       }
-      if ((MV_LD(tree, i) & 15u) != MV_BK_FREE) {
+      if ((MV_LD(node, MV_BK_TREE(i)) & 15u) != MV_BK_FREE) {
         op = MV_BK_GROW;
         d = 0u;
       }
@@ -291,7 +306,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
     } else if (op == MV_BK_NECK_S || op == MV_BK_NECK_T) { /* p.walk pixels of the walk per step */
       bool src = op == MV_BK_NECK_S;
       for (mv_u32 w = 0u; w < p.walk; ++w) {
-        mv_u32 pd = MV_LD(tree, x) & 15u;
+        mv_u32 pd = MV_LD(node, MV_BK_TREE(x)) & 15u;
         if (pd == MV_BK_ROOT) {
           mv_i32 t = MV_I32(MV_LD(term, x));
           b = MV_MIN(b, MV_U32(src ? t : -t));
@@ -307,7 +322,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
           }
           break;
         }
-        mv_u32 par = mv_bk_step(p, x, pd);
+        mv_u32 par = MV_LD(node, MV_BK_PARENT(x));
         /* source side: the edge from the parent to x; sink side: from x to the parent */
         b = MV_MIN(b, src ? MV_LD(resid, par * p.conn + (pd ^ 1u)) : MV_LD(resid, x * p.conn + pd));
         x = par;
@@ -315,7 +330,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
     } else if (op == MV_BK_PUSH_S || op == MV_BK_PUSH_T) {
       bool src = op == MV_BK_PUSH_S;
       for (mv_u32 w = 0u; w < p.walk; ++w) {
-        mv_u32 pd = MV_LD(tree, x) & 15u;
+        mv_u32 pd = MV_LD(node, MV_BK_TREE(x)) & 15u;
         if (pd == MV_BK_ROOT) {
           mv_i32 t = MV_I32(MV_LD(term, x)) + (src ? -MV_I32(b) : MV_I32(b));
           MV_ST(term, x, MV_U32(t));
@@ -329,7 +344,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
           }
           break;
         }
-        mv_u32 par = mv_bk_step(p, x, pd);
+        mv_u32 par = MV_LD(node, MV_BK_PARENT(x));
         mv_u32 fwd = src ? par * p.conn + (pd ^ 1u) : x * p.conn + pd; /* the edge the flow runs along */
         mv_u32 back = src ? x * p.conn + pd : par * p.conn + (pd ^ 1u);
         mv_u32 left = MV_LD(resid, fwd) - b;
@@ -339,12 +354,12 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
         x = par;
       }
     } else if (op == MV_BK_FREE_O) { /* all of o's edges in one step */
-      mv_u32 to = MV_LD(tree, o);
+      mv_u32 to = MV_LD(node, MV_BK_TREE(o));
       mv_i32 ox = MV_I32(o % p.width), oy = MV_I32(o / p.width);
       for (mv_u32 e = 0u; e < p.conn; ++e) {
         if (!mv_bk_in(ox + mv_grid_dx(e), oy + mv_grid_dy(e), x0, y0, x1, y1)) continue;
         mv_u32 j = mv_bk_step(p, o, e);
-        mv_u32 tj = MV_LD(tree, j);
+        mv_u32 tj = MV_LD(node, MV_BK_TREE(j));
         if ((tj & MV_BK_SINK) != (to & MV_BK_SINK) || (tj & 15u) == MV_BK_FREE) continue;
         if (mv_bk_tree_cap(resid, p, j, o, e ^ 1u, (to & MV_BK_SINK) != 0u) != 0u) MV_BK_ACTIVATE(j)
         if ((tj & 15u) < MV_BK_ROOT && ((tj & 15u) ^ 1u) == e) MV_BK_ORPHAN_REAR(j) /* o was j's parent */
@@ -358,8 +373,8 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
       mv_u32 v = (y0 + k / (x1 - x0)) * p.width + x0 + k % (x1 - x0);
       mv_i32 t = MV_I32(MV_LD(term, v));
       if (t != 0) {
-        MV_ST(tree, v, t > 0 ? MV_BK_ROOT : (MV_BK_ROOT | MV_BK_SINK));
-        MV_ST(dist, v, 1u);
+        MV_ST(node, MV_BK_TREE(v), t > 0 ? MV_BK_ROOT : (MV_BK_ROOT | MV_BK_SINK));
+        MV_ST(node, MV_BK_DIST(v), 1u);
         MV_BK_ACTIVATE(v)
       }
       ++k;
@@ -380,7 +395,7 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
         mv_u32 sy = mv_bk_split(p.height, p.regions_y, q / (2u * p.width) + 1u) - 1u + (q & 1u);
         v = sy * p.width + (q / 2u) % p.width;
       }
-      if ((MV_LD(tree, v) & 15u) != MV_BK_FREE) MV_BK_ACTIVATE(v)
+      if ((MV_LD(node, MV_BK_TREE(v)) & 15u) != MV_BK_FREE) MV_BK_ACTIVATE(v)
       ++k;
     }
   }
@@ -410,14 +425,14 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU3
 /* An item takes the regions one after another from the counter after the regions' states (the host zeroes it
  * before each dispatch), so the items stay busy while regions are left whatever their sizes; p.budget steps
  * in all. A region's steps do not depend on the item that runs them. */
-MV_INLINE void mv_bk_items(MvBufU32 resid, MvBufU32 term, MvBufU32 tree, MvBufU32 next, MvBufU32 ts, MvBufU32 dist,
-                           MvBufU32 orphans, MvBufU32 state, MvMinCutBkParams p) {
+MV_INLINE void mv_bk_items(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU32 next, MvBufU32 orphans,
+                            MvBufU32 state, MvMinCutBkParams p) {
   mv_u32 regions = p.whole != 0u ? 1u : p.regions_x * p.regions_y;
   mv_u32 left = p.budget;
   for (mv_u32 q = 0u; q < regions && left > 0u; ++q) {
     mv_u32 r = MV_ATOMIC_ADD(state, regions * MV_BK_STATE_WORDS, 1u);
     if (r >= regions) break;
-    left -= mv_bk_run(resid, term, tree, next, ts, dist, orphans, state, p, r, left);
+    left -= mv_bk_run(resid, term, node, next, orphans, state, p, r, left);
   }
 }
 

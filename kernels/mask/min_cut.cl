@@ -21,8 +21,7 @@ __kernel void mincut_discharge(__global uint* excess, __global uint* height, __g
   mv_mincut_discharge(excess, height, sink, resid, busy, touched, p, p.first_tile + MV_GLOBAL_ID());
 }
 
-__kernel void mincut_bk(__global uint* resid, __global uint* term, __global uint* tree, __global uint* next,
-                        __global uint* ts, __global uint* dist, __global uint* orphans, __global uint* state,
-                        MvMinCutBkParams p) {
-  mv_bk_items(resid, term, tree, next, ts, dist, orphans, state, p);
+__kernel void mincut_bk(__global uint* resid, __global uint* term, __global uint* node, __global uint* next,
+                        __global uint* orphans, __global uint* state, MvMinCutBkParams p) {
+  mv_bk_items(resid, term, node, next, orphans, state, p);
 }

@@ -33,10 +33,9 @@ void main() {
                       args.p.first_tile + MV_GLOBAL_ID());
 }
 #elif defined(MV_ENTRY_bk)
-MV_ARGS(MvBufU32 resid; MvBufU32 term; MvBufU32 tree; MvBufU32 next; MvBufU32 ts; MvBufU32 dist; MvBufU32 orphans;
-        MvBufU32 state; MvMinCutBkParams p;);
+MV_ARGS(MvBufU32 resid; MvBufU32 term; MvBufU32 node; MvBufU32 next; MvBufU32 orphans; MvBufU32 state; MvMinCutBkParams p;);
 void main() {
-  mv_bk_items(args.resid, args.term, args.tree, args.next, args.ts, args.dist, args.orphans, args.state, args.p);
+  mv_bk_items(args.resid, args.term, args.node, args.next, args.orphans, args.state, args.p);
 }
 #else
 #error "define MV_ENTRY_invalidate, relax, active, discharge or bk"

@@ -223,7 +223,8 @@ TEST_P(MinCutTest, WarmStartFromTheLastFlowGivesTheSameCut) {
   }
 }
 
-// Boykov-Kolmogorov over 1 (the whole grid at once), 3 x 3 and 5 x 5 regions, then the whole grid.
+// Boykov-Kolmogorov over 1 (the whole grid at once), 3 x 3 and 5 x 5 regions, merged 2 x 2 a level (uneven
+// counts leave regions with one part, or two, to merge) up to the whole grid.
 TEST_P(MinCutTest, AnyRegionsGiveTheSameCut) {
   for (uint32_t conn : {4u, 8u})
     for (uint32_t regions : {1u, 3u, 5u}) {

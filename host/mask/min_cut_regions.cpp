@@ -1,6 +1,7 @@
 // The host side of the region Boykov-Kolmogorov min-cut (kernels/common/min_cut_bk.h): the terminals cancel on
-// the host, the regions run side by side until each is done, then one item continues over the whole grid from
-// their trees; the pixels in the sink's tree at the end are those that can reach the sink.
+// the host, the regions run side by side until each is done, then each level merges 2 x 2 of them and goes on
+// from their trees, up to the whole grid; the pixels in the sink's tree at the end are those that can reach the
+// sink.
 #include "min_cut_regions.h"
 
 #include <algorithm>
@@ -73,13 +74,7 @@ uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, Buff
   Buffer ob = dev.alloc(n * 4, "min-cut orphans");
   Buffer sb = dev.alloc(uint64_t{items} * MV_BK_STATE_WORDS * 4 + 4, "min-cut region states");
   dev.upload(tb, term.data(), n * 4);
-  Buffer nb = dev.alloc(n * 4, "min-cut active queue");
-  {
-    std::vector<uint32_t> node(n * MV_BK_NODE_WORDS, 0u);  // every pixel free
-    for (uint64_t i = 0; i < n; ++i) node[MV_BK_TREE(i)] = MV_BK_FREE;
-    dev.upload(nodeb, node.data(), node.size() * 4);
-  }
-  dev.fill(nb, MV_BK_NONE, n * 4);
+  Buffer nb = dev.alloc(n * 4, "min-cut active queue");  // nodeb and nb: the first level's start step sets them
   std::vector<uint32_t> state(uint64_t{items} * MV_BK_STATE_WORDS);
   for (uint32_t r = 0; r < items; ++r) start_state(&state[r * MV_BK_STATE_WORDS], MV_BK_START, 0);
   dev.upload(sb, state.data(), state.size() * 4);
@@ -88,21 +83,32 @@ uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, Buff
   // Each augmentation moves at least one unit of flow in a bounded number of steps, so a working device ends
   // long before this; the guard catches a broken one.
   const uint64_t guard = uint64_t{1} << 30;
-  st.rounds = run_level(dev, k, p, items, sb, state, buffers, guard);
-  uint32_t time = 0;
-  for (uint32_t r = 0; r < items; ++r) {
-    flow += state[r * MV_BK_STATE_WORDS + MV_BK_W_FLOW];
-    time = std::max(time, state[r * MV_BK_STATE_WORDS + MV_BK_W_TIME]);
+  st.rounds = 0;
+  for (p.group = 1;; p.group *= 2) {  // each level merges 2 x 2 regions of the one before, up to the whole grid
+    const uint32_t level =
+        mv_bk_level_regions(p.regions_x, p.group) * mv_bk_level_regions(p.regions_y, p.group);
+    st.rounds += run_level(dev, k, p, level, sb, state, buffers, guard);
+    uint32_t time = 0;
+    for (uint32_t r = 0; r < level; ++r) {
+      flow += state[r * MV_BK_STATE_WORDS + MV_BK_W_FLOW];
+      time = std::max(time, state[r * MV_BK_STATE_WORDS + MV_BK_W_TIME]);
+    }
+    if (level == 1) break;
+    // The next level's regions go on from their parts' trees, with stamps above every part's.
+    const uint32_t next = mv_bk_level_regions(p.regions_x, p.group * 2) * mv_bk_level_regions(p.regions_y, p.group * 2);
+    for (uint32_t r = 0; r < next; ++r) start_state(&state[r * MV_BK_STATE_WORDS], MV_BK_SEAMS, time + 1);
+    dev.upload(sb, state.data(), uint64_t{next} * MV_BK_STATE_WORDS * 4);
   }
-  if (items > 1) {  // the whole grid, from the regions' trees; stamps above every region's
-    p.whole = 1;
-    start_state(state.data(), MV_BK_SEAMS, time + 1);
-    dev.upload(sb, state.data(), MV_BK_STATE_WORDS * 4);
-    st.rounds += run_level(dev, k, p, 1, sb, state, buffers, guard);
-    flow += state[MV_BK_W_FLOW];
+  // The trees where the device keeps them in host memory (CPU devices), else a copy.
+  std::vector<uint32_t> copy;
+  const auto* node = static_cast<const uint32_t*>(dev.host_view(nodeb));
+  if (node) {
+    dev.finish();
+  } else {
+    copy.resize(n * MV_BK_NODE_WORDS);
+    dev.download(nodeb, copy.data(), copy.size() * 4);
+    node = copy.data();
   }
-  std::vector<uint32_t> node(n * MV_BK_NODE_WORDS);
-  dev.download(nodeb, node.data(), node.size() * 4);
   for (uint64_t i = 0; i < n; ++i) {
     const uint32_t tree = node[MV_BK_TREE(i)];
     reaches[i] = (tree & 15u) != MV_BK_FREE && (tree & MV_BK_SINK) != 0 ? 1 : 0;

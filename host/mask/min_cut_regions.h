@@ -1,4 +1,5 @@
-// Exact min-cut by Boykov-Kolmogorov over regions of the grid, then the whole grid (kernels/common/min_cut_bk.h).
+// Exact min-cut by Boykov-Kolmogorov over regions of the grid, merged 2 x 2 a level up to the whole grid
+// (kernels/common/min_cut_bk.h).
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -1,4 +1,4 @@
-// megavox — exact min-cut of a pixel-grid graph on a device: Boykov-Kolmogorov over regions, then the whole grid
+// megavox — exact min-cut of a pixel-grid graph on a device: Boykov-Kolmogorov over regions, merged up to the grid
 // (kernels/common/min_cut_bk.h), or tiled push-relabel (kernels/common/min_cut.h).
 //
 // The answer is the same bytes on every device: the cut value (the maximum flow, exactly) and the canonical
@@ -15,7 +15,7 @@
 namespace mv {
 
 // How the kernels find the cut: push-relabel over tiles (kernels/common/min_cut.h), or Boykov-Kolmogorov over
-// regions, then the whole grid (kernels/common/min_cut_bk.h).
+// regions, merged 2 x 2 a level up to the whole grid (kernels/common/min_cut_bk.h).
 enum class MinCutSolver : uint8_t { push_relabel, regions };
 
 struct MinCutOptions {
@@ -25,7 +25,7 @@ struct MinCutOptions {
   uint32_t discharge_passes = 0;
   uint32_t sweeps = 3;             // push-relabel: sweeps over a tile per dispatch (fewer where loops are capped)
   MinCutSolver solver = MinCutSolver::regions;
-  uint32_t regions = 2;            // regions: regions x regions in the first level
+  uint32_t regions = 2;            // regions: regions x regions in the first level (then merged 2 x 2 a level)
 };
 
 struct MinCutStats {

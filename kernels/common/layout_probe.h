@@ -44,7 +44,7 @@
   X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)  \
   X(MV_U32, stamp_since) X(MV_U32, from_touched)
 #define MV_FIELDS_MINCUT_BK(X)                                                                                         \
-  X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, regions_x) X(MV_U32, regions_y) X(MV_U32, whole)        \
+  X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, regions_x) X(MV_U32, regions_y) X(MV_U32, group)        \
   X(MV_U32, budget) X(MV_U32, walk)
 #define MV_FIELDS_MASK_POST(X) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, pad0)
 #define MV_FIELDS_LANG(X) X(MV_U32, n) X(MV_U32, width) X(MV_U32, height) X(MV_U32, pad0)

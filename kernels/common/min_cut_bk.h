@@ -5,11 +5,12 @@
  * parents in their tree or become free. It ends when neither tree can grow: the source tree is then the set
  * of pixels reachable from the source in the residual graph, the canonical minimal source set.
  * Here the grid is first cut into rectangular regions, one work-item each, which solve their own pixels with
- * the edges between regions left out (every region at once: they share no pixel and no edge). Then one item
- * continues over the whole grid from the trees the regions left: they are trees of the whole graph too, and
- * only the pixels beside a seam between regions have edges they have not looked at, so those start active.
- * Most of the flow moves in the first level, where the regions run side by side (Liu and Sun's bottom-up
- * merging, in two levels).
+ * the edges between regions left out (every region at once: they share no pixel and no edge). Then each level
+ * merges 2 x 2 regions of the level before into one, until one region is the whole grid (Liu and Sun's
+ * bottom-up merging): a merged region continues from the trees its four parts left, which are trees of the
+ * whole graph too, and only the pixels beside the seams between its parts have edges they have not looked at,
+ * so those start active. Small regions keep the trees shallow, so the paths and the adoptions stay short where
+ * most of the flow moves, and the regions of a level run side by side.
  *
  * The algorithm is sequential inside a region, so every device takes the same steps and leaves the same bits.
  * Tree walks (to a root, along an augmenting path) have no bound but the region's size, and lavapipe stops an
@@ -67,8 +68,8 @@
 #define MV_BK_W_FLOW 19u   /* the flow the region augmented */
 
 /* Steps. */
-#define MV_BK_START 0u     /* k: queue the region's pixels with a terminal edge as roots */
-#define MV_BK_SEAMS 1u     /* k: queue the tree pixels beside the first level's seams (the whole grid) */
+#define MV_BK_START 0u     /* k: set the region's words, and queue its pixels with a terminal edge as roots */
+#define MV_BK_SEAMS 1u     /* k: queue the tree pixels beside the seams between the region's four parts */
 #define MV_BK_PICK 2u      /* take the next active pixel */
 #define MV_BK_GROW 3u      /* i: grow i's tree along its edges */
 #define MV_BK_NECK_S 4u    /* x: the bottleneck on the source side, walking to the root */
@@ -88,7 +89,7 @@ MV_STRUCT_BEGIN(MvMinCutBkParams)
   mv_u32 conn;       /* 4 or 8 */
   mv_u32 regions_x;  /* the first level's regions across and down */
   mv_u32 regions_y;
-  mv_u32 whole;      /* 1: the one item of the second level, over the whole grid */
+  mv_u32 group;      /* a region of this level is group x group regions of the first (1, 2, 4, ...) */
   mv_u32 budget;     /* steps per item per dispatch */
   mv_u32 walk;       /* pixels a walk takes per step */
 MV_STRUCT_END(MvMinCutBkParams)
@@ -96,7 +97,7 @@ MV_STRUCT_END(MvMinCutBkParams)
 MV_LAYOUT_SIZE(MvMinCutBkParams, 32);
 MV_LAYOUT_AT(MvMinCutBkParams, width, 0); MV_LAYOUT_AT(MvMinCutBkParams, height, 4);
 MV_LAYOUT_AT(MvMinCutBkParams, conn, 8); MV_LAYOUT_AT(MvMinCutBkParams, regions_x, 12);
-MV_LAYOUT_AT(MvMinCutBkParams, regions_y, 16); MV_LAYOUT_AT(MvMinCutBkParams, whole, 20);
+MV_LAYOUT_AT(MvMinCutBkParams, regions_y, 16); MV_LAYOUT_AT(MvMinCutBkParams, group, 20);
 MV_LAYOUT_AT(MvMinCutBkParams, budget, 24); MV_LAYOUT_AT(MvMinCutBkParams, walk, 28);
 #endif
 
@@ -144,18 +145,25 @@ MV_INLINE mv_u32 mv_bk_tree_cap(MvBufU32 resid, MvMinCutBkParams p, mv_u32 i, mv
     MV_ST(node, MV_BK_TREE(v), (MV_LD(node, MV_BK_TREE(v)) & MV_BK_SINK) | MV_BK_ORPHAN);                         \
   }
 
-/* Runs region r (the whole grid when p.whole) for `budget` steps at most from state[], stores the state back,
- * and returns the steps it took. */
+/* The regions of a level across (down: mv_bk_level_regions(p.regions_y, p.group)). */
+MV_INLINE mv_u32 mv_bk_level_regions(mv_u32 first, mv_u32 group) {
+  return (first + group - 1u) / group;
+}
+
+/* Runs region r of the level p.group says for `budget` steps at most from state[], stores the state back, and
+ * returns the steps it took. */
 MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU32 next, MvBufU32 orphans,
                            MvBufU32 state, MvMinCutBkParams p, mv_u32 r, mv_u32 budget) {
   mv_u32 at = r * MV_BK_STATE_WORDS;
   mv_u32 op = MV_LD(state, at + MV_BK_W_STEP);
   if (op == MV_BK_DONE) return 0u;
-  /* The region's rectangle, and its slice of orphans[] (regions in row order cover [0, n) in turn). */
-  mv_u32 rx = p.whole != 0u ? 1u : p.regions_x;
-  mv_u32 ry = p.whole != 0u ? 1u : p.regions_y;
-  mv_u32 x0 = mv_bk_split(p.width, rx, r % rx), x1 = mv_bk_split(p.width, rx, r % rx + 1u);
-  mv_u32 y0 = mv_bk_split(p.height, ry, r / rx), y1 = mv_bk_split(p.height, ry, r / rx + 1u);
+  /* The region's rectangle (the first level's regions ga..gb across, gc..gd down), and its slice of orphans[]
+   * (regions in row order cover [0, n) in turn). */
+  mv_u32 rx = mv_bk_level_regions(p.regions_x, p.group);
+  mv_u32 ga = r % rx * p.group, gb = MV_MIN(ga + p.group, p.regions_x);
+  mv_u32 gc = r / rx * p.group, gd = MV_MIN(gc + p.group, p.regions_y);
+  mv_u32 x0 = mv_bk_split(p.width, p.regions_x, ga), x1 = mv_bk_split(p.width, p.regions_x, gb);
+  mv_u32 y0 = mv_bk_split(p.height, p.regions_y, gc), y1 = mv_bk_split(p.height, p.regions_y, gd);
   mv_u32 base = y0 * p.width + x0 * (y1 - y0);
   mv_u32 size = (x1 - x0) * (y1 - y0);
   mv_u32 k = MV_LD(state, at + MV_BK_W_K), i = MV_LD(state, at + MV_BK_W_I), d = MV_LD(state, at + MV_BK_W_D);
@@ -365,35 +373,38 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU3
         if ((tj & 15u) < MV_BK_ROOT && ((tj & 15u) ^ 1u) == e) MV_BK_ORPHAN_REAR(j) /* o was j's parent */
       }
       op = MV_BK_ORPHANS;
-    } else if (op == MV_BK_START) { /* pixel k of the region, in row order */
+    } else if (op == MV_BK_START) { /* pixel k of the region, in row order: its words start here */
       if (k == size) {
         op = MV_BK_PICK;
         continue;
       }
       mv_u32 v = (y0 + k / (x1 - x0)) * p.width + x0 + k % (x1 - x0);
       mv_i32 t = MV_I32(MV_LD(term, v));
-      if (t != 0) {
-        MV_ST(node, MV_BK_TREE(v), t > 0 ? MV_BK_ROOT : (MV_BK_ROOT | MV_BK_SINK));
-        MV_ST(node, MV_BK_DIST(v), 1u);
-        MV_BK_ACTIVATE(v)
-      }
+      MV_ST(node, MV_BK_TREE(v), t == 0 ? MV_BK_FREE : (t > 0 ? MV_BK_ROOT : (MV_BK_ROOT | MV_BK_SINK)));
+      MV_ST(node, MV_BK_TS(v), 0u);
+      MV_ST(node, MV_BK_DIST(v), 1u);
+      MV_ST(next, v, MV_BK_NONE);
+      if (t != 0) MV_BK_ACTIVATE(v)
       ++k;
     } else if (op == MV_BK_SEAMS) {
-      /* Pixel k of the seams: two columns at each boundary between region columns, every row, then two rows at
-       * each boundary between region rows. */
-      mv_u32 columns = 2u * p.height * (p.regions_x - 1u);
-      if (k == columns + 2u * p.width * (p.regions_y - 1u)) {
+      /* Pixel k of the seams: the two columns either side of the boundary between the left and right parts,
+       * every row, then the two rows either side of the one between the upper and lower parts (where the
+       * region has two parts that way). */
+      mv_u32 mid = p.group / 2u;
+      mv_u32 columns = ga + mid < gb ? 2u * (y1 - y0) : 0u;
+      mv_u32 rows = gc + mid < gd ? 2u * (x1 - x0) : 0u;
+      if (k == columns + rows) {
         op = MV_BK_PICK;
         continue;
       }
       mv_u32 v;
       if (k < columns) {
-        mv_u32 sx = mv_bk_split(p.width, p.regions_x, k / (2u * p.height) + 1u) - 1u + (k & 1u);
-        v = ((k / 2u) % p.height) * p.width + sx;
+        mv_u32 sx = mv_bk_split(p.width, p.regions_x, ga + mid) - 1u + (k & 1u);
+        v = (y0 + k / 2u) * p.width + sx;
       } else {
         mv_u32 q = k - columns;
-        mv_u32 sy = mv_bk_split(p.height, p.regions_y, q / (2u * p.width) + 1u) - 1u + (q & 1u);
-        v = sy * p.width + (q / 2u) % p.width;
+        mv_u32 sy = mv_bk_split(p.height, p.regions_y, gc + mid) - 1u + (q & 1u);
+        v = sy * p.width + x0 + q / 2u;
       }
       if ((MV_LD(node, MV_BK_TREE(v)) & 15u) != MV_BK_FREE) MV_BK_ACTIVATE(v)
       ++k;
@@ -426,8 +437,8 @@ MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU3
  * before each dispatch), so the items stay busy while regions are left whatever their sizes; p.budget steps
  * in all. A region's steps do not depend on the item that runs them. */
 MV_INLINE void mv_bk_items(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU32 next, MvBufU32 orphans,
-                            MvBufU32 state, MvMinCutBkParams p) {
-  mv_u32 regions = p.whole != 0u ? 1u : p.regions_x * p.regions_y;
+                           MvBufU32 state, MvMinCutBkParams p) {
+  mv_u32 regions = mv_bk_level_regions(p.regions_x, p.group) * mv_bk_level_regions(p.regions_y, p.group);
   mv_u32 left = p.budget;
   for (mv_u32 q = 0u; q < regions && left > 0u; ++q) {
     mv_u32 r = MV_ATOMIC_ADD(state, regions * MV_BK_STATE_WORDS, 1u);

@@ -76,24 +76,28 @@ void run_colours(Device& dev, Kernel& k, const TilePlan& plan, std::initializer_
   }
 }
 
-// The reversed graph's residual edges to start from: the flow an earlier cut left where it fits g (same size
-// and edges, and the total after the terminals grow stays under kMaxGraphCapacity), else g's capacities.
-// Grows the terminals where the edges carry more out of a pixel than its source brings (excess), and returns
-// the amount added to every cut. `total` is g's total capacity. A warm start takes the flow's words
-// (flow->residual is left holding g's capacities, a zero flow, until the cut writes its own).
-uint64_t start_edges(const GridGraph& g, uint64_t total, MinCutFlow* flow, std::vector<uint32_t>& residual,
-                     std::vector<uint32_t>& excess, std::vector<uint32_t>& sink, bool& warm) {
-  residual = reversed_edges(g);
-  warm = flow && flow->width == g.width && flow->height == g.height && flow->connectivity == g.connectivity &&
-         flow->edges == g.edges && flow->residual.size() == residual.size();
-  if (!warm) return 0;
+// Whether an earlier cut's flow fits g (same size and edges, and the total after the terminals grow stays under
+// kMaxGraphCapacity): then it is where this cut starts, and the terminals grow where the edges carry more out of
+// a pixel than its source brings (excess). Returns the amount added to every cut. `total` is g's total capacity.
+// The flow's words stay in flow->residual, read in place (no copy of the graph's edges is made for it).
+uint64_t start_edges(const GridGraph& g, uint64_t total, const MinCutFlow* flow, std::vector<uint32_t>& excess,
+                     std::vector<uint32_t>& sink, bool& warm) {
   const uint64_t n = uint64_t{g.width} * g.height;
   const uint32_t conn = g.connectivity;
-  const uint32_t* capacity = residual.data();
+  warm = flow && flow->width == g.width && flow->height == g.height && flow->connectivity == conn &&
+         flow->edges == g.edges && flow->residual.size() == n * conn;
+  if (!warm) return 0;
+  int64_t step[8];  // neighbour d of pixel i is pixel i + step[d]
+  for (uint32_t d = 0; d < conn; ++d) step[d] = int64_t{mv_grid_dy(d)} * g.width + mv_grid_dx(d);
   const uint32_t* left = flow->residual.data();
-  auto net_out = [&](uint64_t i) {  // the flow out of pixel i along its edges
+  auto net_out = [&](uint64_t i) {  // the flow out of pixel i along the reversed graph's edges
+    const uint32_t x = static_cast<uint32_t>(i % g.width), y = static_cast<uint32_t>(i / g.width);
     int64_t out = 0;
-    for (uint64_t k = i * conn; k < (i + 1) * conn; ++k) out += int64_t{capacity[k]} - left[k];
+    for (uint32_t d = 0; d < conn; ++d) {
+      const int64_t nx = int64_t{x} + mv_grid_dx(d), ny = int64_t{y} + mv_grid_dy(d);
+      const bool inside = nx >= 0 && ny >= 0 && nx < g.width && ny < g.height;  // else no edge, nothing left
+      if (inside) out += int64_t{g.edges[uint64_t(int64_t(i) + step[d]) * conn + (d ^ 1u)]} - left[i * conn + d];
+    }
     return out;
   };
   // Integer sums: the same whatever the split between threads.
@@ -116,7 +120,6 @@ uint64_t start_edges(const GridGraph& g, uint64_t total, MinCutFlow* flow, std::
       excess[i] = static_cast<uint32_t>(std::max<int64_t>(rest, 0));
     }
   });
-  residual.swap(flow->residual);
   return added;
 }
 
@@ -208,7 +211,7 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   // The reversed graph: source and sink swapped, every edge turned around.
   // Flow through a pixel's two terminal edges cancels first: what is left is excess or sink capacity.
   uint64_t value = 0;
-  std::vector<uint32_t> excess(n), sink(n), residual;
+  std::vector<uint32_t> excess(n), sink(n);
   for (uint64_t i = 0; i < n; ++i) {
     const uint32_t m = std::min(g.source[i], g.sink[i]);
     value += m;
@@ -216,7 +219,11 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
     sink[i] = g.source[i] - m;
   }
   MinCutStats st;
-  const uint64_t added = start_edges(g, total, flow, residual, excess, sink, st.warm);
+  const uint64_t added = start_edges(g, total, flow, excess, sink, st.warm);
+  // The residual edges: the earlier flow's, or the reversed graph's capacities (a zero flow).
+  std::vector<uint32_t> capacities;
+  if (!st.warm) capacities = reversed_edges(g);
+  const std::vector<uint32_t>& residual = st.warm ? flow->residual : capacities;
   Buffer rb = dev.alloc(n * 4 * g.connectivity, "min-cut residual capacities");
   dev.upload(rb, residual.data(), n * 4 * g.connectivity);
   MinCut cut;
@@ -230,8 +237,10 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
     flow->width = g.width;
     flow->height = g.height;
     flow->connectivity = g.connectivity;
-    if (!st.warm) flow->edges = g.edges;  // a warm start had them already
-    flow->residual.resize(n * g.connectivity);
+    if (!st.warm) {  // a warm start had the edges, and keeps its words
+      flow->edges = g.edges;
+      flow->residual.swap(capacities);
+    }
     dev.download(rb, flow->residual.data(), n * 4 * g.connectivity);
   }
   if (stats) *stats = st;

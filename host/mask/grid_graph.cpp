@@ -10,6 +10,7 @@
 
 #include "../kernels/common/grid_graph.h"
 #include "megavox/error.h"
+#include "reversed_edge.h"
 
 namespace mv {
 
@@ -72,20 +73,13 @@ uint64_t validate_grid_graph(const GridGraph& g) {
 }
 
 std::vector<uint32_t> reversed_edges(const GridGraph& g) {
-  std::vector<uint32_t> edges(g.edges.size(), 0);
+  std::vector<uint32_t> edges(g.edges.size());
   const uint32_t conn = g.connectivity;
-  int64_t step[8];  // neighbour d of pixel i is pixel i + step[d]
-  for (uint32_t d = 0; d < conn; ++d) step[d] = int64_t{mv_grid_dy(d)} * g.width + mv_grid_dx(d);
   // One pixel at a time, all its edges: its neighbours' words share cache lines with the next pixel's.
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, g.height, 16), [&](const tbb::blocked_range<uint32_t>& rows) {
     for (uint32_t y = rows.begin(); y < rows.end(); ++y)
-      for (uint32_t x = 0; x < g.width; ++x) {
-        const uint64_t i = uint64_t{y} * g.width + x;
-        const bool interior = x > 0 && y > 0 && x + 1 < g.width && y + 1 < g.height;
-        for (uint32_t d = 0; d < conn; ++d)
-          if (interior || inside(g, x, y, d))  // j -> i becomes i -> j
-            edges[i * conn + d] = g.edges[uint64_t(int64_t(i) + step[d]) * conn + (d ^ 1u)];
-      }
+      for (uint32_t x = 0; x < g.width; ++x)
+        for (uint32_t d = 0; d < conn; ++d) edges[(uint64_t{y} * g.width + x) * conn + d] = reversed_edge(g, x, y, d);
   });
   return edges;
 }

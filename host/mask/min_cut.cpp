@@ -14,6 +14,7 @@
 #include "../kernels/common/min_cut.h"
 #include "megavox/error.h"
 #include "min_cut_regions.h"
+#include "reversed_edge.h"
 
 namespace mv {
 
@@ -87,17 +88,11 @@ uint64_t start_edges(const GridGraph& g, uint64_t total, const MinCutFlow* flow,
   warm = flow && flow->width == g.width && flow->height == g.height && flow->connectivity == conn &&
          flow->edges == g.edges && flow->residual.size() == n * conn;
   if (!warm) return 0;
-  int64_t step[8];  // neighbour d of pixel i is pixel i + step[d]
-  for (uint32_t d = 0; d < conn; ++d) step[d] = int64_t{mv_grid_dy(d)} * g.width + mv_grid_dx(d);
   const uint32_t* left = flow->residual.data();
   auto net_out = [&](uint64_t i) {  // the flow out of pixel i along the reversed graph's edges
     const uint32_t x = static_cast<uint32_t>(i % g.width), y = static_cast<uint32_t>(i / g.width);
     int64_t out = 0;
-    for (uint32_t d = 0; d < conn; ++d) {
-      const int64_t nx = int64_t{x} + mv_grid_dx(d), ny = int64_t{y} + mv_grid_dy(d);
-      const bool inside = nx >= 0 && ny >= 0 && nx < g.width && ny < g.height;  // else no edge, nothing left
-      if (inside) out += int64_t{g.edges[uint64_t(int64_t(i) + step[d]) * conn + (d ^ 1u)]} - left[i * conn + d];
-    }
+    for (uint32_t d = 0; d < conn; ++d) out += int64_t{reversed_edge(g, x, y, d)} - left[i * conn + d];
     return out;
   };
   // Integer sums: the same whatever the split between threads.

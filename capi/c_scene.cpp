@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "capi/scene_build.h"
+#include "io/output_path.h"
 #include "megavox/render.h"
 
 mv::Tracer& MvSceneTy::tracer_locked() {
@@ -82,7 +83,8 @@ MvError mvSaveScene(MvScene scene, const char* path) {
   return guard(scene_device(scene), [&] {
     require(scene, "mvSaveScene: no scene");
     require(path && *path, "mvSaveScene: no path");
-    mv::write_mvx(path, scene->file);
+    // The scene is in memory, so its own file may be rewritten; a FIFO, a device or a folder may not.
+    mv::write_mvx(mv::io::resolve_output({path, mv::io::OutputKind::kFile, "mvx"}), scene->file);
   });
 }
 

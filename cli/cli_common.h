@@ -27,6 +27,14 @@ inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
 // "X,Y,Z" -> three numbers; throws mv::Error naming the option (`what`) otherwise.
 void parse_vec3(const std::string& text, const char* what, double out[3]);
 
+// --no-clobber: refuse to replace an existing output (inputs, devices and FIFOs are always refused).
+inline CLI::Option* add_no_clobber_flag(CLI::App& cmd, bool& flag) {
+  return cmd.add_flag("--no-clobber", flag, "Refuse to replace an output that exists already");
+}
+
+// The image format a picture's name asks for: "jpeg" for .jpg / .jpeg, else "png" (write_image's rule).
+std::string image_format(const std::string& path);
+
 // A progress bar: one line on stderr, redrawn in place; nothing unless `enabled` (a terminal, not --quiet).
 Progress progress_bar(bool enabled);
 

@@ -16,7 +16,7 @@ namespace {
 
 struct BuildCommandArgs : BuildArgs {
   std::string output;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, no_clobber = false;
 };
 
 void print_table(const BuildReport& r) {
@@ -55,13 +55,16 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       "  megavox build bunny.ply --resolution 4K --format ssvdag -o bunny.mvx\n"
       "  megavox build bunny.ply --resolution 2K --voxelize thin --grid-origin min -o bunny_thin.mvx");
   add_build_options(*cmd, *a);
-  cmd->add_option("-o,--output", a->output, "The .mvx file to write (written to OUT.tmp, renamed on success)")
+  cmd->add_option("-o,--output", a->output, "The .mvx file to write (named only once complete)")
       ->required();
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
+  add_no_clobber_flag(*cmd, a->no_clobber);
   cmd->callback([&g, a] {
     BuildOptions o = build_options(*a);
     o.output = a->output;
+    o.no_clobber = a->no_clobber;
+    check_output(o);  // before the device opens
     auto dev = open_device(g);
     BuildReport r = build_mvx(*dev, o, progress_bar(!a->quiet && isatty(STDERR_FILENO)));
     if (!a->quiet && isatty(STDERR_FILENO)) std::fprintf(stderr, "\n");

@@ -19,7 +19,8 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
       "  megavox export bunny.mvx --format symvox-ssvdag -o bunny.ssvdag\n"
       "  megavox export bunny.mvx --format vdb -o bunny.vdb");
   cmd->add_option("file", o->input, "The .mvx file")->required();
-  cmd->add_option("-o,--output", o->output, "The file to write (written to OUT.tmp, renamed on success)")->required();
+  cmd->add_option("-o,--output", o->output, "The file to write (named only once complete)")->required();
+  add_no_clobber_flag(*cmd, o->no_clobber);
   cmd->add_option("--format", o->format,
                   "symvox-svdag (32-bit SVDAG), symvox-ussvdag (32-bit, per-child mirror bits), symvox-ssvdag\n"
                   "(SymVox's compact 16-bit SSVDAG), vdb (OpenVDB MaskGrid) or nvdb (NanoVDB)")
@@ -27,6 +28,7 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
       ->check(CLI::IsMember({"symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb", "nvdb"}));
   cmd->add_flag("--json", *json, "Print one JSON object");
   cmd->callback([&g, o, json] {
+    check_output(*o);  // before the device opens
     auto dev = open_device(g);
     ExportReport r = export_mvx(*dev, *o);
     if (*json) {
@@ -51,7 +53,8 @@ void add_import_command(CLI::App& app, const GlobalOptions& g) {
       "under that name) into a .mvx. The layout is told from the content, not the name, and fully validated.\n"
       "Example: megavox import scene.ussvdag -o scene.mvx");
   cmd->add_option("file", o->input, "The SymVox-family file")->required();
-  cmd->add_option("-o,--output", o->output, "The .mvx to write (written to OUT.tmp, renamed on success)")->required();
+  cmd->add_option("-o,--output", o->output, "The .mvx to write (named only once complete)")->required();
+  add_no_clobber_flag(*cmd, o->no_clobber);
   cmd->add_option("--convention", o->convention,
                   "Who wrote it: symvox (child 4x+2y+z, cube centred on the bbox), voxcom (Morton child order, cube at\n"
                   "the bbox's min corner, voxel units) or auto (voxcom when the bbox starts at 0 and the root side is\n"
@@ -62,6 +65,7 @@ void add_import_command(CLI::App& app, const GlobalOptions& g) {
       ->check(CLI::IsMember({"svdag", "ussvdag", "ssvdag"}));
   cmd->add_flag("--json", *json, "Print one JSON object");
   cmd->callback([&g, o, json] {
+    check_output(*o);  // before the device opens
     auto dev = open_device(g);
     ImportReport r = import_symvox(*dev, *o);
     if (*json) {

@@ -18,6 +18,7 @@
 #include "cli_common.h"
 #include "io/image_reader.h"
 #include "io/mvm_file.h"
+#include "io/output_path.h"
 #include "io/png_grey.h"
 #include "megavox/error.h"
 #include "megavox/mask.h"
@@ -107,8 +108,33 @@ struct ApplyArgs {
   std::vector<std::string> images;
   std::string output, rect, seeds, model, list;
   uint32_t iterations = 5, erode = 2;
-  bool no_post = false, overlay = false, json = false, quiet = false;
+  bool no_post = false, overlay = false, json = false, quiet = false, no_clobber = false;
 };
+
+// Every mask (and overlay) path, resolved and checked before any image is read: not an input, not a
+// FIFO or device, no two images writing the same name.
+std::vector<std::pair<std::string, std::string>> resolve_masks(const ApplyArgs& a, const std::vector<Job>& jobs) {
+  io::check_output_folder(a.output);
+  std::vector<std::string> inputs = {a.list};
+  for (const Job& j : jobs) inputs.insert(inputs.end(), {j.image, j.seeds, j.model});
+  const bool folder_exists = fs::is_directory(a.output);
+  std::map<std::string, std::string> written;  // output -> the image it is of
+  std::vector<std::pair<std::string, std::string>> out;
+  auto check = [&](const Job& j, const std::string& name) {
+    const std::string path = (fs::path(a.output) / name).string();
+    auto [it, fresh] = written.emplace(path, j.image);
+    if (!fresh)
+      throw Error("mask apply: '" + it->second + "' and '" + j.image + "' would both write '" + path +
+                  "' (masks are named by the image's basename); mask them into separate folders");
+    return folder_exists ? io::resolve_output({path, io::OutputKind::kFile, "png", inputs, 0, a.no_clobber}) : path;
+  };
+  for (const Job& j : jobs) {
+    const std::string stem = fs::path(j.image).stem().string();
+    const std::string mask = check(j, stem + ".png");
+    out.emplace_back(mask, a.overlay ? check(j, stem + ".overlay.png") : std::string());
+  }
+  return out;
+}
 
 void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
   auto a = std::make_shared<ApplyArgs>();
@@ -138,6 +164,7 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
   cmd->add_flag("--overlay", a->overlay, "Also write OUTDIR/<basename>.overlay.png: the mask over the image");
   cmd->add_flag("--json", a->json, "Print per-image statistics as JSON");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
+  add_no_clobber_flag(*cmd, a->no_clobber);
   cmd->callback([a, &g] {
     std::vector<Job> jobs;
     if (!a->list.empty()) jobs = read_list(a->list);
@@ -148,9 +175,11 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
       if (j.seeds.empty()) j.seeds = a->seeds;
       if (j.model.empty()) j.model = a->model;
     }
+    const auto outputs = resolve_masks(*a, jobs);
     std::error_code ec;
     fs::create_directories(a->output, ec);
-    if (!fs::is_directory(a->output)) throw Error("cannot make the output folder '" + a->output + "'");
+    if (!fs::is_directory(a->output))
+      throw Error("cannot make the output folder '" + a->output + "': " + ec.message());
     auto dev = open_device(g);
     const bool bar = !a->quiet && !a->json && isatty(STDERR_FILENO);
     Progress progress = progress_bar(bar);
@@ -172,14 +201,9 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
       o.post = !a->no_post;
       o.erode_radius = a->erode;
       const MaskResult r = mask_image(*dev, img, start, o);
-      const std::string stem = fs::path(j.image).stem().string();
-      const std::string out = (fs::path(a->output) / (stem + ".png")).string();
+      const auto& [out, overlay_path] = outputs[k];
       io::write_png_grey(out, img.width, img.height, r.mask);
-      std::string overlay_path;
-      if (a->overlay) {
-        overlay_path = (fs::path(a->output) / (stem + ".overlay.png")).string();
-        write_png(overlay_path, overlay(img, r.mask));
-      }
+      if (!overlay_path.empty()) write_png(overlay_path, overlay(img, r.mask));
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
       nlohmann::json e = {{"image", j.image},
                           {"mask", out},
@@ -211,7 +235,7 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
 void add_mask_train(CLI::App& mask) {
   struct Args {
     std::string images, masks, output;
-    bool json = false;
+    bool json = false, no_clobber = false;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = mask.add_subcommand(
@@ -225,6 +249,7 @@ void add_mask_train(CLI::App& mask) {
   cmd->add_option("--masks", a->masks, "Folder of masks (8-bit grey, same basenames and sizes)")->required();
   cmd->add_option("-o,--output", a->output, "The model file (.mvm)")->required();
   cmd->add_flag("--json", a->json, "Print what was learnt as JSON");
+  add_no_clobber_flag(*cmd, a->no_clobber);
   cmd->callback([a] {
     auto files = [](const std::string& dir) {
       std::map<std::string, std::string> by_stem;
@@ -235,6 +260,10 @@ void add_mask_train(CLI::App& mask) {
       return by_stem;
     };
     const auto images = files(a->images), masks = files(a->masks);
+    std::vector<std::string> inputs;
+    for (const auto* listed : {&images, &masks})
+      for (const auto& [stem, path] : *listed) inputs.push_back(path);
+    const std::string output = io::resolve_output({a->output, io::OutputKind::kFile, "mvm", inputs, 0, a->no_clobber});
     std::optional<MaskModel> model;
     nlohmann::json used = nlohmann::json::array();
     for (const auto& [stem, path] : images) {
@@ -252,7 +281,7 @@ void add_mask_train(CLI::App& mask) {
     uint64_t fg = 0, bg = 0;
     for (uint32_t b = 0; b < model->bins(); ++b) fg += model->fg[b], bg += model->bg[b];
     if (fg == 0 || bg == 0) throw Error("mask train: the masks hold no " + std::string(fg == 0 ? "foreground (255)" : "background (0)") + " pixel");
-    io::write_mvm(a->output, *model);
+    io::write_mvm(output, *model);
     if (a->json)
       std::cout << nlohmann::json{{"model", a->output}, {"channels", model->channels}, {"bins", model->bins()},
                                   {"foreground_pixels", fg}, {"background_pixels", bg}, {"pairs", used}}

@@ -7,10 +7,12 @@
 #include <iostream>
 
 #include "cli_common.h"
+#include "io/output_path.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "megavox/point_build.h"
 #include "megavox/point_render.h"
+#include "megavox/render.h"
 
 namespace mv::cli {
 
@@ -19,7 +21,7 @@ namespace {
 struct PointsBuildArgs {
   std::string input, output, format = "mvx", memory;
   uint32_t depth = 0, max_node_points = 16384, sort_ranges = PointBuildOptions().sort_ranges;
-  bool skip_extra = false, json = false, quiet = false;
+  bool skip_extra = false, json = false, quiet = false, no_clobber = false;
 };
 
 nlohmann::json report_json(const PointFileReport& r) {
@@ -89,8 +91,10 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
   cmd->add_flag("--skip-extra-bytes", a->skip_extra, "Do not carry a LAS file's extra bytes per point");
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the summary");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
+  add_no_clobber_flag(*cmd, a->no_clobber);
   cmd->callback([&g, a] {
     PointFileOptions o;
+    o.no_clobber = a->no_clobber;
     o.input = a->input;
     o.output = a->output;
     o.format = a->format;
@@ -99,6 +103,7 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     o.build.sort_ranges = std::max(1u, a->sort_ranges);
     o.memory = a->memory.empty() ? 0 : parse_size(a->memory);
     o.carry_extra_bytes = !a->skip_extra;
+    check_output(o);  // before the device opens
     auto dev = open_device(g);
     const bool bar = !a->quiet && isatty(STDERR_FILENO);
     PointFileReport r = build_points_file(*dev, o, progress_bar(bar));
@@ -146,7 +151,7 @@ void add_points_info(CLI::App& points) {
 struct PointsRenderArgs {
   std::string input, output, up;
   PointRenderOptions render;
-  bool during_build = false;
+  bool during_build = false, no_clobber = false;
   uint32_t frames = 8, max_node_points = 16384, depth = 0;
 };
 
@@ -164,7 +169,10 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       "render's cut (front_nodes and points_drawn may then shrink as sibling groups prune into their parent):\n"
       "  megavox points render scan.las --during-build --frames 10 -o frames/");
   cmd->add_option("input", a->input, "The point .mvx file (--during-build: the point cloud)")->required();
-  cmd->add_option("-o,--output", a->output, "The PNG to write (--during-build: the folder)")->required();
+  cmd->add_option("-o,--output", a->output,
+                  "The picture to write: PNG, or JPEG for a .jpg/.jpeg name (--during-build: the folder)")
+      ->required();
+  add_no_clobber_flag(*cmd, a->no_clobber);
   cmd->add_flag("--during-build", a->during_build, "Build the input cloud and render frames while it grows");
   cmd->add_option("--frames", a->frames, "--during-build: how many frames (default 8)");
   cmd->add_option("--max-node-points", a->max_node_points, "--during-build: as in points build");
@@ -183,13 +191,17 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
         throw Error("points render: --up wants x, y or z, got '" + a->up + "'");
       a->render.up = a->up[0];
     }
+    const std::string output = io::resolve_output(
+        {a->output, a->during_build ? io::OutputKind::kFolder : io::OutputKind::kFile,
+         a->during_build ? "" : image_format(a->output), {a->input},
+         uint64_t{a->render.width} * a->render.height * (a->during_build ? a->frames : 1), a->no_clobber});
     auto dev = open_device(g);
     if (a->during_build) {
       if (cmd->count("--lod-pixels") == 0) a->render.lod_pixels = 0;
       PointBuildOptions b;
       b.max_node_points = a->max_node_points;
       b.depth = a->depth;
-      render_during_build(*dev, a->input, a->output, a->frames, b, a->render, [](const BuildFrame& f) {
+      render_during_build(*dev, a->input, output, a->frames, b, a->render, [](const BuildFrame& f) {
         nlohmann::json j = {{"frame", f.frame}, {"nodes", f.nodes}, {"front_nodes", f.front_nodes},
                           {"points_drawn", f.points_drawn}, {"file", f.path}};
         std::cout << j.dump() << std::endl;
@@ -198,7 +210,7 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
     }
     PointHierarchy h = read_mvx_points(a->input);
     PointRenderResult r = render_points(*dev, h, a->render);
-    write_png(a->output, r.image);
+    write_image(output, r.image);
     std::printf("%s -> %s (%ux%u): %llu nodes, %llu points drawn, %llu pixels covered\n", a->input.c_str(),
                 a->output.c_str(), r.image.width, r.image.height, (unsigned long long)r.nodes_drawn,
                 (unsigned long long)r.points_drawn, (unsigned long long)r.pixels_covered);

@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "io/atomic_dir.h"
+#include "io/output_path.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"
@@ -37,12 +38,16 @@ nlohmann::json cache_json(const RenderResult& r, double frame_seconds) {
 
 }  // namespace
 
+std::string image_format(const std::string& path) {
+  return io::format_of_extension(path) == "jpeg" ? "jpeg" : "png";
+}
+
 void add_render_command(CLI::App& app, const GlobalOptions& g) {
   struct Args {
     std::string input, output, view = "iso", eye, target, up = "0,1,0", shading = "shaded", cache_memory, path;
     double fov = 40;
     RenderOptions opt;
-    bool json = false, quiet = false;
+    bool json = false, quiet = false, no_clobber = false;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("render", "Render a .mvx file to a PNG picture through the ray traversal kernel");
@@ -70,7 +75,10 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
       "  megavox render koala16k.mvx -o koala.png --cache-memory 16M\n"
       "  megavox render koala16k.mvx --path flight.json -o frames --cache-memory 16M --json\n");
   cmd->add_option("file", a->input, "The .mvx file")->required();
-  cmd->add_option("-o,--output", a->output, "The PNG to write (with --path: the folder of frames)")->required();
+  cmd->add_option("-o,--output", a->output,
+                  "The picture to write: PNG, or JPEG for a .jpg/.jpeg name (with --path: the folder of frames)")
+      ->required();
+  add_no_clobber_flag(*cmd, a->no_clobber);
   cmd->add_option("--width", a->opt.width, "Image width in pixels")->capture_default_str();
   cmd->add_option("--height", a->opt.height, "Image height in pixels")->capture_default_str();
   cmd->add_option("--view", a->view, "Preset camera: front, back, left, right, top or iso")->capture_default_str();
@@ -92,6 +100,12 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_flag("--quiet", a->quiet, "Print nothing but errors");
   cmd->callback([a, &g] {
     a->opt.shading = parse_shading(a->shading);
+    // Before the device opens or the file is read: a PNG or JPEG takes about a byte a pixel.
+    const bool flight = !a->path.empty();
+    const std::string output = io::resolve_output(
+        {a->output, flight ? io::OutputKind::kFolder : io::OutputKind::kFile,
+         flight ? "" : image_format(a->output), {a->input, a->path}, uint64_t{a->opt.width} * a->opt.height,
+         a->no_clobber});
     auto dev = open_device(g);
     std::unique_ptr<Tracer> tracer;
     Bounds bounds;
@@ -130,7 +144,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
       const auto t0 = std::chrono::steady_clock::now();
       RenderResult r = render(*tracer, cams[i], a->opt);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      write_png(png, r.image);
+      write_image(png, r.image);
       if (!r.converged && !warned && !a->quiet) {
         warned = true;
         const CacheUpdateStats& last = r.cache.back();
@@ -189,10 +203,10 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
                     c["io_seconds"].get<double>());
       }
     };
-    if (a->path.empty()) {
-      render_frame(0, a->output);
+    if (!flight) {
+      render_frame(0, output);
     } else {
-      io::write_dir_atomically(a->output, "frame_0000.png", [&](const std::string& dir) {
+      io::write_dir_atomically(output, "frame_0000.png", [&](const std::string& dir) {
         for (size_t i = 0; i < cams.size(); ++i) {
           char name[32];
           std::snprintf(name, sizeof name, "/frame_%04zu.png", i);

@@ -7,6 +7,7 @@
 
 #include "io/memory_mesh.h"
 #include "io/mesh_source.h"
+#include "io/output_path.h"
 #include "io/vdb_source.h"
 #include "build_steps.h"
 #include "megavox/build.h"
@@ -342,8 +343,13 @@ constexpr uint32_t kSmallestCube = 64;
 // A mesh whose cube (or whole grid, in core) runs out of device memory builds again in cubes half the size,
 // down to 64^3 (the file is the same whatever the cube size); `--cube 0` (always in core), .vdb inputs and
 // a merge that does not fit keep the error.
+std::string check_output(const BuildOptions& o) {
+  return io::resolve_output({o.output, io::OutputKind::kFile, "mvx", {o.mesh ? std::string() : o.input}, 0, o.no_clobber});
+}
+
 BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
   BuildOptions attempt = o;
+  if (!o.output.empty()) attempt.output = check_output(o);
   const uint32_t resolution = o.resolution ? o.resolution : 1024;
   for (uint32_t retries = 0;; ++retries) {
     try {

@@ -7,6 +7,7 @@
 
 #include "../kernels/common/morton.h"
 #include "build_steps.h"
+#include "io/output_path.h"
 #include "io/symvox_file.h"
 #include "io/vdb_writer.h"
 #include "megavox/error.h"
@@ -47,15 +48,24 @@ void symvox_box(const MvxFile& in, io::SymvoxFile& out) {
 
 }  // namespace
 
+std::string check_output(const ExportOptions& o) {
+  return io::resolve_output({o.output, io::OutputKind::kFile, o.format, {o.input}, 0, o.no_clobber});
+}
+
+std::string check_output(const ImportOptions& o) {
+  return io::resolve_output({o.output, io::OutputKind::kFile, "mvx", {o.input}, 0, o.no_clobber});
+}
+
 ExportReport export_mvx(Device& dev, const ExportOptions& o) {
   ExportReport r{o.input, o.output, o.format};
   const char* encoding = symvox_encoding(o.format);
   if (!encoding && o.format != "vdb" && o.format != "nvdb")
     throw Error("--format " + o.format + ": choose symvox-svdag, symvox-ussvdag, symvox-ssvdag, vdb or nvdb");
+  const std::string output = check_output(o);
   MvxFile in = read_mvx(o.input);
   r.voxels = in.voxels;
   if (!encoding) {
-    io::write_voxel_grid(o.output, decode_encoded(in.dag), in.grid, o.format == "nvdb");
+    io::write_voxel_grid(output, decode_encoded(in.dag), in.grid, o.format == "nvdb");
   } else {
     MvxFile dag = in_format(dev, std::move(in), encoding, r.rebuilt);
     io::SymvoxFile out;
@@ -67,15 +77,16 @@ ExportReport export_mvx(Device& dev, const ExportOptions& o) {
     if (std::string(encoding) != "svdag") nodes -= 1;
     out.dag = std::move(dag.dag);
     out.nodes = static_cast<uint32_t>(std::min<uint64_t>(nodes, UINT32_MAX));
-    io::write_symvox(o.output, out);
+    io::write_symvox(output, out);
   }
-  r.bytes = std::filesystem::file_size(o.output);
+  r.bytes = std::filesystem::file_size(output);
   return r;
 }
 
 ImportReport import_symvox(Device& dev, const ImportOptions& o) {
   if (o.convention != "auto" && o.convention != "symvox" && o.convention != "voxcom")
     throw Error("--convention " + o.convention + ": choose auto, symvox or voxcom");
+  const std::string output = check_output(o);
   io::SymvoxFile f = io::read_symvox(o.input);
   ImportReport r;
   r.input = o.input;
@@ -108,7 +119,7 @@ ImportReport import_symvox(Device& dev, const ImportOptions& o) {
   }
   Dag dag = build_dag_for_format(dev, keys, f.levels, r.format);
   MvxFile out = mvx_for_dag(dag, r.format, grid, bounds);
-  write_mvx(o.output, out);
+  write_mvx(output, out);
   r.voxels = out.voxels;
   r.nodes_total = nodes_total(out);
   r.bytes = out.dag.bytes();

@@ -3,6 +3,8 @@
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -10,6 +12,7 @@
 
 #include "file_ops.h"
 #include "megavox/error.h"
+#include "output_path.h"
 
 namespace mv::io {
 
@@ -66,6 +69,12 @@ void write_dir_atomically(const std::string& dir, const std::string& marker,
   std::string tmp = target.string() + ".tmp-XXXXXX";
   if (!::mkdtemp(tmp.data()))
     throw Error("cannot create a temporary folder beside '" + target.string() + "': " + std::strerror(errno));
+  // mkdtemp makes it private (0700); the output is for others to serve too, as the user's umask says.
+  if (::chmod(tmp.c_str(), 0777 & ~current_umask()) != 0) {
+    const int err = errno;
+    ::rmdir(tmp.c_str());
+    throw Error("cannot set the permissions of '" + tmp + "': " + std::strerror(err));
+  }
   try {
     write(tmp);
     swap_in(tmp, target);

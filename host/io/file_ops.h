@@ -68,6 +68,9 @@ bool copy_mapped(void* out, const void* mapped, size_t bytes);
 // rename(2) and renameat2(2) with RENAME_EXCHANGE: 0, or -1 and errno.
 int rename_path(const char* from, const char* to);
 int exchange_paths(const char* a, const char* b);
+// Gives the open, unnamed file `fd` (O_TMPFILE) the name `to` (linkat(2)): 0, or -1 and errno (EEXIST when
+// `to` exists). Counted as a rename by the fault injection below.
+int link_open_file(int fd, const char* to);
 
 // Fault injection for tests: the `nth` operation (0-based, counted from arm()) of a kind fails.
 namespace faults {

@@ -2,7 +2,9 @@
 #include <chrono>
 
 #include <algorithm>
+#include <filesystem>
 
+#include "io/output_path.h"
 #include "io/point_source.h"
 #include "io/temp_file.h"
 #include "points/omicron.h"
@@ -159,9 +161,19 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
 
 }  // namespace
 
+std::string check_output(const PointFileOptions& o) {
+  // The output holds every point kept: about half the input's bytes at least.
+  std::error_code size_error;
+  const uint64_t input_bytes = std::filesystem::file_size(o.input, size_error);
+  const bool file = o.format != "3dtiles";
+  return io::resolve_output({o.output, file ? io::OutputKind::kFile : io::OutputKind::kFolder, file ? "mvx" : "",
+                             {o.input}, size_error ? 0 : input_bytes / 2, o.no_clobber});
+}
+
 PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const Progress& progress) {
   if (o.format != "mvx" && o.format != "3dtiles")
     throw Error("points build: unknown --format '" + o.format + "' (use mvx or 3dtiles)");
+  const std::string output = check_output(o);
   const auto start = std::chrono::steady_clock::now();
   PointFileReport r;
   r.input = o.input;
@@ -201,8 +213,8 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
 
   t0 = std::chrono::steady_clock::now();
   if (progress) progress("write", 0);
-  if (o.format == "mvx") write_mvx_points(o.output, h);
-  else io::write_3dtiles(o.output, h);
+  if (o.format == "mvx") write_mvx_points(output, h);
+  else io::write_3dtiles(output, h);
   r.write_seconds = seconds_since(t0);
   if (progress) progress("write", 1);
 

@@ -21,7 +21,8 @@ struct MeshArrays {
 struct BuildOptions {
   std::string input;         // a mesh: PLY (streamed) or anything assimp reads (OBJ, glTF, FBX, STL, ...),
                              // or an OpenVDB .vdb volume (one VDB voxel = one voxel)
-  std::string output;        // the .mvx to write
+  std::string output;        // the .mvx to write (checked before any work: io/output_path.h)
+  bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
   uint32_t resolution = 0;   // voxels per axis, a power of two; 0: 1024 for meshes, the smallest fit for .vdb
   std::string grid;          // .vdb: the grid to read (empty: the first)
   // Meshes above this resolution build out of core, one cube of this many voxels per side at a time
@@ -67,6 +68,10 @@ struct BuildReport {
 using Progress = std::function<void(const std::string& stage, double fraction)>;
 
 BuildReport build_mvx(Device& dev, const BuildOptions& options, const Progress& progress = {});
+// The output, resolved and checked as io/output_path.h says (not an input, not a FIFO or device, its folder
+// there and writable, ...): the path to write. The call above makes it first; a caller that opens a device
+// first (the CLI) makes it before, so a wrong -o costs nothing. Throws mv::Error.
+std::string check_output(const BuildOptions& options);
 
 // Half the machine's physical RAM: the default --memory.
 uint64_t default_host_memory();

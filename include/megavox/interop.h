@@ -16,6 +16,7 @@ namespace mv {
 // An .mvx already in the wanted encoding is written as is; otherwise its voxels are decoded and rebuilt.
 struct ExportOptions {
   std::string input, output, format;
+  bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
 };
 struct ExportReport {
   std::string input, output, format;
@@ -23,6 +24,10 @@ struct ExportReport {
   bool rebuilt = false;  // re-encoded from the voxels (the .mvx held another encoding)
 };
 ExportReport export_mvx(Device& dev, const ExportOptions& options);
+// The output, resolved and checked as io/output_path.h says (not an input, not a FIFO or device, its folder
+// there and writable, ...): the path to write. The call above makes it first; a caller that opens a device
+// first (the CLI) makes it before, so a wrong -o costs nothing. Throws mv::Error.
+std::string check_output(const ExportOptions& options);
 
 // `megavox import FILE -o OUT.mvx`: the layout (32-bit SVDAG / USSVDAG, 16-bit SSVDAG) is told from the
 // content, not the extension, and validated like every reader. Conventions: symvox (child c = 4x + 2y + z,
@@ -34,6 +39,7 @@ struct ImportOptions {
   std::string input, output;
   std::string convention = "auto";
   std::string format;  // svdag | ussvdag | ssvdag; empty: the file's layout
+  bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
 };
 struct ImportReport {
   std::string input, output, layout, convention, format;
@@ -41,5 +47,6 @@ struct ImportReport {
   uint64_t voxels = 0, nodes_total = 0, bytes = 0, file_nodes = 0;
 };
 ImportReport import_symvox(Device& dev, const ImportOptions& options);
+std::string check_output(const ImportOptions& options);  // as export's
 
 }  // namespace mv

@@ -71,6 +71,7 @@ struct PointFileOptions {
   uint64_t memory = 0;         // host budget in bytes; 0 = default_host_memory()
   bool carry_extra_bytes = true;
   uint64_t run_points = 0;     // > 0: sort out of core in runs of this many points, whatever the budget (tests)
+  bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
 };
 
 struct PointFileReport {
@@ -91,5 +92,9 @@ PointColumns read_point_file(const std::string& path, PointCloudInfo& info, bool
 
 // Progress stages: "read", "build", "write", with the fraction done.
 PointFileReport build_points_file(Device& dev, const PointFileOptions& options, const Progress& progress = {});
+// The output, resolved and checked as io/output_path.h says (not an input, not a FIFO or device, its folder
+// there and writable, ...): the path to write. The call above makes it first; a caller that opens a device
+// first (the CLI) makes it before, so a wrong -o costs nothing. Throws mv::Error.
+std::string check_output(const PointFileOptions& options);
 
 }  // namespace mv

@@ -93,5 +93,7 @@ RenderResult render_reference(const MvxFile& file, const Camera& camera, const R
 
 // Writes an 8-bit RGB PNG (to a temporary name, renamed on success). Throws mv::Error on I/O failure.
 void write_png(const std::string& path, const Image& image);
+// The image as the name's extension says: JPEG (libjpeg-turbo, quality 92) for .jpg / .jpeg, else PNG.
+void write_image(const std::string& path, const Image& image);
 
 }  // namespace mv

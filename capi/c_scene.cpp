@@ -38,7 +38,6 @@ void mvInitBuildArguments(MvBuildArguments* args) {
   *args = MvBuildArguments{};
   args->byteSize = sizeof(MvBuildArguments);
   args->format = "svdag";
-  args->cube = 1024;
 }
 
 MvScene mvBuildSceneFromFile(MvDevice device, const char* path, const MvBuildArguments* args) {

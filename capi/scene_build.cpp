@@ -63,7 +63,8 @@ BuildOptions build_options(MvDevice device, const MvBuildArguments* args) {
   require(args->byteSize == sizeof(MvBuildArguments), "build: MvBuildArguments.byteSize is wrong (call mvInitBuildArguments)");
   o.format = text_or(args->format, "svdag");
   o.resolution = args->resolution;
-  o.cube = args->cube;
+  // 0 is "unset", as in every other field, so a zeroed struct builds as the CLI and the service do.
+  o.cube = args->cube == 0 ? kDefaultCube : args->cube == MV_CUBE_IN_CORE ? 0 : args->cube;
   o.voxelize = text_or(args->voxelize, "conservative");
   o.grid = text_or(args->grid, "");
   if (args->gridOrigin) {

@@ -12,7 +12,7 @@ namespace mv::cli {
 struct BuildArgs {
   std::string input, resolution, format = "svdag", grid, grid_origin = "center", bounds, voxelize = "conservative";
   std::string memory;
-  uint32_t cube = 1024;
+  uint32_t cube = kDefaultCube;
 };
 
 // The input and every build option but the output: --resolution, --grid, --cube, --format, --grid-origin,

@@ -1,6 +1,8 @@
 # libmegavox.so (the C API alone, every other symbol hidden by cmake/megavox.map, no baseline) and what
 # `cmake --install` lays out: the library, the C and C++ RAII headers, megavoxConfig.cmake with its version
-# file, megavox.pc (both relative to where the tree lands, so it can move) and the CLI.
+# file, megavox.pc (both relative to where the tree lands, so it can move) and the CLI. The build tree gets
+# its own megavoxConfig.cmake, megavoxTargets.cmake and megavox.pc at its top, pointing into the source and
+# build trees, so a program can use a build without installing it; the installed copies wait in package/.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 # The static core goes into the shared library, so its code must be position independent.
@@ -30,10 +32,16 @@ install(FILES include/megavox/megavox.h include/megavox/megavox.hpp ${CMAKE_BINA
 install(TARGETS megavox RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 set(mv_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/megavox)
 install(EXPORT megavoxTargets NAMESPACE megavox:: DESTINATION ${mv_cmake_dir})
-configure_package_config_file(cmake/megavoxConfig.cmake.in ${CMAKE_BINARY_DIR}/megavoxConfig.cmake
+export(EXPORT megavoxTargets NAMESPACE megavox:: FILE ${CMAKE_BINARY_DIR}/megavoxTargets.cmake)
+configure_package_config_file(cmake/megavoxConfig.cmake.in ${CMAKE_BINARY_DIR}/package/megavoxConfig.cmake
   INSTALL_DESTINATION ${mv_cmake_dir})
+configure_package_config_file(cmake/megavoxConfig.cmake.in ${CMAKE_BINARY_DIR}/megavoxConfig.cmake
+  INSTALL_DESTINATION ${CMAKE_BINARY_DIR} INSTALL_PREFIX ${CMAKE_BINARY_DIR})
 write_basic_package_version_file(${CMAKE_BINARY_DIR}/megavoxConfigVersion.cmake COMPATIBILITY SameMinorVersion)
-install(FILES ${CMAKE_BINARY_DIR}/megavoxConfig.cmake ${CMAKE_BINARY_DIR}/megavoxConfigVersion.cmake
+install(FILES ${CMAKE_BINARY_DIR}/package/megavoxConfig.cmake ${CMAKE_BINARY_DIR}/megavoxConfigVersion.cmake
   DESTINATION ${mv_cmake_dir})
-configure_file(cmake/megavox.pc.in ${CMAKE_BINARY_DIR}/megavox.pc @ONLY)
-install(FILES ${CMAKE_BINARY_DIR}/megavox.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+configure_file(cmake/megavox.pc.in ${CMAKE_BINARY_DIR}/package/megavox.pc @ONLY)
+install(FILES ${CMAKE_BINARY_DIR}/package/megavox.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+# The library's folder is known only at generation time (a generator expression), hence the second step.
+configure_file(cmake/megavox-build.pc.in ${CMAKE_BINARY_DIR}/package/megavox-build.pc.in @ONLY)
+file(GENERATE OUTPUT ${CMAKE_BINARY_DIR}/megavox.pc INPUT ${CMAKE_BINARY_DIR}/package/megavox-build.pc.in)

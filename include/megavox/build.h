@@ -12,6 +12,11 @@
 
 namespace mv {
 
+// Meshes above this many voxels per side build out of core by default. One constant for BuildOptions, the
+// CLI's --cube and the C API's cube 0 (and so the service, which builds through the C API), so that the same
+// build asked of any of them runs the same way.
+inline constexpr uint32_t kDefaultCube = 1024;
+
 // A mesh in the caller's memory: 3 floats per vertex, 3 indices per triangle (read in place, not copied).
 struct MeshArrays {
   std::span<const float> positions;
@@ -27,7 +32,7 @@ struct BuildOptions {
   std::string grid;          // .vdb: the grid to read (empty: the first)
   // Meshes above this resolution build out of core, one cube of this many voxels per side at a time
   // (a power of two); 0 = always in core.
-  uint32_t cube = 1024;
+  uint32_t cube = kDefaultCube;
   std::string format = "svdag";
   GridPlacement placement;               // meshes: where the grid sits (a .vdb keeps its index space)
   std::string voxelize = "conservative"; // meshes: conservative (26-separating) or thin (6-separating)

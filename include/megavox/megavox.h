@@ -96,11 +96,15 @@ typedef bool (*MvProgressMonitorFunction)(void* userPtr, const char* stage, doub
 
 typedef struct MvSceneTy* MvScene;
 
+/* MvBuildArguments.cube: never out of core (0 there asks for the default, as for every other field). */
+#define MV_CUBE_IN_CORE UINT32_MAX
+
 typedef struct MvBuildArguments {
   size_t byteSize;         /* sizeof(MvBuildArguments), set by mvInitBuildArguments */
   const char* format;      /* "svo", "svdag" (default), "ussvdag" or "ssvdag" */
   uint32_t resolution;     /* voxels per axis, a power of two; 0: 1024 (a .vdb: its own extent) */
-  uint32_t cube;           /* above this resolution build out of core in cubes of this side; 0: always in core */
+  uint32_t cube;           /* above this resolution build out of core in cubes of this side (a power of two);
+                              0: the default, 1024 (the CLI's --cube); MV_CUBE_IN_CORE: always in core */
   const char* voxelize;    /* "conservative" (default) or "thin" */
   const char* gridOrigin;  /* "center" (default) or "min" */
   const char* grid;        /* a .vdb input: the grid to read (NULL: the first) */

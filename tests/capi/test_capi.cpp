@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "capi/scene_build.h"
 #include "megavox/build.h"
 #include "megavox/megavox.hpp"
 #include "megavox/render.h"
@@ -346,6 +347,23 @@ TEST(CApiVersion, MatchesTheHeader) {
   EXPECT_EQ(mvGetVersion(), uint32_t(MV_VERSION_MAJOR * 10000 + MV_VERSION_MINOR * 100 + MV_VERSION_PATCH));
   EXPECT_STREQ(mvGetVersionString(), MV_VERSION_STRING);
   static_assert(sizeof(MvTraceHit) == 32 && sizeof(MvTraceRay) == 28);
+}
+
+// No device needed: only the C arguments' translation into BuildOptions.
+TEST(CApiBuildArguments, CubeZeroIsTheSharedDefaultAndInCoreIsAskedByName) {
+  MvDeviceTy device;
+  MvBuildArguments a;
+  mvInitBuildArguments(&a);
+  EXPECT_EQ(a.cube, 0u);
+  EXPECT_EQ(mv::capi::build_options(&device, &a).cube, kDefaultCube);
+  EXPECT_EQ(mv::capi::build_options(&device, nullptr).cube, kDefaultCube);
+  EXPECT_EQ(BuildOptions{}.cube, kDefaultCube);
+  a.cube = MV_CUBE_IN_CORE;
+  EXPECT_EQ(mv::capi::build_options(&device, &a).cube, 0u);
+  for (uint32_t cube : {8u, 512u, 1024u, 4096u}) {
+    a.cube = cube;
+    EXPECT_EQ(mv::capi::build_options(&device, &a).cube, cube);
+  }
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(CApiTest);

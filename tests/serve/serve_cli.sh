@@ -4,7 +4,8 @@
 # mask of a photograph), then what it refuses (no or a bad token 401, an oversized body 413, paths leading
 # outside --data-dir, malformed JSON and bad fields 400), jobs that fail in the API's own terms while the
 # server keeps serving, cancel and delete, the OpenAPI document through swagger-parser, SIGTERM leaving no
-# partial file, and a job stopped by --job-timeout. Its inputs are written here (no shared data).
+# partial file, and a job stopped by --job-timeout. Its inputs are written here (no shared data); the .3tz is
+# also read by loaders.gl and the OpenAPI document by swagger-parser where tests/js has its packages.
 # Usage: serve_cli.sh MEGAVOX SOURCE_DIR
 set -euo pipefail
 mv=$1
@@ -89,6 +90,11 @@ tzid=$(jq -r .id <<< "$tz")
 files 3tz "$dir/lattice.3tz" > "$dir/3tz.txt" || fail "the .3tz breaks the archive's rules"
 grep -q '\.pnts$' "$dir/3tz.txt" || fail "the .3tz holds no tile: $(cat "$dir/3tz.txt")"
 [[ -z $(ls "$data/jobs/$tzid" | grep -v '^result.3tz$') ]] || fail "the tileset folder stays: $(ls "$data/jobs/$tzid")"
+if [[ -d "$src/tests/js/node_modules/@loaders.gl/3d-tiles" ]]; then  # an independent reader, through the index
+  node "$src/tests/js/check_3tz.mjs" "$dir/lattice.3tz" 1000 > "$dir/3tz.json" || fail "loaders.gl: $(cat "$dir/3tz.json")"
+else
+  echo "loaders.gl not installed (npm ci in tests/js): the .3tz not read by an independent reader"
+fi
 # an uploaded cloud goes the same way
 upts=$(curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$data/lattice.ply" "$url/v1/jobs?kind=points&depth=3")
 [[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$upts")")") == done ]] || fail "uploaded points"

@@ -74,6 +74,11 @@ camfinal=$(wait_job "$(jq -r .id <<< "$cam")")
 [[ $(jq -r .status <<< "$camfinal") == done && $(jq -r .stage <<< "$camfinal") == done ]] || fail "camera render: $camfinal"
 curl -sf "${auth[@]}" -o "$dir/cam.png" "$url/v1/jobs/$(jq -r .id <<< "$cam")/result"
 [[ $(head -c 24 "$dir/cam.png" | od -An -tu1 -j16 | tr -s ' ') == " 0 0 0 40 0 0 0 30" ]] || fail "camera render: not 40 x 30"
+# no size given: the CLI's render's 1920 x 1080 (depth shading: no shadow or AO rays, a few seconds on a CPU)
+big=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d "{\"kind\":\"render\",\"scene\":\"$upid\",\"shading\":\"depth\"}" "$url/v1/jobs")
+[[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$big")")") == done ]] || fail "default-size render"
+curl -sf "${auth[@]}" -o "$dir/big.png" "$url/v1/jobs/$(jq -r .id <<< "$big")/result"
+[[ $(head -c 24 "$dir/big.png" | od -An -tu1 -j16 | tr -s ' ') == " 0 0 7 128 0 0 4 56" ]] || fail "default render: not 1920 x 1080"
 
 # a point cloud by name to a .mvx hierarchy, and to a 3D Tiles archive (.3tz)
 pts=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"points","input":"lattice.ply","max_node_points":100}' "$url/v1/jobs")

@@ -1,69 +1,47 @@
 #include "serve/job_words.h"
 
-#include <cctype>
-#include <cstring>
+#include "option_words.h"
 
 namespace mv::serve {
 
 namespace {
 
-struct Word {
-  const char* flag;  // without the dashes
-  const char* words;
+const OptionWords kWords[] = {
+    // the library's CLI flags
+    {"--cube", "\"cube\""},
+    {"--resolution", "\"resolution\""},
+    {"--format", "\"format\""},
+    {"--voxelize", "\"voxelize\""},
+    {"--grid-origin", "\"grid_origin\""},
+    {"--width", "\"width\""},
+    {"--height", "\"height\""},
+    {"--view", "\"view\""},
+    {"--shading", "\"shading\""},
+    {"--eye", "\"eye\""},
+    {"--target", "\"target\""},
+    {"--up", "\"up\""},
+    {"--fov", "\"fov\""},
+    {"--depth", "\"depth\""},
+    {"--max-node-points", "\"max_node_points\""},
+    {"--rect", "\"rect\""},
+    {"--seeds", "\"seeds\""},
+    {"--model", "\"model\""},
+    {"--iterations", "\"iterations\""},
+    {"--erode", "\"erode\""},
+    {"--memory", "the server's host memory per job"},
+    {"--device-memory", "the server's device memory per job"},
+    // the C API's, which words the failures of the build jobs run through it (capi/scene_build.cpp)
+    {"MvBuildArguments.cube", "\"cube\""},
+    {"MvBuildArguments.resolution", "\"resolution\""},
+    {"MvBuildArguments.format", "\"format\""},
+    {"MvBuildArguments.voxelize", "\"voxelize\""},
+    {"MvBuildArguments.gridOrigin", "\"grid_origin\""},
+    {"host_memory (mvNewDevice)", "the server's host memory per job"},
+    {"memory (mvNewDevice)", "the server's device memory per job"},
 };
-
-// Flags the library's messages name, and what a job's client reads instead.
-const Word kWords[] = {
-    {"cube", "\"cube\""},
-    {"resolution", "\"resolution\""},
-    {"format", "\"format\""},
-    {"voxelize", "\"voxelize\""},
-    {"grid-origin", "\"grid_origin\""},
-    {"width", "\"width\""},
-    {"height", "\"height\""},
-    {"view", "\"view\""},
-    {"shading", "\"shading\""},
-    {"eye", "\"eye\""},
-    {"target", "\"target\""},
-    {"up", "\"up\""},
-    {"fov", "\"fov\""},
-    {"depth", "\"depth\""},
-    {"max-node-points", "\"max_node_points\""},
-    {"rect", "\"rect\""},
-    {"seeds", "\"seeds\""},
-    {"model", "\"model\""},
-    {"iterations", "\"iterations\""},
-    {"erode", "\"erode\""},
-    {"memory", "the server's host memory per job"},
-    {"device-memory", "the server's device memory per job"},
-};
-
-bool flag_char(char c) { return std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '-'; }
 
 }  // namespace
 
-std::string in_job_terms(const std::string& message) {
-  std::string out;
-  out.reserve(message.size());
-  for (size_t i = 0; i < message.size();) {
-    // a flag: "--" at the start of a word, then lower-case letters, digits and dashes
-    if (message.compare(i, 2, "--") == 0 && (i == 0 || !flag_char(message[i - 1]))) {
-      size_t end = i + 2;
-      while (end < message.size() && flag_char(message[end])) ++end;
-      while (end > i + 2 && message[end - 1] == '-') --end;
-      const std::string flag = message.substr(i + 2, end - i - 2);
-      const char* words = nullptr;
-      for (const Word& w : kWords)
-        if (flag == w.flag) words = w.words;
-      if (words) {
-        out += words;
-        i = end;
-        continue;
-      }
-    }
-    out += message[i++];
-  }
-  return out;
-}
+std::string in_job_terms(const std::string& message) { return reword_options(message, kWords); }
 
 }  // namespace mv::serve

@@ -1,7 +1,7 @@
-// A failed job's message in the service's own terms. The library's messages name the CLI's flags (raise
-// --cube, over --memory): the checks that word them are shared by every front end, so rather than repeat a
-// check to word it again, the service rewords the flags it has keys for (--cube -> "cube") and the budgets a
-// client cannot set (--memory -> the server's share per job).
+// A failed job's message in the service's own terms: the names the layers below use (the library's CLI
+// flags, as the point-cloud and mask jobs meet them; the C API's fields, as build jobs do) become the job's
+// keys (--cube -> "cube"), and budgets a client cannot set become the server's (--memory -> the server's
+// host memory per job). See host/option_words.h for why messages are reworded rather than worded twice.
 #pragma once
 #include <string>
 

@@ -1,6 +1,6 @@
 // Job requests of `megavox serve` (serve/job_request.h) as a client may send them: each kind's fields taken,
-// every bad field refused with a message naming its JSON key, and failures from the library reworded in the
-// service's terms (serve/job_words.h). No device: parsing only.
+// every bad field refused with a message naming its JSON key, and failures from the library and the C API
+// reworded in the service's terms (serve/job_words.h). No device: parsing only.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -167,8 +167,16 @@ TEST(ServeJobWords, FlagsBecomeJobKeys) {
             "over the server's host memory per job 2 GiB; raise the server's host memory per job");
   EXPECT_EQ(in_job_terms("--grid-origin, --max-node-points, --device-memory."),
             "\"grid_origin\", \"max_node_points\", the server's device memory per job.");
-  // flags it has no key for, and dashes that are no flag, stay as they are
-  EXPECT_EQ(in_job_terms("--bounds and a--cube and x -- y --"), "--bounds and a--cube and x -- y --");
+  // flags it has no key for, and names inside longer words, stay as they are
+  EXPECT_EQ(in_job_terms("--bounds and a--cube and --cubes and x -- y --"), "--bounds and a--cube and --cubes and x -- y --");
+}
+
+TEST(ServeJobWords, CApiNamesBecomeJobKeys) {  // build jobs run through the C API, which words its own names
+  using mv::serve::in_job_terms;
+  EXPECT_EQ(in_job_terms("over the quarter of host_memory (mvNewDevice) 2 GiB; raise MvBuildArguments.cube to 512"),
+            "over the quarter of the server's host memory per job 2 GiB; raise \"cube\" to 512");
+  EXPECT_EQ(in_job_terms("MvBuildArguments.gridOrigin, memory (mvNewDevice)"),
+            "\"grid_origin\", the server's device memory per job");
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <unistd.h>
 
+#include "option_words.h"
+
 namespace mv::capi {
 
 namespace {
@@ -29,6 +31,19 @@ class ScratchMvx {
 };
 
 std::string text_or(const char* s, const char* fallback) { return s ? s : fallback; }
+
+// The library's build messages name the CLI's flags; a C caller sets fields and the device's configuration.
+const OptionWords kApiWords[] = {
+    {"--cube", "MvBuildArguments.cube"},
+    {"--resolution", "MvBuildArguments.resolution"},
+    {"--format", "MvBuildArguments.format"},
+    {"--voxelize", "MvBuildArguments.voxelize"},
+    {"--grid-origin", "MvBuildArguments.gridOrigin"},
+    {"--memory", "host_memory (mvNewDevice)"},
+    {"--device-memory", "memory (mvNewDevice)"},
+};
+
+std::string in_api_terms(const char* message) { return reword_options(message, kApiWords); }
 
 }  // namespace
 
@@ -71,7 +86,7 @@ BuildOptions build_options(MvDevice device, const MvBuildArguments* args) {
     try {
       o.placement = parse_grid_origin(args->gridOrigin);
     } catch (const Error& e) {
-      throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
+      throw ApiError(MV_ERROR_INVALID_ARGUMENT, in_api_terms(e.what()));
     }
   }
   o.output = text_or(args->output, "");
@@ -110,7 +125,13 @@ MvScene build_scene(MvDevice device, const BuildInput& input, BuildOptions o, co
   auto scene = std::make_unique<MvSceneTy>();
   {
     std::lock_guard<std::recursive_mutex> g(device->lock);
-    build_mvx(*device->device, o, progress);
+    try {
+      build_mvx(*device->device, o, progress);
+    } catch (const DeviceMemoryError& e) {
+      throw DeviceMemoryError(in_api_terms(e.what()));
+    } catch (const Error& e) {
+      throw Error(in_api_terms(e.what()));
+    }
   }
   scene->file = read_mvx(o.output);
   mvRetainDevice(device);

@@ -667,7 +667,8 @@ void vdb_seeds() {
   }
 }
 
-// Jobs of `megavox serve`: a build by name, a full build, a render of a scene, a render of a file.
+// Jobs of `megavox serve`: a build by name, a full build, renders of a scene (preset and camera) and of a file,
+// a point-cloud tileset, masks from a box and from a seed map with a model.
 void job_seeds() {
   std::puts("fuzz_job_request");
   const std::pair<const char*, const char*> jobs[] = {
@@ -676,6 +677,11 @@ void job_seeds() {
        R"({"kind":"build","input":"a/b.obj","resolution":1024,"format":"ssvdag","voxelize":"thin","grid_origin":"min"})"},
       {"render_scene.json", R"({"kind":"render","scene":"00ff00ff00ff00ff","width":640,"height":480,"view":"top","shading":"normal"})"},
       {"render_file.json", "{ \"kind\" : \"render\", \"input\" : \"scene.mvx\", \"shading\" : \"heat\" }\n"},
+      {"render_camera.json",
+       R"({"kind":"render","scene":"00ff00ff00ff00ff","eye":[1,2,3],"target":[0,0.5,0],"up":[0,1,0],"fov":30})"},
+      {"points_3dtiles.json", R"({"kind":"points","input":"scan.las","format":"3dtiles","depth":8,"max_node_points":500})"},
+      {"mask_rect.json", R"({"kind":"mask","input":"photo.png","rect":[10,20,300,200],"iterations":3,"erode":0})"},
+      {"mask_seeds_model.json", R"({"kind":"mask","input":"scan.pgm","seeds":"trimap.png","model":"statue.mvm"})"},
   };
   for (const auto& [name, body] : jobs) {
     const std::string p = write_seed("fuzz_job_request", name, body);

@@ -31,6 +31,7 @@ packages=(
   libjpeg62-turbo-dev                                           # JPEG photographs in (masks)
   libgmp-dev                                                    # tests: exact rational voxelization oracle
   libcpp-httplib-dev                                            # megavox serve: the HTTP server (and the load test's client)
+  libminizip-dev libssl-dev                                     # megavox serve: 3D Tiles archives (.3tz: ZIP, MD5 index)
   curl jq                                                       # tests: the serve session as the README runs it
 )
 # Node runs the independent 3D Tiles reader (tests/js). A machine that has node and npm already (another

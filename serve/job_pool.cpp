@@ -10,8 +10,9 @@
 
 #include "megavox/build.h"
 #include "megavox/error.h"
-#include "megavox/render.h"
 #include "serve/data_path.h"
+#include "serve/job_run.h"
+#include "serve/job_words.h"
 
 namespace mv::serve {
 
@@ -23,9 +24,10 @@ struct JobPool::Job {
   std::string id;
   JobRequest request;
   std::string dir, input, result;  // the job's folder, the input file, the result file
+  std::string seeds, model;        // a mask's seed map and model under --data-dir ("" when none)
   std::string status = "queued";   // queued, running, done, failed, cancelled
   double fraction = 0;
-  std::string stage, message;
+  std::string stage = "queued", message;  // stage: the running step; once the job ends, its status
   std::atomic<bool> cancel{false};
   bool deleted = false;  // removed while running: its files go when it ends
   Clock::time_point created = Clock::now(), started{}, ended{};
@@ -53,12 +55,27 @@ MvDevice open_context(const std::string& selector, uint64_t budget, uint64_t hos
   return d;
 }
 
-// An upload's file name keeps only its extension (assimp picks the reader by it).
+// An upload's file name keeps only its extension (assimp picks the reader by it; point clouds and images are
+// told by their first bytes).
 std::string input_name(const std::string& upload_name, JobKind kind) {
   static const std::regex ext("\\.[A-Za-z0-9]{1,8}");
   const std::string e = fs::path(upload_name).extension().string();
   if (std::regex_match(e, ext)) return "input" + e;
-  return kind == JobKind::build ? "input.ply" : "input.mvx";
+  return kind == JobKind::render ? "input.mvx" : kind == JobKind::mask ? "input.png" : "input.ply";
+}
+
+std::string result_name(const JobRequest& r) {
+  switch (r.kind) {
+    case JobKind::build: return "result.mvx";
+    case JobKind::points: return r.format == "3dtiles" ? "result.3tz" : "result.mvx";
+    default: return "result.png";
+  }
+}
+
+std::string content_type(const JobRequest& r) {
+  if (r.kind == JobKind::render || r.kind == JobKind::mask) return "image/png";
+  if (r.kind == JobKind::points && r.format == "3dtiles") return "application/vnd.maxar.archive.3tz+zip";
+  return "application/octet-stream";
 }
 
 }  // namespace
@@ -112,18 +129,18 @@ json JobPool::submit(const JobRequest& r, const std::string* upload, const std::
       job->input = it->second->result;
     }
   }
-  if (!r.input.empty()) {
-    try {
-      job->input = resolve_data_path(options_.data_dir, r.input);
-    } catch (const Error& e) {
-      throw HttpError(400, e.what());
-    }
+  try {
+    if (!r.input.empty()) job->input = resolve_data_path(options_.data_dir, r.input);
+    if (!r.seeds.empty()) job->seeds = resolve_data_path(options_.data_dir, r.seeds, "seeds");
+    if (!r.model.empty()) job->model = resolve_data_path(options_.data_dir, r.model, "model");
+  } catch (const Error& e) {
+    throw HttpError(400, e.what());
   }
   do job->id = new_id();
   while (fs::exists(fs::path(options_.data_dir) / "jobs" / job->id));
   job->dir = (fs::path(options_.data_dir) / "jobs" / job->id).string();
   fs::create_directories(job->dir);
-  job->result = (fs::path(job->dir) / (r.kind == JobKind::build ? "result.mvx" : "result.png")).string();
+  job->result = (fs::path(job->dir) / result_name(r)).string();
   if (upload) {
     job->input = (fs::path(job->dir) / input_name(upload_name, r.kind)).string();
     std::ofstream out(job->input, std::ios::binary);
@@ -222,7 +239,7 @@ JobPool::Result JobPool::result(const std::string& id) const {
   std::lock_guard<std::mutex> g(lock_);
   auto j = find(id);
   if (j->status != "done") throw HttpError(409, "job " + id + " is " + j->status + (j->message.empty() ? "" : ": " + j->message));
-  return {j->result, j->request.kind == JobKind::build ? "application/octet-stream" : "image/png"};
+  return {j->result, content_type(j->request)};
 }
 
 MvScene JobPool::query_scene(const std::string& id, const std::string& path) {
@@ -246,7 +263,8 @@ std::vector<MvTraceHit> JobPool::trace(const std::string& id, const MvTraceRay* 
   {
     std::lock_guard<std::mutex> g(lock_);
     auto j = find(id);
-    if (j->request.kind != JobKind::build) throw HttpError(409, "job " + id + " is a render; rays go to a build");
+    if (j->request.kind != JobKind::build)
+      throw HttpError(409, "job " + id + " is a " + kind_name(j->request.kind) + " job; rays go to a build");
     if (j->status != "done") throw HttpError(409, "job " + id + " is " + j->status + ", not done");
     path = j->result;
   }
@@ -276,93 +294,56 @@ void JobPool::work(size_t worker) {
     }
     if (job->cancel) {
       std::lock_guard<std::mutex> g(lock_);
-      job->status = "cancelled";
-    } else if (job->request.kind == JobKind::build) {
-      run_build(dev, *job);
+      job->status = job->stage = "cancelled";
     } else {
-      run_render(dev, *job);
+      run(dev, *job);
     }
     finish(job);
   }
 }
 
-// A build runs as a C API job, polled for its progress, the cancel flag and the timeout.
-void JobPool::run_build(MvDevice dev, Job& job) {
-  const JobRequest& r = job.request;
-  MvBuildArguments a;
-  mvInitBuildArguments(&a);
-  a.format = r.format.c_str();
-  a.resolution = r.resolution;
-  a.voxelize = r.voxelize.c_str();
-  a.gridOrigin = r.grid_origin.c_str();
-  a.output = job.result.c_str();
-  MvJob j = mvBuildSceneFromFileAsync(dev, job.input.c_str(), &a);
-  bool timed_out = false;
-  for (;;) {
-    double f = 0;
-    const MvJobStatus s = mvGetJobStatus(j, &f);
-    if (s >= MV_JOB_DONE) break;
-    const std::string stage = mvGetJobMessage(j);
+// Runs a job's runner (job_run.h), feeding its progress to the job's record and stopping it on a cancel or
+// past the timeout. A job stopped either way is told by those flags: whatever the runner throws on its way
+// out (the library may wrap the stop in its own error) is then no failure of the job's.
+void JobPool::run(MvDevice dev, Job& job) {
+  std::atomic<bool> timed_out{false};
+  const auto report = [&](const std::string& stage, double fraction) {
     {
       std::lock_guard<std::mutex> g(lock_);
-      job.fraction = f;
       job.stage = stage;
+      job.fraction = std::max(job.fraction, std::min(fraction, 1.0));
     }
     if (std::chrono::duration<double>(Clock::now() - job.started).count() > options_.job_timeout) timed_out = true;
-    if (job.cancel || timed_out) mvCancelJob(j);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return !job.cancel && !timed_out;
+  };
+  JobRun r{job.request, job.input, job.seeds, job.model, job.dir, job.result, report};
+  std::string failure;
+  bool ok = false;
+  try {
+    switch (job.request.kind) {
+      case JobKind::build: run_build(dev, r); break;
+      case JobKind::render: run_render(dev, r); break;
+      case JobKind::points: run_points(dev, r); break;
+      case JobKind::mask: run_mask(dev, r); break;
+    }
+    ok = true;
+  } catch (const std::exception& e) {
+    failure = e.what();
   }
-  const MvError e = mvWaitJob(j);
-  const std::string message = mvGetJobMessage(j);
-  mvReleaseJob(j);
   std::lock_guard<std::mutex> g(lock_);
-  if (e == MV_ERROR_NONE) {
-    job.status = "done";
-    job.fraction = 1;
-  } else if (e == MV_ERROR_CANCELLED && timed_out && !job.cancel) {
+  if (job.cancel) {
+    job.status = "cancelled";
+  } else if (!ok && timed_out) {
     job.status = "failed";
     job.message = "the job ran past the server's job timeout (" + std::to_string(int(options_.job_timeout)) + " s)";
+  } else if (!ok) {
+    job.status = "failed";
+    job.message = in_job_terms(failure);
   } else {
-    job.status = e == MV_ERROR_CANCELLED ? "cancelled" : "failed";
-    job.message = message;
+    job.status = "done";
+    job.fraction = 1;
   }
-}
-
-// A render: the scene opened on the worker's context, drawn, written as PNG (temporary name, renamed).
-void JobPool::run_render(MvDevice dev, Job& job) {
-  const JobRequest& r = job.request;
-  std::string failure;
-  MvScene scene = mvOpenScene(dev, job.input.c_str());
-  if (scene) {
-    MvRenderArguments a;
-    mvInitRenderArguments(&a);
-    a.width = r.width;
-    a.height = r.height;
-    a.view = r.view.c_str();
-    a.shading = r.shading.c_str();
-    std::vector<uint8_t> rgba(size_t{r.width} * r.height * 4);
-    if (mvRenderScene(scene, nullptr, &a, rgba.data(), 0) == MV_ERROR_NONE && !job.cancel) {
-      Image image;
-      image.width = r.width;
-      image.height = r.height;
-      image.rgb.resize(size_t{r.width} * r.height * 3);
-      for (size_t i = 0; i < size_t{r.width} * r.height; ++i) std::copy_n(&rgba[4 * i], 3, &image.rgb[3 * i]);
-      try {
-        write_png(job.result, image);
-      } catch (const std::exception& e) {
-        failure = e.what();
-      }
-    } else if (!job.cancel) {
-      failure = mvGetDeviceLastErrorMessage(dev);
-    }
-    mvReleaseScene(scene);
-  } else {
-    failure = mvGetDeviceLastErrorMessage(dev);
-  }
-  std::lock_guard<std::mutex> g(lock_);
-  job.status = job.cancel ? "cancelled" : failure.empty() ? "done" : "failed";
-  job.message = failure;
-  if (job.status == "done") job.fraction = 1;
+  job.stage = job.status;
 }
 
 // Ends a job: a deleted one goes with its files, the oldest finished ones past --keep too.
@@ -401,7 +382,7 @@ void JobPool::shutdown() {
     if (stopping_ && threads_.empty()) return;
     stopping_ = true;
     for (auto& [id, j] : jobs_) j->cancel = true;
-    for (auto& j : queue_) j->status = "cancelled";
+    for (auto& j : queue_) j->status = j->stage = "cancelled";
     queue_.clear();
     wake_.notify_all();
   }

@@ -47,7 +47,8 @@ class JobPool {
   JobPool& operator=(const JobPool&) = delete;
 
   // Queues a job: `upload` (may be null) holds the input's bytes, `upload_name` its file name (for the
-  // extension). Returns its status. HttpError: 400 bad request, 404/409 a render's scene, 503 queue full.
+  // extension). Returns its status. HttpError: 400 bad request (or files it names that are not under
+  // --data-dir), 404/409 a render's scene, 503 queue full.
   nlohmann::json submit(const JobRequest& request, const std::string* upload, const std::string& upload_name);
   nlohmann::json status(const std::string& id) const;  // HttpError 404
   nlohmann::json list() const;
@@ -74,8 +75,7 @@ class JobPool {
  private:
   struct Job;
   void work(size_t worker);
-  void run_build(MvDevice dev, Job& job);
-  void run_render(MvDevice dev, Job& job);
+  void run(MvDevice dev, Job& job);
   void finish(const std::shared_ptr<Job>& job);
   std::shared_ptr<Job> find(const std::string& id) const;  // under lock_; 404
   nlohmann::json describe(const Job& job) const;            // under lock_

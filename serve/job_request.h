@@ -1,32 +1,48 @@
 // What a client asks `megavox serve` to do: a job's JSON body (or an upload's query parameters), checked
 // field by field. Untrusted bytes: fuzz/fuzz_job_request.cpp runs this parser.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 
+#include "megavox/render.h"
+
 namespace mv::serve {
 
-enum class JobKind { build, render };
+enum class JobKind { build, render, points, mask };
 
 struct JobRequest {
   JobKind kind = JobKind::build;
   std::string input;  // a file under --data-dir (relative); empty for an upload or a render of `scene`
   std::string scene;  // render: the id of a finished build job
-  // build
+  // build: format is svo, svdag, ussvdag or ssvdag; points: mvx or 3dtiles
   uint32_t resolution = 256;
+  uint32_t cube = 1024;  // above this resolution a build runs out of core in cubes of this side; 0: in core
   std::string format = "svdag", voxelize = "conservative", grid_origin = "center";
-  // render
-  uint32_t width = 1280, height = 720;
+  // render: the CLI's picture size; a preset view, or a camera from `eye` (target and up as the CLI's defaults)
+  uint32_t width = RenderOptions{}.width, height = RenderOptions{}.height;
   std::string view = "iso", shading = "shaded";
+  std::optional<std::array<double, 3>> eye, target;
+  std::array<double, 3> up = {0, 1, 0};
+  double fov = Camera{}.fov;
+  // points: 0 picks the leaf level from the point count
+  uint32_t depth = 0, max_node_points = 16384;
+  // mask: at least one start (a box, a seed map under --data-dir, a .mvm model under --data-dir)
+  std::optional<std::array<uint32_t, 4>> rect;  // x, y, w, h in pixels
+  std::string seeds, model;
+  uint32_t iterations = 5, erode = 2;
 };
 
 // Parses a job's JSON object. Throws mv::Error with a message for the client: malformed JSON (with where),
-// an unknown key, a value of the wrong type or out of range, a build without an input.
+// an unknown key or one of another kind of job, a value of the wrong type or out of range, a job without
+// what it needs (a mask without a start).
 JobRequest parse_job_request(std::string_view json);
 
-// The same fields from an upload's query parameters (numbers as text); `uploaded` is then the input.
+// The same fields from an upload's query parameters (numbers as text, lists as comma-separated numbers);
+// `uploaded` is then the input.
 JobRequest job_request_from_query(const std::multimap<std::string, std::string>& params);
 
 std::string kind_name(JobKind k);

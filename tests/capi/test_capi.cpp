@@ -207,6 +207,12 @@ TEST_P(CApiTest, ErrorsComeAsCodesMessagesAndCallbacks) {
   a.byteSize = 8;
   EXPECT_EQ(mvBuildSceneFromMemory(dev.handle, m.positions.data(), 6, m.indices.data(), 8, &a), nullptr);
   EXPECT_NE(seen.message.find("byteSize"), std::string::npos);
+  // the library's advice in the C API's terms: its fields, not the CLI's flags
+  a = args_at(1u << 21, "svdag", out);
+  a.cube = 8;
+  EXPECT_EQ(mvBuildSceneFromMemory(dev.handle, m.positions.data(), 6, m.indices.data(), 8, &a), nullptr);
+  EXPECT_NE(seen.message.find("raise MvBuildArguments.cube to"), std::string::npos) << seen.message;
+  EXPECT_EQ(seen.message.find("--"), std::string::npos) << seen.message;
   EXPECT_FALSE(std::filesystem::exists(out));
 
   a = args_at(16, "svdag", "");

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # `megavox serve` on loopback as the README's curl session uses it (submit by name and by upload, poll,
-# stream, fetch, ray query, render), then what it refuses (no or a bad token 401, an oversized body 413,
-# paths leading outside --data-dir, malformed JSON 400), a job that fails while the server keeps serving,
-# cancel and delete, the OpenAPI document through swagger-parser, SIGTERM leaving no partial file, and a job
-# stopped by --job-timeout.
+# stream, fetch, ray query, render with a view and a camera, a point cloud to .mvx and to a .3tz archive, a
+# mask of a photograph), then what it refuses (no or a bad token 401, an oversized body 413, paths leading
+# outside --data-dir, malformed JSON and bad fields 400), jobs that fail in the API's own terms while the
+# server keeps serving, cancel and delete, the OpenAPI document through swagger-parser, SIGTERM leaving no
+# partial file, and a job stopped by --job-timeout. Its inputs are written here (no shared data); the .3tz is
+# also read by loaders.gl and the OpenAPI document by swagger-parser where tests/js has its packages.
 # Usage: serve_cli.sh MEGAVOX SOURCE_DIR
 set -euo pipefail
 mv=$1
@@ -13,6 +15,17 @@ source "$src/tests/serve/serve_common.sh"
 data=$dir/data
 mkdir -p "$data"
 write_tetra_ply "$data/tetra.ply"
+# a small point cloud: a 10 x 10 x 10 lattice with colours, ascii PLY
+{
+  echo ply; echo "format ascii 1.0"; echo "element vertex 1000"
+  echo "property float x"; echo "property float y"; echo "property float z"
+  echo "property uchar red"; echo "property uchar green"; echo "property uchar blue"; echo end_header
+  for x in $(seq 0 9); do for y in $(seq 0 9); do for z in $(seq 0 9); do
+    echo "$x.5 $y.25 $z $((x * 25)) $((y * 25)) $((z * 25))"
+  done; done; done
+} > "$data/lattice.ply"
+files() { node "$src/tests/serve/serve_files.js" "$@"; }
+files png "$data/photo.png"   # 48 x 32: a bright 16 x 12 box at (16, 10) on a dark ground
 start_server "$data" --max-jobs 2 --max-body 1M --job-timeout 60 --device-memory 512M
 [[ $(stat -c %a "$data/token") == 600 ]] || fail "token mode $(stat -c %a "$data/token")"
 grep -q "token in $data/token" "$dir/serve.out" || fail "the token's path is not printed"
@@ -54,6 +67,53 @@ renid=$(jq -r .id <<< "$ren")
 [[ $(jq -r .status <<< "$(wait_job "$renid")") == done ]] || fail "render"
 curl -sf "${auth[@]}" -o "$dir/r.png" "$url/v1/jobs/$renid/result"
 [[ $(head -c 4 "$dir/r.png" | od -An -tx1 | tr -d ' ') == 89504e47 ]] || fail "the render is no PNG"
+# the same scene from a camera, as the CLI's render takes one; the finished job's stage is its status
+cam=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' \
+  -d "{\"kind\":\"render\",\"scene\":\"$upid\",\"width\":40,\"height\":30,\"eye\":[2,1.5,2],\"target\":[0.3,0.3,0.3],\"fov\":30}" "$url/v1/jobs")
+camfinal=$(wait_job "$(jq -r .id <<< "$cam")")
+[[ $(jq -r .status <<< "$camfinal") == done && $(jq -r .stage <<< "$camfinal") == done ]] || fail "camera render: $camfinal"
+curl -sf "${auth[@]}" -o "$dir/cam.png" "$url/v1/jobs/$(jq -r .id <<< "$cam")/result"
+[[ $(head -c 24 "$dir/cam.png" | od -An -tu1 -j16 | tr -s ' ') == " 0 0 0 40 0 0 0 30" ]] || fail "camera render: not 40 x 30"
+# no size given: the CLI's render's 1920 x 1080 (depth shading: no shadow or AO rays, a few seconds on a CPU)
+big=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d "{\"kind\":\"render\",\"scene\":\"$upid\",\"shading\":\"depth\"}" "$url/v1/jobs")
+[[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$big")")") == done ]] || fail "default-size render"
+curl -sf "${auth[@]}" -o "$dir/big.png" "$url/v1/jobs/$(jq -r .id <<< "$big")/result"
+[[ $(head -c 24 "$dir/big.png" | od -An -tu1 -j16 | tr -s ' ') == " 0 0 7 128 0 0 4 56" ]] || fail "default render: not 1920 x 1080"
+
+# a point cloud by name to a .mvx hierarchy, and to a 3D Tiles archive (.3tz)
+pts=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"points","input":"lattice.ply","max_node_points":100}' "$url/v1/jobs")
+ptsid=$(jq -r .id <<< "$pts")
+ptsfinal=$(wait_job "$ptsid")
+[[ $(jq -r .status <<< "$ptsfinal") == done && $(jq -r .stage <<< "$ptsfinal") == done ]] || fail "points: $ptsfinal"
+curl -sf "${auth[@]}" -o "$dir/lattice.mvx" "$url/v1/jobs/$ptsid/result"
+"$mv" points info "$dir/lattice.mvx" | grep -q "1000 points" || fail "points .mvx: $("$mv" points info "$dir/lattice.mvx" 2>&1)"
+tz=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"points","input":"lattice.ply","format":"3dtiles","max_node_points":100}' "$url/v1/jobs")
+tzid=$(jq -r .id <<< "$tz")
+[[ $(jq -r .status <<< "$(wait_job "$tzid")") == done ]] || fail "points 3dtiles"
+[[ $(curl -sf "${auth[@]}" -o "$dir/lattice.3tz" -w '%{content_type}' "$url/v1/jobs/$tzid/result") == application/vnd.maxar.archive.3tz+zip ]] ||
+  fail "the .3tz's content type"
+files 3tz "$dir/lattice.3tz" > "$dir/3tz.txt" || fail "the .3tz breaks the archive's rules"
+grep -q '\.pnts$' "$dir/3tz.txt" || fail "the .3tz holds no tile: $(cat "$dir/3tz.txt")"
+[[ -z $(ls "$data/jobs/$tzid" | grep -v '^result.3tz$') ]] || fail "the tileset folder stays: $(ls "$data/jobs/$tzid")"
+if [[ -d "$src/tests/js/node_modules/@loaders.gl/3d-tiles" ]]; then  # an independent reader, through the index
+  node "$src/tests/js/check_3tz.mjs" "$dir/lattice.3tz" 1000 > "$dir/3tz.json" || fail "loaders.gl: $(cat "$dir/3tz.json")"
+else
+  echo "loaders.gl not installed (npm ci in tests/js): the .3tz not read by an independent reader"
+fi
+# an uploaded cloud goes the same way
+upts=$(curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$data/lattice.ply" "$url/v1/jobs?kind=points&depth=3")
+[[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$upts")")") == done ]] || fail "uploaded points"
+
+# a mask of a photograph from a box: the box's inside is foreground, the ground background
+msk=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"mask","input":"photo.png","rect":[12,6,24,20]}' "$url/v1/jobs")
+mskid=$(jq -r .id <<< "$msk")
+mskfinal=$(wait_job "$mskid")
+[[ $(jq -r .status <<< "$mskfinal") == done && $(jq -r .stage <<< "$mskfinal") == done ]] || fail "mask: $mskfinal"
+curl -sf "${auth[@]}" -o "$dir/mask.png" "$url/v1/jobs/$mskid/result"
+[[ $(files grey "$dir/mask.png" 24,16 2,2 45,30) == "48x32 255 0 0" ]] || fail "mask: $(files grey "$dir/mask.png" 24,16 2,2 45,30)"
+# uploaded, with the box in the query
+umsk=$(curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$data/photo.png" "$url/v1/jobs?kind=mask&rect=12,6,24,20&name=p.png")
+[[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$umsk")")") == done ]] || fail "uploaded mask"
 
 # refusals
 head -c 2000000 /dev/zero > "$dir/big.bin"
@@ -73,13 +133,43 @@ done
 [[ $(json_code '{"kind":"build","resolution":64e222222223}') == 400 ]] && grep -q 'malformed JSON' "$dir/body" ||
   fail "64e222222223: $(cat "$dir/body")"
 [[ $(code "${auth[@]}" "$url/v1/jobs/0123456789abcdef") == 404 ]] || fail "unknown job: not 404"
+# new fields, each refused with its key named
+while IFS='|' read -r body words; do
+  [[ $(json_code "$body") == 400 ]] && jq -r .error "$dir/body" | grep -qF -- "$words" || fail "$body: $(cat "$dir/body")"
+done <<'JOBS'
+{"kind":"points","input":"lattice.ply","format":"ssvdag"}|"format" 'ssvdag': choose mvx, 3dtiles
+{"kind":"points","input":"lattice.ply","depth":40}|"depth" must be from 0 to 21
+{"kind":"points","input":"lattice.ply","rect":[0,0,1,1]}|a points job takes no "rect"
+{"kind":"mask","input":"photo.png"}|a mask job needs a start
+{"kind":"mask","input":"photo.png","rect":[1,2,3]}|"rect" must be an array of four integers
+{"kind":"mask","input":"photo.png","seeds":"../x.png"}|".." is refused
+{"kind":"mask","input":"photo.png","model":"none.mvm"}|no such file
+{"kind":"render","scene":"0123456789abcdef","eye":[1,1]}|"eye" must be an array of three numbers
+{"kind":"render","scene":"0123456789abcdef","target":[0,0,0]}|"target" and "up" go with "eye"
+{"kind":"render","scene":"0123456789abcdef","fov":200}|"fov" must lie between 0 and 180
+{"kind":"build","input":"tetra.ply","cube":12}|"cube" must be 0 (always in core) or a power of two
+JOBS
+[[ $(code "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$data/photo.png" "$url/v1/jobs?kind=mask&rect=1,2,x,4") == 400 ]] &&
+  grep -q 'rect' "$dir/body" || fail "upload rect=1,2,x,4: $(cat "$dir/body")"
 
 # a job whose input is garbage fails with its message; the server keeps serving
 bad=$(curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary 'ply
 format ascii 1.0
 element vertex two' "$url/v1/jobs?kind=build&resolution=16&name=bad.ply")
 badfinal=$(wait_job "$(jq -r .id <<< "$bad")")
-[[ $(jq -r .status <<< "$badfinal") == failed && -n $(jq -r .message <<< "$badfinal") ]] || fail "bad input: $badfinal"
+[[ $(jq -r .status <<< "$badfinal") == failed && -n $(jq -r .message <<< "$badfinal") && $(jq -r .stage <<< "$badfinal") == failed ]] ||
+  fail "bad input: $badfinal"
+# failures name the job's keys, never the CLI's flags: a box past the image, cubes too many for the budget
+past=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"mask","input":"photo.png","rect":[40,20,20,20]}' "$url/v1/jobs")
+pastfinal=$(wait_job "$(jq -r .id <<< "$past")")
+[[ $(jq -r .status <<< "$pastfinal") == failed && $(jq -r .message <<< "$pastfinal") == *'"rect" [40, 20, 20, 20] reaches past the 48 x 32 image'* ]] ||
+  fail "rect past the image: $pastfinal"
+cubes=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"build","input":"tetra.ply","resolution":2097152,"cube":8}' "$url/v1/jobs")
+cubesfinal=$(wait_job "$(jq -r .id <<< "$cubes")")
+cubesmsg=$(jq -r .message <<< "$cubesfinal")
+[[ $(jq -r .status <<< "$cubesfinal") == failed && $cubesmsg == *'raise "cube"'* && $cubesmsg != *--* ]] || fail "cube advice: $cubesfinal"
+notcloud=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"points","input":"photo.png"}' "$url/v1/jobs")
+[[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$notcloud")")") == failed ]] || fail "points from a PNG"
 again=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"build","input":"tetra.ply","resolution":16}' "$url/v1/jobs")
 [[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$again")")") == done ]] || fail "no build after the failed one"
 

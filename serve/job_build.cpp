@@ -1,0 +1,35 @@
+// A build job: a mesh (or .vdb) to a voxel .mvx, as a C API job polled for its progress, the cancel flag and
+// the timeout.
+#include <chrono>
+#include <thread>
+
+#include "megavox/error.h"
+#include "serve/job_run.h"
+
+namespace mv::serve {
+
+void run_build(MvDevice dev, const JobRun& run) {
+  const JobRequest& r = run.request;
+  MvBuildArguments a;
+  mvInitBuildArguments(&a);
+  a.format = r.format.c_str();
+  a.resolution = r.resolution;
+  a.cube = r.cube;
+  a.voxelize = r.voxelize.c_str();
+  a.gridOrigin = r.grid_origin.c_str();
+  a.output = run.result.c_str();
+  MvJob j = mvBuildSceneFromFileAsync(dev, run.input.c_str(), &a);
+  for (;;) {
+    double f = 0;
+    if (mvGetJobStatus(j, &f) >= MV_JOB_DONE) break;
+    if (!run.report(mvGetJobMessage(j), f)) mvCancelJob(j);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const MvError e = mvWaitJob(j);
+  const std::string message = mvGetJobMessage(j);
+  mvReleaseJob(j);
+  if (e == MV_ERROR_CANCELLED) throw JobStopped{};
+  if (e != MV_ERROR_NONE) throw Error(message);
+}
+
+}  // namespace mv::serve

@@ -1,0 +1,121 @@
+#include "serve/tiles_archive.h"
+
+#include <openssl/evp.h>
+#include <zip.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "io/atomic_file.h"
+#include "megavox/error.h"
+
+namespace mv::serve {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// minizip's default file functions, with the stream they open kept: the index needs each entry's local header
+// offset, which is where the file stands when the entry is opened (minizip 1.1 has no call that says it).
+struct ZipFile {
+  zlib_filefunc64_def io{};
+  open64_file_func open = nullptr;
+  voidpf stream = nullptr;
+  zipFile zip = nullptr;
+
+  static voidpf open_keeping(voidpf opaque, const void* name, int mode) {
+    auto* self = static_cast<ZipFile*>(opaque);
+    self->stream = self->open(opaque, name, mode);  // the default functions ignore `opaque`
+    return self->stream;
+  }
+  explicit ZipFile(const std::string& path) {
+    fill_fopen64_filefunc(&io);
+    open = io.zopen64_file;
+    io.zopen64_file = open_keeping;
+    io.opaque = this;
+    zip = zipOpen2_64(path.c_str(), APPEND_STATUS_CREATE, nullptr, &io);
+    if (!zip) throw Error("3D Tiles archive " + path + ": cannot create it");
+  }
+  ~ZipFile() {
+    if (zip) zipClose(zip, nullptr);
+  }
+  uint64_t offset() const { return io.ztell64_file(io.opaque, stream); }
+};
+
+struct IndexEntry {
+  std::array<uint8_t, 16> md5;
+  uint64_t offset;
+};
+
+uint64_t le64(const uint8_t* p) {
+  uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = v << 8 | p[i];
+  return v;
+}
+
+std::array<uint8_t, 16> md5(const std::string& text) {
+  std::array<uint8_t, 16> h{};
+  unsigned int n = 0;
+  if (!EVP_Digest(text.data(), text.size(), h.data(), &n, EVP_md5(), nullptr) || n != 16)
+    throw Error("3D Tiles archive: MD5 is not available");
+  return h;
+}
+
+void add_entry(ZipFile& z, const std::string& name, const char* data, size_t size, const std::string& path) {
+  zip_fileinfo info{};
+  info.tmz_date = {0, 0, 0, 1, 0, 1980};  // a fixed date: the same tiles make the same archive
+  // stored (method 0), and no zip64 extra: the format caps entries at 4 GB with their sizes in the local header
+  if (zipOpenNewFileInZip64(z.zip, name.c_str(), &info, nullptr, 0, nullptr, 0, nullptr, 0, 0, 0) != ZIP_OK ||
+      (size && zipWriteInFileInZip(z.zip, data, static_cast<unsigned>(size)) != ZIP_OK) || zipCloseFileInZip(z.zip) != ZIP_OK)
+    throw Error("3D Tiles archive " + path + ": cannot write " + name);
+}
+
+}  // namespace
+
+void write_3tz(const std::string& dir, const std::string& path) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+    if (it->is_regular_file()) names.push_back(fs::relative(it->path(), dir).generic_string());
+  if (ec) throw Error("3D Tiles archive: cannot list " + dir + ": " + ec.message());
+  // tileset.json first (a reader scanning the archive meets the root first), then the tiles in name order
+  std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
+    return (a == "tileset.json") != (b == "tileset.json") ? a == "tileset.json" : a < b;
+  });
+  if (names.empty() || names.front() != "tileset.json") throw Error("3D Tiles archive: " + dir + " holds no tileset.json");
+  io::write_atomically_by_name(path, [&](const std::string& tmp) {
+    ZipFile z(tmp);
+    std::vector<IndexEntry> index;
+    std::vector<char> bytes;
+    for (const std::string& name : names) {
+      std::ifstream in(fs::path(dir) / name, std::ios::binary | std::ios::ate);
+      if (!in) throw Error("3D Tiles archive: cannot read " + name);
+      const auto size = static_cast<uint64_t>(in.tellg());
+      if (size >= (uint64_t{1} << 32)) throw Error("3D Tiles archive: " + name + " is over the format's 4 GB per file");
+      bytes.resize(size);
+      in.seekg(0);
+      if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) throw Error("3D Tiles archive: cannot read " + name);
+      index.push_back({md5(name), z.offset()});
+      add_entry(z, name, bytes.data(), bytes.size(), path);
+    }
+    std::sort(index.begin(), index.end(), [](const IndexEntry& a, const IndexEntry& b) {
+      const uint64_t ah = le64(a.md5.data()), bh = le64(b.md5.data());
+      return ah != bh ? ah < bh : le64(a.md5.data() + 8) < le64(b.md5.data() + 8);
+    });
+    std::string table;
+    for (const IndexEntry& e : index) {
+      table.append(reinterpret_cast<const char*>(e.md5.data()), 16);
+      for (int i = 0; i < 8; ++i) table.push_back(static_cast<char>(e.offset >> (8 * i) & 0xff));
+    }
+    add_entry(z, "@3dtilesIndex1@", table.data(), table.size(), path);  // the last entry, as readers look for it
+    const int closed = zipClose(z.zip, nullptr);
+    z.zip = nullptr;
+    if (closed != ZIP_OK) throw Error("3D Tiles archive " + path + ": cannot finish it");
+  });
+}
+
+}  // namespace mv::serve

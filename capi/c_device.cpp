@@ -85,19 +85,15 @@ uint32_t mvGetVersion(void) { return MV_VERSION_MAJOR * 10000 + MV_VERSION_MINOR
 
 const char* mvGetVersionString(void) { return MV_VERSION_STRING; }
 
-const char* mvGetErrorString(MvError code) {
-  switch (code) {
-    case MV_ERROR_NONE: return "MV_ERROR_NONE";
-    case MV_ERROR_UNKNOWN: return "MV_ERROR_UNKNOWN";
-    case MV_ERROR_INVALID_ARGUMENT: return "MV_ERROR_INVALID_ARGUMENT";
-    case MV_ERROR_INVALID_OPERATION: return "MV_ERROR_INVALID_OPERATION";
-    case MV_ERROR_OUT_OF_MEMORY: return "MV_ERROR_OUT_OF_MEMORY";
-    case MV_ERROR_UNSUPPORTED_DEVICE: return "MV_ERROR_UNSUPPORTED_DEVICE";
-    case MV_ERROR_CANCELLED: return "MV_ERROR_CANCELLED";
-    case MV_ERROR_INPUT: return "MV_ERROR_INPUT";
-  }
-  return "MV_ERROR_(not a code)";
-}
+// mv::ErrorCode (megavox/error.h) is the table every front end shares; the C codes are its values.
+static_assert(int(mv::ErrorCode::none) == MV_ERROR_NONE && int(mv::ErrorCode::unknown) == MV_ERROR_UNKNOWN &&
+              int(mv::ErrorCode::invalid_argument) == MV_ERROR_INVALID_ARGUMENT &&
+              int(mv::ErrorCode::invalid_operation) == MV_ERROR_INVALID_OPERATION &&
+              int(mv::ErrorCode::out_of_memory) == MV_ERROR_OUT_OF_MEMORY &&
+              int(mv::ErrorCode::unsupported_device) == MV_ERROR_UNSUPPORTED_DEVICE &&
+              int(mv::ErrorCode::cancelled) == MV_ERROR_CANCELLED && int(mv::ErrorCode::input) == MV_ERROR_INPUT);
+
+const char* mvGetErrorString(MvError code) { return mv::error_code_name(static_cast<mv::ErrorCode>(code)); }
 
 MvDevice mvNewDevice(const char* config) {
   MvDevice made = nullptr;

@@ -16,12 +16,10 @@
 
 namespace mv::capi {
 
-// Thrown inside the API to fail with a chosen code (a bad argument, a cancelled build, ...).
-struct ApiError : std::exception {
-  ApiError(MvError c, std::string m) : code(c), message(std::move(m)) {}
-  const char* what() const noexcept override { return message.c_str(); }
-  MvError code;
-  std::string message;
+// Thrown inside the API to fail with a chosen code (a bad argument, a cancelled build, ...). ErrorCode's values
+// are MvError's.
+struct ApiError : CodedError {
+  ApiError(MvError c, const std::string& m) : CodedError(static_cast<ErrorCode>(c), m) {}
 };
 
 // A reference count shared by the three handle kinds.
@@ -66,20 +64,9 @@ MvError guard(MvDevice device, F&& body, std::string* message_out = nullptr) noe
   try {
     body();
     return MV_ERROR_NONE;
-  } catch (const ApiError& e) {
-    code = e.code;
-    message = e.message;
-  } catch (const DeviceMemoryError& e) {
-    code = MV_ERROR_OUT_OF_MEMORY;
-    message = e.what();
-  } catch (const Error& e) {
-    code = MV_ERROR_INPUT;
-    message = e.what();
-  } catch (const std::bad_alloc&) {
-    code = MV_ERROR_OUT_OF_MEMORY;
-    message = "out of host memory";
   } catch (const std::exception& e) {
-    message = e.what();
+    code = static_cast<MvError>(classify(e));
+    message = error_message(e);
   } catch (...) {
     message = "an unknown exception";
   }

@@ -7,6 +7,7 @@
 
 #include "megavox/build.h"
 #include "megavox/device.h"
+#include "megavox/error.h"
 
 namespace mv::cli {
 
@@ -16,12 +17,29 @@ struct GlobalOptions {
   bool profile = false;       // --profile
 };
 
+// Runs `body`; an mv::Error it throws that says nothing of its kind (not a CodedError, not memory) comes out as
+// `code`: what a step's failures mean is known where the step is taken (a bad option value, no such device).
+template <class F>
+auto with_code(ErrorCode code, F&& body) {
+  try {
+    return body();
+  } catch (const CodedError&) {
+    throw;
+  } catch (const DeviceMemoryError&) {
+    throw;
+  } catch (const Error& e) {
+    throw CodedError(code, e.what());
+  }
+}
+
 inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
   DeviceOptions o;
   o.selector = g.device;
-  o.memory_budget = g.device_memory.empty() ? 0 : parse_size(g.device_memory);
+  o.memory_budget = g.device_memory.empty() ? 0 : with_code(ErrorCode::invalid_argument, [&] {
+    return parse_size(g.device_memory);
+  });
   o.profile = g.profile;
-  return Device::open(o);
+  return with_code(ErrorCode::unsupported_device, [&] { return Device::open(o); });
 }
 
 // "X,Y,Z" -> three numbers; throws mv::Error naming the option (`what`) otherwise.

@@ -1,4 +1,4 @@
-// `megavox bench page-layout`: how a DAG's node stream would page under each node order (issue 27, step 1):
+// `megavox bench page-layout`: how a DAG's node stream would page under each node order:
 // size with padding, pointers that leave their page, pages a descent reads; level order is the baseline.
 #include <nlohmann/json.hpp>
 

@@ -46,7 +46,8 @@ void add_devices_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_flag("--json", *json, "Print one JSON array instead of the table");
   cmd->callback([&g, json] {
     auto all = list_devices();
-    DeviceInfo chosen = select_device(g.device);  // throws, listing the devices, when nothing matches
+    // throws, listing the devices, when nothing matches
+    DeviceInfo chosen = with_code(ErrorCode::unsupported_device, [&] { return select_device(g.device); });
     auto is_chosen = [&](const DeviceInfo& d) { return d.backend == chosen.backend && d.index == chosen.index; };
     if (*json) {
       nlohmann::json arr = nlohmann::json::array();

@@ -48,8 +48,10 @@ void add_info_command(CLI::App& app) {
       std::cout << j.dump(2) << "\n";
       return;
     }
-    std::printf("%s: %s, %u levels (%u^3), %llu voxels, valid\n", path->c_str(), encoding_name(f.dag.encoding).c_str(),
-                f.dag.levels, f.grid.resolution, (unsigned long long)f.voxels);
+    // Levels count up from the voxels (0) to the root (L, a 2^L grid): L + 1 rows below.
+    std::printf("%s: %s, %u^3, %u levels (voxels 0 .. root %u), %llu voxels, valid\n", path->c_str(),
+                encoding_name(f.dag.encoding).c_str(), f.grid.resolution, f.dag.levels + 1, f.dag.levels,
+                (unsigned long long)f.voxels);
     std::printf("  grid origin (%g, %g, %g), voxel size %g; model bounds (%g, %g, %g) - (%g, %g, %g)\n",
                 f.grid.origin[0], f.grid.origin[1], f.grid.origin[2], f.grid.voxel_size, f.bounds.lo[0],
                 f.bounds.lo[1], f.bounds.lo[2], f.bounds.hi[0], f.bounds.hi[1], f.bounds.hi[2]);

@@ -37,13 +37,26 @@ MaskBox parse_rect(const std::string& text) {
   if (!(in >> v[0] >> c[0] >> v[1] >> c[1] >> v[2] >> c[2] >> v[3]) || c[0] != ',' || c[1] != ',' || c[2] != ',' ||
       !in.eof() || v[0] < 0 || v[1] < 0 || v[2] <= 0 || v[3] <= 0 || v[0] > 1 << 30 || v[1] > 1 << 30 ||
       v[2] > 1 << 30 || v[3] > 1 << 30)
-    throw Error("rect wants X,Y,W,H (four whole numbers, W and H above 0), got '" + text + "'");
+    throw CodedError(ErrorCode::invalid_argument,
+                     "rect wants X,Y,W,H (four whole numbers, W and H above 0), got '" + text + "'");
   return MaskBox{uint32_t(v[0]), uint32_t(v[1]), uint32_t(v[2]), uint32_t(v[3])};
 }
 
 struct Job {
   std::string image, rect, seeds, model;
+  std::string where;  // a list's line, "LIST:LINE", that named the image; empty: the command line
 };
+
+// Runs `body`; an error it throws comes out prefixed with `where` ("FILE:LINE: ..."), its code kept.
+template <class F>
+auto at(const std::string& where, F&& body) {
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    if (where.empty()) throw;
+    throw CodedError(classify(e), where + ": " + error_message(e));
+  }
+}
 
 // `--list FILE`: one image a line, `IMAGE [rect=X,Y,W,H] [seeds=PATH] [model=PATH]`; relative paths are
 // relative to the list's folder; blank lines and lines starting with # are skipped.
@@ -58,7 +71,7 @@ std::vector<Job> read_list(const std::string& path) {
     std::istringstream words(line);
     std::string w;
     if (!(words >> w) || w[0] == '#') continue;
-    Job j{resolve(w), "", "", ""};
+    Job j{resolve(w), "", "", "", path + ":" + std::to_string(number)};
     while (words >> w) {
       const auto eq = w.find('=');
       const std::string key = w.substr(0, eq), value = eq == std::string::npos ? "" : w.substr(eq + 1);
@@ -66,12 +79,12 @@ std::vector<Job> read_list(const std::string& path) {
       else if (key == "seeds" && !value.empty()) j.seeds = resolve(value);
       else if (key == "model" && !value.empty()) j.model = resolve(value);
       else
-        throw Error("list '" + path + "' line " + std::to_string(number) + ": '" + w +
-                    "' (rect=X,Y,W,H, seeds=PATH or model=PATH expected)");
+        throw CodedError(ErrorCode::invalid_argument,
+                         j.where + ": '" + w + "' (rect=X,Y,W,H, seeds=PATH or model=PATH expected)");
     }
     jobs.push_back(j);
   }
-  if (jobs.empty()) throw Error("list '" + path + "' names no image");
+  if (jobs.empty()) throw CodedError(ErrorCode::invalid_argument, path + ": the list names no image");
   return jobs;
 }
 
@@ -168,8 +181,9 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
   cmd->callback([a, &g] {
     std::vector<Job> jobs;
     if (!a->list.empty()) jobs = read_list(a->list);
-    for (const auto& im : a->images) jobs.push_back({im, "", "", ""});
-    if (jobs.empty()) throw Error("mask apply: no image given (IMAGE... or --list FILE)");
+    for (const auto& im : a->images) jobs.push_back({im, "", "", "", ""});
+    if (jobs.empty())
+      throw CodedError(ErrorCode::invalid_argument, "mask apply: no image given (IMAGE... or --list FILE)");
     for (Job& j : jobs) {  // the command line's starts apply where a list line says nothing
       if (j.rect.empty()) j.rect = a->rect;
       if (j.seeds.empty()) j.seeds = a->seeds;
@@ -188,19 +202,22 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
     for (size_t k = 0; k < jobs.size(); ++k) {
       const Job& j = jobs[k];
       const auto start_time = std::chrono::steady_clock::now();
-      const RasterImage img = io::read_image(j.image);
+      const RasterImage img = at(j.where, [&] { return io::read_image(j.image); });
       MaskStart start;
-      if (!j.rect.empty()) start.box = parse_rect(j.rect);
-      if (!j.seeds.empty()) start.seeds = io::read_seed_map(j.seeds, img.width, img.height);
-      if (!j.model.empty()) {
-        if (!models.count(j.model)) models.emplace(j.model, io::read_mvm(j.model));
-        start.model = &models.at(j.model);
-      }
+      at(j.where, [&] {
+        if (!j.rect.empty()) start.box = parse_rect(j.rect);
+        if (!j.seeds.empty()) start.seeds = io::read_seed_map(j.seeds, img.width, img.height);
+        if (!j.model.empty()) {
+          if (!models.count(j.model)) models.emplace(j.model, io::read_mvm(j.model));
+          start.model = &models.at(j.model);
+        }
+      });
       MaskOptions o;
       o.iterations = a->iterations;
       o.post = !a->no_post;
       o.erode_radius = a->erode;
-      const MaskResult r = mask_image(*dev, img, start, o);
+      // The start's own errors (no start, a model for other images) name the image or its list line.
+      const MaskResult r = at(j.where.empty() ? j.image : j.where, [&] { return mask_image(*dev, img, start, o); });
       const auto& [out, overlay_path] = outputs[k];
       io::write_png_grey(out, img.width, img.height, r.mask);
       if (!overlay_path.empty()) write_png(overlay_path, overlay(img, r.mask));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "camera_options.h"
 #include "cli_common.h"
 #include "io/output_path.h"
 #include "megavox/error.h"
@@ -149,7 +150,8 @@ void add_points_info(CLI::App& points) {
 }
 
 struct PointsRenderArgs {
-  std::string input, output, up;
+  std::string input, output;
+  CameraArgs camera;
   PointRenderOptions render;
   bool during_build = false, no_clobber = false;
   uint32_t frames = 8, max_node_points = 16384, depth = 0;
@@ -161,8 +163,10 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       "render",
       "Render a point .mvx to a PNG: the LOD cut whose points' spacing projects to at most --lod-pixels, drawn as\n"
       "depth-tested square splats with eye-dome lighting (colour from RGB, else intensity, else height). The camera\n"
-      "frames the cloud with +Z up for LAS input and +Y up for PLY (--up overrides). Example:\n"
-      "  megavox points render scan.mvx -o scan.png --view iso --width 1920 --height 1080\n"
+      "frames the cloud with +Z up for LAS input and +Y up for PLY (--up overrides), or stands at --eye in the\n"
+      "cloud's own units. Examples:\n"
+      "  megavox points render scan.mvx -o scan.png --view front --up z\n"
+      "  megavox points render scan.mvx -o close.png --eye 10,20,5 --target 0,0,2 --up 0,0,1 --fov 30\n"
       "With --during-build the input is a cloud (PLY, LAS): it is built, and --frames pictures of OMiCroN's rendering\n"
       "front (the nodes drawn, kept and updated as the hierarchy grows; one camera) go to the folder -o, one JSON line\n"
       "per frame. There the front draws every formed point unless --lod-pixels is given, which coarsens it as a\n"
@@ -174,23 +178,23 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       ->required();
   add_no_clobber_flag(*cmd, a->no_clobber);
   cmd->add_flag("--during-build", a->during_build, "Build the input cloud and render frames while it grows");
-  cmd->add_option("--frames", a->frames, "--during-build: how many frames (default 8)");
-  cmd->add_option("--max-node-points", a->max_node_points, "--during-build: as in points build");
-  cmd->add_option("--depth", a->depth, "--during-build: as in points build");
-  cmd->add_option("--width", a->render.width, "Image width in pixels (default 1280)");
-  cmd->add_option("--height", a->render.height, "Image height in pixels (default 720)");
-  cmd->add_option("--view", a->render.view, "front, back, left, right, top or iso (default)");
-  cmd->add_option("--up", a->up, "The up axis: x, y or z (default: the file's)");
-  cmd->add_option("--fov", a->render.fov, "Vertical field of view in degrees (default 40)");
+  cmd->add_option("--frames", a->frames, "--during-build: how many frames")->capture_default_str();
+  cmd->add_option("--max-node-points", a->max_node_points, "--during-build: as in points build")->capture_default_str();
+  cmd->add_option("--depth", a->depth, "--during-build: as in points build (default: from the point count)");
+  add_camera_options(*cmd, a->camera, "the file's: +Z for LAS input, +Y for PLY",
+                     "Print one JSON object instead of the summary (--during-build prints a JSON line per frame)");
   cmd->add_option("--lod-pixels", a->render.lod_pixels,
                   "Largest projected point spacing of a drawn node (default 1; --during-build: 0, every point)");
-  cmd->add_option("--point-size", a->render.point_size, "Splat side in pixels (default 3)");
+  cmd->add_option("--point-size", a->render.point_size, "Splat side in pixels")->capture_default_str();
   cmd->callback([&g, a, cmd] {
-    if (!a->up.empty()) {
-      if (a->up.size() != 1 || std::string("xyz").find(a->up[0]) == std::string::npos)
-        throw Error("points render: --up wants x, y or z, got '" + a->up + "'");
-      a->render.up = a->up[0];
-    }
+    const CameraVectors v = camera_vectors(a->camera);
+    a->render.width = a->camera.width;
+    a->render.height = a->camera.height;
+    a->render.view = a->camera.view;
+    a->render.fov = a->camera.fov;
+    a->render.eye = v.eye;
+    a->render.target = v.target;
+    a->render.up = v.up;
     const std::string output = io::resolve_output(
         {a->output, a->during_build ? io::OutputKind::kFolder : io::OutputKind::kFile,
          a->during_build ? "" : image_format(a->output), {a->input},
@@ -201,7 +205,8 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       PointBuildOptions b;
       b.max_node_points = a->max_node_points;
       b.depth = a->depth;
-      render_during_build(*dev, a->input, output, a->frames, b, a->render, [](const BuildFrame& f) {
+      render_during_build(*dev, a->input, output, a->frames, b, a->render, [a](const BuildFrame& f) {
+        if (a->camera.quiet) return;
         nlohmann::json j = {{"frame", f.frame}, {"nodes", f.nodes}, {"front_nodes", f.front_nodes},
                           {"points_drawn", f.points_drawn}, {"file", f.path}};
         std::cout << j.dump() << std::endl;
@@ -211,6 +216,14 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
     PointHierarchy h = read_mvx_points(a->input);
     PointRenderResult r = render_points(*dev, h, a->render);
     write_image(output, r.image);
+    if (a->camera.quiet) return;
+    if (a->camera.json) {
+      nlohmann::json j = {{"file", a->input}, {"output", output}, {"width", r.image.width},
+                          {"height", r.image.height}, {"nodes_drawn", r.nodes_drawn},
+                          {"points_drawn", r.points_drawn}, {"pixels_covered", r.pixels_covered}};
+      std::cout << j.dump(2) << "\n";
+      return;
+    }
     std::printf("%s -> %s (%ux%u): %llu nodes, %llu points drawn, %llu pixels covered\n", a->input.c_str(),
                 a->output.c_str(), r.image.width, r.image.height, (unsigned long long)r.nodes_drawn,
                 (unsigned long long)r.points_drawn, (unsigned long long)r.pixels_covered);

@@ -1,11 +1,13 @@
 // `megavox render`: a picture of a .mvx file through the traversal kernel.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 
+#include "camera_options.h"
 #include "cli_common.h"
 #include "io/atomic_dir.h"
 #include "io/output_path.h"
@@ -36,6 +38,54 @@ nlohmann::json cache_json(const RenderResult& r, double frame_seconds) {
   return j;
 }
 
+// A frame's passes summed by kind (primary, shadow, ao), in order: a banded frame has a set per band.
+std::vector<RenderPass> passes_by_name(const std::vector<RenderPass>& passes) {
+  std::vector<RenderPass> sums;
+  for (const RenderPass& p : passes) {
+    auto it = std::find_if(sums.begin(), sums.end(), [&](const RenderPass& s) { return s.name == p.name; });
+    if (it == sums.end()) it = sums.insert(sums.end(), {p.name, 0, 0});
+    it->rays += p.rays;
+    it->seconds += p.seconds;
+  }
+  return sums;
+}
+
+// The frames of a paged render that show a coarser level somewhere, and why: warned about once, at the end.
+struct CoarseFrames {
+  size_t frames = 0;
+  uint64_t pixels = 0;
+  std::string first;        // the first such frame's file
+  std::string read_error;   // the first page that could not be read
+  bool over_capacity = false;
+
+  void add(const RenderResult& r, const std::string& file) {
+    if (r.converged) return;
+    if (frames++ == 0) first = file;
+    pixels += r.coarse_pixels;
+    for (const CacheUpdateStats& st : r.cache) {
+      over_capacity = over_capacity || st.over_capacity;
+      if (read_error.empty()) read_error = st.first_error;
+    }
+  }
+
+  // One line on stderr; --cache-passes is named only when the user gave it, for nothing else can end a frame early.
+  void warn(size_t total, bool passes_given) const {
+    if (frames == 0) return;
+    const std::string why =
+        !read_error.empty() ? "pages could not be read (" + read_error + ")"
+        : over_capacity     ? "the view needs more pages than --cache-memory holds (raise it, or --lod-pixels)"
+        : passes_given      ? "--cache-passes ended the frame first"
+                            : "the page cache could not load every page the view needs";
+    if (total == 1)
+      std::fprintf(stderr, "megavox: warning: %s: %llu pixels show a coarser level: %s\n", first.c_str(),
+                   (unsigned long long)pixels, why.c_str());
+    else
+      std::fprintf(stderr,
+                   "megavox: warning: %zu of %zu frames (the first %s) show a coarser level in %llu pixels: %s\n",
+                   frames, total, first.c_str(), (unsigned long long)pixels, why.c_str());
+  }
+};
+
 }  // namespace
 
 std::string image_format(const std::string& path) {
@@ -44,10 +94,10 @@ std::string image_format(const std::string& path) {
 
 void add_render_command(CLI::App& app, const GlobalOptions& g) {
   struct Args {
-    std::string input, output, view = "iso", eye, target, up = "0,1,0", shading = "shaded", cache_memory, path;
-    double fov = 40;
+    std::string input, output, shading = "shaded", cache_memory, path;
+    CameraArgs camera;
     RenderOptions opt;
-    bool json = false, quiet = false, no_clobber = false;
+    bool no_clobber = false;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("render", "Render a .mvx file to a PNG picture through the ray traversal kernel");
@@ -79,13 +129,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
                   "The picture to write: PNG, or JPEG for a .jpg/.jpeg name (with --path: the folder of frames)")
       ->required();
   add_no_clobber_flag(*cmd, a->no_clobber);
-  cmd->add_option("--width", a->opt.width, "Image width in pixels")->capture_default_str();
-  cmd->add_option("--height", a->opt.height, "Image height in pixels")->capture_default_str();
-  cmd->add_option("--view", a->view, "Preset camera: front, back, left, right, top or iso")->capture_default_str();
-  cmd->add_option("--eye", a->eye, "Camera position X,Y,Z (replaces --view)");
-  cmd->add_option("--target", a->target, "Point looked at X,Y,Z (default: the model's centre)");
-  cmd->add_option("--up", a->up, "Up direction X,Y,Z")->capture_default_str();
-  cmd->add_option("--fov", a->fov, "Vertical field of view in degrees")->capture_default_str();
+  add_camera_options(*cmd, a->camera, "0,1,0", "Print JSON (one line per frame of a flight) instead of the summary");
   cmd->add_option("--path", a->path, "A camera flight (JSON): render its frames into the folder -o");
   cmd->add_option("--shading", a->shading, "shaded, normal, depth, level or heat")->capture_default_str();
   cmd->add_option("--lod-pixels", a->opt.lod_pixels, "Stop at cells smaller than this many pixels; 0 = voxels")
@@ -96,10 +140,11 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("--cache-memory", a->cache_memory, "Stream a paged file through a device page cache of SIZE (16M)");
   cmd->add_option("--cache-passes", a->opt.cache_passes, "Passes per frame (per band, when banded) at most when streaming; 0 = until complete")
       ->capture_default_str();
-  cmd->add_flag("--json", a->json, "Print JSON (one line per frame of a flight) instead of the summary");
-  cmd->add_flag("--quiet", a->quiet, "Print nothing but errors");
-  cmd->callback([a, &g] {
-    a->opt.shading = parse_shading(a->shading);
+  cmd->callback([a, &g, cmd] {
+    const CameraVectors v = camera_vectors(a->camera);
+    a->opt.shading = with_code(ErrorCode::invalid_argument, [&] { return parse_shading(a->shading); });
+    a->opt.width = a->camera.width;
+    a->opt.height = a->camera.height;
     // Before the device opens or the file is read: a PNG or JPEG takes about a byte a pixel.
     const bool flight = !a->path.empty();
     const std::string output = io::resolve_output(
@@ -126,37 +171,27 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
     }
     std::vector<Camera> cams;
     if (!a->path.empty()) {
-      if (!a->eye.empty() || !a->target.empty()) throw Error("--path gives the cameras: drop --eye and --target");
+      if (v.eye) throw CodedError(ErrorCode::invalid_argument, "--path gives the cameras: drop --eye and --target");
       cams = read_flight(a->path);
     } else {
-      Camera cam = view_camera(bounds, a->view, a->fov);
-      if (!a->eye.empty()) {
-        parse_vec3(a->eye, "--eye", cam.eye);
-        if (!a->target.empty()) parse_vec3(a->target, "--target", cam.target);
-        parse_vec3(a->up, "--up", cam.up);
-      } else if (!a->target.empty()) {
-        throw Error("--target needs --eye (or use --view)");
+      Camera cam = view_camera(bounds, a->camera.view, a->camera.fov);
+      if (v.eye) {
+        std::copy(v.eye->begin(), v.eye->end(), cam.eye);
+        if (v.target) std::copy(v.target->begin(), v.target->end(), cam.target);
+        const std::array<double, 3> up = v.up.value_or(std::array<double, 3>{0, 1, 0});
+        std::copy(up.begin(), up.end(), cam.up);
       }
       cams.push_back(cam);
     }
-    bool warned = false;
+    CoarseFrames coarse;
     auto render_frame = [&](size_t i, const std::string& png) {
       const auto t0 = std::chrono::steady_clock::now();
       RenderResult r = render(*tracer, cams[i], a->opt);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       write_image(png, r.image);
-      if (!r.converged && !warned && !a->quiet) {
-        warned = true;
-        const CacheUpdateStats& last = r.cache.back();
-        std::fprintf(stderr, "megavox: warning: %s: %llu pixels show a coarser level: %s\n", png.c_str(),
-                     (unsigned long long)r.coarse_pixels,
-                     !last.first_error.empty() ? ("pages could not be read (" + last.first_error + ")").c_str()
-                     : last.over_capacity
-                         ? "the view needs more pages than --cache-memory holds (raise it, or --lod-pixels)"
-                         : "--cache-passes ended the frame first");
-      }
-      if (a->quiet) return;
-      if (a->json) {
+      coarse.add(r, flight ? output + png.substr(png.rfind('/')) : output);
+      if (a->camera.quiet) return;
+      if (a->camera.json) {
         nlohmann::json passes = nlohmann::json::array();
         for (const RenderPass& p : r.passes)
           passes.push_back({{"name", p.name}, {"rays", p.rays}, {"seconds", p.seconds},
@@ -181,9 +216,10 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
                     resolution, png.c_str(), a->opt.width, a->opt.height, a->shading.c_str(),
                     dev->info().name.c_str(), (unsigned long long)r.hits,
                     (unsigned long long)a->opt.width * a->opt.height);
-        for (const RenderPass& p : r.passes)
+        for (const RenderPass& p : passes_by_name(r.passes))
           std::printf("  %-8s %12llu rays %9.3f s %9.2f Mrays/s\n", p.name.c_str(), (unsigned long long)p.rays,
                       p.seconds, p.seconds > 0 ? p.rays / p.seconds / 1e6 : 0.0);
+        if (r.tiles > 1) std::printf("  rendered in %u bands of rows\n", r.tiles);
       } else {
         std::printf("frame %zu: %llu pixels hit, %.3f s\n", i, (unsigned long long)r.hits, seconds);
       }
@@ -214,6 +250,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
         }
       });
     }
+    if (!a->camera.quiet) coarse.warn(cams.size(), cmd->count("--cache-passes") > 0);
     if (g.profile) print_kernel_totals(*dev);
   });
 }

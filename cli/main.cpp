@@ -1,11 +1,14 @@
-#include <cstdlib>
 // megavox command line: parses, reports, and leaves the work to the host pipelines.
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_common.h"
+#include "suggest.h"
 #include "megavox/error.h"
 
 namespace mv::cli {
@@ -13,7 +16,8 @@ void parse_vec3(const std::string& text, const char* what, double out[3]) {
   std::istringstream in(text);
   char c1 = 0, c2 = 0;
   if (!(in >> out[0] >> c1 >> out[1] >> c2 >> out[2]) || c1 != ',' || c2 != ',' || !in.eof())
-    throw Error(std::string(what) + " wants X,Y,Z (three numbers separated by commas), got '" + text + "'");
+    throw CodedError(ErrorCode::invalid_argument,
+                     std::string(what) + " wants X,Y,Z (three numbers separated by commas), got '" + text + "'");
 }
 
 // One line on stderr, redrawn in place; only on a terminal.
@@ -94,16 +98,26 @@ int main(int argc, char** argv) {
   mv::cli::add_bench_cache_command(*bench, g);
   mv::cli::add_bench_mask_command(*bench, g);
 
+  // With --json anywhere on the line, a failure is one JSON object on stdout, like the verb's output would be.
+  bool json = false;
+  for (int i = 1; i < argc; ++i) json = json || std::string(argv[i]) == "--json";
+  auto fail = [json](mv::ErrorCode code, const std::string& message) {
+    if (json) std::cout << nlohmann::json{{"error", message}, {"code", mv::error_code_name(code)}}.dump() << std::endl;
+    else std::fprintf(stderr, "megavox: %s: %s\n", code == mv::ErrorCode::unknown ? "internal error" : "error",
+                      message.c_str());
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const mv::Error& e) {
-    std::fprintf(stderr, "megavox: error: %s\n", e.what());
-    return 1;
+    if (e.get_exit_code() == 0 || dynamic_cast<const CLI::CallForHelp*>(&e) ||
+        dynamic_cast<const CLI::CallForAllHelp*>(&e) || dynamic_cast<const CLI::CallForVersion*>(&e))
+      return app.exit(e);
+    fail(mv::ErrorCode::invalid_argument, mv::cli::diagnose_unknown_word(app, argc, argv).value_or(e.what()));
+    return e.get_exit_code();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "megavox: internal error: %s\n", e.what());
-    return 2;
+    const mv::ErrorCode code = mv::classify(e);
+    fail(code, mv::error_message(e));
+    return code == mv::ErrorCode::unknown ? 2 : 1;
   }
   return 0;
 }

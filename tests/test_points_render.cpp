@@ -1,6 +1,7 @@
 // The splat kernels against their plain C++ reference on every backend, views and options, and bad options.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 
 #include "megavox/point_render.h"
@@ -76,11 +77,43 @@ TEST(PointsRender, BadOptionsAreClearErrors) {
   o.width = 0;
   EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("pixels"), std::string::npos);
   o = {};
-  o.up = 'w';
+  o.up = std::array<double, 3>{0, 0, 0};
   EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("--up"), std::string::npos);
   o = {};
   o.fov = 0;
   EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("--fov"), std::string::npos);
+}
+
+// --up as a vector: the file's own axis gives the default camera bit for bit; a tilted one, another camera. An eye
+// and target in the cloud's units place the camera there: far out along the view of `front`, the same view.
+TEST(PointsRender, UpVectorsAndEyes) {
+  const PointHierarchy h = sample(true, 3000, 2);
+  auto params = [&](const PointRenderOptions& o) {
+    const MvSplatParams p = points::splat_frame(h, o).params;
+    return std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(&p), reinterpret_cast<const uint8_t*>(&p + 1));
+  };
+  PointRenderOptions o;
+  o.width = 200;
+  o.height = 150;
+  PointRenderOptions axis = o, tilted = o;
+  axis.up = std::array<double, 3>{0, 0, 2};
+  tilted.up = std::array<double, 3>{0, 0.3, 1};
+  EXPECT_EQ(params(o), params(axis));
+  EXPECT_NE(params(o), params(tilted));
+  // The cloud's centre in its own units (world = offset + scale * xyz); front with +Z up looks along +Y.
+  const points::FrameBox box = points::points_box(h.points);
+  std::array<double, 3> centre{};
+  for (int a = 0; a < 3; ++a) centre[a] = h.source.offset[a] + h.source.scale[a] * 0.5 * double(box.lo[a] + box.hi[a]);
+  PointRenderOptions front = o, eye = o;
+  front.view = "front";
+  eye.eye = centre;
+  (*eye.eye)[1] -= 1e6;
+  eye.target = centre;
+  const points::SplatFrame f = points::splat_frame(h, front), e = points::splat_frame(h, eye);
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(f.params.rot[i], e.params.rot[i], 2) << i;
+  EXPECT_LT(e.params.eye_y, f.params.eye_y);
+  eye.up = std::array<double, 3>{0, 1, 0};  // along the view
+  EXPECT_NE(error_message([&] { points::splat_frame(h, eye); }).find("--up"), std::string::npos);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PointsRenderTest);

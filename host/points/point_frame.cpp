@@ -1,6 +1,7 @@
 #include "point_frame.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -22,14 +23,18 @@ Vec unit(Vec a) { return a * (1 / std::sqrt(dot(a, a))); }
 double& at(Vec& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
 double get(const Vec& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
 
-int up_axis(const PointHierarchy& h, char up) {
-  switch (up) {
-    case 0: return h.source.z_up ? 2 : 1;
-    case 'x': return 0;
-    case 'y': return 1;
-    case 'z': return 2;
-  }
-  throw Error(std::string("points render: --up wants x, y or z, got '") + up + "'");
+// The up direction in model units: the option's, else the file's (+Z for LAS input, +Y for PLY).
+Vec up_direction(const PointHierarchy& h, const PointRenderOptions& o) {
+  if (!o.up) return h.source.z_up ? Vec{0, 0, 1} : Vec{0, 1, 0};
+  const Vec v{(*o.up)[0], (*o.up)[1], (*o.up)[2]};
+  if (!(dot(v, v) > 0) || !std::isfinite(dot(v, v))) throw Error("points render: --up must be a direction, not 0,0,0");
+  return v;
+}
+
+// The axis nearest a direction.
+int nearest_axis(Vec v) {
+  const double m[3] = {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)};
+  return m[2] > m[0] && m[2] > m[1] ? 2 : m[1] > m[0] ? 1 : 0;
 }
 
 // A simple colour ramp for clouds without colour: deep blue, teal, yellow.
@@ -74,7 +79,6 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
                 std::to_string(o.height));
   if (!(o.fov > 1 && o.fov < 170)) throw Error("points render: --fov must lie between 1 and 170 degrees");
   if (!(o.lod_pixels >= 0)) throw Error("points render: --lod-pixels must be 0 or more");
-  const int up = cam.up = up_axis(h, o.up);
   // Camera space in cells scaled per axis by the input's scale over the largest (the cube is square in input
   // units, which LAS may scale differently per axis).
   const double smax = std::max({std::fabs(h.source.scale[0]), std::fabs(h.source.scale[1]), std::fabs(h.source.scale[2])});
@@ -91,31 +95,51 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
   }
   const Vec centre = (lo + hi) * 0.5;
   const double radius = cam.radius = std::max(1.0, std::sqrt(dot(hi - lo, hi - lo)) * 0.5);
-
-  Vec upv, right_v, toward;  // world up, the front view's right and its direction towards the eye
-  at(upv, up) = 1;
-  const int h1 = (up + 1) % 3, h2 = (up + 2) % 3;  // z up: x, y; y up: z, x
-  if (up == 2) {
-    at(right_v, 0) = 1;
-    at(toward, 1) = -1;  // front: from -Y
-  } else {
-    at(right_v, h2) = 1;
-    at(toward, h1) = 1;  // y up: x right, from +Z
-  }
-  Vec dir;  // from the target to the eye
-  if (o.view == "front") dir = toward;
-  else if (o.view == "back") dir = toward * -1;
-  else if (o.view == "right") dir = right_v;
-  else if (o.view == "left") dir = right_v * -1;
-  else if (o.view == "top") dir = upv;
-  else if (o.view == "iso") dir = unit(toward + right_v * 0.8 + upv * 0.7);
-  else throw Error("points render: unknown view '" + o.view + "' (front, back, left, right, top, iso)");
+  // Model units to scaled cells: world = offset + scale * xyz; a direction keeps its sense per axis.
+  auto point_to_cell = [&](const std::array<double, 3>& p) {
+    Vec c;
+    for (int a = 0; a < 3; ++a)
+      at(c, a) =
+          std::ldexp((p[a] - h.source.offset[a]) / h.source.scale[a] - double(h.cube_min[a]), -h.shift) * aspect[a];
+    return c;
+  };
+  Vec upv = up_direction(h, o);
+  for (int a = 0; a < 3; ++a)
+    if (h.source.scale[a] < 0) at(upv, a) = -get(upv, a);
+  upv = unit(upv);
+  const int up = cam.up = nearest_axis(upv);
   const double half = cam.half = o.fov * M_PI / 360;
-  const double dist = cam.dist = radius / std::sin(half) * 1.02;
-  cam.eye = centre + dir * dist;
-  cam.fwd = unit(centre - cam.eye);
-  const Vec cam_up = o.view == "top" ? toward * -1 : upv;
-  cam.cam_x = unit(cross(cam.fwd, cam_up));
+  Vec target = centre, cam_up = upv;
+  if (o.eye) {
+    if (o.target) target = point_to_cell(*o.target);
+    cam.eye = point_to_cell(*o.eye);
+  } else {
+    if (o.target) throw Error("points render: --target needs --eye (or use --view)");
+    // The front view's direction towards the eye and its right, for the axis nearest up, made square to up.
+    Vec toward;
+    if (up == 2) at(toward, 1) = -1;  // z up: front from -Y
+    else at(toward, (up + 1) % 3) = 1;  // y up: from +Z; x up: from +Y
+    toward = unit(toward - upv * dot(toward, upv));
+    const Vec right_v = cross(upv, toward);
+    Vec dir;  // from the target to the eye
+    if (o.view == "front") dir = toward;
+    else if (o.view == "back") dir = toward * -1;
+    else if (o.view == "right") dir = right_v;
+    else if (o.view == "left") dir = right_v * -1;
+    else if (o.view == "top") dir = upv;
+    else if (o.view == "iso") dir = unit(toward + right_v * 0.8 + upv * 0.7);
+    else throw Error("points render: unknown view '" + o.view + "' (front, back, left, right, top, iso)");
+    cam.eye = centre + dir * (radius / std::sin(half) * 1.02);
+    if (o.view == "top") cam_up = toward * -1;
+  }
+  // The depth range covers the framed box from the eye.
+  cam.dist = std::sqrt(dot(centre - cam.eye, centre - cam.eye));
+  const Vec view = target - cam.eye;
+  if (!(dot(view, view) > 0)) throw Error("points render: --eye and --target are the same point");
+  cam.fwd = unit(view);
+  const Vec side = cross(cam.fwd, cam_up);
+  if (!(dot(side, side) > 1e-12)) throw Error("points render: --up points along the view; give another --up");
+  cam.cam_x = unit(side);
   cam.cam_y = cross(cam.cam_x, cam.fwd);
   cam.focal = (o.height / 2.0) / std::tan(half);
   return cam;

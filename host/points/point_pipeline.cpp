@@ -35,7 +35,8 @@ uint64_t host_bytes_per_point(const PointCloudInfo& info) {
 
 namespace {
 
-PointColumns read_all(io::PointSource& src, const Progress& progress) {
+// Every point of `src`, read from the file `path` (named when it holds none).
+PointColumns read_all(io::PointSource& src, const std::string& path, const Progress& progress) {
   const uint64_t declared = src.info().points;
   PointColumns cloud;
   // The readers refuse counts their file cannot hold, so the declared count is safe to reserve.
@@ -43,6 +44,7 @@ PointColumns read_all(io::PointSource& src, const Progress& progress) {
   const size_t batch = size_t{1} << 20;
   while (src.next(cloud, batch))
     if (progress && declared) progress("read", std::min(1.0, double(cloud.size()) / double(declared)));
+  if (cloud.size() == 0) throw Error(path + ": the cloud has no points");
   return cloud;
 }
 
@@ -54,7 +56,7 @@ PointColumns read_point_file(const std::string& path, PointCloudInfo& info, bool
   ro.carry_extra_bytes = carry_extra_bytes;
   std::unique_ptr<io::PointSource> src = io::open_points(path, ro);
   info = src->info();
-  return read_all(*src, progress);
+  return read_all(*src, path, progress);
 }
 
 namespace {
@@ -89,7 +91,7 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
       if (progress && info.points) progress("read", 0.5 * std::min(1.0, double(n) / double(info.points)));
     }
   }
-  if (n == 0) throw Error("points: the cloud has no points");
+  if (n == 0) throw Error(o.input + ": the cloud has no points");
   const points::PointCube cube = points::cube_of_bounds(lo, hi);
   const points::RecordLayout layout = points::record_layout(info);
   const uint64_t run_points =
@@ -198,7 +200,7 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
     r.out_of_core = true;
     h = build_out_of_core(dev, o, memory, r, std::move(src), progress);
   } else {
-    PointColumns cloud = read_all(*src, progress);
+    PointColumns cloud = read_all(*src, o.input, progress);
     src.reset();
     r.read_seconds = seconds_since(t0);
     if (progress) progress("read", 1);

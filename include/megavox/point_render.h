@@ -1,8 +1,10 @@
 // megavox — pictures of a point hierarchy: an LOD cut chosen by screen-space size, drawn as depth-tested square
 // splats by the splat kernels (kernels/common/splat.h), coloured and shaded (eye-dome lighting) on the host.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,10 +15,13 @@ namespace mv {
 
 class Device;  // megavox/device.h
 
+// The camera: a preset view framing the cloud, or an eye (and a target, default the cloud's centre) in the input's
+// own units. Presets look along the axes, with the axis nearest the up direction up.
 struct PointRenderOptions {
-  uint32_t width = 1280, height = 720;
+  uint32_t width = 1920, height = 1080;
   std::string view = "iso";  // front, back, left, right, top, iso
-  char up = 0;               // 'x', 'y' or 'z'; 0: the file's (+Z for LAS input, +Y for PLY)
+  std::optional<std::array<double, 3>> eye, target;
+  std::optional<std::array<double, 3>> up;  // unset: the file's (+Z for LAS input, +Y for PLY)
   double fov = 40;           // vertical, degrees
   double lod_pixels = 1.0;   // a node is drawn when its points' spacing projects to at most this many pixels
   uint32_t point_size = 3;   // splat side in pixels (odd; even sizes round up)

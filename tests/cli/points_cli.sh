@@ -28,6 +28,20 @@ cmp -s "$dir/l.mvx" "$dir/l2.mvx" || fail "two builds of the same cloud differ"
 "$mv" points info "$dir/l.mvx" --json | grep -q '"points_kept": 8000' || fail "points info --json"
 "$mv" points render "$dir/l.mvx" -o "$dir/l.png" --width 200 --height 150 > /dev/null
 [[ -s "$dir/l.png" ]] || fail "no picture"
+# The camera and size options of `render`: 1920x1080 by default, --up as a vector or an axis, --eye/--target in
+# the cloud's units (the lattice spans 0.5..19.5 x 0.25..19.25 x 0..19).
+"$mv" points render "$dir/l.mvx" -o "$dir/default.png" | grep -q "(1920x1080)" || fail "points render's default size"
+"$mv" points render "$dir/l.mvx" -o "$dir/up_axis.png" --width 96 --height 64 --view front --up z -q
+"$mv" points render "$dir/l.mvx" -o "$dir/up_vec.png" --width 96 --height 64 --view front --up 0,0,1 -q
+cmp -s "$dir/up_axis.png" "$dir/up_vec.png" || fail "--up z differs from --up 0,0,1"
+cmp -s "$dir/up_vec.png" "$dir/l.png" && fail "--up 0,0,1 made the default picture"
+"$mv" points render "$dir/l.mvx" -o "$dir/eye.png" --width 96 --height 64 --eye 10,10,60 --target 10,10,9.5 \
+  --up 0,1,0 --json > "$dir/eye.json"
+python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert j["pixels_covered"] > 96 * 64 / 10, j' \
+  "$dir/eye.json" || fail "--eye/--target: $(cat "$dir/eye.json")"
+"$mv" points render "$dir/l.mvx" -o "$dir/front.png" --width 96 --height 64 --view front --fov 40 -q
+"$mv" points render "$dir/l.mvx" -o "$dir/far.png" --width 96 --height 64 --eye 10,9.75,200 --target 10,9.75,9.5 -q
+cmp -s "$dir/front.png" "$dir/far.png" && fail "--eye was ignored"
 "$mv" points build "$dir/lattice.ply" --format 3dtiles -o "$dir/tiles" > /dev/null
 [[ -s "$dir/tiles/tileset.json" ]] || fail "no tileset"
 "$mv" points render "$dir/lattice.ply" --during-build --frames 3 -o "$dir/frames" --max-node-points 500 \
@@ -52,9 +66,14 @@ expect_error "truncated\|complete" points build "$dir/cut.ply" -o "$dir/bad.mvx"
   head -c 4 /dev/zero; printf '\203\042\000'; head -c 120 /dev/zero; } > "$dir/scan.laz"
 expect_error "LAZ" points build "$dir/scan.laz" -o "$dir/bad.mvx"
 expect_error "no such\|cannot open" points build "$dir/none.ply" -o "$dir/bad.mvx"
+printf 'ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n' \
+  > "$dir/empty.ply"
+expect_error "empty.ply: the cloud has no points" points build "$dir/empty.ply" -o "$dir/bad.mvx"
+expect_error "up wants X,Y,Z" points render "$dir/l.mvx" -o "$dir/bad.png" --up w
+expect_error "target needs --eye" points render "$dir/l.mvx" -o "$dir/bad.png" --target 1,2,3
 expect_error "depth" points build "$dir/lattice.ply" -o "$dir/bad.mvx" --depth 30
 expect_error "format" points build "$dir/lattice.ply" -o "$dir/bad.mvx" --format copc
 expect_error "point cloud" info "$dir/l.mvx"
 expect_error "holds voxels\|not a .mvx\|bad magic" points info "$dir/lattice.ply"
-[[ ! -e "$dir/bad.mvx" ]] || fail "an output was left after an error"
+[[ ! -e "$dir/bad.mvx" && ! -e "$dir/bad.png" ]] || fail "an output was left after an error"
 echo "points CLI: ok"

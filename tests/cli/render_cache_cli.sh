@@ -75,6 +75,18 @@ PY
 # one page: the root's level of detail, a warning, a picture all the same
 err=$("$megavox" render "$dir/t.mvx" -o "$dir/one.png" "${view[@]}" --lod-pixels 0 --cache-memory $(( page_words * 4 )) 2>&1 >/dev/null)
 grep -q "warning: .*coarser level" <<<"$err" || fail "no warning for a one-page cache: $err"
+# one warning line, blaming only what the user gave: --cache-passes when given, never when not
+[[ $(wc -l <<<"$err") == 1 ]] || fail "more than one warning line: $err"
+! grep -q -- "--cache-passes" <<<"$err" || fail "the warning blames --cache-passes, not given: $err"
+err=$("$megavox" render "$dir/t.mvx" --path "$dir/flight.json" -o "$dir/coarse_frames" --width 64 --height 48 \
+  --lod-pixels 0 --cache-memory $(( page_words * 4 )) 2>&1 >/dev/null)
+[[ $(wc -l <<<"$err") == 1 ]] &&
+  grep -q "warning: 3 of 3 frames (the first .*frame_0000.png) show a coarser" <<<"$err" ||
+  fail "not one warning line for the flight: $err"
+! grep -q -- "--cache-passes" <<<"$err" || fail "the flight's warning blames --cache-passes, not given: $err"
+err=$("$megavox" render "$dir/t.mvx" -o "$dir/one_pass.png" "${view[@]}" --cache-memory "$cache" --cache-passes 1 \
+  2>&1 >/dev/null)
+grep -q "warning: .*--cache-passes ended the frame first" <<<"$err" || fail "--cache-passes 1 not named: $err"
 [[ -s $dir/one.png ]] || fail "no picture from a one-page cache"
 # refusals
 expect_error() {  # expect_error PATTERN ARGS...: fails with a message matching PATTERN, writes no output

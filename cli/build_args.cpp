@@ -1,5 +1,6 @@
 #include "build_args.h"
 
+#include "build_plan_text.h"
 #include "megavox/error.h"
 
 namespace mv::cli {
@@ -69,7 +70,7 @@ nlohmann::json report_json(const BuildReport& r) {
           {"nodes_per_level", r.nodes_per_level},
           {"nodes_total", r.nodes_total},
           {"bytes", r.bytes},         {"bits_per_voxel", r.bits_per_voxel},
-          {"seconds", seconds}};
+          {"seconds", seconds},       {"plan", plan_json(r.plan)}};
 }
 
 }  // namespace mv::cli

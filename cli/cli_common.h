@@ -1,6 +1,7 @@
 // What every megavox subcommand shares: the global options and opening the device they name.
 #pragma once
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 
 #include <memory>
 #include <string>
@@ -32,13 +33,18 @@ auto with_code(ErrorCode code, F&& body) {
   }
 }
 
-inline std::unique_ptr<Device> open_device(const GlobalOptions& g) {
+// Kernel compiles a cold cache makes: a notice and a progress line on stderr; nothing unless `enabled`.
+CompileListener compile_notice(bool enabled);
+
+// `quiet` (a command's --quiet): no compile notice, which otherwise shows when stderr is a terminal.
+inline std::unique_ptr<Device> open_device(const GlobalOptions& g, bool quiet = false) {
   DeviceOptions o;
   o.selector = g.device;
   o.memory_budget = g.device_memory.empty() ? 0 : with_code(ErrorCode::invalid_argument, [&] {
     return parse_size(g.device_memory);
   });
   o.profile = g.profile;
+  o.on_compile = compile_notice(!quiet && isatty(STDERR_FILENO));
   return with_code(ErrorCode::unsupported_device, [&] { return Device::open(o); });
 }
 

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "build_args.h"
+#include "build_plan_text.h"
 #include "cli_common.h"
 #include "megavox/build.h"
 #include "megavox/error.h"
@@ -65,9 +66,15 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     o.output = a->output;
     o.no_clobber = a->no_clobber;
     check_output(o);  // before the device opens
-    auto dev = open_device(g);
-    BuildReport r = build_mvx(*dev, o, progress_bar(!a->quiet && isatty(STDERR_FILENO)));
-    if (!a->quiet && isatty(STDERR_FILENO)) std::fprintf(stderr, "\n");
+    auto dev = open_device(g, a->quiet);
+    const bool bar = !a->quiet && isatty(STDERR_FILENO);
+    // The plan goes to stderr (stdout keeps the table or the one JSON object), on its own line below the bar.
+    const PlanListener plan = [&](const BuildPlan& p) {
+      if (bar) std::fprintf(stderr, "\r\033[2K");
+      print_plan(p);
+    };
+    BuildReport r = build_mvx(*dev, o, progress_bar(bar), a->quiet ? PlanListener{} : plan);
+    if (bar) std::fprintf(stderr, "\n");
     if (g.profile) print_kernel_totals(*dev);
     if (a->json) std::cout << report_json(r).dump(2) << "\n";
     else print_table(r);

@@ -9,6 +9,7 @@
 #include "io/mesh_source.h"
 #include "io/output_path.h"
 #include "io/vdb_source.h"
+#include "build_plan.h"
 #include "build_steps.h"
 #include "megavox/build.h"
 #include "triangle_buckets.h"
@@ -116,20 +117,40 @@ GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds
   return g;
 }
 
-// Bounds of the vertices a mesh's faces use (scans carry unreferenced vertices): one streaming pass.
-Bounds used_vertex_bounds(const BuildOptions& o, BuildReport& r) {
-  Bounds bounds;
+// Bounds of the vertices a mesh's faces use (scans carry unreferenced vertices) and their surface, for the
+// plan: one streaming pass.
+MeshSurvey survey_mesh(const BuildOptions& o, BuildReport* r) {
+  MeshSurvey s;
   auto mesh = open_budgeted_mesh(o);
   check_mesh_memory(o, *mesh);
   const auto& pos = mesh->positions();
-  r.vertex_scratch_bytes = mesh->positions_mapped() ? pos.size_bytes() : 0;
+  if (r) r->vertex_scratch_bytes = mesh->positions_mapped() ? pos.size_bytes() : 0;
   std::vector<bool> used(pos.size() / 3, false);
   std::vector<uint32_t> idx;
   while (mesh->next_triangles(idx, batch_triangles(o)))
-    for (uint32_t i : idx) used[i] = true;
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+      used[idx[t]] = used[idx[t + 1]] = used[idx[t + 2]] = true;
+      s.add_triangle(&pos[3 * size_t{idx[t]}], &pos[3 * size_t{idx[t + 1]}], &pos[3 * size_t{idx[t + 2]}]);
+    }
   for (size_t i = 0; i < used.size(); ++i)
-    if (used[i]) bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-  return bounds;
+    if (used[i]) {
+      s.bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+      ++s.vertices;
+    }
+  return s;
+}
+
+PlanBudgets plan_budgets(const BuildOptions& o, const Device* dev) {
+  return {memory_budget(o), dev ? dev->memory_budget() : 0};
+}
+
+// The grid around the surveyed mesh, and the plan announced before the voxels are built.
+GridTransform plan_mesh(const BuildOptions& o, uint32_t resolution, MeshSurvey& survey, const Device& dev,
+                        BuildReport& r, const PlanListener& on_plan) {
+  const GridTransform grid = place_mesh_grid(o, resolution, survey.bounds);
+  r.plan = plan_mesh_build(o, survey, grid, plan_budgets(o, &dev));
+  if (on_plan) on_plan(r.plan);
+  return grid;
 }
 
 // Streams a mesh's triangles in grid units, a batch at a time.
@@ -149,10 +170,11 @@ void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint6
 
 // A mesh: its bounds, the grid, then the triangles voxelized in batches on the device.
 Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
-                     const std::function<void(const std::string&, double)>& report) {
+                     const std::function<void(const std::string&, double)>& report, const PlanListener& on_plan) {
   Voxels v;
-  v.bounds = used_vertex_bounds(o, r);
-  v.grid = place_mesh_grid(o, resolution, v.bounds);
+  MeshSurvey survey = survey_mesh(o, &r);
+  v.grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
+  v.bounds = survey.bounds;
   Voxelizer vox(dev, resolution, rule(o));
   vox.limit_host_memory(memory_budget(o) - vertex_share(o));
   uint64_t triangles = 0;
@@ -188,11 +210,12 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
 // reduced alone and the partial DAGs merged (build_dag_by_cubes): device memory holds one cube's voxels at a
 // time, host memory the vertex positions, a batch of triangles, a share of the buckets and one cube's keys.
 BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
-                              const Report& report, const Lap& lap) {
+                              const Report& report, const Lap& lap, const PlanListener& on_plan) {
   if (o.cube < 8 || (o.cube & (o.cube - 1))) throw Error("--cube " + std::to_string(o.cube) + " must be a power of two >= 8");
   check_cube_table(o, resolution);
-  Bounds bounds = used_vertex_bounds(o, r);
-  const GridTransform grid = place_mesh_grid(o, resolution, bounds);
+  MeshSurvey survey = survey_mesh(o, &r);
+  const GridTransform grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
+  const Bounds bounds = survey.bounds;
   r.resolution = resolution;
   r.cube = o.cube;
   const uint32_t per_axis = resolution / o.cube;
@@ -273,7 +296,7 @@ uint64_t nodes_total(const MvxFile& file) {
 
 namespace {
 
-BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progress) {
+BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progress, const PlanListener& on_plan) {
   if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
     throw Error("--format " + o.format + ": choose svo, svdag, ussvdag or ssvdag");
   BuildReport r;
@@ -302,7 +325,7 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     r.voxelize = o.voxelize;
   }
   if (!vdb && o.cube && mesh_resolution > o.cube) {
-    return build_out_of_core(dev, o, mesh_resolution, r, report, lap);
+    return build_out_of_core(dev, o, mesh_resolution, r, report, lap, on_plan);
   }
   if (o.format == "ssvdag" && o.resolution && o.resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
   Voxels voxels;
@@ -310,11 +333,13 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
     r.vdb_grid = vdb.grid_name;
     r.vdb_class = vdb.grid_class;
+    r.plan = plan_vdb_build(o, vdb.keys.size(), vdb.grid, plan_budgets(o, &dev));
+    if (on_plan) on_plan(r.plan);
     voxels = {bricks_from_keys(vdb.keys), vdb.grid, vdb.bounds};
     vdb.keys = {};
     lap("read");
   } else {
-    voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report);
+    voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report, on_plan);
     lap("voxelize");
   }
   const uint32_t resolution = voxels.grid.resolution;
@@ -340,20 +365,25 @@ constexpr uint32_t kSmallestCube = 64;
 
 }  // namespace
 
-// A mesh whose cube (or whole grid, in core) runs out of device memory builds again in cubes half the size,
-// down to 64^3 (the file is the same whatever the cube size); `--cube 0` (always in core), .vdb inputs and
-// a merge that does not fit keep the error.
 std::string check_output(const BuildOptions& o) {
   return io::resolve_output({o.output, io::OutputKind::kFile, "mvx", {o.mesh ? std::string() : o.input}, 0, o.no_clobber});
 }
 
-BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress) {
+// A mesh whose cube (or whole grid, in core) runs out of device memory builds again in cubes half the size,
+// down to 64^3 (the file is the same whatever the cube size); `--cube 0` (always in core), .vdb inputs and
+// a merge that does not fit keep the error.
+BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress, const PlanListener& on_plan) {
   BuildOptions attempt = o;
   if (!o.output.empty()) attempt.output = check_output(o);
   const uint32_t resolution = o.resolution ? o.resolution : 1024;
+  bool planned = false;  // the plan is announced once, not again for each retry in smaller cubes
+  const PlanListener announce = [&](const BuildPlan& plan) {
+    if (on_plan && !planned) on_plan(plan);
+    planned = true;
+  };
   for (uint32_t retries = 0;; ++retries) {
     try {
-      BuildReport r = build_once(dev, attempt, progress);
+      BuildReport r = build_once(dev, attempt, progress, announce);
       r.cube_retries = retries;
       return r;
     } catch (const DeviceMemoryError& e) {
@@ -366,6 +396,17 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
       if (progress) progress("cubes of " + std::to_string(attempt.cube) + "^3 (device memory)", 0);
     }
   }
+}
+
+BuildPlan plan_build(const BuildOptions& o) {
+  const uint32_t resolution = o.resolution ? o.resolution : 1024;
+  if (!o.mesh && io::is_vdb(o.input)) {
+    io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
+    return plan_vdb_build(o, vdb.keys.size(), vdb.grid, plan_budgets(o, nullptr));
+  }
+  MeshSurvey survey = survey_mesh(o, nullptr);
+  const GridTransform grid = place_mesh_grid(o, resolution, survey.bounds);
+  return plan_mesh_build(o, survey, grid, plan_budgets(o, nullptr));
 }
 
 }  // namespace mv

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -71,6 +72,7 @@ class Backend {
   virtual void copy(BackendBuffer& src, uint64_t src_offset, BackendBuffer& dst, uint64_t dst_offset,
                     uint64_t bytes) = 0;
 
+
   // Built once per backend instance and cached by desc.name. A build failure throws mv::Error naming
   // the kernel (OpenCL: with the compiler log; Vulkan: the rejected module or pipeline).
   virtual BackendKernel& kernel(const KernelDesc& desc) = 0;
@@ -93,6 +95,25 @@ class Backend {
   // Per-dispatch device timings (kernel name, nanoseconds), collected while profiling is on.
   virtual void set_profiling(bool on) = 0;
   virtual std::vector<KernelTiming> take_timings() = 0;
+
+  // Told before (done false) and after (done true) each compile the kernel cache could not spare, naming what
+  // compiles; set by Device (DeviceOptions::on_compile).
+  std::function<void(const std::string& what, bool done)> on_compile;
+
+ protected:
+  // Runs `compile` between the two calls of on_compile; one that throws is announced as ended too.
+  template <class F>
+  auto announced_compile(const std::string& what, F&& compile) {
+    if (on_compile) on_compile(what, false);
+    struct End {
+      const Backend& backend;
+      const std::string& what;
+      ~End() {
+        if (backend.on_compile) backend.on_compile(what, true);
+      }
+    } end{*this, what};
+    return compile();
+  }
 };
 
 inline constexpr size_t kMaxPushBytes = 128;  // Vulkan's guaranteed minimum push-constant size
@@ -103,7 +124,9 @@ inline constexpr size_t kMaxArgBytes = 1024;
 // Discovery. Each list is in the API's enumeration order; index i opens the i-th entry.
 std::vector<DeviceInfo> enumerate_opencl();
 std::vector<DeviceInfo> enumerate_vulkan();
-std::unique_ptr<Backend> open_opencl(int index);
-std::unique_ptr<Backend> open_vulkan(int index);
+// `kernel_cache`: the folder of compiled programs, or of Vulkan's records of the pipelines the driver compiled
+// (empty: KernelCache::default_dir()).
+std::unique_ptr<Backend> open_opencl(int index, const std::string& kernel_cache);
+std::unique_ptr<Backend> open_vulkan(int index, const std::string& kernel_cache);
 
 }  // namespace mv::rt

@@ -58,7 +58,14 @@ std::unique_ptr<Device> Device::open(const DeviceOptions& options) {
   std::unique_ptr<Device> device(new Device());
   device->impl_ = std::make_unique<Impl>();
   auto& impl = *device->impl_;
-  impl.backend = chosen.backend == "opencl" ? rt::open_opencl(chosen.index) : rt::open_vulkan(chosen.index);
+  impl.backend = chosen.backend == "opencl" ? rt::open_opencl(chosen.index, options.kernel_cache)
+                                            : rt::open_vulkan(chosen.index, options.kernel_cache);
+  if (options.on_compile)
+    impl.backend->on_compile = [listener = options.on_compile, device = impl.backend->info().name,
+                                count = uint32_t{0}](const std::string& what, bool done) mutable {
+      if (!done) ++count;
+      listener({device, what, count, done});
+    };
   const DeviceInfo& info = impl.backend->info();
   uint64_t budget = options.memory_budget;
   if (budget == 0) {

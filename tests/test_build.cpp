@@ -201,6 +201,43 @@ TEST_P(BuildJobTest, BadInputsAreClearErrorsAndWriteNothing) {
   fs::remove(bad_ply);
 }
 
+// The plan is announced once, before the voxels are built, and plan_build gives the same without a device. The
+// bumpy sphere is smooth at a voxel's scale, so the voxel estimate lands near the count.
+TEST_P(BuildJobTest, PlanIsAnnouncedOnceAndEstimatesTheVoxels) {
+  Device& dev = shared_device(GetParam());
+  BuildOptions o;
+  o.input = sphere_ply("plan.ply");
+  o.output = temp_path("plan.mvx");
+  o.resolution = 256;
+  uint32_t announced = 0;
+  BuildPlan plan;
+  const BuildReport r = build_mvx(dev, o, {}, [&](const BuildPlan& p) {
+    ++announced;
+    plan = p;
+    EXPECT_FALSE(fs::exists(o.output));
+  });
+  EXPECT_EQ(announced, 1u);
+  EXPECT_EQ(plan.resolution, 256u);
+  EXPECT_EQ(plan.voxel_size, r.grid.voxel_size);
+  EXPECT_FALSE(plan.out_of_core);
+  EXPECT_EQ(plan.triangles, r.triangles);
+  EXPECT_NEAR(double(plan.voxels) / double(r.voxels), 1.0, 0.1) << plan.voxels << " estimated, " << r.voxels;
+  EXPECT_EQ(r.plan.voxels, plan.voxels);
+  EXPECT_GT(plan.output_bytes, 0u);
+  EXPECT_GT(plan.host_bytes, 0u);
+  EXPECT_GT(plan.device_bytes, 0u);
+  EXPECT_EQ(plan_build(o).voxels, plan.voxels);
+  o.cube = 64;
+  const BuildPlan cubes = plan_build(o);
+  EXPECT_TRUE(cubes.out_of_core);
+  EXPECT_EQ(cubes.cube, 64u);
+  EXPECT_EQ(cubes.cubes, 64u);
+  EXPECT_GE(cubes.cubes_with_surface, 1u);
+  EXPECT_LE(cubes.cubes_with_surface, 64u);
+  fs::remove(o.output);
+  fs::remove(o.input);
+}
+
 MV_INSTANTIATE_ON_ALL_DEVICES(BuildJobTest);
 
 }  // namespace

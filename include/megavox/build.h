@@ -45,6 +45,27 @@ struct BuildOptions {
   MvxPaging paging;
 };
 
+// What a build will do, stated before the heavy work: the grid, in core or in cubes, and estimates of its
+// size and memory. The estimates come from the mesh's surface alone (its triangles' area projected on the
+// axes, over the voxel's face area), so a build clipped by --bounds or a mesh folded finer than a voxel counts
+// fewer voxels than estimated; a .vdb's voxels are counted, not estimated.
+struct BuildPlan {
+  uint32_t resolution = 0;
+  double voxel_size = 0;
+  double origin[3] = {0, 0, 0};
+  uint64_t triangles = 0;           // meshes: the faces read to find the bounds
+  double surface_area = 0;          // meshes: the triangles' area, in the mesh's units squared
+  bool out_of_core = false;
+  uint32_t cube = 0;                // out of core: the cube side (voxels)
+  uint64_t cubes = 0;               // out of core: cubes in the grid, (resolution / cube)^3
+  uint64_t cubes_with_surface = 0;  // out of core: estimated cubes the surface meets (the ones built)
+  uint64_t voxels = 0;              // estimated (counted for a .vdb)
+  uint64_t output_bytes = 0;        // estimated size of the encoded DAG
+  uint64_t host_bytes = 0;          // estimated peak host memory
+  uint64_t device_bytes = 0;        // estimated peak device memory
+  std::vector<std::string> warnings;  // estimates past the budgets or past what a build finishes quickly
+};
+
 struct BuildReport {
   std::string input, output, format;
   uint32_t resolution = 0;
@@ -67,12 +88,21 @@ struct BuildReport {
     double seconds;
   };
   std::vector<Stage> seconds;  // per stage, in order
+  BuildPlan plan;              // as announced before the heavy work
 };
 
 // Called with a stage name and the fraction done (0..1), from the calling thread.
 using Progress = std::function<void(const std::string& stage, double fraction)>;
 
-BuildReport build_mvx(Device& dev, const BuildOptions& options, const Progress& progress = {});
+// Called once, with the plan, after the input's bounds are read and before the voxels are built.
+using PlanListener = std::function<void(const BuildPlan&)>;
+
+BuildReport build_mvx(Device& dev, const BuildOptions& options, const Progress& progress = {},
+                      const PlanListener& on_plan = {});
+
+// The plan alone: reads the mesh's faces once (no device work). For a .vdb, reads its voxels.
+BuildPlan plan_build(const BuildOptions& options);
+
 // The output, resolved and checked as io/output_path.h says (not an input, not a FIFO or device, its folder
 // there and writable, ...): the path to write. The call above makes it first; a caller that opens a device
 // first (the CLI) makes it before, so a wrong -o costs nothing. Throws mv::Error.

@@ -1,6 +1,7 @@
 // Backend over OpenCL 1.2 (PoCL on the CPU here; any ICD elsewhere).
 // One in-order queue per device, so barrier() has nothing to do: each command starts after the previous
-// one ends. Programs are built once per device and cached by their .cl path; kernels by entry name.
+// one ends. Programs are built once per device and cached by their .cl path; kernels by entry name. A program
+// compiled once is kept in the kernel cache (kernel_cache.h) as the driver's binary and loaded from there later.
 #define CL_TARGET_OPENCL_VERSION 120
 #define CL_USE_DEPRECATED_OPENCL_1_2_APIS
 #include <CL/cl.h>
@@ -15,6 +16,7 @@
 
 #include "backend.h"
 #include "huge_pages.h"
+#include "kernel_cache.h"
 #include "megavox/error.h"
 
 namespace mv::rt {
@@ -67,6 +69,8 @@ std::string platform_string(cl_platform_id p, cl_platform_info param) {
   while (!s.empty() && s.back() == '\0') s.pop_back();
   return s;
 }
+
+constexpr const char* kBuildOptions = "-cl-std=CL1.2";
 
 struct ClDevice {
   cl_platform_id platform;
@@ -150,9 +154,10 @@ struct ClKernel final : BackendKernel {
 
 class OpenCLBackend final : public Backend {
  public:
-  OpenCLBackend(const ClDevice& d, int index)
+  OpenCLBackend(const ClDevice& d, int index, const std::string& kernel_cache)
       : device_(d.device),
         info_(describe(d, index)),
+        cache_(kernel_cache),
         host_unified_(info_.type == "cpu" && device_value<cl_bool>(d.device, CL_DEVICE_HOST_UNIFIED_MEMORY)) {
     cl_int err = CL_SUCCESS;
     context_ = clCreateContext(nullptr, 1, &device_, nullptr, nullptr, &err);
@@ -316,22 +321,67 @@ class OpenCLBackend final : public Backend {
  private:
   static cl_mem mem(BackendBuffer& b) { return static_cast<ClBuffer&>(b).mem; }
 
+  // The driver's binary is keyed by everything that shapes it: the source, the options, the device and driver.
+  std::string cache_key(const KernelDesc& desc) const {
+    return KernelCache::key({desc.cl_source ? desc.cl_source : "", kBuildOptions, info_.name, info_.platform,
+                             info_.driver, info_.api_version});
+  }
+
   cl_program build_program(const KernelDesc& desc) {
     if (auto it = programs_.find(desc.cl_program); it != programs_.end()) return it->second;
     if (!desc.cl_source) throw Error("OpenCL: kernel '" + desc.name + "' has no OpenCL source");
+    const std::string key = cache_key(desc);
+    cl_program program = nullptr;
+    if (auto binary = cache_.load(key)) program = program_from_binary(*binary);
+    if (!program) {
+      program = announced_compile(desc.cl_program, [&] { return compile(desc); });
+      cache_.store(key, binary_of(program));
+    }
+    programs_.emplace(desc.cl_program, program);
+    return program;
+  }
+
+  cl_program compile(const KernelDesc& desc) {
     cl_int err = CL_SUCCESS;
     const char* src = desc.cl_source;
     cl_program program = clCreateProgramWithSource(context_, 1, &src, nullptr, &err);
     check(err, "creating program '" + desc.cl_program + "'");
-    err = clBuildProgram(program, 1, &device_, "-cl-std=CL1.2", nullptr, nullptr);
+    err = clBuildProgram(program, 1, &device_, kBuildOptions, nullptr, nullptr);
     if (err != CL_SUCCESS) {
       std::string log = build_log(program);
       clReleaseProgram(program);
       throw Error("OpenCL: building program '" + desc.cl_program + "' (kernel '" + desc.name + "') for '" +
                   info_.name + "' failed (" + cl_error_name(err) + "). Compiler log:\n" + log);
     }
-    programs_.emplace(desc.cl_program, program);
     return program;
+  }
+
+  // nullptr when the driver rejects the bytes (a torn file, another driver's): the caller compiles instead.
+  cl_program program_from_binary(const std::string& binary) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(binary.data());
+    const size_t size = binary.size();
+    cl_int status = CL_SUCCESS, err = CL_SUCCESS;
+    cl_program program = clCreateProgramWithBinary(context_, 1, &device_, &size, &bytes, &status, &err);
+    if (err != CL_SUCCESS || status != CL_SUCCESS) {
+      if (program) clReleaseProgram(program);
+      return nullptr;
+    }
+    if (clBuildProgram(program, 1, &device_, kBuildOptions, nullptr, nullptr) != CL_SUCCESS) {
+      clReleaseProgram(program);
+      return nullptr;
+    }
+    return program;
+  }
+
+  // Empty when the driver gives none: that program is then compiled again by the next run.
+  std::string binary_of(cl_program program) {
+    size_t size = 0;
+    if (clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, nullptr) != CL_SUCCESS || !size)
+      return {};
+    std::string binary(size, '\0');
+    unsigned char* out = reinterpret_cast<unsigned char*>(binary.data());
+    if (clGetProgramInfo(program, CL_PROGRAM_BINARIES, sizeof out, &out, nullptr) != CL_SUCCESS) return {};
+    return binary;
   }
 
   std::string build_log(cl_program program) {
@@ -354,6 +404,7 @@ class OpenCLBackend final : public Backend {
 
   cl_device_id device_;
   DeviceInfo info_;
+  KernelCache cache_;
   bool host_unified_ = false;  // a CPU device computing in host memory: arenas on storage of ours
   cl_context context_ = nullptr;
   cl_command_queue queue_ = nullptr;
@@ -375,11 +426,11 @@ std::vector<DeviceInfo> enumerate_opencl() {
   return out;
 }
 
-std::unique_ptr<Backend> open_opencl(int index) {
+std::unique_ptr<Backend> open_opencl(int index, const std::string& kernel_cache) {
   auto devs = all_devices();
   if (index < 0 || static_cast<size_t>(index) >= devs.size())
     throw Error("OpenCL: no device ocl:" + std::to_string(index) + " (" + std::to_string(devs.size()) + " found)");
-  return std::make_unique<OpenCLBackend>(devs[index], index);
+  return std::make_unique<OpenCLBackend>(devs[index], index, kernel_cache);
 }
 
 }  // namespace mv::rt

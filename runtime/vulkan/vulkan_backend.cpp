@@ -102,6 +102,8 @@ void VulkanBackend::release() noexcept {
 
 }  // namespace vulkan
 
-std::unique_ptr<Backend> open_vulkan(int index) { return std::make_unique<vulkan::VulkanBackend>(index); }
+std::unique_ptr<Backend> open_vulkan(int index, const std::string& kernel_cache) {
+  return std::make_unique<vulkan::VulkanBackend>(index, kernel_cache);
+}
 
 }  // namespace mv::rt

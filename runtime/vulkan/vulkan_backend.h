@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "backend.h"
+#include "kernel_cache.h"
 #include "vulkan_device.h"
 
 namespace mv::rt::vulkan {
@@ -54,6 +55,7 @@ struct VulkanKernel final : BackendKernel {
   VkShaderModule module = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   bool args_in_buffer = false;  // push one address; the arguments sit in a parameter buffer (MV_ARGS_BUFFER)
+  std::string cache_key;        // of the module on this device and driver (KernelCache::key)
   std::unordered_map<uint64_t, VkPipeline> pipelines;  // by work-group size: x | y << 32
 
   VulkanKernel(VkDevice d, std::string n) : device(d), name(std::move(n)) {}
@@ -70,7 +72,7 @@ inline VulkanBuffer& as_vk(BackendBuffer& b) { return static_cast<VulkanBuffer&>
 
 class VulkanBackend final : public Backend {
  public:
-  explicit VulkanBackend(int index) {
+  VulkanBackend(int index, const std::string& kernel_cache) : cache_(kernel_cache) {
     try {
       init(index);
     } catch (...) {
@@ -154,6 +156,7 @@ class VulkanBackend final : public Backend {
   uint32_t max_local_size_ = 0;    // work-group items, and x extent
   uint32_t max_local_size_y_ = 0;
   std::unordered_map<std::string, std::unique_ptr<VulkanKernel>> kernels_;
+  KernelCache cache_;  // records of the pipelines the driver has compiled before (kernel_cache.h)
 
   bool profiling_ = false;
   uint32_t timestamp_bits_ = 0;

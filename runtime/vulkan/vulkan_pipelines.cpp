@@ -1,5 +1,9 @@
 // Vulkan backend kernels: a shader module and pipeline layout per kernel, checked when the kernel is asked
 // for, and one compute pipeline per work-group size (specialization constants 0 and 1), made at first dispatch.
+// Making a pipeline compiles the module in the driver (lavapipe: through LLVM, minutes for a build's kernels),
+// unless the driver's own cache holds it: a pipeline made before on this device and driver is recorded in the
+// kernel cache, and one without a record is announced (Backend::on_compile). A driver cache emptied by hand
+// behind the records compiles unannounced.
 #include <vulkan/vulkan.h>
 
 #include <cstdio>
@@ -26,6 +30,8 @@ BackendKernel& VulkanBackend::kernel(const KernelDesc& desc) {
 
   auto k = std::make_unique<VulkanKernel>(device_, desc.name);
   k->args_in_buffer = desc.args_in_buffer;
+  k->cache_key = KernelCache::key({std::string_view(reinterpret_cast<const char*>(desc.spirv), desc.spirv_words * 4),
+                                   info_.name, info_.driver, info_.api_version});
   auto mi = vk<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
   mi.codeSize = desc.spirv_words * sizeof(uint32_t);
   mi.pCode = desc.spirv;
@@ -59,9 +65,18 @@ VkPipeline VulkanBackend::pipeline_for(VulkanKernel& kernel, uint32_t local_x, u
   ci.stage.pSpecializationInfo = &spec;
   ci.layout = kernel.layout;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  check(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline),
-        "kernel '" + kernel.name + "': vkCreateComputePipelines for work-group size " + std::to_string(local_x) +
-            "x" + std::to_string(local_y));
+  const std::string size = std::to_string(local_x) + "x" + std::to_string(local_y);
+  auto create = [&] {
+    check(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline),
+          "kernel '" + kernel.name + "': vkCreateComputePipelines for work-group size " + size);
+  };
+  const std::string record = KernelCache::key({kernel.cache_key, size});
+  if (cache_.contains(record)) {
+    create();
+  } else {
+    announced_compile(kernel.name + " (" + size + ")", create);
+    cache_.store(record, "made before; the driver's cache holds its code\n");
+  }
   kernel.pipelines.emplace(key, pipeline);
   return pipeline;
 }

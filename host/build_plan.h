@@ -1,0 +1,36 @@
+// A build's plan (megavox/build.h BuildPlan) from what one pass over the mesh's faces finds, before the heavy
+// work: the grid, in core or in cubes, and estimates of the voxels, the output and the memory.
+#pragma once
+#include <cstdint>
+
+#include "megavox/build.h"
+#include "megavox/grid.h"
+
+namespace mv {
+
+// What a pass over a mesh's faces finds: the bounds of the vertices they use and the surface they make.
+struct MeshSurvey {
+  Bounds bounds;
+  uint64_t triangles = 0;
+  uint64_t vertices = 0;
+  double area = 0;
+  // Sums over the triangles of area * (|nx| + |ny| + |nz|), their shadows on the three axis planes, and of
+  // area * max(|nx|, |ny|, |nz|), the shadow on each one's dominant plane: over a voxel's face area, about the
+  // voxels a conservative and a thin voxelization give.
+  double shadow_area = 0;
+  double dominant_area = 0;
+  void add_triangle(const float* a, const float* b, const float* c);
+};
+
+// Host and device memory the estimates are checked against (0: not checked).
+struct PlanBudgets {
+  uint64_t host = 0;
+  uint64_t device = 0;
+};
+
+BuildPlan plan_mesh_build(const BuildOptions& o, const MeshSurvey& survey, const GridTransform& grid,
+                          const PlanBudgets& budgets);
+// A .vdb: its voxels are read, so counted, not estimated.
+BuildPlan plan_vdb_build(const BuildOptions& o, uint64_t voxels, const GridTransform& grid, const PlanBudgets& budgets);
+
+}  // namespace mv

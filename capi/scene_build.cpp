@@ -127,10 +127,8 @@ MvScene build_scene(MvDevice device, const BuildInput& input, BuildOptions o, co
     std::lock_guard<std::recursive_mutex> g(device->lock);
     try {
       build_mvx(*device->device, o, progress);
-    } catch (const DeviceMemoryError& e) {
-      throw DeviceMemoryError(in_api_terms(e.what()));
-    } catch (const Error& e) {
-      throw Error(in_api_terms(e.what()));
+    } catch (const Error& e) {  // the same kind of failure (a cancel stays a cancel), in the API's words
+      throw CodedError(classify(e), in_api_terms(e.what()));
     }
   }
   scene->file = read_mvx(o.output);

@@ -36,10 +36,12 @@ uint32_t parse_resolution(const std::string& text) {
   try {
     n = parse_size(text);
   } catch (const Error&) {
-    throw Error("--resolution '" + text + "' is not a number of voxels per axis (examples: 1024, 2K, 16K)");
+    throw CodedError(ErrorCode::invalid_argument,
+                     "--resolution '" + text + "' is not a number of voxels per axis (examples: 1024, 2K, 16K)");
   }
   if (n < 2 || n > (1u << 21) || (n & (n - 1)))
-    throw Error("--resolution " + text + " must be a power of two from 2 to 2M voxels per axis");
+    throw CodedError(ErrorCode::invalid_argument,
+                     "--resolution " + text + " must be a power of two from 2 to 2M voxels per axis");
   return static_cast<uint32_t>(n);
 }
 

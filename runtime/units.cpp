@@ -11,7 +11,9 @@ namespace mv {
 
 uint64_t parse_size(std::string_view text) {
   std::string s(text);
-  auto bad = [&]() { return Error("'" + s + "' is not a size (examples: 1048576, 16K, 512M, 2G)"); };
+  auto bad = [&]() {
+    return CodedError(ErrorCode::invalid_argument, "'" + s + "' is not a size (examples: 1048576, 16K, 512M, 2G)");
+  };
   if (s.empty() || !std::isdigit(static_cast<unsigned char>(s[0]))) throw bad();
   size_t pos = 0;
   uint64_t value = 0;

@@ -23,9 +23,20 @@ void send_json(httplib::Response& res, int status, const json& body) {
   res.set_content(body.dump(), "application/json");
 }
 
-void send_error(httplib::Response& res, int status, const std::string& message, int retry_after = 0) {
+// The kind of a refusal told by its HTTP status, in the C API's terms (megavox/error.h: one table for the
+// CLI, the C API and the service).
+ErrorCode code_of_status(int status) {
+  if (status == 409) return ErrorCode::invalid_operation;
+  if (status == 429 || status == 503) return ErrorCode::out_of_memory;  // the queue or the uploads are full
+  return status >= 500 ? ErrorCode::unknown : ErrorCode::invalid_argument;
+}
+
+// {"error": MESSAGE, "code": "MV_ERROR_..."}, as the CLI prints an error with --json.
+void send_error(httplib::Response& res, int status, const std::string& message, int retry_after = 0,
+                ErrorCode code = ErrorCode::none) {
   if (retry_after) res.set_header("Retry-After", std::to_string(retry_after));
-  send_json(res, status, {{"error", message}});
+  if (code == ErrorCode::none) code = code_of_status(status);
+  send_json(res, status, {{"error", message}, {"code", error_code_name(code)}});
 }
 
 // Equal strings take the same time whatever the first differing byte.
@@ -43,9 +54,11 @@ void handle(httplib::Response& res, F&& body) {
   } catch (const HttpError& e) {
     send_error(res, e.status, e.what(), e.retry_after);
   } catch (const Error& e) {
-    send_error(res, 400, e.what());
+    // What a request names (its fields, its files under --data-dir) are the client's arguments.
+    const ErrorCode code = classify(e);
+    send_error(res, 400, e.what(), 0, code == ErrorCode::input ? ErrorCode::invalid_argument : code);
   } catch (const std::exception& e) {
-    send_error(res, 500, std::string("internal error: ") + e.what());
+    send_error(res, 500, std::string("internal error: ") + e.what(), 0, classify(e));
   }
 }
 

@@ -14,7 +14,7 @@ void run_build(MvDevice dev, const JobRun& run) {
   mvInitBuildArguments(&a);
   a.format = r.format.c_str();
   a.resolution = r.resolution;
-  a.cube = r.cube;
+  if (r.cube) a.cube = *r.cube == 0 ? MV_CUBE_IN_CORE : *r.cube;  // the job's 0 is the CLI's --cube 0: in core
   a.voxelize = r.voxelize.c_str();
   a.gridOrigin = r.grid_origin.c_str();
   a.output = run.result.c_str();

@@ -163,8 +163,9 @@ JobRequest from_object(const json& j) {
       r.resolution = number(v, "resolution", 2, 1u << 21);
       if (r.resolution & (r.resolution - 1)) refuse("resolution", "must be a power of two");
     } else if (key == "cube") {
-      r.cube = number(v, "cube", 0, 1u << 21);
-      if (r.cube && (r.cube < 8 || (r.cube & (r.cube - 1)))) refuse("cube", "must be 0 (always in core) or a power of two from 8");
+      const uint32_t cube = number(v, "cube", 0, 1u << 21);
+      r.cube = cube;
+      if (cube && (cube < 8 || (cube & (cube - 1)))) refuse("cube", "must be 0 (always in core) or a power of two from 8");
     } else if (key == "format") {
       r.format = r.kind == JobKind::points ? choice(v, "format", {"mvx", "3dtiles"})
                                            : choice(v, "format", {"svo", "svdag", "ussvdag", "ssvdag"});

@@ -20,7 +20,9 @@ struct JobRequest {
   std::string scene;  // render: the id of a finished build job
   // build: format is svo, svdag, ussvdag or ssvdag; points: mvx or 3dtiles
   uint32_t resolution = 256;
-  uint32_t cube = 1024;  // above this resolution a build runs out of core in cubes of this side; 0: in core
+  // Above this resolution a build runs out of core in cubes of this side; 0: in core; unset: the C API's and
+  // the CLI's default.
+  std::optional<uint32_t> cube;
   std::string format = "svdag", voxelize = "conservative", grid_origin = "center";
   // render: the CLI's picture size; a preset view, or a camera from `eye` (target and up as the CLI's defaults)
   uint32_t width = RenderOptions{}.width, height = RenderOptions{}.height;

@@ -129,6 +129,7 @@ done
 [[ $(json_code '{"kind":"build","input":"tetra.ply","resolution":48}') == 400 ]] && grep -q 'power of two' "$dir/body" ||
   fail "resolution 48: $(cat "$dir/body")"
 [[ $(json_code '{"kind":"bake"}') == 400 ]] || fail "kind bake: not 400"
+[[ $(jq -r .code "$dir/body") == MV_ERROR_INVALID_ARGUMENT ]] || fail "kind bake: code $(cat "$dir/body")"
 # a number past 64 bits: nlohmann throws out_of_range, not parse_error (found by fuzz_job_request)
 [[ $(json_code '{"kind":"build","resolution":64e222222223}') == 400 ]] && grep -q 'malformed JSON' "$dir/body" ||
   fail "64e222222223: $(cat "$dir/body")"

@@ -125,8 +125,8 @@ TEST(ServeJobRequest, RenderCameraRefusals) {
 }
 
 TEST(ServeJobRequest, BuildCube) {
-  EXPECT_EQ(parse_job_request(R"({"kind":"build","input":"a.ply"})").cube, 1024u);
-  EXPECT_EQ(parse_job_request(R"({"kind":"build","input":"a.ply","cube":0})").cube, 0u);
+  EXPECT_FALSE(parse_job_request(R"({"kind":"build","input":"a.ply"})").cube);  // the C API's default
+  EXPECT_EQ(parse_job_request(R"({"kind":"build","input":"a.ply","cube":0})").cube, 0u);  // in core
   EXPECT_EQ(parse_job_request(R"({"kind":"build","input":"a.ply","cube":256})").cube, 256u);
   EXPECT_REFUSED(R"({"kind":"build","input":"a.ply","cube":4})", "\"cube\" must be 0 (always in core) or a power of two from 8");
   EXPECT_REFUSED(R"({"kind":"build","input":"a.ply","cube":100})", "\"cube\" must be 0 (always in core) or a power of two");

@@ -48,7 +48,10 @@ fi
 grep -q '"speedup_vs_bk": null' <<<"$json" || fail "a speedup from no ~1 MP cut: $json"
 grep -q '^speedup_vs_bk: not measured (no ~1 MP 8-connected cut' <<<"$text" || fail "no 'not measured' line: $text"
 
-# A folder that is not a database: one clear error, non-zero exit.
+# A folder that is not a database: one clear error, non-zero exit (with --json, as one JSON object on stdout).
 if "$mv" bench mask --data "$dir/nowhere" --json > "$dir/out.txt" 2> "$dir/err.txt"; then fail "a missing database passed"; fi
+grep -q '"error":.*no images in' "$dir/out.txt" && grep -q '"code":"MV_ERROR_' "$dir/out.txt" ||
+  fail "unclear error: $(cat "$dir/out.txt" "$dir/err.txt")"
+if "$mv" bench mask --data "$dir/nowhere" > "$dir/out.txt" 2> "$dir/err.txt"; then fail "a missing database passed"; fi
 grep -q "no images in" "$dir/err.txt" || fail "unclear error: $(cat "$dir/err.txt")"
 echo "bench mask smoke: ok"

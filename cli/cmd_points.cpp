@@ -168,8 +168,8 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       "  megavox points render scan.mvx -o scan.png --view front --up z\n"
       "  megavox points render scan.mvx -o close.png --eye 10,20,5 --target 0,0,2 --up 0,0,1 --fov 30\n"
       "With --during-build the input is a cloud (PLY, LAS): it is built, and --frames pictures of OMiCroN's rendering\n"
-      "front (the nodes drawn, kept and updated as the hierarchy grows; one camera) go to the folder -o, one JSON line\n"
-      "per frame. There the front draws every formed point unless --lod-pixels is given, which coarsens it as a\n"
+      "front (the nodes drawn, kept and updated as the hierarchy grows; one camera) go to the folder -o, a line per\n"
+      "frame (--json: a JSON line). There the front draws every formed point unless --lod-pixels is given, which coarsens it as a\n"
       "render's cut (front_nodes and points_drawn may then shrink as sibling groups prune into their parent):\n"
       "  megavox points render scan.las --during-build --frames 10 -o frames/");
   cmd->add_option("input", a->input, "The point .mvx file (--during-build: the point cloud)")->required();
@@ -207,6 +207,12 @@ void add_points_render(CLI::App& points, const GlobalOptions& g) {
       b.depth = a->depth;
       render_during_build(*dev, a->input, output, a->frames, b, a->render, [a](const BuildFrame& f) {
         if (a->camera.quiet) return;
+        if (!a->camera.json) {
+          std::printf("frame %u: %llu nodes, %llu drawn, %llu points -> %s\n", f.frame, (unsigned long long)f.nodes,
+                      (unsigned long long)f.front_nodes, (unsigned long long)f.points_drawn, f.path.c_str());
+          std::fflush(stdout);
+          return;
+        }
         nlohmann::json j = {{"frame", f.frame}, {"nodes", f.nodes}, {"front_nodes", f.front_nodes},
                           {"points_drawn", f.points_drawn}, {"file", f.path}};
         std::cout << j.dump() << std::endl;

@@ -29,7 +29,7 @@ void run_build(MvDevice dev, const JobRun& run) {
   const std::string message = mvGetJobMessage(j);
   mvReleaseJob(j);
   if (e == MV_ERROR_CANCELLED) throw JobStopped{};
-  if (e != MV_ERROR_NONE) throw Error(message);
+  if (e != MV_ERROR_NONE) throw CodedError(static_cast<ErrorCode>(e), message);
 }
 
 }  // namespace mv::serve

@@ -28,6 +28,7 @@ struct JobPool::Job {
   std::string status = "queued";   // queued, running, done, failed, cancelled
   double fraction = 0;
   std::string stage = "queued", message;  // stage: the running step; once the job ends, its status
+  ErrorCode code = ErrorCode::none;       // a failed job's kind of failure (megavox/error.h)
   std::atomic<bool> cancel{false};
   bool deleted = false;  // removed while running: its files go when it ends
   Clock::time_point created = Clock::now(), started{}, ended{};
@@ -181,6 +182,7 @@ json JobPool::describe(const Job& j) const {
                                                    : std::chrono::duration<double>(j.started - j.created).count()}};
   if (j.status == "running") d["secondsRunning"] = since(j.started);
   if (j.status == "done") d["result"] = "/v1/jobs/" + j.id + "/result";
+  if (j.status == "failed") d["code"] = error_code_name(j.code);
   return d;
 }
 
@@ -318,6 +320,7 @@ void JobPool::run(MvDevice dev, Job& job) {
   };
   JobRun r{job.request, job.input, job.seeds, job.model, job.dir, job.result, report};
   std::string failure;
+  ErrorCode code = ErrorCode::none;
   bool ok = false;
   try {
     switch (job.request.kind) {
@@ -328,7 +331,8 @@ void JobPool::run(MvDevice dev, Job& job) {
     }
     ok = true;
   } catch (const std::exception& e) {
-    failure = e.what();
+    failure = error_message(e);
+    code = classify(e);
   }
   std::lock_guard<std::mutex> g(lock_);
   if (job.cancel) {
@@ -336,9 +340,11 @@ void JobPool::run(MvDevice dev, Job& job) {
   } else if (!ok && timed_out) {
     job.status = "failed";
     job.message = "the job ran past the server's job timeout (" + std::to_string(int(options_.job_timeout)) + " s)";
+    job.code = ErrorCode::cancelled;
   } else if (!ok) {
     job.status = "failed";
     job.message = in_job_terms(failure);
+    job.code = code;
   } else {
     job.status = "done";
     job.fraction = 1;

@@ -56,7 +56,7 @@ void run_render(MvDevice dev, const JobRun& run) {
   }
   const std::string failure = e == MV_ERROR_NONE ? "" : mvGetDeviceLastErrorMessage(dev);
   mvReleaseScene(scene);
-  if (e != MV_ERROR_NONE) throw Error(failure);
+  if (e != MV_ERROR_NONE) throw CodedError(static_cast<ErrorCode>(e), failure);
   run.progress("write", 0.9);
   Image image;
   image.width = r.width;

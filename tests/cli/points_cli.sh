@@ -45,9 +45,13 @@ cmp -s "$dir/front.png" "$dir/far.png" && fail "--eye was ignored"
 "$mv" points build "$dir/lattice.ply" --format 3dtiles -o "$dir/tiles" > /dev/null
 [[ -s "$dir/tiles/tileset.json" ]] || fail "no tileset"
 "$mv" points render "$dir/lattice.ply" --during-build --frames 3 -o "$dir/frames" --max-node-points 500 \
-  --width 120 --height 90 > "$dir/frames.jsonl"
+  --width 120 --height 90 --json > "$dir/frames.jsonl"
 [[ $(wc -l < "$dir/frames.jsonl") == 3 && -s "$dir/frames/frame_0002.png" ]] || fail "frames: $(cat "$dir/frames.jsonl")"
 grep -q "\"front_nodes\":" "$dir/frames.jsonl" || fail "frames without front_nodes: $(cat "$dir/frames.jsonl")"
+"$mv" points render "$dir/lattice.ply" --during-build --frames 2 -o "$dir/frames_text" --max-node-points 500 \
+  --width 60 --height 45 > "$dir/frames.txt"
+[[ $(grep -c '^frame [01]: .* nodes, .* drawn, .* points -> ' "$dir/frames.txt") == 2 ]] ||
+  fail "frames without --json: $(cat "$dir/frames.txt")"
 "$mv" points build "$dir/lattice.ply" -o "$dir/ooc.mvx" --max-node-points 500 --memory 300K > /dev/null
 cmp -s "$dir/l.mvx" "$dir/ooc.mvx" || fail "out of core differs from in core"
 

@@ -160,6 +160,7 @@ element vertex two' "$url/v1/jobs?kind=build&resolution=16&name=bad.ply")
 badfinal=$(wait_job "$(jq -r .id <<< "$bad")")
 [[ $(jq -r .status <<< "$badfinal") == failed && -n $(jq -r .message <<< "$badfinal") && $(jq -r .stage <<< "$badfinal") == failed ]] ||
   fail "bad input: $badfinal"
+[[ $(jq -r .code <<< "$badfinal") == MV_ERROR_INPUT ]] || fail "bad input: no MV_ERROR_INPUT code: $badfinal"
 # failures name the job's keys, never the CLI's flags: a box past the image, cubes too many for the budget
 past=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"mask","input":"photo.png","rect":[40,20,20,20]}' "$url/v1/jobs")
 pastfinal=$(wait_job "$(jq -r .id <<< "$past")")

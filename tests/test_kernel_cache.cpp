@@ -66,20 +66,22 @@ TEST_P(KernelCacheTest, ColdCacheReportsItsCompilesAndWarmCacheNone) {
 }
 
 // A cache file the driver rejects (torn, or another driver's) is compiled again and replaced, not an error.
+// A damaged cache file never gives wrong results: OpenCL's binary is compiled again and replaced; Vulkan's
+// record only says a pipeline was compiled (the driver's cache holds the code), so the kernel runs as before.
 TEST_P(KernelCacheTest, DamagedCacheFilesAreCompiledAgain) {
-  if (GetParam().backend != "opencl") GTEST_SKIP() << "Vulkan keeps records of pipelines there, not binaries";
   const std::string cache = temp_path("damaged_cache_" + device_test_name({GetParam(), 0}));
   DeviceOptions o;
   o.selector = GetParam().selector();
   o.memory_budget = 64u << 20;
   o.kernel_cache = cache;
-  Device::open(o)->kernel(KernelId::morton_encode64);
+  expect_morton_keys(*Device::open(o));  // fills the cache
   std::vector<std::string> files;
   for (const auto& f : std::filesystem::directory_iterator(cache)) files.push_back(f.path());
-  ASSERT_EQ(files.size(), 1u);
-  write_bytes(files[0], {'n', 'o', 't'});
+  ASSERT_FALSE(files.empty());
+  for (const std::string& f : files) write_bytes(f, {'n', 'o', 't'});
   expect_morton_keys(*Device::open(o));
-  EXPECT_GT(std::filesystem::file_size(files[0]), 3u);
+  if (GetParam().backend == "opencl")
+    for (const std::string& f : files) EXPECT_GT(std::filesystem::file_size(f), 3u) << f;
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(KernelCacheTest);

@@ -15,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const mv::serve::JobRequest r = mv::serve::parse_job_request(std::string_view(reinterpret_cast<const char*>(data), size));
     MV_FUZZ_CHECK(r.kind == JobKind::build || r.kind == JobKind::render || r.kind == JobKind::points || r.kind == JobKind::mask);
     MV_FUZZ_CHECK(r.resolution >= 2 && r.resolution <= (1u << 21) && (r.resolution & (r.resolution - 1)) == 0);
-    MV_FUZZ_CHECK(r.cube == 0 || (r.cube >= 8 && r.cube <= (1u << 21) && (r.cube & (r.cube - 1)) == 0));
+    const uint32_t cube = r.cube.value_or(0);  // unset: the shared default
+    MV_FUZZ_CHECK(cube == 0 || (cube >= 8 && cube <= (1u << 21) && (cube & (cube - 1)) == 0));
     MV_FUZZ_CHECK(r.width >= 1 && r.width <= 8192 && r.height >= 1 && r.height <= 8192);
     MV_FUZZ_CHECK(r.kind == JobKind::render || r.scene.empty());
     MV_FUZZ_CHECK(r.input.empty() || r.scene.empty());

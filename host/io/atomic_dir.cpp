@@ -56,7 +56,24 @@ void swap_in(const fs::path& tmp, const fs::path& dir) {
   fs::remove_all(old, ec);
 }
 
+// The temporary folder this thread's write_dir_atomically is filling (empty when none).
+thread_local std::string t_folder;
+
+// Every file of the file system holding `dir` on disk (syncfs: one call for the whole folder).
+void sync_folder(const std::string& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const bool ok = fd >= 0 && ::syncfs(fd) == 0;
+  const int err = errno;
+  if (fd >= 0) ::close(fd);
+  if (!ok) throw Error("cannot sync '" + dir + "' to disk: " + std::strerror(err));
+}
+
 }  // namespace
+
+bool in_folder_being_written(const std::string& path) {
+  return !t_folder.empty() && path.size() > t_folder.size() && path.compare(0, t_folder.size(), t_folder) == 0 &&
+         path[t_folder.size()] == '/';
+}
 
 void write_dir_atomically(const std::string& dir, const std::string& marker,
                           const std::function<void(const std::string& tmp_dir)>& write) {
@@ -76,9 +93,13 @@ void write_dir_atomically(const std::string& dir, const std::string& marker,
     throw Error("cannot set the permissions of '" + tmp + "': " + std::strerror(err));
   }
   try {
+    t_folder = tmp;
     write(tmp);
+    t_folder.clear();
+    sync_folder(tmp);
     swap_in(tmp, target);
   } catch (const std::exception& e) {
+    t_folder.clear();
     std::error_code ec;
     fs::remove_all(tmp, ec);
     throw Error("cannot write '" + target.string() + "' (nothing was changed): " + e.what());

@@ -15,4 +15,9 @@ namespace mv::io {
 void write_dir_atomically(const std::string& dir, const std::string& marker,
                           const std::function<void(const std::string& tmp_dir)>& write);
 
+// Whether `path` lies in a temporary folder this thread is writing with write_dir_atomically: its files are
+// synced to disk together, once, before the folder takes its name (one sync per file would cost more than
+// the writing for a tileset of thousands of tiles), so the file writer need not sync each.
+bool in_folder_being_written(const std::string& path);
+
 }  // namespace mv::io

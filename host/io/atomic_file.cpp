@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 
+#include "atomic_dir.h"
 #include "file_ops.h"
 #include "megavox/error.h"
 #include "output_path.h"
@@ -61,7 +62,7 @@ class PendingFile {
 
   // Syncs the bytes and puts the file at the target's name, replacing an older file in one step.
   void publish() {
-    if (::fsync(fd_) != 0) fail(errno);
+    if (!in_folder_being_written(path_) && ::fsync(fd_) != 0) fail(errno);
     if (!named_.empty()) {
       if (rename_path(named_.c_str(), path_.c_str()) != 0) fail(errno, "cannot rename it into place");
       named_.clear();

@@ -11,7 +11,8 @@
 
 namespace mv::io {
 
-// Calls `write` on the temporary file (false = failed, errno says why), then flushes, syncs and names it PATH;
+// Calls `write` on the temporary file (false = failed, errno says why), then flushes, syncs (inside a folder
+// written whole, the folder is synced once instead: atomic_dir.h) and names it PATH;
 // on any failure nothing is left and mv::Error names PATH.
 void write_atomically(const std::string& path, const std::function<bool(std::FILE*)>& write);
 

@@ -2,7 +2,7 @@
 #include <sstream>
 #include <utility>
 
-#include "capi/handles.h"
+#include "handles.h"
 
 namespace mv::capi {
 

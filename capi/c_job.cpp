@@ -3,7 +3,7 @@
 #include <condition_variable>
 #include <thread>
 
-#include "capi/scene_build.h"
+#include "scene_build.h"
 
 struct MvJobTy : mv::capi::RefCounted {
   MvDevice device = nullptr;  // retained

@@ -3,7 +3,7 @@
 #include <cstring>
 #include <limits>
 
-#include "capi/scene_build.h"
+#include "scene_build.h"
 #include "io/output_path.h"
 #include "megavox/render.h"
 

@@ -1,4 +1,4 @@
-#include "capi/scene_build.h"
+#include "scene_build.h"
 
 #include <cstdio>
 #include <cstdlib>

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "capi/handles.h"
+#include "handles.h"
 #include "megavox/build.h"
 
 namespace mv::capi {

@@ -7,9 +7,9 @@
 #include <iostream>
 #include <optional>
 
-#include "bench/build_bench.h"
-#include "bench/stopwatch.h"
-#include "bench/voxcom_peer.h"
+#include "build_bench.h"
+#include "stopwatch.h"
+#include "voxcom_peer.h"
 #include "megavox/error.h"
 #include "build_args.h"
 #include "cli_common.h"

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "bench/flight_bench.h"
+#include "flight_bench.h"
 #include "cli_common.h"
 #include "megavox/error.h"
 #include "megavox/trace.h"

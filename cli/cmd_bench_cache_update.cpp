@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "bench/cache_bench.h"
+#include "cache_bench.h"
 #include "cli_common.h"
 
 namespace mv::cli {

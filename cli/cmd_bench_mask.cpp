@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <iostream>
 
-#include "baselines/baselines.h"
-#include "bench/mask_bench.h"
+#include "baselines.h"
+#include "mask_bench.h"
 #include "cli_common.h"
 
 namespace mv::cli {

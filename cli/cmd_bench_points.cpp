@@ -7,9 +7,9 @@
 #include <iostream>
 #include <optional>
 
-#include "bench/points_bench.h"
-#include "bench/scratch_dir.h"
-#include "bench/stopwatch.h"
+#include "points_bench.h"
+#include "scratch_dir.h"
+#include "stopwatch.h"
 #include "cli_common.h"
 #include "megavox/error.h"
 

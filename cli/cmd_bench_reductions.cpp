@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "bench/reduction_bench.h"
+#include "reduction_bench.h"
 #include "cli_common.h"
 #include "megavox/build.h"
 

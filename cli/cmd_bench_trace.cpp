@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <iostream>
 
-#include "baselines/baselines.h"
-#include "bench/trace_bench.h"
+#include "baselines.h"
+#include "trace_bench.h"
 #include "cli_common.h"
 #include "megavox/error.h"
 

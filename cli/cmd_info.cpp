@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "cache/page_layout.h"
+#include "paging/page_layout.h"
 #include "cli_common.h"
 #include "megavox/mvx.h"
 

@@ -14,8 +14,8 @@
 
 #include "cli_common.h"
 #include "megavox/error.h"
-#include "serve/http_api.h"
-#include "serve/job_pool.h"
+#include "http_api.h"
+#include "job_pool.h"
 
 namespace mv::cli {
 

@@ -5,5 +5,7 @@ add_library(megavox_capi STATIC
   capi/c_scene.cpp
   capi/c_job.cpp
   capi/scene_build.cpp)
-target_include_directories(megavox_capi PUBLIC ${CMAKE_BINARY_DIR}/include PRIVATE ${CMAKE_SOURCE_DIR})
-target_link_libraries(megavox_capi PUBLIC megavox_lib Threads::Threads)
+# Its users see the public headers alone (include/, and the generated version.h); the C++ library is private.
+target_include_directories(megavox_capi PUBLIC ${CMAKE_SOURCE_DIR}/include ${CMAKE_BINARY_DIR}/include
+                           PRIVATE ${CMAKE_SOURCE_DIR}/capi)
+target_link_libraries(megavox_capi PUBLIC Threads::Threads PRIVATE mv_core)

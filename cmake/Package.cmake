@@ -6,7 +6,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 # The static core goes into the shared library, so its code must be position independent.
-set_target_properties(megavox_lib megavox_capi PROPERTIES POSITION_INDEPENDENT_CODE ON)
+set_target_properties(megavox_capi PROPERTIES POSITION_INDEPENDENT_CODE ON)
 add_library(megavox_shared SHARED capi/shared_library.cpp)
 target_include_directories(megavox_shared PRIVATE ${CMAKE_SOURCE_DIR}/include ${CMAKE_BINARY_DIR}/include)
 # Before 1.0 a minor version may change the ABI: the SONAME carries both (libmegavox.so.0.1).
@@ -19,7 +19,7 @@ target_link_options(megavox_shared PRIVATE -Wl,--version-script=${CMAKE_SOURCE_D
 if(NOT MEGAVOX_SANITIZE)
   target_link_options(megavox_shared PRIVATE -Wl,--no-undefined)
 endif()
-target_link_libraries(megavox_shared PRIVATE "$<LINK_LIBRARY:WHOLE_ARCHIVE,megavox_capi>" megavox_lib)
+target_link_libraries(megavox_shared PRIVATE "$<LINK_LIBRARY:WHOLE_ARCHIVE,megavox_capi>" mv_core)
 target_include_directories(megavox_shared INTERFACE
   $<BUILD_INTERFACE:${CMAKE_SOURCE_DIR}/include> $<BUILD_INTERFACE:${CMAKE_BINARY_DIR}/include>
   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)

@@ -21,7 +21,7 @@ add_library(megavox_serve STATIC
   serve/tiles_archive.cpp
   serve/http_api.cpp
   ${CMAKE_BINARY_DIR}/serve_gen/openapi.cpp)
-target_include_directories(megavox_serve PUBLIC ${CMAKE_SOURCE_DIR})
-target_link_libraries(megavox_serve PUBLIC megavox_capi nlohmann_json::nlohmann_json PRIVATE PkgConfig::HTTPLIB PkgConfig::MINIZIP PkgConfig::LIBCRYPTO)
+target_include_directories(megavox_serve PUBLIC ${CMAKE_SOURCE_DIR}/serve PRIVATE ${CMAKE_SOURCE_DIR}/capi)
+target_link_libraries(megavox_serve PUBLIC megavox_capi nlohmann_json::nlohmann_json PRIVATE mv_core PkgConfig::HTTPLIB PkgConfig::MINIZIP PkgConfig::LIBCRYPTO)
 target_sources(megavox PRIVATE cli/cmd_serve.cpp)
 target_link_libraries(megavox PRIVATE megavox_serve)

@@ -1,4 +1,4 @@
-// decode_image and decode_seed_map (host/io/image_reader.h): PNG through libpng, JPEG through libjpeg-turbo,
+// decode_image and decode_seed_map (host/formats/io/image_reader.h): PNG through libpng, JPEG through libjpeg-turbo,
 // binary PNM by megavox's parser; the format is told from the content. The same bytes are then read as a seed
 // map of the size they declare (so a valid map passes the value checks too).
 #include <vector>

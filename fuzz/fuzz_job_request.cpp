@@ -7,7 +7,7 @@
 
 #include "fuzz_support.h"
 #include "megavox/error.h"
-#include "serve/job_request.h"
+#include "job_request.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using mv::serve::JobKind;

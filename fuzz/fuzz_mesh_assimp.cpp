@@ -1,4 +1,4 @@
-// open_mesh (host/io/mesh_source.h) on a file named .obj: assimp's OBJ importer (a PLY by content goes to
+// open_mesh (host/formats/io/mesh_source.h) on a file named .obj: assimp's OBJ importer (a PLY by content goes to
 // megavox's own reader instead), then every triangle. A crash inside assimp is third-party: see
 // BENCHMARKS.md, "Fuzzing".
 #include <cmath>

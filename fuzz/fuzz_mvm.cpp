@@ -1,4 +1,4 @@
-// decode_mvm (host/io/mvm_file.h): mask models, every field, the size and the checksum checked. Each input is
+// decode_mvm (host/formats/io/mvm_file.h): mask models, every field, the size and the checksum checked. Each input is
 // read twice, as it is and with its XXH64 recomputed, so mutations get past the checksum to the fields.
 #include <xxhash.h>
 

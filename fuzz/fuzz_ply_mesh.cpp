@@ -1,4 +1,4 @@
-// PlyMeshReader (host/io/ply_reader.h): the header, every vertex and every triangle.
+// PlyMeshReader (host/formats/io/ply_reader.h): the header, every vertex and every triangle.
 #include <cmath>
 #include <vector>
 

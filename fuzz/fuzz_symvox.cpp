@@ -1,4 +1,4 @@
-// read_symvox (host/io/symvox_file.h): SymVox-family DAG files. There is no magic number and no format
+// read_symvox (host/formats/io/symvox_file.h): SymVox-family DAG files. There is no magic number and no format
 // argument: the reader tells the 32-bit layout (.svdag, .ussvdag) from the 16-bit one (.ssvdag) by the sizes
 // the content declares, so one target covers both (seeds of each in fuzz/corpus/fuzz_symvox/).
 #include <algorithm>

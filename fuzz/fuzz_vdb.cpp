@@ -1,4 +1,4 @@
-// read_vdb (host/io/vdb_source.h): an OpenVDB file's first grid as voxels, at its own size or resampled. A
+// read_vdb (host/formats/io/vdb_source.h): an OpenVDB file's first grid as voxels, at its own size or resampled. A
 // crash inside OpenVDB is third-party: see BENCHMARKS.md, "Fuzzing".
 #include <algorithm>
 #include <vector>

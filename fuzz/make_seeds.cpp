@@ -30,7 +30,7 @@
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
-#include "serve/job_request.h"
+#include "job_request.h"
 #include "mask_seeds.h"
 
 namespace fs = std::filesystem;

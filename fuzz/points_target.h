@@ -1,4 +1,4 @@
-// The body of fuzz_ply_points and fuzz_las: open_points (host/io/point_source.h) and every point. Both take
+// The body of fuzz_ply_points and fuzz_las: open_points (host/formats/io/point_source.h) and every point. Both take
 // any content (the reader is chosen by the first bytes); they differ in their seeds and the file's name.
 #pragma once
 #include <vector>

@@ -29,7 +29,7 @@ class BackendArena {
  public:
   virtual ~BackendArena() = default;
   // Where the device computes in host memory (CPU devices), the arena's storage as the host sees it; else null.
-  // The pool touches fresh ranges of it from all cores before handing them out (host/huge_pages.h prefault).
+  // The pool touches fresh ranges of it from all cores before handing them out (host/base/huge_pages.h prefault).
   void* host = nullptr;
 };
 

@@ -12,6 +12,8 @@ if [[ ! -x build/peers/voxcom/voxelizer ]]; then
   else echo "bench: no $peer here, so bench build runs without its peer (voxcom)" >&2; fi
 fi
 out=${1:-/dev/null}
+# The test data: $MEGAVOX_TEST_DATA, or the shared folder beside the checkout.
+data=${MEGAVOX_TEST_DATA:-../shared/data}
 : >"$out"
 run() {
   echo "\$ $*" >&2
@@ -32,17 +34,17 @@ build/megavox build build/bunny.ply --resolution 2K --format ssvdag -o build/bun
 run build/megavox --device ocl:0 bench trace build/bunny_svdag.mvx build/bunny_ssvdag.mvx --mesh build/bunny.ply --json
 run build/megavox --device vk:0 bench trace build/bunny_svdag.mvx build/bunny_ssvdag.mvx --mesh build/bunny.ply --repeats 3 --json
 # The build beside its peer at 2K: thin rule, grid at the min corner (voxcom's), the SSVDAG.
-for mesh in ../shared/data/meshes_stanford/stanford_bunny.ply ../shared/data/meshes_misc/koala.ply; do
+for mesh in "$data"/meshes_stanford/stanford_bunny.ply "$data"/meshes_misc/koala.ply; do
   if [[ -f $mesh ]]; then
     run build/megavox --device ocl:0 bench build "$mesh" --resolution 2K --voxelize thin --grid-origin min --format ssvdag --json
   fi
 done
 # Point clouds: the shared clouds and 100M points sampled from igea (about 4 minutes and 9 GiB of RAM).
 clouds=()
-for c in ../shared/data/pointcloud_autzen/autzen_trim.las ../shared/data/pointcloud_lion_takanawa/lion_takanawa.ply; do
+for c in "$data"/pointcloud_autzen/autzen_trim.las "$data"/pointcloud_lion_takanawa/lion_takanawa.ply; do
   [[ -f $c ]] && clouds+=("$c")
 done
-igea=../shared/data/meshes_misc/igea.ply
+igea="$data"/meshes_misc/igea.ply
 if [[ -f $igea ]]; then
   run build/megavox --device ocl:0 bench points "${clouds[@]}" --sample-mesh "$igea" --sample-points 100M --json
 elif ((${#clouds[@]})); then

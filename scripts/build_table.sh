@@ -2,14 +2,14 @@
 # The build table of BENCHMARKS.md: `megavox bench build` per mesh at one resolution, thin then conservative
 # (min corner, ssvdag, default budgets), with voxcom's voxelizer beside the thin run when it is built
 # (build/peers/voxcom; scripts/bench.sh builds it). Prints Markdown rows; the full JSON goes to OUT.jsonl.
-# Usage: scripts/build_table.sh OUT.jsonl RES mesh.ply...   (default meshes: ../shared/data meshes)
+# Usage: scripts/build_table.sh OUT.jsonl RES mesh.ply...   (default meshes: those of $MEGAVOX_TEST_DATA, default ../shared/data)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/build_table.jsonl}
 res=${2:-16K}
 shift 2 || true
 meshes=("$@")
-if [ ${#meshes[@]} -eq 0 ]; then meshes=(../shared/data/meshes_*/*.ply); fi
+if [ ${#meshes[@]} -eq 0 ]; then meshes=("${MEGAVOX_TEST_DATA:-../shared/data}"/meshes_*/*.ply); fi
 : >"$out"
 echo "| mesh | triangles | res | rule | voxels | DAG nodes | megavox s | Mvoxels/s | peak RSS GB | voxcom s | voxcom RSS GB | megavox / voxcom time | RSS ratio | conservative / thin time |"
 echo "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"

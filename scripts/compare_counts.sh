@@ -3,14 +3,14 @@
 # the voxcom tools), for comparison with other tools' builds: one `megavox build --json` per mesh,
 # resolution, rule and encoding (svdag, then ssvdag), summarised as Markdown rows; the full JSON
 # (per-level counts) goes to OUT.jsonl.
-# Usage: scripts/compare_counts.sh OUT.jsonl "2K 4K" mesh.ply...   (default meshes: ../shared/data meshes)
+# Usage: scripts/compare_counts.sh OUT.jsonl "2K 4K" mesh.ply...   (default meshes: those of $MEGAVOX_TEST_DATA, default ../shared/data)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/compare_counts.jsonl}
 resolutions=${2:-"2K 4K"}
 shift 2 || true
 meshes=("$@")
-if [ ${#meshes[@]} -eq 0 ]; then meshes=(../shared/data/meshes_*/*.ply); fi
+if [ ${#meshes[@]} -eq 0 ]; then meshes=("${MEGAVOX_TEST_DATA:-../shared/data}"/meshes_*/*.ply); fi
 : >"$out"
 echo "| mesh | res | rule | voxels | SVO nodes | SVDAG nodes | SSVDAG nodes | SVDAG bits/voxel | SSVDAG bits/voxel | SSVDAG/SVDAG bytes |"
 echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"

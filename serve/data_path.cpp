@@ -1,4 +1,4 @@
-#include "serve/data_path.h"
+#include "data_path.h"
 
 #include <filesystem>
 

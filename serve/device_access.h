@@ -4,7 +4,7 @@
 #pragma once
 #include <mutex>
 
-#include "capi/handles.h"
+#include "handles.h"
 
 namespace mv::serve {
 

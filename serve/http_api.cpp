@@ -1,4 +1,4 @@
-#include "serve/http_api.h"
+#include "http_api.h"
 
 #include <httplib.h>
 #include <sys/socket.h>

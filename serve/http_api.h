@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "serve/job_pool.h"
+#include "job_pool.h"
 
 namespace httplib {
 class Server;

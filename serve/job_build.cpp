@@ -4,7 +4,7 @@
 #include <thread>
 
 #include "megavox/error.h"
-#include "serve/job_run.h"
+#include "job_run.h"
 
 namespace mv::serve {
 

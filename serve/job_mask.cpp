@@ -5,8 +5,8 @@
 #include "io/png_grey.h"
 #include "megavox/error.h"
 #include "megavox/mask.h"
-#include "serve/device_access.h"
-#include "serve/job_run.h"
+#include "device_access.h"
+#include "job_run.h"
 
 namespace mv::serve {
 

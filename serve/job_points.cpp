@@ -3,9 +3,9 @@
 #include <filesystem>
 
 #include "megavox/point_build.h"
-#include "serve/device_access.h"
-#include "serve/job_run.h"
-#include "serve/tiles_archive.h"
+#include "device_access.h"
+#include "job_run.h"
+#include "tiles_archive.h"
 
 namespace mv::serve {
 

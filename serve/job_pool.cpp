@@ -1,4 +1,4 @@
-#include "serve/job_pool.h"
+#include "job_pool.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,9 +10,9 @@
 
 #include "megavox/build.h"
 #include "megavox/error.h"
-#include "serve/data_path.h"
-#include "serve/job_run.h"
-#include "serve/job_words.h"
+#include "data_path.h"
+#include "job_run.h"
+#include "job_words.h"
 
 namespace mv::serve {
 

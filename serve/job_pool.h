@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "megavox/megavox.h"
-#include "serve/job_request.h"
+#include "job_request.h"
 
 namespace mv::serve {
 

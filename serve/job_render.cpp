@@ -6,7 +6,7 @@
 #include "megavox/error.h"
 #include "megavox/grid.h"
 #include "megavox/render.h"
-#include "serve/job_run.h"
+#include "job_run.h"
 
 namespace mv::serve {
 

@@ -1,4 +1,4 @@
-#include "serve/job_request.h"
+#include "job_request.h"
 
 #include <cmath>
 #include <initializer_list>

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "megavox/megavox.h"
-#include "serve/job_request.h"
+#include "job_request.h"
 
 namespace mv::serve {
 

@@ -1,4 +1,4 @@
-#include "serve/job_words.h"
+#include "job_words.h"
 
 #include "option_words.h"
 

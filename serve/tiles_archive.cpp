@@ -1,4 +1,4 @@
-#include "serve/tiles_archive.h"
+#include "tiles_archive.h"
 
 #include <openssl/evp.h>
 #include <zip.h>

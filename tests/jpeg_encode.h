@@ -1,7 +1,7 @@
 // JPEG test images for the image reader's tests and the fuzz seeds (fuzz/mask_seeds.h): the library's own
 // encoder, at full quality unless asked.
 #pragma once
-#include "../host/io/jpeg_encode.h"
+#include "io/jpeg_encode.h"
 
 namespace mv::test {
 

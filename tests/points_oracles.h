@@ -1,4 +1,4 @@
-// The OMiCroN oracles on a finished hierarchy, and byte equality of two hierarchies (tests of host/points/).
+// The OMiCroN oracles on a finished hierarchy, and byte equality of two hierarchies (tests of host/core/points/).
 #pragma once
 #include "megavox/points.h"
 

@@ -3,8 +3,8 @@
 #include <initializer_list>
 #include <random>
 
-#include "host/ref/reference.h"
-#include "kernels/common/ssvdag.h"
+#include "reference.h"
+#include "common/ssvdag.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
 #include "megavox/voxelize.h"

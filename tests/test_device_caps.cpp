@@ -3,7 +3,7 @@
 
 #include <cctype>
 
-#include "launch_shape.h"
+#include "primitives/launch_shape.h"
 #include "test_support.h"
 
 namespace mv::test {

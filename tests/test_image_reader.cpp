@@ -6,7 +6,7 @@
 #include <jpeglib.h>
 #include <png.h>
 
-#include "host/io/image_reader.h"
+#include "io/image_reader.h"
 #include "megavox/render.h"
 #include "jpeg_encode.h"
 #include "test_support.h"

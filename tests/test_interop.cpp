@@ -10,9 +10,9 @@
 #include <fstream>
 #include <iterator>
 
-#include "host/build_steps.h"
-#include "host/io/symvox_file.h"
-#include "host/ref/reference.h"
+#include "voxel/build_steps.h"
+#include "io/symvox_file.h"
+#include "reference.h"
 #include "megavox/build.h"
 #include "megavox/error.h"
 #include "megavox/interop.h"

@@ -3,8 +3,8 @@
 // kernels compute the same.
 #include <filesystem>
 
-#include "host/ref/reference.h"
-#include "kernels/common/morton.h"
+#include "reference.h"
+#include "common/morton.h"
 #include "test_support.h"
 
 namespace mv::test {

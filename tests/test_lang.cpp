@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "kernels/common/lang_probe.h"
+#include "common/lang_probe.h"
 #include "kernel_table.h"
 #include "megavox/error.h"
 #include "test_support.h"

@@ -4,7 +4,7 @@
 #include <array>
 #include <cstring>
 
-#include "kernels/common/layout_probe.h"
+#include "common/layout_probe.h"
 #include "test_support.h"
 
 namespace mv::test {

@@ -5,12 +5,12 @@
 #include <cmath>
 #include <random>
 
-#include "host/io/image_reader.h"
-#include "host/io/mvm_file.h"
-#include "host/mask/grabcut.h"
-#include "host/mask/mask_score.h"
-#include "host/ref/mask_reference.h"
-#include "host/ref/min_cut_reference.h"
+#include "io/image_reader.h"
+#include "io/mvm_file.h"
+#include "mask/grabcut.h"
+#include "mask/mask_score.h"
+#include "mask_reference.h"
+#include "min_cut_reference.h"
 #include "megavox/mask.h"
 #include "megavox/min_cut.h"
 #include "test_support.h"

@@ -4,7 +4,7 @@
 // the graph checks' messages.
 #include <random>
 
-#include "host/ref/min_cut_reference.h"
+#include "min_cut_reference.h"
 #include "megavox/min_cut.h"
 #include "test_support.h"
 

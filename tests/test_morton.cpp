@@ -1,5 +1,5 @@
 // Morton encoding on every device vs the bit-by-bit reference.
-#include "host/ref/reference.h"
+#include "reference.h"
 #include "megavox/primitives.h"
 #include "test_support.h"
 

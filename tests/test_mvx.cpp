@@ -7,8 +7,8 @@
 #include <fstream>
 #include <random>
 
-#include "host/ref/reference.h"
-#include "kernels/common/trace_nodes.h"
+#include "reference.h"
+#include "common/trace_nodes.h"
 #include "megavox/dag.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"

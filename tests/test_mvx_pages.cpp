@@ -10,8 +10,8 @@
 #include <fstream>
 #include <thread>
 
-#include "cache/paged_ssvdag.h"
-#include "cache/paged_stream.h"
+#include "paging/paged_ssvdag.h"
+#include "paging/paged_stream.h"
 #include "io/file_ops.h"
 #include "io/mvx_format.h"
 #include "io/mvx_pages.h"

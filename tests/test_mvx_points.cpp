@@ -13,7 +13,7 @@
 #include "megavox/dag.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
-#include "ref/points_reference.h"
+#include "points_reference.h"
 #include "test_support.h"
 
 namespace mv::test {

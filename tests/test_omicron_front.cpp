@@ -1,4 +1,4 @@
-// OMiCroN's rendering front (host/points/omicron_front.h) kept over a growing OmicronBuilder, with the paper's
+// OMiCroN's rendering front (host/core/points/omicron_front.h) kept over a growing OmicronBuilder, with the paper's
 // invariants checked after every step: spans in Morton order and covering every formed point once (2.1), no
 // placeholder left whose settled leaf exists, no absorbed node drawn, every drawn inner node fine enough; and at
 // the end, the finished hierarchy's leaves (no LOD) or its top-down cut (a LOD rule), on every device.

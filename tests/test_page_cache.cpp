@@ -7,9 +7,9 @@
 #include <random>
 #include <set>
 
-#include "../kernels/common/page_cache.h"
+#include "common/page_cache.h"
 #include "cache/page_cache.h"
-#include "ref/cache_reference.h"
+#include "cache_reference.h"
 #include "test_support.h"
 
 namespace mv::test {

@@ -1,11 +1,11 @@
-// Node orders for paging (host/cache/page_layout.h) on host-built octrees and DAGs: every node in exactly one
+// Node orders for paging (host/formats/paging/page_layout.h) on host-built octrees and DAGs: every node in exactly one
 // page and none overlapping, level order with large pages is the stream itself, padding stays small, the
 // subtree order reads fewer pages per descent, and what cannot be paged is a clear error.
 #include <algorithm>
 #include <map>
 #include <random>
 
-#include "cache/page_layout.h"
+#include "paging/page_layout.h"
 #include "test_support.h"
 
 namespace mv::test {

@@ -1,11 +1,11 @@
-// The paged ssvdag (host/cache/paged_ssvdag.h) on host-built DAGs: the round trip through pages gives the
+// The paged ssvdag (host/formats/paging/paged_ssvdag.h) on host-built DAGs: the round trip through pages gives the
 // resident encoding back byte for byte at every page size, no node crosses a page, pointers that grow past 13
 // bits with the padding take 32 bits, paging costs little space at realistic page sizes, and a damaged paged
 // stream is a clear error, never a read out of bounds.
 #include <algorithm>
 #include <random>
 
-#include "cache/paged_ssvdag.h"
+#include "paging/paged_ssvdag.h"
 #include "test_support.h"
 
 namespace mv::test {

@@ -1,11 +1,11 @@
-// The paged node stream (host/cache/paged_stream.h) on host-built octrees and DAGs of every 32-bit encoding:
+// The paged node stream (host/formats/paging/paged_stream.h) on host-built octrees and DAGs of every 32-bit encoding:
 // the round trip through a page layout and back to level order keeps the voxels, the word count and the level
 // offsets (and the bytes of a stream already in discovery order), paging costs little space at realistic page
 // sizes, and a damaged paged stream is a clear error, never a read out of bounds.
 #include <algorithm>
 #include <random>
 
-#include "cache/paged_stream.h"
+#include "paging/paged_stream.h"
 #include "test_support.h"
 
 namespace mv::test {

@@ -1,4 +1,4 @@
-// Paged traversal (issue 27): the trace kernel reading a paged DAG through the device page cache.
+// Paged traversal: the trace kernel reading a paged DAG through the device page cache.
 //  - one pass of the kernel equals the same code on the host over the same cache state: hits (coarse where a
 //    page was missing), usage stamps and page requests;
 //  - ray queries and renders converge to the resident results, byte for byte, with a cache far smaller than
@@ -9,13 +9,13 @@
 #include <random>
 
 #include "cache/page_cache.h"
-#include "cache/page_layout.h"
-#include "cache/paged_ssvdag.h"
-#include "cache/paged_stream.h"
-#include "host/build_steps.h"
-#include "host/ref/reference.h"
-#include "host/trace/trace_engine.h"
-#include "kernels/common/trace.h"
+#include "paging/page_layout.h"
+#include "paging/paged_ssvdag.h"
+#include "paging/paged_stream.h"
+#include "voxel/build_steps.h"
+#include "reference.h"
+#include "trace/trace_engine.h"
+#include "common/trace.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"

@@ -1,4 +1,4 @@
-// The point-cloud LOD build (host/points/) against its plain C++ references (host/ref/points_reference.h) and
+// The point-cloud LOD build (host/core/points/) against its plain C++ references (host/ref/points_reference.h) and
 // the OMiCroN oracles: every point once at the leaves, representatives copied from their subtree, codes
 // consistent with their parents, the same bytes for every prefix size and device, and a valid cut after every
 // step.
@@ -12,7 +12,7 @@
 #include "megavox/point_build.h"
 #include "points/omicron.h"
 #include "points/point_kernels.h"
-#include "ref/points_reference.h"
+#include "points_reference.h"
 #include "points_oracles.h"
 #include "test_support.h"
 

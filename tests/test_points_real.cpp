@@ -10,7 +10,7 @@
 #include "megavox/point_build.h"
 #include "megavox/point_render.h"
 #include "points_oracles.h"
-#include "ref/points_reference.h"
+#include "points_reference.h"
 #include "test_support.h"
 
 namespace mv::test {

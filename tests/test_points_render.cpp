@@ -6,8 +6,8 @@
 
 #include "megavox/point_render.h"
 #include "points/point_frame.h"
-#include "ref/points_reference.h"
-#include "ref/splat_reference.h"
+#include "points_reference.h"
+#include "splat_reference.h"
 #include "test_support.h"
 
 namespace mv::test {

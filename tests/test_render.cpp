@@ -5,13 +5,13 @@
 #include <fstream>
 #include <map>
 
-#include "host/ref/reference.h"
+#include "reference.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"
-#include "host/build_steps.h"
+#include "voxel/build_steps.h"
 #include "test_support.h"
 
 namespace mv::test {

@@ -1,9 +1,9 @@
 // Device discovery, selection and kernel build errors.
 #include <cstdlib>
 
-#include "kernels/common/morton.h"
+#include "common/morton.h"
 #include "megavox/error.h"
-#include "host/ref/reference.h"
+#include "reference.h"
 #include "test_support.h"
 
 namespace mv::test {

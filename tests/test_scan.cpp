@@ -1,6 +1,6 @@
 // Exclusive scan on every device vs the reference: 32-bit sums, exact 64-bit sums, and host arrays in chunks.
-#include "host/chunking.h"
-#include "host/ref/reference.h"
+#include "primitives/chunking.h"
+#include "reference.h"
 #include "megavox/primitives.h"
 #include "test_support.h"
 

@@ -5,9 +5,9 @@
 #include <numeric>
 #include <utility>
 
-#include "host/chunking.h"
-#include "kernels/common/radix_sort.h"
-#include "host/ref/reference.h"
+#include "primitives/chunking.h"
+#include "common/radix_sort.h"
+#include "reference.h"
 #include "megavox/primitives.h"
 #include "test_support.h"
 

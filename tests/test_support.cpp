@@ -13,8 +13,8 @@
 
 #include <unistd.h>
 
-#include "host/io/mesh_source.h"
-#include "host/ref/reference.h"
+#include "io/mesh_source.h"
+#include "reference.h"
 #include "megavox/voxelize.h"
 
 namespace mv::test {

@@ -4,15 +4,15 @@
 #include <cmath>
 #include <random>
 
-#include "host/ref/reference.h"
-#include "kernels/common/morton.h"
-#include "host/ref/trace_reference.h"
-#include "host/trace/trace_engine.h"
+#include "reference.h"
+#include "common/morton.h"
+#include "trace_reference.h"
+#include "trace/trace_engine.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
 #include "megavox/error.h"
 #include "megavox/trace.h"
-#include "host/build_steps.h"
+#include "voxel/build_steps.h"
 #include "test_support.h"
 
 namespace mv::test {

@@ -5,7 +5,7 @@
 #include <array>
 #include <random>
 
-#include "host/triangle_buckets.h"
+#include "voxel/triangle_buckets.h"
 
 namespace mv::test {
 namespace {

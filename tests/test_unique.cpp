@@ -1,8 +1,8 @@
 // Unique of sorted 64-bit keys on every device vs the reference: device buffers, and host arrays in chunks.
 #include <algorithm>
 
-#include "host/chunking.h"
-#include "host/ref/reference.h"
+#include "primitives/chunking.h"
+#include "reference.h"
 #include "megavox/primitives.h"
 #include "test_support.h"
 

@@ -12,7 +12,7 @@
 #include "megavox/build.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
-#include "host/ref/reference.h"
+#include "reference.h"
 #include "test_support.h"
 
 namespace mv::test {

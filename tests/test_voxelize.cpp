@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <random>
 
-#include "host/ref/reference.h"
-#include "kernels/common/voxelize.h"
+#include "reference.h"
+#include "common/voxelize.h"
 #include "megavox/voxelize.h"
 #include "megavox/error.h"
 #include "test_support.h"

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <random>
 
-#include "host/ref/reference.h"
+#include "reference.h"
 #include "megavox/build.h"
 #include "megavox/encode.h"
 #include "megavox/mvx.h"

@@ -9,7 +9,7 @@
 #include <array>
 #include <cstdio>
 
-#include "host/ref/reference.h"
+#include "reference.h"
 #include "megavox/voxelize.h"
 #include "test_support.h"
 

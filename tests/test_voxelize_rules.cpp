@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "host/ref/reference.h"
-#include "kernels/common/voxelize.h"
+#include "reference.h"
+#include "common/voxelize.h"
 #include "megavox/error.h"
 #include "megavox/voxelize.h"
 #include "test_support.h"

@@ -1,5 +1,5 @@
 // What this build of the baselines holds (compile definitions of the megavox_baselines target).
-#include "baselines/baselines.h"
+#include "baselines.h"
 
 namespace mv::baseline {
 

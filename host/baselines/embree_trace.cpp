@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "baselines/baselines.h"
+#include "baselines.h"
 #include "megavox/error.h"
 #include "timing.h"
 

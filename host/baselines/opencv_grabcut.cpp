@@ -1,7 +1,7 @@
 // The GrabCut baseline: OpenCV's cv::grabCut from a box (present only when built in).
 #include <chrono>
 
-#include "baselines/baselines.h"
+#include "baselines.h"
 #include "megavox/error.h"
 #include "timing.h"
 

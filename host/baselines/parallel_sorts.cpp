@@ -1,6 +1,6 @@
 // The parallel CPU sort baselines that sort records by key: Boost.Sort's block_indirect_sort and ips4o's
 // parallel samplesort (each present only when built in).
-#include "baselines/baselines.h"
+#include "baselines.h"
 
 #if MEGAVOX_HAVE_BOOST_SORT
 #include <boost/sort/sort.hpp>

@@ -1,6 +1,6 @@
 // The vectorized quicksort baseline: Highway's vqsort through hwy::Sorter, the entry points Debian's
 // libhwy_contrib exports (present only when built in). It picks its SIMD target at run time.
-#include "baselines/baselines.h"
+#include "baselines.h"
 
 #if MEGAVOX_HAVE_VQSORT
 #include <hwy/contrib/sort/vqsort.h>

@@ -1,11 +1,11 @@
-#include "bench/build_bench.h"
+#include "build_bench.h"
 
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <filesystem>
 
-#include "bench/scratch_dir.h"
+#include "scratch_dir.h"
 #include "megavox/error.h"
 #include "stopwatch.h"
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/plain_read.h"
-#include "bench/voxcom_peer.h"
+#include "plain_read.h"
+#include "voxcom_peer.h"
 #include "megavox/build.h"
 #include "megavox/device.h"
 

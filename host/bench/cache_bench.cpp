@@ -1,12 +1,12 @@
-#include "bench/cache_bench.h"
+#include "cache_bench.h"
 
 #include <algorithm>
 #include <cstring>
 #include <list>
 #include <vector>
 
-#include "../kernels/common/page_cache.h"
-#include "bench/stopwatch.h"
+#include "common/page_cache.h"
+#include "stopwatch.h"
 #include "cache/page_cache.h"
 #include "megavox/error.h"
 

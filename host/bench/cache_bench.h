@@ -1,4 +1,4 @@
-// `megavox bench cache-update`: the page cache's update pass (host/cache/page_cache.h) per pass, against a
+// `megavox bench cache-update`: the page cache's update pass (host/core/cache/page_cache.h) per pass, against a
 // classic CPU LRU (a linked list of slots and a page map, as the thesis compares with, notes 8.3) over the
 // same kind of passes: a view of `view` consecutive pages drifting `drift` pages a pass over `pages` pages.
 #pragma once

@@ -1,10 +1,10 @@
-#include "bench/flight_bench.h"
+#include "flight_bench.h"
 
 #include <cmath>
 #include <memory>
 #include <numbers>
 
-#include "bench/stopwatch.h"
+#include "stopwatch.h"
 #include "cache/page_cache.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"

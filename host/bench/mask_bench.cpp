@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "baselines/baselines.h"
+#include "baselines.h"
 #include "io/image_reader.h"
 #include "mask/grabcut.h"
 #include "mask/mask_score.h"
 #include "megavox/error.h"
 #include "megavox/mask.h"
 #include "megavox/min_cut.h"
-#include "ref/min_cut_reference.h"
+#include "min_cut_reference.h"
 #include "stopwatch.h"
 
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-#include "bench/plain_read.h"
+#include "plain_read.h"
 
 #include <cstdio>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "bench/points_bench.h"
+#include "points_bench.h"
 
 #include <sys/resource.h>
 
@@ -12,7 +12,7 @@
 #include <fstream>
 #include <random>
 
-#include "bench/scratch_dir.h"
+#include "scratch_dir.h"
 #include "io/mesh_source.h"
 #include "io/point_source.h"
 #include "megavox/error.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/plain_read.h"
+#include "plain_read.h"
 #include "megavox/device.h"
 #include "megavox/point_build.h"
 

@@ -1,4 +1,4 @@
-#include "bench/reduction_bench.h"
+#include "reduction_bench.h"
 
 #include <chrono>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "bench/scratch_dir.h"
+#include "scratch_dir.h"
 
 #include <stdlib.h>
 

@@ -1,4 +1,4 @@
-#include "bench/sort_baselines.h"
+#include "sort_baselines.h"
 
 #include <tbb/parallel_sort.h>
 
@@ -6,7 +6,7 @@
 #include <span>
 #include <type_traits>
 
-#include "baselines/baselines.h"
+#include "baselines.h"
 
 #include "stopwatch.h"
 

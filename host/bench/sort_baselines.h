@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/sort_bench.h"
+#include "sort_bench.h"
 
 namespace mv::bench {
 

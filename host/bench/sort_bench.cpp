@@ -1,11 +1,11 @@
-#include "bench/sort_bench.h"
+#include "sort_bench.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <map>
 
-#include "baselines/baselines.h"
+#include "baselines.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
 #include "sort_baselines.h"

@@ -1,5 +1,5 @@
 // `megavox bench trace` (see trace_bench.h).
-#include "bench/trace_bench.h"
+#include "trace_bench.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,13 +11,13 @@
 #include <cmath>
 #include <memory>
 
-#include "baselines/baselines.h"
+#include "baselines.h"
 #include "io/mesh_source.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"
-#include "ref/trace_reference.h"
+#include "trace_reference.h"
 #include "render/frame.h"
 #include "trace/host_trace.h"
 

@@ -1,4 +1,4 @@
-#include "bench/voxcom_peer.h"
+#include "voxcom_peer.h"
 
 #include <fcntl.h>
 #include <sys/resource.h>
@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "bench/scratch_dir.h"
+#include "scratch_dir.h"
 #include "io/vdb_source.h"
 #include "megavox/error.h"
 #include "stopwatch.h"

@@ -1,4 +1,4 @@
-#include "ref/cache_reference.h"
+#include "cache_reference.h"
 
 #include <algorithm>
 

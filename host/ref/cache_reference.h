@@ -1,4 +1,4 @@
-// Plain C++ reference of the page cache's update pass (host/cache/page_cache.h), written from the notes'
+// Plain C++ reference of the page cache's update pass (host/core/cache/page_cache.h), written from the notes'
 // description (gigavoxels-cache.md 6.2-6.9) with sequential loops and std::stable_partition, sharing no
 // code with the kernels: the oracle the device cache is compared with, state for state.
 #pragma once

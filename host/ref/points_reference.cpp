@@ -1,4 +1,4 @@
-#include "ref/points_reference.h"
+#include "points_reference.h"
 
 #include <algorithm>
 #include <deque>

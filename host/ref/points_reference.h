@@ -1,4 +1,4 @@
-// Plain C++ references of the point-cloud LOD build (host/points/): the representatives of a level's parents,
+// Plain C++ references of the point-cloud LOD build (host/core/points/): the representatives of a level's parents,
 // and the whole hierarchy built top-down by recursive splitting, a different algorithm from the streaming
 // bottom-up build, which the tests compare byte for byte.
 #pragma once

@@ -1,6 +1,6 @@
 #include "reference.h"
 
-#include "../../kernels/common/voxelize.h"
+#include "common/voxelize.h"
 
 #include <map>
 #include <utility>

@@ -1,5 +1,8 @@
 // Plain C++ reference implementations: the oracle every kernel's test compares against. Written for
-// obviousness, not speed, and independent of the kernel sources (no shared code with kernels/common).
+// obviousness, not speed, and apart from the kernels: each walks the whole problem its own plain way (every
+// voxel of a box, plain maps, one sort). Where bytes must match a kernel's exactly, a reference shares the one
+// decisive predicate on purpose and says so (voxelize: kernels/common/voxelize.h's mv_voxel_hit and
+// mv_voxel_floor), so that a test checks the kernel's traversal of the problem, not float rounding.
 #pragma once
 #include <algorithm>
 #include <cstdint>

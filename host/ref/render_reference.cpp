@@ -2,7 +2,7 @@
 #include <tbb/parallel_for.h>
 
 #include "megavox/render.h"
-#include "ref/trace_reference.h"
+#include "trace_reference.h"
 #include "trace/host_trace.h"
 #include "render/frame.h"
 

@@ -1,4 +1,4 @@
-#include "ref/splat_reference.h"
+#include "splat_reference.h"
 
 #include <algorithm>
 

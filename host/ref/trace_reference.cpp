@@ -1,9 +1,9 @@
 // Flat-DDA reference traversal (see trace_reference.h).
-#include "ref/trace_reference.h"
+#include "trace_reference.h"
 
 #include <algorithm>
 
-#include "ref/reference.h"
+#include "reference.h"
 
 namespace mv::ref {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "../../kernels/common/trace.h"
+#include "common/trace.h"
 
 namespace mv::ref {
 

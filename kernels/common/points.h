@@ -1,4 +1,4 @@
-/* Point-cloud LOD kernels (host side: host/points/).
+/* Point-cloud LOD kernels (host side: host/core/points/).
  *   point_codes: the 63-bit Morton code of each point's cell in the cloud's cube, and its index, for the sort;
  *   rep_count:   per parent (a group of candidates in Morton order), the occupied cells of its sub-grid,
  *                capped: how many representatives it keeps;

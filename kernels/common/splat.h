@@ -1,5 +1,5 @@
 /* Depth-tested point splats in integer arithmetic, so every device draws the same pixels (host side:
- * host/points/point_render.cpp; reference: host/ref/splat_reference.cpp).
+ * host/core/points/point_render.cpp; reference: host/ref/splat_reference.cpp).
  *   splat_depth: each point's square of (2 radius + 1)^2 pixels takes the minimum of its depth key;
  *   splat_index: where a pixel's minimum is the point's key, the smallest point index wins ties.
  * Points are 21-bit cell coordinates of the hierarchy's cube. The camera: rows of a rotation in Q30 fixed point

@@ -8,7 +8,7 @@
 #define MV_ENC_SVDAG 2u  /* also stands for svo and ussvdag: the same 32-bit word decode */
 #define MV_ENC_SSVDAG 4u
 #define MV_ENC_PAGED 8u  /* 32-bit word encodings read through the page cache (trace.h: mv_page_resolve) */
-#define MV_ENC_PAGED_SSVDAG 12u /* ssvdag read through the page cache (host/cache/paged_ssvdag.h) */
+#define MV_ENC_PAGED_SSVDAG 12u /* ssvdag read through the page cache (host/formats/paging/paged_ssvdag.h) */
 #define MV_TRACE_MISS 0u
 #define MV_TRACE_HIT 1u
 #define MV_TRACE_GAVE_UP 2u /* max_steps reached */

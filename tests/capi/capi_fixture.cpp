@@ -1,4 +1,4 @@
-#include "tests/capi/capi_fixture.h"
+#include "capi_fixture.h"
 
 #include <random>
 

@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <thread>
 
-#include "capi/scene_build.h"
+#include "scene_build.h"
 #include "megavox/build.h"
 #include "megavox/megavox.hpp"
 #include "megavox/render.h"
 #include "megavox/trace.h"
-#include "tests/capi/capi_fixture.h"
-#include "tests/test_support.h"
+#include "capi_fixture.h"
+#include "test_support.h"
 
 namespace mv::test::capi {
 namespace {

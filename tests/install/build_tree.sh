@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The C API used straight from a build tree, as the README's "From a build tree" does it: its pkg-config line,
-# copied from the README and run word for word (from a scratch folder laid out like a checkout), compiles
+# The C API used straight from a build tree, as docs/embedding.md's "From a build tree" does it: its pkg-config
+# line, copied from the page and run word for word (from a scratch folder laid out like a checkout), compiles
 # docs/examples/trace_octahedron.c; then the same program through find_package(megavox) with
 # -Dmegavox_DIR=<build dir>. Each binary runs in an empty environment (no LD_LIBRARY_PATH), so the run paths
 # alone must find libmegavox.so.
@@ -10,14 +10,15 @@ build=$(cd "$1" && pwd)
 src=$(cd "$2" && pwd)
 source "$src/tests/cli/common.sh"
 
-# The README's commands, found by what they do rather than by line number.
+# The page's commands, found by what they do rather than by line number.
+page=$src/docs/embedding.md
 compile=$(grep -E '^cc .*docs/examples/trace_octahedron\.c.*PKG_CONFIG_PATH=build pkg-config --cflags --libs megavox' \
-  "$src/README.md" || true)
-[[ $(echo "$compile" | grep -c .) == 1 ]] || fail "the README has no (or several) pkg-config line for the example: '$compile'"
-run=$(grep -E '^\./trace_octahedron( |$)' "$src/README.md" | head -1 || true)
-[[ -n "$run" ]] || fail "the README does not run ./trace_octahedron"
-grep -Eq '^With CMake: `cmake -S docs/examples -B [^ ]+ -Dmegavox_DIR=' "$src/README.md" ||
-  fail "the README's CMake line no longer configures docs/examples with megavox_DIR"
+  "$page" || true)
+[[ $(echo "$compile" | grep -c .) == 1 ]] || fail "docs/embedding.md has no (or several) pkg-config line for the example: '$compile'"
+run=$(grep -E '^\./trace_octahedron( |$)' "$page" | head -1 || true)
+[[ -n "$run" ]] || fail "docs/embedding.md does not run ./trace_octahedron"
+grep -Eq '^cmake -S docs/examples -B [^ ]+ -Dmegavox_DIR=' "$page" ||
+  fail "docs/embedding.md's CMake line no longer configures docs/examples with megavox_DIR"
 
 # The sanitizer build's library leaves the ASan runtime to the program (as in install_package.sh); its runs
 # keep the sanitizer settings (suppressions of third-party leaks) in the otherwise empty environment.
@@ -36,7 +37,7 @@ mkdir "$dir/checkout"
 ln -s "$src/docs" "$dir/checkout/docs"
 ln -s "$build" "$dir/checkout/build"
 cd "$dir/checkout"
-bash -c "$compile" > "$dir/compile.log" 2>&1 || fail "the README's compile line failed: $compile
+bash -c "$compile" > "$dir/compile.log" 2>&1 || fail "docs/embedding.md's compile line failed: $compile
 $(cat "$dir/compile.log")"
 out=$(env -i "${keep[@]}" bash -c "$run" 2>&1) || fail "$run: $out"
 hits=$(echo "$out" | awk '/^hits/ {print $2}')

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `megavox serve` on loopback as the README's curl session uses it (submit by name and by upload, poll,
+# `megavox serve` on loopback as docs/embedding.md's curl session uses it (submit by name and by upload, poll,
 # stream, fetch, ray query, render with a view and a camera, a point cloud to .mvx and to a .3tz archive, a
 # mask of a photograph), then what it refuses (no or a bad token 401, an oversized body 413, paths leading
 # outside --data-dir, malformed JSON and bad fields 400), jobs that fail in the API's own terms while the

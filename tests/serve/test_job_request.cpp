@@ -7,8 +7,8 @@
 #include <string>
 
 #include "megavox/error.h"
-#include "serve/job_request.h"
-#include "serve/job_words.h"
+#include "job_request.h"
+#include "job_words.h"
 
 namespace {
 

@@ -1,0 +1,96 @@
+// megavox — ray queries against an encoded voxel DAG (svo, svdag, ussvdag or ssvdag), run on a device.
+//
+// Rays are in the model's own units (the .mvx world-to-grid transform). A hit is the first voxel the ray
+// enters: origin + t * direction, t in units of the direction's length (pass unit directions to get
+// distances). Cells are half-open like the voxelizer's ([i, i+1)); when a ray crosses several boundaries at
+// the same t, the x crossing comes first, then y, then z. Results are the same bytes on every device and
+// equal those of a plain voxel-by-voxel DDA (host/ref/trace_reference.h), which the tests check.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "megavox/cache_stats.h"
+#include "megavox/device.h"
+#include "megavox/mvx.h"
+#include "megavox/ray.h"
+
+namespace mv {
+
+class TraceEngine;
+class PageCache;
+
+// A DAG in pages (a paged .mvx, version 3: svo, svdag or ussvdag): its shape and a reader of page `page` into
+// `words` (page_words of them), called by the cache's producer. The reader throws mv::Error when it cannot;
+// the page stays missing and tracing goes on.
+struct PagedDag {
+  GridTransform grid;
+  Bounds bounds;  // of the input model, in its own units
+  Encoding encoding = Encoding::svdag;
+  uint32_t levels = 0;
+  uint32_t page_words = 0;  // a power of two
+  uint32_t pages = 0;
+  // ssvdag: where its levels start in the paged stream (host/formats/paging/paged_ssvdag.h: levels + 1 entries)
+  std::vector<uint64_t> level_starts;
+  std::function<void(uint32_t page, std::span<uint32_t> words)> read;
+};
+
+// Uploads one encoded DAG to a device and answers batches of rays with the same kernel the renderer uses.
+// A paged .mvx (version 3) opened by memory map, its pages read (and checked against the page index) on
+// demand. Throws mv::Error for a file that is not paged (versions 1 and 2, unpaged files: they render resident).
+PagedDag open_paged_mvx(const std::string& path);
+
+class Tracer {
+ public:
+  Tracer(Device& dev, const MvxFile& file);
+  // Streams `dag` through a device page cache of `cache_bytes` (whole pages; counted in the device budget):
+  // only the pages rays touch are loaded. Throws mv::Error when cache_bytes holds no page. A cache with room
+  // for every page is, with `preload`, filled whole here instead, in page order (preloaded() tells how it went):
+  // then the traversal resolves the DAG as one run of pages, the resident path.
+  Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload = true);
+  ~Tracer();
+  Tracer(const Tracer&) = delete;
+  Tracer& operator=(const Tracer&) = delete;
+
+  // Paged: passes over the batch until no ray misses a page (or options.max_passes); the hits equal those of
+  // the resident DAG once it converges. last_passes() tells what each pass loaded.
+  std::vector<RayHit> trace(const std::vector<Ray>& rays, const TraceOptions& options = {});
+
+  TraceEngine& engine() { return *engine_; }
+  const GridTransform& grid() const { return grid_; }
+
+  // The page cache of a paged tracer (null when resident): a pass starts with begin_pass(), traces through
+  // engine(), and ends with end_pass(), the cache's update (loads what the pass missed).
+  bool paged() const { return cache_ != nullptr; }
+  PageCache* cache() { return cache_.get(); }
+  void begin_pass();
+  CacheUpdateStats end_pass();
+  // Paged: reads the pages the current pass has missed so far (as many as the cache has slots) on a thread of its
+  // own while the device goes on tracing (the renderer calls it between the primary and the shadow rays);
+  // end_pass() then takes them from there instead of the file. Does nothing when resident.
+  void read_ahead();
+  const std::vector<CacheUpdateStats>& last_passes() const { return passes_; }
+  // The loads of the constructor's preload, summed (all zero when there was none).
+  const CacheUpdateStats& preloaded() const { return preloaded_; }
+
+ private:
+  struct PagesRead {
+    std::vector<uint32_t> pages;  // in page order
+    std::vector<uint32_t> words;  // page_words for each
+    std::vector<uint8_t> ok;
+    double seconds = 0;
+  };
+  GridTransform grid_;
+  PagedDag paged_;
+  std::unique_ptr<PageCache> cache_;
+  std::unique_ptr<TraceEngine> engine_;
+  std::vector<CacheUpdateStats> passes_;
+  CacheUpdateStats preloaded_;
+  std::future<PagesRead> ahead_;
+};
+
+}  // namespace mv

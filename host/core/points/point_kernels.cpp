@@ -1,0 +1,212 @@
+#include "point_kernels.h"
+
+#include "common/points.h"
+
+#include <algorithm>
+#include <bit>
+#include <limits>
+
+#include "primitives/chunking.h"
+#include "huge_pages.h"
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+#include "representatives_host.h"
+#include "timing.h"
+
+#include <chrono>
+
+namespace mv::points {
+
+PointCube cube_of(std::span<const int32_t> xyz) {
+  PointCube cube;
+  if (xyz.empty()) return cube;
+  int64_t lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = xyz[a];
+  for (size_t i = 0; i < xyz.size(); i += 3)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min<int64_t>(lo[a], xyz[i + a]);
+      hi[a] = std::max<int64_t>(hi[a], xyz[i + a]);
+    }
+  return cube_of_bounds(lo, hi);
+}
+
+PointCube cube_of_bounds(const int64_t lo[3], const int64_t hi[3]) {
+  PointCube cube;
+  uint64_t extent = 0;
+  for (int a = 0; a < 3; ++a) {
+    cube.min[a] = lo[a];
+    extent = std::max<uint64_t>(extent, static_cast<uint64_t>(hi[a] - lo[a]));
+  }
+  // The largest offset, extent, must land in cell 2^21 - 1 or below.
+  const uint32_t width = static_cast<uint32_t>(std::bit_width(extent));
+  cube.shift = static_cast<int32_t>(width) - 21;
+  return cube;
+}
+
+namespace {
+
+// One point_codes dispatch: points [first, first + m) of the cloud through the coordinates' buffer xb, their
+// codes and indices written to keys and values from position `out` on.
+void dispatch_codes(Device& dev, Buffer& xb, std::span<const int32_t> xyz, const PointCube& cube, uint64_t first,
+                    uint64_t m, Buffer& keys, Buffer& values, uint64_t out) {
+  dev.upload(xb, xyz.data() + 3 * first, m * 12);
+  MvPointParams p{};
+  p.n = static_cast<uint32_t>(m);
+  p.shift = cube.shift > 0 ? static_cast<uint32_t>(cube.shift) : 0;
+  p.lshift = cube.shift < 0 ? static_cast<uint32_t>(-cube.shift) : 0;
+  p.min_x = static_cast<uint32_t>(static_cast<int32_t>(cube.min[0]));
+  p.min_y = static_cast<uint32_t>(static_cast<int32_t>(cube.min[1]));
+  p.min_z = static_cast<uint32_t>(static_cast<int32_t>(cube.min[2]));
+  p.base = static_cast<uint32_t>(first);
+  p.first = static_cast<uint32_t>(out);
+  const uint32_t local = 64;
+  dev.dispatch(dev.kernel(KernelId::point_codes), dev.groups_for(m, local), local, {&xb, &keys, &values}, p);
+  dev.barrier();
+}
+
+}  // namespace
+
+void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,
+                 std::vector<uint32_t>& index) {
+  const uint64_t n = xyz.size() / 3;
+  if (n > std::numeric_limits<uint32_t>::max())
+    throw Error("points: " + std::to_string(n) + " points in one in-core sort run, over the 2^32 its indices hold");
+  reserve_huge(codes, n);
+  reserve_huge(index, n);
+  codes.resize(n);
+  index.resize(n);
+  if (n == 0) return;
+  // Per point: 12 bytes of coordinates, 8 of code and 4 of index. Chunks of 8M points keep the device buffers
+  // small enough to stay warm (fresh device memory costs a page fault per page on first touch).
+  const uint64_t chunk =
+      std::min<uint64_t>({n, uint64_t{1} << 23, detail::device_chunk(dev, "point_codes", 24, 12)});
+  Buffer xb = dev.alloc(chunk * 12, "point coordinates");
+  Buffer kb = dev.alloc(chunk * 8, "point codes");
+  Buffer ib = dev.alloc(chunk * 4, "point indices");
+  for (uint64_t first = 0; first < n; first += chunk) {
+    const uint64_t m = std::min(chunk, n - first);
+    dispatch_codes(dev, xb, xyz, cube, first, m, kb, ib, 0);
+    dev.download(kb, codes.data() + first, m * 8);
+    dev.download(ib, index.data() + first, m * 4);
+  }
+}
+
+bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out,
+                           const SortedCodesPrefix& on_prefix, uint32_t ranges) {
+  const uint64_t n = xyz.size() / 3;
+  if (n == 0 || n > std::numeric_limits<uint32_t>::max() || uint64_t{n} * 8 > dev.info().max_binding_bytes) return false;
+  auto t0 = std::chrono::steady_clock::now();
+  bool handed = false;  // the caller has had a prefix: from then on an error is its own, not a sort that did not fit
+  try {
+    Buffer keys = dev.alloc(n * 8, "point codes");
+    Buffer values = dev.alloc(n * 4, "point indices");
+    if (!dev.host_view(keys) || !dev.host_view(values)) return false;
+    const uint64_t chunk = std::min<uint64_t>({n, uint64_t{1} << 23, detail::device_chunk(dev, "point_codes", 12, 12)});
+    {
+      Buffer xb = dev.alloc(chunk * 12, "point coordinates");
+      for (uint64_t first = 0; first < n; first += chunk)
+        dispatch_codes(dev, xb, xyz, cube, first, std::min(chunk, n - first), keys, values, first);
+      dev.finish();  // the coordinates' buffer goes back before the sort takes its scratch
+    }
+    out.codes_seconds = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    SortedPrefix hand;  // empty without on_prefix: then the sort hands nothing over
+    if (on_prefix)
+      hand = [&](const Buffer& k, const Buffer* v, uint64_t end) {
+        handed = true;
+        on_prefix({static_cast<const uint64_t*>(dev.host_view(k)), n},
+                  {static_cast<const uint32_t*>(dev.host_view(*v)), n}, end);
+      };
+    out.sort = radix_sort(dev, keys, &values, n, KeyBits::k64, SortStrategy::Auto, hand, ranges);
+    dev.finish();
+    out.sort_seconds = seconds_since(t0);
+    out.codes = {static_cast<const uint64_t*>(dev.host_view(keys)), n};
+    out.index = {static_cast<const uint32_t*>(dev.host_view(values)), n};
+    out.keys = std::move(keys);
+    out.values = std::move(values);
+    return true;
+  } catch (const DeviceMemoryError&) {
+    if (handed) throw;
+    dev.finish();
+    return false;
+  }
+}
+
+namespace {
+
+// Candidates per dispatch: codes, bounds and positions of 8M candidates stay well inside every binding limit.
+constexpr uint64_t kBatchCandidates = uint64_t{1} << 23;
+
+// One dispatch pair over parents [g0, g1), whose candidates start at codes[base].
+void select_batch(Device& dev, std::span<const uint64_t> codes, std::span<const uint32_t> bounds, uint32_t g0,
+                  uint32_t g1, uint32_t cell_bits, uint32_t cap, RepSelection& out) {
+  const uint32_t groups = g1 - g0;
+  const uint32_t base = bounds[g0];
+  const uint64_t m = bounds[g1] - base;
+  std::vector<uint32_t> local_bounds(groups + 1);
+  for (uint32_t g = 0; g <= groups; ++g) local_bounds[g] = bounds[g0 + g] - base;
+  Buffer cb = dev.alloc(m * 8, "representative candidates");
+  Buffer bb = dev.alloc(uint64_t{groups + 1} * 4, "representative groups");
+  Buffer cells = dev.alloc(uint64_t{groups} * 4, "representative cells");
+  Buffer kept = dev.alloc(uint64_t{groups + 1} * 4, "representative counts");
+  dev.upload(cb, codes.data() + base, m * 8);
+  dev.upload(bb, local_bounds.data(), local_bounds.size() * 4);
+  MvPointParams p{};
+  p.n = groups;
+  p.cell_bits = cell_bits;
+  p.cap = cap;
+  // One work-item per parent: a loop-capped device then runs one parent's candidates per loop.
+  const uint32_t local = 64;
+  const uint32_t wg = static_cast<uint32_t>((uint64_t{groups} + local - 1) / local);
+  if (wg > dev.info().max_groups) throw Error("points: " + std::to_string(groups) + " parents in one dispatch");
+  dev.dispatch(dev.kernel(KernelId::rep_count), wg, local, {&cb, &bb, &cells, &kept}, p);
+  dev.barrier();
+  exclusive_scan(dev, kept, kept, groups);
+  dev.barrier();
+  uint32_t total = 0;
+  dev.download(kept, &total, 4, uint64_t{groups} * 4);
+  Buffer ob = dev.alloc(std::max<uint64_t>(total, 1) * 4, "representatives");
+  dev.dispatch(dev.kernel(KernelId::rep_select), wg, local, {&cb, &bb, &cells, &kept, &ob}, p);
+  dev.barrier();
+  std::vector<uint32_t> offsets(groups + 1);
+  dev.download(kept, offsets.data(), offsets.size() * 4);
+  const size_t at = out.positions.size();
+  out.positions.resize(at + total);
+  if (total) dev.download(ob, out.positions.data() + at, uint64_t{total} * 4);
+  for (size_t i = at; i < out.positions.size(); ++i) out.positions[i] += base;
+  for (uint32_t g = 1; g <= groups; ++g) out.offsets.push_back(at + offsets[g]);
+}
+
+}  // namespace
+
+RepSelection select_representatives(Device& dev, std::span<const uint64_t> codes, std::span<const uint32_t> bounds,
+                                    uint32_t cell_bits, uint32_t cap) {
+  RepSelection out;
+  out.offsets.push_back(0);
+  if (bounds.size() < 2) return out;
+  const uint32_t groups = static_cast<uint32_t>(bounds.size() - 1);
+  // A loop-capped device (lavapipe ends a loop after 65535 iterations) cannot walk a larger parent in one loop.
+  const uint64_t loop_cap = dev.info().max_loop_iterations;
+  auto too_long = [&](uint32_t g) { return loop_cap != 0 && uint64_t{bounds[g + 1] - bounds[g]} + 1 >= loop_cap; };
+  // Per candidate: its code (8 bytes) and up to one position out (4); per parent a few words more.
+  const uint64_t batch = std::min(kBatchCandidates, detail::device_chunk(dev, "representatives", 16, 8));
+  uint32_t g = 0;
+  while (g < groups) {
+    if (too_long(g)) {
+      std::vector<uint32_t> pos =
+          representatives_on_host(codes.subspan(bounds[g], bounds[g + 1] - bounds[g]), cell_bits, cap);
+      for (uint32_t p : pos) out.positions.push_back(p + bounds[g]);
+      out.offsets.push_back(out.positions.size());
+      ++out.host_groups;
+      ++g;
+      continue;
+    }
+    uint32_t end = g + 1;
+    while (end < groups && !too_long(end) && uint64_t{bounds[end + 1] - bounds[g]} <= batch) ++end;
+    select_batch(dev, codes, bounds, g, end, cell_bits, cap, out);
+    g = end;
+  }
+  return out;
+}
+
+}  // namespace mv::points

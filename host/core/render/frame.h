@@ -1,0 +1,31 @@
+// What the device renderer and the CPU reference renderer share: the camera and secondary-ray setup in
+// root-cube coordinates, and the shading of per-pixel trace results into an image.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "common/secondary.h"
+#include "megavox/render.h"
+
+namespace mv {
+
+struct FrameSetup {
+  uint32_t width = 0, height = 0, levels = 0;
+  float camera[MV_CAMERA_FLOATS] = {};  // kernels/common/trace_types.h: mv_camera_ray
+  float proj = 0;                        // LOD factor
+  MvSecondaryParams shadow{};            // kind, light direction, tmax
+  MvSecondaryParams ao{};                // kind, stride, mask, radius (sample_k set per pass)
+  uint32_t ao_samples = 0;
+  std::vector<float> ao_table;           // cosine-weighted directions around +z, 3 floats each
+};
+
+FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera& camera, const RenderOptions& options);
+
+// Per-pixel trace results: hit records (MV_HIT_WORDS each) and occlusion counts (empty when not traced).
+struct FrameResults {
+  std::vector<uint32_t> hits, shadow, ao;
+};
+
+Image shade(const FrameSetup& setup, const RenderOptions& options, const FrameResults& results);
+
+}  // namespace mv

@@ -1,0 +1,61 @@
+// The device side of ray traversal: one encoded DAG uploaded, and dispatches of the trace and
+// secondary-ray kernels (kernels/common/trace.h, secondary.h) over rays in root-cube coordinates.
+#pragma once
+#include <cstdint>
+
+#include "common/secondary.h"
+#include "megavox/device.h"
+#include "megavox/encode.h"
+
+namespace mv {
+
+class PageCache;
+
+class TraceEngine {
+ public:
+  TraceEngine(Device& dev, const EncodedDag& dag);
+  // An encoding of `levels` levels read through `cache` (kernel trace_rays_paged, or trace_rays_paged_ssvdag
+  // for an ssvdag, whose level starts the cache holds after its page table): traces stamp the cache's current
+  // pass; a ray that meets a missing page requests it and stops there (a coarse hit).
+  TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCache& cache);
+  // Paged: whether traces stamp the slots they read (on by default: the _paged kernels). Off (the _whole
+  // kernels) only where nothing can be evicted (a cache with a slot for every page, filled in page order:
+  // PageCache::preload), so the stamps would go unread.
+  void set_usage_stamps(bool on) { stamp_usage_ = on; }
+
+  Device& device() { return dev_; }
+  uint32_t levels() const { return levels_; }
+  // Where the ssvdag kernel finds each level's start (mv_level_base): by default from the parameters on
+  // lavapipe when they hold every level (each load costs a loop over the SIMD lanes there), else from memory
+  // (paged: the cache's table). Tests pick each kernel on every device; parameters need a tree of at most
+  // 3 + MV_TRACE_PARAM_LEVELS levels (paged: MV_TRACE_PAGED_PARAM_LEVELS).
+  enum class LevelStarts { automatic, memory, parameters };
+  void set_level_starts(LevelStarts where);
+  // A step limit the device can run (lavapipe ends loops at 65535 iterations).
+  uint32_t step_limit(uint32_t wanted) const;
+
+  // Traces rays [first, first + count): from `rays` (MV_RAY_FLOATS each) or, with `camera`, the camera's pixel
+  // rays. Writes MV_HIT_WORDS per ray into `results`, or with `occlusion` adds 1 to results[i] when ray i hits.
+  void trace(const Buffer* rays, const Buffer* camera, uint32_t first, uint32_t count, uint32_t width, float proj,
+             uint32_t max_steps, bool occlusion, Buffer& results);
+
+  // Writes one secondary ray per primary ray of [first, first + count) (p.first / p.count are set here).
+  void secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table, uint32_t first,
+                 uint32_t count, MvSecondaryParams p, Buffer& out);
+
+ private:
+  template <class F>
+  void for_each_dispatch(uint32_t first, uint32_t count, F&& dispatch);
+
+  Device& dev_;
+  uint32_t levels_ = 0;
+  uint32_t encoding_ = 0;
+  Buffer words_, bricks_, level_offsets_;
+  bool starts_in_params_ = false;
+  PageCache* cache_ = nullptr;
+  uint32_t page_shift_ = 0;
+  bool stamp_usage_ = true;
+  MvTraceParams params_{};  // ssvdag level starts; paged, where the runs start
+};
+
+}  // namespace mv

@@ -1,0 +1,414 @@
+// The main job, stage by stage: read -> voxelize -> octree -> DAG -> encode -> write.
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <cmath>
+#include <unistd.h>
+
+#include "io/memory_mesh.h"
+#include "io/mesh_source.h"
+#include "io/output_path.h"
+#include "io/vdb_source.h"
+#include "voxel/build_plan.h"
+#include "voxel/build_steps.h"
+#include "megavox/build.h"
+#include "voxel/triangle_buckets.h"
+#include "megavox/dag.h"
+#include "megavox/encode.h"
+#include "megavox/error.h"
+#include "megavox/mvx.h"
+#include "megavox/voxelize.h"
+
+namespace mv {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+constexpr size_t kBatchTriangles = 1u << 20;
+}  // namespace
+
+uint64_t default_host_memory() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) / 2 : uint64_t{4} << 30;
+}
+
+uint32_t parse_resolution(const std::string& text) {
+  uint64_t n = 0;
+  try {
+    n = parse_size(text);
+  } catch (const Error&) {
+    throw CodedError(ErrorCode::invalid_argument,
+                     "--resolution '" + text + "' is not a number of voxels per axis (examples: 1024, 2K, 16K)");
+  }
+  if (n < 2 || n > (1u << 21) || (n & (n - 1)))
+    throw CodedError(ErrorCode::invalid_argument,
+                     "--resolution " + text + " must be a power of two from 2 to 2M voxels per axis");
+  return static_cast<uint32_t>(n);
+}
+
+namespace {
+
+struct Voxels {
+  Bricks bricks;
+  GridTransform grid;
+  Bounds bounds;
+};
+
+Voxelizer::Rule rule(const BuildOptions& o) {
+  return o.voxelize == "thin" ? Voxelizer::Rule::kThin : Voxelizer::Rule::kConservative;
+}
+
+uint64_t memory_budget(const BuildOptions& o) { return o.memory ? o.memory : default_host_memory(); }
+
+// Triangles read per batch: up to 1 Mi, at most an eighth of the budget (48 bytes each with the indices).
+size_t batch_triangles(const BuildOptions& o) {
+  return static_cast<size_t>(std::clamp<uint64_t>(memory_budget(o) / 8 / 48, 4096, kBatchTriangles));
+}
+
+// How the host budget is shared: a PLY's vertex positions stay in RAM up to a quarter of it (past it, in a
+// mapped scratch file), out of core the triangle buckets another quarter (past it, spilled); voxel keys get
+// the rest.
+uint64_t vertex_share(const BuildOptions& o) { return memory_budget(o) / 4; }
+uint64_t bucket_share(const BuildOptions& o) { return memory_budget(o) / 4; }
+
+std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o) {
+  if (o.mesh) return io::memory_mesh(o.mesh->positions, o.mesh->indices, o.input);
+  return io::open_mesh(o.input, vertex_share(o));
+}
+
+// Fails early, before the heavy work, when a mesh's host-side arrays would pass the budget: the positions
+// (at most their RAM share), the used-vertex flags, and one batch of triangles with its indices (out of
+// core, the bucketed triangles spill to disk past their share of the budget).
+void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh) {
+  const uint64_t vertices = mesh.positions().size() / 3, triangles = mesh.triangles_hint();
+  const uint64_t need = std::min(vertices * 12, vertex_share(o)) + vertices +
+                        std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
+  if (need > memory_budget(o))
+    throw Error(o.input + ": the mesh needs about " + format_bytes(need) + " of host memory, over --memory " +
+                format_bytes(memory_budget(o)));
+}
+
+// Fails before anything is read when the cubes alone would pass the buckets' share of the budget: a resolution
+// far above --cube makes (resolution / cube)^3 cubes (1M in 1024^3 cubes: 2^30 of them, 48 GiB of table).
+void check_cube_table(const BuildOptions& o, uint32_t resolution) {
+  const uint64_t need = TriangleBuckets::table_bytes(resolution / o.cube);
+  if (need <= bucket_share(o)) return;
+  uint32_t cube = o.cube;  // the smallest cube size whose table fits, if any does
+  while (cube < resolution && TriangleBuckets::table_bytes(resolution / cube) > bucket_share(o)) cube *= 2;
+  const uint64_t per_axis = resolution / o.cube;
+  throw Error("--resolution " + std::to_string(resolution) + " in cubes of " + std::to_string(o.cube) + "^3 makes " +
+              std::to_string(per_axis * per_axis * per_axis) + " cubes, whose table alone needs " + format_bytes(need) +
+              " of host memory, over the quarter of --memory " + format_bytes(memory_budget(o)) +
+              " it may use; raise --cube to " + std::to_string(cube) + " or more, or lower --resolution");
+}
+
+bool clips(const BuildOptions& o) { return o.placement.origin == GridPlacement::Origin::kCube; }
+
+// The grid around a mesh's bounds; with an explicit cube the stored bounds become the part inside it.
+GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds& bounds) {
+  if (bounds.empty()) throw Error(o.input + ": the mesh has no triangles");
+  GridTransform g = grid_for_bounds(bounds, resolution, o.placement);
+  if (clips(o)) {
+    const double side = g.voxel_size * g.resolution;
+    for (int a = 0; a < 3; ++a) {
+      bounds.lo[a] = std::max(bounds.lo[a], g.origin[a]);
+      bounds.hi[a] = std::min(bounds.hi[a], g.origin[a] + side);
+    }
+    if (bounds.empty() || bounds.lo[1] > bounds.hi[1] || bounds.lo[2] > bounds.hi[2])
+      throw Error(o.input + ": the mesh lies outside --bounds");
+  }
+  return g;
+}
+
+// Bounds of the vertices a mesh's faces use (scans carry unreferenced vertices) and their surface, for the
+// plan: one streaming pass.
+MeshSurvey survey_mesh(const BuildOptions& o, BuildReport* r) {
+  MeshSurvey s;
+  auto mesh = open_budgeted_mesh(o);
+  check_mesh_memory(o, *mesh);
+  const auto& pos = mesh->positions();
+  if (r) r->vertex_scratch_bytes = mesh->positions_mapped() ? pos.size_bytes() : 0;
+  std::vector<bool> used(pos.size() / 3, false);
+  std::vector<uint32_t> idx;
+  while (mesh->next_triangles(idx, batch_triangles(o)))
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+      used[idx[t]] = used[idx[t + 1]] = used[idx[t + 2]] = true;
+      s.add_triangle(&pos[3 * size_t{idx[t]}], &pos[3 * size_t{idx[t + 1]}], &pos[3 * size_t{idx[t + 2]}]);
+    }
+  for (size_t i = 0; i < used.size(); ++i)
+    if (used[i]) {
+      s.bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+      ++s.vertices;
+    }
+  return s;
+}
+
+PlanBudgets plan_budgets(const BuildOptions& o, const Device* dev) {
+  return {memory_budget(o), dev ? dev->memory_budget() : 0};
+}
+
+// The grid around the surveyed mesh, and the plan announced before the voxels are built.
+GridTransform plan_mesh(const BuildOptions& o, uint32_t resolution, MeshSurvey& survey, const Device& dev,
+                        BuildReport& r, const PlanListener& on_plan) {
+  const GridTransform grid = place_mesh_grid(o, resolution, survey.bounds);
+  r.plan = plan_mesh_build(o, survey, grid, plan_budgets(o, &dev));
+  if (on_plan) on_plan(r.plan);
+  return grid;
+}
+
+// Streams a mesh's triangles in grid units, a batch at a time.
+void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
+                         const std::function<void(const std::vector<float>&, double)>& batch) {
+  auto mesh = open_budgeted_mesh(o);
+  std::vector<uint32_t> idx;
+  std::vector<float> tris;
+  const double faces = std::max<double>(1, double(mesh->triangles_hint()));
+  while (mesh->next_triangles(idx, batch_triangles(o))) {
+    tris.clear();
+    triangles_to_grid(grid, mesh->positions(), idx.data(), idx.size() / 3, tris, clips(o));
+    triangles += tris.size() / 9;
+    batch(tris, std::min(1.0, double(triangles) / faces));
+  }
+}
+
+// A mesh: its bounds, the grid, then the triangles voxelized in batches on the device.
+Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
+                     const std::function<void(const std::string&, double)>& report, const PlanListener& on_plan) {
+  Voxels v;
+  MeshSurvey survey = survey_mesh(o, &r);
+  v.grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
+  v.bounds = survey.bounds;
+  Voxelizer vox(dev, resolution, rule(o));
+  vox.limit_host_memory(memory_budget(o) - vertex_share(o));
+  uint64_t triangles = 0;
+  for_each_grid_batch(o, v.grid, triangles, [&](const std::vector<float>& tris, double done) {
+    vox.add(tris);
+    report("voxelize", done);
+  });
+  v.bricks = vox.take_bricks();
+  r.triangles = vox.triangles();
+  return v;
+}
+
+using Lap = std::function<void(const std::string&)>;
+using Report = std::function<void(const std::string&, double)>;
+
+void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
+                      BuildReport& r, const Lap& lap) {
+  MvxFile file = mvx_for_dag(dag, o.format, grid, bounds);
+  lap("encode");
+  write_mvx(o.output, file, o.paging);
+  lap("write");
+  r.grid = grid;
+  r.voxels = dag.voxels;
+  r.svo_nodes = file.svo_nodes;
+  r.nodes_per_level = file.dag_nodes;
+  r.nodes_total = nodes_total(file);
+  r.bytes = file.dag.bytes();
+  r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
+}
+
+// A mesh at a resolution above the cube size: triangles are bucketed by the cubes their bounding boxes
+// meet (spilling to a temporary file past a quarter of --memory), then each non-empty cube is voxelized and
+// reduced alone and the partial DAGs merged (build_dag_by_cubes): device memory holds one cube's voxels at a
+// time, host memory the vertex positions, a batch of triangles, a share of the buckets and one cube's keys.
+BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
+                              const Report& report, const Lap& lap, const PlanListener& on_plan) {
+  if (o.cube < 8 || (o.cube & (o.cube - 1))) throw Error("--cube " + std::to_string(o.cube) + " must be a power of two >= 8");
+  check_cube_table(o, resolution);
+  MeshSurvey survey = survey_mesh(o, &r);
+  const GridTransform grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
+  const Bounds bounds = survey.bounds;
+  r.resolution = resolution;
+  r.cube = o.cube;
+  const uint32_t per_axis = resolution / o.cube;
+  TriangleBuckets buckets(per_axis, o.cube, bucket_share(o));
+  for_each_grid_batch(o, grid, r.triangles, [&](const std::vector<float>& tris, double done) {
+    buckets.add(tris);
+    report("read", done);
+  });
+  r.spilled_bytes = buckets.spilled_bytes();
+  lap("read");
+  const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
+  const uint32_t cube_levels = static_cast<uint32_t>(std::lround(std::log2(double(o.cube))));
+  uint64_t done = 0;
+  const double cubes = double(per_axis) * per_axis * per_axis;
+  CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
+    report("cubes", double(++done) / cubes);
+    std::vector<float> tris = buckets.take(x / size, y / size, z / size);
+    if (tris.empty()) return Bricks();
+    Voxelizer v(dev, resolution, rule(o));
+    v.limit_host_memory(memory_budget(o) - vertex_share(o) - bucket_share(o));
+    v.restrict_to(x, y, z, size);
+    v.add(tris);
+    return v.take_bricks();
+  };
+  const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
+  DagBuildTimes times;
+  Dag dag = o.format == "svo" ? build_svo_by_cubes(dev, levels, cube_levels, voxels_of, &times)
+                               : build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times);
+  r.seconds.push_back({"voxelize+cubes", times.svo_seconds});
+  r.seconds.push_back({o.format == "svo" ? "merge octree" : symmetric ? "merge ssvdag" : "merge svdag",
+                       times.reduce_seconds});
+  lap("total dag");
+  r.seconds.pop_back();
+  encode_and_write(dag, o, grid, bounds, r, lap);
+  return r;
+}
+
+}  // namespace
+
+namespace {
+template <class Voxels>
+Dag dag_for_format(Device& dev, const Voxels& voxels, uint32_t levels, const std::string& format, DagBuildTimes* times) {
+  if (format == "ssvdag" && levels < 3) throw Error("--format ssvdag needs a resolution of at least 8");
+  if (format == "svo") return build_svo(dev, voxels, levels, times);
+  if (format == "ussvdag" || format == "ssvdag") return build_ssvdag(dev, voxels, levels, times);
+  if (format == "svdag") return build_svdag(dev, voxels, levels, times);
+  throw Error("--format " + format + ": choose svo, svdag, ussvdag or ssvdag");
+}
+}  // namespace
+
+Dag build_dag_for_format(Device& dev, const Bricks& bricks, uint32_t levels, const std::string& format,
+                         DagBuildTimes* times) {
+  return dag_for_format(dev, bricks, levels, format, times);
+}
+
+Dag build_dag_for_format(Device& dev, const std::vector<uint64_t>& keys, uint32_t levels, const std::string& format,
+                         DagBuildTimes* times) {
+  return dag_for_format(dev, keys, levels, format, times);
+}
+
+MvxFile mvx_for_dag(const Dag& dag, const std::string& format, const GridTransform& grid, const Bounds& bounds) {
+  MvxFile file;
+  file.grid = grid;
+  file.bounds = bounds;
+  file.voxels = dag.voxels;
+  file.svo_nodes = dag.svo_nodes;
+  file.dag_nodes.push_back(dag.voxels);
+  for (uint32_t l = 1; l <= dag.levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
+  file.dag = format == "ssvdag" ? encode_ssvdag(dag) : encode_svdag(dag);
+  return file;
+}
+
+uint64_t nodes_total(const MvxFile& file) {
+  uint64_t total = 0;
+  for (size_t l = 2; l < file.dag_nodes.size(); ++l) total += file.dag_nodes[l];
+  return total;
+}
+
+namespace {
+
+BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progress, const PlanListener& on_plan) {
+  if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
+    throw Error("--format " + o.format + ": choose svo, svdag, ussvdag or ssvdag");
+  BuildReport r;
+  r.input = o.input;
+  r.output = o.output;
+  r.format = o.format;
+  auto report = [&](const std::string& stage, double f) {
+    if (progress) progress(stage, f);
+  };
+  auto t = Clock::now();
+  auto lap = [&](const std::string& stage) {
+    auto now = Clock::now();
+    r.seconds.push_back({stage, std::chrono::duration<double>(now - t).count()});
+    t = now;
+  };
+
+  report("read", 0);
+  const uint32_t mesh_resolution = o.resolution ? o.resolution : 1024;
+  const bool vdb = !o.mesh && io::is_vdb(o.input);
+  if (o.voxelize != "conservative" && o.voxelize != "thin")
+    throw Error("--voxelize " + o.voxelize + ": choose conservative or thin");
+  if (vdb && (o.placement.origin != GridPlacement::Origin::kCenter || o.voxelize != "conservative"))
+    throw Error(o.input + ": --grid-origin, --bounds and --voxelize apply to meshes; a .vdb keeps its own voxels");
+  if (!vdb) {
+    r.grid_origin = to_string(o.placement.origin);
+    r.voxelize = o.voxelize;
+  }
+  if (!vdb && o.cube && mesh_resolution > o.cube) {
+    return build_out_of_core(dev, o, mesh_resolution, r, report, lap, on_plan);
+  }
+  if (o.format == "ssvdag" && o.resolution && o.resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
+  Voxels voxels;
+  if (vdb) {
+    io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
+    r.vdb_grid = vdb.grid_name;
+    r.vdb_class = vdb.grid_class;
+    r.plan = plan_vdb_build(o, vdb.keys.size(), vdb.grid, plan_budgets(o, &dev));
+    if (on_plan) on_plan(r.plan);
+    voxels = {bricks_from_keys(vdb.keys), vdb.grid, vdb.bounds};
+    vdb.keys = {};
+    lap("read");
+  } else {
+    voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report, on_plan);
+    lap("voxelize");
+  }
+  const uint32_t resolution = voxels.grid.resolution;
+  if (o.format == "ssvdag" && resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
+  const uint32_t levels = static_cast<uint32_t>(std::log2(double(resolution)) + 0.5);
+  r.resolution = resolution;
+  r.voxels = voxels.bricks.voxels();
+  const GridTransform grid = voxels.grid;
+  const Bounds bounds = voxels.bounds;
+
+  const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
+  DagBuildTimes times;
+  Dag dag = build_dag_for_format(dev, voxels.bricks, levels, o.format, &times);
+  voxels = {};
+  r.seconds.push_back({"svo", times.svo_seconds});
+  r.seconds.push_back({o.format == "svo" ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
+  t = Clock::now();
+  encode_and_write(dag, o, grid, bounds, r, lap);
+  return r;
+}
+
+constexpr uint32_t kSmallestCube = 64;
+
+}  // namespace
+
+std::string check_output(const BuildOptions& o) {
+  return io::resolve_output({o.output, io::OutputKind::kFile, "mvx", {o.mesh ? std::string() : o.input}, 0, o.no_clobber});
+}
+
+// A mesh whose cube (or whole grid, in core) runs out of device memory builds again in cubes half the size,
+// down to 64^3 (the file is the same whatever the cube size); `--cube 0` (always in core), .vdb inputs and
+// a merge that does not fit keep the error.
+BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progress, const PlanListener& on_plan) {
+  BuildOptions attempt = o;
+  if (!o.output.empty()) attempt.output = check_output(o);
+  const uint32_t resolution = o.resolution ? o.resolution : 1024;
+  bool planned = false;  // the plan is announced once, not again for each retry in smaller cubes
+  const PlanListener announce = [&](const BuildPlan& plan) {
+    if (on_plan && !planned) on_plan(plan);
+    planned = true;
+  };
+  for (uint32_t retries = 0;; ++retries) {
+    try {
+      BuildReport r = build_once(dev, attempt, progress, announce);
+      r.cube_retries = retries;
+      return r;
+    } catch (const DeviceMemoryError& e) {
+      // only a cube (or the whole grid built in core) that did not fit: the merge would not get smaller
+      const bool in_core = !(attempt.cube && resolution > attempt.cube);
+      const bool cube_failed = in_core || dynamic_cast<const CubeMemoryError*>(&e) != nullptr;
+      const uint32_t cube = in_core ? resolution : attempt.cube;
+      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || (!o.mesh && io::is_vdb(o.input))) throw;
+      attempt.cube = cube / 2;
+      if (progress) progress("cubes of " + std::to_string(attempt.cube) + "^3 (device memory)", 0);
+    }
+  }
+}
+
+BuildPlan plan_build(const BuildOptions& o) {
+  const uint32_t resolution = o.resolution ? o.resolution : 1024;
+  if (!o.mesh && io::is_vdb(o.input)) {
+    io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
+    return plan_vdb_build(o, vdb.keys.size(), vdb.grid, plan_budgets(o, nullptr));
+  }
+  MeshSurvey survey = survey_mesh(o, nullptr);
+  const GridTransform grid = place_mesh_grid(o, resolution, survey.bounds);
+  return plan_mesh_build(o, survey, grid, plan_budgets(o, nullptr));
+}
+
+}  // namespace mv

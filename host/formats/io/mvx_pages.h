@@ -1,0 +1,59 @@
+// A paged .mvx (version 3: any encoding with a page index) opened for streaming: the file
+// is memory-mapped, never read whole; opening checks the header and the page index, and each page is checked
+// against its hash when it is read. The page structure itself (pointers, nodes) is what `megavox info` and
+// read_mvx check over all pages (level_order_stream).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "file_ops.h"
+#include "megavox/encode.h"
+#include "megavox/grid.h"
+
+namespace mv {
+
+class MvxPages {
+ public:
+  // Throws mv::Error for a file that is not a paged voxel .mvx: versions 1 and 2 and unpaged files say they
+  // render resident; damage in the header, the page index or the paged level starts is named.
+  explicit MvxPages(const std::string& path);
+  MvxPages(const MvxPages&) = delete;
+  MvxPages& operator=(const MvxPages&) = delete;
+
+  const GridTransform& grid() const { return grid_; }
+  const Bounds& bounds() const { return bounds_; }
+  uint64_t voxels() const { return voxels_; }
+  Encoding encoding() const { return encoding_; }
+  uint32_t levels() const { return levels_; }
+  NodeOrder order() const { return order_; }
+  uint32_t page_words() const { return page_words_; }
+  uint32_t pages() const { return static_cast<uint32_t>(hashes_.size()); }
+  uint64_t words() const { return words_; }  // of the paged stream (the last page's padding not counted)
+  const std::string& path() const { return path_; }
+  // ssvdag: where its levels start in the paged stream (PagedSsvdag::starts); empty otherwise.
+  const std::vector<uint64_t>& level_starts() const { return starts_; }
+
+  // Copies page `page` into `out` (page_words() words; the last page zero-padded) and checks its hash.
+  // False with a message in *error on a page past the end, a wrong `out` size, a failed read (io::faults
+  // kMappedRead) or a checksum mismatch; `out` then holds nothing to trust. Thread-safe.
+  bool read_page(uint32_t page, std::span<uint32_t> out, std::string* error) const;
+
+ private:
+  std::string path_;
+  GridTransform grid_;
+  Bounds bounds_;
+  uint64_t voxels_ = 0;
+  Encoding encoding_ = Encoding::svdag;
+  uint32_t levels_ = 0;
+  NodeOrder order_ = NodeOrder::subtree;
+  uint32_t page_words_ = 0;
+  uint64_t words_ = 0;
+  std::vector<uint64_t> hashes_;
+  std::vector<uint64_t> starts_;
+  io::MappedFile map_;                  // the whole file, read-only
+  uint64_t nodes_offset_ = 0;           // of the nodes section in the file
+};
+
+}  // namespace mv

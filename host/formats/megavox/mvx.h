@@ -1,0 +1,72 @@
+// megavox — the .mvx container: one encoded DAG with its grid, bounds and counts, or (version 2 on) one point
+// cloud's LOD hierarchy.
+//
+// Little-endian. A 4 KiB header page: magic "MEGAVOX\x1a", version, encoding, levels, the world-to-grid
+// transform (origin, voxel size, resolution), the content kind (version 2 on: 0 voxels, 1 points), the model's
+// bounds, the voxel (or point) count, a table of up to 16 sections (kind, offset, bytes, XXH3-64 checksum) and
+// the header's own XXH3-64. Sections start on 4 KiB boundaries (so a reader can mmap them).
+// Voxels: counts (SVO and DAG nodes per level), level offsets (of the level-order stream), node words.
+// Version 3 pages the nodes of every encoding: the nodes section holds the paged stream
+// (paging/paged_stream.h for svo / svdag / ussvdag, paged_ssvdag.h for ssvdag: pages of page_words words, no node
+// crossing a page, zero padding, pointers into the paged stream, the last page not padded), and a page index
+// section (kind 14) holds page_words (a power of two, at least 16), the node order (0 level, 1 subtree), the
+// page count, the paged stream's words, and one XXH3-64 per page over its page_words words (the last page
+// zero-padded), so that a page read alone is checked; the nodes section's own checksum is 0 (unused) then.
+// A paged ssvdag (always level order) adds a paged level starts section (kind 15): levels + 1 64-bit words,
+// [1] the brick count and [3 .. L] where each inner level's first node lies in the stream, in 16-bit words.
+// Points: a meta section (grid, cube, counts, attributes, CRS), nodes per level, the node table (breadth-first,
+// 40 bytes per node) and one section per point column in node order, so the top levels' points are a prefix
+// of every column: a reader can stop after the levels it wants.
+// Versions 1 and 2 (unpaged voxels; version 2 points, the same sections as version 3's) still open.
+// Written to a temporary name and renamed on success; the reader checks every field, every checksum and
+// the encoding itself before returning.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "megavox/encode.h"
+#include "megavox/grid.h"
+#include "megavox/points.h"
+
+namespace mv {
+
+inline constexpr uint32_t kMvxVersion = 3;
+inline constexpr uint32_t kMvxPageWords = 4096;  // 16 KiB pages: the default of write_mvx
+
+// How the nodes of a file are paged: pages of page_words words (a power of two, at least 16), nodes placed in
+// `order` (an ssvdag: always level order). page_words 0: not paged (the level-order stream, resident only).
+struct MvxPaging {
+  uint32_t page_words = kMvxPageWords;
+  NodeOrder order = NodeOrder::subtree;
+};
+
+struct MvxFile {
+  GridTransform grid;
+  Bounds bounds;  // of the input model, in its own units
+  uint64_t voxels = 0;
+  std::vector<uint64_t> svo_nodes;  // index = level (0 = voxels)
+  std::vector<uint64_t> dag_nodes;  // index = level (0 = voxels)
+  EncodedDag dag;  // read_mvx: always the level-order stream, whatever the file's paging
+  // As read (write_mvx ignores these): the file's paging ({0} when not paged) and its paged stream's words.
+  MvxPaging paging{0, NodeOrder::level};
+  uint64_t paged_words = 0;
+};
+
+enum class MvxContent { voxels, points };
+// What a file holds, from its checked header alone.
+MvxContent mvx_content(const std::string& path);
+
+// Written paged as `paging` says (page_words 0: unpaged).
+void write_mvx(const std::string& path, const MvxFile& file, const MvxPaging& paging = {});
+// Voxel content; a point file is an error that says so. A paged file's pages are each checked against the page
+// index and its stream turned back into level order (level_order_stream), checked on the way.
+MvxFile read_mvx(const std::string& path);
+
+void write_mvx_points(const std::string& path, const PointHierarchy& h);
+// Checks every section and the hierarchy itself (codes, children, counts) before returning.
+PointHierarchy read_mvx_points(const std::string& path);
+
+std::string encoding_name(Encoding e);
+
+}  // namespace mv

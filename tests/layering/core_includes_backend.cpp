@@ -1,0 +1,2 @@
+// Layering probe: pipelines see the Device API, not a backend's internals.
+#include "backend.h"

@@ -1,0 +1,2 @@
+// Layering probe: a file format reader is compiled without the Device API.
+#include "megavox/device.h"

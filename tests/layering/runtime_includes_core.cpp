@@ -1,0 +1,2 @@
+// Layering probe: the runtime knows no pipeline.
+#include "megavox/build.h"

@@ -1,0 +1,2 @@
+// Layering probe: the runtime knows no file format.
+#include "io/file_ops.h"

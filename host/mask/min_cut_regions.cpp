@@ -1,4 +1,4 @@
-// The host side of the region Boykov-Kolmogorov min-cut (kernels/common/min_cut_bk.h): the terminals cancel on
+// The host side of the region Boykov-Kolmogorov min-cut (kernels/common/min_cut_regions.h): the terminals cancel on
 // the host, the regions run side by side until each is done, then each level merges 2 x 2 of them and goes on
 // from their trees, up to the whole grid; the pixels in the sink's tree at the end are those that can reach the
 // sink.
@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <string>
 
-#include "../kernels/common/min_cut_bk.h"
+#include "../kernels/common/min_cut_regions.h"
 #include "megavox/error.h"
 
 namespace mv::mask {

@@ -21,7 +21,7 @@
 #include "points.h"
 #include "splat.h"
 #include "min_cut.h"
-#include "min_cut_bk.h"
+#include "min_cut_regions.h"
 #include "mask_post.h"
 #include "voxelize.h"
 

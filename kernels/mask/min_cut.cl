@@ -1,6 +1,6 @@
 // OpenCL entry points of the tiled push-relabel min-cut (bodies: common/min_cut.h). One work-item per tile.
 #include "common/min_cut.h"
-#include "common/min_cut_bk.h"
+#include "common/min_cut_regions.h"
 
 __kernel void mincut_invalidate(__global uint* height, __global uint* sink, __global uint* resid,
                                 __global uint* flag, __global uint* stamp, __global uint* touched, MvMinCutParams p) {

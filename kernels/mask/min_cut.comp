@@ -4,7 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/min_cut.h"
-#include "common/min_cut_bk.h"
+#include "common/min_cut_regions.h"
 
 #if defined(MV_ENTRY_invalidate)
 MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvBufU32 touched;

@@ -30,7 +30,7 @@
  * before each dispatch), so the items stay busy while regions are left whatever their sizes; p.budget steps
  * in all. A region's steps do not depend on the item that runs them. */
 MV_INLINE void mv_bk_items(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU32 next, MvBufU32 orphans,
-                           MvBufU32 state, MvMinCutBkParams p) {
+                           MvBufU32 state, MvMinCutRegionsParams p) {
   mv_u32 regions = mv_bk_level_regions(p.regions_x, p.group) * mv_bk_level_regions(p.regions_y, p.group);
   mv_u32 left = p.budget;
   for (mv_u32 q = 0u; q < regions && left > 0u; ++q) {

@@ -63,7 +63,7 @@
 #define MV_BK_FREE_O 12u   /* o: o has no parent: free it, wake its neighbours, orphan its children */
 #define MV_BK_DONE 13u
 
-MV_STRUCT_BEGIN(MvMinCutBkParams)
+MV_STRUCT_BEGIN(MvMinCutRegionsParams)
   mv_u32 width;
   mv_u32 height;
   mv_u32 conn;       /* 4 or 8 */
@@ -72,13 +72,13 @@ MV_STRUCT_BEGIN(MvMinCutBkParams)
   mv_u32 group;      /* a region of this level is group x group regions of the first (1, 2, 4, ...) */
   mv_u32 budget;     /* steps per item per dispatch */
   mv_u32 walk;       /* pixels a walk takes per step */
-MV_STRUCT_END(MvMinCutBkParams)
+MV_STRUCT_END(MvMinCutRegionsParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvMinCutBkParams, 32);
-MV_LAYOUT_AT(MvMinCutBkParams, width, 0); MV_LAYOUT_AT(MvMinCutBkParams, height, 4);
-MV_LAYOUT_AT(MvMinCutBkParams, conn, 8); MV_LAYOUT_AT(MvMinCutBkParams, regions_x, 12);
-MV_LAYOUT_AT(MvMinCutBkParams, regions_y, 16); MV_LAYOUT_AT(MvMinCutBkParams, group, 20);
-MV_LAYOUT_AT(MvMinCutBkParams, budget, 24); MV_LAYOUT_AT(MvMinCutBkParams, walk, 28);
+MV_LAYOUT_SIZE(MvMinCutRegionsParams, 32);
+MV_LAYOUT_AT(MvMinCutRegionsParams, width, 0); MV_LAYOUT_AT(MvMinCutRegionsParams, height, 4);
+MV_LAYOUT_AT(MvMinCutRegionsParams, conn, 8); MV_LAYOUT_AT(MvMinCutRegionsParams, regions_x, 12);
+MV_LAYOUT_AT(MvMinCutRegionsParams, regions_y, 16); MV_LAYOUT_AT(MvMinCutRegionsParams, group, 20);
+MV_LAYOUT_AT(MvMinCutRegionsParams, budget, 24); MV_LAYOUT_AT(MvMinCutRegionsParams, walk, 28);
 #endif
 
 /* Where part a of `parts` equal parts of [0, size) starts (the first size % parts parts one longer). */
@@ -87,7 +87,7 @@ MV_INLINE mv_u32 mv_bk_split(mv_u32 size, mv_u32 parts, mv_u32 a) {
 }
 
 /* Pixel i's neighbour d (the caller knows it is on the grid). */
-MV_INLINE mv_u32 mv_bk_step(MvMinCutBkParams p, mv_u32 i, mv_u32 d) {
+MV_INLINE mv_u32 mv_bk_step(MvMinCutRegionsParams p, mv_u32 i, mv_u32 d) {
   return MV_U32(MV_I32(i) + mv_grid_dy(d) * MV_I32(p.width) + mv_grid_dx(d));
 }
 
@@ -98,7 +98,7 @@ MV_INLINE bool mv_bk_in(mv_i32 x, mv_i32 y, mv_u32 x0, mv_u32 y0, mv_u32 x1, mv_
 
 /* The capacity that lets pixel i's tree (sink: the sink's) reach or hold its neighbour j = i + d: from i to j in
  * the source's tree, from j to i in the sink's. */
-MV_INLINE mv_u32 mv_bk_tree_cap(MvBufU32 resid, MvMinCutBkParams p, mv_u32 i, mv_u32 j, mv_u32 d, bool sink) {
+MV_INLINE mv_u32 mv_bk_tree_cap(MvBufU32 resid, MvMinCutRegionsParams p, mv_u32 i, mv_u32 j, mv_u32 d, bool sink) {
   return sink ? MV_LD(resid, j * p.conn + (d ^ 1u)) : MV_LD(resid, i * p.conn + d);
 }
 

@@ -7,7 +7,7 @@
 /* Runs region r of the level p.group says for `budget` steps at most from state[], stores the state back, and
  * returns the steps it took. */
 MV_INLINE mv_u32 mv_bk_run(MvBufU32 resid, MvBufU32 term, MvBufU32 node, MvBufU32 next, MvBufU32 orphans,
-                           MvBufU32 state, MvMinCutBkParams p, mv_u32 r, mv_u32 budget) {
+                           MvBufU32 state, MvMinCutRegionsParams p, mv_u32 r, mv_u32 budget) {
   mv_u32 at = r * MV_BK_STATE_WORDS;
   mv_u32 op = MV_LD(state, at + MV_BK_W_STEP);
   if (op == MV_BK_DONE) return 0u;

@@ -4,7 +4,7 @@
 #define MV_MIN_CUT_RELABEL_H
 #include "min_cut_tiles.h"
 
-/* One pass of a global relabel's two steps over tile t (settle: mincut_invalidate or mincut_relax).
+/* One pass of a global relabel's two steps over tile t (settle: min_cut_invalidate or min_cut_relax).
  *   invalidate: a height stays only where it has support, sink capacity or a residual edge to a lower
  *               neighbour; others become MV_MINCUT_INF. A tile it changes is marked touched, for relax.
  *   relax:      a height falls to 1 + the lowest residual neighbour (1 with sink capacity).

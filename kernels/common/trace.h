@@ -114,7 +114,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
          * keeps every branch's lane masks: each exit or guard costs it several % of the trace) */
         if (!(lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t))) {
           /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
-          mv_u32 t8 = mv_thesis_octant(slot);
+          mv_u32 t8 = mv_xmajor_octant(slot);
           mv_u32 node = node_at[nl];
           mv_u32 hdr = hdr_at[nl];
           mv_u32 lv = nl - 1u;

@@ -56,8 +56,8 @@ TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   expect_same_layout(dev, offsets, KernelId::probe_hit, mv_probe_hit);
   expect_same_layout(dev, offsets, KernelId::probe_point_params, mv_probe_point_params);
   expect_same_layout(dev, offsets, KernelId::probe_splat_params, mv_probe_splat_params);
-  expect_same_layout(dev, offsets, KernelId::probe_mincut_params, mv_probe_mincut_params);
-  expect_same_layout(dev, offsets, KernelId::probe_mincut_bk_params, mv_probe_mincut_bk_params);
+  expect_same_layout(dev, offsets, KernelId::probe_min_cut_params, mv_probe_min_cut_params);
+  expect_same_layout(dev, offsets, KernelId::probe_min_cut_regions_params, mv_probe_min_cut_regions_params);
   expect_same_layout(dev, offsets, KernelId::probe_mask_post_params, mv_probe_mask_post_params);
 }
 

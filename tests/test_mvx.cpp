@@ -56,14 +56,14 @@ TEST_P(SvdagTest, EncodesAndDecodesExactly) {
   for (uint32_t l = 2; l <= dag.levels; ++l) expect_words += dag.nodes(l) + dag.level[l].children.size();
   EXPECT_EQ(enc.words.size(), expect_words);
   EXPECT_TRUE(decode_svdag(enc) == voxels);
-  EXPECT_EQ(mv_thesis_octant(1), 4u);  // Morton x bit -> thesis octant 4x + 2y + z
-  EXPECT_EQ(mv_thesis_octant(4), 1u);
-  EXPECT_EQ(mv_thesis_octant(2), 2u);
-  for (uint32_t m = 0; m < 256; ++m) {  // masks: each bit to its thesis octant, and back
+  EXPECT_EQ(mv_xmajor_octant(1), 4u);  // Morton x bit -> x-major octant 4x + 2y + z
+  EXPECT_EQ(mv_xmajor_octant(4), 1u);
+  EXPECT_EQ(mv_xmajor_octant(2), 2u);
+  for (uint32_t m = 0; m < 256; ++m) {  // masks: each bit to its x-major octant, and back
     uint32_t t = 0;
-    for (uint32_t c = 0; c < 8; ++c) t |= (m >> c & 1) << mv_thesis_octant(c);
-    ASSERT_EQ(mv_thesis_mask(m), t) << "mask " << m;
-    ASSERT_EQ(mv_thesis_mask(t), m) << "mask " << m;
+    for (uint32_t c = 0; c < 8; ++c) t |= (m >> c & 1) << mv_xmajor_octant(c);
+    ASSERT_EQ(mv_xmajor_mask(m), t) << "mask " << m;
+    ASSERT_EQ(mv_xmajor_mask(t), m) << "mask " << m;
   }
 }
 

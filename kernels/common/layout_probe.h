@@ -21,7 +21,7 @@
 #include "points.h"
 #include "splat.h"
 #include "min_cut.h"
-#include "min_cut_bk.h"
+#include "min_cut_regions.h"
 #include "mask_post.h"
 #include "voxelize.h"
 
@@ -39,11 +39,11 @@
   X(MV_U32, start_hi)
 #define MV_FIELDS_UNIQUE(X) X(MV_U32, n) X(MV_U32, pad0)
 #define MV_FIELDS_CACHE(X) X(MV_U32, n) X(MV_U32, stamp) X(MV_U32, count) X(MV_U32, page_words) X(MV_U32, runs_at)
-#define MV_FIELDS_MINCUT(X)                                                                                            \
+#define MV_FIELDS_MIN_CUT(X)                                                                                            \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, tile) X(MV_U32, tiles_x) X(MV_U32, tiles_y)           \
   X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)  \
   X(MV_U32, stamp_since) X(MV_U32, from_touched)
-#define MV_FIELDS_MINCUT_BK(X)                                                                                         \
+#define MV_FIELDS_MIN_CUT_REGIONS(X)                                                                                         \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, regions_x) X(MV_U32, regions_y) X(MV_U32, group)        \
   X(MV_U32, budget) X(MV_U32, walk)
 #define MV_FIELDS_MASK_POST(X) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, pad0)
@@ -113,8 +113,8 @@ MV_PROBE(ray, MvRay, MV_FIELDS_RAY)
 MV_PROBE(hit, MvHit, MV_FIELDS_HIT)
 MV_PROBE(point_params, MvPointParams, MV_FIELDS_POINT)
 MV_PROBE(splat_params, MvSplatParams, MV_FIELDS_SPLAT)
-MV_PROBE(mincut_params, MvMinCutParams, MV_FIELDS_MINCUT)
-MV_PROBE(mincut_bk_params, MvMinCutBkParams, MV_FIELDS_MINCUT_BK)
+MV_PROBE(min_cut_params, MvMinCutParams, MV_FIELDS_MIN_CUT)
+MV_PROBE(min_cut_regions_params, MvMinCutRegionsParams, MV_FIELDS_MIN_CUT_REGIONS)
 MV_PROBE(mask_post_params, MvMaskPostParams, MV_FIELDS_MASK_POST)
 
 #endif /* MV_LAYOUT_PROBE_H */

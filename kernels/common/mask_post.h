@@ -1,5 +1,5 @@
-/* Mask post-processing (the thesis's 5x5 median, then erosion with an octagon), one pixel per work-item of a
- * 2-D launch. Masks are one 32-bit word per pixel, 0 or 1.
+/* Mask post-processing (Jaspe Villanueva's thesis, 2018, ch. 3: a 5x5 median, then erosion with an
+ * octagon), one pixel per work-item of a 2-D launch. Masks are one 32-bit word per pixel, 0 or 1.
  *   mask_median5: 1 where at least 13 of the 25 pixels around are 1 (the median of binary values); pixels
  *                 past the border repeat the nearest edge pixel.
  *   mask_erode:   1 where the pixel and every pixel of the octagon of radius r around it are 1: offsets with

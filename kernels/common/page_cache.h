@@ -1,5 +1,5 @@
-/* The page cache's update pass (notes: gigavoxels-cache.md 6.1-6.9), written once for the host, OpenCL C and
- * GLSL. The cache is `slots` device slots of one page each over `pages` page ids:
+/* The page cache's update pass (Crassin's GigaVoxels cache: PhD thesis, Grenoble 2011, ch. 7.2-7.4), written once
+ * for the host, OpenCL C and GLSL. The cache is `slots` device slots of one page each over `pages` page ids:
  *   usage[slot]  the last pass (stamp) that used the slot, written by whoever reads the slot's data;
  *   request[pg]  the last pass that asked for page pg, written on a miss (every writer writes the same stamp:
  *                no atomics, duplicates collapse, never cleared: older stamps are stale);

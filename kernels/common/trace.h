@@ -1,8 +1,10 @@
 /* Ray traversal of the encoded voxel DAGs, written once for the host, OpenCL C and GLSL: the loop. Records
- * and parameters are in trace_types.h, what it reads of each node in trace_nodes.h.
+ * and parameters are in trace_types.h, ray setup and crossing arithmetic in trace_ray.h, what it reads of
+ * each node in trace_nodes.h, the paged address layer in trace_paging.h.
  *
- * The traversal is the thesis's "transform the geometry" multi-level DDA (notes 1.10): the ray stays fixed, a
- * 3-bit mirror mask M is accumulated along the path, and the child seen in octant v is stored at slot v ^ M.
+ * The traversal is the "transform the geometry" multi-level DDA of Jaspe Villanueva's SSVDAG (PhD thesis,
+ * 2018, ch. 5): the ray stays fixed, a 3-bit mirror mask M is accumulated along the path, and the child seen in
+ * octant v is stored at slot v ^ M.
  *
  * Coordinates: the root cube is [0, 1)^3 (host maps world to this cube); a cell of level l has side
  * 2^(l - L). Every decision is a comparison of crossing times t = (b - o) * inv_d, where b is a cell
@@ -25,179 +27,9 @@
  * (trace_nodes.h), the seam where a paged address layer goes. */
 #ifndef MV_TRACE_H
 #define MV_TRACE_H
-#include "page_cache.h"
 #include "trace_nodes.h"
-
-/* 1 / x for |x| in [1e-20, 1e20], identical on every device (not always correctly rounded). */
-MV_INLINE mv_f32 mv_rcp(mv_f32 x) {
-  mv_u32 b = MV_FBITS(x);
-  MV_PRECISE mv_f32 a = MV_BITSF(b & 0x7fffffffu);
-  MV_PRECISE mv_f32 r = MV_BITSF(0x7ef311c3u - (b & 0x7fffffffu));
-  r = r * (2.0f - a * r);
-  r = r * (2.0f - a * r);
-  r = r * (2.0f - a * r);
-  r = r * (2.0f - a * r);
-  return MV_BITSF(MV_FBITS(r) | (b & 0x80000000u));
-}
-
-/* Direction components keep their sign (zero counts as positive) and at least 1e-20 magnitude. */
-MV_INLINE mv_f32 mv_dir_clamp(mv_f32 d) {
-  if (d >= 0.0f && d < 1e-20f) return 1e-20f;
-  if (d < 0.0f && d > -1e-20f) return -1e-20f;
-  return d;
-}
-
-/* The side of a cell of level l in a root cube of level L: 2^(l - L), exact. */
-MV_INLINE mv_f32 mv_cell_side(mv_u32 l, mv_u32 L) { return MV_BITSF(((127u + l) - L) << 23); }
-
-MV_INLINE mv_f32 mv_cross(mv_f32 b, mv_f32 o, mv_f32 inv) {
-  MV_PRECISE mv_f32 t = (b - o) * inv;
-  return t;
-}
-
-/* Event (t, k) comes strictly before event (te, ae). */
-MV_INLINE bool mv_before(mv_f32 t, mv_u32 k, mv_f32 te, mv_u32 ae) { return t < te || (t == te && k < ae); }
-
-/* Has the crossing (t, k) happened by event (te, ae)? The start event of a ray that begins inside the cube
- * (ae = MV_AXIS_NONE, te = 0) counts only crossings at t < 0: a ray starting on a boundary is still in the
- * cell behind it and crosses at t = 0 (for both directions, so the rule does not depend on the sign of 0). */
-MV_INLINE bool mv_crossed(mv_f32 t, mv_u32 k, mv_f32 te, mv_u32 ae) {
-  return ae == MV_AXIS_NONE ? t < te : mv_before(t, k, te, ae);
-}
-
-/* The half (0 lower, 1 upper) along axis k of the cell of side s the ray is in, inside parent cell `parent`
- * (side 2s), given the event (te, ae) that brought it into the parent. */
-MV_INLINE mv_u32 mv_child_half(mv_u32 parent, mv_f32 s, mv_f32 o, mv_f32 inv, mv_u32 k, mv_f32 te, mv_u32 ae) {
-  MV_PRECISE mv_f32 mid = MV_F32(2u * parent + 1u) * s;
-  bool pos = inv > 0.0f;
-  if (k == ae) return pos ? 0u : 1u;
-  bool crossed = mv_crossed(mv_cross(mid, o, inv), k, te, ae);
-  return pos == crossed ? 1u : 0u;
-}
-
-/* Where a ray enters the root cube: the event (t, axis), axis MV_AXIS_NONE when it starts inside (t = 0).
- * enters = 0 when it misses the cube or enters after tmax. */
-MV_STRUCT_BEGIN(MvEntry)
-  mv_f32 t;
-  mv_u32 axis;
-  mv_u32 enters;
-MV_STRUCT_END(MvEntry)
-
-/* Is the ray inside [0, 1) on this axis just before t = 0 (see mv_crossed)? */
-MV_INLINE bool mv_inside_unit(mv_f32 x, mv_f32 inv) { return inv > 0.0f ? x > 0.0f && x <= 1.0f : x >= 0.0f && x < 1.0f; }
-
-MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f32 i1, mv_f32 i2, mv_f32 tmax) {
-  MvEntry e;
-  e.t = 0.0f;
-  e.axis = MV_AXIS_NONE;
-  e.enters = tmax >= 0.0f ? 1u : 0u;
-  mv_f32 o[3];
-  mv_f32 inv[3];
-  o[0] = o0; o[1] = o1; o[2] = o2;
-  inv[0] = i0; inv[1] = i1; inv[2] = i2;
-  if (mv_inside_unit(o0, i0) && mv_inside_unit(o1, i1) && mv_inside_unit(o2, i2)) return e;
-  for (mv_u32 k = 0u; k < 3u; ++k) {
-    if (mv_inside_unit(o[k], inv[k])) continue;
-    bool pos = inv[k] > 0.0f;
-    if (pos ? o[k] > 1.0f : o[k] < 0.0f) e.enters = 0u; /* outside on k and moving away */
-    mv_f32 t = mv_cross(pos ? 0.0f : 1.0f, o[k], inv[k]);
-    if (e.axis == MV_AXIS_NONE || mv_before(e.t, e.axis, t, k)) {
-      e.t = t;
-      e.axis = k;
-    }
-  }
-  for (mv_u32 k = 0u; k < 3u; ++k)
-    if (mv_before(mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]), k, e.t, e.axis)) e.enters = 0u;
-  if (e.t > tmax) e.enters = 0u;
-  return e;
-}
-
-/* Paged traversal: where stream word `addr` is in the cache's slots (data word slot << shift | offset), or
- * MV_CACHE_NONE when its page is not resident (the ray then stops there and requests the page once it has
- * left its loop: mv_page_request). A resident page's slot is stamped as used when the kernel stamps usage; a
- * stamp already there is not written again, so the rays sharing a page share its cache line. Each node lies
- * in one page, so a node's header and pointers resolve once, through the node's first word. */
-MV_INLINE void mv_page_stamp(MvBufU32 usage, mv_u32 slot, mv_u32 stamp) {
-  if (MV_LD(usage, slot) != stamp) MV_ST(usage, slot, stamp);
-}
-MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvTraceParams p, mv_u32 stamp_usage, mv_u32 addr) {
-  const mv_u32 shift = MV_TRACE_PAGE_SHIFT(p);
-  mv_u32 slot = MV_LD(table, addr >> shift);
-  if (slot == MV_CACHE_NONE) return MV_CACHE_NONE;
-  if (stamp_usage != 0u) mv_page_stamp(usage, slot, p.level_base[MV_TRACE_PAGE_STAMP]);
-  return (slot << shift) | (addr & ((1u << shift) - 1u));
-}
-/* request[page] = stamp: every writer writes the same value, so duplicates collapse without atomics. */
-MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
-  const mv_u32 stamp = p.level_base[MV_TRACE_PAGE_STAMP];
-  if (MV_LD(request, page) != stamp) MV_ST(request, page, stamp);
-}
-
-/* Paged traversal, in mv_trace: stream word `word` into `at`, its word in the slots, and `coarse` set where its
- * page is missing (`at` is then 0, so the walk reads a harmless word by selects before it leaves). A word inside
- * the run the ray resolved last (consecutive resident pages in consecutive slots: page_cache.h) moves by that
- * run's offset: one compare and one add, no table and no dependent load on the way to the node. Any other goes
- * through the table (MV_PAGE_ENTER), and its page's run becomes the ray's:
- *  - where the cache stamps usage, at once; a page entered inside the run is stamped too, so the LRU sees every
- *    page read;
- *  - in a whole cache (no stamps: preloaded, one run), after the walk's loop (mv_trace): the step leaves the loop
- *    as a miss would, and the walk repeats it once the page is resolved. Lavapipe runs both arms of a branch for
- *    every lane, so the table's arm inside the loop cost it ~9 % of the trace where no ray ever took it. */
-#define MV_PAGE_ENTER(word, at)                                                                                \
-  at = mv_page_resolve(bricks, usage, p, stamp_usage, word);                                                   \
-  last_page = (word) >> page_shift;                                                                            \
-  if (at != MV_CACHE_NONE) {                                                                                   \
-    mv_u32 run_word = MV_LD(bricks, runs_at + last_page);                                                      \
-    run_lo = (last_page - MV_CACHE_RUN_BEFORE(run_word)) << page_shift;                                        \
-    /* at least the page itself: a whole cache's walk repeats its step inside this run (mv_trace) */           \
-    run_span = (MV_CACHE_RUN_BEFORE(run_word) + MV_MAX(MV_CACHE_RUN_FROM(run_word), 1u)) << page_shift;         \
-    run_move = at - (word);                                                                                    \
-  }
-
-/* The whole cache's step (MV_PAGE_STEP). Leaving the run is rare (never in a cache preloaded in page order: one
- * run), and the two kinds of CPU device want it differently:
- *  - OpenCL (PoCL runs a work-item as scalar code): a branch that is never taken, out of the loop with the
- *    descent made (to the child's even cell: the undo after the loop takes it back), so the child's header load
- *    waits on one add after the pointer; the selects put a compare and a cmov on that chain of dependent loads,
- *    ~3 % of the trace;
- *  - GLSL (lavapipe runs every branch for all lanes): selects, and the walk leaves at the next step (limit). */
-#if !defined(MV_GLSL)
-#define MV_PAGE_STEP_WHOLE(word, at)                                                                           \
-  if ((word) - run_lo >= run_span) {                                                                           \
-    left_run = (word);                                                                                         \
-    coarse = 1u;                                                                                               \
-    status = MV_TRACE_HIT;                                                                                     \
-    nl -= 1u;                                                                                                  \
-    lc -= 1u;                                                                                                  \
-    s = s * 0.5f;                                                                                              \
-    for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k];                                                     \
-    break;                                                                                                     \
-  }                                                                                                            \
-  at = (word) + run_move;
-#else
-#define MV_PAGE_STEP_WHOLE(word, at)                                                                           \
-  coarse = (word) - run_lo < run_span ? 0u : 1u;                                                               \
-  left_run = (word);                                                                                           \
-  at = coarse != 0u ? 0u : (word) + run_move;
-#endif
-
-#define MV_PAGE_STEP(word, at)                                                                                 \
-  if (stamp_usage == 0u) {                                                                                     \
-    MV_PAGE_STEP_WHOLE(word, at)                                                                               \
-  } else {                                                                                                     \
-    if ((word) - run_lo < run_span) {                                                                          \
-      at = (word) + run_move;                                                                                  \
-      if (((word) >> page_shift) != last_page) {                                                               \
-        last_page = (word) >> page_shift;                                                                      \
-        mv_page_stamp(usage, at >> page_shift, p.level_base[MV_TRACE_PAGE_STAMP]);                             \
-      }                                                                                                        \
-    } else {                                                                                                   \
-      MV_PAGE_ENTER(word, at)                                                                                  \
-    }                                                                                                          \
-    coarse = at == MV_CACHE_NONE ? 1u : 0u;                                                                    \
-    at = coarse != 0u ? 0u : at;                                                                               \
-  }                                                                                                            \
-  limit = coarse != 0u ? steps : limit; /* leave at the next step (mv_trace) */
+#include "trace_paging.h"
+#include "trace_ray.h"
 
 /* One ray through the DAG of MV_TRACE_LEVELS(p) levels (p.proj, p.max_steps; `variant`: mv_trace_rays). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
@@ -282,7 +114,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
          * keeps every branch's lane masks: each exit or guard costs it several % of the trace) */
         if (!(lc == 0u || (proj > 0.0f && s * proj < te + r.lod_t))) {
           /* descend into the child at `slot`, of level lv; every node read is an mv_node_load */
-          mv_u32 t8 = mv_thesis_octant(slot);
+          mv_u32 t8 = mv_xmajor_octant(slot);
           mv_u32 node = node_at[nl];
           mv_u32 hdr = hdr_at[nl];
           mv_u32 lv = nl - 1u;

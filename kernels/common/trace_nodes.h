@@ -9,8 +9,9 @@
 #define MV_TRACE_NODES_H
 #include "trace_types.h"
 
-/* Thesis octant index (4x + 2y + z) of a Morton octant (x + 2y + 4z); its own inverse. */
-MV_INLINE mv_u32 mv_thesis_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) | ((m >> 2) & 1u); }
+/* X-major octant index (4x + 2y + z, the order encoded nodes keep their children in) of a Morton octant
+ * (x + 2y + 4z); its own inverse. */
+MV_INLINE mv_u32 mv_xmajor_octant(mv_u32 m) { return ((m & 1u) << 2) | (m & 2u) | ((m >> 2) & 1u); }
 
 /* The compact ssvdag decode (resident or paged), and reads through the page cache (either encoding family):
  * constants of each entry point, so each kernel compiles only its own path. */
@@ -37,7 +38,7 @@ MV_INLINE mv_u64 mv_node_load(MvBufU32 words, MvBufU32 bricks, mv_u32 enc, mv_u3
 MV_INLINE mv_u32 mv_inner_word(mv_u64 data, mv_u32 addr) { return (MV_U32(data) >> ((addr & 1u) * 16u)) & 0xffffu; }
 MV_INLINE mv_u32 mv_inner_words(mv_u64 data, mv_u32 addr) { return MV_U32(data >> ((addr & 1u) * 16u)); }
 
-/* 32-bit word encodings: where the pointer to thesis child t8 of the node at word `node` is (the pointers
+/* 32-bit word encodings: where the pointer to x-major child t8 of the node at word `node` is (the pointers
  * follow the header in descending child order), and that child's mirror tag (ussvdag header bits 8 + t8,
  * 16 + t8, 24 + t8 for x, y, z). */
 MV_INLINE mv_u32 mv_word_child_at(mv_u32 node, mv_u32 hdr, mv_u32 t8) {
@@ -48,7 +49,7 @@ MV_INLINE mv_u32 mv_word_child_tag(mv_u32 hdr, mv_u32 t8) {
   return ((hdr >> (8u + t8)) & 1u) | (((hdr >> (16u + t8)) & 1u) << 1) | (((hdr >> (24u + t8)) & 1u) << 2);
 }
 
-/* ssvdag inner node at 16-bit word `node`: thesis child t8's 2-bit code, and where its pointer is: 1 + the sum
+/* ssvdag inner node at 16-bit word `node`: x-major child t8's 2-bit code, and where its pointer is: 1 + the sum
  * over later children of min(code, 2) (bit 2k of the OR counts code k != 0, bit 2k + 1 code k >= 2). */
 MV_INLINE mv_u32 mv_ssvdag_child_code(mv_u32 hdr, mv_u32 t8) { return (hdr >> (2u * t8)) & 3u; }
 
@@ -77,16 +78,16 @@ MV_INLINE mv_u32 mv_delta_swap(mv_u32 x, mv_u32 m, mv_u32 s) {
 /* A node's 8 children as a mask over stored Morton slots (bit v = slot v full), computed once when the walk
  * enters the node, so each step tests one bit whatever the encoding or level. */
 
-/* An 8-bit child mask from thesis octant order (bit 4x + 2y + z) to Morton order (bit x + 2y + 4z), and back
- * (mv_thesis_octant on every bit): swap bits 1 <-> 4 and 3 <-> 6. */
-MV_INLINE mv_u32 mv_thesis_mask(mv_u32 h) {
+/* An 8-bit child mask from x-major octant order (bit 4x + 2y + z) to Morton order (bit x + 2y + 4z), and back
+ * (mv_xmajor_octant on every bit): swap bits 1 <-> 4 and 3 <-> 6. */
+MV_INLINE mv_u32 mv_xmajor_mask(mv_u32 h) {
   mv_u32 x = ((h >> 3) ^ h) & 0x0au;
   return (h ^ x ^ (x << 3)) & 0xffu;
 }
 
 /* 32-bit word encodings: the child mask in the header's low byte. ssvdag inner nodes: 2-bit codes, 0 = empty. */
 MV_INLINE mv_u32 mv_node_occupancy(mv_u32 enc, mv_u32 hdr) {
-  if (!mv_enc_compact(enc)) return mv_thesis_mask(hdr & 0xffu);
+  if (!mv_enc_compact(enc)) return mv_xmajor_mask(hdr & 0xffu);
   /* bit 2k (k = 4x + 2y + z): code k != 0; the x = 1 byte onto the odd bits gives bit x + 2z + 4y; then swap
    * the y and z bits (2 <-> 4, 3 <-> 5) for x + 2y + 4z */
   mv_u32 nz = (hdr | (hdr >> 1)) & 0x5555u;

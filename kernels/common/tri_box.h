@@ -30,8 +30,8 @@ MV_ALWAYS_INLINE bool mv_edge_axis_separates(mv_f64 v0x, mv_f64 v0y, mv_f64 v0z,
 /* The three edge axes of box axis a: x cross e = (0, -ez, ey), y cross e = (ez, 0, -ex), z cross e = (-ey, ex,
  * 0). They read only the vertices' two other coordinates (the a-th is multiplied by an exact 0), so a column
  * walk along a runs them once per column (mv_tri_box_column) with the same outcome as per voxel. One
- * straight-line function per axis, always inlined: called, a loop over axes and edges with selects was half
- * of the voxelizer's time on PoCL. */
+ * straight-line function per axis, always inlined: as a called function, a loop over axes and edges with selects takes
+ * half of the voxelizer's time on PoCL. */
 #if defined(MV_CPP) && defined(__GNUC__) /* each axis reads six of the nine edge components it names */
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-variable"

@@ -1,27 +1,29 @@
-// OpenCL entry points of the tiled push-relabel min-cut (bodies: common/min_cut.h). One work-item per tile.
+// OpenCL entry points of the min-cut family, both exact: tiled push-relabel (min_cut_invalidate, min_cut_relax,
+// min_cut_active, min_cut_discharge; bodies: common/min_cut.h), one work-item per tile, and Boykov-Kolmogorov over
+// regions (min_cut_regions; bodies: common/min_cut_regions.h), one work-item taking region after region.
 #include "common/min_cut.h"
-#include "common/min_cut_bk.h"
+#include "common/min_cut_regions.h"
 
-__kernel void mincut_invalidate(__global uint* height, __global uint* sink, __global uint* resid,
+__kernel void min_cut_invalidate(__global uint* height, __global uint* sink, __global uint* resid,
                                 __global uint* flag, __global uint* stamp, __global uint* touched, MvMinCutParams p) {
   mv_mincut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), false);
 }
 
-__kernel void mincut_relax(__global uint* height, __global uint* sink, __global uint* resid, __global uint* flag,
+__kernel void min_cut_relax(__global uint* height, __global uint* sink, __global uint* resid, __global uint* flag,
                            __global uint* stamp, __global uint* touched, MvMinCutParams p) {
   mv_mincut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), true);
 }
 
-__kernel void mincut_active(__global uint* excess, __global uint* height, __global uint* flag, MvMinCutParams p) {
+__kernel void min_cut_active(__global uint* excess, __global uint* height, __global uint* flag, MvMinCutParams p) {
   mv_mincut_active(excess, height, flag, p.width * p.height, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
-__kernel void mincut_discharge(__global uint* excess, __global uint* height, __global uint* sink,
+__kernel void min_cut_discharge(__global uint* excess, __global uint* height, __global uint* sink,
                                __global uint* resid, __global uint* busy, __global uint* touched, MvMinCutParams p) {
   mv_mincut_discharge(excess, height, sink, resid, busy, touched, p, p.first_tile + MV_GLOBAL_ID());
 }
 
-__kernel void mincut_bk(__global uint* resid, __global uint* term, __global uint* node, __global uint* next,
-                        __global uint* orphans, __global uint* state, MvMinCutBkParams p) {
+__kernel void min_cut_regions(__global uint* resid, __global uint* term, __global uint* node, __global uint* next,
+                        __global uint* orphans, __global uint* state, MvMinCutRegionsParams p) {
   mv_bk_items(resid, term, node, next, orphans, state, p);
 }

@@ -1,10 +1,11 @@
-// Vulkan entry points of the tiled push-relabel min-cut, one module per -DMV_ENTRY_<name>
-// (bodies: common/min_cut.h). One invocation per tile.
+// Vulkan entry points of the min-cut family, one module per -DMV_ENTRY_<name>: tiled push-relabel (invalidate,
+// relax, active, discharge; bodies: common/min_cut.h), one invocation per tile, and Boykov-Kolmogorov over
+// regions (regions; bodies: common/min_cut_regions.h), one invocation taking region after region.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/min_cut.h"
-#include "common/min_cut_bk.h"
+#include "common/min_cut_regions.h"
 
 #if defined(MV_ENTRY_invalidate)
 MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvBufU32 touched;
@@ -32,11 +33,11 @@ void main() {
   mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.touched, args.p,
                       args.p.first_tile + MV_GLOBAL_ID());
 }
-#elif defined(MV_ENTRY_bk)
-MV_ARGS(MvBufU32 resid; MvBufU32 term; MvBufU32 node; MvBufU32 next; MvBufU32 orphans; MvBufU32 state; MvMinCutBkParams p;);
+#elif defined(MV_ENTRY_regions)
+MV_ARGS(MvBufU32 resid; MvBufU32 term; MvBufU32 node; MvBufU32 next; MvBufU32 orphans; MvBufU32 state; MvMinCutRegionsParams p;);
 void main() {
   mv_bk_items(args.resid, args.term, args.node, args.next, args.orphans, args.state, args.p);
 }
 #else
-#error "define MV_ENTRY_invalidate, relax, active, discharge or bk"
+#error "define MV_ENTRY_invalidate, relax, active, discharge or regions"
 #endif

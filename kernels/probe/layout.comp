@@ -47,12 +47,12 @@
 #elif defined(MV_ENTRY_probe_splat_params)
 #define MV_PROBE_T MvSplatParams
 #define MV_PROBE_FN mv_probe_splat_params
-#elif defined(MV_ENTRY_probe_mincut_params)
+#elif defined(MV_ENTRY_probe_min_cut_params)
 #define MV_PROBE_T MvMinCutParams
-#define MV_PROBE_FN mv_probe_mincut_params
-#elif defined(MV_ENTRY_probe_mincut_bk_params)
-#define MV_PROBE_T MvMinCutBkParams
-#define MV_PROBE_FN mv_probe_mincut_bk_params
+#define MV_PROBE_FN mv_probe_min_cut_params
+#elif defined(MV_ENTRY_probe_min_cut_regions_params)
+#define MV_PROBE_T MvMinCutRegionsParams
+#define MV_PROBE_FN mv_probe_min_cut_regions_params
 #elif defined(MV_ENTRY_probe_mask_post_params)
 #define MV_PROBE_T MvMaskPostParams
 #define MV_PROBE_FN mv_probe_mask_post_params

@@ -146,13 +146,13 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   TilePlan still_plan = plan;
   still_plan.base.sweeps =
       capped_sweeps(dev.info(), plan.base.tile, g.connectivity, 4 * std::max<uint32_t>(options.sweeps, 1));
-  Kernel& invalidate = dev.kernel(KernelId::mincut_invalidate);
-  Kernel& relax = dev.kernel(KernelId::mincut_relax);
-  Kernel& active = dev.kernel(KernelId::mincut_active);
-  Kernel& discharge = dev.kernel(KernelId::mincut_discharge);
+  Kernel& invalidate = dev.kernel(KernelId::min_cut_invalidate);
+  Kernel& relax = dev.kernel(KernelId::min_cut_relax);
+  Kernel& active = dev.kernel(KernelId::min_cut_active);
+  Kernel& discharge = dev.kernel(KernelId::min_cut_discharge);
   uint32_t flags[2] = {0, 0};
   MvMinCutParams& sp = still_plan.base;
-  // One step of a global relabel (mincut_invalidate or mincut_relax), pass after pass until nothing changes:
+  // One step of a global relabel (min_cut_invalidate or min_cut_relax), pass after pass until nothing changes:
   // first the touched tiles, then the tiles around each change of the pass before.
   auto settle = [&](Kernel& k) {
     sp.from_touched = 1;

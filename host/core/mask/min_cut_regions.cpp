@@ -1,4 +1,4 @@
-// The host side of the region Boykov-Kolmogorov min-cut (kernels/common/min_cut_bk.h): the terminals cancel on
+// The host side of the region Boykov-Kolmogorov min-cut (kernels/common/min_cut_regions.h): the terminals cancel on
 // the host, the regions run side by side until each is done, then each level merges 2 x 2 of them and goes on
 // from their trees, up to the whole grid; the pixels in the sink's tree at the end are those that can reach the
 // sink.
@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <string>
 
-#include "common/min_cut_bk.h"
+#include "common/min_cut_regions.h"
 #include "megavox/error.h"
 
 namespace mv::mask {
@@ -16,7 +16,7 @@ namespace {
 
 // Runs the kernel until every item of the level is done. Each dispatch gives an item p.budget steps; the state
 // words say where each stopped.
-uint32_t run_level(Device& dev, Kernel& k, const MvMinCutBkParams& p, uint32_t items, Buffer& sb,
+uint32_t run_level(Device& dev, Kernel& k, const MvMinCutRegionsParams& p, uint32_t items, Buffer& sb,
                    std::vector<uint32_t>& state, std::initializer_list<const Buffer*> buffers, uint64_t max_dispatches) {
   uint32_t dispatches = 0;
   for (;;) {
@@ -54,7 +54,7 @@ uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, Buff
     flow += std::min(excess[i], sink[i]);
     term[i] = static_cast<uint32_t>(static_cast<int32_t>(excess[i]) - static_cast<int32_t>(sink[i]));
   }
-  MvMinCutBkParams p{};
+  MvMinCutRegionsParams p{};
   p.width = g.width;
   p.height = g.height;
   p.conn = conn;
@@ -78,7 +78,7 @@ uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, Buff
   std::vector<uint32_t> state(uint64_t{items} * MV_BK_STATE_WORDS);
   for (uint32_t r = 0; r < items; ++r) start_state(&state[r * MV_BK_STATE_WORDS], MV_BK_START, 0);
   dev.upload(sb, state.data(), state.size() * 4);
-  Kernel& k = dev.kernel(KernelId::mincut_bk);
+  Kernel& k = dev.kernel(KernelId::min_cut_regions);
   const std::initializer_list<const Buffer*> buffers = {&rb, &tb, &nodeb, &nb, &ob, &sb};
   // Each augmentation moves at least one unit of flow in a bounded number of steps, so a working device ends
   // long before this; the guard catches a broken one.

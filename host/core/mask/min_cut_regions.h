@@ -1,5 +1,5 @@
 // Exact min-cut by Boykov-Kolmogorov over regions of the grid, merged 2 x 2 a level up to the whole grid
-// (kernels/common/min_cut_bk.h).
+// (kernels/common/min_cut_regions.h).
 #pragma once
 #include <cstdint>
 #include <vector>

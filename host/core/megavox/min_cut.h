@@ -1,5 +1,5 @@
 // megavox — exact min-cut of a pixel-grid graph on a device: Boykov-Kolmogorov over regions, merged up to the grid
-// (kernels/common/min_cut_bk.h), or tiled push-relabel (kernels/common/min_cut.h).
+// (kernels/common/min_cut_regions.h), or tiled push-relabel (kernels/common/min_cut.h).
 //
 // The answer is the same bytes on every device: the cut value (the maximum flow, exactly) and the canonical
 // minimal source set (the pixels reachable from the source in the residual graph of a maximum flow, which is
@@ -15,7 +15,7 @@
 namespace mv {
 
 // How the kernels find the cut: push-relabel over tiles (kernels/common/min_cut.h), or Boykov-Kolmogorov over
-// regions, merged 2 x 2 a level up to the whole grid (kernels/common/min_cut_bk.h).
+// regions, merged 2 x 2 a level up to the whole grid (kernels/common/min_cut_regions.h).
 enum class MinCutSolver : uint8_t { push_relabel, regions };
 
 struct MinCutOptions {

@@ -159,14 +159,14 @@ void select_batch(Device& dev, std::span<const uint64_t> codes, std::span<const 
   const uint32_t local = 64;
   const uint32_t wg = static_cast<uint32_t>((uint64_t{groups} + local - 1) / local);
   if (wg > dev.info().max_groups) throw Error("points: " + std::to_string(groups) + " parents in one dispatch");
-  dev.dispatch(dev.kernel(KernelId::rep_count), wg, local, {&cb, &bb, &cells, &kept}, p);
+  dev.dispatch(dev.kernel(KernelId::omicron_rep_count), wg, local, {&cb, &bb, &cells, &kept}, p);
   dev.barrier();
   exclusive_scan(dev, kept, kept, groups);
   dev.barrier();
   uint32_t total = 0;
   dev.download(kept, &total, 4, uint64_t{groups} * 4);
   Buffer ob = dev.alloc(std::max<uint64_t>(total, 1) * 4, "representatives");
-  dev.dispatch(dev.kernel(KernelId::rep_select), wg, local, {&cb, &bb, &cells, &kept, &ob}, p);
+  dev.dispatch(dev.kernel(KernelId::omicron_rep_select), wg, local, {&cb, &bb, &cells, &kept, &ob}, p);
   dev.barrier();
   std::vector<uint32_t> offsets(groups + 1);
   dev.download(kept, offsets.data(), offsets.size() * 4);

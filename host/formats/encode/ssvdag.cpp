@@ -77,7 +77,7 @@ EncodedDag encode_ssvdag(const Dag& dag) {
       for (uint32_t c = 0, k = 0; c < 8; ++c) {
         if (!(lv.mask[i] >> c & 1)) continue;
         uint32_t j = lv.first[i] + k++;
-        uint32_t t = mv_thesis_octant(c);
+        uint32_t t = mv_xmajor_octant(c);
         uint64_t off = offset[l - 1][lv.children[j]];
         if (off >= (uint64_t{1} << 30)) throw Error("ssvdag: an offset needs more than 30 bits");
         child_off[t] = static_cast<uint32_t>(off);
@@ -113,7 +113,7 @@ struct Pointer {
   uint32_t tag;
 };
 
-// Reads node header `h` at inner word w: calls f(thesis octant, pointer) for each child; returns the words
+// Reads node header `h` at inner word w: calls f(x-major octant, pointer) for each child; returns the words
 // after the node. No checks (validate_ssvdag does those).
 template <class F>
 uint64_t read_node(const std::vector<uint16_t>& in, uint64_t w, F&& f) {
@@ -186,7 +186,7 @@ std::vector<uint64_t> decode_ssvdag(const EncodedDag& enc) {
     Item it = stack.back();
     stack.pop_back();
     read_node(enc.inner, enc.level_offset[it.level] + it.offset, [&](uint32_t t, Pointer p) {
-      uint64_t key = it.prefix << 3 | (mv_thesis_octant(t) ^ it.reflect);
+      uint64_t key = it.prefix << 3 | (mv_xmajor_octant(t) ^ it.reflect);
       uint32_t reflect = it.reflect ^ p.tag;
       if (it.level > 3) {
         stack.push_back({it.level - 1, p.offset, reflect, key});

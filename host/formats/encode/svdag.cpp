@@ -32,17 +32,17 @@ EncodedDag encode_svdag(const Dag& dag) {
   for (uint32_t l = dag.levels; l >= 1; --l) {
     const DagLevel& lv = dag.level[l];
     for (size_t i = 0; i < lv.mask.size(); ++i) {
-      uint32_t tm = mv_thesis_mask(lv.mask[i]);
+      uint32_t tm = mv_xmajor_mask(lv.mask[i]);
       if (l == 1) {
         enc.words.push_back(tm);
         continue;
       }
-      uint32_t child_at[8] = {};  // by thesis octant
+      uint32_t child_at[8] = {};  // by x-major octant
       uint32_t header = tm;
       for (uint32_t c = 0, k = 0; c < 8; ++c) {
         if (!(lv.mask[i] >> c & 1)) continue;
         uint32_t j = lv.first[i] + k++;
-        uint32_t t = mv_thesis_octant(c);
+        uint32_t t = mv_xmajor_octant(c);
         child_at[t] = static_cast<uint32_t>(at[l - 1][lv.children[j]]);
         uint32_t tag = lv.tags.empty() ? 0 : lv.tags[j];
         header |= (tag & 1) << (8 + t) | (tag >> 1 & 1) << (16 + t) | (tag >> 2 & 1) << (24 + t);
@@ -110,7 +110,7 @@ std::vector<uint64_t> decode_svdag(const EncodedDag& enc) {
     uint32_t ptr = it.word + 1;
     for (int t = 7; t >= 0; --t) {
       if (!(header >> t & 1)) continue;
-      uint64_t key = it.prefix << 3 | (mv_thesis_octant(uint32_t(t)) ^ it.reflect);
+      uint64_t key = it.prefix << 3 | (mv_xmajor_octant(uint32_t(t)) ^ it.reflect);
       if (it.level == 1) {
         out.push_back(key);
         continue;

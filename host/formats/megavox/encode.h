@@ -4,7 +4,7 @@
 // compare with the thesis's tables. A stream of 32-bit words, levels root first. An inner node is a header
 // word (child mask in bits 0-7) followed by one 32-bit absolute word index per existing child, in descending
 // child order; a level-1 node (2x2x2 leaf) is a single word holding its mask. Child order and mask bits use
-// the thesis octant index c = 4x + 2y + z (megavox's own octants are Morton: x + 2y + 4z).
+// the x-major octant index c = 4x + 2y + z (megavox's own octants are Morton: x + 2y + 4z).
 //
 // ussvdag: the same layout for an SSVDAG; header bits 8-15, 16-23 and 24-31 are the X, Y and Z mirror bits
 // of the pointer to child c (bit 8 + c, 16 + c, 24 + c): that child is the stored node mirrored across those
@@ -21,7 +21,7 @@ namespace mv {
 // nodes become 64-bit 4x4x4 bricks (bit 16x + 4y + z, children already mirrored by their tags) in a brick
 // array; the inner levels (L .. 3) are streams of 16-bit words, each level's nodes sorted by descending
 // reference count so popular nodes get short offsets. A node is a header word (2 bits per child c = 0..7,
-// thesis octants: 00 empty, 01 16-bit pointer, 10 / 11 32-bit pointer whose offset bit 29 is 0 / 1) and the
+// x-major octants: 00 empty, 01 16-bit pointer, 10 / 11 32-bit pointer whose offset bit 29 is 0 / 1) and the
 // pointers of its children in descending c. A 16-bit pointer holds the Z, Y, X mirror bits in bits 15..13
 // and a 13-bit offset; a 32-bit pointer (high word first) the mirror bits in 31..29 and offset bits 28..0.
 // Offsets count 16-bit words from the start of the child's level, or bricks when the child is a brick.

@@ -14,7 +14,7 @@ namespace {
 constexpr uint32_t kMaxNodeWords16 = 17;  // a header and eight 32-bit pointers, in 16-bit words
 constexpr uint64_t kMaxOffset = uint64_t{1} << 30;
 
-// One inner level's nodes in stream order; node k's children (descending thesis octant, the pointers' order)
+// One inner level's nodes in stream order; node k's children (descending x-major octant, the pointers' order)
 // are [first[k], first[k + 1]): the node or brick each points to (its index in the level below) and its tag.
 struct Level {
   std::vector<uint32_t> first{0};
@@ -134,7 +134,7 @@ struct Parsed {
   std::vector<uint64_t> bricks;
 };
 
-// The node-order callbacks (encode/node_order.h) over `in`: children carry thesis octants, Morton is their image.
+// The node-order callbacks (encode/node_order.h) over `in`: children carry x-major octants, Morton is their image.
 struct Shape {
   const Parsed& in;
   uint32_t operator()(uint32_t l) const {
@@ -143,7 +143,7 @@ struct Shape {
   template <class F>
   void operator()(uint32_t l, uint32_t k, F&& f) const {
     const Level& lv = in.level[l];
-    for (uint32_t j = lv.first[k]; j < lv.first[k + 1]; ++j) f(mv_thesis_octant(lv.octant[j]), lv.target[j]);
+    for (uint32_t j = lv.first[k]; j < lv.first[k + 1]; ++j) f(mv_xmajor_octant(lv.octant[j]), lv.target[j]);
   }
 };
 

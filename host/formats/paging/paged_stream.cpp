@@ -13,9 +13,9 @@ namespace {
 uint32_t node_words(uint32_t header, uint32_t level) { return level == 1 ? 1 : 1 + __builtin_popcount(header & 0xffu); }
 
 // The word of child `c` (a Morton octant present in the header's mask) among the node's pointers, which are
-// stored in descending thesis octant order.
+// stored in descending x-major octant order.
 uint32_t pointer_of(uint32_t header, uint32_t c) {
-  const uint32_t t = mv_thesis_octant(c);
+  const uint32_t t = mv_xmajor_octant(c);
   return 1 + __builtin_popcount(header & 0xffu & ~((2u << t) - 1));
 }
 
@@ -120,7 +120,7 @@ EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words) {
       const size_t first = out.words.size();
       out.words.resize(first + node_words(header, l) - 1);
       for (uint32_t c = 0; c < 8; ++c) {  // children by ascending Morton octant: their discovery order
-        if (!(header >> mv_thesis_octant(c) & 1)) continue;
+        if (!(header >> mv_xmajor_octant(c) & 1)) continue;
         const uint32_t q = w + pointer_of(header, c);
         const uint32_t child = in[q];
         if (child >= n) throw fail("word " + std::to_string(q) + " points to " + std::to_string(child) + ", past the end");

@@ -1,5 +1,6 @@
 # `megavox serve` (serve/): the job pool over the C API and the HTTP routes on cpp-httplib (Debian's
-# libcpp-httplib-dev, a compiled library: its pkg-config flags select the build it was compiled as).
+# libcpp-httplib-dev, a compiled library: its pkg-config flags select the build it was compiled as). It sees the
+# public headers alone (megavox.h, megavox.hpp): include/ and its own folder, no internal include folder.
 pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
 # 3D Tiles archives (.3tz) of point-cloud jobs: ZIP by minizip (libminizip-dev), the index's MD5 by libcrypto
 # (libssl-dev, which cpp-httplib already depends on).
@@ -14,6 +15,7 @@ add_library(megavox_serve STATIC
   serve/data_path.cpp
   serve/job_words.cpp
   serve/job_pool.cpp
+  serve/job_follow.cpp
   serve/job_build.cpp
   serve/job_render.cpp
   serve/job_points.cpp
@@ -21,7 +23,10 @@ add_library(megavox_serve STATIC
   serve/tiles_archive.cpp
   serve/http_api.cpp
   ${CMAKE_BINARY_DIR}/serve_gen/openapi.cpp)
-target_include_directories(megavox_serve PUBLIC ${CMAKE_SOURCE_DIR})
+# Its own files include each other by their folder; it sees include/ (megavox/megavox.h) and the build's
+# include/ (its version.h). Its users include it as "serve/...".
+target_include_directories(megavox_serve PRIVATE ${CMAKE_SOURCE_DIR}/include ${CMAKE_BINARY_DIR}/include
+                           INTERFACE ${CMAKE_SOURCE_DIR})
 target_link_libraries(megavox_serve PUBLIC megavox_capi nlohmann_json::nlohmann_json PRIVATE PkgConfig::HTTPLIB PkgConfig::MINIZIP PkgConfig::LIBCRYPTO)
 target_sources(megavox PRIVATE cli/cmd_serve.cpp)
 target_link_libraries(megavox PRIVATE megavox_serve)

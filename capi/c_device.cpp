@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "handles.h"
+#include "megavox/build.h"
 
 namespace mv::capi {
 
@@ -91,7 +92,8 @@ static_assert(int(mv::ErrorCode::none) == MV_ERROR_NONE && int(mv::ErrorCode::un
               int(mv::ErrorCode::invalid_operation) == MV_ERROR_INVALID_OPERATION &&
               int(mv::ErrorCode::out_of_memory) == MV_ERROR_OUT_OF_MEMORY &&
               int(mv::ErrorCode::unsupported_device) == MV_ERROR_UNSUPPORTED_DEVICE &&
-              int(mv::ErrorCode::cancelled) == MV_ERROR_CANCELLED && int(mv::ErrorCode::input) == MV_ERROR_INPUT);
+              int(mv::ErrorCode::cancelled) == MV_ERROR_CANCELLED && int(mv::ErrorCode::input) == MV_ERROR_INPUT &&
+              int(mv::ErrorCode::io) == MV_ERROR_IO && int(mv::ErrorCode::device) == MV_ERROR_DEVICE);
 
 const char* mvGetErrorString(MvError code) { return mv::error_code_name(static_cast<mv::ErrorCode>(code)); }
 
@@ -104,7 +106,11 @@ MvDevice mvNewDevice(const char* config) {
       d->device = mv::Device::open(c.device);
     } catch (const mv::DeviceMemoryError&) {
       throw;
-    } catch (const mv::Error& e) {
+    } catch (const mv::DeviceError&) {
+      throw;
+    } catch (const mv::CodedError&) {
+      throw;
+    } catch (const mv::Error& e) {  // no device matches the selector
       throw ApiError(MV_ERROR_UNSUPPORTED_DEVICE, e.what());
     }
     d->host_memory = c.host_memory;
@@ -134,6 +140,10 @@ void mvSetDeviceErrorFunction(MvDevice device, MvErrorFunction function, void* u
   std::lock_guard<std::mutex> g(device->error_lock);
   device->error_function = function;
   device->error_user = userPtr;
+}
+
+uint64_t mvGetHostMemoryBudget(MvDevice device) {
+  return device && device->host_memory ? device->host_memory : mv::default_host_memory();
 }
 
 MvError mvGetDeviceInfo(MvDevice device, MvDeviceInfo* info) {

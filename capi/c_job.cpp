@@ -1,4 +1,6 @@
-// The C API: build jobs, each on its own thread, with status, fraction done and cancel.
+// The C API: jobs, each on its own thread, with status, fraction done and cancel; the scene builds' jobs.
+#include "job.h"
+
 #include <algorithm>
 #include <condition_variable>
 #include <thread>
@@ -7,9 +9,7 @@
 
 struct MvJobTy : mv::capi::RefCounted {
   MvDevice device = nullptr;  // retained
-  mv::capi::BuildInput input;
-  mv::BuildOptions options;
-  mv::Progress user;  // the caller's progress function (may throw to cancel)
+  mv::capi::JobWork work;
   std::thread thread;
   std::atomic<bool> cancel{false};
   std::mutex lock;  // everything below
@@ -36,9 +36,9 @@ namespace mv::capi {
 
 namespace {
 
-// The whole build's fraction from its stage's: voxelizing is most of an in-core build, the cubes most of an
+// A scene build's fraction from its stage's: voxelizing is most of an in-core build, the cubes most of an
 // out-of-core one; what follows the last progress report (octree, reduction, encoding, writing) is the rest.
-double overall(const std::string& stage, double f) {
+double scene_overall(const std::string& stage, double f) {
   f = std::clamp(f, 0.0, 1.0);
   if (stage == "read") return 0.2 * f;  // only out of core reports more than 0 here
   if (stage == "voxelize") return 0.2 + 0.5 * f;
@@ -53,14 +53,14 @@ void run(MvJobTy* job) {
       std::lock_guard<std::mutex> g(job->lock);
       job->status = MV_JOB_RUNNING;
       job->message = stage;
-      job->fraction = std::max(job->fraction, overall(stage, f));
+      job->fraction = std::max(job->fraction, std::clamp(job->work.overall(stage, f), 0.0, 1.0));
     }
-    if (job->user) job->user(stage, f);
+    if (job->work.user) job->work.user(stage, f);
     if (job->cancel) throw ApiError(MV_ERROR_CANCELLED, "the job was cancelled during '" + stage + "'");
   };
   MvScene scene = nullptr;
   std::string failure;
-  const MvError code = guard(job->device, [&] { scene = build_scene(job->device, job->input, job->options, progress); }, &failure);
+  const MvError code = guard(job->device, [&] { scene = job->work.run(progress); }, &failure);
   std::lock_guard<std::mutex> g(job->lock);
   job->error = code;
   job->scene = scene;
@@ -70,12 +70,24 @@ void run(MvJobTy* job) {
   job->ended.notify_all();
 }
 
-MvJob start(MvDevice device, BuildInput input, const MvBuildArguments* args) {
+// A scene build as a job: the input (arrays copied) and the options owned by the work.
+MvJob start_scene_build(MvDevice device, BuildInput input, const MvBuildArguments* args) {
+  auto in = std::make_shared<BuildInput>(std::move(input));
+  if (in->path.empty()) in->mesh = {in->positions, in->indices};
+  JobWork work;
+  work.run = [device, in, options = build_options(device, args)](const Progress& progress) {
+    return build_scene(device, *in, options, progress);
+  };
+  work.overall = scene_overall;
+  work.user = user_progress(args);
+  return start_job(device, std::move(work));
+}
+
+}  // namespace
+
+MvJob start_job(MvDevice device, JobWork work) {
   auto job = std::make_unique<MvJobTy>();
-  job->options = build_options(device, args);
-  job->user = user_progress(args);
-  job->input = std::move(input);
-  if (job->input.path.empty()) job->input.mesh = {job->input.positions, job->input.indices};
+  job->work = std::move(work);
   mvRetainDevice(device);
   job->device = device;
   MvJobTy* j = job.get();
@@ -83,7 +95,15 @@ MvJob start(MvDevice device, BuildInput input, const MvBuildArguments* args) {
   return job.release();
 }
 
-}  // namespace
+Progress user_progress(MvProgressMonitorFunction f, void* user, const char* what) {
+  if (!f) return {};
+  const std::string name = what;
+  return [f, user, name](const std::string& stage, double fraction) {
+    if (!f(user, stage.c_str(), fraction))
+      throw ApiError(MV_ERROR_CANCELLED, name + " cancelled by its progress function during '" + stage + "'");
+  };
+}
+
 }  // namespace mv::capi
 
 using namespace mv::capi;
@@ -94,7 +114,7 @@ MvJob mvBuildSceneFromFileAsync(MvDevice device, const char* path, const MvBuild
   MvJob job = nullptr;
   guard(device, [&] {
     require(device, "mvBuildSceneFromFileAsync: no device");
-    job = start(device, file_input(path), args);
+    job = start_scene_build(device, file_input(path), args);
   });
   return job;
 }
@@ -104,7 +124,7 @@ MvJob mvBuildSceneFromMemoryAsync(MvDevice device, const float* vertices, size_t
   MvJob job = nullptr;
   guard(device, [&] {
     require(device, "mvBuildSceneFromMemoryAsync: no device");
-    job = start(device, memory_input(vertices, vertexCount, indices, triangleCount, true), args);
+    job = start_scene_build(device, memory_input(vertices, vertexCount, indices, triangleCount, true), args);
   });
   return job;
 }
@@ -150,8 +170,10 @@ MvScene mvGetJobScene(MvJob job) {
     return nullptr;
   }
   std::lock_guard<std::mutex> g(job->lock);
-  if (job->status != MV_JOB_DONE) {
-    record_error(job->device, MV_ERROR_INVALID_OPERATION, "mvGetJobScene: the job has not built its scene");
+  if (job->status != MV_JOB_DONE || !job->scene) {
+    record_error(job->device, MV_ERROR_INVALID_OPERATION,
+                 job->status != MV_JOB_DONE ? "mvGetJobScene: the job has not built its scene"
+                                            : "mvGetJobScene: the job writes a file, not a scene");
     return nullptr;
   }
   mvRetainScene(job->scene);

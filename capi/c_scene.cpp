@@ -165,6 +165,26 @@ void mvInitRenderArguments(MvRenderArguments* args) {
   args->aoSamples = d.ao_samples;
 }
 
+MvError mvGetSceneViewCamera(MvScene scene, const char* view, double fov, MvCamera* camera) {
+  return guard(scene_device(scene), [&] {
+    require(scene, "mvGetSceneViewCamera: no scene");
+    require(camera, "mvGetSceneViewCamera: camera is NULL");
+    require(fov >= 0 && fov < 180, "mvGetSceneViewCamera: fov must be 0 (the default) or between 0 and 180 degrees");
+    mv::Camera c;
+    try {
+      c = mv::view_camera(scene->file.bounds, view ? view : "iso", fov > 0 ? fov : MV_DEFAULT_FOV);
+    } catch (const mv::Error& e) {
+      throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
+    }
+    for (int a = 0; a < 3; ++a) {
+      camera->eye[a] = c.eye[a];
+      camera->target[a] = c.target[a];
+      camera->up[a] = c.up[a];
+    }
+    camera->fov = c.fov;
+  });
+}
+
 MvError mvRenderScene(MvScene scene, const MvCamera* camera, const MvRenderArguments* args, uint8_t* rgba,
                       size_t rowStride) {
   return guard(scene_device(scene), [&] {

@@ -1,5 +1,7 @@
 #include "scene_build.h"
 
+#include "job.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
@@ -32,18 +34,6 @@ class ScratchMvx {
 
 std::string text_or(const char* s, const char* fallback) { return s ? s : fallback; }
 
-// The library's build messages name the CLI's flags; a C caller sets fields and the device's configuration.
-const OptionWords kApiWords[] = {
-    {"--cube", "MvBuildArguments.cube"},
-    {"--resolution", "MvBuildArguments.resolution"},
-    {"--format", "MvBuildArguments.format"},
-    {"--voxelize", "MvBuildArguments.voxelize"},
-    {"--grid-origin", "MvBuildArguments.gridOrigin"},
-    {"--memory", "host_memory (mvNewDevice)"},
-    {"--device-memory", "memory (mvNewDevice)"},
-};
-
-std::string in_api_terms(const char* message) { return reword_options(message, kApiWords); }
 
 }  // namespace
 
@@ -76,38 +66,22 @@ BuildOptions build_options(MvDevice device, const MvBuildArguments* args) {
   o.memory = device->host_memory;
   if (!args) return o;
   require(args->byteSize == sizeof(MvBuildArguments), "build: MvBuildArguments.byteSize is wrong (call mvInitBuildArguments)");
-  o.format = text_or(args->format, "svdag");
+  o.encoding = parse_encoding(text_or(args->format, "svdag"));
   o.resolution = args->resolution;
   // 0 is "unset", as in every other field, so a zeroed struct builds as the CLI and the service do.
   o.cube = args->cube == 0 ? kDefaultCube : args->cube == MV_CUBE_IN_CORE ? 0 : args->cube;
-  o.voxelize = text_or(args->voxelize, "conservative");
+  o.voxelize = parse_voxelize_rule(text_or(args->voxelize, "conservative"));
   o.grid = text_or(args->grid, "");
-  if (args->gridOrigin) {
-    try {
-      o.placement = parse_grid_origin(args->gridOrigin);
-    } catch (const Error& e) {
-      throw ApiError(MV_ERROR_INVALID_ARGUMENT, in_api_terms(e.what()));
-    }
-  }
+  if (args->gridOrigin) o.placement = parse_grid_origin(args->gridOrigin);
   o.output = text_or(args->output, "");
   if (o.resolution && (o.resolution < 2 || (o.resolution & (o.resolution - 1)) || o.resolution > (1u << 21)))
     throw ApiError(MV_ERROR_INVALID_ARGUMENT, "build: resolution " + std::to_string(o.resolution) +
                                                   " is not a power of two from 2 to 2^21");
-  if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
-    throw ApiError(MV_ERROR_INVALID_ARGUMENT, "build: format '" + o.format + "': choose svo, svdag, ussvdag or ssvdag");
-  if (o.voxelize != "conservative" && o.voxelize != "thin")
-    throw ApiError(MV_ERROR_INVALID_ARGUMENT, "build: voxelize '" + o.voxelize + "': choose conservative or thin");
   return o;
 }
 
 Progress user_progress(const MvBuildArguments* args) {
-  if (!args || !args->progress) return {};
-  MvProgressMonitorFunction f = args->progress;
-  void* user = args->progressUserPtr;
-  return [f, user](const std::string& stage, double fraction) {
-    if (!f(user, stage.c_str(), fraction))
-      throw ApiError(MV_ERROR_CANCELLED, "build cancelled by its progress function during '" + stage + "'");
-  };
+  return args ? user_progress(args->progress, args->progressUserPtr, "build") : Progress{};
 }
 
 MvScene build_scene(MvDevice device, const BuildInput& input, BuildOptions o, const Progress& progress) {
@@ -125,11 +99,7 @@ MvScene build_scene(MvDevice device, const BuildInput& input, BuildOptions o, co
   auto scene = std::make_unique<MvSceneTy>();
   {
     std::lock_guard<std::recursive_mutex> g(device->lock);
-    try {
-      build_mvx(*device->device, o, progress);
-    } catch (const Error& e) {  // the same kind of failure (a cancel stays a cancel), in the API's words
-      throw CodedError(classify(e), in_api_terms(e.what()));
-    }
+    build_mvx(*device->device, o, progress);
   }
   scene->file = read_mvx(o.output);
   mvRetainDevice(device);

@@ -2,6 +2,7 @@
 
 #include "build_plan_text.h"
 #include "megavox/error.h"
+#include "option_words.h"
 
 namespace mv::cli {
 
@@ -48,9 +49,9 @@ BuildOptions build_options(const BuildArgs& a) {
   o.resolution = a.resolution.empty() ? 0 : parse_resolution(a.resolution);
   o.grid = a.grid;
   o.cube = a.cube;
-  o.format = a.format;
+  o.encoding = parse_encoding(a.format);
   o.placement = a.bounds.empty() ? parse_grid_origin(a.grid_origin) : parse_grid_bounds(a.bounds);
-  o.voxelize = a.voxelize;
+  o.voxelize = parse_voxelize_rule(a.voxelize);
   o.memory = a.memory.empty() ? 0 : parse_size(a.memory);
   return o;
 }

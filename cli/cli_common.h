@@ -18,7 +18,7 @@ struct GlobalOptions {
   bool profile = false;       // --profile
 };
 
-// Runs `body`; an mv::Error it throws that says nothing of its kind (not a CodedError, not memory) comes out as
+// Runs `body`; an mv::Error it throws that says nothing of its kind (not coded, memory, I/O or device) comes out as
 // `code`: what a step's failures mean is known where the step is taken (a bad option value, no such device).
 template <class F>
 auto with_code(ErrorCode code, F&& body) {
@@ -28,8 +28,12 @@ auto with_code(ErrorCode code, F&& body) {
     throw;
   } catch (const DeviceMemoryError&) {
     throw;
+  } catch (const IoError&) {
+    throw;
+  } catch (const DeviceError&) {
+    throw;
   } catch (const Error& e) {
-    throw CodedError(code, e.what());
+    throw CodedError(code, e.what(), e.settings);
   }
 }
 

@@ -54,7 +54,7 @@ auto at(const std::string& where, F&& body) {
     return body();
   } catch (const std::exception& e) {
     if (where.empty()) throw;
-    throw CodedError(classify(e), where + ": " + error_message(e));
+    throw CodedError(classify(e), where + ": " + error_message(e), error_settings(e));
   }
 }
 

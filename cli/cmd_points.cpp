@@ -14,6 +14,7 @@
 #include "megavox/point_build.h"
 #include "megavox/point_render.h"
 #include "megavox/render.h"
+#include "option_words.h"
 
 namespace mv::cli {
 
@@ -98,7 +99,7 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     o.no_clobber = a->no_clobber;
     o.input = a->input;
     o.output = a->output;
-    o.format = a->format;
+    o.format = parse_point_output(a->format);
     o.build.depth = a->depth;
     o.build.max_node_points = a->max_node_points;
     o.build.sort_ranges = std::max(1u, a->sort_ranges);

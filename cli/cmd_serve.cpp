@@ -16,6 +16,7 @@
 #include "megavox/error.h"
 #include "http_api.h"
 #include "job_pool.h"
+#include "serve_error.h"
 
 namespace mv::cli {
 
@@ -148,7 +149,13 @@ void add_serve_command(CLI::App& app, const GlobalOptions& g) {
   c->add_option("--stream-seconds", a->stream_seconds, "Longest a progress stream stays open (then poll or reconnect)")
       ->capture_default_str();
   c->add_option("--keep", a->keep, "Finished jobs kept; past it the oldest go with their files")->capture_default_str();
-  c->callback([&g, a] { serve(g, *a); });
+  c->callback([&g, a] {
+    try {
+      serve(g, *a);
+    } catch (const serve::ServeError& e) {  // the service's error, reported by the CLI's table of codes
+      throw CodedError(static_cast<ErrorCode>(e.code), e.what());
+    }
+  });
 }
 
 }  // namespace mv::cli

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "error_flags.h"
 #include "suggest.h"
 #include "megavox/error.h"
 
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
     return e.get_exit_code();
   } catch (const std::exception& e) {
     const mv::ErrorCode code = mv::classify(e);
-    fail(code, mv::error_message(e));
+    fail(code, mv::cli::message_with_flags(e));
     return code == mv::ErrorCode::unknown ? 2 : 1;
   }
   return 0;

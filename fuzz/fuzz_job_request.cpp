@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "fuzz_support.h"
-#include "megavox/error.h"
+#include "serve_error.h"
 #include "job_request.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     MV_FUZZ_CHECK(r.kind == JobKind::mask || (!r.rect && r.seeds.empty() && r.model.empty()));
     if (r.rect) MV_FUZZ_CHECK((*r.rect)[2] >= 1 && (*r.rect)[3] >= 1);
     MV_FUZZ_CHECK(r.iterations >= 1 && r.iterations <= 100 && r.erode <= 32);
-  } catch (const mv::Error&) {
+  } catch (const mv::serve::ServeError&) {
   }
   return 0;
 }

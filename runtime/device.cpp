@@ -71,8 +71,10 @@ std::unique_ptr<Device> Device::open(const DeviceOptions& options) {
   if (budget == 0) {
     budget = info.global_memory_bytes / 4 * 3;  // leave room for the driver and other users
   } else if (budget > info.global_memory_bytes) {
-    throw Error("--device-memory " + format_bytes(budget) + " is more than " + info.name + " has (" +
-                format_bytes(info.global_memory_bytes) + ")");
+    throw CodedError(ErrorCode::invalid_argument,
+                     "the device memory budget " + format_bytes(budget) + " is more than " + info.name + " has (" +
+                         format_bytes(info.global_memory_bytes) + ")",
+                     setting_device_memory);
   }
   impl.pool = std::make_unique<rt::MemoryPool>(*impl.backend, budget, kPageBytes, info.max_allocation_bytes);
   impl.backend->set_profiling(options.profile);

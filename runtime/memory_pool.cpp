@@ -48,7 +48,7 @@ MemoryPool::Range MemoryPool::allocate(uint64_t bytes, std::string_view what) {
     return DeviceMemoryError("device memory: " + std::string(what) + " needs " + format_bytes(bytes) + ", " + why +
                  " (budget " + format_bytes(budget_) + ", " + format_bytes(budget_ - used()) +
                  " left, largest free run " + format_bytes(largest_free_run()) +
-                 "); raise --device-memory or use a smaller problem");
+                 "); raise the device memory budget or use a smaller problem");
   };
   if (need > budget_) throw fail("more than the whole budget");
   if (need > max_arena_bytes_)

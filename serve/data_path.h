@@ -5,7 +5,7 @@
 
 namespace mv::serve {
 
-// The file `name` under `data_dir` (an existing folder). Throws mv::Error naming the refusal and `key`, the
+// The file `name` under `data_dir` (an existing folder). Throws ServeError naming the refusal and `key`, the
 // job's field that named the file.
 std::string resolve_data_path(const std::string& data_dir, const std::string& name, const std::string& key = "input");
 

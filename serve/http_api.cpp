@@ -10,7 +10,7 @@
 #include <memory>
 #include <thread>
 
-#include "megavox/error.h"
+#include "serve_error.h"
 
 namespace mv::serve {
 
@@ -23,20 +23,20 @@ void send_json(httplib::Response& res, int status, const json& body) {
   res.set_content(body.dump(), "application/json");
 }
 
-// The kind of a refusal told by its HTTP status, in the C API's terms (megavox/error.h: one table for the
-// CLI, the C API and the service).
-ErrorCode code_of_status(int status) {
-  if (status == 409) return ErrorCode::invalid_operation;
-  if (status == 429 || status == 503) return ErrorCode::out_of_memory;  // the queue or the uploads are full
-  return status >= 500 ? ErrorCode::unknown : ErrorCode::invalid_argument;
+// The kind of a refusal told by its HTTP status, in the C API's terms (one table for the CLI, the C API and
+// the service).
+MvError code_of_status(int status) {
+  if (status == 409) return MV_ERROR_INVALID_OPERATION;
+  if (status == 429 || status == 503) return MV_ERROR_OUT_OF_MEMORY;  // the queue or the uploads are full
+  return status >= 500 ? MV_ERROR_UNKNOWN : MV_ERROR_INVALID_ARGUMENT;
 }
 
 // {"error": MESSAGE, "code": "MV_ERROR_..."}, as the CLI prints an error with --json.
 void send_error(httplib::Response& res, int status, const std::string& message, int retry_after = 0,
-                ErrorCode code = ErrorCode::none) {
+                MvError code = MV_ERROR_NONE) {
   if (retry_after) res.set_header("Retry-After", std::to_string(retry_after));
-  if (code == ErrorCode::none) code = code_of_status(status);
-  send_json(res, status, {{"error", message}, {"code", error_code_name(code)}});
+  if (code == MV_ERROR_NONE) code = code_of_status(status);
+  send_json(res, status, {{"error", message}, {"code", mvGetErrorString(code)}});
 }
 
 // Equal strings take the same time whatever the first differing byte.
@@ -46,19 +46,18 @@ bool same_token(const std::string& a, const std::string& b) {
   return diff == 0 && !b.empty();
 }
 
-// Runs a handler, turning HttpError and mv::Error (400) into a JSON error response.
+// Runs a handler, turning HttpError and ServeError (400) into a JSON error response.
 template <class F>
 void handle(httplib::Response& res, F&& body) {
   try {
     body();
   } catch (const HttpError& e) {
     send_error(res, e.status, e.what(), e.retry_after);
-  } catch (const Error& e) {
+  } catch (const ServeError& e) {
     // What a request names (its fields, its files under --data-dir) are the client's arguments.
-    const ErrorCode code = classify(e);
-    send_error(res, 400, e.what(), 0, code == ErrorCode::input ? ErrorCode::invalid_argument : code);
+    send_error(res, 400, e.what(), 0, e.code == MV_ERROR_INPUT || e.code == MV_ERROR_IO ? MV_ERROR_INVALID_ARGUMENT : e.code);
   } catch (const std::exception& e) {
-    send_error(res, 500, std::string("internal error: ") + e.what(), 0, classify(e));
+    send_error(res, 500, std::string("internal error: ") + message_of(e), 0, code_of(e));
   }
 }
 
@@ -92,15 +91,15 @@ int HttpApi::bind() {
   int port = options_.port;
   if (port == 0) {
     port = server_->bind_to_any_port(options_.host);
-    if (port <= 0) throw Error("serve: cannot listen on " + options_.host);
+    if (port <= 0) throw ServeError("serve: cannot listen on " + options_.host, MV_ERROR_IO);
   } else if (!server_->bind_to_port(options_.host, port)) {
-    throw Error("serve: cannot listen on " + options_.host + ":" + std::to_string(port) + " (in use?)");
+    throw ServeError("serve: cannot listen on " + options_.host + ":" + std::to_string(port) + " (in use?)", MV_ERROR_IO);
   }
   // Debian's compiled cpp-httplib listens with a backlog of 5: a burst of new connections (32 clients
   // starting at once) overflowed it, and a dropped handshake became a client's read error. Listening again
   // on the bound socket only raises the backlog.
   if (listen_socket_ >= 0 && ::listen(listen_socket_, SOMAXCONN) != 0)
-    throw Error("serve: cannot listen on " + options_.host + ":" + std::to_string(port) + ": " + std::strerror(errno));
+    throw ServeError("serve: cannot listen on " + options_.host + ":" + std::to_string(port) + ": " + std::strerror(errno), MV_ERROR_IO);
   return port;
 }
 

@@ -26,7 +26,7 @@ class HttpApi {
  public:
   HttpApi(JobPool& pool, const HttpOptions& options);
   ~HttpApi();
-  int bind();  // binds host:port (a free port for 0) and returns the port; throws mv::Error
+  int bind();  // binds host:port (a free port for 0) and returns the port; throws ServeError
   void run();  // serves until stop()
   void stop();
 

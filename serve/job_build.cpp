@@ -1,10 +1,7 @@
 // A build job: a mesh (or .vdb) to a voxel .mvx, as a C API job polled for its progress, the cancel flag and
 // the timeout.
-#include <chrono>
-#include <thread>
-
-#include "megavox/error.h"
 #include "job_run.h"
+#include "serve_error.h"
 
 namespace mv::serve {
 
@@ -19,17 +16,8 @@ void run_build(MvDevice dev, const JobRun& run) {
   a.gridOrigin = r.grid_origin.c_str();
   a.output = run.result.c_str();
   MvJob j = mvBuildSceneFromFileAsync(dev, run.input.c_str(), &a);
-  for (;;) {
-    double f = 0;
-    if (mvGetJobStatus(j, &f) >= MV_JOB_DONE) break;
-    if (!run.report(mvGetJobMessage(j), f)) mvCancelJob(j);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  const MvError e = mvWaitJob(j);
-  const std::string message = mvGetJobMessage(j);
-  mvReleaseJob(j);
-  if (e == MV_ERROR_CANCELLED) throw JobStopped{};
-  if (e != MV_ERROR_NONE) throw CodedError(static_cast<ErrorCode>(e), message);
+  if (!j) throw ServeError(mvGetDeviceLastErrorMessage(dev), mvGetDeviceError(dev));
+  follow_job(j, run);
 }
 
 }  // namespace mv::serve

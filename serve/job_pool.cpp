@@ -8,8 +8,7 @@
 #include <random>
 #include <regex>
 
-#include "megavox/build.h"
-#include "megavox/error.h"
+#include "serve_error.h"
 #include "data_path.h"
 #include "job_run.h"
 #include "job_words.h"
@@ -28,7 +27,7 @@ struct JobPool::Job {
   std::string status = "queued";   // queued, running, done, failed, cancelled
   double fraction = 0;
   std::string stage = "queued", message;  // stage: the running step; once the job ends, its status
-  ErrorCode code = ErrorCode::none;       // a failed job's kind of failure (megavox/error.h)
+  MvError code = MV_ERROR_NONE;          // a failed job's kind of failure
   std::atomic<bool> cancel{false};
   bool deleted = false;  // removed while running: its files go when it ends
   Clock::time_point created = Clock::now(), started{}, ended{};
@@ -52,7 +51,10 @@ MvDevice open_context(const std::string& selector, uint64_t budget, uint64_t hos
   if (!selector.empty()) config += ",device=" + selector;
   if (host) config += ",host_memory=" + std::to_string(host);
   MvDevice d = mvNewDevice(config.c_str());
-  if (!d) throw Error(std::string("serve: cannot open the device: ") + mvGetDeviceLastErrorMessage(nullptr));
+  if (!d) {
+    const std::string message = mvGetDeviceLastErrorMessage(nullptr);
+    throw ServeError("serve: cannot open the device: " + message, mvGetDeviceError(nullptr));
+  }
   return d;
 }
 
@@ -82,7 +84,7 @@ std::string content_type(const JobRequest& r) {
 }  // namespace
 
 JobPool::JobPool(const PoolOptions& o) : options_(o) {
-  if (o.workers < 1 || o.workers > 64) throw Error("serve: --max-jobs must be from 1 to 64");
+  if (o.workers < 1 || o.workers > 64) throw ServeError("serve: --max-jobs must be from 1 to 64");
   max_queue_ = o.max_queue ? o.max_queue : 4 * o.workers;
   uint64_t total = o.device_memory;
   if (!total) {
@@ -94,7 +96,7 @@ JobPool::JobPool(const PoolOptions& o) : options_(o) {
   }
   // every worker and the ray-query context get an equal share, so together they never pass the budget
   budget_ = total / (o.workers + 1);
-  const uint64_t host = (o.host_memory ? o.host_memory : default_host_memory()) / o.workers;
+  const uint64_t host = (o.host_memory ? o.host_memory : mvGetHostMemoryBudget(nullptr)) / o.workers;
   try {
     for (uint32_t i = 0; i < o.workers; ++i) devices_.push_back(open_context(o.device, budget_, host));
     query_device_ = open_context(o.device, budget_, 0);
@@ -134,7 +136,7 @@ json JobPool::submit(const JobRequest& r, const std::string* upload, const std::
     if (!r.input.empty()) job->input = resolve_data_path(options_.data_dir, r.input);
     if (!r.seeds.empty()) job->seeds = resolve_data_path(options_.data_dir, r.seeds, "seeds");
     if (!r.model.empty()) job->model = resolve_data_path(options_.data_dir, r.model, "model");
-  } catch (const Error& e) {
+  } catch (const ServeError& e) {
     throw HttpError(400, e.what());
   }
   do job->id = new_id();
@@ -182,7 +184,7 @@ json JobPool::describe(const Job& j) const {
                                                    : std::chrono::duration<double>(j.started - j.created).count()}};
   if (j.status == "running") d["secondsRunning"] = since(j.started);
   if (j.status == "done") d["result"] = "/v1/jobs/" + j.id + "/result";
-  if (j.status == "failed") d["code"] = error_code_name(j.code);
+  if (j.status == "failed") d["code"] = mvGetErrorString(j.code);
   return d;
 }
 
@@ -320,7 +322,7 @@ void JobPool::run(MvDevice dev, Job& job) {
   };
   JobRun r{job.request, job.input, job.seeds, job.model, job.dir, job.result, report};
   std::string failure;
-  ErrorCode code = ErrorCode::none;
+  MvError code = MV_ERROR_NONE;
   bool ok = false;
   try {
     switch (job.request.kind) {
@@ -331,8 +333,8 @@ void JobPool::run(MvDevice dev, Job& job) {
     }
     ok = true;
   } catch (const std::exception& e) {
-    failure = error_message(e);
-    code = classify(e);
+    failure = message_of(e);
+    code = code_of(e);
   }
   std::lock_guard<std::mutex> g(lock_);
   if (job.cancel) {
@@ -340,7 +342,7 @@ void JobPool::run(MvDevice dev, Job& job) {
   } else if (!ok && timed_out) {
     job.status = "failed";
     job.message = "the job ran past the server's job timeout (" + std::to_string(int(options_.job_timeout)) + " s)";
-    job.code = ErrorCode::cancelled;
+    job.code = MV_ERROR_CANCELLED;
   } else if (!ok) {
     job.status = "failed";
     job.message = in_job_terms(failure);

@@ -41,7 +41,7 @@ struct PoolOptions {
 
 class JobPool {
  public:
-  explicit JobPool(const PoolOptions& options);  // opens the device contexts; throws mv::Error
+  explicit JobPool(const PoolOptions& options);  // opens the device contexts; throws ServeError
   ~JobPool();
   JobPool(const JobPool&) = delete;
   JobPool& operator=(const JobPool&) = delete;

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "megavox/error.h"
+#include "serve_error.h"
 
 namespace mv::serve {
 
@@ -46,7 +46,7 @@ const KeyKinds kKeys[] = {
 
 std::string quoted(const std::string& key) { return "\"" + key.substr(0, 64) + "\""; }
 
-[[noreturn]] void refuse(const std::string& key, const std::string& what) { throw Error("job: " + quoted(key) + " " + what); }
+[[noreturn]] void refuse(const std::string& key, const std::string& what) { throw ServeError("job: " + quoted(key) + " " + what); }
 
 std::string text(const json& j, const char* key) {
   if (!j.is_string()) refuse(key, "must be a string");
@@ -125,29 +125,29 @@ std::string key_list(JobKind kind) {
 // and `up` go with it. A camera looking nowhere, or along its own up, has no picture.
 void check_camera(const JobRequest& r, const json& j) {
   if (!r.eye) {
-    if (j.contains("target") || j.contains("up")) throw Error("job: \"target\" and \"up\" go with \"eye\" (or use \"view\")");
+    if (j.contains("target") || j.contains("up")) throw ServeError("job: \"target\" and \"up\" go with \"eye\" (or use \"view\")");
     return;
   }
   const auto& u = r.up;
-  if (u[0] == 0 && u[1] == 0 && u[2] == 0) throw Error("job: \"up\" must not be [0, 0, 0]");
+  if (u[0] == 0 && u[1] == 0 && u[2] == 0) throw ServeError("job: \"up\" must not be [0, 0, 0]");
   if (r.target) {
     const std::array<double, 3> d = {(*r.target)[0] - (*r.eye)[0], (*r.target)[1] - (*r.eye)[1], (*r.target)[2] - (*r.eye)[2]};
     const double len = std::hypot(d[0], d[1], d[2]);
-    if (!(len > 0)) throw Error("job: \"eye\" and \"target\" must differ");
+    if (!(len > 0)) throw ServeError("job: \"eye\" and \"target\" must differ");
     const std::array<double, 3> c = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
     if (!(std::hypot(c[0], c[1], c[2]) > 1e-9 * len * std::hypot(u[0], u[1], u[2])))
-      throw Error("job: \"up\" must not point along the line from \"eye\" to \"target\"");
+      throw ServeError("job: \"up\" must not point along the line from \"eye\" to \"target\"");
   }
 }
 
 JobKind parse_kind(const json& j) {
-  if (!j.contains("kind")) throw Error("job: \"kind\" is missing (build, render, points or mask)");
+  if (!j.contains("kind")) throw ServeError("job: \"kind\" is missing (build, render, points or mask)");
   const std::string k = choice(j.at("kind"), "kind", {"build", "render", "points", "mask"});
   return k == "build" ? JobKind::build : k == "render" ? JobKind::render : k == "points" ? JobKind::points : JobKind::mask;
 }
 
 JobRequest from_object(const json& j) {
-  if (!j.is_object()) throw Error("job: the body must be a JSON object");
+  if (!j.is_object()) throw ServeError("job: the body must be a JSON object");
   JobRequest r;
   r.kind = parse_kind(j);
   if (r.kind == JobKind::points) r.format = "mvx";
@@ -155,7 +155,7 @@ JobRequest from_object(const json& j) {
     if (key == "kind") continue;
     bool known = false;
     if (!takes(key, r.kind, known))
-      throw Error("job: " + std::string(known ? "a " + kind_name(r.kind) + " job takes no " : "unknown key ") + quoted(key) +
+      throw ServeError("job: " + std::string(known ? "a " + kind_name(r.kind) + " job takes no " : "unknown key ") + quoted(key) +
                   " (keys: " + key_list(r.kind) + ")");
     if (key == "input") r.input = text(v, "input");
     else if (key == "scene") r.scene = text(v, "scene");
@@ -189,12 +189,12 @@ JobRequest from_object(const json& j) {
     else if (key == "iterations") r.iterations = number(v, "iterations", 1, 100);
     else if (key == "erode") r.erode = number(v, "erode", 0, 32);
   }
-  if (!r.input.empty() && !r.scene.empty()) throw Error("job: give \"input\" or \"scene\", not both");
+  if (!r.input.empty() && !r.scene.empty()) throw ServeError("job: give \"input\" or \"scene\", not both");
   if (r.kind == JobKind::build && r.format == "ssvdag" && r.resolution < 8)
-    throw Error("job: format ssvdag needs a resolution of at least 8");
+    throw ServeError("job: format ssvdag needs a resolution of at least 8");
   if (r.kind == JobKind::render) check_camera(r, j);
   if (r.kind == JobKind::mask && !r.rect && r.seeds.empty() && r.model.empty())
-    throw Error("job: a mask job needs a start: \"rect\" [x, y, w, h], \"seeds\" (a seed map) or \"model\" (a .mvm)");
+    throw ServeError("job: a mask job needs a start: \"rect\" [x, y, w, h], \"seeds\" (a seed map) or \"model\" (a .mvm)");
   return r;
 }
 
@@ -204,7 +204,7 @@ json query_value(const std::string& key, const std::string& value) {
   static const char* const lists[] = {"eye", "target", "up", "rect"};
   const auto whole = [&](const std::string& s) {
     if (s.empty() || s.size() > 10 || s.find_first_not_of("0123456789") != std::string::npos)
-      throw Error("job: " + quoted(key) + " must be " + (key == "rect" ? "four integers X,Y,W,H" : "an integer"));
+      throw ServeError("job: " + quoted(key) + " must be " + (key == "rect" ? "four integers X,Y,W,H" : "an integer"));
     return json(std::stoull(s));
   };
   const auto decimal = [&](const std::string& s) {
@@ -215,7 +215,7 @@ json query_value(const std::string& key, const std::string& value) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (s.empty() || used != s.size() || !std::isfinite(d)) throw Error("job: " + quoted(key) + " must hold numbers");
+    if (s.empty() || used != s.size() || !std::isfinite(d)) throw ServeError("job: " + quoted(key) + " must hold numbers");
     return json(d);
   };
   for (const char* k : integers)
@@ -253,7 +253,7 @@ JobRequest parse_job_request(std::string_view body) {
   try {
     j = json::parse(body.begin(), body.end());
   } catch (const json::exception& e) {  // parse_error, and out_of_range for a number past 64 bits (fuzz_job_request)
-    throw Error(std::string("malformed JSON: ") + e.what());
+    throw ServeError(std::string("malformed JSON: ") + e.what());
   }
   return from_object(j);
 }
@@ -261,11 +261,11 @@ JobRequest parse_job_request(std::string_view body) {
 JobRequest job_request_from_query(const std::multimap<std::string, std::string>& params) {
   json j = json::object();
   for (const auto& [key, value] : params) {
-    if (j.contains(key)) throw Error("job: query parameter " + quoted(key) + " given twice");
+    if (j.contains(key)) throw ServeError("job: query parameter " + quoted(key) + " given twice");
     if (key == "name") continue;  // the uploaded file's name (kept for its extension), read by the server
     j[key] = query_value(key, value);
   }
-  if (j.contains("input") || j.contains("scene")) throw Error("job: an upload is the input; \"input\" and \"scene\" go in a JSON job");
+  if (j.contains("input") || j.contains("scene")) throw ServeError("job: an upload is the input; \"input\" and \"scene\" go in a JSON job");
   return from_object(j);
 }
 

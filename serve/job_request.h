@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "megavox/render.h"
+#include "megavox/megavox.h"
 
 namespace mv::serve {
 
@@ -25,11 +25,11 @@ struct JobRequest {
   std::optional<uint32_t> cube;
   std::string format = "svdag", voxelize = "conservative", grid_origin = "center";
   // render: the CLI's picture size; a preset view, or a camera from `eye` (target and up as the CLI's defaults)
-  uint32_t width = RenderOptions{}.width, height = RenderOptions{}.height;
+  uint32_t width = 1920, height = 1080;
   std::string view = "iso", shading = "shaded";
   std::optional<std::array<double, 3>> eye, target;
   std::array<double, 3> up = {0, 1, 0};
-  double fov = Camera{}.fov;
+  double fov = MV_DEFAULT_FOV;
   // points: 0 picks the leaf level from the point count
   uint32_t depth = 0, max_node_points = 16384;
   // mask: at least one start (a box, a seed map under --data-dir, a .mvm model under --data-dir)
@@ -38,7 +38,7 @@ struct JobRequest {
   uint32_t iterations = 5, erode = 2;
 };
 
-// Parses a job's JSON object. Throws mv::Error with a message for the client: malformed JSON (with where),
+// Parses a job's JSON object. Throws ServeError (serve/serve_error.h) with a message for the client: malformed JSON (with where),
 // an unknown key or one of another kind of job, a value of the wrong type or out of range, a job without
 // what it needs (a mask without a start).
 JobRequest parse_job_request(std::string_view json);

@@ -1,5 +1,5 @@
 // One job as its runner sees it: the request, its files, and where progress goes. A runner returns when the
-// result is written, throws mv::Error (or another exception) with the failure's message, or JobStopped once
+// result is written, throws ServeError (or another exception) with the failure's message, or JobStopped once
 // the job is cancelled or past the server's job timeout. The pool (job_pool.cpp) turns that into the job's
 // status.
 #pragma once
@@ -31,6 +31,11 @@ struct JobRun {
     if (!report(stage, fraction)) throw JobStopped{};
   }
 };
+
+// Follows a C API job until it ends, its stage and fraction (mapped onto [from, to] of the whole) fed to
+// run.report, cancelling it once that says stop; releases it. Throws JobStopped once cancelled, ServeError
+// with the job's code and message when it failed. serve/job_follow.cpp
+void follow_job(MvJob job, const JobRun& run, double from = 0, double to = 1);
 
 void run_build(MvDevice dev, const JobRun& run);   // serve/job_build.cpp
 void run_render(MvDevice dev, const JobRun& run);  // serve/job_render.cpp

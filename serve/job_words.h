@@ -1,7 +1,6 @@
-// A failed job's message in the service's own terms: the names the layers below use (the library's CLI
-// flags, as the point-cloud and mask jobs meet them; the C API's fields, as build jobs do) become the job's
-// keys (--cube -> "cube"), and budgets a client cannot set become the server's (--memory -> the server's
-// host memory per job). See host/option_words.h for why messages are reworded rather than worded twice.
+// A failed job's message in the service's own terms: the library names its settings in its own words ("the
+// cube size", "the resolution"); a client set them as the job's keys ("cube", "resolution"), and budgets a
+// client cannot set are the server's (the host memory budget -> the server's host memory per job).
 #pragma once
 #include <string>
 

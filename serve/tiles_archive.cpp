@@ -3,21 +3,49 @@
 #include <openssl/evp.h>
 #include <zip.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <vector>
 
-#include "io/atomic_file.h"
-#include "megavox/error.h"
+#include "serve_error.h"
 
 namespace mv::serve {
 
 namespace {
 
 namespace fs = std::filesystem;
+
+// `write` fills a temporary file beside `path`, which is synced and then renamed over it: a reader (the
+// result route) sees no archive or the whole of it, never a part.
+void write_by_rename(const std::string& path, const std::function<void(const std::string& tmp)>& write) {
+  const std::string tmp = path + ".tmp";
+  const auto fail = [&](const std::string& why, MvError code) {
+    std::remove(tmp.c_str());
+    throw ServeError("cannot write '" + path + "': " + why, code);
+  };
+  try {
+    write(tmp);
+  } catch (const ServeError& e) {
+    fail(e.what(), e.code);
+  } catch (const std::exception& e) {
+    fail(message_of(e), code_of(e) == MV_ERROR_UNKNOWN ? MV_ERROR_IO : code_of(e));
+  }
+  const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+  const bool synced = fd >= 0 && ::fsync(fd) == 0;
+  const int err = errno;
+  if (fd >= 0) ::close(fd);
+  if (!synced) fail(std::string("cannot sync it to disk: ") + std::strerror(err), MV_ERROR_IO);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail(std::string("cannot rename it: ") + std::strerror(errno), MV_ERROR_IO);
+}
 
 // minizip's default file functions, with the stream they open kept: the index needs each entry's local header
 // offset, which is where the file stands when the entry is opened (minizip 1.1 has no call that says it).
@@ -38,7 +66,7 @@ struct ZipFile {
     io.zopen64_file = open_keeping;
     io.opaque = this;
     zip = zipOpen2_64(path.c_str(), APPEND_STATUS_CREATE, nullptr, &io);
-    if (!zip) throw Error("3D Tiles archive " + path + ": cannot create it");
+    if (!zip) throw ServeError("3D Tiles archive " + path + ": cannot create it", MV_ERROR_IO);
   }
   ~ZipFile() {
     if (zip) zipClose(zip, nullptr);
@@ -61,7 +89,7 @@ std::array<uint8_t, 16> md5(const std::string& text) {
   std::array<uint8_t, 16> h{};
   unsigned int n = 0;
   if (!EVP_Digest(text.data(), text.size(), h.data(), &n, EVP_md5(), nullptr) || n != 16)
-    throw Error("3D Tiles archive: MD5 is not available");
+    throw ServeError("3D Tiles archive: MD5 is not available", MV_ERROR_UNKNOWN);
   return h;
 }
 
@@ -71,7 +99,7 @@ void add_entry(ZipFile& z, const std::string& name, const char* data, size_t siz
   // stored (method 0), and no zip64 extra: the format caps entries at 4 GB with their sizes in the local header
   if (zipOpenNewFileInZip64(z.zip, name.c_str(), &info, nullptr, 0, nullptr, 0, nullptr, 0, 0, 0) != ZIP_OK ||
       (size && zipWriteInFileInZip(z.zip, data, static_cast<unsigned>(size)) != ZIP_OK) || zipCloseFileInZip(z.zip) != ZIP_OK)
-    throw Error("3D Tiles archive " + path + ": cannot write " + name);
+    throw ServeError("3D Tiles archive " + path + ": cannot write " + name, MV_ERROR_IO);
 }
 
 }  // namespace
@@ -81,24 +109,24 @@ void write_3tz(const std::string& dir, const std::string& path) {
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
     if (it->is_regular_file()) names.push_back(fs::relative(it->path(), dir).generic_string());
-  if (ec) throw Error("3D Tiles archive: cannot list " + dir + ": " + ec.message());
+  if (ec) throw ServeError("3D Tiles archive: cannot list " + dir + ": " + ec.message(), MV_ERROR_IO);
   // tileset.json first (a reader scanning the archive meets the root first), then the tiles in name order
   std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
     return (a == "tileset.json") != (b == "tileset.json") ? a == "tileset.json" : a < b;
   });
-  if (names.empty() || names.front() != "tileset.json") throw Error("3D Tiles archive: " + dir + " holds no tileset.json");
-  io::write_atomically_by_name(path, [&](const std::string& tmp) {
+  if (names.empty() || names.front() != "tileset.json") throw ServeError("3D Tiles archive: " + dir + " holds no tileset.json", MV_ERROR_INPUT);
+  write_by_rename(path, [&](const std::string& tmp) {
     ZipFile z(tmp);
     std::vector<IndexEntry> index;
     std::vector<char> bytes;
     for (const std::string& name : names) {
       std::ifstream in(fs::path(dir) / name, std::ios::binary | std::ios::ate);
-      if (!in) throw Error("3D Tiles archive: cannot read " + name);
+      if (!in) throw ServeError("3D Tiles archive: cannot read " + name, MV_ERROR_IO);
       const auto size = static_cast<uint64_t>(in.tellg());
-      if (size >= (uint64_t{1} << 32)) throw Error("3D Tiles archive: " + name + " is over the format's 4 GB per file");
+      if (size >= (uint64_t{1} << 32)) throw ServeError("3D Tiles archive: " + name + " is over the format's 4 GB per file", MV_ERROR_INPUT);
       bytes.resize(size);
       in.seekg(0);
-      if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) throw Error("3D Tiles archive: cannot read " + name);
+      if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) throw ServeError("3D Tiles archive: cannot read " + name, MV_ERROR_IO);
       index.push_back({md5(name), z.offset()});
       add_entry(z, name, bytes.data(), bytes.size(), path);
     }
@@ -114,7 +142,7 @@ void write_3tz(const std::string& dir, const std::string& path) {
     add_entry(z, "@3dtilesIndex1@", table.data(), table.size(), path);  // the last entry, as readers look for it
     const int closed = zipClose(z.zip, nullptr);
     z.zip = nullptr;
-    if (closed != ZIP_OK) throw Error("3D Tiles archive " + path + ": cannot finish it");
+    if (closed != ZIP_OK) throw ServeError("3D Tiles archive " + path + ": cannot finish it", MV_ERROR_IO);
   });
 }
 

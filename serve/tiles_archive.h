@@ -8,7 +8,7 @@
 namespace mv::serve {
 
 // Writes every file under `dir` (paths relative to it, '/'-separated) into the archive `path`, written to a
-// temporary name and renamed. Throws mv::Error naming what failed.
+// temporary name and renamed. Throws ServeError naming what failed.
 void write_3tz(const std::string& dir, const std::string& path);
 
 }  // namespace mv::serve

@@ -11,6 +11,7 @@
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "test_support.h"
+#include "option_words.h"
 
 namespace mv::test {
 namespace {
@@ -48,7 +49,7 @@ std::vector<uint32_t> built_words(Device& dev, const std::string& input, const s
   o.input = input;
   o.output = temp_path("out.mvx");
   o.resolution = 256;
-  o.format = format;
+  o.encoding = parse_encoding(format);
   build_mvx(dev, o);
   MvxFile f = read_mvx(o.output);
   fs::remove(o.output);
@@ -100,7 +101,9 @@ TEST_P(BuildJobTest, HostMemoryBudgetIsEnforced) {
       build_mvx(dev, o);
       ADD_FAILURE() << "no error under a " << o.memory << "-byte budget";
     } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("--memory"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("host memory budget"), std::string::npos) << e.what();
+      EXPECT_EQ(classify(e), ErrorCode::out_of_memory) << e.what();
+      EXPECT_TRUE(e.settings & setting_host_memory) << e.what();
     }
     EXPECT_FALSE(fs::exists(o.output));
     o.memory = 256 << 20;
@@ -127,7 +130,7 @@ TEST_P(BuildJobTest, SpilledTrianglesGiveTheSameFile) {
   o.input = ply;
   o.resolution = 256;
   o.cube = 64;
-  o.format = "ssvdag";
+  o.encoding = Encoding::ssvdag;
   std::vector<std::vector<char>> files;
   for (uint64_t memory : {uint64_t{1} << 30, uint64_t{2} << 20}) {
     o.memory = memory;
@@ -149,7 +152,7 @@ TEST_P(BuildJobTest, CubesShrinkToFitDeviceMemory) {
   o.input = ply;
   o.resolution = 1024;
   o.cube = 512;
-  o.format = "ssvdag";
+  o.encoding = Encoding::ssvdag;
   o.placement = parse_grid_bounds("-1.2,-1.2,-1.2,4.8");  // the sphere inside the first cube: cubes dwarf the merge
   std::vector<std::vector<char>> files;
   for (uint64_t budget : {uint64_t{0}, uint64_t{3} << 20}) {  // the default, then one a 512^3 cube overflows
@@ -192,8 +195,14 @@ TEST_P(BuildJobTest, BadInputsAreClearErrorsAndWriteNothing) {
   const std::string bad_ply = temp_path("bad.ply");
   std::ofstream(bad_ply) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n";
   expect_error(bad_ply, "bad.ply");
-  o.format = "octree";
-  expect_error(bad_ply, "--format");
+  try {
+    parse_encoding("octree");
+    ADD_FAILURE() << "no error for the encoding 'octree'";
+  } catch (const CodedError& e) {
+    EXPECT_EQ(e.code, ErrorCode::invalid_argument);
+    EXPECT_EQ(e.settings, setting_encoding);
+    EXPECT_NE(std::string(e.what()).find("choose svo, svdag, ussvdag or ssvdag"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(parse_resolution("1000"), Error);
   EXPECT_THROW(parse_resolution("4M"), Error);
   EXPECT_EQ(parse_resolution("16K"), 16384u);

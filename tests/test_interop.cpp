@@ -18,6 +18,7 @@
 #include "megavox/interop.h"
 #include "megavox/mvx.h"
 #include "test_support.h"
+#include "option_words.h"
 
 namespace mv::test {
 namespace {
@@ -136,7 +137,8 @@ std::string write_mvx_of(Device& dev, const std::vector<uint64_t>& keys, uint32_
   b.extend(-3, 1, 2);
   b.extend(-3 + 0.5 * g.resolution, 1 + 0.25 * g.resolution, 2 + 0.5 * g.resolution);
   const std::string path = temp_path(name);
-  write_mvx(path, mvx_for_dag(build_dag_for_format(dev, keys, levels, format), format, g, b));
+  const Encoding encoding = parse_encoding(format);
+  write_mvx(path, mvx_for_dag(build_dag_for_format(dev, keys, levels, encoding), encoding, g, b));
   return path;
 }
 
@@ -201,7 +203,7 @@ TEST_P(SymVoxTest, VoxcomFilesAreRecognisedAndUntransposed) {
   b.extend(0, 0, 0);
   b.extend(32, 20, 30);
   const std::string mvx = temp_path("vc.mvx");
-  write_mvx(mvx, mvx_for_dag(build_dag_for_format(dev, swapped, 5, "svdag"), "svdag", g, b));
+  write_mvx(mvx, mvx_for_dag(build_dag_for_format(dev, swapped, 5, Encoding::svdag), Encoding::svdag, g, b));
   // A voxcom header: bbox from 0, root side = the resolution.
   export_mvx(dev, {mvx, temp_path("vc.svdag"), "symvox-svdag"});
   std::vector<char> bytes = file_bytes(temp_path("vc.svdag"));

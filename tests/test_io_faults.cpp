@@ -225,7 +225,7 @@ TEST_P(IoFaults, BuildOutOfCoreSpilling) {
 TEST_P(IoFaults, ExportAndImport) {
   const std::string dir = scratch("faults_interop");
   BuildOptions b = mesh_build(dir);
-  b.format = "ssvdag";
+  b.encoding = Encoding::ssvdag;
   build_mvx(dev(), b);
   for (const char* format : {"symvox-ssvdag", "symvox-svdag", "vdb"}) {
     SCOPED_TRACE(format);
@@ -269,7 +269,7 @@ TEST_P(IoFaults, PointsBuild) {
   o.run_points = 700;
   EXPECT_GT(sweep(dir, o.output, [&] { EXPECT_TRUE(build_points_file(dev(), o).out_of_core); }), 6u);
   o.run_points = 0;
-  o.format = "3dtiles";
+  o.format = PointOutput::tiles3d;
   o.output = dir + "/tiles";
   EXPECT_GT(sweep(dir, o.output, [&] { build_points_file(dev(), o); }), 3u);
 }

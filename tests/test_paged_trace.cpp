@@ -38,8 +38,7 @@ MvxFile octahedron(Device& dev, uint32_t levels, Encoding e) {
   for (uint32_t i = 0; i < 40 * n; ++i) voxels.push_back(rng() & ((uint64_t{1} << (3 * levels)) - 1));
   std::sort(voxels.begin(), voxels.end());
   voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
-  const std::string format = encoding_name(e);
-  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, format), format, grid_for_bounds(b, n), b);
+  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, e), e, grid_for_bounds(b, n), b);
 }
 
 // The file's DAG in pages (subtree order; an ssvdag in its own layout), read from memory; `fail` pages throw.

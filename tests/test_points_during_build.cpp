@@ -109,7 +109,13 @@ TEST_P(PointsDuringBuildTest, FramesGrow) {
   ASSERT_EQ(coarse.size(), 5u);
   for (size_t k = 0; k < coarse.size(); ++k) EXPECT_LE(coarse[k].points_drawn, frames[k].points_drawn);
   EXPECT_LT(coarse.back().points_drawn, 30000u);
-  EXPECT_NE(error_message([&] { render_during_build(dev, ply, dir, 0, b, r, {}); }).find("--frames"), std::string::npos);
+  try {
+    render_during_build(dev, ply, dir, 0, b, r, {});
+    ADD_FAILURE() << "no error for 0 frames";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the frame count"), std::string::npos) << e.what();
+    EXPECT_EQ(e.settings, setting_frames);
+  }
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PointsDuringBuildTest);

@@ -24,8 +24,7 @@ MvxFile octahedron_file(Device& dev, Encoding e) {
   Bounds b;
   b.extend(-1, -1, -1);
   b.extend(1, 1, 1);
-  const std::string format = encoding_name(e);
-  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, format), format, grid_for_bounds(b, n), b);
+  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, e), e, grid_for_bounds(b, n), b);
 }
 
 size_t differing_pixels(const Image& a, const Image& b) {

@@ -84,7 +84,7 @@ TEST(Tiles3dJs, LoadersGlReadsARealBuild) {
   PointFileOptions o;
   o.input = path;
   o.output = temp_path("lion_tiles");
-  o.format = "3dtiles";
+  o.format = PointOutput::tiles3d;
   const PointFileReport rep = build_points_file(shared_device(all_devices()[0]), o);
   const std::string dir = o.output;
   const Ran r = run("node " + quoted(kJs + "/check_tileset.mjs") + " " + quoted(dir) + " " +
@@ -120,7 +120,7 @@ TEST(Tiles3dJs, ChromiumRendersTileset) {
   PointFileOptions o;
   o.input = lion;
   o.output = temp_path("lion_render");
-  o.format = "3dtiles";
+  o.format = PointOutput::tiles3d;
   build_points_file(shared_device(all_devices()[0]), o);
   const std::string real_dir = o.output;
   const Ran real = run("node " + quoted(kJs + "/render_tileset.mjs") + " " + quoted(real_dir) + " tiles3d_render_lion.png");

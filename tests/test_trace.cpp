@@ -24,8 +24,7 @@ constexpr Encoding kEncodings[] = {Encoding::svo, Encoding::svdag, Encoding::uss
 MvxFile encoded_file(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, Encoding e) {
   GridTransform grid;
   grid.resolution = 1u << levels;
-  const std::string format = encoding_name(e);
-  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, format), format, grid, Bounds{});
+  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, e), e, grid, Bounds{});
 }
 
 // Rays of every kind the issue names, in grid units of an n^3 grid: from outside toward the grid, from

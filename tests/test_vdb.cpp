@@ -89,7 +89,7 @@ TEST_P(VdbTest, BuildKeepsTheLevelSetSurface) {
   BuildOptions o;
   o.input = path;
   o.output = temp_path("ball.mvx");
-  o.format = "ssvdag";
+  o.encoding = Encoding::ssvdag;
   BuildReport r = build_mvx(shared_device(GetParam()), o);
   EXPECT_EQ(r.voxels, expect);
   EXPECT_TRUE(decode_encoded(read_mvx(o.output).dag) == io::read_vdb(path, "", 0).keys);

@@ -17,6 +17,7 @@
 #include "megavox/mvx.h"
 #include "megavox/voxelize.h"
 #include "test_support.h"
+#include "option_words.h"
 
 namespace mv::test {
 namespace {
@@ -335,7 +336,7 @@ BuildOptions soup_build(const std::vector<float>& tris) {
 
 // The built file's bytes (the file is removed) and its report.
 std::vector<char> built_bytes(Device& dev, BuildOptions o, BuildReport& r) {
-  o.output = temp_path("soup_" + o.format + "_" + std::to_string(o.cube) + ".mvx");
+  o.output = temp_path("soup_" + encoding_name(o.encoding) + "_" + std::to_string(o.cube) + ".mvx");
   r = build_mvx(dev, o);
   std::vector<char> bytes = file_bytes(o.output);
   std::filesystem::remove(o.output);
@@ -364,13 +365,13 @@ TEST_P(BuildEdgesTest, OneCubeAndManyGiveTheSameFile) {
                 {Rule::kThin, "svdag", {64}},          {Rule::kThin, "ssvdag", {64}}};
   for (const auto& b : builds) {
     SCOPED_TRACE(std::string(name(b.rule)) + ", " + b.format);
-    o.voxelize = name(b.rule);
-    o.format = b.format;
+    o.voxelize = b.rule;
+    o.encoding = parse_encoding(b.format);
     o.cube = 0;
     BuildReport r;
     const std::vector<char> in_core = built_bytes(dev, o, r);
     ASSERT_EQ(r.cube, 0u);
-    if (o.format == "svdag") {  // the file holds the reference's voxels
+    if (o.encoding == Encoding::svdag) {  // the file holds the reference's voxels
       const std::string path = temp_path("soup_check.mvx");
       std::ofstream(path, std::ios::binary).write(in_core.data(), std::streamsize(in_core.size()));
       EXPECT_TRUE(decode_encoded(read_mvx(path).dag) == ref::voxelize(tris, 256, b.rule == Rule::kThin));

@@ -1,43 +1,45 @@
-// The library's messages name options as the CLI spells them ("raise --cube", "over --memory"): the checks
-// that word them serve every front end. A front end whose options have other names (the C API's fields, the
-// service's JSON keys) rewords the names it knows rather than repeat a check to word it differently.
+// The words front ends take for the library's enums (the CLI's flags, the C API's strings): below them the
+// library passes enums, and each word is parsed once, here, at the edge. A parse throws
+// CodedError(invalid_argument) naming the choices and the setting; a name is what a report prints.
 #pragma once
-#include <cctype>
-#include <span>
 #include <string>
 #include <string_view>
 
+#include "megavox/encode.h"
+#include "megavox/error.h"
+#include "megavox/point_build.h"
+#include "megavox/voxelize.h"
+
 namespace mv {
 
-struct OptionWords {
-  std::string_view from;  // a name as it appears in messages: "--cube"
-  std::string_view to;    // the front end's name for it
-};
-
-// `message` with each whole-word occurrence of a `from` replaced by its `to` (the first entry that matches
-// wins); a name inside a longer word ("--cubes", "a--cube") is left alone, as is everything else.
-inline std::string reword_options(std::string_view message, std::span<const OptionWords> words) {
-  const auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; };
-  std::string out;
-  out.reserve(message.size());
-  for (size_t i = 0; i < message.size();) {
-    const OptionWords* hit = nullptr;
-    if (i == 0 || !word_char(message[i - 1]))
-      for (const OptionWords& w : words) {
-        const size_t end = i + w.from.size();
-        if (message.substr(i, w.from.size()) == w.from && (end == message.size() || !word_char(message[end]))) {
-          hit = &w;
-          break;
-        }
-      }
-    if (hit) {
-      out += hit->to;
-      i += hit->from.size();
-    } else {
-      out += message[i++];
-    }
-  }
-  return out;
+// "svo", "svdag", "ussvdag", "ssvdag" (encoding_name in megavox/mvx.h is the other way).
+inline Encoding parse_encoding(std::string_view word) {
+  if (word == "svo") return Encoding::svo;
+  if (word == "svdag") return Encoding::svdag;
+  if (word == "ussvdag") return Encoding::ussvdag;
+  if (word == "ssvdag") return Encoding::ssvdag;
+  throw CodedError(ErrorCode::invalid_argument, "encoding '" + std::string(word) + "': choose svo, svdag, ussvdag or ssvdag",
+                   setting_encoding);
 }
+
+// "conservative" (26-separating) or "thin" (6-separating).
+inline Voxelizer::Rule parse_voxelize_rule(std::string_view word) {
+  if (word == "conservative") return Voxelizer::Rule::kConservative;
+  if (word == "thin") return Voxelizer::Rule::kThin;
+  throw CodedError(ErrorCode::invalid_argument,
+                   "voxelization rule '" + std::string(word) + "': choose conservative or thin", setting_voxelize);
+}
+inline const char* voxelize_rule_name(Voxelizer::Rule rule) {
+  return rule == Voxelizer::Rule::kThin ? "thin" : "conservative";
+}
+
+// "mvx" or "3dtiles".
+inline PointOutput parse_point_output(std::string_view word) {
+  if (word == "mvx") return PointOutput::mvx;
+  if (word == "3dtiles") return PointOutput::tiles3d;
+  throw CodedError(ErrorCode::invalid_argument, "point output format '" + std::string(word) + "': choose mvx or 3dtiles",
+                   setting_encoding);
+}
+inline const char* point_output_name(PointOutput o) { return o == PointOutput::tiles3d ? "3dtiles" : "mvx"; }
 
 }  // namespace mv

@@ -68,7 +68,7 @@ std::string default_voxcom_path() {
 
 std::string voxcom_mismatch(const BuildOptions& o) {
   if (io::is_vdb(o.input)) return "voxcom reads meshes, not .vdb volumes";
-  if (o.voxelize != "thin") return "voxcom voxelizes with the thin rule only (--voxelize thin)";
+  if (o.voxelize != Voxelizer::Rule::kThin) return "voxcom voxelizes with the thin rule only (--voxelize thin)";
   if (o.placement.origin != GridPlacement::Origin::kMin)
     return "voxcom's grid sits at the mesh's min corner (--grid-origin min)";
   return "";

@@ -1,4 +1,5 @@
-/* megavox — the C API (C99): devices, scenes (voxel DAGs) and build jobs, in Embree's conventions.
+/* megavox — the C API (C99): devices, scenes (voxel DAGs), point-cloud builds, masks and jobs, in Embree's
+ * conventions.
  *
  * Handles are opaque and reference counted: mvNew... / mvOpen... / mvBuild... return one reference,
  * mvRetain... adds one, mvRelease... drops one; the object goes when the last reference does. A scene and a
@@ -44,13 +45,15 @@ MV_API const char* mvGetVersionString(void);
 
 typedef enum MvError {
   MV_ERROR_NONE = 0,
-  MV_ERROR_UNKNOWN = 1,            /* an unexpected failure inside megavox */
+  MV_ERROR_UNKNOWN = 1,            /* an internal failure: a fault inside megavox, not the caller's */
   MV_ERROR_INVALID_ARGUMENT = 2,   /* a NULL pointer, a bad option, an unknown name */
   MV_ERROR_INVALID_OPERATION = 3,  /* the call does not apply to this object now (a job not done) */
   MV_ERROR_OUT_OF_MEMORY = 4,      /* the device or host memory budget cannot hold the work */
   MV_ERROR_UNSUPPORTED_DEVICE = 5, /* no device matches the selector */
   MV_ERROR_CANCELLED = 6,          /* a progress function (or mvCancelJob) stopped the work */
-  MV_ERROR_INPUT = 7               /* the input file or arrays are malformed or cannot be read or written */
+  MV_ERROR_INPUT = 7,              /* the input file or arrays are malformed, or not what the call takes */
+  MV_ERROR_IO = 8,                 /* a file or folder cannot be opened, read, written or renamed */
+  MV_ERROR_DEVICE = 9              /* the device or its driver failed (a lost device, a kernel it cannot build) */
 } MvError;
 
 /* "MV_ERROR_INPUT", ...: the name of a code. */
@@ -86,6 +89,9 @@ typedef struct MvDeviceInfo {
   uint64_t memoryBudget, memoryUsed; /* bytes */
 } MvDeviceInfo;
 MV_API MvError mvGetDeviceInfo(MvDevice device, MvDeviceInfo* info);
+/* The host RAM budget of the device's builds, in bytes: its host_memory, else the default (half the physical
+ * RAM). NULL: the default. */
+MV_API uint64_t mvGetHostMemoryBudget(MvDevice device);
 
 /* ---- progress ---- */
 
@@ -181,10 +187,22 @@ typedef struct MvRenderArguments {
 } MvRenderArguments;
 MV_API void mvInitRenderArguments(MvRenderArguments* args);
 
+/* MvCamera.fov of the preset views when none is asked for (degrees). */
+#define MV_DEFAULT_FOV 40.0
+
+/* The camera of a preset view ("iso", "front", "back", "left", "right" or "top") framing the scene's model at
+ * fov degrees (0: MV_DEFAULT_FOV), as mvRenderScene frames it when given no camera. */
+MV_API MvError mvGetSceneViewCamera(MvScene scene, const char* view, double fov, MvCamera* camera);
+
 /* Renders into rgba: height rows of width pixels, 4 bytes each (alpha 255), rows rowStride bytes apart
  * (0: width * 4), top row first. camera NULL: args->view framing the model. */
 MV_API MvError mvRenderScene(MvScene scene, const MvCamera* camera, const MvRenderArguments* args, uint8_t* rgba,
                              size_t rowStride);
+
+/* Writes height rows of width RGBA pixels (rows rowStride bytes apart, 0: width * 4; alpha is dropped) as
+ * the path's extension says: JPEG for .jpg / .jpeg, else PNG (a temporary name, then renamed). Errors go to
+ * this thread's record (mvGetDeviceError(NULL)). */
+MV_API MvError mvWriteImage(const char* path, const uint8_t* rgba, uint32_t width, uint32_t height, size_t rowStride);
 
 /* ---- jobs: builds on their own thread ---- */
 
@@ -199,7 +217,8 @@ typedef enum MvJobStatus {
 } MvJobStatus;
 
 /* As mvBuildSceneFromFile / mvBuildSceneFromMemory (the arrays are copied), but returning at once; the
- * progress function, if any, is called on the job's thread (returning false cancels). */
+ * progress function, if any, is called on the job's thread (returning false cancels). Point-cloud and mask
+ * jobs (below) are the same kind of job. */
 MV_API MvJob mvBuildSceneFromFileAsync(MvDevice device, const char* path, const MvBuildArguments* args);
 MV_API MvJob mvBuildSceneFromMemoryAsync(MvDevice device, const float* vertices, size_t vertexCount,
                                          const uint32_t* indices, size_t triangleCount,
@@ -213,10 +232,53 @@ MV_API MvJobStatus mvGetJobStatus(MvJob job, double* fraction);
 MV_API const char* mvGetJobMessage(MvJob job);
 /* Asks the job to stop at its next progress point; nothing of its output file is left. */
 MV_API void mvCancelJob(MvJob job);
-/* Waits until the job ends: MV_ERROR_NONE when it built its scene, else why not (also recorded on the device). */
+/* Waits until the job ends: MV_ERROR_NONE when it did its work, else why not (also recorded on the device). */
 MV_API MvError mvWaitJob(MvJob job);
-/* The built scene, a new reference (release it); NULL unless the job is MV_JOB_DONE. */
+/* The built scene, a new reference (release it); NULL unless the job is MV_JOB_DONE and built a scene (a
+ * point-cloud or mask job writes a file instead: MV_ERROR_INVALID_OPERATION). */
 MV_API MvScene mvGetJobScene(MvJob job);
+
+/* ---- point clouds: a PLY or LAS cloud to a point hierarchy ---- */
+
+typedef struct MvPointBuildArguments {
+  size_t byteSize;         /* sizeof(MvPointBuildArguments), set by mvInitPointBuildArguments */
+  const char* format;      /* "mvx" (default): a .mvx point hierarchy; "3dtiles": a 3D Tiles folder */
+  uint32_t depth;          /* the leaf level, at most 21; 0: picked from the point count */
+  uint32_t maxNodePoints;  /* points a node keeps at most (default 16384) */
+  MvProgressMonitorFunction progress; /* stages "read", "build", "write"; NULL: none */
+  void* progressUserPtr;
+} MvPointBuildArguments;
+MV_API void mvInitPointBuildArguments(MvPointBuildArguments* args);
+
+/* Builds output (a .mvx file, or a 3D Tiles folder; written under a temporary name, then renamed) from the
+ * cloud at input, within the device's host memory budget (out of core past it). args NULL: the defaults. */
+MV_API MvError mvBuildPointsFile(MvDevice device, const char* input, const char* output,
+                                 const MvPointBuildArguments* args);
+/* The same as a job (mvGetJobScene does not apply: the result is the output). */
+MV_API MvJob mvBuildPointsFileAsync(MvDevice device, const char* input, const char* output,
+                                    const MvPointBuildArguments* args);
+
+/* ---- masks: GrabCut of a photograph or range map ---- */
+
+typedef struct MvMaskArguments {
+  size_t byteSize;       /* sizeof(MvMaskArguments), set by mvInitMaskArguments */
+  bool hasRect;          /* start from rect: outside it sure background, inside probable foreground */
+  uint32_t rect[4];      /* x, y, width, height in pixels, inside the image */
+  const char* seeds;     /* a seed map image (0 / 64 / 128 / 192 / 255 per pixel, the image's size); NULL: none */
+  const char* model;     /* a trained .mvm mask model; NULL: none */
+  uint32_t iterations;   /* GrabCut iterations (default 5) */
+  uint32_t erode;        /* erosion radius of the post-processing in pixels (default 2; 0: none) */
+  MvProgressMonitorFunction progress; /* stages "read", "mask", "write"; NULL: none */
+  void* progressUserPtr;
+} MvMaskArguments;
+MV_API void mvInitMaskArguments(MvMaskArguments* args);
+
+/* Masks the image at input (PNG, JPEG, PPM or PGM) from at least one start (rect, seeds, model) and writes the
+ * mask to output as a one-channel PNG (0 background, 255 foreground; a temporary name, then renamed). */
+MV_API MvError mvMaskImageFile(MvDevice device, const char* input, const char* output, const MvMaskArguments* args);
+/* The same as a job (mvGetJobScene does not apply: the result is the output). */
+MV_API MvJob mvMaskImageFileAsync(MvDevice device, const char* input, const char* output,
+                                  const MvMaskArguments* args);
 
 #ifdef __cplusplus
 }

@@ -77,6 +77,17 @@ class Device : public detail::Handle<MvDevice, mvRetainDevice, mvReleaseDevice> 
   inline Scene build(const std::vector<float>& vertices, const std::vector<uint32_t>& indices,
                      const MvBuildArguments* args = nullptr) const;
   inline Job build_async(const std::string& path, const MvBuildArguments* args = nullptr) const;
+
+  // Point-cloud builds and masks: files in, a file (or a 3D Tiles folder) out.
+  void build_points(const std::string& input, const std::string& output, const MvPointBuildArguments* args = nullptr) const {
+    detail::check(get(), mvBuildPointsFile(get(), input.c_str(), output.c_str(), args));
+  }
+  inline Job build_points_async(const std::string& input, const std::string& output,
+                                const MvPointBuildArguments* args = nullptr) const;
+  void mask(const std::string& input, const std::string& output, const MvMaskArguments& args) const {
+    detail::check(get(), mvMaskImageFile(get(), input.c_str(), output.c_str(), &args));
+  }
+  inline Job mask_async(const std::string& input, const std::string& output, const MvMaskArguments& args) const;
 };
 
 class Scene : public detail::Handle<MvScene, mvRetainScene, mvReleaseScene> {
@@ -117,9 +128,13 @@ class Job : public detail::Handle<MvJob, mvRetainJob, mvReleaseJob> {
   std::string message() const { return mvGetJobMessage(get()); }
   void cancel() const { mvCancelJob(get()); }
   // Waits; throws megavox::Error when the job failed or was cancelled.
-  Scene wait() const {
+  void finish() const {
     const MvError e = mvWaitJob(get());
     if (e != MV_ERROR_NONE) throw Error(e, message());
+  }
+  // finish(), then the scene a build job made.
+  Scene wait() const {
+    finish();
     return Scene(mvGetJobScene(get()), device_);
   }
 
@@ -138,6 +153,18 @@ Scene Device::build(const std::vector<float>& vertices, const std::vector<uint32
 }
 Job Device::build_async(const std::string& path, const MvBuildArguments* args) const {
   return Job(mvBuildSceneFromFileAsync(get(), path.c_str(), args), get());
+}
+Job Device::build_points_async(const std::string& input, const std::string& output,
+                               const MvPointBuildArguments* args) const {
+  return Job(mvBuildPointsFileAsync(get(), input.c_str(), output.c_str(), args), get());
+}
+Job Device::mask_async(const std::string& input, const std::string& output, const MvMaskArguments& args) const {
+  return Job(mvMaskImageFileAsync(get(), input.c_str(), output.c_str(), &args), get());
+}
+
+// RGBA pixels (rows top first, width * 4 bytes each) to a PNG, or a JPEG for .jpg / .jpeg.
+inline void write_image(const std::string& path, const std::vector<uint8_t>& rgba, uint32_t width, uint32_t height) {
+  detail::check(nullptr, mvWriteImage(path.c_str(), rgba.data(), width, height, 0));
 }
 
 }  // namespace megavox

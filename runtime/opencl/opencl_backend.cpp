@@ -42,7 +42,7 @@ std::string cl_error_name(cl_int err) {
 }
 
 void check(cl_int err, const std::string& what) {
-  if (err != CL_SUCCESS) throw Error("OpenCL: " + what + " failed (" + cl_error_name(err) + ")");
+  if (err != CL_SUCCESS) throw DeviceError("OpenCL: " + what + " failed (" + cl_error_name(err) + ")");
 }
 
 template <class T>
@@ -350,7 +350,7 @@ class OpenCLBackend final : public Backend {
     if (err != CL_SUCCESS) {
       std::string log = build_log(program);
       clReleaseProgram(program);
-      throw Error("OpenCL: building program '" + desc.cl_program + "' (kernel '" + desc.name + "') for '" +
+      throw DeviceError("OpenCL: building program '" + desc.cl_program + "' (kernel '" + desc.name + "') for '" +
                   info_.name + "' failed (" + cl_error_name(err) + "). Compiler log:\n" + log);
     }
     return program;

@@ -23,7 +23,7 @@ void VulkanBackend::init(int index) {
   std::vector<VkPhysicalDevice> devices;
   check(physicaldevices(instance_, devices), "vkEnumeratePhysicalDevices");
   if (index < 0 || static_cast<size_t>(index) >= devices.size())
-    fail("no device vk:" + std::to_string(index) + " (" + std::to_string(devices.size()) + " Vulkan devices)");
+    throw Error("Vulkan: no device vk:" + std::to_string(index) + " (" + std::to_string(devices.size()) + " Vulkan devices)");
   const VkPhysicalDevice physical = devices[index];
   const DeviceQuery q = query_device(physical);
   info_ = describe(q, index);
@@ -33,8 +33,8 @@ void VulkanBackend::init(int index) {
   max_local_size_y_ = q.props.limits.maxComputeWorkGroupSize[1];
   timestamp_period_ = q.props.limits.timestampPeriod;
   if (!q.features12.bufferDeviceAddress)
-    fail("device '" + info_.name + "' lacks bufferDeviceAddress (Vulkan 1.2), which every megavox kernel uses");
-  if (!q.features.shaderInt64) fail("device '" + info_.name + "' lacks shaderInt64, which every megavox kernel uses");
+    throw Error("Vulkan: device '" + info_.name + "' lacks bufferDeviceAddress (Vulkan 1.2), which every megavox kernel uses");
+  if (!q.features.shaderInt64) throw Error("Vulkan: device '" + info_.name + "' lacks shaderInt64, which every megavox kernel uses");
 
   uint32_t family_count = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(physical, &family_count, nullptr);
@@ -42,7 +42,7 @@ void VulkanBackend::init(int index) {
   vkGetPhysicalDeviceQueueFamilyProperties(physical, &family_count, families.data());
   const auto family = std::find_if(families.begin(), families.end(),
                                    [](const auto& f) { return (f.queueFlags & VK_QUEUE_COMPUTE_BIT) != 0; });
-  if (family == families.end()) fail("device '" + info_.name + "' has no compute queue");
+  if (family == families.end()) throw Error("Vulkan: device '" + info_.name + "' has no compute queue");
   const auto family_index = static_cast<uint32_t>(family - families.begin());
   timestamp_bits_ = family->timestampValidBits;
 

@@ -44,7 +44,7 @@ std::string result_name(VkResult r) {
   }
 }
 
-[[noreturn]] void fail(const std::string& what) { throw Error("Vulkan: " + what); }
+[[noreturn]] void fail(const std::string& what) { throw DeviceError("Vulkan: " + what); }
 
 void check(VkResult r, const std::string& call) {
   if (r != VK_SUCCESS) fail(call + " failed (" + result_name(r) + ")");

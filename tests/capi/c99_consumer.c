@@ -88,7 +88,7 @@ static void run_on(MvDevice dev) {
   CHECK(mvGetDeviceError(dev) == MV_ERROR_INVALID_ARGUMENT);
   CHECK(strstr(mvGetDeviceLastErrorMessage(dev), "NULL") != NULL);
   CHECK(mvOpenScene(dev, "/no/such/scene.mvx") == NULL);
-  CHECK(mvGetDeviceError(dev) == MV_ERROR_INPUT);
+  CHECK(mvGetDeviceError(dev) == MV_ERROR_IO);
   CHECK(errors_seen == 2);
   errors_seen = 0;
   mvReleaseScene(scene);

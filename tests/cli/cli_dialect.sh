@@ -36,7 +36,9 @@ assert j["code"] == sys.argv[2], j
 assert re.search(sys.argv[3], j["error"]), j
 PY
 }
-expect_json MV_ERROR_INPUT "none.mvx" info "$dir/none.mvx" --json
+expect_json MV_ERROR_IO "none.mvx" info "$dir/none.mvx" --json
+expect_json MV_ERROR_INVALID_ARGUMENT "^resolution 48 must be a power of two .* \\(--resolution\\)$" \
+  build "$dir/tetra.ply" --resolution 48 -o "$dir/t.mvx" --json
 expect_json MV_ERROR_INVALID_ARGUMENT "did you mean 'build'" biuld --json
 expect_json MV_ERROR_INVALID_ARGUMENT "--resoluton" build "$dir/tetra.ply" --resoluton 4K -o "$dir/t.mvx" --json
 expect_json MV_ERROR_INVALID_ARGUMENT "file is required" info --json

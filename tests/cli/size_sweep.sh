@@ -81,9 +81,9 @@ done
 expect_error "1048576.*cubes.*GiB.*--cube" build "$dir/t.ply" --resolution 1M -o "$dir/o.mvx"
 expect_error "need 2.\.. KiB of host memory, over the 768 B" build "$dir/t.ply" --resolution 64 --memory 1K -o "$dir/o.mvx"
 expect_error "page" --device-memory 1K build "$dir/t.ply" --resolution 16 -o "$dir/o.mvx"
-expect_error "device memory: .* needs .*budget 64.0 KiB" --device-memory 64K build "$dir/t.ply" --resolution 256 -o "$dir/o.mvx"
+expect_error "device memory: .* needs .*budget 64.0 KiB.* \(raise --device-memory\)$" --device-memory 64K build "$dir/t.ply" --resolution 256 -o "$dir/o.mvx"
 expect_error "device memory: .* needs .*budget 64.0 KiB" --device-memory 64K points build "$dir/c.ply" -o "$dir/o.mvx"
 # a file larger than the host budget: the mesh, the cloud
-expect_error "the mesh needs about [0-9]+ B of host memory, over --memory 100 B" build "$dir/t.ply" --memory 100 -o "$dir/o.mvx"
-expect_error "512 points need about 1.\.. KiB of host memory .*over --memory 1.0 KiB" points build "$dir/c.ply" --memory 1K -o "$dir/o.mvx"
+expect_error "the mesh needs about [0-9]+ B of host memory, over the host memory budget 100 B \(raise --memory\)" build "$dir/t.ply" --memory 100 -o "$dir/o.mvx"
+expect_error "512 points need about 1.\.. KiB of host memory .*over the host memory budget 1.0 KiB \(raise --memory\)" points build "$dir/c.ply" --memory 1K -o "$dir/o.mvx"
 echo "size sweep: $cases cases, ok"

@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "megavox/error.h"
+#include "serve_error.h"
 #include "job_request.h"
 #include "job_words.h"
 
@@ -20,7 +20,7 @@ using mv::serve::parse_job_request;
 std::string refusal(const std::string& body) {
   try {
     parse_job_request(body);
-  } catch (const mv::Error& e) {
+  } catch (const mv::serve::ServeError& e) {
     return e.what();
   }
   return "";
@@ -155,28 +155,21 @@ TEST(ServeJobRequest, UploadQuery) {
   for (const auto& [key, value] : std::multimap<std::string, std::string>{
            {"rect", "1,2,3"}, {"rect", "1,2,3,x"}, {"rect", "1,2,3,4,5"}, {"eye", "1,2,nan"}, {"fov", "40deg"}, {"depth", "-1"}}) {
     const std::string kind = key == "rect" ? "mask" : key == "depth" ? "points" : "render";
-    EXPECT_THROW(mv::serve::job_request_from_query({{"kind", kind}, {key, value}}), mv::Error) << key << "=" << value;
+    EXPECT_THROW(mv::serve::job_request_from_query({{"kind", kind}, {key, value}}), mv::serve::ServeError) << key << "=" << value;
   }
 }
 
-TEST(ServeJobWords, FlagsBecomeJobKeys) {
+TEST(ServeJobWords, LibraryTermsBecomeJobKeys) {
   using mv::serve::in_job_terms;
-  EXPECT_EQ(in_job_terms("raise --cube to 512 or more, or lower --resolution"),
+  EXPECT_EQ(in_job_terms("raise the cube size to 512 or more, or lower the resolution"),
             "raise \"cube\" to 512 or more, or lower \"resolution\"");
-  EXPECT_EQ(in_job_terms("over --memory 2 GiB; raise --memory"),
+  EXPECT_EQ(in_job_terms("over the host memory budget 2 GiB; raise the host memory budget"),
             "over the server's host memory per job 2 GiB; raise the server's host memory per job");
-  EXPECT_EQ(in_job_terms("--grid-origin, --max-node-points, --device-memory."),
+  EXPECT_EQ(in_job_terms("the grid origin, the node point limit, the device memory budget."),
             "\"grid_origin\", \"max_node_points\", the server's device memory per job.");
-  // flags it has no key for, and names inside longer words, stay as they are
-  EXPECT_EQ(in_job_terms("--bounds and a--cube and --cubes and x -- y --"), "--bounds and a--cube and --cubes and x -- y --");
-}
-
-TEST(ServeJobWords, CApiNamesBecomeJobKeys) {  // build jobs run through the C API, which words its own names
-  using mv::serve::in_job_terms;
-  EXPECT_EQ(in_job_terms("over the quarter of host_memory (mvNewDevice) 2 GiB; raise MvBuildArguments.cube to 512"),
-            "over the quarter of the server's host memory per job 2 GiB; raise \"cube\" to 512");
-  EXPECT_EQ(in_job_terms("MvBuildArguments.gridOrigin, memory (mvNewDevice)"),
-            "\"grid_origin\", the server's device memory per job");
+  // terms it has no key for, and terms inside longer words, stay as they are
+  EXPECT_EQ(in_job_terms("the bounds and xthe cube size and the resolutions"),
+            "the bounds and xthe cube size and the resolutions");
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ std::vector<uint8_t> start_labels(const RasterImage& image, const MaskStart& sta
   const uint32_t W = image.width, H = image.height;
   const size_t n = size_t{W} * H;
   if (!start.box && start.seeds.empty() && !start.model)
-    throw Error("mask: no start: give a box (--rect), a seed map (--seeds) or a model (--model)");
+    throw CodedError(ErrorCode::invalid_argument, "mask: no start: give a box, a seed map or a model");
   std::vector<uint8_t> labels(n, kUnknown);
   if (start.box) labels = box_labels(W, H, start.box->x, start.box->y, start.box->w, start.box->h);
   if (start.model) {

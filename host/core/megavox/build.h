@@ -33,9 +33,9 @@ struct BuildOptions {
   // Meshes above this resolution build out of core, one cube of this many voxels per side at a time
   // (a power of two); 0 = always in core.
   uint32_t cube = kDefaultCube;
-  std::string format = "svdag";
-  GridPlacement placement;               // meshes: where the grid sits (a .vdb keeps its index space)
-  std::string voxelize = "conservative"; // meshes: conservative (26-separating) or thin (6-separating)
+  Encoding encoding = Encoding::svdag;
+  GridPlacement placement;  // meshes: where the grid sits (a .vdb keeps its index space)
+  Voxelizer::Rule voxelize = Voxelizer::Rule::kConservative;  // meshes: 26-separating or thin (6-separating)
   // Host RAM budget in bytes (0: half the physical RAM). A build whose triangles or voxel keys would pass it
   // stops with an error naming what it needs (nothing is written).
   uint64_t memory = 0;

@@ -63,10 +63,13 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
 
 namespace mv {
 
+// What a point build writes: a .mvx point hierarchy, or a 3D Tiles folder.
+enum class PointOutput { mvx, tiles3d };
+
 // `megavox points build`: a point file (PLY, LAS) to a .mvx point hierarchy or a 3D Tiles folder.
 struct PointFileOptions {
   std::string input, output;
-  std::string format = "mvx";  // "mvx" or "3dtiles"
+  PointOutput format = PointOutput::mvx;
   PointBuildOptions build;
   uint64_t memory = 0;         // host budget in bytes; 0 = default_host_memory()
   bool carry_extra_bytes = true;

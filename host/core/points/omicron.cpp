@@ -18,7 +18,7 @@ constexpr uint64_t kCallCandidates = uint64_t{1} << 24;
 OmicronBuilder::OmicronBuilder(Device& dev, const OmicronRule& rule)
     : dev_(dev), rule_(rule), levels_(rule.depth + 1), parented_(rule.depth + 1, 0) {
   if (rule.depth > 21) throw Error("points: depth " + std::to_string(rule.depth) + " is over 21, the deepest level 63-bit Morton codes hold");
-  if (rule.max_node_points == 0) throw Error("points: --max-node-points must be at least 1");
+  if (rule.max_node_points == 0) throw CodedError(ErrorCode::invalid_argument, "points: the node point limit must be at least 1", setting_max_node_points);
 }
 
 uint64_t OmicronBuilder::concatenate(std::span<const uint64_t> sorted, bool last) {

@@ -50,8 +50,8 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   PointBuildReport& rep = report ? *report : local_report;
   const uint64_t n = points.size();
   if (n == 0) throw Error("points: the cloud has no points");
-  if (options.depth > 21) throw Error("points: --depth " + std::to_string(options.depth) + " is over 21, the deepest level 63-bit Morton codes hold");
-  if (options.max_node_points == 0) throw Error("points: --max-node-points must be at least 1");
+  if (options.depth > 21) throw CodedError(ErrorCode::invalid_argument, "points: depth " + std::to_string(options.depth) + " is over 21, the deepest level 63-bit Morton codes hold", setting_depth);
+  if (options.max_node_points == 0) throw CodedError(ErrorCode::invalid_argument, "points: the node point limit must be at least 1", setting_max_node_points);
   if (options.grid_bits < 1 || options.grid_bits > 10) throw Error("points: the node grid must have 1-10 bits per axis");
 
   auto t0 = std::chrono::steady_clock::now();

@@ -27,7 +27,7 @@ double get(const Vec& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
 Vec up_direction(const PointHierarchy& h, const PointRenderOptions& o) {
   if (!o.up) return h.source.z_up ? Vec{0, 0, 1} : Vec{0, 1, 0};
   const Vec v{(*o.up)[0], (*o.up)[1], (*o.up)[2]};
-  if (!(dot(v, v) > 0) || !std::isfinite(dot(v, v))) throw Error("points render: --up must be a direction, not 0,0,0");
+  if (!(dot(v, v) > 0) || !std::isfinite(dot(v, v))) throw Error("points render: the up direction must be a direction, not 0,0,0");
   return v;
 }
 
@@ -77,8 +77,9 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw Error("points render: the image must be 1-16384 pixels wide and high, not " + std::to_string(o.width) + "x" +
                 std::to_string(o.height));
-  if (!(o.fov > 1 && o.fov < 170)) throw Error("points render: --fov must lie between 1 and 170 degrees");
-  if (!(o.lod_pixels >= 0)) throw Error("points render: --lod-pixels must be 0 or more");
+  if (!(o.fov > 1 && o.fov < 170)) throw Error("points render: the field of view must lie between 1 and 170 degrees");
+  if (!(o.lod_pixels >= 0)) throw CodedError(ErrorCode::invalid_argument, "points render: the level-of-detail pixel size must be 0 or more",
+                                                 setting_lod_pixels);
   // Camera space in cells scaled per axis by the input's scale over the largest (the cube is square in input
   // units, which LAS may scale differently per axis).
   const double smax = std::max({std::fabs(h.source.scale[0]), std::fabs(h.source.scale[1]), std::fabs(h.source.scale[2])});
@@ -114,7 +115,7 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
     if (o.target) target = point_to_cell(*o.target);
     cam.eye = point_to_cell(*o.eye);
   } else {
-    if (o.target) throw Error("points render: --target needs --eye (or use --view)");
+    if (o.target) throw Error("points render: a target needs an eye (or use a preset view)");
     // The front view's direction towards the eye and its right, for the axis nearest up, made square to up.
     Vec toward;
     if (up == 2) at(toward, 1) = -1;  // z up: front from -Y
@@ -135,10 +136,10 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
   // The depth range covers the framed box from the eye.
   cam.dist = std::sqrt(dot(centre - cam.eye, centre - cam.eye));
   const Vec view = target - cam.eye;
-  if (!(dot(view, view) > 0)) throw Error("points render: --eye and --target are the same point");
+  if (!(dot(view, view) > 0)) throw Error("points render: the eye and the target are the same point");
   cam.fwd = unit(view);
   const Vec side = cross(cam.fwd, cam_up);
-  if (!(dot(side, side) > 1e-12)) throw Error("points render: --up points along the view; give another --up");
+  if (!(dot(side, side) > 1e-12)) throw Error("points render: the up direction points along the view; give another");
   cam.cam_x = unit(side);
   cam.cam_y = cross(cam.cam_x, cam.fwd);
   cam.focal = (o.height / 2.0) / std::tan(half);

@@ -14,6 +14,7 @@
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "megavox/point_build.h"
+#include "option_words.h"
 #include "timing.h"
 
 namespace mv {
@@ -167,20 +168,18 @@ std::string check_output(const PointFileOptions& o) {
   // The output holds every point kept: about half the input's bytes at least.
   std::error_code size_error;
   const uint64_t input_bytes = std::filesystem::file_size(o.input, size_error);
-  const bool file = o.format != "3dtiles";
+  const bool file = o.format != PointOutput::tiles3d;
   return io::resolve_output({o.output, file ? io::OutputKind::kFile : io::OutputKind::kFolder, file ? "mvx" : "",
                              {o.input}, size_error ? 0 : input_bytes / 2, o.no_clobber});
 }
 
 PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const Progress& progress) {
-  if (o.format != "mvx" && o.format != "3dtiles")
-    throw Error("points build: unknown --format '" + o.format + "' (use mvx or 3dtiles)");
   const std::string output = check_output(o);
   const auto start = std::chrono::steady_clock::now();
   PointFileReport r;
   r.input = o.input;
   r.output = o.output;
-  r.format = o.format;
+  r.format = point_output_name(o.format);
   const uint64_t memory = o.memory ? o.memory : default_host_memory();
 
   PointHierarchy h;
@@ -194,9 +193,11 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   if (need > memory || o.run_points) {
     const uint64_t ooc = info.points * out_of_core_bytes_per_point(info);
     if (ooc > memory)
-      throw Error("points build: " + std::to_string(info.points) + " points need about " + format_bytes(ooc) +
-                  " of host memory even out of core (codes, node order and the output's columns), over --memory " +
-                  format_bytes(memory) + "; raise --memory");
+      throw CodedError(ErrorCode::out_of_memory,
+                       "points build: " + std::to_string(info.points) + " points need about " + format_bytes(ooc) +
+                           " of host memory even out of core (codes, node order and the output's columns), over the "
+                           "host memory budget " + format_bytes(memory),
+                       setting_host_memory);
     r.out_of_core = true;
     h = build_out_of_core(dev, o, memory, r, std::move(src), progress);
   } else {
@@ -215,7 +216,7 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
 
   t0 = std::chrono::steady_clock::now();
   if (progress) progress("write", 0);
-  if (o.format == "mvx") write_mvx_points(output, h);
+  if (o.format == PointOutput::mvx) write_mvx_points(output, h);
   else io::write_3dtiles(output, h);
   r.write_seconds = seconds_since(t0);
   if (progress) progress("write", 1);

@@ -26,7 +26,7 @@ PointRenderResult render_points(Device& dev, const PointHierarchy& h, const Poin
 void render_during_build(Device& dev, const std::string& input, const std::string& dir, uint32_t frames,
                          const PointBuildOptions& build, const PointRenderOptions& render,
                          const std::function<void(const BuildFrame&)>& on_frame) {
-  if (frames < 1 || frames > 10000) throw Error("points render: --frames must be 1-10000");
+  if (frames < 1 || frames > 10000) throw CodedError(ErrorCode::invalid_argument, "points render: the frame count must be 1-10000", setting_frames);
   PointCloudInfo info;
   PointColumns cloud = read_point_file(input, info);
   const points::FrameBox box = points::points_box(cloud);

@@ -205,7 +205,7 @@ SortReport sort_on_device(Device& dev, Buffer& keys, Buffer* values, uint64_t n,
                             " of device scratch beside their data, but " +
                             format_bytes(detail::memory_left(dev, false)) + " of the budget " +
                             format_bytes(dev.memory_budget()) +
-                            " is left; raise --device-memory, or sort host vectors (they run in pieces that fit)");
+                            " is left; raise the device memory budget, or sort host vectors (they run in pieces that fit)");
 
   const bool counted_top = p.count != 0;
   p.count = 0;

@@ -74,9 +74,12 @@ FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera&
     throw Error("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                 " is outside 1..16384 pixels per side");
   if (!(camera.fov > 0 && camera.fov < 180)) throw Error("the field of view must lie between 0 and 180 degrees");
-  if (!(o.lod_pixels >= 0)) throw Error("--lod-pixels must be 0 or more");
+  if (!(o.lod_pixels >= 0))
+    throw CodedError(ErrorCode::invalid_argument, "the level-of-detail pixel size must be 0 or more", setting_lod_pixels);
   if (!(o.ao_radius >= 0) || !std::isfinite(o.ao_radius))
-    throw Error("--ao-radius must be a finite number of model units, 0 or more (0: 1/20 of the grid)");
+    throw CodedError(ErrorCode::invalid_argument,
+                     "the ambient-occlusion radius must be a finite number of model units, 0 or more (0: 1/20 of the grid)",
+                     setting_ao_radius);
   if (o.ao_samples > kAoTable) throw Error("at most " + std::to_string(kAoTable) + " ambient-occlusion samples");
   Vec eye = vec(camera.eye), target = vec(camera.target), up = vec(camera.up);
   Vec view = sub(target, eye);

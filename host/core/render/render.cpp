@@ -68,7 +68,8 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
                                 format_bytes(per_pixel * s.width) + " of device memory, and " + format_bytes(left) +
                                 " of the " + format_bytes(budget) +
                                 " budget is left beside the page cache (and its update's batch) and the DAG: raise "
-                                "--device-memory, or lower --cache-memory or --width");
+                                "the device memory budget, or lower the page cache budget or the picture width",
+                                setting_device_memory | setting_cache_memory | setting_width);
       rows /= 2;
     }
   }

@@ -18,6 +18,7 @@
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "megavox/voxelize.h"
+#include "option_words.h"
 
 namespace mv {
 
@@ -37,11 +38,12 @@ uint32_t parse_resolution(const std::string& text) {
     n = parse_size(text);
   } catch (const Error&) {
     throw CodedError(ErrorCode::invalid_argument,
-                     "--resolution '" + text + "' is not a number of voxels per axis (examples: 1024, 2K, 16K)");
+                     "resolution '" + text + "' is not a number of voxels per axis (examples: 1024, 2K, 16K)",
+                     setting_resolution);
   }
   if (n < 2 || n > (1u << 21) || (n & (n - 1)))
     throw CodedError(ErrorCode::invalid_argument,
-                     "--resolution " + text + " must be a power of two from 2 to 2M voxels per axis");
+                     "resolution " + text + " must be a power of two from 2 to 2M voxels per axis", setting_resolution);
   return static_cast<uint32_t>(n);
 }
 
@@ -53,9 +55,7 @@ struct Voxels {
   Bounds bounds;
 };
 
-Voxelizer::Rule rule(const BuildOptions& o) {
-  return o.voxelize == "thin" ? Voxelizer::Rule::kThin : Voxelizer::Rule::kConservative;
-}
+Voxelizer::Rule rule(const BuildOptions& o) { return o.voxelize; }
 
 uint64_t memory_budget(const BuildOptions& o) { return o.memory ? o.memory : default_host_memory(); }
 
@@ -83,8 +83,10 @@ void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh) {
   const uint64_t need = std::min(vertices * 12, vertex_share(o)) + vertices +
                         std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
   if (need > memory_budget(o))
-    throw Error(o.input + ": the mesh needs about " + format_bytes(need) + " of host memory, over --memory " +
-                format_bytes(memory_budget(o)));
+    throw CodedError(ErrorCode::out_of_memory,
+                     o.input + ": the mesh needs about " + format_bytes(need) + " of host memory, over the host memory budget " +
+                         format_bytes(memory_budget(o)),
+                     setting_host_memory);
 }
 
 // Fails before anything is read when the cubes alone would pass the buckets' share of the budget: a resolution
@@ -95,10 +97,13 @@ void check_cube_table(const BuildOptions& o, uint32_t resolution) {
   uint32_t cube = o.cube;  // the smallest cube size whose table fits, if any does
   while (cube < resolution && TriangleBuckets::table_bytes(resolution / cube) > bucket_share(o)) cube *= 2;
   const uint64_t per_axis = resolution / o.cube;
-  throw Error("--resolution " + std::to_string(resolution) + " in cubes of " + std::to_string(o.cube) + "^3 makes " +
-              std::to_string(per_axis * per_axis * per_axis) + " cubes, whose table alone needs " + format_bytes(need) +
-              " of host memory, over the quarter of --memory " + format_bytes(memory_budget(o)) +
-              " it may use; raise --cube to " + std::to_string(cube) + " or more, or lower --resolution");
+  throw CodedError(ErrorCode::out_of_memory,
+                   "resolution " + std::to_string(resolution) + " in cubes of " + std::to_string(o.cube) + "^3 makes " +
+                       std::to_string(per_axis * per_axis * per_axis) + " cubes, whose table alone needs " +
+                       format_bytes(need) + " of host memory, over the quarter of the host memory budget " +
+                       format_bytes(memory_budget(o)) + " it may use; raise the cube size to " + std::to_string(cube) +
+                       " or more, or lower the resolution",
+                   setting_cube | setting_resolution | setting_host_memory);
 }
 
 bool clips(const BuildOptions& o) { return o.placement.origin == GridPlacement::Origin::kCube; }
@@ -114,7 +119,7 @@ GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds
       bounds.hi[a] = std::min(bounds.hi[a], g.origin[a] + side);
     }
     if (bounds.empty() || bounds.lo[1] > bounds.hi[1] || bounds.lo[2] > bounds.hi[2])
-      throw Error(o.input + ": the mesh lies outside --bounds");
+      throw CodedError(ErrorCode::input, o.input + ": the mesh lies outside the bounds", setting_bounds);
   }
   return g;
 }
@@ -194,7 +199,7 @@ using Report = std::function<void(const std::string&, double)>;
 
 void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
                       BuildReport& r, const Lap& lap) {
-  MvxFile file = mvx_for_dag(dag, o.format, grid, bounds);
+  MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
   lap("encode");
   write_mvx(o.output, file, o.paging);
   lap("write");
@@ -213,7 +218,9 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
 // time, host memory the vertex positions, a batch of triangles, a share of the buckets and one cube's keys.
 BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                               const Report& report, const Lap& lap, const PlanListener& on_plan) {
-  if (o.cube < 8 || (o.cube & (o.cube - 1))) throw Error("--cube " + std::to_string(o.cube) + " must be a power of two >= 8");
+  if (o.cube < 8 || (o.cube & (o.cube - 1)))
+    throw CodedError(ErrorCode::invalid_argument, "cube size " + std::to_string(o.cube) + " must be a power of two >= 8",
+                     setting_cube);
   check_cube_table(o, resolution);
   MeshSurvey survey = survey_mesh(o, &r);
   const GridTransform grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
@@ -242,12 +249,12 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     v.add(tris);
     return v.take_bricks();
   };
-  const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
+  const bool symmetric = o.encoding == Encoding::ussvdag || o.encoding == Encoding::ssvdag;
   DagBuildTimes times;
-  Dag dag = o.format == "svo" ? build_svo_by_cubes(dev, levels, cube_levels, voxels_of, &times)
+  Dag dag = o.encoding == Encoding::svo ? build_svo_by_cubes(dev, levels, cube_levels, voxels_of, &times)
                                : build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times);
   r.seconds.push_back({"voxelize+cubes", times.svo_seconds});
-  r.seconds.push_back({o.format == "svo" ? "merge octree" : symmetric ? "merge ssvdag" : "merge svdag",
+  r.seconds.push_back({o.encoding == Encoding::svo ? "merge octree" : symmetric ? "merge ssvdag" : "merge svdag",
                        times.reduce_seconds});
   lap("total dag");
   r.seconds.pop_back();
@@ -258,27 +265,39 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
 }  // namespace
 
 namespace {
+// The ssvdag's compact encoding keeps level-2 bricks below at least one inner level.
+void check_ssvdag_resolution(Encoding encoding, uint32_t resolution) {
+  if (encoding == Encoding::ssvdag && resolution < 8)
+    throw CodedError(ErrorCode::invalid_argument, "the ssvdag encoding needs a resolution of at least 8",
+                     setting_encoding | setting_resolution);
+}
+
 template <class Voxels>
-Dag dag_for_format(Device& dev, const Voxels& voxels, uint32_t levels, const std::string& format, DagBuildTimes* times) {
-  if (format == "ssvdag" && levels < 3) throw Error("--format ssvdag needs a resolution of at least 8");
-  if (format == "svo") return build_svo(dev, voxels, levels, times);
-  if (format == "ussvdag" || format == "ssvdag") return build_ssvdag(dev, voxels, levels, times);
-  if (format == "svdag") return build_svdag(dev, voxels, levels, times);
-  throw Error("--format " + format + ": choose svo, svdag, ussvdag or ssvdag");
+Dag dag_for_format(Device& dev, const Voxels& voxels, uint32_t levels, Encoding encoding, DagBuildTimes* times) {
+  check_ssvdag_resolution(encoding, levels < 31 ? 1u << levels : UINT32_MAX);
+  switch (encoding) {
+    case Encoding::svo: return build_svo(dev, voxels, levels, times);
+    case Encoding::ussvdag:
+    case Encoding::ssvdag: return build_ssvdag(dev, voxels, levels, times);
+    case Encoding::svdag: return build_svdag(dev, voxels, levels, times);
+  }
+  throw CodedError(ErrorCode::invalid_argument, "encoding " + std::to_string(static_cast<uint32_t>(encoding)) +
+                                                    " is none of svo, svdag, ussvdag or ssvdag",
+                   setting_encoding);
 }
 }  // namespace
 
-Dag build_dag_for_format(Device& dev, const Bricks& bricks, uint32_t levels, const std::string& format,
+Dag build_dag_for_format(Device& dev, const Bricks& bricks, uint32_t levels, Encoding format,
                          DagBuildTimes* times) {
   return dag_for_format(dev, bricks, levels, format, times);
 }
 
-Dag build_dag_for_format(Device& dev, const std::vector<uint64_t>& keys, uint32_t levels, const std::string& format,
+Dag build_dag_for_format(Device& dev, const std::vector<uint64_t>& keys, uint32_t levels, Encoding format,
                          DagBuildTimes* times) {
   return dag_for_format(dev, keys, levels, format, times);
 }
 
-MvxFile mvx_for_dag(const Dag& dag, const std::string& format, const GridTransform& grid, const Bounds& bounds) {
+MvxFile mvx_for_dag(const Dag& dag, Encoding format, const GridTransform& grid, const Bounds& bounds) {
   MvxFile file;
   file.grid = grid;
   file.bounds = bounds;
@@ -286,7 +305,7 @@ MvxFile mvx_for_dag(const Dag& dag, const std::string& format, const GridTransfo
   file.svo_nodes = dag.svo_nodes;
   file.dag_nodes.push_back(dag.voxels);
   for (uint32_t l = 1; l <= dag.levels; ++l) file.dag_nodes.push_back(dag.nodes(l));
-  file.dag = format == "ssvdag" ? encode_ssvdag(dag) : encode_svdag(dag);
+  file.dag = format == Encoding::ssvdag ? encode_ssvdag(dag) : encode_svdag(dag);
   return file;
 }
 
@@ -299,12 +318,10 @@ uint64_t nodes_total(const MvxFile& file) {
 namespace {
 
 BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progress, const PlanListener& on_plan) {
-  if (o.format != "svo" && o.format != "svdag" && o.format != "ussvdag" && o.format != "ssvdag")
-    throw Error("--format " + o.format + ": choose svo, svdag, ussvdag or ssvdag");
   BuildReport r;
   r.input = o.input;
   r.output = o.output;
-  r.format = o.format;
+  r.format = encoding_name(o.encoding);
   auto report = [&](const std::string& stage, double f) {
     if (progress) progress(stage, f);
   };
@@ -318,18 +335,19 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   report("read", 0);
   const uint32_t mesh_resolution = o.resolution ? o.resolution : 1024;
   const bool vdb = !o.mesh && io::is_vdb(o.input);
-  if (o.voxelize != "conservative" && o.voxelize != "thin")
-    throw Error("--voxelize " + o.voxelize + ": choose conservative or thin");
-  if (vdb && (o.placement.origin != GridPlacement::Origin::kCenter || o.voxelize != "conservative"))
-    throw Error(o.input + ": --grid-origin, --bounds and --voxelize apply to meshes; a .vdb keeps its own voxels");
+  if (vdb && (o.placement.origin != GridPlacement::Origin::kCenter || o.voxelize != Voxelizer::Rule::kConservative))
+    throw CodedError(ErrorCode::invalid_argument,
+                     o.input + ": the grid origin, the bounds and the voxelization rule apply to meshes; a .vdb keeps "
+                               "its own voxels",
+                     setting_grid_origin | setting_bounds | setting_voxelize);
   if (!vdb) {
     r.grid_origin = to_string(o.placement.origin);
-    r.voxelize = o.voxelize;
+    r.voxelize = voxelize_rule_name(o.voxelize);
   }
   if (!vdb && o.cube && mesh_resolution > o.cube) {
     return build_out_of_core(dev, o, mesh_resolution, r, report, lap, on_plan);
   }
-  if (o.format == "ssvdag" && o.resolution && o.resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
+  if (o.resolution) check_ssvdag_resolution(o.encoding, o.resolution);
   Voxels voxels;
   if (vdb) {
     io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
@@ -345,19 +363,19 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     lap("voxelize");
   }
   const uint32_t resolution = voxels.grid.resolution;
-  if (o.format == "ssvdag" && resolution < 8) throw Error("--format ssvdag needs a resolution of at least 8");
+  check_ssvdag_resolution(o.encoding, resolution);
   const uint32_t levels = static_cast<uint32_t>(std::log2(double(resolution)) + 0.5);
   r.resolution = resolution;
   r.voxels = voxels.bricks.voxels();
   const GridTransform grid = voxels.grid;
   const Bounds bounds = voxels.bounds;
 
-  const bool symmetric = o.format == "ussvdag" || o.format == "ssvdag";
+  const bool symmetric = o.encoding == Encoding::ussvdag || o.encoding == Encoding::ssvdag;
   DagBuildTimes times;
-  Dag dag = build_dag_for_format(dev, voxels.bricks, levels, o.format, &times);
+  Dag dag = build_dag_for_format(dev, voxels.bricks, levels, o.encoding, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
-  r.seconds.push_back({o.format == "svo" ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
+  r.seconds.push_back({o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
   encode_and_write(dag, o, grid, bounds, r, lap);
   return r;

@@ -13,15 +13,15 @@ namespace mv {
 namespace {
 
 // Voxels per 4^3 brick the surface meets (measured: 16.0 conservative, 10.4 to 10.9 thin).
-double voxels_per_brick(const std::string& voxelize) { return voxelize == "thin" ? 10.5 : 16; }
+double voxels_per_brick(Voxelizer::Rule rule) { return rule == Voxelizer::Rule::kThin ? 10.5 : 16; }
 
 // Encoded bits per brick. The octree's (svo) stays near 340; a DAG shares more of its nodes the more bricks it
 // has: an svdag's fell from 168 bits at 14K bricks to 49 at 3.6M, about as bricks^-0.22; an ssvdag is about
 // 0.3 of that.
-double bits_per_brick(const std::string& format, double bricks) {
-  if (format == "svo") return 340;
+double bits_per_brick(Encoding encoding, double bricks) {
+  if (encoding == Encoding::svo) return 340;
   const double dag = 168 * std::pow(std::max(bricks, 14000.0) / 14000, -0.22);
-  return format == "ssvdag" ? 0.3 * dag : dag;
+  return encoding == Encoding::ssvdag ? 0.3 * dag : dag;
 }
 
 // Memory per brick (peak resident memory over bricks, PoCL, where device memory is host memory: about 75 bytes
@@ -40,7 +40,7 @@ std::string bytes_text(double bytes) { return format_bytes(static_cast<uint64_t>
 
 void check_budgets(BuildPlan& p, const PlanBudgets& budgets, bool retries_in_cubes) {
   if (budgets.host && p.host_bytes > budgets.host)
-    p.warnings.push_back("estimated host memory " + bytes_text(p.host_bytes) + " is over --memory " +
+    p.warnings.push_back("estimated host memory " + bytes_text(p.host_bytes) + " is over the host memory budget " +
                          bytes_text(budgets.host) + ": the build may stop with an error, or spill to scratch files");
   if (budgets.device && p.device_bytes > budgets.device)
     p.warnings.push_back("estimated device memory " + bytes_text(p.device_bytes) + " is over the device budget " +
@@ -48,17 +48,17 @@ void check_budgets(BuildPlan& p, const PlanBudgets& budgets, bool retries_in_cub
                                                                    : ": the build may fail"));
   if (p.output_bytes > kLargeOutputBytes)
     p.warnings.push_back("estimated output " + bytes_text(p.output_bytes) + " (" + std::to_string(p.voxels) +
-                         " voxels): a build of hours, not minutes; a lower --resolution shrinks it 4x per halving");
+                         " voxels): a build of hours, not minutes; a lower resolution shrinks it 4x per halving");
   if (p.voxels > kManyVoxels && p.resolution > kCommonResolution) {
     // A surface's voxels grow as the resolution squared; so, about, do the build's time and size.
     const std::string times = std::to_string(uint64_t{p.resolution / kCommonResolution} * (p.resolution / kCommonResolution));
-    p.warnings.push_back("estimated " + std::to_string(p.voxels) + " voxels, " + times + "x what --resolution " +
+    p.warnings.push_back("estimated " + std::to_string(p.voxels) + " voxels, " + times + "x what resolution " +
                          std::to_string(kCommonResolution) + " gives this mesh: expect about " + times +
                          "x its build time");
   }
   if (p.cubes_with_surface > kManyCubes)
     p.warnings.push_back("about " + std::to_string(p.cubes_with_surface) + " cubes of " + std::to_string(p.cube) +
-                         "^3 to build one at a time; a larger --cube makes fewer");
+                         "^3 to build one at a time; a larger cube size makes fewer");
 }
 
 BuildPlan grid_plan(const GridTransform& grid) {
@@ -89,10 +89,10 @@ BuildPlan plan_mesh_build(const BuildOptions& o, const MeshSurvey& s, const Grid
   p.triangles = s.triangles;
   p.surface_area = s.area;
   const double face = grid.voxel_size * grid.voxel_size;
-  const double voxels = (o.voxelize == "thin" ? s.dominant_area : s.shadow_area) / face;
+  const double voxels = (o.voxelize == Voxelizer::Rule::kThin ? s.dominant_area : s.shadow_area) / face;
   const double bricks = voxels / voxels_per_brick(o.voxelize);
   p.voxels = static_cast<uint64_t>(voxels);
-  p.output_bytes = static_cast<uint64_t>(bricks * bits_per_brick(o.format, bricks) / 8);
+  p.output_bytes = static_cast<uint64_t>(bricks * bits_per_brick(o.encoding, bricks) / 8);
   const double positions = double(s.vertices) * 12;
   p.out_of_core = o.cube && grid.resolution > o.cube;
   if (p.out_of_core) {
@@ -119,7 +119,7 @@ BuildPlan plan_vdb_build(const BuildOptions& o, uint64_t voxels, const GridTrans
   BuildPlan p = grid_plan(grid);
   p.voxels = voxels;
   const double bricks = double(voxels) / voxels_per_brick(o.voxelize);
-  p.output_bytes = static_cast<uint64_t>(bricks * bits_per_brick(o.format, bricks) / 8);
+  p.output_bytes = static_cast<uint64_t>(bricks * bits_per_brick(o.encoding, bricks) / 8);
   p.device_bytes = static_cast<uint64_t>(bricks * kDeviceBytesPerBrick);
   p.host_bytes = static_cast<uint64_t>(double(voxels) * 8 + bricks * kHostBytesPerBrick);  // the keys read
   check_budgets(p, budgets, false);

@@ -12,6 +12,7 @@
 #include "io/vdb_writer.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
+#include "option_words.h"
 
 namespace mv {
 
@@ -28,8 +29,9 @@ const char* symvox_encoding(const std::string& format) {
 MvxFile in_format(Device& dev, MvxFile in, const std::string& format, bool& rebuilt) {
   if (encoding_name(in.dag.encoding) == format) return in;
   rebuilt = true;
-  Dag dag = build_dag_for_format(dev, decode_encoded(in.dag), in.dag.levels, format);
-  return mvx_for_dag(dag, format, in.grid, in.bounds);
+  const Encoding encoding = parse_encoding(format);
+  Dag dag = build_dag_for_format(dev, decode_encoded(in.dag), in.dag.levels, encoding);
+  return mvx_for_dag(dag, encoding, in.grid, in.bounds);
 }
 
 // SymVox centres the root cube on the bbox: write the model's bounds grown to be symmetric about the
@@ -60,7 +62,7 @@ ExportReport export_mvx(Device& dev, const ExportOptions& o) {
   ExportReport r{o.input, o.output, o.format};
   const char* encoding = symvox_encoding(o.format);
   if (!encoding && o.format != "vdb" && o.format != "nvdb")
-    throw Error("--format " + o.format + ": choose symvox-svdag, symvox-ussvdag, symvox-ssvdag, vdb or nvdb");
+    throw CodedError(ErrorCode::invalid_argument, "export format " + o.format + ": choose symvox-svdag, symvox-ussvdag, symvox-ssvdag, vdb or nvdb", setting_encoding);
   const std::string output = check_output(o);
   MvxFile in = read_mvx(o.input);
   r.voxels = in.voxels;
@@ -85,7 +87,7 @@ ExportReport export_mvx(Device& dev, const ExportOptions& o) {
 
 ImportReport import_symvox(Device& dev, const ImportOptions& o) {
   if (o.convention != "auto" && o.convention != "symvox" && o.convention != "voxcom")
-    throw Error("--convention " + o.convention + ": choose auto, symvox or voxcom");
+    throw CodedError(ErrorCode::invalid_argument, "convention " + o.convention + ": choose auto, symvox or voxcom");
   const std::string output = check_output(o);
   io::SymvoxFile f = io::read_symvox(o.input);
   ImportReport r;
@@ -100,7 +102,7 @@ ImportReport import_symvox(Device& dev, const ImportOptions& o) {
   r.convention = o.convention == "auto" ? (looks_voxcom ? "voxcom" : "symvox") : o.convention;
   r.format = o.format.empty() ? r.layout : o.format;
   if (r.format != "svdag" && r.format != "ussvdag" && r.format != "ssvdag")
-    throw Error("--format " + r.format + ": choose svdag, ussvdag or ssvdag");
+    throw CodedError(ErrorCode::invalid_argument, "encoding " + r.format + ": choose svdag, ussvdag or ssvdag", setting_encoding);
 
   std::vector<uint64_t> keys = decode_encoded(f.dag);
   const bool voxcom = r.convention == "voxcom";
@@ -117,8 +119,9 @@ ImportReport import_symvox(Device& dev, const ImportOptions& o) {
     bounds.lo[a] = f.bbox_min[a];
     bounds.hi[a] = f.bbox_max[a];
   }
-  Dag dag = build_dag_for_format(dev, keys, f.levels, r.format);
-  MvxFile out = mvx_for_dag(dag, r.format, grid, bounds);
+  const Encoding encoding = parse_encoding(r.format);
+  Dag dag = build_dag_for_format(dev, keys, f.levels, encoding);
+  MvxFile out = mvx_for_dag(dag, encoding, grid, bounds);
   write_mvx(output, out);
   r.voxels = out.voxels;
   r.nodes_total = nodes_total(out);

@@ -33,7 +33,7 @@ void TriangleBuckets::add(const std::vector<float>& tris) {
 }
 
 void TriangleBuckets::spill() {
-  if (!spill_) spill_ = std::make_unique<io::TempFile>("spilling triangles (over --memory)");
+  if (!spill_) spill_ = std::make_unique<io::TempFile>("spilling triangles (over the host memory budget)");
   for (size_t b = 0; b < mem_.size(); ++b) {
     std::vector<float>& v = mem_[b];
     if (v.empty()) continue;

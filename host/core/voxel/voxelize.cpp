@@ -23,7 +23,8 @@ GridPlacement parse_grid_origin(const std::string& text) {
   GridPlacement p;
   if (text == "center") p.origin = GridPlacement::Origin::kCenter;
   else if (text == "min") p.origin = GridPlacement::Origin::kMin;
-  else throw Error("--grid-origin '" + text + "': choose center or min (or give --bounds X,Y,Z,SIZE)");
+  else throw CodedError(ErrorCode::invalid_argument, "grid origin '" + text + "': choose center or min (or give the bounds)",
+                        setting_grid_origin | setting_bounds);
   return p;
 }
 
@@ -37,10 +38,13 @@ GridPlacement parse_grid_bounds(const std::string& text) {
     v[i] = std::strtod(s, &end);
     const char want = i < 3 ? ',' : '\0';
     if (end == s || *end != want || !std::isfinite(v[i]))
-      throw Error("--bounds '" + text + "' is not X,Y,Z,SIZE (the cube's min corner and side, four numbers)");
+      throw CodedError(ErrorCode::invalid_argument,
+                       "bounds '" + text + "' are not X,Y,Z,SIZE (the cube's min corner and side, four numbers)",
+                       setting_bounds);
     s = end + 1;
   }
-  if (!(v[3] > 0)) throw Error("--bounds '" + text + "': the cube's side must be positive");
+  if (!(v[3] > 0))
+    throw CodedError(ErrorCode::invalid_argument, "bounds '" + text + "': the cube's side must be positive", setting_bounds);
   for (int a = 0; a < 3; ++a) p.corner[a] = v[a];
   p.side = v[3];
   return p;
@@ -210,10 +214,12 @@ void Voxelizer::merge(Bricks&& chunk) {
   // the merge holds the old bricks, the chunk and the union at once
   const uint64_t need = 16 * (2 * (bricks_.size() + chunk.size()));
   if (host_budget_ && need > host_budget_)
-    throw Error("voxelize: the voxel bricks need " + format_bytes(need) + " of host memory, over the " +
-                format_bytes(host_budget_) +
-                " of the --memory budget left for them; raise --memory, or lower --cube so the build runs out of core in "
-                "smaller cubes");
+    throw CodedError(ErrorCode::out_of_memory,
+                     "voxelize: the voxel bricks need " + format_bytes(need) + " of host memory, over the " +
+                         format_bytes(host_budget_) +
+                         " of the host memory budget left for them; raise the host memory budget, or lower the cube "
+                         "size so the build runs out of core in smaller cubes",
+                     setting_host_memory | setting_cube);
   if (bricks_.empty()) {
     bricks_ = std::move(chunk);
     return;

@@ -26,9 +26,9 @@ void check_replaceable(const fs::path& dir, const std::string& marker) {
   const fs::file_status st = fs::symlink_status(dir, ec);
   if (!fs::exists(st)) return;
   if (!fs::is_directory(st))
-    throw Error("cannot write '" + dir.string() + "': it exists and is not a folder; remove it or choose another name");
+    throw IoError("cannot write '" + dir.string() + "': it exists and is not a folder; remove it or choose another name");
   if (fs::is_empty(dir, ec) || fs::exists(dir / marker, ec)) return;
-  throw Error("cannot write '" + dir.string() + "': it is a folder with other files in it (no " + marker +
+  throw IoError("cannot write '" + dir.string() + "': it is a folder with other files in it (no " + marker +
               "), not replacing it; remove it or choose another name");
 }
 
@@ -38,7 +38,7 @@ void swap_in(const fs::path& tmp, const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(dir, ec))) {
     if (rename_path(tmp.c_str(), dir.c_str()) != 0)
-      throw Error("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(errno));
+      throw IoError("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(errno));
     return;
   }
   if (exchange_paths(tmp.c_str(), dir.c_str()) == 0) {
@@ -47,11 +47,11 @@ void swap_in(const fs::path& tmp, const fs::path& dir) {
   }
   const fs::path old = tmp.string() + ".old";
   if (rename_path(dir.c_str(), old.c_str()) != 0)
-    throw Error("cannot move the old '" + dir.string() + "' aside: " + std::strerror(errno));
+    throw IoError("cannot move the old '" + dir.string() + "' aside: " + std::strerror(errno));
   if (rename_path(tmp.c_str(), dir.c_str()) != 0) {
     const int err = errno;
     rename_path(old.c_str(), dir.c_str());  // put the old one back
-    throw Error("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(err));
+    throw IoError("cannot rename '" + tmp.string() + "' to '" + dir.string() + "': " + std::strerror(err));
   }
   fs::remove_all(old, ec);
 }
@@ -65,7 +65,7 @@ void sync_folder(const std::string& dir) {
   const bool ok = fd >= 0 && ::syncfs(fd) == 0;
   const int err = errno;
   if (fd >= 0) ::close(fd);
-  if (!ok) throw Error("cannot sync '" + dir + "' to disk: " + std::strerror(err));
+  if (!ok) throw IoError("cannot sync '" + dir + "' to disk: " + std::strerror(err));
 }
 
 }  // namespace
@@ -80,17 +80,17 @@ void write_dir_atomically(const std::string& dir, const std::string& marker,
   fs::path target = fs::path(dir).lexically_normal();
   if (target.has_filename() == false) target = target.parent_path();  // "out/" -> "out"
   if (target.empty() || target == "." || target == "..")
-    throw Error("cannot write into '" + dir + "': name a new or earlier output folder, not the current one");
+    throw IoError("cannot write into '" + dir + "': name a new or earlier output folder, not the current one");
   check_replaceable(target, marker);
 
   std::string tmp = target.string() + ".tmp-XXXXXX";
   if (!::mkdtemp(tmp.data()))
-    throw Error("cannot create a temporary folder beside '" + target.string() + "': " + std::strerror(errno));
+    throw IoError("cannot create a temporary folder beside '" + target.string() + "': " + std::strerror(errno));
   // mkdtemp makes it private (0700); the output is for others to serve too, as the user's umask says.
   if (::chmod(tmp.c_str(), 0777 & ~current_umask()) != 0) {
     const int err = errno;
     ::rmdir(tmp.c_str());
-    throw Error("cannot set the permissions of '" + tmp + "': " + std::strerror(err));
+    throw IoError("cannot set the permissions of '" + tmp + "': " + std::strerror(err));
   }
   try {
     t_folder = tmp;
@@ -102,7 +102,8 @@ void write_dir_atomically(const std::string& dir, const std::string& marker,
     t_folder.clear();
     std::error_code ec;
     fs::remove_all(tmp, ec);
-    throw Error("cannot write '" + target.string() + "' (nothing was changed): " + e.what());
+    throw CodedError(classify_or(e, ErrorCode::io), "cannot write '" + target.string() + "' (nothing was changed): " + e.what(),
+                     error_settings(e));
   }
 }
 

@@ -86,7 +86,7 @@ class PendingFile {
   }
 
   [[noreturn]] void fail(int err, const std::string& what = "") const {
-    throw Error("cannot write '" + path_ + "'" + (what.empty() ? "" : " (" + what + ")") + ": " + std::strerror(err));
+    throw IoError("cannot write '" + path_ + "'" + (what.empty() ? "" : " (" + what + ")") + ": " + std::strerror(err));
   }
 
  private:
@@ -118,7 +118,7 @@ void write_atomically_by_name(const std::string& path, const std::function<void(
   try {
     write(out.name());
   } catch (const std::exception& e) {
-    throw Error("cannot write '" + out.path() + "': " + e.what());
+    throw CodedError(classify_or(e, ErrorCode::io), "cannot write '" + out.path() + "': " + e.what(), error_settings(e));
   }
   out.publish();
 }

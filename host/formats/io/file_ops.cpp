@@ -79,7 +79,7 @@ size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path
   size_t want = bytes;
   switch (read_fault()) {
     case -1:
-      throw Error(path + ": read error: " + std::strerror(EIO));
+      throw IoError(path + ": read error: " + std::strerror(EIO));
     case 1:
       want = bytes / 2;
       break;
@@ -87,7 +87,7 @@ size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path
       return 0;
   }
   const size_t got = want ? std::fread(data, 1, want, f) : 0;
-  if (got < want && std::ferror(f)) throw Error(path + ": read error: " + std::strerror(errno));
+  if (got < want && std::ferror(f)) throw IoError(path + ": read error: " + std::strerror(errno));
   return got;
 }
 
@@ -113,11 +113,11 @@ FilePtr open_read(const std::string& path) {
   if (const auto* m = memory_files::find(path)) {
     static char empty = 0;  // an empty input may come with no buffer
     FilePtr f(::fmemopen(m->size ? const_cast<void*>(m->bytes) : &empty, m->size, "rb"), &std::fclose);
-    if (!f) throw Error("cannot open '" + path + "' (a memory file): " + std::strerror(errno));
+    if (!f) throw IoError("cannot open '" + path + "' (a memory file): " + std::strerror(errno));
     return f;
   }
   FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  if (!f) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
   return f;
 }
 
@@ -127,7 +127,7 @@ FilePtr open_regular(const std::string& path, uint64_t* size) {
     *size = m->size;
   } else {
     struct stat st {};
-    if (::fstat(::fileno(f.get()), &st) != 0) throw Error(path + ": cannot read its size: " + std::strerror(errno));
+    if (::fstat(::fileno(f.get()), &st) != 0) throw IoError(path + ": cannot read its size: " + std::strerror(errno));
     if (!S_ISREG(st.st_mode)) throw Error(path + ": not a regular file");
     *size = static_cast<uint64_t>(st.st_size);
   }
@@ -142,19 +142,19 @@ MappedFile::MappedFile(const std::string& path) {
     return;
   }
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  if (fd < 0) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
     const int e = errno;
     ::close(fd);
-    throw Error(path + ": cannot read its size: " + std::strerror(e));
+    throw IoError(path + ": cannot read its size: " + std::strerror(e));
   }
   size_ = static_cast<uint64_t>(st.st_size);
   if (size_ > 0) {
     void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
     const int e = errno;
     ::close(fd);  // the mapping keeps the file
-    if (p == MAP_FAILED) throw Error(path + ": cannot map: " + std::strerror(e));
+    if (p == MAP_FAILED) throw IoError(path + ": cannot map: " + std::strerror(e));
     data_ = static_cast<const unsigned char*>(p);
     mapped_ = true;
   } else {

@@ -237,9 +237,9 @@ RasterImage decode_jpeg(std::span<const uint8_t> b, const std::string& name) {
 
 std::vector<uint8_t> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open image '" + path + "': " + std::strerror(errno));
+  if (!in) throw IoError("cannot open image '" + path + "': " + std::strerror(errno));
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error("cannot read image '" + path + "'");
+  if (in.bad()) throw IoError("cannot read image '" + path + "'");
   return bytes;
 }
 

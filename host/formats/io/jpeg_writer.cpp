@@ -13,7 +13,7 @@ void write_image(const std::string& path, const Image& image) {
   if (image.width == 0 || image.height == 0 || image.rgb.size() != size_t{image.width} * image.height * 3)
     throw Error("write_image: the image is empty or its size does not match its pixels");
   const std::vector<uint8_t> bytes = io::encode_jpeg(image.width, image.height, 3, image.rgb);
-  if (bytes.empty()) throw Error("cannot write '" + path + "': the JPEG encoder failed (out of memory?)");
+  if (bytes.empty()) throw IoError("cannot write '" + path + "': the JPEG encoder failed (out of memory?)");
   io::write_atomically(path, [&](std::FILE* f) { return io::write_all(f, bytes.data(), bytes.size()); });
 }
 

@@ -76,7 +76,7 @@ MaskModel decode_mvm(std::span<const uint8_t> b, const std::string& name) {
 
 MaskModel read_mvm(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open mask model '" + path + "': " + std::strerror(errno));
+  if (!in) throw IoError("cannot open mask model '" + path + "': " + std::strerror(errno));
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   return decode_mvm(bytes, path);
 }

@@ -22,7 +22,7 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
     const Header& h = o.header;
     if (!o.find[kPageIndex])
       throw Error(path + ": not paged (.mvx version " + std::to_string(h.version) +
-                  ", no page index): it renders resident, without --cache-memory (or rebuild it with this megavox)");
+                  ", no page index): it renders resident, without a page cache (or rebuild it with this megavox)");
     pi = read_page_index(o, path);
     if (h.encoding == static_cast<uint32_t>(Encoding::ssvdag)) {
       starts_ = read_paged_starts(o, path);

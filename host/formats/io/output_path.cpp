@@ -44,8 +44,8 @@ const char* kind_of(mode_t m) {
   return "not a regular file";
 }
 
-[[noreturn]] void refuse(const std::string& path, const std::string& why) {
-  throw Error("cannot write '" + path + "': " + why);
+[[noreturn]] void refuse(const std::string& path, const std::string& why, Setting settings = setting_none) {
+  throw IoError("cannot write '" + path + "': " + why, settings);
 }
 
 // Follows symbolic links in the last part of `path` (up to 40, as the kernel does): the file they name.
@@ -213,7 +213,7 @@ std::string resolve_output(const OutputRequest& r) {
   if (exists && r.no_clobber) {
     std::error_code ec;
     if (r.kind == OutputKind::kFile || !fs::is_empty(target, ec))
-      refuse(shown, "it exists and --no-clobber was given");
+      refuse(shown, "it exists and replacing outputs was refused", setting_no_clobber);
   }
   check_extension(shown, target, r.format);
   check_free_space(shown, folder, r.estimated_bytes);

@@ -75,7 +75,8 @@ void write_png(const std::string& path, const Image& image) {
       return encode_png(out, image.width, image.height, 3, image.rgb.data(), why);
     });
   } catch (const Error& e) {
-    throw Error(why.empty() ? e.what() : "cannot write '" + path + "': " + why);
+    if (why.empty()) throw;
+    throw IoError("cannot write '" + path + "': " + why);
   }
 }
 
@@ -91,7 +92,8 @@ void write_png_grey(const std::string& path, uint32_t width, uint32_t height, co
       return encode_png(out, width, height, 1, grey.data(), why);
     });
   } catch (const Error& e) {
-    throw Error(why.empty() ? e.what() : "cannot write '" + path + "': " + why);
+    if (why.empty()) throw;
+    throw IoError("cannot write '" + path + "': " + why);
   }
 }
 

@@ -19,7 +19,7 @@ TempFile::TempFile(const std::string& purpose) : purpose_(purpose) {
   std::string path = dir_ + "/megavox-XXXXXX";
   fd_ = ::mkstemp(path.data());
   if (fd_ < 0)
-    throw Error(purpose_ + " to " + dir_ + ": " + std::strerror(errno) + "; set TMPDIR to a writable directory");
+    throw IoError(purpose_ + " to " + dir_ + ": " + std::strerror(errno) + "; set TMPDIR to a writable directory");
   ::unlink(path.c_str());  // the file lives until it is closed
 }
 
@@ -32,7 +32,7 @@ void TempFile::write_at(const void* data, uint64_t bytes, uint64_t offset) {
   for (uint64_t done = 0; done < bytes;) {
     const ssize_t w = pwrite_some(fd_, p + done, bytes - done, static_cast<off_t>(offset + done));
     if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) throw Error(purpose_ + " to " + dir_ + ": " + (w < 0 ? std::strerror(errno) : "disk full"));
+    if (w <= 0) throw IoError(purpose_ + " to " + dir_ + ": " + (w < 0 ? std::strerror(errno) : "disk full"));
     done += static_cast<uint64_t>(w);
   }
 }
@@ -42,16 +42,16 @@ void TempFile::read_at(void* data, uint64_t bytes, uint64_t offset) const {
   for (uint64_t done = 0; done < bytes;) {
     const ssize_t r = pread_some(fd_, p + done, bytes - done, static_cast<off_t>(offset + done));
     if (r < 0 && errno == EINTR) continue;
-    if (r <= 0) throw Error(purpose_ + ": reading back from " + dir_ + ": " + (r < 0 ? std::strerror(errno) : "short read"));
+    if (r <= 0) throw IoError(purpose_ + ": reading back from " + dir_ + ": " + (r < 0 ? std::strerror(errno) : "short read"));
     done += static_cast<uint64_t>(r);
   }
 }
 
 void* TempFile::map(uint64_t bytes) {
   if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0)
-    throw Error(purpose_ + " to " + dir_ + ": " + std::strerror(errno));
+    throw IoError(purpose_ + " to " + dir_ + ": " + std::strerror(errno));
   void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
-  if (p == MAP_FAILED) throw Error(purpose_ + ": mapping " + std::to_string(bytes) + " bytes: " + std::strerror(errno));
+  if (p == MAP_FAILED) throw IoError(purpose_ + ": mapping " + std::to_string(bytes) + " bytes: " + std::strerror(errno));
   return p;
 }
 

@@ -1,0 +1,86 @@
+// The C API: point-cloud builds (a PLY or LAS cloud to a .mvx point hierarchy or a 3D Tiles folder), as a
+// call and as a job.
+#include "job.h"
+#include "megavox/point_build.h"
+#include "option_words.h"
+
+namespace mv::capi {
+
+namespace {
+
+struct PointBuild {
+  PointFileOptions options;
+  Progress user;
+};
+
+PointBuild point_build(MvDevice device, const char* input, const char* output, const MvPointBuildArguments* args) {
+  require(device, "points build: no device");
+  require(input && *input, "points build: no input path");
+  require(output && *output, "points build: no output path");
+  PointBuild b;
+  b.options.input = input;
+  b.options.output = output;
+  b.options.memory = device->host_memory;
+  if (!args) return b;
+  require(args->byteSize == sizeof(MvPointBuildArguments),
+          "points build: MvPointBuildArguments.byteSize is wrong (call mvInitPointBuildArguments)");
+  b.options.format = parse_point_output(args->format ? args->format : "mvx");
+  b.options.build.depth = args->depth;
+  if (args->maxNodePoints) b.options.build.max_node_points = args->maxNodePoints;
+  b.user = user_progress(args->progress, args->progressUserPtr, "points build");
+  return b;
+}
+
+// Reading and sorting, building, writing: about their shares of a build's time.
+double points_overall(const std::string& stage, double f) {
+  if (stage == "read") return 0.3 * f;
+  if (stage == "build") return 0.3 + 0.5 * f;
+  if (stage == "write") return 0.8 + 0.2 * f;
+  return 0;
+}
+
+void run_point_build(MvDevice device, const PointFileOptions& options, const Progress& progress) {
+  std::lock_guard<std::recursive_mutex> g(device->lock);
+  build_points_file(*device->device, options, progress);
+}
+
+}  // namespace
+
+}  // namespace mv::capi
+
+using namespace mv::capi;
+
+extern "C" {
+
+void mvInitPointBuildArguments(MvPointBuildArguments* args) {
+  if (!args) return;
+  *args = MvPointBuildArguments{};
+  args->byteSize = sizeof(MvPointBuildArguments);
+  args->format = "mvx";
+  args->maxNodePoints = mv::PointBuildOptions{}.max_node_points;
+}
+
+MvError mvBuildPointsFile(MvDevice device, const char* input, const char* output, const MvPointBuildArguments* args) {
+  return guard(device, [&] {
+    const PointBuild b = point_build(device, input, output, args);
+    run_point_build(device, b.options, b.user);
+  });
+}
+
+MvJob mvBuildPointsFileAsync(MvDevice device, const char* input, const char* output, const MvPointBuildArguments* args) {
+  MvJob job = nullptr;
+  guard(device, [&] {
+    PointBuild b = point_build(device, input, output, args);
+    JobWork work;
+    work.run = [device, options = std::move(b.options)](const mv::Progress& progress) -> MvScene {
+      run_point_build(device, options, progress);
+      return nullptr;
+    };
+    work.overall = points_overall;
+    work.user = std::move(b.user);
+    job = start_job(device, std::move(work));
+  });
+  return job;
+}
+
+}  // extern "C"

@@ -1,0 +1,2 @@
+// Layering probe: the service sees the public C API, not the C++ library under it.
+#include "megavox/build.h"

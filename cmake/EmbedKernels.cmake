@@ -1,31 +1,23 @@
-# Embeds the kernels listed in kernels/kernels.cmake into the library:
+# Embeds kernel lists (kernels/kernels.cmake for the library, tests/kernels/kernels.cmake for the tests):
 #  - each OpenCL program (.cl) with its #include "..." lines inlined, as a C++ raw string;
 #  - each GLSL entry compiled to SPIR-V by glslangValidator (target Vulkan 1.2) as a uint32_t array;
 #  - a table (kernel_table.cpp) mapping kernels to both and to their declared signature;
-#  - the KernelId enum (megavox/kernel_ids.h) host code names kernels by.
+#  - the enum host code names the list's kernels by (KernelId in megavox/kernel_ids.h for the library).
+# A list's .cl and .comp paths are relative to its folder (kernels/ or tests/kernels/); their #include lines
+# resolve against the including file's folder, then kernels/ (every list shares kernels/common).
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 
 set(MV_KERNEL_DIR ${CMAKE_SOURCE_DIR}/kernels)
-set(MV_KERNEL_GEN ${CMAKE_BINARY_DIR}/kernels_gen)
-file(MAKE_DIRECTORY ${MV_KERNEL_GEN})
 file(GLOB MV_KERNEL_COMMON CONFIGURE_DEPENDS ${MV_KERNEL_DIR}/common/*.h)
-
-set(MV_KERNEL_SOURCES "")
-set(MV_KERNEL_INCLUDES "")
-set(MV_KERNEL_ENTRIES "")
-set(MV_CL_PROGRAMS "")
-set(MV_PARAMS_HEADERS "")
-set(MV_KERNEL_IDS "")
-set(MV_KERNEL_COUNT 0)
 
 function(mv_cl_program cl)
   string(MAKE_C_IDENTIFIER ${cl} id)
   set(out ${MV_KERNEL_GEN}/cl_${id}.h)
   if(NOT cl IN_LIST MV_CL_PROGRAMS)
     add_custom_command(OUTPUT ${out}
-      COMMAND ${CMAKE_COMMAND} -DIN=${MV_KERNEL_DIR}/${cl} -DROOT=${MV_KERNEL_DIR} -DOUT=${out} -DVAR=mv_cl_${id}
+      COMMAND ${CMAKE_COMMAND} -DIN=${MV_KERNEL_SRC}/${cl} -DROOT=${MV_KERNEL_DIR} -DOUT=${out} -DVAR=mv_cl_${id}
               -P ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
-      DEPENDS ${MV_KERNEL_DIR}/${cl} ${MV_KERNEL_COMMON} ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
+      DEPENDS ${MV_KERNEL_SRC}/${cl} ${MV_KERNEL_COMMON} ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
       COMMENT "Embedding OpenCL program ${cl}")
     list(APPEND MV_CL_PROGRAMS ${cl})
     set(MV_CL_PROGRAMS ${MV_CL_PROGRAMS} PARENT_SCOPE)
@@ -47,12 +39,13 @@ function(mv_params_header params out_var)
       return()
     endif()
   endforeach()
-  message(FATAL_ERROR "kernels/kernels.cmake: no kernels/common header defines the parameter struct ${params}")
+  message(FATAL_ERROR "${MV_KERNEL_LIST}: no kernels/common header defines the parameter struct ${params}")
 endfunction()
 
-# mv_kernel(name program.cl entry.comp buffers params [GLSL defines...]); MV_ARGS_BUFFER among the defines
-# makes Vulkan pass the arguments through a parameter buffer instead of push constants (mv_glsl_prelude.h);
-# NEEDS_<FEATURE> (not passed to glslang) names a device feature the kernel needs (kernel_table.h).
+# mv_kernel(name program.cl entry.comp buffers params [GLSL defines...]), one line per kernel of a list;
+# MV_ARGS_BUFFER among the defines makes Vulkan pass the arguments through a parameter buffer instead of push
+# constants (mv_glsl_prelude.h); NEEDS_<FEATURE> (not passed to glslang) names a device feature the kernel needs
+# (kernel_table.h).
 macro(mv_kernel name cl comp buffers params)
   mv_cl_program(${cl})
   string(MAKE_C_IDENTIFIER ${cl} _cl_id)
@@ -77,8 +70,8 @@ macro(mv_kernel name cl comp buffers params)
   set(_spv ${MV_KERNEL_GEN}/spv_${name}.h)
   add_custom_command(OUTPUT ${_spv}
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${MV_KERNEL_DIR} ${_defs} --vn mv_spv_${name}
-            -o ${_spv} ${MV_KERNEL_DIR}/${comp}
-    DEPENDS ${MV_KERNEL_DIR}/${comp} ${MV_KERNEL_COMMON}
+            -o ${_spv} ${MV_KERNEL_SRC}/${comp}
+    DEPENDS ${MV_KERNEL_SRC}/${comp} ${MV_KERNEL_COMMON}
     COMMENT "Compiling ${comp} (${name}) to SPIR-V")
   list(APPEND MV_KERNEL_SOURCES ${_spv})
   string(APPEND MV_KERNEL_INCLUDES "#include \"spv_${name}.h\"\n")
@@ -89,8 +82,37 @@ macro(mv_kernel name cl comp buffers params)
   math(EXPR MV_KERNEL_COUNT "${MV_KERNEL_COUNT} + 1")
 endmacro()
 
-include(${MV_KERNEL_DIR}/kernels.cmake)
+# Embeds the kernels a list names into GEN (a folder of its own per list): writes GEN/kernel_table.cpp, whose
+# FIND(ENUM id) returns a kernel's table entry (nullptr out of range), and GEN/IDS, the enum `ENUM` with COUNT
+# kernels, whose comment shows a dispatch as DISPATCH; sets OUT to the generated sources.
+function(mv_embed_kernels list)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "GEN;ENUM;COUNT;FIND;IDS;DISPATCH;OUT" "")
+  set(MV_KERNEL_LIST ${list})
+  get_filename_component(MV_KERNEL_SRC ${list} DIRECTORY)
+  set(MV_KERNEL_GEN ${arg_GEN})
+  file(MAKE_DIRECTORY ${MV_KERNEL_GEN})
+  set(MV_KERNEL_SOURCES "")
+  set(MV_KERNEL_INCLUDES "")
+  set(MV_KERNEL_ENTRIES "")
+  set(MV_CL_PROGRAMS "")
+  set(MV_PARAMS_HEADERS "")
+  set(MV_KERNEL_IDS "")
+  set(MV_KERNEL_COUNT 0)
+  set(MV_KERNEL_ENUM ${arg_ENUM})
+  set(MV_KERNEL_COUNT_NAME ${arg_COUNT})
+  set(MV_KERNEL_FIND ${arg_FIND})
+  set(MV_KERNEL_IDS_HEADER ${arg_IDS})
+  set(MV_KERNEL_DISPATCH "${arg_DISPATCH}")
+  file(RELATIVE_PATH MV_KERNEL_LIST_NAME ${CMAKE_SOURCE_DIR} ${list})
+  include(${list})
+  configure_file(${CMAKE_SOURCE_DIR}/cmake/kernel_table.cpp.in ${MV_KERNEL_GEN}/kernel_table.cpp @ONLY)
+  configure_file(${CMAKE_SOURCE_DIR}/cmake/kernel_ids.h.in ${MV_KERNEL_GEN}/${arg_IDS} @ONLY)
+  list(APPEND MV_KERNEL_SOURCES ${MV_KERNEL_GEN}/kernel_table.cpp)
+  set(${arg_OUT} ${MV_KERNEL_SOURCES} PARENT_SCOPE)
+endfunction()
 
-configure_file(${CMAKE_SOURCE_DIR}/cmake/kernel_table.cpp.in ${MV_KERNEL_GEN}/kernel_table.cpp @ONLY)
-configure_file(${CMAKE_SOURCE_DIR}/cmake/kernel_ids.h.in ${MV_KERNEL_GEN}/public/megavox/kernel_ids.h @ONLY)
-list(APPEND MV_KERNEL_SOURCES ${MV_KERNEL_GEN}/kernel_table.cpp)
+# The library's kernels.
+set(MV_KERNEL_GEN ${CMAKE_BINARY_DIR}/kernels_gen)
+mv_embed_kernels(${MV_KERNEL_DIR}/kernels.cmake GEN ${MV_KERNEL_GEN} ENUM KernelId COUNT kKernelCount
+                 FIND find_embedded_kernel IDS public/megavox/kernel_ids.h DISPATCH "Device::kernel(KernelId::scan_reduce)"
+                 OUT MV_KERNEL_SOURCES)

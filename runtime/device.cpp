@@ -158,6 +158,11 @@ void Device::copy(const Buffer& src, Buffer& dst, uint64_t bytes, uint64_t src_o
 Kernel& Device::kernel(KernelId id) {
   const rt::EmbeddedKernel* e = rt::find_embedded_kernel(id);
   if (!e) throw Error("no embedded kernel with id " + std::to_string(static_cast<uint32_t>(id)));
+  return kernel(*e);
+}
+
+Kernel& Device::kernel(const rt::EmbeddedKernel& entry) {
+  const rt::EmbeddedKernel* e = &entry;
   if (auto it = impl_->kernels.find(e->name); it != impl_->kernels.end()) return *it->second;
   if (std::string lacks = rt::missing_features(info(), e->signature.needs); !lacks.empty())
     throw Error("device '" + info().name + "' (" + info().selector() + ") is unsuitable for kernel '" + e->name +

@@ -1,12 +1,12 @@
 // The kernel language layer (kernels/common/mv_lang.h) on every device: 32- and 64-bit atomics on global and
 // shared memory, barriers, work-group ids, a work-group histogram, a compare-exchange loop, 2-D launches and
-// arguments past Vulkan's push constants. Probe kernels: kernels/lang/, bodies in kernels/common/lang_*.h.
+// arguments past Vulkan's push constants. Probe kernels: tests/kernels/lang/, bodies in kernels/common/lang_*.h.
 #include <algorithm>
 #include <numeric>
 
 #include "common/lang_probe.h"
-#include "kernel_table.h"
 #include "megavox/error.h"
+#include "test_kernels.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -46,22 +46,22 @@ std::vector<T> test_values(size_t n, uint64_t seed) {
 
 // Kernel k for T's width, or a skip with the device's own message when it lacks 64-bit atomics.
 template <class T>
-Kernel* kernel_for(Device& d, KernelId k32, KernelId k64, bool has64) {
+Kernel* kernel_for(Device& d, TestKernelId k32, TestKernelId k64, bool has64) {
   if constexpr (sizeof(T) == 8) {
     if (!has64) {
-      EXPECT_THROW(d.kernel(k64), Error);
+      EXPECT_THROW(test_kernel(d, k64), Error);
       return nullptr;
     }
-    return &d.kernel(k64);
+    return &test_kernel(d, k64);
   } else {
-    return &d.kernel(k32);
+    return &test_kernel(d, k32);
   }
 }
 
 template <class T>
 void check_global_atomics(Device& d) {
   const uint32_t n = 5000;
-  Kernel* k = kernel_for<T>(d, KernelId::lang_atomics_k32, KernelId::lang_atomics_k64, d.info().atomics64);
+  Kernel* k = kernel_for<T>(d, TestKernelId::lang_atomics_k32, TestKernelId::lang_atomics_k64, d.info().atomics64);
   if (!k) GTEST_SKIP() << d.info().name << " lacks 64-bit atomics (the kernel is refused, as checked)";
   const std::vector<T> vals = test_values<T>(n, 11);
   const T start = T(0x5eed);
@@ -91,7 +91,7 @@ void check_global_atomics(Device& d) {
 template <class T>
 void check_shared_atomics(Device& d) {
   const uint32_t n = 3000, local = 64, groups = (n + local - 1) / local + 2;  // two groups with no item at all
-  Kernel* k = kernel_for<T>(d, KernelId::lang_shared_atomics_k32, KernelId::lang_shared_atomics_k64,
+  Kernel* k = kernel_for<T>(d, TestKernelId::lang_shared_atomics_k32, TestKernelId::lang_shared_atomics_k64,
                             d.info().shared_atomics64);
   if (!k) GTEST_SKIP() << d.info().name << " lacks 64-bit shared atomics (the kernel is refused, as checked)";
   const std::vector<T> vals = test_values<T>(n, 12);
@@ -131,7 +131,7 @@ TEST_P(LangTest, WorkGroupHistogram) {
     if (local > d.info().max_work_group_size) continue;
     d.fill(bh, 0, MV_LANG_BINS * 4);
     d.barrier();
-    d.dispatch(d.kernel(KernelId::lang_histogram), 13, local, {&bk, &bh}, MvLangParams{n, 0, 0, 0});
+    d.dispatch(test_kernel(d, TestKernelId::lang_histogram), 13, local, {&bk, &bh}, MvLangParams{n, 0, 0, 0});
     EXPECT_EQ(download<uint32_t>(d, bh, MV_LANG_BINS), expect) << "work-group size " << local;
   }
 }
@@ -141,7 +141,7 @@ TEST_P(LangTest, TwoDimensionalLaunch) {
   const uint32_t width = 37, height = 23, lx = 8, ly = 4;
   const LaunchGrid grid{{(width + lx - 1) / lx, (height + ly - 1) / ly}, {lx, ly}};
   Buffer out = upload(d, std::vector<uint32_t>(2 * width * height, ~0u), "grid");
-  d.dispatch(d.kernel(KernelId::lang_grid2d), grid, {&out}, MvLangParams{0, width, height, 0});
+  d.dispatch(test_kernel(d, TestKernelId::lang_grid2d), grid, {&out}, MvLangParams{0, width, height, 0});
   const std::vector<uint32_t> got = download<uint32_t>(d, out, 2 * width * height);
   for (uint32_t y = 0; y < height; ++y)
     for (uint32_t x = 0; x < width; ++x) {
@@ -161,7 +161,7 @@ void check_arguments_past_the_push_constants(Device& d, uint32_t dispatches) {
     in.push_back(upload(d, std::vector<uint32_t>{first.back()}, "argument input"));
   }
   Buffer out = upload(d, std::vector<uint32_t>(dispatches, 0), "checksums");
-  Kernel& k = d.kernel(KernelId::lang_args);
+  Kernel& k = test_kernel(d, TestKernelId::lang_args);
   std::vector<uint32_t> expect(dispatches);
   for (uint32_t s = 0; s < dispatches; ++s) {
     MvLangArgsParams p{};

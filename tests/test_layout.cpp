@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "common/layout_probe.h"
+#include "test_kernels.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -13,8 +14,8 @@ namespace {
 class LayoutTest : public ::testing::TestWithParam<DeviceInfo> {};
 
 template <class T>
-void expect_same_layout(Device& dev, bool has_offsets, KernelId kernel, void (*host_probe)(MvBufU32, T)) {
-  SCOPED_TRACE(dev.kernel(kernel).name());
+void expect_same_layout(Device& dev, bool has_offsets, TestKernelId kernel, void (*host_probe)(MvBufU32, T)) {
+  SCOPED_TRACE(test_kernel(dev, kernel).name());
   static_assert(sizeof(T) % 4 == 0);
   std::array<uint32_t, sizeof(T) / 4> words;
   for (uint32_t k = 0; k < words.size(); ++k) words[k] = MV_PROBE_WORD(k);
@@ -28,7 +29,7 @@ void expect_same_layout(Device& dev, bool has_offsets, KernelId kernel, void (*h
   Buffer out = dev.alloc(MV_PROBE_WORDS * 4, "layout probe");
   dev.fill(out, 0, MV_PROBE_WORDS * 4);
   dev.barrier();
-  dev.dispatch(dev.kernel(kernel), 1, 1, {&out}, p);
+  dev.dispatch(test_kernel(dev, kernel), 1, 1, {&out}, p);
   dev.finish();
   dev.download(out, got.data(), MV_PROBE_WORDS * 4);
   ASSERT_EQ(got[0], want[0]);
@@ -42,23 +43,23 @@ void expect_same_layout(Device& dev, bool has_offsets, KernelId kernel, void (*h
 TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   Device& dev = shared_device(GetParam());
   const bool offsets = GetParam().backend == "opencl";
-  expect_same_layout(dev, offsets, KernelId::probe_morton_params, mv_probe_morton_params);
-  expect_same_layout(dev, offsets, KernelId::probe_radix_params, mv_probe_radix_params);
-  expect_same_layout(dev, offsets, KernelId::probe_scan_params, mv_probe_scan_params);
-  expect_same_layout(dev, offsets, KernelId::probe_unique_params, mv_probe_unique_params);
-  expect_same_layout(dev, offsets, KernelId::probe_cache_params, mv_probe_cache_params);
-  expect_same_layout(dev, offsets, KernelId::probe_lang_params, mv_probe_lang_params);
-  expect_same_layout(dev, offsets, KernelId::probe_voxelize_params, mv_probe_voxelize_params);
-  expect_same_layout(dev, offsets, KernelId::probe_dag_params, mv_probe_dag_params);
-  expect_same_layout(dev, offsets, KernelId::probe_trace_params, mv_probe_trace_params);
-  expect_same_layout(dev, offsets, KernelId::probe_secondary_params, mv_probe_secondary_params);
-  expect_same_layout(dev, offsets, KernelId::probe_ray, mv_probe_ray);
-  expect_same_layout(dev, offsets, KernelId::probe_hit, mv_probe_hit);
-  expect_same_layout(dev, offsets, KernelId::probe_point_params, mv_probe_point_params);
-  expect_same_layout(dev, offsets, KernelId::probe_splat_params, mv_probe_splat_params);
-  expect_same_layout(dev, offsets, KernelId::probe_min_cut_params, mv_probe_min_cut_params);
-  expect_same_layout(dev, offsets, KernelId::probe_min_cut_regions_params, mv_probe_min_cut_regions_params);
-  expect_same_layout(dev, offsets, KernelId::probe_mask_post_params, mv_probe_mask_post_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_morton_params, mv_probe_morton_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_radix_params, mv_probe_radix_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_scan_params, mv_probe_scan_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_unique_params, mv_probe_unique_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_cache_params, mv_probe_cache_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_lang_params, mv_probe_lang_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_voxelize_params, mv_probe_voxelize_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_dag_params, mv_probe_dag_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_trace_params, mv_probe_trace_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_secondary_params, mv_probe_secondary_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_ray, mv_probe_ray);
+  expect_same_layout(dev, offsets, TestKernelId::probe_hit, mv_probe_hit);
+  expect_same_layout(dev, offsets, TestKernelId::probe_point_params, mv_probe_point_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_splat_params, mv_probe_splat_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_min_cut_params, mv_probe_min_cut_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_min_cut_regions_params, mv_probe_min_cut_regions_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_mask_post_params, mv_probe_mask_post_params);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(LayoutTest);

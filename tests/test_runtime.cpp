@@ -4,6 +4,7 @@
 #include "common/morton.h"
 #include "megavox/error.h"
 #include "reference.h"
+#include "test_kernels.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -186,16 +187,28 @@ TEST_P(RuntimeTest, StreamMarksWaitForTheWorkBeforeThem) {
 
 TEST_P(RuntimeTest, UnknownKernelIsAnError) { EXPECT_THROW(dev().kernel(static_cast<KernelId>(kKernelCount)), Error); }
 
-// Every kernel kernels/kernels.cmake lists builds on every device that has what it needs, and its OpenCL
-// source takes the arguments the list declares (the backend compares them when the kernel is built).
+// Every kernel kernels/kernels.cmake and tests/kernels/kernels.cmake list builds on every device that has what
+// it needs, and its OpenCL source takes the arguments the list declares (the backend compares them when the
+// kernel is built).
 TEST_P(RuntimeTest, EveryKernelBuildsWithItsDeclaredSignature) {
-  for (uint32_t id = 0; id < kKernelCount; ++id) {
+  const auto builds = [](auto&& build) {
     try {
-      dev().kernel(static_cast<KernelId>(id));
+      build();
     } catch (const Error& e) {
       const std::string msg = e.what();
       EXPECT_NE(msg.find("is unsuitable for kernel"), std::string::npos) << msg;  // only a missing feature
     }
+  };
+  for (uint32_t id = 0; id < kKernelCount; ++id) builds([&] { dev().kernel(static_cast<KernelId>(id)); });
+  for (uint32_t id = 0; id < kTestKernelCount; ++id) builds([&] { test_kernel(dev(), static_cast<TestKernelId>(id)); });
+}
+
+// The library's table holds only the kernels it ships: the tests' own are in a table of their own.
+TEST(KernelTable, HoldsNoTestKernels) {
+  for (uint32_t id = 0; id < kKernelCount; ++id) {
+    const std::string name = rt::find_embedded_kernel(static_cast<KernelId>(id))->name;
+    for (uint32_t t = 0; t < kTestKernelCount; ++t)
+      EXPECT_NE(name, rt::find_test_kernel(static_cast<TestKernelId>(t))->name);
   }
 }
 

@@ -25,6 +25,7 @@ class Backend;
 class BackendBuffer;
 class BackendKernel;
 class MemoryPool;
+struct EmbeddedKernel;
 struct KernelDesc;
 }  // namespace rt
 
@@ -196,6 +197,8 @@ class Device {
 
   // Kernels embedded at build time (kernels/kernels.cmake); built on first use, once per Device.
   Kernel& kernel(KernelId id);
+  // A kernel of another embedded table (the tests' own: tests/kernels/kernels.cmake), built and checked alike.
+  Kernel& kernel(const rt::EmbeddedKernel& entry);
 
   // Records a dispatch of `groups` work-groups of `local_size` items. Kernel arguments: the buffers in
   // order, then `params` (a trivially copyable struct from kernels/common, shared with the kernel source).

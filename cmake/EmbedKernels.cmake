@@ -7,8 +7,6 @@
 # resolve against the including file's folder, then kernels/ (every list shares kernels/common).
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 
-set(MV_KERNEL_DIR ${CMAKE_SOURCE_DIR}/kernels)
-file(GLOB MV_KERNEL_COMMON CONFIGURE_DEPENDS ${MV_KERNEL_DIR}/common/*.h)
 
 function(mv_cl_program cl)
   string(MAKE_C_IDENTIFIER ${cl} id)
@@ -87,6 +85,9 @@ endmacro()
 # kernels, whose comment shows a dispatch as DISPATCH; sets OUT to the generated sources.
 function(mv_embed_kernels list)
   cmake_parse_arguments(PARSE_ARGV 1 arg "" "GEN;ENUM;COUNT;FIND;IDS;DISPATCH;OUT" "")
+  # Set here, not at the top: a list may be embedded from another folder, whose variables are its own.
+  set(MV_KERNEL_DIR ${CMAKE_SOURCE_DIR}/kernels)
+  file(GLOB MV_KERNEL_COMMON CONFIGURE_DEPENDS ${MV_KERNEL_DIR}/common/*.h)
   set(MV_KERNEL_LIST ${list})
   get_filename_component(MV_KERNEL_SRC ${list} DIRECTORY)
   set(MV_KERNEL_GEN ${arg_GEN})
@@ -113,6 +114,6 @@ endfunction()
 
 # The library's kernels.
 set(MV_KERNEL_GEN ${CMAKE_BINARY_DIR}/kernels_gen)
-mv_embed_kernels(${MV_KERNEL_DIR}/kernels.cmake GEN ${MV_KERNEL_GEN} ENUM KernelId COUNT kKernelCount
+mv_embed_kernels(${CMAKE_SOURCE_DIR}/kernels/kernels.cmake GEN ${MV_KERNEL_GEN} ENUM KernelId COUNT kKernelCount
                  FIND find_embedded_kernel IDS public/megavox/kernel_ids.h DISPATCH "Device::kernel(KernelId::scan_reduce)"
                  OUT MV_KERNEL_SOURCES)

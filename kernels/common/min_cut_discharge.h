@@ -6,22 +6,22 @@
 
 /* Marks tile (tx, ty) as holding excess (a push from a neighbouring tile; same-coloured tiles may mark one tile
  * at once, with the same value). */
-MV_INLINE void mv_mincut_mark(MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y) {
+MV_INLINE void mv_min_cut_mark(MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y) {
   mv_u32 tile = (y / p.tile) * p.tiles_x + x / p.tile;
   MV_ATOMIC_OR(busy, tile, 1u);
   MV_ATOMIC_OR(touched, tile, 1u);
 }
 
-/* What mv_mincut_discharge_pixel did: bit d (d < 8) when it pushed to neighbour d inside the tile, which then
+/* What mv_min_cut_discharge_pixel did: bit d (d < 8) when it pushed to neighbour d inside the tile, which then
  * holds excess it can move; MV_MINCUT_STILL_ACTIVE when the pixel itself is left with excess it can move. */
 #define MV_MINCUT_STILL_ACTIVE 0x100u
 
 /* Pushes pixel (x, y)'s excess, relabelling it when it is left with some (MV_MINCUT_ATTEMPTS times at most). A push
  * past the tile [x0, x1) x [y0, y1) marks the neighbour's tile busy. Called only on a pixel with excess and a
  * height below MV_MINCUT_INF. */
-MV_INLINE mv_u32 mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
-                                         MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y,
-                                         mv_u32 x0, mv_u32 y0, mv_u32 x1, mv_u32 y1) {
+MV_INLINE mv_u32 mv_min_cut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
+                                          MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y,
+                                          mv_u32 x0, mv_u32 y0, mv_u32 x1, mv_u32 y1) {
   mv_u32 i = y * p.width + x;
   mv_u32 e = MV_LD(excess, i);
   mv_u32 h = MV_LD(height, i);
@@ -36,7 +36,7 @@ MV_INLINE mv_u32 mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvB
     for (mv_u32 d = 0u; d < p.conn && e > 0u; ++d) {
       mv_u32 r = MV_LD(resid, i * p.conn + d);
       if (r == 0u) continue;
-      mv_u32 j = mv_mincut_step(p, i, d);
+      mv_u32 j = mv_min_cut_step(p, i, d);
       if (MV_LD(height, j) + 1u != h) continue; /* MV_MINCUT_INF + 1 is 0, below every height */
       mv_u32 f = MV_MIN(e, r);
       MV_ST(resid, i * p.conn + d, r - f);
@@ -45,11 +45,11 @@ MV_INLINE mv_u32 mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvB
       e -= f;
       mv_u32 jx = MV_U32(MV_I32(x) + mv_grid_dx(d));
       mv_u32 jy = MV_U32(MV_I32(y) + mv_grid_dy(d));
-      if (jx < x0 || jx >= x1 || jy < y0 || jy >= y1) mv_mincut_mark(busy, touched, p, jx, jy);
+      if (jx < x0 || jx >= x1 || jy < y0 || jy >= y1) mv_min_cut_mark(busy, touched, p, jx, jy);
       else done |= 1u << d; /* its height is h - 1: it can move what it got */
     }
     if (e == 0u) break;
-    mv_u32 low = mv_mincut_lowest(height, resid, p, i);
+    mv_u32 low = mv_min_cut_lowest(height, resid, p, i);
     h = low >= MV_MINCUT_INF - 1u ? MV_MINCUT_INF : low + 1u;
     if (h == MV_MINCUT_INF) break;
   }
@@ -69,10 +69,10 @@ MV_INLINE mv_u32 mv_mincut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvB
  * tile's own word is rewritten at the end from what is left in it. A tile that runs, and every tile it pushes
  * into, is marked touched for the next global relabel. Sweeps alternate forward and backward; the tile is done
  * after a sweep that finds nothing to move, or after p.sweeps. */
-MV_INLINE void mv_mincut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
-                                   MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 t) {
-  mv_u32 tx = mv_mincut_tile_x(p, t);
-  mv_u32 ty = mv_mincut_tile_y(p, t);
+MV_INLINE void mv_min_cut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
+                                    MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 t) {
+  mv_u32 tx = mv_min_cut_tile_x(p, t);
+  mv_u32 ty = mv_min_cut_tile_y(p, t);
   if (tx >= p.tiles_x || ty >= p.tiles_y) return;
   if (MV_LD(busy, ty * p.tiles_x + tx) == 0u) return;
   mv_u32 x0 = tx * p.tile;
@@ -110,8 +110,8 @@ MV_INLINE void mv_mincut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 si
       any = true;
       mv_u32 lx = l % p.tile;
       mv_u32 ly = l / p.tile;
-      mv_u32 done = mv_mincut_discharge_pixel(excess, height, sink, resid, busy, touched, p, x0 + lx, y0 + ly, x0,
-                                              y0, x1, y1);
+      mv_u32 done = mv_min_cut_discharge_pixel(excess, height, sink, resid, busy, touched, p, x0 + lx, y0 + ly, x0,
+                                               y0, x1, y1);
       if ((done & MV_MINCUT_STILL_ACTIVE) == 0u) movable[w] &= ~(1u << (l & 31u));
       for (mv_u32 d = 0u; d < p.conn; ++d) {
         if ((done & (1u << d)) == 0u) continue;

@@ -10,10 +10,10 @@
  *   relax:      a height falls to 1 + the lowest residual neighbour (1 with sink capacity).
  * In a step's first pass (p.from_touched) the touched tiles run (relax clears the mark); a touched tile's
  * heights or edges changed since the last relabel, so invalidation stamps it for the tiles around it. */
-MV_INLINE void mv_mincut_settle(MvBufU32 height, MvBufU32 sink, MvBufU32 resid, MvBufU32 flag, MvBufU32 stamp,
-                                MvBufU32 touched, MvMinCutParams p, mv_u32 t, bool relax) {
-  mv_u32 tx = mv_mincut_tile_x(p, t);
-  mv_u32 ty = mv_mincut_tile_y(p, t);
+MV_INLINE void mv_min_cut_settle(MvBufU32 height, MvBufU32 sink, MvBufU32 resid, MvBufU32 flag, MvBufU32 stamp,
+                                 MvBufU32 touched, MvMinCutParams p, mv_u32 t, bool relax) {
+  mv_u32 tx = mv_min_cut_tile_x(p, t);
+  mv_u32 ty = mv_min_cut_tile_y(p, t);
   if (tx >= p.tiles_x || ty >= p.tiles_y) return;
   mv_u32 tile = ty * p.tiles_x + tx;
   bool border = false; /* a border height changed, or the tile is not still yet: the tiles around run again */
@@ -22,7 +22,7 @@ MV_INLINE void mv_mincut_settle(MvBufU32 height, MvBufU32 sink, MvBufU32 resid, 
     if (MV_LD(touched, tile) == 0u) return;
     if (relax) MV_ST(touched, tile, 0u);
     else border = true;
-  } else if (!mv_mincut_near_change(stamp, p, tx, ty)) {
+  } else if (!mv_min_cut_near_change(stamp, p, tx, ty)) {
     return;
   }
   mv_u32 x0 = tx * p.tile;
@@ -44,11 +44,11 @@ MV_INLINE void mv_mincut_settle(MvBufU32 height, MvBufU32 sink, MvBufU32 resid, 
           if (MV_LD(sink, i) > 0u) {
             now = 1u;
           } else {
-            mv_u32 low = mv_mincut_lowest(height, resid, p, i);
+            mv_u32 low = mv_min_cut_lowest(height, resid, p, i);
             if (low < h - 1u) now = low + 1u;
           }
         }
-      } else if (h != MV_MINCUT_INF && MV_LD(sink, i) == 0u && mv_mincut_lowest(height, resid, p, i) >= h) {
+      } else if (h != MV_MINCUT_INF && MV_LD(sink, i) == 0u && mv_min_cut_lowest(height, resid, p, i) >= h) {
         now = MV_MINCUT_INF;
       }
       if (now != h) {
@@ -69,8 +69,8 @@ MV_INLINE void mv_mincut_settle(MvBufU32 height, MvBufU32 sink, MvBufU32 resid, 
   }
 }
 
-MV_INLINE void mv_mincut_active(MvBufU32 excess, MvBufU32 height, MvBufU32 flag, mv_u32 n, mv_u32 gid,
-                                mv_u32 stride) {
+MV_INLINE void mv_min_cut_active(MvBufU32 excess, MvBufU32 height, MvBufU32 flag, mv_u32 n, mv_u32 gid,
+                                 mv_u32 stride) {
   bool any = false;
   for (mv_u32 i = gid; i < n; i += stride)
     if (MV_LD(excess, i) > 0u && MV_LD(height, i) != MV_MINCUT_INF) any = true;

@@ -36,13 +36,13 @@ MV_LAYOUT_AT(MvMinCutParams, stamp_since, 44); MV_LAYOUT_AT(MvMinCutParams, from
 #endif
 
 /* Tile t of the dispatch's colour, as tile column and row (past the grid for the colour's last tiles). */
-MV_INLINE mv_u32 mv_mincut_tile_x(MvMinCutParams p, mv_u32 t) { return 2u * (t % p.color_tiles_x) + (p.color & 1u); }
-MV_INLINE mv_u32 mv_mincut_tile_y(MvMinCutParams p, mv_u32 t) { return 2u * (t / p.color_tiles_x) + (p.color >> 1u); }
+MV_INLINE mv_u32 mv_min_cut_tile_x(MvMinCutParams p, mv_u32 t) { return 2u * (t % p.color_tiles_x) + (p.color & 1u); }
+MV_INLINE mv_u32 mv_min_cut_tile_y(MvMinCutParams p, mv_u32 t) { return 2u * (t / p.color_tiles_x) + (p.color >> 1u); }
 
 /* Pixel i's neighbour d is pixel i + step. An edge leaving the grid has no capacity (validate_grid_graph) and
  * never gains any (flow only moves along edges with capacity), so a neighbour is read only through an edge
  * with residual capacity and needs no bounds check. */
-MV_INLINE mv_u32 mv_mincut_step(MvMinCutParams p, mv_u32 i, mv_u32 d) {
+MV_INLINE mv_u32 mv_min_cut_step(MvMinCutParams p, mv_u32 i, mv_u32 d) {
   return MV_U32(MV_I32(i) + mv_grid_dy(d) * MV_I32(p.width) + mv_grid_dx(d));
 }
 
@@ -50,8 +50,9 @@ MV_INLINE mv_u32 mv_mincut_step(MvMinCutParams p, mv_u32 i, mv_u32 d) {
  * every neighbour's height is read (clamped into the grid; a step off the grid's side lands on the next row)
  * and one without residual capacity counts as unreachable. Branches on capacities mispredict half the time. */
 #define MV_MINCUT_LOWER(d)                                                                                         \
-  low = MV_MIN(low, MV_LD(resid, e + (d)) != 0u ? MV_LD(height, MV_MIN(mv_mincut_step(p, i, d), last)) : MV_MINCUT_INF);
-MV_INLINE mv_u32 mv_mincut_lowest(MvBufU32 height, MvBufU32 resid, MvMinCutParams p, mv_u32 i) {
+  low = MV_MIN(low, MV_LD(resid, e + (d)) != 0u ? MV_LD(height, MV_MIN(mv_min_cut_step(p, i, d), last))            \
+                                                : MV_MINCUT_INF);
+MV_INLINE mv_u32 mv_min_cut_lowest(MvBufU32 height, MvBufU32 resid, MvMinCutParams p, mv_u32 i) {
   mv_u32 e = i * p.conn;
   mv_u32 last = p.width * p.height - 1u;
   mv_u32 low = MV_MINCUT_INF;
@@ -71,7 +72,7 @@ MV_INLINE mv_u32 mv_mincut_lowest(MvBufU32 height, MvBufU32 resid, MvMinCutParam
 /* stamp[tile] = the last pass in which a height on the tile's border changed, or in which the tile was cut
  * short by the sweep count before it was still. A tile whose 3 x 3 tiles around have no stamp from
  * p.stamp_since on is still: its last run ended still and nothing it reads has changed since. */
-MV_INLINE bool mv_mincut_near_change(MvBufU32 stamp, MvMinCutParams p, mv_u32 tx, mv_u32 ty) {
+MV_INLINE bool mv_min_cut_near_change(MvBufU32 stamp, MvMinCutParams p, mv_u32 tx, mv_u32 ty) {
   bool near = false;
   for (mv_u32 k = 0u; k < 9u; ++k) {
     mv_i32 nx = MV_I32(tx) + MV_I32(k % 3u) - 1;

@@ -6,21 +6,21 @@
 
 __kernel void min_cut_invalidate(__global uint* height, __global uint* sink, __global uint* resid,
                                 __global uint* flag, __global uint* stamp, __global uint* touched, MvMinCutParams p) {
-  mv_mincut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), false);
+  mv_min_cut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), false);
 }
 
 __kernel void min_cut_relax(__global uint* height, __global uint* sink, __global uint* resid, __global uint* flag,
                            __global uint* stamp, __global uint* touched, MvMinCutParams p) {
-  mv_mincut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), true);
+  mv_min_cut_settle(height, sink, resid, flag, stamp, touched, p, p.first_tile + MV_GLOBAL_ID(), true);
 }
 
 __kernel void min_cut_active(__global uint* excess, __global uint* height, __global uint* flag, MvMinCutParams p) {
-  mv_mincut_active(excess, height, flag, p.width * p.height, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_min_cut_active(excess, height, flag, p.width * p.height, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
 __kernel void min_cut_discharge(__global uint* excess, __global uint* height, __global uint* sink,
                                __global uint* resid, __global uint* busy, __global uint* touched, MvMinCutParams p) {
-  mv_mincut_discharge(excess, height, sink, resid, busy, touched, p, p.first_tile + MV_GLOBAL_ID());
+  mv_min_cut_discharge(excess, height, sink, resid, busy, touched, p, p.first_tile + MV_GLOBAL_ID());
 }
 
 __kernel void min_cut_regions(__global uint* resid, __global uint* term, __global uint* node, __global uint* next,

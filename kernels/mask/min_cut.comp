@@ -11,30 +11,32 @@
 MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvBufU32 touched;
         MvMinCutParams p;);
 void main() {
-  mv_mincut_settle(args.height, args.sink, args.resid, args.flag, args.stamp, args.touched, args.p,
-                   args.p.first_tile + MV_GLOBAL_ID(), false);
+  mv_min_cut_settle(args.height, args.sink, args.resid, args.flag, args.stamp, args.touched, args.p,
+                    args.p.first_tile + MV_GLOBAL_ID(), false);
 }
 #elif defined(MV_ENTRY_relax)
 MV_ARGS(MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 flag; MvBufU32 stamp; MvBufU32 touched;
         MvMinCutParams p;);
 void main() {
-  mv_mincut_settle(args.height, args.sink, args.resid, args.flag, args.stamp, args.touched, args.p,
-                   args.p.first_tile + MV_GLOBAL_ID(), true);
+  mv_min_cut_settle(args.height, args.sink, args.resid, args.flag, args.stamp, args.touched, args.p,
+                    args.p.first_tile + MV_GLOBAL_ID(), true);
 }
 #elif defined(MV_ENTRY_active)
 MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 flag; MvMinCutParams p;);
 void main() {
-  mv_mincut_active(args.excess, args.height, args.flag, args.p.width * args.p.height, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_min_cut_active(args.excess, args.height, args.flag, args.p.width * args.p.height, MV_GLOBAL_ID(),
+                    MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_discharge)
 MV_ARGS(MvBufU32 excess; MvBufU32 height; MvBufU32 sink; MvBufU32 resid; MvBufU32 busy; MvBufU32 touched;
         MvMinCutParams p;);
 void main() {
-  mv_mincut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.touched, args.p,
-                      args.p.first_tile + MV_GLOBAL_ID());
+  mv_min_cut_discharge(args.excess, args.height, args.sink, args.resid, args.busy, args.touched, args.p,
+                       args.p.first_tile + MV_GLOBAL_ID());
 }
 #elif defined(MV_ENTRY_regions)
-MV_ARGS(MvBufU32 resid; MvBufU32 term; MvBufU32 node; MvBufU32 next; MvBufU32 orphans; MvBufU32 state; MvMinCutRegionsParams p;);
+MV_ARGS(MvBufU32 resid; MvBufU32 term; MvBufU32 node; MvBufU32 next; MvBufU32 orphans; MvBufU32 state;
+        MvMinCutRegionsParams p;);
 void main() {
   mv_bk_items(args.resid, args.term, args.node, args.next, args.orphans, args.state, args.p);
 }

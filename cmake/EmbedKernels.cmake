@@ -15,7 +15,7 @@ function(mv_cl_program cl)
     add_custom_command(OUTPUT ${out}
       COMMAND ${CMAKE_COMMAND} -DIN=${MV_KERNEL_SRC}/${cl} -DROOT=${MV_KERNEL_DIR} -DOUT=${out} -DVAR=mv_cl_${id}
               -P ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
-      DEPENDS ${MV_KERNEL_SRC}/${cl} ${MV_KERNEL_COMMON} ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
+      DEPENDS ${MV_KERNEL_SRC}/${cl} ${MV_KERNEL_COMMON} ${MV_KERNEL_OWN} ${CMAKE_SOURCE_DIR}/cmake/inline_cl.cmake
       COMMENT "Embedding OpenCL program ${cl}")
     list(APPEND MV_CL_PROGRAMS ${cl})
     set(MV_CL_PROGRAMS ${MV_CL_PROGRAMS} PARENT_SCOPE)
@@ -26,18 +26,23 @@ function(mv_cl_program cl)
   endif()
 endfunction()
 
-# The header of kernels/common that defines a parameter struct (MV_STRUCT_BEGIN(name)): the kernel table
-# includes it to record the struct's type and size, which every dispatch is checked against.
+# The header that defines a parameter struct (MV_STRUCT_BEGIN(name)), in kernels/common or the list's own
+# folder: the kernel table includes it (by its path from kernels/ or from that folder) to record the struct's
+# type and size, which every dispatch is checked against.
 function(mv_params_header params out_var)
-  foreach(h ${MV_KERNEL_COMMON})
+  foreach(h ${MV_KERNEL_COMMON} ${MV_KERNEL_OWN})
     file(STRINGS ${h} hit REGEX "MV_STRUCT_BEGIN\\(${params}\\)")
     if(hit)
-      file(RELATIVE_PATH rel ${MV_KERNEL_DIR} ${h})
+      if(h IN_LIST MV_KERNEL_COMMON)
+        file(RELATIVE_PATH rel ${MV_KERNEL_DIR} ${h})
+      else()
+        file(RELATIVE_PATH rel ${MV_KERNEL_SRC} ${h})
+      endif()
       set(${out_var} ${rel} PARENT_SCOPE)
       return()
     endif()
   endforeach()
-  message(FATAL_ERROR "${MV_KERNEL_LIST}: no kernels/common header defines the parameter struct ${params}")
+  message(FATAL_ERROR "${MV_KERNEL_LIST}: no header of kernels/common or of its folder defines the parameter struct ${params}")
 endfunction()
 
 # mv_kernel(name program.cl entry.comp buffers params [GLSL defines...]), one line per kernel of a list;
@@ -69,7 +74,7 @@ macro(mv_kernel name cl comp buffers params)
   add_custom_command(OUTPUT ${_spv}
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${MV_KERNEL_DIR} ${_defs} --vn mv_spv_${name}
             -o ${_spv} ${MV_KERNEL_SRC}/${comp}
-    DEPENDS ${MV_KERNEL_SRC}/${comp} ${MV_KERNEL_COMMON}
+    DEPENDS ${MV_KERNEL_SRC}/${comp} ${MV_KERNEL_COMMON} ${MV_KERNEL_OWN}
     COMMENT "Compiling ${comp} (${name}) to SPIR-V")
   list(APPEND MV_KERNEL_SOURCES ${_spv})
   string(APPEND MV_KERNEL_INCLUDES "#include \"spv_${name}.h\"\n")
@@ -90,6 +95,11 @@ function(mv_embed_kernels list)
   file(GLOB MV_KERNEL_COMMON CONFIGURE_DEPENDS ${MV_KERNEL_DIR}/common/*.h)
   set(MV_KERNEL_LIST ${list})
   get_filename_component(MV_KERNEL_SRC ${list} DIRECTORY)
+  # Headers of the list's own folder (kernel bodies only its kernels use) other than kernels/common's.
+  set(MV_KERNEL_OWN "")
+  if(NOT MV_KERNEL_SRC STREQUAL MV_KERNEL_DIR)
+    file(GLOB_RECURSE MV_KERNEL_OWN CONFIGURE_DEPENDS ${MV_KERNEL_SRC}/*.h)
+  endif()
   set(MV_KERNEL_GEN ${arg_GEN})
   file(MAKE_DIRECTORY ${MV_KERNEL_GEN})
   set(MV_KERNEL_SOURCES "")

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "common/lang_probe.h"
+#include "bodies/lang_probe.h"
 #include "megavox/error.h"
 #include "test_kernels.h"
 #include "test_support.h"

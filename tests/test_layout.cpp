@@ -1,10 +1,10 @@
 // Layout contracts (kernels/common/mv_lang.h): every struct the host shares with kernels, as each device sees
-// it. The probe kernels (kernels/common/layout_probe.h) get a struct whose word k is MV_PROBE_WORD(k) and write
+// it. The probe kernels (tests/kernels/bodies/layout_probe.h) get a struct whose word k is MV_PROBE_WORD(k) and write
 // back each field; the host's run of the same probe says what they must write.
 #include <array>
 #include <cstring>
 
-#include "common/layout_probe.h"
+#include "bodies/layout_probe.h"
 #include "test_kernels.h"
 #include "test_support.h"
 

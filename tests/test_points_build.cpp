@@ -11,6 +11,7 @@
 
 #include "megavox/point_build.h"
 #include "points/omicron.h"
+#include "points/omicron_representatives.h"
 #include "points/point_kernels.h"
 #include "points_reference.h"
 #include "points_oracles.h"

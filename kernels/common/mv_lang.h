@@ -110,7 +110,7 @@ typedef double mv_f64;
 /* ---- layout contracts ----
  * Each struct the host shares with kernels (parameters, records) states its size and field offsets right after
  * its declaration, checked by the host compiler; tests/test_layout.cpp probes each device's view of the same
- * structs (kernels/common/layout_probe.h). Fields are 4 bytes and structs 4-aligned: the host packs the
+ * structs (tests/kernels/bodies/layout_probe.h). Fields are 4 bytes and structs 4-aligned: the host packs the
  * parameters right after the buffer addresses (8 bytes each) and GLSL's std430 push constants agree. */
 #if defined(MV_CPP)
 #include <cstddef>

@@ -11,7 +11,7 @@
  * leading parameter and are called with MV_SHARED_ARG(name) (each expands with its trailing comma: a pointer
  * in OpenCL and C++, nothing in GLSL, where the body sees the global array itself). GLSL resolves that name
  * where the body is written, so such a body lives in a header of its own, which a .comp includes after
- * declaring the array (kernels/common/lang_histogram.h is the smallest example).
+ * declaring the array (tests/kernels/bodies/lang_histogram.h is the smallest example).
  * MV_BARRIER(): every work-item of the group waits, and shared and global writes before it are visible after
  * it. Only in uniform control flow (every item of the group reaches the same barriers). */
 #if defined(MV_OPENCL)

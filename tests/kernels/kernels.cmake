@@ -1,6 +1,6 @@
 # Kernels only the tests dispatch, embedded into megavox_tests alone (cmake/EmbedKernels.cmake, as
 # kernels/kernels.cmake for the library): the kernel language's self-tests (lang/, bodies in
-# kernels/common/lang_*.h) and the layout probes (probe/, kernels/common/layout_probe.h) that check each shared
+# bodies/lang_*.h) and the layout probes (probe/, bodies/layout_probe.h) that check each shared
 # struct as every device sees it. Host code names them by TestKernelId (tests/test_kernels.h).
 #         name                     .cl               .comp                n  params            GLSL defines
 mv_kernel(lang_atomics_k32         lang/lang32.cl    lang/lang.comp       3  MvLangParams      MV_ENTRY_atomics)

@@ -4,6 +4,7 @@
 
 #include "huge_pages.h"
 #include "megavox/error.h"
+#include "omicron_representatives.h"
 #include "point_kernels.h"
 
 namespace mv::points {

@@ -1,5 +1,5 @@
 // Device steps of the point-cloud LOD build (kernels: kernels/common/points.h): Morton codes of the points and
-// the choice of each inner node's representatives. The plain C++ references are in host/ref/points_reference.h.
+// their sort. The representatives of OMiCroN's inner nodes are omicron_representatives.h's.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -45,17 +45,5 @@ using SortedCodesPrefix =
     std::function<void(std::span<const uint64_t> codes, std::span<const uint32_t> index, uint64_t end)>;
 bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, SortedCodes& out,
                            const SortedCodesPrefix& on_prefix = {}, uint32_t ranges = 8);
-
-// Representatives of many parents at one level. Parent g's candidates are codes[bounds[g], bounds[g + 1]), in
-// Morton order; its sub-grid cells are the codes >> cell_bits. Of each occupied cell the candidate nearest the
-// cell's centre (the first of equals) is kept; of more than `cap` cells, cap spread along the Morton order.
-// Returns the kept candidates' positions in codes, parent by parent; offsets (groups + 1 values) delimits them.
-struct RepSelection {
-  std::vector<uint32_t> positions;
-  std::vector<uint64_t> offsets;
-  uint64_t host_groups = 0;  // parents too large for a loop-capped device's loops, chosen by the host reference
-};
-RepSelection select_representatives(Device& dev, std::span<const uint64_t> codes, std::span<const uint32_t> bounds,
-                                    uint32_t cell_bits, uint32_t cap);
 
 }  // namespace mv::points

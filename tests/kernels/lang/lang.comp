@@ -1,9 +1,9 @@
 // Vulkan entry points of the language-layer probes, one module per -DMV_ENTRY_<name>; MV_LANG64 picks 64-bit
-// elements (bodies: common/lang_probe.h).
+// elements (bodies: bodies/lang_probe.h).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
-#include "common/lang_probe.h"
+#include "../bodies/lang_probe.h"
 
 #if defined(MV_ENTRY_atomics)
 MV_ARGS(MvLangBuf vals; MvLangBuf slots; MvLangBuf olds; MvLangParams p;);
@@ -13,12 +13,12 @@ void main() {
 }
 #elif defined(MV_ENTRY_shared_atomics)
 MV_SHARED(MvLangT, cells, MV_LANG_CELLS);
-#include "common/lang_shared_atomics.h"
+#include "../bodies/lang_shared_atomics.h"
 MV_ARGS(MvLangBuf vals; MvLangBuf out_; MvLangParams p;);
 void main() { mv_lang_shared_atomics(MV_SHARED_ARG(cells) args.vals, args.out_, args.p.n); }
 #elif defined(MV_ENTRY_histogram)
 MV_SHARED(uint, bins, MV_LANG_BINS);
-#include "common/lang_histogram.h"
+#include "../bodies/lang_histogram.h"
 MV_ARGS(MvBufU32 keys; MvBufU32 hist; MvLangParams p;);
 void main() { mv_lang_histogram(MV_SHARED_ARG(bins) args.keys, args.hist, args.p.n); }
 #elif defined(MV_ENTRY_grid2d)

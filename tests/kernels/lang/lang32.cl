@@ -1,7 +1,7 @@
-// OpenCL entry points of the language-layer probes, 32-bit (bodies: common/lang_probe.h).
-#include "common/lang_probe.h"
-#include "common/lang_shared_atomics.h"
-#include "common/lang_histogram.h"
+// OpenCL entry points of the language-layer probes, 32-bit (bodies: bodies/lang_probe.h).
+#include "../bodies/lang_probe.h"
+#include "../bodies/lang_shared_atomics.h"
+#include "../bodies/lang_histogram.h"
 
 __kernel void lang_atomics_k32(__global uint* vals, __global uint* slots, __global uint* olds, MvLangParams p) {
   uint i = MV_GLOBAL_ID();

@@ -1,7 +1,7 @@
-// OpenCL entry points of the language-layer probes, 64-bit atomics (bodies: common/lang_probe.h).
+// OpenCL entry points of the language-layer probes, 64-bit atomics (bodies: bodies/lang_probe.h).
 #define MV_LANG64 1
-#include "common/lang_probe.h"
-#include "common/lang_shared_atomics.h"
+#include "../bodies/lang_probe.h"
+#include "../bodies/lang_shared_atomics.h"
 
 __kernel void lang_atomics_k64(__global ulong* vals, __global ulong* slots, __global ulong* olds, MvLangParams p) {
   uint i = MV_GLOBAL_ID();

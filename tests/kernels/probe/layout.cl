@@ -1,5 +1,5 @@
-// OpenCL entry points of the layout probes, one per shared struct (bodies: common/layout_probe.h).
-#include "common/layout_probe.h"
+// OpenCL entry points of the layout probes, one per shared struct (bodies: bodies/layout_probe.h).
+#include "../bodies/layout_probe.h"
 
 #define MV_PROBE_ENTRY(name, T) \
   __kernel void probe_##name(__global uint* dst, T p) { if (MV_GLOBAL_ID() == 0u) mv_probe_##name(dst, p); }

@@ -1,9 +1,9 @@
-// Vulkan entry points of the layout probes, one module per -DMV_ENTRY_<name> (bodies: common/layout_probe.h):
+// Vulkan entry points of the layout probes, one module per -DMV_ENTRY_<name> (bodies: bodies/layout_probe.h):
 // the struct arrives in push constants after one buffer address, as parameters do in every kernel.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
-#include "common/layout_probe.h"
+#include "../bodies/layout_probe.h"
 
 #if defined(MV_ENTRY_probe_morton_params)
 #define MV_PROBE_T MvMortonParams

@@ -11,19 +11,19 @@
  * byte offset (not written in GLSL). */
 #ifndef MV_LAYOUT_PROBE_H
 #define MV_LAYOUT_PROBE_H
-#include "dag.h"
-#include "radix_sort.h"
-#include "scan.h"
+#include "common/dag.h"
+#include "common/radix_sort.h"
+#include "common/scan.h"
 #include "lang_probe.h"
-#include "secondary.h"
-#include "unique.h"
-#include "page_cache.h"
-#include "points.h"
-#include "splat.h"
-#include "min_cut.h"
-#include "min_cut_regions.h"
-#include "mask_post.h"
-#include "voxelize.h"
+#include "common/secondary.h"
+#include "common/unique.h"
+#include "common/page_cache.h"
+#include "common/points.h"
+#include "common/splat.h"
+#include "common/min_cut.h"
+#include "common/min_cut_regions.h"
+#include "common/mask_post.h"
+#include "common/voxelize.h"
 
 #define MV_PROBE_FIELDS 32u /* at most, per struct */
 #define MV_PROBE_WORDS (2u + 2u * MV_PROBE_FIELDS)

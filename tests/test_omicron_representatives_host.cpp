@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "points/representatives_host.h"
+#include "points/omicron_representatives_host.h"
 #include "points_reference.h"
 
 namespace {

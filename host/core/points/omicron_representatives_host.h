@@ -1,6 +1,6 @@
 // The representatives of one parent chosen on the host: the device path's way round a parent longer than the
 // device's loop cap (lavapipe ends a loop after 65535 iterations). The same rule as the kernel's
-// (kernels/common/points.h): per cell of 2^cell_bits codes, the point nearest the cell's centre (the first on a
+// (kernels/common/omicron.h): per cell of 2^cell_bits codes, the point nearest the cell's centre (the first on a
 // tie); of n cells, every cell when n <= cap, else the cells j where floor((j + 1) cap / n) > floor(j cap / n).
 #pragma once
 #include <cstdint>

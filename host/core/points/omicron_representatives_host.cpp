@@ -1,4 +1,4 @@
-#include "representatives_host.h"
+#include "omicron_representatives_host.h"
 
 namespace mv::points {
 

@@ -6,7 +6,7 @@
  * array before including one (GLSL resolves the name where the function is written). */
 #ifndef MV_LANG_PROBE_H
 #define MV_LANG_PROBE_H
-#include "mv_lang.h"
+#include "common/mv_lang.h"
 
 MV_STRUCT_BEGIN(MvLangParams)
   mv_u32 n;      /* work items with a value */

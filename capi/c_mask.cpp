@@ -25,7 +25,8 @@ MaskFile mask_file(MvDevice device, const char* input, const char* output, const
   require(input && *input, "mask: no input path");
   require(output && *output, "mask: no output path");
   require(args, "mask: args is NULL (call mvInitMaskArguments and give a start)");
-  require(args->byteSize == sizeof(MvMaskArguments), "mask: MvMaskArguments.byteSize is wrong (call mvInitMaskArguments)");
+  require(args->byteSize == sizeof(MvMaskArguments),
+          "mask: MvMaskArguments.byteSize is wrong (call mvInitMaskArguments)");
   MaskFile m;
   m.input = input;
   m.output = output;

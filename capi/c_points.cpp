@@ -67,7 +67,8 @@ MvError mvBuildPointsFile(MvDevice device, const char* input, const char* output
   });
 }
 
-MvJob mvBuildPointsFileAsync(MvDevice device, const char* input, const char* output, const MvPointBuildArguments* args) {
+MvJob mvBuildPointsFileAsync(MvDevice device, const char* input, const char* output,
+                             const MvPointBuildArguments* args) {
   MvJob job = nullptr;
   guard(device, [&] {
     PointBuild b = point_build(device, input, output, args);

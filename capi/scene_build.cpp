@@ -21,7 +21,7 @@ class ScratchMvx {
     std::vector<char> name(pattern.begin(), pattern.end());
     name.push_back('\0');
     const int fd = mkstemp(name.data());
-    if (fd < 0) throw Error("cannot make a scratch file in " + std::string(dir && *dir ? dir : "/tmp"));
+    if (fd < 0) throw IoError("cannot make a scratch file in " + std::string(dir && *dir ? dir : "/tmp"));
     close(fd);
     path_ = name.data();
   }

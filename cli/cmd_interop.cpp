@@ -6,11 +6,13 @@
 
 #include "cli_common.h"
 #include "megavox/interop.h"
+#include "option_words.h"
 
 namespace mv::cli {
 
 void add_export_command(CLI::App& app, const GlobalOptions& g) {
   auto o = std::make_shared<ExportOptions>();
+  auto format = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "export",
@@ -21,13 +23,14 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("file", o->input, "The .mvx file")->required();
   cmd->add_option("-o,--output", o->output, "The file to write (named only once complete)")->required();
   add_no_clobber_flag(*cmd, o->no_clobber);
-  cmd->add_option("--format", o->format,
+  cmd->add_option("--format", *format,
                   "symvox-svdag (32-bit SVDAG), symvox-ussvdag (32-bit, per-child mirror bits), symvox-ssvdag\n"
                   "(SymVox's compact 16-bit SSVDAG), vdb (OpenVDB MaskGrid) or nvdb (NanoVDB)")
       ->required()
       ->check(CLI::IsMember({"symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb", "nvdb"}));
   cmd->add_flag("--json", *json, "Print one JSON object");
-  cmd->callback([&g, o, json] {
+  cmd->callback([&g, o, format, json] {
+    o->format = parse_export_format(*format);
     check_output(*o);  // before the device opens
     auto dev = open_device(g);
     ExportReport r = export_mvx(*dev, *o);
@@ -46,6 +49,7 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
 
 void add_import_command(CLI::App& app, const GlobalOptions& g) {
   auto o = std::make_shared<ImportOptions>();
+  auto convention = std::make_shared<std::string>("auto"), format = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "import",
@@ -55,16 +59,18 @@ void add_import_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("file", o->input, "The SymVox-family file")->required();
   cmd->add_option("-o,--output", o->output, "The .mvx to write (named only once complete)")->required();
   add_no_clobber_flag(*cmd, o->no_clobber);
-  cmd->add_option("--convention", o->convention,
+  cmd->add_option("--convention", *convention,
                   "Who wrote it: symvox (child 4x+2y+z, cube centred on the bbox), voxcom (Morton child order, cube at\n"
                   "the bbox's min corner, voxel units) or auto (voxcom when the bbox starts at 0 and the root side is\n"
                   "the resolution)")
       ->check(CLI::IsMember({"auto", "symvox", "voxcom"}))
       ->capture_default_str();
-  cmd->add_option("--format", o->format, "Encoding of the .mvx: svdag, ussvdag or ssvdag (default: the file's layout)")
+  cmd->add_option("--format", *format, "Encoding of the .mvx: svdag, ussvdag or ssvdag (default: the file's layout)")
       ->check(CLI::IsMember({"svdag", "ussvdag", "ssvdag"}));
   cmd->add_flag("--json", *json, "Print one JSON object");
-  cmd->callback([&g, o, json] {
+  cmd->callback([&g, o, convention, format, json] {
+    o->convention = parse_symvox_convention(*convention);
+    if (!format->empty()) o->encoding = parse_encoding(*format);
     check_output(*o);  // before the device opens
     auto dev = open_device(g);
     ImportReport r = import_symvox(*dev, *o);

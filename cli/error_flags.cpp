@@ -20,6 +20,9 @@ const SettingFlag kSettingFlags[] = {
     {setting_cache_memory, "--cache-memory"}, {setting_width, "--width"},
     {setting_depth, "--depth"},               {setting_max_node_points, "--max-node-points"},
     {setting_no_clobber, "--no-clobber"},     {setting_frames, "--frames"},
+    {setting_eye, "--eye"},                   {setting_target, "--target"},
+    {setting_up, "--up"},                     {setting_fov, "--fov"},
+    {setting_view, "--view"},
 };
 
 }  // namespace

@@ -154,9 +154,9 @@ TEST_P(SymVoxTest, ExportsReadLikeSymVoxAndRoundTrip) {
       const std::string mvx = write_mvx_of(dev, keys, 6, from, "in.mvx");
       for (const char* layout : kLayouts) {
         const std::string file = temp_path("out.bin");  // no telling extension: import reads the content
-        export_mvx(dev, {mvx, file, layout});
+        export_mvx(dev, {mvx, file, parse_export_format(layout)});
         EXPECT_TRUE(symvox_viewer_voxels(file) == keys) << name << " " << from << " -> " << layout;
-        ImportReport r = import_symvox(dev, {file, temp_path("back.mvx"), "symvox", ""});
+        ImportReport r = import_symvox(dev, {file, temp_path("back.mvx"), SymvoxConvention::symvox, {}});
         if (std::string(layout) == "symvox-ssvdag") EXPECT_EQ(r.layout, "ssvdag");
         else EXPECT_TRUE(r.layout == "svdag" || r.layout == "ussvdag") << r.layout;
         MvxFile back = read_mvx(temp_path("back.mvx"));
@@ -175,7 +175,7 @@ TEST_P(SymVoxTest, MirrorBitsAreUsed) {
   Device& dev = shared_device(GetParam());
   auto sets = voxel_sets(6);
   const std::string mvx = write_mvx_of(dev, sets[1].second, 6, "ssvdag", "shell.mvx");
-  export_mvx(dev, {mvx, temp_path("shell.ussvdag"), "symvox-ussvdag"});
+  export_mvx(dev, {mvx, temp_path("shell.ussvdag"), ExportFormat::symvox_ussvdag});
   io::SymvoxFile f = io::read_symvox(temp_path("shell.ussvdag"));
   EXPECT_EQ(f.dag.encoding, Encoding::ussvdag);
   EXPECT_EQ(f.levels, 6u);
@@ -205,19 +205,20 @@ TEST_P(SymVoxTest, VoxcomFilesAreRecognisedAndUntransposed) {
   const std::string mvx = temp_path("vc.mvx");
   write_mvx(mvx, mvx_for_dag(build_dag_for_format(dev, swapped, 5, Encoding::svdag), Encoding::svdag, g, b));
   // A voxcom header: bbox from 0, root side = the resolution.
-  export_mvx(dev, {mvx, temp_path("vc.svdag"), "symvox-svdag"});
+  export_mvx(dev, {mvx, temp_path("vc.svdag"), ExportFormat::symvox_svdag});
   std::vector<char> bytes = file_bytes(temp_path("vc.svdag"));
   const float box[7] = {0, 0, 0, 32, 20, 30, 32};
   std::memcpy(bytes.data(), box, sizeof box);
   write_bytes(temp_path("vc.svdag"), bytes);
-  ImportReport r = import_symvox(dev, {temp_path("vc.svdag"), temp_path("vc_back.mvx"), "auto", ""});
+  ImportReport r =
+      import_symvox(dev, {temp_path("vc.svdag"), temp_path("vc_back.mvx"), SymvoxConvention::automatic, {}});
   EXPECT_EQ(r.convention, "voxcom");
   MvxFile back = read_mvx(temp_path("vc_back.mvx"));
   EXPECT_TRUE(decode_encoded(back.dag) == keys);
   EXPECT_DOUBLE_EQ(back.grid.origin[0], 0);
   EXPECT_DOUBLE_EQ(back.grid.voxel_size, 1);
   // The same file forced to SymVox's convention keeps the count and moves the voxels.
-  import_symvox(dev, {temp_path("vc.svdag"), temp_path("vc_sym.mvx"), "symvox", ""});
+  import_symvox(dev, {temp_path("vc.svdag"), temp_path("vc_sym.mvx"), SymvoxConvention::symvox, {}});
   auto as_symvox = decode_encoded(read_mvx(temp_path("vc_sym.mvx")).dag);
   EXPECT_EQ(as_symvox.size(), keys.size());
   EXPECT_FALSE(as_symvox == keys);
@@ -230,7 +231,7 @@ TEST_P(SymVoxTest, CorruptAndTruncatedFilesAreClearErrors) {
   std::mt19937 rng(9);
   for (const char* layout : kLayouts) {
     const std::string good = temp_path("good.bin"), bad = temp_path("bad.bin");
-    export_mvx(dev, {mvx, good, layout});
+    export_mvx(dev, {mvx, good, parse_export_format(layout)});
     const std::vector<char> bytes = file_bytes(good);
     auto outcome = [&](const std::vector<char>& b) {
       write_bytes(bad, b);
@@ -256,7 +257,7 @@ TEST_P(SymVoxTest, CorruptAndTruncatedFilesAreClearErrors) {
     EXPECT_EQ(outcome(extra), 0) << layout;
   }
   // A pointer back to the root (a cycle) and one past the end.
-  export_mvx(dev, {mvx, temp_path("p.svdag"), "symvox-svdag"});
+  export_mvx(dev, {mvx, temp_path("p.svdag"), ExportFormat::symvox_svdag});
   std::vector<char> b = file_bytes(temp_path("p.svdag"));
   for (uint32_t target : {0u, 0x7fffffffu}) {
     std::vector<char> c = b;
@@ -273,8 +274,8 @@ TEST_P(VdbExportTest, OpenVdbAndNanoVdbHoldTheSameActiveVoxels) {
   Device& dev = shared_device(GetParam());
   auto keys = voxel_sets(6)[1].second;
   const std::string mvx = write_mvx_of(dev, keys, 6, "svdag", "v.mvx");
-  export_mvx(dev, {mvx, temp_path("v.vdb"), "vdb"});
-  export_mvx(dev, {mvx, temp_path("v.nvdb"), "nvdb"});
+  export_mvx(dev, {mvx, temp_path("v.vdb"), ExportFormat::vdb});
+  export_mvx(dev, {mvx, temp_path("v.nvdb"), ExportFormat::nvdb});
   openvdb::initialize();
   openvdb::io::File file(temp_path("v.vdb"));
   file.open();
@@ -315,7 +316,7 @@ TEST_P(VdbExportTest, OpenVdbAndNanoVdbHoldTheSameActiveVoxels) {
   BuildReport r = build_mvx(dev, o);
   EXPECT_EQ(r.voxels, keys.size());
   EXPECT_EQ(r.vdb_class, "mask");
-  EXPECT_THROW(export_mvx(dev, {mvx, temp_path("x"), "obj"}), Error);
+  EXPECT_THROW(parse_export_format("obj"), CodedError);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(SymVoxTest);

@@ -21,6 +21,7 @@
 #include "megavox/point_build.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"
+#include "option_words.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -209,7 +210,7 @@ TEST_P(IoFaults, BuildFromVdb) {
   BuildOptions o;
   o.input = dir + "/in.vdb";
   o.output = dir + "/from_vdb.mvx";
-  export_mvx(dev(), ExportOptions{b.output, o.input, "vdb"});
+  export_mvx(dev(), ExportOptions{b.output, o.input, ExportFormat::vdb});
   EXPECT_GT(sweep(dir, o.output, [&] { build_mvx(dev(), o); }), 4u);
 }
 
@@ -229,11 +230,11 @@ TEST_P(IoFaults, ExportAndImport) {
   build_mvx(dev(), b);
   for (const char* format : {"symvox-ssvdag", "symvox-svdag", "vdb"}) {
     SCOPED_TRACE(format);
-    const ExportOptions e{b.output, dir + "/out." + std::string(format), format};
-    const bool vdb = e.format == "vdb";
+    const ExportOptions e{b.output, dir + "/out." + std::string(format), parse_export_format(format)};
+    const bool vdb = e.format == ExportFormat::vdb;
     EXPECT_GT(sweep(dir, e.output, [&] { export_mvx(dev(), e); }, vdb ? vdb_voxels : output_bytes), 2u);
   }
-  const ExportOptions e{b.output, dir + "/in.ssvdag", "symvox-ssvdag"};
+  const ExportOptions e{b.output, dir + "/in.ssvdag", ExportFormat::symvox_ssvdag};
   export_mvx(dev(), e);
   ImportOptions i;
   i.input = e.output;

@@ -78,10 +78,15 @@ TEST(PointsRender, BadOptionsAreClearErrors) {
   EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("pixels"), std::string::npos);
   o = {};
   o.up = std::array<double, 3>{0, 0, 0};
-  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("--up"), std::string::npos);
+  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("the up direction"), std::string::npos);
   o = {};
   o.fov = 0;
-  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("--fov"), std::string::npos);
+  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("the field of view"), std::string::npos);
+  try {
+    points::splat_frame(h, o);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.settings, setting_fov);  // the CLI names it --fov
+  }
 }
 
 // --up as a vector: the file's own axis gives the default camera bit for bit; a tilted one, another camera. An eye
@@ -113,7 +118,7 @@ TEST(PointsRender, UpVectorsAndEyes) {
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(f.params.rot[i], e.params.rot[i], 2) << i;
   EXPECT_LT(e.params.eye_y, f.params.eye_y);
   eye.up = std::array<double, 3>{0, 1, 0};  // along the view
-  EXPECT_NE(error_message([&] { points::splat_frame(h, eye); }).find("--up"), std::string::npos);
+  EXPECT_NE(error_message([&] { points::splat_frame(h, eye); }).find("the up direction"), std::string::npos);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PointsRenderTest);

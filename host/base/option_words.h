@@ -7,6 +7,7 @@
 
 #include "megavox/encode.h"
 #include "megavox/error.h"
+#include "megavox/interop.h"
 #include "megavox/point_build.h"
 #include "megavox/voxelize.h"
 
@@ -41,5 +42,40 @@ inline PointOutput parse_point_output(std::string_view word) {
                    setting_encoding);
 }
 inline const char* point_output_name(PointOutput o) { return o == PointOutput::tiles3d ? "3dtiles" : "mvx"; }
+
+// "symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb" or "nvdb" (also output_path.h's format names).
+inline ExportFormat parse_export_format(std::string_view word) {
+  if (word == "symvox-svdag") return ExportFormat::symvox_svdag;
+  if (word == "symvox-ussvdag") return ExportFormat::symvox_ussvdag;
+  if (word == "symvox-ssvdag") return ExportFormat::symvox_ssvdag;
+  if (word == "vdb") return ExportFormat::vdb;
+  if (word == "nvdb") return ExportFormat::nvdb;
+  throw CodedError(ErrorCode::invalid_argument,
+                   "export format '" + std::string(word) +
+                       "': choose symvox-svdag, symvox-ussvdag, symvox-ssvdag, vdb or nvdb",
+                   setting_encoding);
+}
+inline const char* export_format_name(ExportFormat f) {
+  switch (f) {
+    case ExportFormat::symvox_svdag: return "symvox-svdag";
+    case ExportFormat::symvox_ussvdag: return "symvox-ussvdag";
+    case ExportFormat::symvox_ssvdag: return "symvox-ssvdag";
+    case ExportFormat::vdb: return "vdb";
+    case ExportFormat::nvdb: return "nvdb";
+  }
+  return "?";
+}
+
+// "auto", "symvox" or "voxcom".
+inline SymvoxConvention parse_symvox_convention(std::string_view word) {
+  if (word == "auto") return SymvoxConvention::automatic;
+  if (word == "symvox") return SymvoxConvention::symvox;
+  if (word == "voxcom") return SymvoxConvention::voxcom;
+  throw CodedError(ErrorCode::invalid_argument,
+                   "convention '" + std::string(word) + "': choose auto, symvox or voxcom");
+}
+inline const char* symvox_convention_name(SymvoxConvention c) {
+  return c == SymvoxConvention::voxcom ? "voxcom" : c == SymvoxConvention::symvox ? "symvox" : "auto";
+}
 
 }  // namespace mv

@@ -30,6 +30,11 @@ enum Setting : uint32_t {
   setting_max_node_points = 1u << 13,  // "the node point limit"
   setting_no_clobber = 1u << 14,    // "replacing outputs was refused"
   setting_frames = 1u << 15,        // "the frame count" (pictures during a point build)
+  setting_eye = 1u << 16,           // "the eye" (a camera's position)
+  setting_target = 1u << 17,        // "the target" (where a camera looks)
+  setting_up = 1u << 18,            // "the up direction"
+  setting_fov = 1u << 19,           // "the field of view"
+  setting_view = 1u << 20,          // "the preset view" (front, iso, ...)
 };
 inline Setting operator|(Setting a, Setting b) { return static_cast<Setting>(uint32_t(a) | uint32_t(b)); }
 

@@ -1,9 +1,11 @@
 // megavox — files other tools read and write: SymVox-family DAGs in and out, OpenVDB / NanoVDB out.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "megavox/device.h"
+#include "megavox/encode.h"
 
 namespace mv {
 
@@ -14,8 +16,10 @@ namespace mv {
 //   vdb             an OpenVDB mask grid "voxels" (one active voxel per voxel, world transform kept);
 //   nvdb            the same grid as NanoVDB.
 // An .mvx already in the wanted encoding is written as is; otherwise its voxels are decoded and rebuilt.
+enum class ExportFormat { symvox_svdag, symvox_ussvdag, symvox_ssvdag, vdb, nvdb };
 struct ExportOptions {
-  std::string input, output, format;
+  std::string input, output;
+  ExportFormat format = ExportFormat::symvox_svdag;
   bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
 };
 struct ExportReport {
@@ -35,10 +39,11 @@ std::string check_output(const ExportOptions& options);
 // Morton child order x + 2y + 4z and the cube at the bbox's min corner, in voxel units), or auto: voxcom when
 // the bbox starts at 0 and the root side is the grid's resolution, else symvox. The voxels are rebuilt into
 // `format` (default: the file's own layout).
+enum class SymvoxConvention { automatic, symvox, voxcom };
 struct ImportOptions {
   std::string input, output;
-  std::string convention = "auto";
-  std::string format;  // svdag | ussvdag | ssvdag; empty: the file's layout
+  SymvoxConvention convention = SymvoxConvention::automatic;
+  std::optional<Encoding> encoding;  // svdag, ussvdag or ssvdag; none: the file's layout
   bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
 };
 struct ImportReport {

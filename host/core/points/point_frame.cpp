@@ -27,7 +27,9 @@ double get(const Vec& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
 Vec up_direction(const PointHierarchy& h, const PointRenderOptions& o) {
   if (!o.up) return h.source.z_up ? Vec{0, 0, 1} : Vec{0, 1, 0};
   const Vec v{(*o.up)[0], (*o.up)[1], (*o.up)[2]};
-  if (!(dot(v, v) > 0) || !std::isfinite(dot(v, v))) throw Error("points render: the up direction must be a direction, not 0,0,0");
+  if (!(dot(v, v) > 0) || !std::isfinite(dot(v, v)))
+    throw CodedError(ErrorCode::invalid_argument, "points render: the up direction must be a direction, not 0,0,0",
+                     setting_up);
   return v;
 }
 
@@ -77,8 +79,11 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw Error("points render: the image must be 1-16384 pixels wide and high, not " + std::to_string(o.width) + "x" +
                 std::to_string(o.height));
-  if (!(o.fov > 1 && o.fov < 170)) throw Error("points render: the field of view must lie between 1 and 170 degrees");
-  if (!(o.lod_pixels >= 0)) throw CodedError(ErrorCode::invalid_argument, "points render: the level-of-detail pixel size must be 0 or more",
+  if (!(o.fov > 1 && o.fov < 170))
+    throw CodedError(ErrorCode::invalid_argument, "points render: the field of view must lie between 1 and 170 degrees",
+                     setting_fov);
+  if (!(o.lod_pixels >= 0)) throw CodedError(ErrorCode::invalid_argument,
+                   "points render: the level-of-detail pixel size must be 0 or more",
                                                  setting_lod_pixels);
   // Camera space in cells scaled per axis by the input's scale over the largest (the cube is square in input
   // units, which LAS may scale differently per axis).
@@ -115,7 +120,9 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
     if (o.target) target = point_to_cell(*o.target);
     cam.eye = point_to_cell(*o.eye);
   } else {
-    if (o.target) throw Error("points render: a target needs an eye (or use a preset view)");
+    if (o.target)
+      throw CodedError(ErrorCode::invalid_argument, "points render: a target needs an eye (or use a preset view)",
+                       setting_target | setting_eye);
     // The front view's direction towards the eye and its right, for the axis nearest up, made square to up.
     Vec toward;
     if (up == 2) at(toward, 1) = -1;  // z up: front from -Y
@@ -129,17 +136,24 @@ Camera make_camera(const PointHierarchy& h, const PointRenderOptions& o, const F
     else if (o.view == "left") dir = right_v * -1;
     else if (o.view == "top") dir = upv;
     else if (o.view == "iso") dir = unit(toward + right_v * 0.8 + upv * 0.7);
-    else throw Error("points render: unknown view '" + o.view + "' (front, back, left, right, top, iso)");
+    else
+      throw CodedError(ErrorCode::invalid_argument,
+                       "points render: unknown view '" + o.view + "' (front, back, left, right, top, iso)",
+                       setting_view);
     cam.eye = centre + dir * (radius / std::sin(half) * 1.02);
     if (o.view == "top") cam_up = toward * -1;
   }
   // The depth range covers the framed box from the eye.
   cam.dist = std::sqrt(dot(centre - cam.eye, centre - cam.eye));
   const Vec view = target - cam.eye;
-  if (!(dot(view, view) > 0)) throw Error("points render: the eye and the target are the same point");
+  if (!(dot(view, view) > 0))
+    throw CodedError(ErrorCode::invalid_argument, "points render: the eye and the target are the same point",
+                     setting_eye | setting_target);
   cam.fwd = unit(view);
   const Vec side = cross(cam.fwd, cam_up);
-  if (!(dot(side, side) > 1e-12)) throw Error("points render: the up direction points along the view; give another");
+  if (!(dot(side, side) > 1e-12))
+    throw CodedError(ErrorCode::invalid_argument, "points render: the up direction points along the view; give another",
+                     setting_up);
   cam.cam_x = unit(side);
   cam.cam_y = cross(cam.cam_x, cam.fwd);
   cam.focal = (o.height / 2.0) / std::tan(half);

@@ -55,7 +55,10 @@ Camera view_camera(const Bounds& b, const std::string& view, double fov) {
   else if (view == "right") dir = {1, 0, 0};
   else if (view == "top") dir = {0, 1, 0}, up = {0, 0, -1};
   else if (view == "iso") dir = normalize(Vec{1, 1, 1});
-  else throw Error("unknown view '" + view + "' (choose front, back, left, right, top or iso)");
+  else
+    throw CodedError(ErrorCode::invalid_argument,
+                     "unknown view '" + view + "' (choose front, back, left, right, top or iso)",
+                     setting_view);
   // The bounding sphere fits the vertical field of view, with a small margin.
   double dist = 1.05 * radius / std::sin(0.5 * fov * std::numbers::pi / 180);
   Camera cam;
@@ -73,9 +76,13 @@ FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera&
   if (o.width == 0 || o.height == 0 || o.width > 16384 || o.height > 16384)
     throw Error("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                 " is outside 1..16384 pixels per side");
-  if (!(camera.fov > 0 && camera.fov < 180)) throw Error("the field of view must lie between 0 and 180 degrees");
+  if (!(camera.fov > 0 && camera.fov < 180))
+    throw CodedError(ErrorCode::invalid_argument, "the field of view must lie between 0 and 180 degrees",
+                     setting_fov);
   if (!(o.lod_pixels >= 0))
-    throw CodedError(ErrorCode::invalid_argument, "the level-of-detail pixel size must be 0 or more", setting_lod_pixels);
+
+      throw CodedError(ErrorCode::invalid_argument, "the level-of-detail pixel size must be 0 or more",
+                       setting_lod_pixels);
   if (!(o.ao_radius >= 0) || !std::isfinite(o.ao_radius))
     throw CodedError(ErrorCode::invalid_argument,
                      "the ambient-occlusion radius must be a finite number of model units, 0 or more (0: 1/20 of the grid)",
@@ -83,10 +90,14 @@ FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera&
   if (o.ao_samples > kAoTable) throw Error("at most " + std::to_string(kAoTable) + " ambient-occlusion samples");
   Vec eye = vec(camera.eye), target = vec(camera.target), up = vec(camera.up);
   Vec view = sub(target, eye);
-  if (!(dot(view, view) > 0)) throw Error("the camera's eye and target coincide");
+  if (!(dot(view, view) > 0))
+    throw CodedError(ErrorCode::invalid_argument, "the camera's eye and target coincide",
+                     setting_eye | setting_target);
   Vec fwd = normalize(view);
   Vec right = cross(fwd, up);
-  if (!(dot(right, right) > 1e-20)) throw Error("the camera's up vector is parallel to its view direction");
+  if (!(dot(right, right) > 1e-20))
+    throw CodedError(ErrorCode::invalid_argument, "the camera's up vector is parallel to its view direction",
+                     setting_up);
   right = normalize(right);
   Vec upv = cross(right, fwd);
 

@@ -84,8 +84,8 @@ void check_mesh_memory(const BuildOptions& o, const io::MeshSource& mesh) {
                         std::min<uint64_t>(triangles, batch_triangles(o)) * 48;
   if (need > memory_budget(o))
     throw CodedError(ErrorCode::out_of_memory,
-                     o.input + ": the mesh needs about " + format_bytes(need) + " of host memory, over the host memory budget " +
-                         format_bytes(memory_budget(o)),
+                     o.input + ": the mesh needs about " + format_bytes(need) +
+                         " of host memory, over the host memory budget " + format_bytes(memory_budget(o)),
                      setting_host_memory);
 }
 
@@ -219,8 +219,8 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
 BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                               const Report& report, const Lap& lap, const PlanListener& on_plan) {
   if (o.cube < 8 || (o.cube & (o.cube - 1)))
-    throw CodedError(ErrorCode::invalid_argument, "cube size " + std::to_string(o.cube) + " must be a power of two >= 8",
-                     setting_cube);
+    throw CodedError(ErrorCode::invalid_argument,
+                     "cube size " + std::to_string(o.cube) + " must be a power of two >= 8", setting_cube);
   check_cube_table(o, resolution);
   MeshSurvey survey = survey_mesh(o, &r);
   const GridTransform grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
@@ -375,7 +375,8 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   Dag dag = build_dag_for_format(dev, voxels.bricks, levels, o.encoding, &times);
   voxels = {};
   r.seconds.push_back({"svo", times.svo_seconds});
-  r.seconds.push_back({o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
+  r.seconds.push_back(
+      {o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
   encode_and_write(dag, o, grid, bounds, r, lap);
   return r;

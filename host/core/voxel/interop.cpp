@@ -18,18 +18,19 @@ namespace mv {
 
 namespace {
 
-const char* symvox_encoding(const std::string& format) {
-  if (format == "symvox-svdag") return "svdag";
-  if (format == "symvox-ussvdag") return "ussvdag";
-  if (format == "symvox-ssvdag") return "ssvdag";
-  return nullptr;
+std::optional<Encoding> symvox_encoding(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::symvox_svdag: return Encoding::svdag;
+    case ExportFormat::symvox_ussvdag: return Encoding::ussvdag;
+    case ExportFormat::symvox_ssvdag: return Encoding::ssvdag;
+    default: return std::nullopt;
+  }
 }
 
 // The file's contents in `format`: as stored when it already is, else decoded and rebuilt.
-MvxFile in_format(Device& dev, MvxFile in, const std::string& format, bool& rebuilt) {
-  if (encoding_name(in.dag.encoding) == format) return in;
+MvxFile in_format(Device& dev, MvxFile in, Encoding encoding, bool& rebuilt) {
+  if (in.dag.encoding == encoding) return in;
   rebuilt = true;
-  const Encoding encoding = parse_encoding(format);
   Dag dag = build_dag_for_format(dev, decode_encoded(in.dag), in.dag.levels, encoding);
   return mvx_for_dag(dag, encoding, in.grid, in.bounds);
 }
@@ -51,7 +52,8 @@ void symvox_box(const MvxFile& in, io::SymvoxFile& out) {
 }  // namespace
 
 std::string check_output(const ExportOptions& o) {
-  return io::resolve_output({o.output, io::OutputKind::kFile, o.format, {o.input}, 0, o.no_clobber});
+  return io::resolve_output(
+      {o.output, io::OutputKind::kFile, export_format_name(o.format), {o.input}, 0, o.no_clobber});
 }
 
 std::string check_output(const ImportOptions& o) {
@@ -59,24 +61,22 @@ std::string check_output(const ImportOptions& o) {
 }
 
 ExportReport export_mvx(Device& dev, const ExportOptions& o) {
-  ExportReport r{o.input, o.output, o.format};
-  const char* encoding = symvox_encoding(o.format);
-  if (!encoding && o.format != "vdb" && o.format != "nvdb")
-    throw CodedError(ErrorCode::invalid_argument, "export format " + o.format + ": choose symvox-svdag, symvox-ussvdag, symvox-ssvdag, vdb or nvdb", setting_encoding);
+  ExportReport r{o.input, o.output, export_format_name(o.format)};
+  const std::optional<Encoding> encoding = symvox_encoding(o.format);
   const std::string output = check_output(o);
   MvxFile in = read_mvx(o.input);
   r.voxels = in.voxels;
   if (!encoding) {
-    io::write_voxel_grid(output, decode_encoded(in.dag), in.grid, o.format == "nvdb");
+    io::write_voxel_grid(output, decode_encoded(in.dag), in.grid, o.format == ExportFormat::nvdb);
   } else {
-    MvxFile dag = in_format(dev, std::move(in), encoding, r.rebuilt);
+    MvxFile dag = in_format(dev, std::move(in), *encoding, r.rebuilt);
     io::SymvoxFile out;
     out.levels = dag.dag.levels;
     symvox_box(dag, out);
     // SymVox counts every node of levels 1..L, the root only in its .svdag.
     uint64_t nodes = 0;
     for (size_t l = 1; l < dag.dag_nodes.size(); ++l) nodes += dag.dag_nodes[l];
-    if (std::string(encoding) != "svdag") nodes -= 1;
+    if (*encoding != Encoding::svdag) nodes -= 1;
     out.dag = std::move(dag.dag);
     out.nodes = static_cast<uint32_t>(std::min<uint64_t>(nodes, UINT32_MAX));
     io::write_symvox(output, out);
@@ -86,8 +86,6 @@ ExportReport export_mvx(Device& dev, const ExportOptions& o) {
 }
 
 ImportReport import_symvox(Device& dev, const ImportOptions& o) {
-  if (o.convention != "auto" && o.convention != "symvox" && o.convention != "voxcom")
-    throw CodedError(ErrorCode::invalid_argument, "convention " + o.convention + ": choose auto, symvox or voxcom");
   const std::string output = check_output(o);
   io::SymvoxFile f = io::read_symvox(o.input);
   ImportReport r;
@@ -99,13 +97,17 @@ ImportReport import_symvox(Device& dev, const ImportOptions& o) {
   const double resolution = std::ldexp(1.0, int(f.levels));
   const bool looks_voxcom = f.bbox_min[0] == 0 && f.bbox_min[1] == 0 && f.bbox_min[2] == 0 &&
                             std::abs(f.root_side - resolution) <= 1e-3 * resolution;
-  r.convention = o.convention == "auto" ? (looks_voxcom ? "voxcom" : "symvox") : o.convention;
-  r.format = o.format.empty() ? r.layout : o.format;
-  if (r.format != "svdag" && r.format != "ussvdag" && r.format != "ssvdag")
-    throw CodedError(ErrorCode::invalid_argument, "encoding " + r.format + ": choose svdag, ussvdag or ssvdag", setting_encoding);
+  const SymvoxConvention convention = o.convention != SymvoxConvention::automatic ? o.convention
+                                      : looks_voxcom                               ? SymvoxConvention::voxcom
+                                                                                   : SymvoxConvention::symvox;
+  r.convention = symvox_convention_name(convention);
+  const Encoding encoding = o.encoding.value_or(f.dag.encoding);
+  if (encoding == Encoding::svo)
+    throw CodedError(ErrorCode::invalid_argument, "encoding svo: choose svdag, ussvdag or ssvdag", setting_encoding);
+  r.format = encoding_name(encoding);
 
   std::vector<uint64_t> keys = decode_encoded(f.dag);
-  const bool voxcom = r.convention == "voxcom";
+  const bool voxcom = convention == SymvoxConvention::voxcom;
   if (voxcom) {  // its Morton child order reads as the model with x and z swapped: swap them back
     for (uint64_t& k : keys) k = mv_morton3_64(mv_morton3_64_axis(k, 2), mv_morton3_64_axis(k, 1), mv_morton3_64_axis(k, 0));
     std::sort(keys.begin(), keys.end());
@@ -119,7 +121,6 @@ ImportReport import_symvox(Device& dev, const ImportOptions& o) {
     bounds.lo[a] = f.bbox_min[a];
     bounds.hi[a] = f.bbox_max[a];
   }
-  const Encoding encoding = parse_encoding(r.format);
   Dag dag = build_dag_for_format(dev, keys, f.levels, encoding);
   MvxFile out = mvx_for_dag(dag, encoding, grid, bounds);
   write_mvx(output, out);

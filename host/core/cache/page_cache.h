@@ -3,7 +3,7 @@
 // traversal), and the data-parallel update pass that runs after each pass (kernels/common/page_cache.h):
 // a stable LRU partition of the slots, the unique list of missing requested pages capped to the slots unused
 // in the pass, eviction of the victims' old pages, one batch from the producer, and publication of the pages
-// it produced. Notes: ../shared/notes/gigavoxels-cache.md, sections 5-6.
+// it produced: GigaVoxels' cache (Crassin, "GigaVoxels", PhD thesis, 2011, ch. 7, §7.3), as data-parallel passes.
 #pragma once
 #include <cstdint>
 #include <functional>

@@ -1,4 +1,4 @@
-// Scoring masks against the GrabCut database's ground truth (DESIGN.md, "Masks"): the error is misclassified
+// Scoring masks against the GrabCut database's ground truth (docs/masks.md): the error is misclassified
 // labelled pixels over labelled pixels (truth 0 or 255; the 128 band of mixed pixels excluded), and a box start
 // is the truth's foreground bounding box enlarged by 5 % of its width / height per side (rounded), clipped to
 // the image, inset by one pixel on every side where it would cover the whole image.

@@ -1,4 +1,4 @@
-// OMiCroN's rendering front (da Silva et al., Sec. 6; ../shared/notes/omicron.md §7) over a growing
+// OMiCroN's rendering front (da Silva et al., "OMiCroN", Sec. 6) over a growing
 // OmicronBuilder: the nodes a frame draws, kept across frames and changed in place as the lists grow, instead
 // of a fresh cut of the whole forest per frame.
 //

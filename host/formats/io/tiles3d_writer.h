@@ -10,7 +10,7 @@ namespace mv::io {
 // Writes the tileset for `h` into DIR (replacing an earlier tileset there; see write_dir_atomically).
 //   - Tiles nest as the nodes do, refine REPLACE: a leaf holds all of its points, an inner node its
 //     representatives, so the leaves' POINTS_LENGTH add up to h.points_kept.
-//   - Coordinates are the input's own (world = offset + scale * xyz, DESIGN.md "Point clouds"): RTC_CENTER is
+//   - Coordinates are the input's own (world = offset + scale * xyz, docs/points.md): RTC_CENTER is
 //     the node's cube centre (double), POSITION float32 relative to it; boundingVolume.box is the node's cube.
 //   - RGB (with kPointRgb): the stored values where none of the cloud's exceeds 255, else value >> 8 (16-bit
 //     colour, as LAS stores it).

@@ -1,6 +1,6 @@
 // megavox — point clouds: the columns a reader delivers and the LOD hierarchy the builder makes of them.
 //
-// Positions are integers on the input's own grid (DESIGN.md, "Point clouds"): world = offset + scale * xyz per
+// Positions are integers on the input's own grid (docs/points.md): world = offset + scale * xyz per
 // axis, in double. A LAS file's grid is its header's scale and offset; a float PLY's is chosen from the data's
 // precision (io/point_source.h). Attributes travel with their point as parallel columns.
 // No device types: readers and reference code use these alone.

@@ -149,7 +149,6 @@ nlohmann::json cloud_json(const Cloud& c, const DeviceInfo& device, double open_
           {"potree_status", kPotreeStatus},
           {"sort_runs", p.build.sort.runs},
           {"steps", p.build.steps},
-          {"host_groups", p.build.host_groups},
           {"device_open_seconds", open_seconds},
           {"warmup_seconds", warmup_seconds}};
 }

@@ -43,8 +43,7 @@ nlohmann::json report_json(const PointFileReport& r) {
             {"total", r.total_seconds}}},
           {"points_per_second", r.points_per_second},
           {"sort_runs", r.sort_runs},
-          {"out_of_core", r.out_of_core},
-          {"host_groups", r.build.host_groups}};
+          {"out_of_core", r.out_of_core}};
 }
 
 void print_levels(const std::vector<uint64_t>& per_level) {

@@ -60,6 +60,8 @@ TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   expect_same_layout(dev, offsets, TestKernelId::probe_min_cut_params, mv_probe_min_cut_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_min_cut_regions_params, mv_probe_min_cut_regions_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_mask_post_params, mv_probe_mask_post_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_seg_params, mv_probe_seg_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_rep_params, mv_probe_rep_params);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(LayoutTest);

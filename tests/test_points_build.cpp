@@ -90,6 +90,26 @@ TEST_P(PointsBuildTest, RepresentativesMatchTheReference) {
   }
 }
 
+// Parents far larger than one loop may run on lavapipe, one of them a single cell: the selection is spread over
+// candidates, so they need no other path.
+TEST_P(PointsBuildTest, ParentsOfHundredsOfThousandsOfCandidates) {
+  Device& dev = shared_device(GetParam());
+  std::mt19937_64 rng(5);
+  std::vector<uint64_t> codes;
+  std::vector<uint32_t> bounds{0};
+  for (uint64_t mask : {(uint64_t{1} << 30) - 1, uint64_t{0}, uint64_t{0xffff}}) {
+    std::vector<uint64_t> c(150000 + rng() % 1000);
+    for (auto& v : c) v = (rng() & mask) | (uint64_t{bounds.size()} << 40);
+    std::sort(c.begin(), c.end());
+    codes.insert(codes.end(), c.begin(), c.end());
+    bounds.push_back(static_cast<uint32_t>(codes.size()));
+  }
+  for (uint32_t cap : {1u, 300u, 100000u}) {
+    points::RepSelection got = points::select_representatives(dev, codes, bounds, 12, cap);
+    ASSERT_EQ(got.positions, ref::representatives(codes, bounds, 12, cap)) << "cap " << cap;
+  }
+}
+
 TEST_P(PointsBuildTest, MatchesTheTopDownReference) {
   Device& dev = shared_device(GetParam());
   struct Case {

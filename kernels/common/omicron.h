@@ -1,12 +1,32 @@
-/* The OMiCroN builder's representatives (host side: host/core/points/omicron.cpp, through point_kernels.cpp): for
- * each parent a level gives its children, the points it keeps, one per occupied cell of its sub-grid.
- *   omicron_rep_count:  per parent (a group of candidates in Morton order), the occupied cells of its sub-grid,
- *                       capped: how many representatives it keeps;
- *   omicron_rep_select: per parent, the candidate nearest each kept cell's centre (the first of equals).
+/* The OMiCroN builder's representatives (host side: host/core/points/omicron_representatives.cpp): for each
+ * parent a level gives its children, the points it keeps, one per occupied cell of its sub-grid. A batch's
+ * candidates are the parents' candidates one after another, each parent's sorted: its sub-grid cells (code >>
+ * cell_bits) are runs, which also break where a parent starts, so the cells are runs of the whole batch
+ * (segmented.h) and every step is spread over candidates or cells, whatever a parent holds:
+ *   omicron_rep_heads:    sets the cell head flag where each parent starts;
+ *   omicron_rep_distance: per candidate, its distance to its cell's centre (then a segmented arg-min per cell);
+ *   omicron_rep_keep:     per cell, whether its parent keeps it (at most cap cells per parent, spread evenly);
+ *   omicron_rep_compact:  the kept cells' nearest candidates, in order (positions from a scan of the keep flags);
+ *   omicron_rep_offsets:  per parent, where its representatives start.
  * Everything is integer arithmetic on the Morton codes, so every device picks the same points. */
 #ifndef MV_OMICRON_H
 #define MV_OMICRON_H
-#include "points.h"
+#include "mv_lang.h"
+#include "morton.h"
+
+MV_STRUCT_BEGIN(MvRepParams)
+  mv_u32 n;          /* candidates in the batch */
+  mv_u32 cells;      /* occupied sub-grid cells in the batch */
+  mv_u32 groups;     /* parents in the batch */
+  mv_u32 cell_bits;  /* 3 x the bits per axis below a sub-grid cell (a cell id is code >> cell_bits) */
+  mv_u32 cap;        /* most representatives per parent */
+  mv_u32 pad0;
+MV_STRUCT_END(MvRepParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvRepParams, 24);
+MV_LAYOUT_AT(MvRepParams, n, 0); MV_LAYOUT_AT(MvRepParams, cells, 4); MV_LAYOUT_AT(MvRepParams, groups, 8);
+MV_LAYOUT_AT(MvRepParams, cell_bits, 12); MV_LAYOUT_AT(MvRepParams, cap, 16); MV_LAYOUT_AT(MvRepParams, pad0, 20);
+#endif
 
 /* Squared distance, in units of half a finest cell, from the centre of code's finest cell to the centre of the
  * sub-grid cell holding it (side 2^(cell_bits / 3) finest cells). */
@@ -28,54 +48,48 @@ MV_INLINE bool mv_rep_keeps(mv_u32 j, mv_u32 cells, mv_u32 cap) {
   return (MV_U64(j + 1u) * MV_U64(cap)) / MV_U64(cells) > (MV_U64(j) * MV_U64(cap)) / MV_U64(cells);
 }
 
-/* Parent g's candidates are codes[bounds[g], bounds[g + 1]), sorted. cells[g] = occupied cells, kept[g] = how
- * many it keeps. */
-MV_INLINE void mv_omicron_rep_count(MvBufU64 codes, MvBufU32 bounds, MvBufU32 cells, MvBufU32 kept,
-                                    MvPointParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 g = gid; g < p.n; g += stride) {
+MV_INLINE void mv_omicron_rep_heads(MvBufU32 bounds, MvBufU32 heads, MvRepParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 g = gid; g < p.groups; g += stride) {
     mv_u32 b = MV_LD(bounds, g);
-    mv_u32 e = MV_LD(bounds, g + 1u);
-    mv_u32 count = 0u;
-    for (mv_u32 i = b; i < e; ++i)
-      if (i == b || (MV_LD(codes, i) >> p.cell_bits) != (MV_LD(codes, i - 1u) >> p.cell_bits)) count += 1u;
-    MV_ST(cells, g, count);
-    MV_ST(kept, g, MV_MIN(count, p.cap));
+    if (b < p.n) MV_ST(heads, b, 1u);
   }
 }
 
-/* dst[offsets[g] + k] = the candidate position (an index into codes) of parent g's k-th kept cell. */
-MV_INLINE void mv_omicron_rep_select(MvBufU64 codes, MvBufU32 bounds, MvBufU32 cells, MvBufU32 offsets,
-                                     MvBufU32 dst, MvPointParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 g = gid; g < p.n; g += stride) {
-    mv_u32 b = MV_LD(bounds, g);
-    mv_u32 e = MV_LD(bounds, g + 1u);
-    mv_u32 total = MV_LD(cells, g);
-    mv_u32 o = MV_LD(offsets, g);
-    if (e == b) continue;
-    mv_u32 j = 0u;
-    mv_u32 best = b;
-    mv_u64 best_d = mv_rep_distance(MV_LD(codes, b), p.cell_bits);
-    for (mv_u32 i = b + 1u; i <= e; ++i) {
-      bool new_cell = i == e || (MV_LD(codes, i) >> p.cell_bits) != (MV_LD(codes, i - 1u) >> p.cell_bits);
-      if (new_cell) {
-        if (mv_rep_keeps(j, total, p.cap)) {
-          MV_ST(dst, o, best);
-          o += 1u;
-        }
-        j += 1u;
-        if (i < e) {
-          best = i;
-          best_d = mv_rep_distance(MV_LD(codes, i), p.cell_bits);
-        }
-      } else {
-        mv_u64 d = mv_rep_distance(MV_LD(codes, i), p.cell_bits);
-        if (d < best_d) {
-          best = i;
-          best_d = d;
-        }
-      }
+MV_INLINE void mv_omicron_rep_distance(MvBufU64 codes, MvBufU64 dist, MvRepParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) MV_ST(dist, i, mv_rep_distance(MV_LD(codes, i), p.cell_bits));
+}
+
+/* Parent g's candidates are [bounds[g], bounds[g + 1]); e is the cells' segmentation of the candidates and
+ * starts their first candidates. keep[c] = 1 where cell c is kept. The parent of a cell is found by binary
+ * search over the bounds (at most 32 steps). */
+MV_INLINE void mv_omicron_rep_keep(MvBufU32 bounds, MvBufU32 e, MvBufU32 starts, MvBufU32 keep, MvRepParams p,
+                                   mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 c = gid; c < p.cells; c += stride) {
+    mv_u32 at = MV_LD(starts, c);
+    mv_u32 lo = 0u;
+    mv_u32 hi = p.groups;  /* the parent is the last g < groups with bounds[g] <= at */
+    while (hi - lo > 1u) {
+      mv_u32 mid = (lo + hi) / 2u;
+      if (MV_LD(bounds, mid) <= at) lo = mid;
+      else hi = mid;
     }
+    mv_u32 first = MV_LD(e, MV_LD(bounds, lo));
+    mv_u32 cells = MV_LD(e, MV_LD(bounds, lo + 1u)) - first;
+    MV_ST(keep, c, mv_rep_keeps(c - first, cells, p.cap) ? 1u : 0u);
   }
+}
+
+/* dst[pos[c]] = nearest[c] for every kept cell c. */
+MV_INLINE void mv_omicron_rep_compact(MvBufU32 keep, MvBufU32 pos, MvBufU32 nearest, MvBufU32 dst, MvRepParams p,
+                                      mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 c = gid; c < p.cells; c += stride)
+    if (MV_LD(keep, c) != 0u) MV_ST(dst, MV_LD(pos, c), MV_LD(nearest, c));
+}
+
+/* offsets[g] = pos[first cell of parent g], for g = 0 .. groups (the last: the batch's total). */
+MV_INLINE void mv_omicron_rep_offsets(MvBufU32 bounds, MvBufU32 e, MvBufU32 pos, MvBufU32 offsets, MvRepParams p,
+                                      mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 g = gid; g <= p.groups; g += stride) MV_ST(offsets, g, MV_LD(pos, MV_LD(e, MV_LD(bounds, g))));
 }
 
 #endif /* MV_OMICRON_H */

@@ -7,23 +7,20 @@
 #include "morton.h"
 
 MV_STRUCT_BEGIN(MvPointParams)
-  mv_u32 n;          /* points (point_codes) or parents (omicron_rep_*) */
+  mv_u32 n;          /* points */
   mv_u32 shift;      /* point_codes: input-grid units per Morton cell are 2^shift */
   mv_u32 min_x;      /* point_codes: the cube's min corner, the bits of the int32 coordinates */
   mv_u32 min_y;
   mv_u32 min_z;
   mv_u32 base;       /* point_codes: the index of the first point of this dispatch */
-  mv_u32 cell_bits;  /* omicron_rep_*: 3 x the bits per axis below a sub-grid cell (a cell id is code >> cell_bits) */
-  mv_u32 cap;        /* omicron_rep_*: most representatives per parent */
   mv_u32 lshift;     /* point_codes: a cloud narrower than 2^21 units is scaled up: cells are d << lshift */
   mv_u32 first;      /* point_codes: where this dispatch's first code and index go in keys and index */
 MV_STRUCT_END(MvPointParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvPointParams, 40);
+MV_LAYOUT_SIZE(MvPointParams, 32);
 MV_LAYOUT_AT(MvPointParams, n, 0); MV_LAYOUT_AT(MvPointParams, shift, 4); MV_LAYOUT_AT(MvPointParams, min_x, 8);
 MV_LAYOUT_AT(MvPointParams, min_y, 12); MV_LAYOUT_AT(MvPointParams, min_z, 16); MV_LAYOUT_AT(MvPointParams, base, 20);
-MV_LAYOUT_AT(MvPointParams, cell_bits, 24); MV_LAYOUT_AT(MvPointParams, cap, 28);
-MV_LAYOUT_AT(MvPointParams, lshift, 32); MV_LAYOUT_AT(MvPointParams, first, 36);
+MV_LAYOUT_AT(MvPointParams, lshift, 24); MV_LAYOUT_AT(MvPointParams, first, 28);
 #endif
 
 /* xyz: 3 int32 per point (as their bits). The difference to the min corner is taken modulo 2^32, which is exact

@@ -27,3 +27,5 @@ mv_kernel(probe_splat_params       probe/layout.cl   probe/layout.comp    1  MvS
 mv_kernel(probe_min_cut_params     probe/layout.cl   probe/layout.comp    1  MvMinCutParams    MV_ENTRY_probe_min_cut_params)
 mv_kernel(probe_min_cut_regions_params probe/layout.cl probe/layout.comp  1  MvMinCutRegionsParams MV_ENTRY_probe_min_cut_regions_params)
 mv_kernel(probe_mask_post_params   probe/layout.cl   probe/layout.comp    1  MvMaskPostParams  MV_ENTRY_probe_mask_post_params)
+mv_kernel(probe_seg_params         probe/layout.cl   probe/layout.comp    1  MvSegParams       MV_ENTRY_probe_seg_params)
+mv_kernel(probe_rep_params         probe/layout.cl   probe/layout.comp    1  MvRepParams       MV_ENTRY_probe_rep_params)

@@ -45,7 +45,6 @@ struct PointBuildReport {
   double codes_seconds = 0, sort_seconds = 0, build_seconds = 0, gather_seconds = 0;
   SortReport sort;
   uint64_t steps = 0;        // concatenate + fix steps
-  uint64_t host_groups = 0;  // parents chosen on the host (longer than a loop-capped device's loops)
 };
 
 // The density rule for the leaf level: a surface's points spread over about 4^l cells of level l, so

@@ -136,7 +136,6 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
       }
       RepSelection sel = select_representatives(dev_, codes, bounds, cell_bits, rule_.max_node_points);
       ++stats_.dispatches;
-      stats_.host_groups += sel.host_groups;
       // reps_ grows geometrically on huge pages (tens of millions of entries at 100M points)
       const uint64_t at = reps_.size();
       if (at + sel.positions.size() > reps_.capacity())

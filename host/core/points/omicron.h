@@ -51,8 +51,7 @@ void expand_order(std::span<const NodePoints> sources, std::span<const uint64_t>
 
 struct OmicronStats {
   uint64_t fixes = 0;
-  uint64_t dispatches = 0;    // rep_count + rep_select pairs
-  uint64_t host_groups = 0;   // parents chosen by the host reference (too long for a loop-capped device)
+  uint64_t dispatches = 0;    // representative selections (each a few dispatches over one call's candidates)
 };
 
 class OmicronBuilder {

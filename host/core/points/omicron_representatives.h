@@ -1,6 +1,7 @@
 // The representatives of OMiCroN's inner nodes on the device (kernels: kernels/points/omicron.cl, bodies in
-// kernels/common/omicron.h): the kept points of every parent of a level in one dispatch pair. The plain C++
-// reference is ref::representatives (host/ref/points_reference.h); the tests compare the two.
+// kernels/common/omicron.h, over the segmented primitives of megavox/segmented.h): the kept points of every
+// parent of a level in a few dispatches spread over candidates and cells, whatever size each parent has. The
+// plain C++ reference is ref::representatives (host/ref/points_reference.h); the tests compare the two.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -17,7 +18,6 @@ namespace mv::points {
 struct RepSelection {
   std::vector<uint32_t> positions;
   std::vector<uint64_t> offsets;
-  uint64_t host_groups = 0;  // parents too large for a loop-capped device's loops, chosen on the host (omicron_representatives_host.h)
 };
 RepSelection select_representatives(Device& dev, std::span<const uint64_t> codes, std::span<const uint32_t> bounds,
                                     uint32_t cell_bits, uint32_t cap);

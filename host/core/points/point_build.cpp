@@ -153,7 +153,6 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   PointHierarchy h;
   std::vector<points::NodePoints> sources;
   builder.assemble(h.nodes, sources, h.nodes_per_level);
-  rep.host_groups = builder.stats().host_groups;
   rep.build_seconds = build_in_sort + seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();

@@ -149,7 +149,6 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
   io::TempFile::unmap(const_cast<uint8_t*>(map), bytes);
   r.sort_seconds = 0;  // the runs are sorted inside the read pass, the merge inside the build
   r.build_seconds = seconds_since(t0);
-  r.build.host_groups = builder.stats().host_groups;
   r.build.steps = builder.stats().fixes;
 
   h.source = info;

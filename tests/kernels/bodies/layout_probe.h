@@ -19,6 +19,8 @@
 #include "common/unique.h"
 #include "common/page_cache.h"
 #include "common/points.h"
+#include "common/omicron.h"
+#include "common/segmented.h"
 #include "common/splat.h"
 #include "common/min_cut.h"
 #include "common/min_cut_regions.h"
@@ -66,13 +68,17 @@
   X(MV_FBITS, ox) X(MV_FBITS, oy) X(MV_FBITS, oz) X(MV_FBITS, dx) X(MV_FBITS, dy) X(MV_FBITS, dz)                      \
   X(MV_FBITS, tmax) X(MV_FBITS, lod_t)
 #define MV_FIELDS_POINT(X)                                                                                             \
-  X(MV_U32, n) X(MV_U32, shift) X(MV_U32, min_x) X(MV_U32, min_y) X(MV_U32, min_z) X(MV_U32, base) X(MV_U32, cell_bits) \
-  X(MV_U32, cap) X(MV_U32, lshift) X(MV_U32, first)
+  X(MV_U32, n) X(MV_U32, shift) X(MV_U32, min_x) X(MV_U32, min_y) X(MV_U32, min_z) X(MV_U32, base) X(MV_U32, lshift)   \
+  X(MV_U32, first)
 #define MV_FIELDS_SPLAT(X)                                                                                             \
   X(MV_U32, n) X(MV_U32, base) X(MV_U32, width) X(MV_U32, height) X(MV_U32, radius) X(MV_U32, focal_q8)               \
   X(MV_U32, cx_q8) X(MV_U32, cy_q8) X(MV_U32, near_q14) X(MV_U32, depth_shift) X(MV_U32, eye_x) X(MV_U32, eye_y)        \
   X(MV_U32, eye_z) X(MV_U32, rot[0]) X(MV_U32, rot[1]) X(MV_U32, rot[2]) X(MV_U32, rot[3]) X(MV_U32, rot[4])           \
   X(MV_U32, rot[5]) X(MV_U32, rot[6]) X(MV_U32, rot[7]) X(MV_U32, rot[8])
+#define MV_FIELDS_SEG(X)                                                                                               \
+  X(MV_U32, n) X(MV_U32, count) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, pad0)
+#define MV_FIELDS_REP(X)                                                                                               \
+  X(MV_U32, n) X(MV_U32, cells) X(MV_U32, groups) X(MV_U32, cell_bits) X(MV_U32, cap) X(MV_U32, pad0)
 #define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
 
 #define MV_PROBE_VALUE(word, f)                                                                                        \
@@ -116,5 +122,7 @@ MV_PROBE(splat_params, MvSplatParams, MV_FIELDS_SPLAT)
 MV_PROBE(min_cut_params, MvMinCutParams, MV_FIELDS_MIN_CUT)
 MV_PROBE(min_cut_regions_params, MvMinCutRegionsParams, MV_FIELDS_MIN_CUT_REGIONS)
 MV_PROBE(mask_post_params, MvMaskPostParams, MV_FIELDS_MASK_POST)
+MV_PROBE(seg_params, MvSegParams, MV_FIELDS_SEG)
+MV_PROBE(rep_params, MvRepParams, MV_FIELDS_REP)
 
 #endif /* MV_LAYOUT_PROBE_H */

@@ -56,6 +56,12 @@
 #elif defined(MV_ENTRY_probe_mask_post_params)
 #define MV_PROBE_T MvMaskPostParams
 #define MV_PROBE_FN mv_probe_mask_post_params
+#elif defined(MV_ENTRY_probe_seg_params)
+#define MV_PROBE_T MvSegParams
+#define MV_PROBE_FN mv_probe_seg_params
+#elif defined(MV_ENTRY_probe_rep_params)
+#define MV_PROBE_T MvRepParams
+#define MV_PROBE_FN mv_probe_rep_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

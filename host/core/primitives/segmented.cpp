@@ -1,0 +1,112 @@
+#include "megavox/segmented.h"
+
+#include "common/segmented.h"
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+#include "primitives/chunking.h"
+#include "primitives/launch_shape.h"
+#include "primitives/scan_plan.h"
+
+namespace mv {
+
+namespace {
+
+constexpr uint32_t kSegLocal = 64;
+
+MvSegParams seg_params(const Segmentation& seg) {
+  MvSegParams p{};
+  p.n = static_cast<uint32_t>(seg.n);
+  p.count = static_cast<uint32_t>(seg.count);
+  return p;
+}
+
+// P: the exclusive 64-bit scan of n 32-bit values (n + 1 entries).
+Buffer segment_prefix(Device& dev, const Segmentation& seg, const Buffer& values) {
+  Buffer prefix = dev.alloc((seg.n + 1) * 8, "segmented prefix sums");
+  ScanPlan plan = plan_scan(dev, seg.n, true);
+  record_scan(dev, plan, values, prefix);
+  return prefix;
+}
+
+}  // namespace
+
+Segmentation segment_by_heads(Device& dev, const Buffer& heads, uint64_t n) {
+  detail::check_device_items("segmented", n);
+  Segmentation seg;
+  seg.n = n;
+  seg.e = dev.alloc((n + 1) * 4, "segment numbers");
+  if (n == 0) {
+    seg.starts = dev.alloc(4, "segment starts");
+    dev.fill(seg.starts, 0, 4);
+    dev.fill(seg.e, 0, 4);
+    return seg;
+  }
+  ScanPlan plan = plan_scan(dev, n);
+  record_scan(dev, plan, heads, seg.e);
+  // Element 0 starts a run whatever its flag says: runs before element i then count from 1.
+  uint32_t total = 0, first = 0;
+  dev.download(seg.e, &total, 4, n * 4);
+  dev.download(heads, &first, 4);
+  if (first == 0) throw Error("segmented: element 0 must start a run");
+  seg.count = total;
+  seg.starts = dev.alloc((seg.count + 1) * 4, "segment starts");
+  MvSegParams p = seg_params(seg);
+  dev.dispatch(dev.kernel(KernelId::seg_starts), dev.groups_for(n, kSegLocal), kSegLocal, {&seg.e, &seg.starts}, p);
+  dev.barrier();
+  return seg;
+}
+
+void segment_heads(Device& dev, const Buffer& keys, Buffer& heads, uint64_t n, uint32_t shift) {
+  detail::check_device_items("segmented", n);
+  MvSegParams p{};
+  p.n = static_cast<uint32_t>(n);
+  p.shift = shift;
+  if (n) dev.dispatch(dev.kernel(KernelId::seg_heads), dev.groups_for(n, kSegLocal), kSegLocal, {&keys, &heads}, p);
+  dev.barrier();
+}
+
+Segmentation segment_by_key(Device& dev, const Buffer& keys, uint64_t n, uint32_t shift) {
+  Buffer heads = dev.alloc(std::max<uint64_t>(n, 1) * 4, "segment heads");
+  segment_heads(dev, keys, heads, n, shift);
+  return segment_by_heads(dev, heads, n);
+}
+
+void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& sums) {
+  if (seg.count == 0) return;
+  Buffer prefix = segment_prefix(dev, seg, values);
+  MvSegParams p = seg_params(seg);
+  dev.dispatch(dev.kernel(KernelId::seg_sum), dev.groups_for(seg.count, kSegLocal), kSegLocal,
+               {&prefix, &seg.starts, &sums}, p);
+  dev.barrier();
+}
+
+void segmented_exclusive_scan(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& out) {
+  if (seg.n == 0) return;
+  Buffer prefix = segment_prefix(dev, seg, values);
+  MvSegParams p = seg_params(seg);
+  dev.dispatch(dev.kernel(KernelId::seg_scan), dev.groups_for(seg.n, kSegLocal), kSegLocal,
+               {&prefix, &seg.e, &seg.starts, &out}, p);
+  dev.barrier();
+}
+
+void segmented_argmin(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& out) {
+  if (seg.n == 0) return;
+  // Small blocks on a GPU (every block is one work-item), CPU devices' few long ones otherwise.
+  const BlockShape s = block_shape(dev.info(), seg.n, dev.info().massively_parallel ? 256 : 4096);
+  const uint32_t cap = dev.info().max_loop_iterations;
+  if (cap && s.blocks >= cap)
+    throw Error("segmented_argmin: " + std::to_string(seg.n) + " values need " + std::to_string(s.blocks) +
+                " blocks, more than one loop may run on " + dev.info().name);
+  MvSegParams p = seg_params(seg);
+  p.blocks = s.blocks;
+  p.block_size = s.block_size;
+  Buffer agg = dev.alloc(uint64_t{s.blocks} * 16, "segmented arg-min carries");
+  dev.dispatch(dev.kernel(KernelId::seg_argmin_reduce), s.groups, s.local_size, {&values, &seg.e, &agg}, p);
+  dev.barrier();
+  dev.dispatch(dev.kernel(KernelId::seg_argmin_small), 1, 1, {&agg}, p);
+  dev.barrier();
+  dev.dispatch(dev.kernel(KernelId::seg_argmin_apply), s.groups, s.local_size, {&values, &seg.e, &agg, &out}, p);
+  dev.barrier();
+}
+
+}  // namespace mv

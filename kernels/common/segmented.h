@@ -65,10 +65,12 @@ MV_INLINE void mv_seg_argmin_reduce(MvBufU64 values, MvBufU32 e, MvBufU64 agg, M
   mv_u32 end = MV_MIN(begin + p.block_size, p.n);
   mv_u64 best = MV_LD(values, begin);
   mv_u32 at = begin;
-  bool head = MV_LD(e, begin + 1u) > MV_LD(e, begin);
+  mv_u32 s0 = MV_LD(e, begin + 1u); /* e[i] as the loop reaches i + 1: each value of e is read once */
+  bool head = s0 > MV_LD(e, begin);
   for (mv_u32 i = begin + 1u; i < end; ++i) {
     mv_u64 v = MV_LD(values, i);
-    if (MV_LD(e, i + 1u) > MV_LD(e, i)) {
+    mv_u32 s1 = MV_LD(e, i + 1u);
+    if (s1 > s0) {
       head = true;
       best = v;
       at = i;
@@ -76,6 +78,7 @@ MV_INLINE void mv_seg_argmin_reduce(MvBufU64 values, MvBufU32 e, MvBufU64 agg, M
       best = v;
       at = i;
     }
+    s0 = s1;
   }
   MV_ST(agg, 2u * b, best);
   MV_ST(agg, 2u * b + 1u, MV_U64(at) | (head ? MV_SEG_FLAG : MV_U64(0u)));
@@ -106,15 +109,20 @@ MV_INLINE void mv_seg_argmin_apply(MvBufU64 values, MvBufU32 e, MvBufU64 agg, Mv
   mv_u64 carry = MV_LD(agg, 2u * b + 1u);
   bool valid = (carry & MV_SEG_FLAG) != MV_U64(0u);
   mv_u32 at = MV_U32(carry & MV_U64(0xffffffffu));
+  mv_u32 s0 = MV_LD(e, begin);
+  mv_u32 s1 = MV_LD(e, begin + 1u);
   for (mv_u32 i = begin; i < end; ++i) {
     mv_u64 v = MV_LD(values, i);
-    mv_u32 s1 = MV_LD(e, i + 1u);
-    if (!valid || s1 > MV_LD(e, i) || v < best) {
+    if (!valid || s1 > s0 || v < best) {
       best = v;
       at = i;
       valid = true;
     }
-    if (i + 1u == p.n || MV_LD(e, i + 2u) > s1) MV_ST(dst, s1 - 1u, at);
+    /* past the last element the run ends: e[n] + 1 stands for the e[n + 1] there is not */
+    mv_u32 s2 = i + 1u < p.n ? MV_LD(e, i + 2u) : s1 + 1u;
+    if (s2 > s1) MV_ST(dst, s1 - 1u, at);
+    s0 = s1;
+    s1 = s2;
   }
 }
 

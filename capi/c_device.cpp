@@ -29,7 +29,7 @@ uint64_t config_size(const std::string& key, const std::string& value) {
   }
 }
 
-// "device=vk:0,memory=512M,host_memory=2G"
+// "device=vk:0,memory=512M,host_memory=2G,kernel_shape=gpu"
 Config parse_config(const char* text) {
   Config c;
   std::stringstream in(text ? text : "");
@@ -38,7 +38,8 @@ Config parse_config(const char* text) {
     if (item.find_first_not_of(' ') == std::string::npos) continue;
     const size_t eq = item.find('=');
     if (eq == std::string::npos)
-      throw ApiError(MV_ERROR_INVALID_ARGUMENT, "device config: '" + item + "' is not key=value (keys: device, memory, host_memory)");
+      throw ApiError(MV_ERROR_INVALID_ARGUMENT,
+                     "device config: '" + item + "' is not key=value (keys: device, memory, host_memory, kernel_shape)");
     std::string key = item.substr(0, eq), value = item.substr(eq + 1);
     key.erase(0, key.find_first_not_of(' '));
     key.erase(key.find_last_not_of(' ') + 1);
@@ -48,8 +49,13 @@ Config parse_config(const char* text) {
       c.device.memory_budget = config_size(key, value);
     } else if (key == "host_memory") {
       c.host_memory = config_size(key, value);
+    } else if (key == "kernel_shape") {
+      if (value != "auto" && value != "gpu" && value != "cpu")
+        throw ApiError(MV_ERROR_INVALID_ARGUMENT, "device config: kernel_shape=" + value + " is none of auto, gpu, cpu");
+      c.device.kernel_shape = parse_kernel_shape(value);
     } else {
-      throw ApiError(MV_ERROR_INVALID_ARGUMENT, "device config: unknown key '" + key + "' (keys: device, memory, host_memory)");
+      throw ApiError(MV_ERROR_INVALID_ARGUMENT, "device config: unknown key '" + key +
+                                                    "' (keys: device, memory, host_memory, kernel_shape)");
     }
   }
   return c;

@@ -16,7 +16,13 @@ struct GlobalOptions {
   std::string device;         // --device / MEGAVOX_DEVICE
   std::string device_memory;  // --device-memory, e.g. 512M; empty = default
   bool profile = false;       // --profile
+  std::string kernel_shape;   // --kernel-shape / MEGAVOX_KERNEL_SHAPE: auto, gpu, cpu; empty = auto
 };
+
+// --kernel-shape as a KernelShape; throws mv::CodedError (invalid_argument) for another word.
+inline KernelShape kernel_shape(const GlobalOptions& g) {
+  return g.kernel_shape.empty() ? KernelShape::automatic : parse_kernel_shape(g.kernel_shape);
+}
 
 // Runs `body`; an mv::Error it throws that says nothing of its kind (not coded, memory, I/O or device) comes out as
 // `code`: what a step's failures mean is known where the step is taken (a bad option value, no such device).
@@ -40,14 +46,16 @@ auto with_code(ErrorCode code, F&& body) {
 // Kernel compiles a cold cache makes: a notice and a progress line on stderr; nothing unless `enabled`.
 CompileListener compile_notice(bool enabled);
 
-// `quiet` (a command's --quiet): no compile notice, which otherwise shows when stderr is a terminal.
-inline std::unique_ptr<Device> open_device(const GlobalOptions& g, bool quiet = false) {
+// `quiet` (a command's --quiet): no compile notice, which otherwise shows when stderr is a terminal. `profile`:
+// time the kernels even without --profile (the benchmarks that always report a parallelism profile).
+inline std::unique_ptr<Device> open_device(const GlobalOptions& g, bool quiet = false, bool profile = false) {
   DeviceOptions o;
   o.selector = g.device;
   o.memory_budget = g.device_memory.empty() ? 0 : with_code(ErrorCode::invalid_argument, [&] {
     return parse_size(g.device_memory);
   });
-  o.profile = g.profile;
+  o.profile = g.profile || profile;
+  o.kernel_shape = kernel_shape(g);
   o.on_compile = compile_notice(!quiet && isatty(STDERR_FILENO));
   return with_code(ErrorCode::unsupported_device, [&] { return Device::open(o); });
 }

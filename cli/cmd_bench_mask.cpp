@@ -7,6 +7,7 @@
 #include "baselines.h"
 #include "mask_bench.h"
 #include "cli_common.h"
+#include "profile_report.h"
 
 namespace mv::cli {
 
@@ -24,6 +25,9 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
       "1 MP), 4- and 8-connected, checking every cut is BK's; then GrabCut from the database boxes (--no-post\n"
       "error, post-processed error, seconds per image) beside OpenCV's cv::grabCut from the same boxes and\n"
       "iterations (its error and its call's seconds), where OpenCV is built in (scripts/setup.sh --bench).\n"
+      "Reports the parallelism profile of the timed min_cut calls and of the GrabCut calls (cut_parallelism,\n"
+      "grabcut_parallelism: device, host and waiting seconds, narrow dispatches, per kernel launches, work-items\n"
+      "and seconds; --profile also lists the kernels on stderr; see docs/runtime.md).\n"
       "Example: megavox bench mask --data ../shared/data/grabcut --cut-images 3 --json");
   cmd->add_option("--data", a->data, "The GrabCut database folder (images/*.ppm, masks/*.pgm)");
   cmd->add_option("--cut-images", a->cut_images, "Images whose graphs are cut (first by name; default 3)");
@@ -31,8 +35,9 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
   cmd->add_option("--iterations", a->iterations, "GrabCut iterations (default 5)");
   cmd->add_flag("--json", a->json, "One JSON object");
   cmd->callback([a, &g] {
-    auto dev = open_device(g);
-    const auto cuts = bench::bench_cuts(*dev, a->data, a->cut_images);
+    auto dev = open_device(g, false, true);  // profiled always: the cuts' and GrabCut's parallelism
+    Parallelism cut_profile, grabcut_profile;
+    const auto cuts = bench::bench_cuts(*dev, a->data, a->cut_images, &cut_profile);
     double mv_1mp8 = 0, bk_1mp8 = 0;
     nlohmann::json jc = nlohmann::json::array();
     if (!a->json) std::printf("%-8s %11s %4s %12s %12s %8s %s\n", "image", "size", "conn", "megavox/s", "BK/s", "ratio", "same cut");
@@ -48,7 +53,7 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
                     1 / r.megavox_seconds, 1 / r.bk_seconds, r.bk_seconds / r.megavox_seconds, r.same_cut ? "yes" : "NO");
     }
     const double speedup = mv_1mp8 > 0 ? bk_1mp8 / mv_1mp8 : 0;
-    const auto gc = bench::bench_grabcut(*dev, a->data, a->images, a->iterations);
+    const auto gc = bench::bench_grabcut(*dev, a->data, a->images, a->iterations, &grabcut_profile);
     double err = 0, post = 0, secs = 0, cv_err = 0, cv_secs = 0, mv_secs_cv = 0;  // mv_secs_cv: where OpenCV ran
     uint64_t px = 0, cv_px = 0;
     size_t cv_n = 0;
@@ -86,7 +91,10 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
                                   {"grabcut_mean_error", err / n},
                                   {"grabcut_mean_post_error", post / n},
                                   {"grabcut_seconds_per_image", secs / n},
-                                  {"grabcut_mpx_per_second", secs > 0 ? px * 1e-6 / secs : 0.0}};
+                                  {"grabcut_mpx_per_second", secs > 0 ? px * 1e-6 / secs : 0.0},
+                                  {"kernel_shape", dev->info().massively_parallel ? "gpu" : "cpu"},
+                                  {"cut_parallelism", parallelism_json(cut_profile)},
+                                  {"grabcut_parallelism", parallelism_json(grabcut_profile)}};
       if (cv_n) {
         out["opencv_mean_error"] = cv_err / double(cv_n);
         out["opencv_seconds_per_image"] = cv_secs / double(cv_n);
@@ -97,6 +105,16 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
       if (!opencv.built_in) out["missing_baselines"].push_back(baseline::missing_note(opencv));
       std::cout << out.dump(2) << "\n";
       return;
+    }
+    for (const auto& [stage, p] : {std::pair<const char*, const Parallelism*>{"cuts (timed min_cut calls)", &cut_profile},
+                                   {"GrabCut (mask_image calls)", &grabcut_profile}})
+      std::printf("parallelism of the %s: device %.4f s, host %.4f s, waiting %.4f s; narrow dispatches (under %llu "
+                  "work-items) %.4f s = %.1f %% of the device's\n",
+                  stage, p->device_seconds, p->host_seconds, p->wait_seconds, (unsigned long long)p->width,
+                  p->narrow_seconds, p->device_seconds > 0 ? 100 * p->narrow_seconds / p->device_seconds : 0.0);
+    if (g.profile) {
+      print_parallelism("bench mask cuts", cut_profile);
+      print_parallelism("bench mask grabcut", grabcut_profile);
     }
     if (mv_1mp8 > 0)
       std::printf("speedup_vs_bk (~1 MP, 8-connected, total time): %.2f\n", speedup);

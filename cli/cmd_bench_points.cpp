@@ -11,6 +11,7 @@
 #include "scratch_dir.h"
 #include "stopwatch.h"
 #include "cli_common.h"
+#include "profile_report.h"
 #include "megavox/error.h"
 
 namespace mv::cli {
@@ -77,6 +78,11 @@ void print_cloud(const Cloud& c) {
               "%.3f, %.3f s with it\n",
               p.read_seconds, p.sort_seconds, p.build.codes_seconds, p.build.sort_seconds, p.build_seconds,
               p.build.build_seconds, p.build.gather_seconds, p.write_seconds, r.seconds_with_write);
+  const Parallelism& q = r.parallelism;
+  std::printf("  parallelism (best build, read to write): device %.4f s, host %.4f s, waiting %.4f s, file I/O %.4f "
+              "s; narrow dispatches (under %llu work-items) %.4f s = %.1f %% of the device's\n",
+              q.device_seconds, q.host_seconds, q.wait_seconds, q.io_seconds, (unsigned long long)q.width,
+              q.narrow_seconds, q.device_seconds > 0 ? 100 * q.narrow_seconds / q.device_seconds : 0.0);
   std::printf("  build / read floor %.2fx; peak RSS %.1f MiB (%s); vs PotreeConverter 2's published 2.85 M "
               "points/s (not measured here) %.2fx\n",
               r.ratio_to_read_floor, mib(r.peak_rss_bytes),
@@ -149,6 +155,8 @@ nlohmann::json cloud_json(const Cloud& c, const DeviceInfo& device, double open_
           {"potree_status", kPotreeStatus},
           {"sort_runs", p.build.sort.runs},
           {"steps", p.build.steps},
+          {"parallelism", parallelism_json(r.parallelism)},
+          {"kernel_shape", device.massively_parallel ? "gpu" : "cpu"},
           {"device_open_seconds", open_seconds},
           {"warmup_seconds", warmup_seconds}};
 }
@@ -166,6 +174,9 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g) {
       "from a triangle mesh's surface (area-weighted, fixed seed, colour from the face normal) into a scratch\n"
       "binary PLY and times that cloud too. Prints points/s, the ratio to the read floor, nodes, depth and peak\n"
       "RSS per cloud; PotreeConverter is not run (not in Debian): it is compared by its published 2.85 M points/s.\n"
+      "Each cloud also reports the parallelism profile of its best build, read to write (`parallelism`: device,\n"
+      "host, waiting and file I/O seconds, the device time of dispatches narrower than the device, per kernel\n"
+      "launches, work-items and seconds; --profile also lists the kernels on stderr; see docs/runtime.md).\n"
       "--json prints one JSON object per cloud, one per line. Example:\n"
       "  megavox bench points scan.las cloud.ply --sample-mesh igea.ply --sample-points 100M --json");
   cmd->add_option("input", a->inputs, "Point clouds (.ply, .las)");
@@ -201,10 +212,9 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g) {
     const uint64_t memory = a->memory.empty() ? 0 : parse_size(a->memory);
 
     const auto t = bench::Clock::now();
-    auto dev = open_device(g);
+    auto dev = open_device(g, false, true);  // profiled always: each cloud reports its parallelism
     const double open_seconds = bench::since(t);
     const double warmup_seconds = bench::warm_up_point_build(*dev, build);
-    if (g.profile) dev->take_timings();  // the warm-up's kernels are not the clouds'
     note("device " + dev->info().name + " opened in " + std::to_string(open_seconds) + " s, kernels warmed up in " +
          std::to_string(warmup_seconds) + " s");
 
@@ -216,7 +226,7 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g) {
       if (sample && sample->path.empty()) c.r.input.clear();  // a scratch file, removed
       c.sample = std::move(sample);
       c.repeats = repeats;
-      if (g.profile) print_kernel_totals(*dev);
+      if (g.profile && !a->json) print_parallelism(label(c) + " (best build, read to write)", c.r.parallelism);
       if (a->json) std::cout << cloud_json(c, dev->info(), open_seconds, warmup_seconds).dump() << std::endl;
       else print_cloud(c);
       clouds.push_back(std::move(c));

@@ -8,6 +8,7 @@
 #include "build_args.h"
 #include "build_plan_text.h"
 #include "cli_common.h"
+#include "profile_report.h"
 #include "megavox/build.h"
 #include "megavox/error.h"
 
@@ -73,10 +74,20 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       if (bar) std::fprintf(stderr, "\r\033[2K");
       print_plan(p);
     };
+    ParallelismMeter meter(*dev);
+    if (g.profile) meter.start();
     BuildReport r = build_mvx(*dev, o, progress_bar(bar), a->quiet ? PlanListener{} : plan);
     if (bar) std::fprintf(stderr, "\n");
-    if (g.profile) print_kernel_totals(*dev);
-    if (a->json) std::cout << report_json(r).dump(2) << "\n";
+    nlohmann::json j = a->json ? report_json(r) : nlohmann::json();
+    if (g.profile) {
+      double io = 0;  // the stages that read the input and write the .mvx
+      for (const auto& s : r.seconds)
+        if (s.name == "read" || s.name == "write") io += s.seconds;
+      const Parallelism p = meter.stop(io);
+      if (a->json) j["parallelism"] = parallelism_json(p);
+      else print_parallelism("build", p);
+    }
+    if (a->json) std::cout << j.dump(2) << "\n";
     else print_table(r);
   });
 }

@@ -30,6 +30,7 @@ nlohmann::json to_json(const DeviceInfo& d, bool selected) {
           {"max_loop_iterations", d.max_loop_iterations},
           {"atomics64", d.atomics64},
           {"shared_atomics64", d.shared_atomics64},
+          {"kernel_shape", d.massively_parallel ? "gpu" : "cpu"},  // in effect: by type, or --kernel-shape
           {"massively_parallel", d.massively_parallel},
           {"simd_width", d.simd_width},
           {"preferred_work_group_size", d.preferred_work_group_size},
@@ -41,11 +42,14 @@ nlohmann::json to_json(const DeviceInfo& d, bool selected) {
 
 void add_devices_command(CLI::App& app, const GlobalOptions& g) {
   auto* cmd = app.add_subcommand("devices", "List the OpenCL and Vulkan compute devices; * marks the one "
-                                            "megavox would use (--device / MEGAVOX_DEVICE or the default)");
+                                            "megavox would use (--device / MEGAVOX_DEVICE or the default); "
+                                            "--json shows each one's launch shape under --kernel-shape");
   auto json = std::make_shared<bool>(false);
   cmd->add_flag("--json", *json, "Print one JSON array instead of the table");
   cmd->callback([&g, json] {
     auto all = list_devices();
+    const KernelShape shape = with_code(ErrorCode::invalid_argument, [&] { return kernel_shape(g); });
+    for (DeviceInfo& d : all) apply_kernel_shape(d, shape);
     // throws, listing the devices, when nothing matches
     DeviceInfo chosen = with_code(ErrorCode::unsupported_device, [&] { return select_device(g.device); });
     auto is_chosen = [&](const DeviceInfo& d) { return d.backend == chosen.backend && d.index == chosen.index; };

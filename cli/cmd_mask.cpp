@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "cli_common.h"
+#include "profile_report.h"
 #include "io/image_reader.h"
 #include "io/mvm_file.h"
 #include "io/output_path.h"
@@ -195,6 +196,18 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
     if (!fs::is_directory(a->output))
       throw Error("cannot make the output folder '" + a->output + "': " + ec.message());
     auto dev = open_device(g);
+    ParallelismMeter meter(*dev);
+    if (g.profile) meter.start();
+    double io_seconds = 0;  // reading images and models, writing masks and overlays
+    auto timed_io = [&](auto&& body) {
+      const auto t = std::chrono::steady_clock::now();
+      struct Lap {
+        std::chrono::steady_clock::time_point t;
+        double& sum;
+        ~Lap() { sum += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); }
+      } lap{t, io_seconds};
+      return body();
+    };
     const bool bar = !a->quiet && !a->json && isatty(STDERR_FILENO);
     Progress progress = progress_bar(bar);
     std::map<std::string, MaskModel> models;
@@ -202,13 +215,13 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
     for (size_t k = 0; k < jobs.size(); ++k) {
       const Job& j = jobs[k];
       const auto start_time = std::chrono::steady_clock::now();
-      const RasterImage img = at(j.where, [&] { return io::read_image(j.image); });
+      const RasterImage img = at(j.where, [&] { return timed_io([&] { return io::read_image(j.image); }); });
       MaskStart start;
       at(j.where, [&] {
         if (!j.rect.empty()) start.box = parse_rect(j.rect);
         if (!j.seeds.empty()) start.seeds = io::read_seed_map(j.seeds, img.width, img.height);
         if (!j.model.empty()) {
-          if (!models.count(j.model)) models.emplace(j.model, io::read_mvm(j.model));
+          if (!models.count(j.model)) models.emplace(j.model, timed_io([&] { return io::read_mvm(j.model); }));
           start.model = &models.at(j.model);
         }
       });
@@ -219,8 +232,10 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
       // The start's own errors (no start, a model for other images) name the image or its list line.
       const MaskResult r = at(j.where.empty() ? j.image : j.where, [&] { return mask_image(*dev, img, start, o); });
       const auto& [out, overlay_path] = outputs[k];
-      io::write_png_grey(out, img.width, img.height, r.mask);
-      if (!overlay_path.empty()) write_png(overlay_path, overlay(img, r.mask));
+      timed_io([&] {
+        io::write_png_grey(out, img.width, img.height, r.mask);
+        if (!overlay_path.empty()) write_png(overlay_path, overlay(img, r.mask));
+      });
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
       nlohmann::json e = {{"image", j.image},
                           {"mask", out},
@@ -239,8 +254,13 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
       if (progress) progress("mask", double(k + 1) / double(jobs.size()));
     }
     if (bar) std::fprintf(stderr, "\n");
-    if (g.profile) print_kernel_totals(*dev);
-    if (a->json) std::cout << nlohmann::json{{"images", report}}.dump(2) << "\n";
+    nlohmann::json out{{"images", report}};
+    if (g.profile) {
+      const Parallelism p = meter.stop(io_seconds);
+      if (a->json) out["parallelism"] = parallelism_json(p);
+      else print_parallelism("mask apply", p);
+    }
+    if (a->json) std::cout << out.dump(2) << "\n";
     else if (bar)
       for (const auto& e : report)
         std::printf("%s -> %s: %.1f %% foreground, %d iterations, %.2f s\n", e["image"].get<std::string>().c_str(),

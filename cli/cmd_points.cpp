@@ -8,6 +8,7 @@
 
 #include "camera_options.h"
 #include "cli_common.h"
+#include "profile_report.h"
 #include "io/output_path.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
@@ -107,10 +108,17 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     check_output(o);  // before the device opens
     auto dev = open_device(g);
     const bool bar = !a->quiet && isatty(STDERR_FILENO);
+    ParallelismMeter meter(*dev);
+    if (g.profile) meter.start();
     PointFileReport r = build_points_file(*dev, o, progress_bar(bar));
     if (bar) std::fprintf(stderr, "\n");
-    if (g.profile) print_kernel_totals(*dev);
-    if (a->json) std::cout << report_json(r).dump(2) << "\n";
+    nlohmann::json j = a->json ? report_json(r) : nlohmann::json();
+    if (g.profile) {
+      const Parallelism p = meter.stop(r.read_seconds + r.write_seconds);
+      if (a->json) j["parallelism"] = parallelism_json(p);
+      else print_parallelism("points build", p);
+    }
+    if (a->json) std::cout << j.dump(2) << "\n";
     else print_report(r);
   });
 }

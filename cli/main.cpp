@@ -76,7 +76,19 @@ int main(int argc, char** argv) {
   app.add_option("--device-memory", g.device_memory,
                  "Device memory budget, e.g. 512M or 2G (default: 3/4 of what the device reports). Work that "
                  "does not fit fails with a message naming what it needs");
-  app.add_flag("--profile", g.profile, "Time every kernel on the device and print the totals");
+  app.add_flag("--profile", g.profile,
+               "Time every kernel on the device. The verbs that run a pipeline (build, points build, mask apply)\n"
+               "print its parallelism profile (on stderr; inside the JSON with --json): wall, host, waiting and\n"
+               "file I/O seconds, device seconds, narrow seconds (dispatches with fewer work-items than the\n"
+               "device runs at once: compute units x preferred work-group size x 4), and per kernel its\n"
+               "launches, work-items and seconds; other verbs print the kernels' totals");
+  app.add_option("--kernel-shape", g.kernel_shape,
+                 "How kernels are launched: gpu (wide grids, cooperative variants, work-groups of 64), cpu (a\n"
+                 "block of items per work-item), or auto (by the device's type; the default). Every shape gives\n"
+                 "the same bytes; `megavox devices --json` shows the shape in effect. Default: "
+                 "$MEGAVOX_KERNEL_SHAPE, else auto")
+      ->envname("MEGAVOX_KERNEL_SHAPE")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}));
 
   mv::cli::add_devices_command(app, g);
   mv::cli::add_build_command(app, g);

@@ -1,6 +1,8 @@
 // The one small interface every compute backend implements (OpenCL, Vulkan).
 // Nothing above runtime/ sees this header: host code talks to mv::Device (include/megavox/device.h).
 #pragma once
+#include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -92,15 +94,37 @@ class Backend {
   virtual void wait(uint64_t mark) = 0;
   virtual void finish() = 0;  // submit() and wait for everything
 
-  // Per-dispatch device timings (kernel name, nanoseconds), collected while profiling is on.
+  // Per-dispatch device timings (kernel name, nanoseconds, work-items), collected while profiling is on.
   virtual void set_profiling(bool on) = 0;
   virtual std::vector<KernelTiming> take_timings() = 0;
+
+  // Nanoseconds the host has spent in Blocking scopes (Device::host_wait_ns).
+  uint64_t blocked_ns() const { return blocked_ns_.load(std::memory_order_relaxed); }
 
   // Told before (done false) and after (done true) each compile the kernel cache could not spare, naming what
   // compiles; set by Device (DeviceOptions::on_compile).
   std::function<void(const std::string& what, bool done)> on_compile;
 
  protected:
+  // Wraps each call that blocks the host on the device (a fence or event wait, a blocking transfer); nested
+  // scopes (a download that finishes the stream first) count once.
+  class Blocking {
+   public:
+    explicit Blocking(Backend& b) : b_(b), start_(std::chrono::steady_clock::now()) { ++b.blocking_depth_; }
+    ~Blocking() {
+      if (--b_.blocking_depth_ == 0)
+        b_.blocked_ns_.fetch_add(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                     std::chrono::steady_clock::now() - start_).count(),
+                                 std::memory_order_relaxed);
+    }
+    Blocking(const Blocking&) = delete;
+    Blocking& operator=(const Blocking&) = delete;
+
+   private:
+    Backend& b_;
+    std::chrono::steady_clock::time_point start_;
+  };
+
   // Runs `compile` between the two calls of on_compile; one that throws is announced as ended too.
   template <class F>
   auto announced_compile(const std::string& what, F&& compile) {
@@ -114,6 +138,10 @@ class Backend {
     } end{*this, what};
     return compile();
   }
+
+ private:
+  std::atomic<uint64_t> blocked_ns_{0};
+  int blocking_depth_ = 0;
 };
 
 inline constexpr size_t kMaxPushBytes = 128;  // Vulkan's guaranteed minimum push-constant size

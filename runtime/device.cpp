@@ -2,6 +2,7 @@
 #include "megavox/device.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <map>
 #include <utility>
 #include <vector>
@@ -18,6 +19,7 @@ constexpr uint64_t kPageBytes = 64 << 10;
 }  // namespace
 
 struct Device::Impl {
+  DeviceInfo info;  // the backend's, with the launch shape asked for
   std::unique_ptr<rt::Backend> backend;
   std::unique_ptr<rt::MemoryPool> pool;
   std::map<std::string, std::unique_ptr<Kernel>, std::less<>> kernels;
@@ -66,7 +68,12 @@ std::unique_ptr<Device> Device::open(const DeviceOptions& options) {
       if (!done) ++count;
       listener({device, what, count, done});
     };
-  const DeviceInfo& info = impl.backend->info();
+  impl.info = impl.backend->info();
+  KernelShape shape = options.kernel_shape;
+  if (shape == KernelShape::automatic)
+    if (const char* env = std::getenv("MEGAVOX_KERNEL_SHAPE"); env && *env) shape = parse_kernel_shape(env);
+  apply_kernel_shape(impl.info, shape);
+  const DeviceInfo& info = impl.info;
   uint64_t budget = options.memory_budget;
   if (budget == 0) {
     budget = info.global_memory_bytes / 4 * 3;  // leave room for the driver and other users
@@ -90,7 +97,7 @@ Device::~Device() {
   }
 }
 
-const DeviceInfo& Device::info() const { return impl_->backend->info(); }
+const DeviceInfo& Device::info() const { return impl_->info; }
 uint64_t Device::memory_budget() const { return impl_->pool->budget(); }
 uint64_t Device::memory_used() const { return impl_->pool->used(); }
 uint64_t Device::page_bytes() const { return impl_->pool->page_bytes(); }
@@ -244,10 +251,33 @@ void Device::trim() {
   impl_->pool->trim();
 }
 std::vector<KernelTiming> Device::take_timings() { return impl_->backend->take_timings(); }
+uint64_t Device::host_wait_ns() const { return impl_->backend->blocked_ns(); }
 
 uint32_t Device::groups_for(uint64_t items, uint32_t local_size) const {
   uint64_t groups = (items + local_size - 1) / local_size;
   return static_cast<uint32_t>(std::clamp<uint64_t>(groups, 1, info().max_groups));
+}
+
+KernelShape parse_kernel_shape(std::string_view text) {
+  if (text == "auto") return KernelShape::automatic;
+  if (text == "gpu") return KernelShape::gpu;
+  if (text == "cpu") return KernelShape::cpu;
+  throw CodedError(ErrorCode::invalid_argument,
+                   "the kernel shape '" + std::string(text) + "' is none of auto, gpu, cpu (--kernel-shape, "
+                   "MEGAVOX_KERNEL_SHAPE)");
+}
+
+const char* kernel_shape_name(KernelShape shape) {
+  return shape == KernelShape::gpu ? "gpu" : shape == KernelShape::cpu ? "cpu" : "auto";
+}
+
+void apply_kernel_shape(DeviceInfo& info, KernelShape shape) {
+  const bool gpu = shape == KernelShape::automatic ? info.type == "gpu" : shape == KernelShape::gpu;
+  info.massively_parallel = gpu;
+  // GPU-shaped: work-groups of 64 (two warps, one wavefront). CPU-shaped: PoCL runs a work-group's items as a
+  // loop, so one item a group; a Vulkan CPU driver runs one subgroup in lock step, so a group of its width.
+  const uint32_t preferred = gpu ? 64 : info.backend == "vulkan" ? std::max<uint32_t>(info.simd_width, 1) : 1;
+  info.preferred_work_group_size = std::min(preferred, std::max<uint32_t>(info.max_work_group_size, 1));
 }
 
 namespace rt {

@@ -274,6 +274,7 @@ TEST_P(RuntimeTest, ProfilingReportsKernelTimes) {
   auto t = d->take_timings();
   ASSERT_EQ(t.size(), 1u);
   EXPECT_EQ(t[0].kernel, "morton_encode64");
+  EXPECT_EQ(t[0].work_items, 16u * 64u);
   EXPECT_TRUE(d->take_timings().empty());
   // Dispatches of several submissions are all timed.
   d->dispatch(d->kernel(KernelId::morton_encode64), 16, 64, {&pts, &kb}, p);

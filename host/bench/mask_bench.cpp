@@ -73,7 +73,8 @@ GridGraph four_connected(const GridGraph& g) {
 
 }  // namespace
 
-std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images) {
+std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images, Parallelism* parallelism) {
+  ParallelismMeter meter(dev);
   std::vector<CutRun> runs;
   const auto names = image_names(data);
   for (uint32_t k = 0; k < std::min<size_t>(cut_images, names.size()); ++k) {
@@ -88,9 +89,11 @@ std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cu
         CutRun r{names[k], g.width, g.height, conn};
         const MinCut want = ref::bk_min_cut(g, &r.bk_seconds);
         min_cut(dev, g);  // warm: kernels built, memory pooled
+        if (parallelism) meter.start();
         const auto t0 = Clock::now();
         const MinCut got = min_cut(dev, g);
         r.megavox_seconds = since(t0);
+        if (parallelism) accumulate(*parallelism, meter.stop());
         r.value = got.value;
         r.same_cut = got.value == want.value && got.source_side == want.source_side;
         runs.push_back(r);
@@ -100,7 +103,9 @@ std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cu
   return runs;
 }
 
-std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations) {
+std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations,
+                                      Parallelism* parallelism) {
+  ParallelismMeter meter(dev);
   std::vector<GrabCutRun> runs;
   const auto names = image_names(data);
   const size_t count = images == 0 ? names.size() : std::min<size_t>(images, names.size());
@@ -112,9 +117,12 @@ std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint
     MaskOptions o;
     o.iterations = iterations;
     o.post = false;
+    if (parallelism) meter.start();
     const auto t0 = Clock::now();
     const MaskResult r = mask_image(dev, img, start, o);
-    GrabCutRun run{names[k], img.width, img.height, r.iterations, since(t0), mask::mask_error(r.mask, truth.samples), 0};
+    const double seconds = since(t0);
+    if (parallelism) accumulate(*parallelism, meter.stop());
+    GrabCutRun run{names[k], img.width, img.height, r.iterations, seconds, mask::mask_error(r.mask, truth.samples), 0};
     run.post_error = mask::mask_error(postprocess_mask(dev, r.grabcut, img.width, img.height, MaskOptions{}.erode_radius),
                                       truth.samples);
     if (baseline::opencv().built_in && img.channels == 3 && img.max_value == 255) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/parallelism.h"
 
 namespace mv::bench {
 
@@ -28,8 +29,11 @@ struct GrabCutRun {
 };
 
 // Cuts on the first `cut_images` images (sorted names) of `data`/images; GrabCut from boxes on the first
-// `images` (0 = all).
-std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images);
-std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations);
+// `images` (0 = all). `parallelism`, when given, sums the profiles of the timed calls (min_cut; mask_image), which
+// need `dev` opened with profile = true.
+std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images,
+                               Parallelism* parallelism = nullptr);
+std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations,
+                                      Parallelism* parallelism = nullptr);
 
 }  // namespace mv::bench

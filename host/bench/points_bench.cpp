@@ -210,12 +210,16 @@ PointsBenchResult run_points_bench(Device& dev, const std::string& input, int re
   o.memory = memory;
   for (int rep = 0; rep < repeats; ++rep) {
     std::filesystem::remove(o.output);  // each run writes the file anew, as a user's build does
+    ParallelismMeter meter(dev);
+    meter.start();
     PointFileReport report = build_points_file(dev, o);
+    Parallelism parallelism = meter.stop(report.read_seconds + report.write_seconds);
     const double seconds = report.read_seconds + report.sort_seconds + report.build_seconds;
     r.build_runs.push_back(seconds);
     if (rep == 0 || seconds < r.seconds) {
       r.seconds = seconds;
       r.report = std::move(report);
+      r.parallelism = std::move(parallelism);
     }
   }
   r.report.output.clear();  // a scratch file, removed

@@ -8,6 +8,7 @@
 
 #include "plain_read.h"
 #include "megavox/device.h"
+#include "megavox/parallelism.h"
 #include "megavox/point_build.h"
 
 namespace mv::bench {
@@ -45,6 +46,7 @@ ReadFloor read_and_store(const std::string& path);
 struct PointsBenchResult {
   std::string input;
   PointFileReport report;  // of the fastest build (by read + sort + build)
+  Parallelism parallelism;  // of the same build, read to write (file reading and writing as io_seconds)
   PlainRead plain;         // the file read plainly (bench::plain_read)
   ReadFloor floor;         // the fastest of the repeats
   std::vector<double> floor_runs;
@@ -66,7 +68,7 @@ struct PointsBenchResult {
 double warm_up_point_build(Device& dev, const PointBuildOptions& build = {});
 
 // Plain read, `repeats` read floors and reads with storing, then `repeats` builds of `input` to a scratch .mvx (removed); the
-// figures are the best of each.
+// figures are the best of each. The parallelism profile needs `dev` opened with profile = true.
 PointsBenchResult run_points_bench(Device& dev, const std::string& input, int repeats,
                                    const PointBuildOptions& build = {}, uint64_t memory = 0);
 

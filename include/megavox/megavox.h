@@ -68,6 +68,8 @@ typedef struct MvDeviceTy* MvDevice;
  *                     else the first GPU, else PoCL)
  *   memory=SIZE       device memory budget, e.g. 512M (default: 3/4 of what the device reports)
  *   host_memory=SIZE  host RAM budget of builds (default: half the physical RAM)
+ *   kernel_shape=S    how kernels are launched: gpu, cpu or auto (by the device's type; default:
+ *                     $MEGAVOX_KERNEL_SHAPE, else auto). Every shape gives the same bytes
  * Returns NULL on failure (mvGetDeviceError(NULL) says why). */
 MV_API MvDevice mvNewDevice(const char* config);
 MV_API void mvRetainDevice(MvDevice device);

@@ -121,10 +121,9 @@ DeviceInfo describe(const ClDevice& d, int index) {
   info.atomics64 = extensions.find(" cl_khr_int64_base_atomics ") != std::string::npos &&
                    extensions.find(" cl_khr_int64_extended_atomics ") != std::string::npos;
   info.shared_atomics64 = info.atomics64;
-  info.massively_parallel = info.type == "gpu";
   const cl_uint int_lanes = device_value<cl_uint>(d.device, CL_DEVICE_NATIVE_VECTOR_WIDTH_INT);
-  info.simd_width = info.massively_parallel ? 32 : std::max<cl_uint>(1, int_lanes);
-  info.preferred_work_group_size = info.massively_parallel ? 64 : 1;
+  info.simd_width = info.type == "gpu" ? 32 : std::max<cl_uint>(1, int_lanes);
+  apply_kernel_shape(info, KernelShape::automatic);
   return info;
 }
 
@@ -211,6 +210,7 @@ class OpenCLBackend final : public Backend {
 
   void upload(BackendBuffer& dst, uint64_t offset, const void* src, uint64_t bytes) override {
     if (bytes == 0) return;
+    Blocking blocked(*this);
     check(clEnqueueWriteBuffer(queue_, mem(dst), CL_TRUE, offset, bytes, src, 0, nullptr, nullptr), "upload");
   }
 
@@ -221,6 +221,7 @@ class OpenCLBackend final : public Backend {
 
   void download(BackendBuffer& src, uint64_t offset, void* dst, uint64_t bytes) override {
     if (bytes == 0) return;
+    Blocking blocked(*this);
     check(clEnqueueReadBuffer(queue_, mem(src), CL_TRUE, offset, bytes, dst, 0, nullptr, nullptr), "download");
   }
 
@@ -275,7 +276,7 @@ class OpenCLBackend final : public Backend {
     check(clEnqueueNDRangeKernel(queue_, k.kernel, dims, nullptr, global, local, 0, nullptr,
                                  profiling_ ? &event : nullptr),
           "launching '" + k.name + "'");
-    if (event) pending_.push_back({k.name, event});
+    if (event) pending_.push_back({k.name, event, uint64_t{global[0]} * global[1]});
   }
 
   void barrier() override {}  // the queue is in order
@@ -295,6 +296,7 @@ class OpenCLBackend final : public Backend {
     while (done != marks_.end() && done->mark <= mark) ++done;
     if (done == marks_.begin()) return;  // already waited for
     cl_event last = std::prev(done)->event;
+    Blocking blocked(*this);
     const cl_int err = clWaitForEvents(1, &last);  // the queue is in order: the earlier marks are done too
     for (auto m = marks_.begin(); m != done; ++m) clReleaseEvent(m->event);
     marks_.erase(marks_.begin(), done);
@@ -302,6 +304,7 @@ class OpenCLBackend final : public Backend {
   }
 
   void finish() override {
+    Blocking blocked(*this);
     check(clFinish(queue_), "waiting for the device");
     for (auto& m : marks_) clReleaseEvent(m.event);
     marks_.clear();
@@ -309,7 +312,7 @@ class OpenCLBackend final : public Backend {
       cl_ulong start = 0, end = 0;
       clGetEventProfilingInfo(t.event, CL_PROFILING_COMMAND_START, sizeof start, &start, nullptr);
       clGetEventProfilingInfo(t.event, CL_PROFILING_COMMAND_END, sizeof end, &end, nullptr);
-      timings_.push_back({t.kernel, end > start ? end - start : 0});
+      timings_.push_back({t.kernel, end > start ? end - start : 0, t.work_items});
       clReleaseEvent(t.event);
     }
     pending_.clear();
@@ -396,6 +399,7 @@ class OpenCLBackend final : public Backend {
   struct PendingTiming {
     std::string kernel;
     cl_event event;
+    uint64_t work_items;
   };
   struct Mark {
     uint64_t mark;

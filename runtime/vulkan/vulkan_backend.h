@@ -127,7 +127,7 @@ class VulkanBackend final : public Backend {
 
   // vulkan_commands.cpp
   VkCommandBuffer recording();
-  void collect_timings(uint32_t queries, const std::vector<std::string>& names);
+  void collect_timings(uint32_t queries, std::vector<KernelTiming> dispatches);
   // Copies one dispatch's arguments into the parameter buffers and returns their device address; valid until
   // the recording's submission has finished, after which the space is reused.
   VkDeviceAddress argument_block(const void* bytes, size_t size);
@@ -163,7 +163,7 @@ class VulkanBackend final : public Backend {
   float timestamp_period_ = 1.0f;
   VkQueryPool query_pool_ = VK_NULL_HANDLE;
   uint32_t queries_used_ = 0;
-  std::vector<std::string> query_names_;  // kernel of each timestamp pair in the current recording
+  std::vector<KernelTiming> query_dispatches_;  // dispatch of each timestamp pair in the current recording
   std::vector<KernelTiming> timings_;
 
   // Parameter buffers for kernels whose arguments exceed the push constants: host-visible chunks filled

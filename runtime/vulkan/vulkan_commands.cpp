@@ -90,7 +90,7 @@ void VulkanBackend::dispatch(BackendKernel& k, const LaunchGrid& grid, std::span
   vkCmdDispatch(cmd, grid.groups[0], grid.groups[1], 1);
   if (timed) {
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, queries_used_++);
-    query_names_.push_back(kernel.name);
+    query_dispatches_.push_back({kernel.name, 0, uint64_t{grid.groups[0]} * grid.local[0] * grid.groups[1] * grid.local[1]});
   }
 }
 
@@ -161,6 +161,7 @@ uint64_t VulkanBackend::submit() {
 
 void VulkanBackend::wait(uint64_t mark) {
   if (mark > last_mark_) fail("wait for stream mark " + std::to_string(mark) + ", which was never made");
+  Blocking blocked(*this);
   while (!in_flight_.empty() && in_flight_.front().mark <= mark) {
     Submission& sub = in_flight_.front();
     const VkResult waited = vkWaitForFences(device_, 1, &sub.fence, VK_TRUE, kFenceTimeoutNs);
@@ -176,8 +177,7 @@ void VulkanBackend::wait(uint64_t mark) {
   // Timestamps are read once no recorded work is left: the queries of one recording may span submissions.
   if (in_flight_.empty() && !recording_ && queries_used_) {
     const uint32_t queries = std::exchange(queries_used_, 0);
-    const std::vector<std::string> names = std::exchange(query_names_, {});
-    collect_timings(queries, names);
+    collect_timings(queries, std::exchange(query_dispatches_, {}));
   }
 }
 
@@ -191,15 +191,16 @@ void VulkanBackend::set_profiling(bool on) {
   }
 }
 
-void VulkanBackend::collect_timings(uint32_t queries, const std::vector<std::string>& names) {
+void VulkanBackend::collect_timings(uint32_t queries, std::vector<KernelTiming> dispatches) {
   std::vector<uint64_t> ticks(queries);
   check(vkGetQueryPoolResults(device_, query_pool_, 0, queries, ticks.size() * sizeof(uint64_t), ticks.data(),
                               sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
         "vkGetQueryPoolResults");
   const uint64_t mask = timestamp_bits_ >= 64 ? ~uint64_t{0} : (uint64_t{1} << timestamp_bits_) - 1;
-  for (size_t i = 0; i < names.size(); ++i) {
+  for (size_t i = 0; i < dispatches.size(); ++i) {
     const uint64_t delta = (ticks[2 * i + 1] - ticks[2 * i]) & mask;  // the mask absorbs counter wrap-around
-    timings_.push_back({names[i], static_cast<uint64_t>(static_cast<double>(delta) * timestamp_period_)});
+    dispatches[i].ns = static_cast<uint64_t>(static_cast<double>(delta) * timestamp_period_);
+    timings_.push_back(std::move(dispatches[i]));
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <thread>
 
 #include "backend.h"
 #include "megavox/error.h"
@@ -86,6 +87,37 @@ VkResult physicaldevices(VkInstance instance, std::vector<VkPhysicalDevice>& out
   return r == VK_INCOMPLETE ? VK_SUCCESS : r;
 }
 
+namespace {
+
+// Vulkan core does not count compute units; NVIDIA's and AMD's extensions do (SMs; CUs per shader array).
+uint32_t vulkan_compute_units(VkPhysicalDevice device) {
+  uint32_t count = 0;
+  if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr) != VK_SUCCESS) return 0;
+  std::vector<VkExtensionProperties> extensions(count);
+  if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data()) != VK_SUCCESS) return 0;
+  auto has = [&](const char* name) {
+    return std::any_of(extensions.begin(), extensions.end(),
+                       [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+  };
+  if (has(VK_NV_SHADER_SM_BUILTINS_EXTENSION_NAME)) {
+    auto sm = vk<VkPhysicalDeviceShaderSMBuiltinsPropertiesNV>(
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_SM_BUILTINS_PROPERTIES_NV);
+    auto props2 = vk<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &sm);
+    vkGetPhysicalDeviceProperties2(device, &props2);
+    return sm.shaderSMCount;
+  }
+  if (has(VK_AMD_SHADER_CORE_PROPERTIES_EXTENSION_NAME)) {
+    auto core = vk<VkPhysicalDeviceShaderCorePropertiesAMD>(
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_CORE_PROPERTIES_AMD);
+    auto props2 = vk<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &core);
+    vkGetPhysicalDeviceProperties2(device, &props2);
+    return core.shaderEngineCount * core.shaderArraysPerEngineCount * core.computeUnitsPerShaderArray;
+  }
+  return 0;
+}
+
+}  // namespace
+
 DeviceQuery query_device(VkPhysicalDevice device) {
   DeviceQuery q;
   vkGetPhysicalDeviceProperties(device, &q.props);
@@ -103,6 +135,7 @@ DeviceQuery query_device(VkPhysicalDevice device) {
   vkGetPhysicalDeviceMemoryProperties(device, &q.memory);
   // The chain pointed into this object; a returned copy must not carry it.
   q.subgroup.pNext = q.maintenance3.pNext = q.features12.pNext = nullptr;
+  q.compute_units = vulkan_compute_units(device);
   return q;
 }
 
@@ -147,9 +180,10 @@ DeviceInfo describe(const DeviceQuery& q, int index) {
   info.vendor = info.platform;
   // llvmpipe's shader compiler ends every loop after 65535 iterations (a guard against hangs), without error.
   if (q.driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE) info.max_loop_iterations = 65535;
-  info.massively_parallel = info.type == "gpu";
+  // A CPU driver (lavapipe) runs a thread per core; a GPU's count comes from its vendor's extension, if any.
+  info.compute_units = info.type == "cpu" ? std::max(1u, std::thread::hardware_concurrency()) : q.compute_units;
   info.simd_width = std::max<uint32_t>(1, info.subgroup_size);
-  info.preferred_work_group_size = info.massively_parallel ? 64 : info.simd_width;
+  apply_kernel_shape(info, KernelShape::automatic);
   // llvmpipe runs every global load as a loop over the SIMD lanes, and every branch under a lane mask.
   info.cheap_parameter_loads = q.driver.driverID != VK_DRIVER_ID_MESA_LLVMPIPE;
   return info;

@@ -40,6 +40,8 @@ struct DeviceQuery {
   VkPhysicalDeviceVulkan12Features features12 =
       vk<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
   VkPhysicalDeviceMemoryProperties memory{};
+  // Compute units where the driver says (VK_NV_shader_sm_builtins, VK_AMD_shader_core_properties); else 0.
+  uint32_t compute_units = 0;
 };
 
 DeviceQuery query_device(VkPhysicalDevice device);

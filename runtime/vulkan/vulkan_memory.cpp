@@ -171,6 +171,7 @@ void VulkanBackend::check_range(const VulkanBuffer& b, uint64_t offset, uint64_t
 void VulkanBackend::transfer(VulkanBuffer& b, uint64_t offset, uint64_t bytes, const void* from_host, void* to_host) {
   check_range(b, offset, bytes, from_host ? "upload" : "download");
   if (bytes == 0) return;
+  Blocking blocked(*this);
   finish();
   VulkanArena& arena = *b.arena;
   const uint64_t at = b.offset + offset;

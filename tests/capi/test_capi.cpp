@@ -171,6 +171,12 @@ TEST_P(CApiTest, ErrorsComeAsCodesMessagesAndCallbacks) {
   EXPECT_EQ(mvGetDeviceError(nullptr), MV_ERROR_NONE);  // read once, then cleared
   EXPECT_EQ(mvNewDevice("memory=lots"), nullptr);
   EXPECT_EQ(mvGetDeviceError(nullptr), MV_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mvNewDevice("kernel_shape=wide"), nullptr);
+  EXPECT_EQ(mvGetDeviceError(nullptr), MV_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(mvGetDeviceLastErrorMessage(nullptr)).find("gpu"), std::string::npos);
+  MvDevice shaped = mvNewDevice(("device=" + GetParam().selector() + ",memory=64M,kernel_shape=gpu").c_str());
+  EXPECT_NE(shaped, nullptr);
+  if (shaped) mvReleaseDevice(shaped);
   EXPECT_EQ(mvNewDevice("device=no-such-device-anywhere"), nullptr);
   EXPECT_EQ(mvGetDeviceError(nullptr), MV_ERROR_UNSUPPORTED_DEVICE);
   EXPECT_STREQ(mvGetErrorString(MV_ERROR_CANCELLED), "MV_ERROR_CANCELLED");

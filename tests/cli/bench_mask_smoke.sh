@@ -26,7 +26,8 @@ write_disc b 40 40
 
 json=$("$mv" bench mask --data "$dir/db" --cut-images 1 --images 2 --iterations 2 --json)
 for key in speedup_vs_bk grabcut_mean_error grabcut_mean_post_error grabcut_seconds_per_image grabcut_mpx_per_second \
-           megavox_cuts_per_second bk_cuts_per_second missing_baselines; do
+           megavox_cuts_per_second bk_cuts_per_second missing_baselines cut_parallelism grabcut_parallelism \
+           device_seconds host_seconds narrow_seconds work_items; do
   grep -q "\"$key\"" <<<"$json" || fail "bench mask --json lacks $key: $json"
 done
 grep -q '"all_cuts_equal_bk": true' <<<"$json" || fail "a cut differs from BK's: $json"

@@ -21,6 +21,10 @@ done
 for f in '"seconds":{"build":' '"read":' '"sort":' '"write":' '"sample":{' '"potree_status":"PotreeConverter: not run'; do
   grep -qF "$f" <<<"$json" || fail "no $f in: $json"
 done
+for f in '"parallelism":{' '"device_seconds":' '"host_seconds":' '"narrow_seconds":' '"io_seconds":' \
+         '"kernels":[{' '"launches":' '"work_items":'; do
+  grep -qF "$f" <<<"$json" || fail "no $f in the parallelism profile: $json"
+done
 [[ $(field points "$json") == 204800 ]] || fail "200K is not 204800 points: $json"
 [[ $(field points_kept "$json") == "$(field points "$json")" ]] || fail "points_kept != points: $json"
 [[ $(field read_floor_points "$json") == 204800 ]] || fail "the read floor did not decode every point: $json"
@@ -35,6 +39,8 @@ text=$("$megavox" bench points "$dir/s.ply" --repeats 2 -q)
 grep -q 'read floor .*best of 2:' <<<"$text" || fail "no read floor of 2 repeats: $text"
 grep -q "vs PotreeConverter 2's published .*(not measured here)" <<<"$text" &&
   grep -q 'PotreeConverter: not run' <<<"$text" || fail "the Potree figure is not labelled as published: $text"
+grep -q 'parallelism (best build, read to write): device .* narrow dispatches' <<<"$text" ||
+  fail "no parallelism line: $text"
 ! grep -qi "issue" <<<"$("$megavox" bench points --help)" || fail "the help speaks of an issue"
 grep -q '^| s.ply | 204800 |' <<<"$text" || fail "no summary row: $text"
 echo "bench points smoke: ok"

@@ -24,6 +24,17 @@ for key in points_in points_kept points_dropped nodes_per_level depth seconds po
 done
 grep -q '"read"' "$dir/b.json" && grep -q '"sort"' "$dir/b.json" && grep -q '"write"' "$dir/b.json" || fail "seconds"
 cmp -s "$dir/l.mvx" "$dir/l2.mvx" || fail "two builds of the same cloud differ"
+# --profile: the parallelism profile inside the JSON, and on stderr for a person; --kernel-shape gpu: same bytes.
+"$mv" --profile --kernel-shape gpu points build "$dir/lattice.ply" -o "$dir/l3.mvx" --max-node-points 500 --json \
+  > "$dir/p.json"
+grep -q '"parallelism"' "$dir/p.json" && grep -q '"narrow_seconds"' "$dir/p.json" || fail "no profile in the JSON"
+cmp -s "$dir/l.mvx" "$dir/l3.mvx" || fail "--kernel-shape gpu changed the bytes"
+"$mv" --profile points build "$dir/lattice.ply" -o "$dir/l4.mvx" --max-node-points 500 2> "$dir/p.txt" >/dev/null
+grep -q '^profile points build: wall .* device .* dispatches under' "$dir/p.txt" || fail "profile: $(cat "$dir/p.txt")"
+bad=$("$mv" --kernel-shape wide devices 2>&1) && fail "--kernel-shape wide was taken"
+grep -q -- '--kernel-shape: wide not in {auto,gpu,cpu}' <<<"$bad" || fail "a bad --kernel-shape is not named: $bad"
+shaped=$("$mv" --kernel-shape gpu devices --json)
+grep -q '"kernel_shape": "gpu"' <<<"$shaped" || fail "devices --json shows no shape: $shaped"
 "$mv" points info "$dir/l.mvx" | grep -q "8000 points" || fail "points info"
 "$mv" points info "$dir/l.mvx" --json | grep -q '"points_kept": 8000' || fail "points info --json"
 "$mv" points render "$dir/l.mvx" -o "$dir/l.png" --width 200 --height 150 > /dev/null

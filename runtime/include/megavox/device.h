@@ -78,8 +78,21 @@ struct LaunchGrid {
 
 struct KernelTiming {
   std::string kernel;
-  uint64_t ns = 0;
+  uint64_t ns = 0;          // execution time from the device's timestamps
+  uint64_t work_items = 0;  // the dispatch's work-items: groups x local size, both axes
 };
+
+// How host code shapes launches (DeviceInfo::massively_parallel, preferred_work_group_size): `automatic` by the
+// device's type, `gpu` as on a GPU (wide grids, cooperative variants, work-groups of 64), `cpu` as on a few CPU
+// threads (a contiguous block per work-item). Every shape gives the same bytes; forcing one shows how the other
+// runs on the device at hand (`--kernel-shape`, $MEGAVOX_KERNEL_SHAPE).
+enum class KernelShape { automatic, gpu, cpu };
+// "auto", "gpu", "cpu"; throws mv::CodedError (invalid_argument) naming the choices for anything else.
+KernelShape parse_kernel_shape(std::string_view text);
+const char* kernel_shape_name(KernelShape shape);
+// Sets the launch fields of `info` for `shape` (automatic: by info.type). simd_width is the device's own and
+// stays: Vulkan's real subgroup size, never assumed.
+void apply_kernel_shape(DeviceInfo& info, KernelShape shape);
 
 // Every device both backends can see: OpenCL devices first (all platforms, enumeration order), then Vulkan.
 std::vector<DeviceInfo> list_devices();
@@ -156,6 +169,8 @@ struct DeviceOptions {
   std::string selector;         // see select_device(); empty = default (or $MEGAVOX_DEVICE when set)
   uint64_t memory_budget = 0;   // 0 = default: a safe fraction of what the device reports
   bool profile = false;         // collect per-dispatch timings (take_timings)
+  // automatic = $MEGAVOX_KERNEL_SHAPE when set, else by the device's type; info() reports the effective shape.
+  KernelShape kernel_shape = KernelShape::automatic;
   // Folder of compiled OpenCL programs, and of records of the Vulkan pipelines the driver has compiled (it keeps
   // their code in its own cache); empty = $MEGAVOX_KERNEL_CACHE, else $XDG_CACHE_HOME/megavox/kernels, else
   // ~/.cache/megavox/kernels.
@@ -238,6 +253,10 @@ class Device {
 
   // Timings of the dispatches finished since the last call (empty unless opened with profile = true).
   std::vector<KernelTiming> take_timings();
+  // Nanoseconds the host has spent blocked on this device since it was opened: in wait() and finish(), in
+  // upload() and download() (which wait for earlier work, their copy included), and where a backend drains its
+  // stream by itself. Always counted (profiling or not); a stage reads it before and after itself.
+  uint64_t host_wait_ns() const;
 
   // Groups for a grid-stride dispatch covering `items` with `local_size`, capped at the device limit.
   uint32_t groups_for(uint64_t items, uint32_t local_size) const;

@@ -73,7 +73,9 @@ GridGraph four_connected(const GridGraph& g) {
 
 }  // namespace
 
-std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images) {
+std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images, MinCutSolver solver) {
+  MinCutOptions options;
+  options.solver = solver;
   std::vector<CutRun> runs;
   const auto names = image_names(data);
   for (uint32_t k = 0; k < std::min<size_t>(cut_images, names.size()); ++k) {
@@ -87,9 +89,9 @@ std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cu
         const GridGraph g = conn == 8 ? g8 : four_connected(g8);
         CutRun r{names[k], g.width, g.height, conn};
         const MinCut want = ref::bk_min_cut(g, &r.bk_seconds);
-        min_cut(dev, g);  // warm: kernels built, memory pooled
+        min_cut(dev, g, options);  // warm: kernels built, memory pooled
         const auto t0 = Clock::now();
-        const MinCut got = min_cut(dev, g);
+        const MinCut got = min_cut(dev, g, options);
         r.megavox_seconds = since(t0);
         r.value = got.value;
         r.same_cut = got.value == want.value && got.source_side == want.source_side;
@@ -100,7 +102,8 @@ std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cu
   return runs;
 }
 
-std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations) {
+std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations,
+                                      MinCutSolver solver) {
   std::vector<GrabCutRun> runs;
   const auto names = image_names(data);
   const size_t count = images == 0 ? names.size() : std::min<size_t>(images, names.size());
@@ -112,6 +115,7 @@ std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint
     MaskOptions o;
     o.iterations = iterations;
     o.post = false;
+    o.min_cut_solver = solver;
     const auto t0 = Clock::now();
     const MaskResult r = mask_image(dev, img, start, o);
     GrabCutRun run{names[k], img.width, img.height, r.iterations, since(t0), mask::mask_error(r.mask, truth.samples), 0};

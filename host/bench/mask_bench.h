@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "megavox/device.h"
+#include "megavox/min_cut.h"
 
 namespace mv::bench {
 
@@ -29,7 +30,10 @@ struct GrabCutRun {
 
 // Cuts on the first `cut_images` images (sorted names) of `data`/images; GrabCut from boxes on the first
 // `images` (0 = all).
-std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images);
-std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations);
+// `solver` cuts both.
+std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images,
+                               MinCutSolver solver = MinCutSolver::automatic);
+std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations,
+                                      MinCutSolver solver = MinCutSolver::automatic);
 
 }  // namespace mv::bench

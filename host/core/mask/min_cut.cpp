@@ -35,9 +35,17 @@ uint32_t capped_sweeps(const DeviceInfo& info, uint32_t tile, uint64_t per_pixel
       std::clamp<uint64_t>(info.max_loop_iterations / (uint64_t{tile} * tile * per_pixel), 1, sweeps));
 }
 
+// Tiles of one colour across a grid.
+uint64_t colour_tiles(const GridGraph& g, uint32_t tile) {
+  return uint64_t{(g.width + 2 * tile - 1) / (2 * tile)} * ((g.height + 2 * tile - 1) / (2 * tile));
+}
+
 TilePlan plan_tiles(const Device& dev, const GridGraph& g, const MinCutOptions& o) {
   const DeviceInfo& info = dev.info();
-  uint32_t tile = std::clamp<uint32_t>(o.tile, 2, MV_MINCUT_MAX_TILE);
+  uint32_t tile = std::clamp<uint32_t>(o.tile == 0 ? 16 : o.tile, 2, MV_MINCUT_MAX_TILE);
+  // A massively parallel device wants a work-item per lane in every colour's dispatch.
+  if (o.tile == 0 && info.massively_parallel)
+    while (tile > 2 && colour_tiles(g, tile) < device_lanes(info)) tile /= 2;
   const uint64_t per_pixel = uint64_t{g.connectivity} * (MV_MINCUT_ATTEMPTS + 1);
   while (info.max_loop_iterations != 0 && tile > 2 && uint64_t{tile} * tile * per_pixel > info.max_loop_iterations)
     tile /= 2;
@@ -173,8 +181,9 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   const uint32_t passes = options.discharge_passes != 0
                               ? options.discharge_passes
                               : std::clamp((std::max(plan.base.tiles_x, plan.base.tiles_y) + 4) / 5, 4u, 12u);
-  for (;;) {
-    if (++st.rounds > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
+  for (uint64_t round = 1;; ++round) {
+    if (round > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
+    ++st.rounds;
     // The global relabel, from the heights the last round left: heights without support rise to unreachable,
     // then all fall to the distances.
     settle(invalidate);
@@ -197,7 +206,47 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   return sink_before - sink_after;
 }
 
+// The region solver's shape on this device: the first level's regions across (and down), and the fewest regions a
+// level may have. Where a few threads run, 2 x 2 regions, not merged: push-relabel finishes the seams. On a
+// massively parallel device a region per lane, not merged either.
+struct RegionShape {
+  uint32_t regions, least;
+};
+RegionShape region_shape(const DeviceInfo& info, const MinCutOptions& o) {
+  const uint64_t lanes = device_lanes(info);
+  uint32_t regions = 2;
+  if (info.massively_parallel)
+    while (uint64_t{regions} * regions < lanes && regions < 1024) regions *= 2;
+  RegionShape s{o.regions != 0 ? o.regions : regions, o.least_regions};
+  if (s.least == 0) s.least = info.massively_parallel ? static_cast<uint32_t>(std::min<uint64_t>(lanes, 1u << 20)) : 2;
+  return s;
+}
+
 }  // namespace
+
+const char* min_cut_solver_name(MinCutSolver solver) {
+  switch (solver) {
+    case MinCutSolver::push_relabel: return "push-relabel";
+    case MinCutSolver::regions: return "regions";
+    case MinCutSolver::automatic: break;
+  }
+  return "auto";
+}
+
+std::optional<MinCutSolver> parse_min_cut_solver(std::string_view name) {
+  for (MinCutSolver s : {MinCutSolver::push_relabel, MinCutSolver::regions, MinCutSolver::automatic})
+    if (name == min_cut_solver_name(s)) return s;
+  return std::nullopt;
+}
+
+MinCutSolver resolve_min_cut_solver(const DeviceInfo& info, MinCutSolver solver) {
+  if (solver != MinCutSolver::automatic) return solver;
+  return info.massively_parallel ? MinCutSolver::push_relabel : MinCutSolver::regions;
+}
+
+uint64_t device_lanes(const DeviceInfo& info) {
+  return uint64_t{std::max<uint32_t>(info.compute_units, 1)} * std::max<uint32_t>(info.preferred_work_group_size, 1) * 4;
+}
 
 MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats,
                MinCutFlow* flow) {
@@ -224,9 +273,14 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   MinCut cut;
   cut.source_side.resize(n);
   // Both solvers cut the reversed graph: what can reach its sink is the source set before the reversal.
-  const uint64_t into_sink = options.solver == MinCutSolver::regions
-                                 ? mask::min_cut_regions(dev, g, options.regions, rb, excess, sink, cut.source_side, st)
-                                 : push_relabel(dev, g, options, rb, excess, sink, cut.source_side, st);
+  st.solver = resolve_min_cut_solver(dev.info(), options.solver);
+  uint64_t into_sink = 0;
+  bool finished = false;
+  if (st.solver == MinCutSolver::regions) {
+    const RegionShape shape = region_shape(dev.info(), options);
+    into_sink = mask::min_cut_regions(dev, g, shape.regions, shape.least, rb, excess, sink, cut.source_side, st, finished);
+  }
+  if (!finished) into_sink += push_relabel(dev, g, options, rb, excess, sink, cut.source_side, st);
   cut.value = value + into_sink - added;
   if (flow) {
     flow->width = g.width;

@@ -138,7 +138,9 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   Buffer eb = dev.alloc(n * 4, "min-cut excess");
   Buffer hb = dev.alloc(n * 4, "min-cut heights");
   Buffer sb = dev.alloc(n * 4, "min-cut sink capacities");
-  Buffer fb = dev.alloc(8, "min-cut flags");
+  // flags: [1] active pixels left; [2, 2 + kMaxBatch) one word per relabel pass of a batch.
+  constexpr uint32_t kMaxBatch = 16;
+  Buffer fb = dev.alloc((2 + kMaxBatch) * 4, "min-cut flags");
   const TilePlan plan = plan_tiles(dev, g, options);
   const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
   Buffer tb = dev.alloc(tiles * 4, "min-cut tile stamps");
@@ -158,21 +160,27 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   Kernel& relax = dev.kernel(KernelId::min_cut_relax);
   Kernel& active = dev.kernel(KernelId::min_cut_active);
   Kernel& discharge = dev.kernel(KernelId::min_cut_discharge);
-  uint32_t flags[2] = {0, 0};
+  uint32_t flags[2 + kMaxBatch] = {};
   MvMinCutParams& sp = still_plan.base;
   // One step of a global relabel (min_cut_invalidate or min_cut_relax), pass after pass until nothing changes:
-  // first the touched tiles, then the tiles around each change of the pass before.
+  // first the touched tiles, then the tiles around each change of the pass before. Passes go in batches read
+  // back at once, 2, 4, ... 16 a batch, so a relabel of P passes waits on the device about log P times, not P.
   auto settle = [&](Kernel& k) {
     sp.from_touched = 1;
-    for (bool changed = true; changed; sp.from_touched = 0) {
-      dev.fill(fb, 0, 8);
+    for (uint32_t batch = 1, still = 0; !still; batch = std::min(2 * batch, kMaxBatch)) {
+      dev.fill(fb, 0, (2 + kMaxBatch) * 4);
       dev.barrier();
-      ++sp.stamp_now;
-      run_colours(dev, k, still_plan, {&hb, &sb, &rb, &fb, &tb, &ub});
-      dev.download(fb, flags, 8);
-      ++st.relabel_passes;
-      changed = flags[0] != 0;
-      sp.stamp_since = sp.stamp_now;
+      for (uint32_t j = 0; j < batch; ++j, sp.from_touched = 0) {
+        ++sp.stamp_now;
+        sp.flag_word = 2 + j;
+        run_colours(dev, k, still_plan, {&hb, &sb, &rb, &fb, &tb, &ub});
+        sp.stamp_since = sp.stamp_now;
+      }
+      dev.download(fb, flags, (2 + batch) * 4);
+      for (uint32_t j = 0; j < batch && !still; ++j) {
+        ++st.relabel_passes;
+        still = flags[2 + j] == 0;
+      }
     }
   };
   // Each round's discharge moves excess closer to the sink or raises heights; push-relabel's bound on
@@ -207,18 +215,17 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
 }
 
 // The region solver's shape on this device: the first level's regions across (and down), and the fewest regions a
-// level may have. Where a few threads run, 2 x 2 regions, not merged: push-relabel finishes the seams. On a
-// massively parallel device a region per lane, not merged either.
+// level may have. A region per lane at least (PoCL on 2 cores 4 x 4, lavapipe 8 x 8), and no level with fewer
+// regions than lanes, so no region dispatch leaves the device idle: push-relabel finishes the seams.
 struct RegionShape {
   uint32_t regions, least;
 };
 RegionShape region_shape(const DeviceInfo& info, const MinCutOptions& o) {
   const uint64_t lanes = device_lanes(info);
   uint32_t regions = 2;
-  if (info.massively_parallel)
-    while (uint64_t{regions} * regions < lanes && regions < 1024) regions *= 2;
+  while (uint64_t{regions} * regions < lanes && regions < 1024) regions *= 2;
   RegionShape s{o.regions != 0 ? o.regions : regions, o.least_regions};
-  if (s.least == 0) s.least = info.massively_parallel ? static_cast<uint32_t>(std::min<uint64_t>(lanes, 1u << 20)) : 2;
+  if (s.least == 0) s.least = static_cast<uint32_t>(std::min<uint64_t>(lanes, 1u << 20));
   return s;
 }
 

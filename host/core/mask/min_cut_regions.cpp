@@ -69,8 +69,13 @@ uint64_t min_cut_regions(Device& dev, const GridGraph& g, uint32_t regions, uint
   p.walk = max_loop != 0 ? 8 : (1u << 20);
   p.budget = max_loop != 0 ? max_loop / (4 * (std::max(conn, p.walk) + 1)) : (1u << 26);
   const uint32_t items = p.regions_x * p.regions_y;
-  // One item per region, in groups as wide as the device likes: regions take no shared memory nor barriers.
+  // One item per region, in work-groups as wide as the device likes (lavapipe: 8 lanes of one SIMD thread, 10x the
+  // steps per second of one region a group).
   const uint32_t local = std::clamp<uint32_t>(dev.info().preferred_work_group_size, 1, std::max<uint32_t>(items, 1));
+  // Under a loop cap, lanes of one group diverging across the steps run more iterations together than each alone:
+  // on lavapipe 1,820 steps a lane in 8-wide groups never finished a 481 x 321 8-connected cut (9 minutes), a
+  // quarter of that finished it in 2.8 s.
+  if (max_loop != 0 && local > 1) p.budget /= 4;
 
   Buffer tb = dev.alloc(n * 4, "min-cut terminal capacities");
   Buffer nodeb = dev.alloc(n * MV_BK_NODE_WORDS * 4, "min-cut search trees");

@@ -33,8 +33,8 @@ CLI::Option* add_min_cut_solver_option(CLI::App& cmd, std::string& name) {
       .add_option("--min-cut-solver", name,
                   "How the device finds each min-cut (every solver gives the same cut, so the same masks):\n"
                   "auto (default: regions where a few threads run, push-relabel on massively parallel devices),\n"
-                  "regions (Boykov-Kolmogorov over 2 x 2 or more regions side by side, then push-relabel across\n"
-                  "their seams), push-relabel (tiled push-relabel with a global relabel, every tile at once)")
+                  "regions (Boykov-Kolmogorov in a region per device lane, all side by side, then push-relabel\n"
+                  "across their seams), push-relabel (tiled push-relabel with a global relabel, every tile at once)")
       ->check(CLI::IsMember({"auto", "regions", "push-relabel"}))
       ->capture_default_str();
 }

@@ -9,6 +9,7 @@
 #include "megavox/build.h"
 #include "megavox/device.h"
 #include "megavox/error.h"
+#include "megavox/min_cut.h"
 
 namespace mv::cli {
 
@@ -76,6 +77,11 @@ Progress progress_bar(bool enabled);
 
 // With --profile: the device time of each kernel since the last call, summed by name, on stderr.
 void print_kernel_totals(Device& dev);
+
+// --min-cut-solver auto|regions|push-relabel into `name` (mask apply, bench mask; cmd_mask.cpp); min_cut_solver()
+// turns the checked name into the solver.
+CLI::Option* add_min_cut_solver_option(CLI::App& cmd, std::string& name);
+MinCutSolver min_cut_solver(const std::string& name);
 
 void add_devices_command(CLI::App& app, const GlobalOptions& g);
 void add_bench_sort_command(CLI::App& bench, const GlobalOptions& g);

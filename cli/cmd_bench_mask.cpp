@@ -13,7 +13,7 @@ namespace mv::cli {
 
 void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
   struct Args {
-    std::string data = "../shared/data/grabcut";
+    std::string data = "../shared/data/grabcut", solver = "auto";
     uint32_t cut_images = 3, images = 0, iterations = 5;
     bool json = false;
   };
@@ -28,16 +28,19 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
       "Reports the parallelism profile of the timed min_cut calls and of the GrabCut calls (cut_parallelism,\n"
       "grabcut_parallelism: device, host and waiting seconds, narrow dispatches, per kernel launches, work-items\n"
       "and seconds; --profile also lists the kernels on stderr; see docs/runtime.md).\n"
+      "--min-cut-solver picks the solver of both (auto: the device's default).\n"
       "Example: megavox bench mask --data ../shared/data/grabcut --cut-images 3 --json");
   cmd->add_option("--data", a->data, "The GrabCut database folder (images/*.ppm, masks/*.pgm)");
   cmd->add_option("--cut-images", a->cut_images, "Images whose graphs are cut (first by name; default 3)");
   cmd->add_option("--images", a->images, "Images masked by GrabCut (default 0 = all)");
   cmd->add_option("--iterations", a->iterations, "GrabCut iterations (default 5)");
+  add_min_cut_solver_option(*cmd, a->solver);
   cmd->add_flag("--json", a->json, "One JSON object");
   cmd->callback([a, &g] {
     auto dev = open_device(g, false, true);  // profiled always: the cuts' and GrabCut's parallelism
+    const MinCutSolver solver = min_cut_solver(a->solver);
     Parallelism cut_profile, grabcut_profile;
-    const auto cuts = bench::bench_cuts(*dev, a->data, a->cut_images, &cut_profile);
+    const auto cuts = bench::bench_cuts(*dev, a->data, a->cut_images, solver, &cut_profile);
     double mv_1mp8 = 0, bk_1mp8 = 0;
     nlohmann::json jc = nlohmann::json::array();
     if (!a->json) std::printf("%-8s %11s %4s %12s %12s %8s %s\n", "image", "size", "conn", "megavox/s", "BK/s", "ratio", "same cut");
@@ -53,7 +56,7 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
                     1 / r.megavox_seconds, 1 / r.bk_seconds, r.bk_seconds / r.megavox_seconds, r.same_cut ? "yes" : "NO");
     }
     const double speedup = mv_1mp8 > 0 ? bk_1mp8 / mv_1mp8 : 0;
-    const auto gc = bench::bench_grabcut(*dev, a->data, a->images, a->iterations, &grabcut_profile);
+    const auto gc = bench::bench_grabcut(*dev, a->data, a->images, a->iterations, solver, &grabcut_profile);
     double err = 0, post = 0, secs = 0, cv_err = 0, cv_secs = 0, mv_secs_cv = 0;  // mv_secs_cv: where OpenCV ran
     uint64_t px = 0, cv_px = 0;
     size_t cv_n = 0;
@@ -84,6 +87,7 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
     const auto opencv = baseline::opencv();
     if (a->json) {
       nlohmann::json out{{"device", dev->info().name},
+                                  {"min_cut_solver", min_cut_solver_name(resolve_min_cut_solver(dev->info(), solver))},
                                   {"cuts", jc},
                                   {"speedup_vs_bk", mv_1mp8 > 0 ? nlohmann::json(speedup) : nlohmann::json()},
                                   {"all_cuts_equal_bk", all_same},

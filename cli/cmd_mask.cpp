@@ -29,6 +29,23 @@ namespace fs = std::filesystem;
 
 namespace mv::cli {
 
+CLI::Option* add_min_cut_solver_option(CLI::App& cmd, std::string& name) {
+  return cmd
+      .add_option("--min-cut-solver", name,
+                  "How the device finds each min-cut (every solver gives the same cut, so the same masks):\n"
+                  "auto (default: regions where a few threads run, push-relabel on massively parallel devices),\n"
+                  "regions (Boykov-Kolmogorov in a region per device lane, all side by side, then push-relabel\n"
+                  "across their seams), push-relabel (tiled push-relabel with a global relabel, every tile at once)")
+      ->check(CLI::IsMember({"auto", "regions", "push-relabel"}))
+      ->capture_default_str();
+}
+
+MinCutSolver min_cut_solver(const std::string& name) {
+  const auto s = parse_min_cut_solver(name);
+  if (!s) throw CodedError(ErrorCode::invalid_argument, "--min-cut-solver: '" + name + "' (auto, regions, push-relabel)");
+  return *s;
+}
+
 namespace {
 
 MaskBox parse_rect(const std::string& text) {
@@ -120,7 +137,7 @@ Image overlay(const RasterImage& img, const std::vector<uint8_t>& mask) {
 
 struct ApplyArgs {
   std::vector<std::string> images;
-  std::string output, rect, seeds, model, list;
+  std::string output, rect, seeds, model, list, solver = "auto";
   uint32_t iterations = 5, erode = 2;
   bool no_post = false, overlay = false, json = false, quiet = false, no_clobber = false;
 };
@@ -175,6 +192,7 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
   cmd->add_flag("--no-post", a->no_post, "Skip the median and the erosion");
   cmd->add_option("--erode", a->erode, "Erosion octagon radius in pixels (default 2, 0 = none, at most 32)")
       ->check(CLI::Range(0, 32));
+  add_min_cut_solver_option(*cmd, a->solver);
   cmd->add_flag("--overlay", a->overlay, "Also write OUTDIR/<basename>.overlay.png: the mask over the image");
   cmd->add_flag("--json", a->json, "Print per-image statistics as JSON");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
@@ -229,6 +247,7 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
       o.iterations = a->iterations;
       o.post = !a->no_post;
       o.erode_radius = a->erode;
+      o.min_cut_solver = min_cut_solver(a->solver);
       // The start's own errors (no start, a model for other images) name the image or its list line.
       const MaskResult r = at(j.where.empty() ? j.image : j.where, [&] { return mask_image(*dev, img, start, o); });
       const auto& [out, overlay_path] = outputs[k];

@@ -1,7 +1,7 @@
-// Both min-cut solvers (region Boykov-Kolmogorov and tiled push-relabel) on every device against Boost.Graph's
-// Boykov-Kolmogorov: the same cut value and the same source set (the canonical minimal one) on random 4- and
-// 8-connected grids, extreme capacities, split grids, all-source and all-sink graphs and image-like graphs, plus
-// the graph checks' messages.
+// Every min-cut solver (region Boykov-Kolmogorov finished by push-relabel, tiled push-relabel, and the device's
+// automatic choice) on every device against Boost.Graph's Boykov-Kolmogorov: the same cut value and the same
+// source set (the canonical minimal one) on random 4- and 8-connected grids, extreme capacities, split grids,
+// all-source and all-sink graphs and image-like graphs, cold and warm, plus the graph checks' messages.
 #include <random>
 
 #include "min_cut_reference.h"
@@ -73,21 +73,21 @@ GridGraph disc_graph(uint32_t w, uint32_t h, uint32_t conn, uint64_t seed) {
   return g;
 }
 
+constexpr MinCutSolver kSolvers[3] = {MinCutSolver::regions, MinCutSolver::push_relabel, MinCutSolver::automatic};
+
 class MinCutTest : public ::testing::TestWithParam<DeviceInfo> {
  protected:
   Device& dev() { return shared_device(GetParam()); }
 
-  // Both solvers, o's first (its stats go to `stats`), then the other with the same options.
+  // o first (its stats go to `stats`), then (unless `only`) every solver with o's other options.
   void expect_bk(const GridGraph& g, const std::string& what, const MinCutOptions& o = {},
-                 MinCutStats* stats = nullptr) {
+                 MinCutStats* stats = nullptr, bool only = false) {
     const MinCut want = ref::bk_min_cut(g);
-    MinCutOptions other = o;
-    other.solver = o.solver == MinCutSolver::regions ? MinCutSolver::push_relabel : MinCutSolver::regions;
-    for (int k = 0; k < 2; ++k) {
-      const MinCutOptions& run = k == 0 ? o : other;
+    for (int k = 0; k < (only ? 1 : 4); ++k) {
+      MinCutOptions run = o;
+      if (k > 0) run.solver = kSolvers[k - 1];
       SCOPED_TRACE(what + " (" + std::to_string(g.width) + " x " + std::to_string(g.height) + ", " +
-                   std::to_string(g.connectivity) + "-connected, " +
-                   (run.solver == MinCutSolver::regions ? "regions" : "push-relabel") + ")");
+                   std::to_string(g.connectivity) + "-connected, " + min_cut_solver_name(run.solver) + ")");
       const MinCut got = min_cut(dev(), g, run, k == 0 ? stats : nullptr);
       ASSERT_EQ(got.value, want.value);
       ASSERT_EQ(got.source_side.size(), want.source_side.size());
@@ -192,11 +192,20 @@ TEST_P(MinCutTest, ManyIncrementalRelabelsGiveTheSameCut) {
 // GrabCut's iterations: the same edges, new terminals. Each cut starting from the last one's flow gives BK's
 // value and source set; terminals that cannot carry that flow grow on both sides (the value is corrected).
 TEST_P(MinCutTest, WarmStartFromTheLastFlowGivesTheSameCut) {
-  for (MinCutSolver solver : {MinCutSolver::regions, MinCutSolver::push_relabel})
+  struct Run {
+    MinCutSolver solver;
+    uint32_t regions, least;
+  };
+  // Regions: the device's shape; merged to the whole grid (BK alone); 4 x 4 regions never merged.
+  for (Run run : {Run{MinCutSolver::regions, 0, 0}, Run{MinCutSolver::regions, 2, 1}, Run{MinCutSolver::regions, 4, 64},
+                  Run{MinCutSolver::push_relabel, 0, 0}, Run{MinCutSolver::automatic, 0, 0}})
   for (uint32_t conn : {4u, 8u}) {
-    SCOPED_TRACE(solver == MinCutSolver::regions ? "regions" : "push-relabel");
+    SCOPED_TRACE(std::string(min_cut_solver_name(run.solver)) + ", regions " + std::to_string(run.regions) +
+                 ", least " + std::to_string(run.least));
     MinCutOptions o;
-    o.solver = solver;
+    o.solver = run.solver;
+    o.regions = run.regions;
+    o.least_regions = run.least;
     GridGraph g = disc_graph(120, 90, conn, 41 + conn);
     MinCutFlow flow;
     MinCutStats st;
@@ -223,16 +232,52 @@ TEST_P(MinCutTest, WarmStartFromTheLastFlowGivesTheSameCut) {
   }
 }
 
-// Boykov-Kolmogorov over 1 (the whole grid at once), 3 x 3 and 5 x 5 regions, merged 2 x 2 a level (uneven
-// counts leave regions with one part, or two, to merge) up to the whole grid.
+// Boykov-Kolmogorov over 1 (the whole grid at once), 3 x 3, 5 x 5 and 16 x 16 regions, merged 2 x 2 a level
+// (uneven counts leave regions with one part, or two, to merge) up to the whole grid (least 1), down to 2 or 4
+// regions, or not at all (least 1000), push-relabel finishing from the last level's flow.
 TEST_P(MinCutTest, AnyRegionsGiveTheSameCut) {
   for (uint32_t conn : {4u, 8u})
-    for (uint32_t regions : {1u, 3u, 5u}) {
+    for (uint32_t regions : {1u, 3u, 5u, 16u})
+      for (uint32_t least : {1u, 4u, 1000u}) {
+        MinCutOptions o;
+        o.solver = MinCutSolver::regions;
+        o.regions = regions;
+        o.least_regions = least;
+        const std::string what = std::to_string(regions) + " regions, least " + std::to_string(least);
+        MinCutStats st;
+        expect_bk(disc_graph(150, 110, conn, 21 + conn), what, o, &st, true);
+        EXPECT_EQ(st.solver, MinCutSolver::regions);
+        expect_bk(random_graph(41, 37, conn, 100, 0.3, 50 + regions), what, o, nullptr, true);
+      }
+}
+
+// What a massively parallel device gets: tiles small enough for a colour to fill it, a region per lane.
+TEST_P(MinCutTest, WideShapesGiveTheSameCut) {
+  for (uint32_t conn : {4u, 8u})
+    for (uint32_t tile : {2u, 4u, 8u}) {
       MinCutOptions o;
-      o.regions = regions;
-      expect_bk(disc_graph(150, 110, conn, 21 + conn), std::to_string(regions) + " regions", o);
-      expect_bk(random_graph(41, 37, conn, 100, 0.3, 50 + regions), std::to_string(regions) + " regions", o);
+      o.tile = tile;
+      o.regions = 64 / tile;
+      o.least_regions = o.regions * o.regions;
+      for (MinCutSolver s : {MinCutSolver::push_relabel, MinCutSolver::regions}) {
+        o.solver = s;
+        expect_bk(disc_graph(150, 110, conn, 61 + conn), "tile " + std::to_string(tile), o, nullptr, true);
+      }
     }
+}
+
+TEST_P(MinCutTest, SolverNamesAndTheAutomaticChoice) {
+  for (MinCutSolver s : kSolvers) EXPECT_EQ(parse_min_cut_solver(min_cut_solver_name(s)), s);
+  EXPECT_FALSE(parse_min_cut_solver("bk").has_value());
+  DeviceInfo info = GetParam();
+  info.massively_parallel = false;
+  EXPECT_EQ(resolve_min_cut_solver(info, MinCutSolver::automatic), MinCutSolver::regions);
+  info.massively_parallel = true;
+  EXPECT_EQ(resolve_min_cut_solver(info, MinCutSolver::automatic), MinCutSolver::push_relabel);
+  EXPECT_EQ(resolve_min_cut_solver(info, MinCutSolver::regions), MinCutSolver::regions);
+  MinCutStats st;
+  min_cut(dev(), random_graph(9, 7, 8, 10, 0.5, 1), {}, &st);
+  EXPECT_EQ(st.solver, resolve_min_cut_solver(dev().info(), MinCutSolver::automatic));
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(MinCutTest);

@@ -73,8 +73,11 @@ GridGraph four_connected(const GridGraph& g) {
 
 }  // namespace
 
-std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images, Parallelism* parallelism) {
+std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images, MinCutSolver solver,
+                               Parallelism* parallelism) {
   ParallelismMeter meter(dev);
+  MinCutOptions options;
+  options.solver = solver;
   std::vector<CutRun> runs;
   const auto names = image_names(data);
   for (uint32_t k = 0; k < std::min<size_t>(cut_images, names.size()); ++k) {
@@ -88,10 +91,10 @@ std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cu
         const GridGraph g = conn == 8 ? g8 : four_connected(g8);
         CutRun r{names[k], g.width, g.height, conn};
         const MinCut want = ref::bk_min_cut(g, &r.bk_seconds);
-        min_cut(dev, g);  // warm: kernels built, memory pooled
+        min_cut(dev, g, options);  // warm: kernels built, memory pooled
         if (parallelism) meter.start();
         const auto t0 = Clock::now();
-        const MinCut got = min_cut(dev, g);
+        const MinCut got = min_cut(dev, g, options);
         r.megavox_seconds = since(t0);
         if (parallelism) accumulate(*parallelism, meter.stop());
         r.value = got.value;
@@ -104,7 +107,7 @@ std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cu
 }
 
 std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations,
-                                      Parallelism* parallelism) {
+                                      MinCutSolver solver, Parallelism* parallelism) {
   ParallelismMeter meter(dev);
   std::vector<GrabCutRun> runs;
   const auto names = image_names(data);
@@ -117,6 +120,7 @@ std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint
     MaskOptions o;
     o.iterations = iterations;
     o.post = false;
+    o.min_cut_solver = solver;
     if (parallelism) meter.start();
     const auto t0 = Clock::now();
     const MaskResult r = mask_image(dev, img, start, o);

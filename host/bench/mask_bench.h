@@ -8,6 +8,7 @@
 
 #include "megavox/device.h"
 #include "megavox/parallelism.h"
+#include "megavox/min_cut.h"
 
 namespace mv::bench {
 
@@ -29,11 +30,12 @@ struct GrabCutRun {
 };
 
 // Cuts on the first `cut_images` images (sorted names) of `data`/images; GrabCut from boxes on the first
-// `images` (0 = all). `parallelism`, when given, sums the profiles of the timed calls (min_cut; mask_image), which
-// need `dev` opened with profile = true.
+// `images` (0 = all). `solver` cuts both. `parallelism`, when given, sums the profiles of the timed calls
+// (min_cut; mask_image), which need `dev` opened with profile = true.
 std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cut_images,
-                               Parallelism* parallelism = nullptr);
+                               MinCutSolver solver = MinCutSolver::automatic, Parallelism* parallelism = nullptr);
 std::vector<GrabCutRun> bench_grabcut(Device& dev, const std::string& data, uint32_t images, uint32_t iterations,
+                                      MinCutSolver solver = MinCutSolver::automatic,
                                       Parallelism* parallelism = nullptr);
 
 }  // namespace mv::bench

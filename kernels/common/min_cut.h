@@ -14,7 +14,9 @@
  *   min_cut_relax:     lowers heights to the distances (Gauss-Seidel sweeps inside a tile, forward then
  *                     backward, until the tile is still) in the tiles around a change, pass by pass. Starting
  *                     from upper bounds, the sweeps end at the distances exactly.
- *                     Both set flag[0] when anything changed; the host repeats passes until nothing does.
+ *                     Both set their pass's flag word (p.flag_word) when anything changed; the host queues
+ *                     passes in batches, each with its own word, until a pass changes nothing (the passes
+ *                     after a still pass run no tile, so the batch's extra passes cost only their launch).
  *   min_cut_active:   flag[1] is set when a pixel with excess can still reach the sink.
  *   min_cut_discharge: push-relabel sweeps over a tile: push to the sink, then along admissible edges
  *                     (height one above the neighbour's), then relabel (1 + the lowest residual neighbour);

@@ -65,7 +65,7 @@ MV_INLINE void mv_min_cut_settle(MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
   if (changed_any && !relax) MV_ST(touched, tile, 1u);
   if (border) {
     MV_ST(stamp, tile, p.stamp_now);
-    MV_ATOMIC_OR(flag, 0u, 1u);
+    MV_ATOMIC_OR(flag, p.flag_word, 1u);
   }
 }
 

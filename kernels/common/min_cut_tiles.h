@@ -24,15 +24,17 @@ MV_STRUCT_BEGIN(MvMinCutParams)
   mv_u32 stamp_now;     /* invalidate, relax: this pass's number (tile stamps count passes of every round) */
   mv_u32 stamp_since;   /* invalidate, relax: a tile runs when a stamp around it is at least this */
   mv_u32 from_touched;  /* invalidate, relax: 1 in a step's first pass, which runs the touched tiles instead */
+  mv_u32 flag_word;     /* invalidate, relax: the flag word this pass sets when anything changed (2 on) */
 MV_STRUCT_END(MvMinCutParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvMinCutParams, 52);
+MV_LAYOUT_SIZE(MvMinCutParams, 56);
 MV_LAYOUT_AT(MvMinCutParams, width, 0); MV_LAYOUT_AT(MvMinCutParams, height, 4); MV_LAYOUT_AT(MvMinCutParams, conn, 8);
 MV_LAYOUT_AT(MvMinCutParams, tile, 12); MV_LAYOUT_AT(MvMinCutParams, tiles_x, 16);
 MV_LAYOUT_AT(MvMinCutParams, tiles_y, 20); MV_LAYOUT_AT(MvMinCutParams, color, 24);
 MV_LAYOUT_AT(MvMinCutParams, color_tiles_x, 28); MV_LAYOUT_AT(MvMinCutParams, first_tile, 32);
 MV_LAYOUT_AT(MvMinCutParams, sweeps, 36); MV_LAYOUT_AT(MvMinCutParams, stamp_now, 40);
 MV_LAYOUT_AT(MvMinCutParams, stamp_since, 44); MV_LAYOUT_AT(MvMinCutParams, from_touched, 48);
+MV_LAYOUT_AT(MvMinCutParams, flag_word, 52);
 #endif
 
 /* Tile t of the dispatch's colour, as tile column and row (past the grid for the colour's last tiles). */

@@ -34,6 +34,11 @@ grep -q '"all_cuts_equal_bk": true' <<<"$json" || fail "a cut differs from BK's:
 [[ $(grep -c '"same_cut_as_bk": true' <<<"$json") == 4 ]] || fail "not 4 cuts (2 sizes, 4- and 8-connected): $json"
 [[ $(grep -c '"post_error"' <<<"$json") == 2 ]] || fail "not 2 GrabCut images: $json"
 
+grep -q '"min_cut_solver": "\(regions\|push-relabel\)"' <<<"$json" || fail "no solver named: $json"
+pr=$("$mv" bench mask --data "$dir/db" --cut-images 1 --images 1 --iterations 2 --min-cut-solver push-relabel --json)
+grep -q '"min_cut_solver": "push-relabel"' <<<"$pr" && grep -q '"all_cuts_equal_bk": true' <<<"$pr" ||
+  fail "--min-cut-solver push-relabel: $pr"
+
 text=$("$mv" bench mask --data "$dir/db" --cut-images 0 --images 2 --iterations 2)
 grep -q '^a  .* 48x36 ' <<<"$text" && grep -q '^b  .* 40x40 ' <<<"$text" || fail "no per-image rows: $text"
 if grep -q '"opencv_mean_error"' <<<"$json"; then

@@ -36,6 +36,11 @@ grep -q "b.png: 40x40" "$dir/b.txt" || fail "apply: $(cat "$dir/b.txt")"
 printf 'a.ppm rect=1,1,46,34\n# a comment\n\nb.ppm model=../m.mvm\n' > "$dir/photos/list.txt"
 "$mv" mask apply --list "$dir/photos/list.txt" -o "$dir/batch" --json > "$dir/list.json"
 [[ -s "$dir/batch/a.png" && -s "$dir/batch/b.png" ]] || fail "batch: $(cat "$dir/list.json")"
+# Every min-cut solver gives the same cuts, so the same mask bytes.
+for solver in regions push-relabel; do
+  "$mv" mask apply "$dir/photos/b.ppm" --rect 2,2,36,36 --no-post --min-cut-solver "$solver" -o "$dir/$solver" > /dev/null
+  cmp -s "$dir/out/b.png" "$dir/$solver/b.png" || fail "--min-cut-solver $solver gives another mask"
+done
 
 # Bad input: one error line, exit 1, no mask written.
 expect_error() {  # expect_error WORDS ARGS...
@@ -51,6 +56,7 @@ mkdir -p "$dir/grey"
 cp "$dir/truth/a.pgm" "$dir/grey/a.pgm"
 "$mv" mask train --images "$dir/grey" --masks "$dir/truth" -o "$dir/grey.mvm" > /dev/null
 expect_error "model is for 1-channel images" mask apply "$dir/photos/a.ppm" --model "$dir/grey.mvm" -o "$dir/bad"
+expect_error "min-cut-solver" mask apply "$dir/photos/b.ppm" --rect 2,2,36,36 --min-cut-solver bk -o "$dir/bad"
 expect_error "does not lie inside" mask apply "$dir/photos/a.ppm" --rect 40,30,20,20 -o "$dir/bad"
 expect_error "rect wants" mask apply "$dir/photos/a.ppm" --rect 1,2,3 -o "$dir/bad"
 expect_error "a.ppm: mask: no start" mask apply "$dir/photos/a.ppm" -o "$dir/bad"

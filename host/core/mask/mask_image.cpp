@@ -42,8 +42,10 @@ MaskResult mask_image(Device& dev, const RasterImage& image, const MaskStart& st
   mask::GrabCutOptions go;
   go.iterations = options.iterations;
   MinCutFlow flow;  // GrabCut's iterations keep the edges: each cut starts from the last one's flow
+  MinCutOptions cut_options;
+  cut_options.solver = options.min_cut_solver;
   const mask::GrabCutResult gc = mask::grabcut(image, start_labels(image, start), go, [&](const GridGraph& g) {
-    return min_cut(dev, g, {}, nullptr, &flow);
+    return min_cut(dev, g, cut_options, nullptr, &flow);
   });
   MaskResult r;
   r.grabcut = mask::labels_to_mask(gc.labels);

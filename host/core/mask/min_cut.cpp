@@ -35,9 +35,17 @@ uint32_t capped_sweeps(const DeviceInfo& info, uint32_t tile, uint64_t per_pixel
       std::clamp<uint64_t>(info.max_loop_iterations / (uint64_t{tile} * tile * per_pixel), 1, sweeps));
 }
 
+// Tiles of one colour across a grid.
+uint64_t colour_tiles(const GridGraph& g, uint32_t tile) {
+  return uint64_t{(g.width + 2 * tile - 1) / (2 * tile)} * ((g.height + 2 * tile - 1) / (2 * tile));
+}
+
 TilePlan plan_tiles(const Device& dev, const GridGraph& g, const MinCutOptions& o) {
   const DeviceInfo& info = dev.info();
-  uint32_t tile = std::clamp<uint32_t>(o.tile, 2, MV_MINCUT_MAX_TILE);
+  uint32_t tile = std::clamp<uint32_t>(o.tile == 0 ? 16 : o.tile, 2, MV_MINCUT_MAX_TILE);
+  // A massively parallel device wants a work-item per lane in every colour's dispatch.
+  if (o.tile == 0 && info.massively_parallel)
+    while (tile > 2 && colour_tiles(g, tile) < device_lanes(info)) tile /= 2;
   const uint64_t per_pixel = uint64_t{g.connectivity} * (MV_MINCUT_ATTEMPTS + 1);
   while (info.max_loop_iterations != 0 && tile > 2 && uint64_t{tile} * tile * per_pixel > info.max_loop_iterations)
     tile /= 2;
@@ -130,7 +138,9 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   Buffer eb = dev.alloc(n * 4, "min-cut excess");
   Buffer hb = dev.alloc(n * 4, "min-cut heights");
   Buffer sb = dev.alloc(n * 4, "min-cut sink capacities");
-  Buffer fb = dev.alloc(8, "min-cut flags");
+  // flags: [1] active pixels left; [2, 2 + kMaxBatch) one word per relabel pass of a batch.
+  constexpr uint32_t kMaxBatch = 16;
+  Buffer fb = dev.alloc((2 + kMaxBatch) * 4, "min-cut flags");
   const TilePlan plan = plan_tiles(dev, g, options);
   const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
   Buffer tb = dev.alloc(tiles * 4, "min-cut tile stamps");
@@ -150,21 +160,27 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   Kernel& relax = dev.kernel(KernelId::min_cut_relax);
   Kernel& active = dev.kernel(KernelId::min_cut_active);
   Kernel& discharge = dev.kernel(KernelId::min_cut_discharge);
-  uint32_t flags[2] = {0, 0};
+  uint32_t flags[2 + kMaxBatch] = {};
   MvMinCutParams& sp = still_plan.base;
   // One step of a global relabel (min_cut_invalidate or min_cut_relax), pass after pass until nothing changes:
-  // first the touched tiles, then the tiles around each change of the pass before.
+  // first the touched tiles, then the tiles around each change of the pass before. Passes go in batches read
+  // back at once, 2, 4, ... 16 a batch, so a relabel of P passes waits on the device about log P times, not P.
   auto settle = [&](Kernel& k) {
     sp.from_touched = 1;
-    for (bool changed = true; changed; sp.from_touched = 0) {
-      dev.fill(fb, 0, 8);
+    for (uint32_t batch = 1, still = 0; !still; batch = std::min(2 * batch, kMaxBatch)) {
+      dev.fill(fb, 0, (2 + kMaxBatch) * 4);
       dev.barrier();
-      ++sp.stamp_now;
-      run_colours(dev, k, still_plan, {&hb, &sb, &rb, &fb, &tb, &ub});
-      dev.download(fb, flags, 8);
-      ++st.relabel_passes;
-      changed = flags[0] != 0;
-      sp.stamp_since = sp.stamp_now;
+      for (uint32_t j = 0; j < batch; ++j, sp.from_touched = 0) {
+        ++sp.stamp_now;
+        sp.flag_word = 2 + j;
+        run_colours(dev, k, still_plan, {&hb, &sb, &rb, &fb, &tb, &ub});
+        sp.stamp_since = sp.stamp_now;
+      }
+      dev.download(fb, flags, (2 + batch) * 4);
+      for (uint32_t j = 0; j < batch && !still; ++j) {
+        ++st.relabel_passes;
+        still = flags[2 + j] == 0;
+      }
     }
   };
   // Each round's discharge moves excess closer to the sink or raises heights; push-relabel's bound on
@@ -173,8 +189,9 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   const uint32_t passes = options.discharge_passes != 0
                               ? options.discharge_passes
                               : std::clamp((std::max(plan.base.tiles_x, plan.base.tiles_y) + 4) / 5, 4u, 12u);
-  for (;;) {
-    if (++st.rounds > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
+  for (uint64_t round = 1;; ++round) {
+    if (round > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
+    ++st.rounds;
     // The global relabel, from the heights the last round left: heights without support rise to unreachable,
     // then all fall to the distances.
     settle(invalidate);
@@ -197,7 +214,46 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   return sink_before - sink_after;
 }
 
+// The region solver's shape on this device: the first level's regions across (and down), and the fewest regions a
+// level may have. A region per lane at least (PoCL on 2 cores 4 x 4, lavapipe 8 x 8), and no level with fewer
+// regions than lanes, so no region dispatch leaves the device idle: push-relabel finishes the seams.
+struct RegionShape {
+  uint32_t regions, least;
+};
+RegionShape region_shape(const DeviceInfo& info, const MinCutOptions& o) {
+  const uint64_t lanes = device_lanes(info);
+  uint32_t regions = 2;
+  while (uint64_t{regions} * regions < lanes && regions < 1024) regions *= 2;
+  RegionShape s{o.regions != 0 ? o.regions : regions, o.least_regions};
+  if (s.least == 0) s.least = static_cast<uint32_t>(std::min<uint64_t>(lanes, 1u << 20));
+  return s;
+}
+
 }  // namespace
+
+const char* min_cut_solver_name(MinCutSolver solver) {
+  switch (solver) {
+    case MinCutSolver::push_relabel: return "push-relabel";
+    case MinCutSolver::regions: return "regions";
+    case MinCutSolver::automatic: break;
+  }
+  return "auto";
+}
+
+std::optional<MinCutSolver> parse_min_cut_solver(std::string_view name) {
+  for (MinCutSolver s : {MinCutSolver::push_relabel, MinCutSolver::regions, MinCutSolver::automatic})
+    if (name == min_cut_solver_name(s)) return s;
+  return std::nullopt;
+}
+
+MinCutSolver resolve_min_cut_solver(const DeviceInfo& info, MinCutSolver solver) {
+  if (solver != MinCutSolver::automatic) return solver;
+  return info.massively_parallel ? MinCutSolver::push_relabel : MinCutSolver::regions;
+}
+
+uint64_t device_lanes(const DeviceInfo& info) {
+  return uint64_t{std::max<uint32_t>(info.compute_units, 1)} * std::max<uint32_t>(info.preferred_work_group_size, 1) * 4;
+}
 
 MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats,
                MinCutFlow* flow) {
@@ -224,9 +280,14 @@ MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, Mi
   MinCut cut;
   cut.source_side.resize(n);
   // Both solvers cut the reversed graph: what can reach its sink is the source set before the reversal.
-  const uint64_t into_sink = options.solver == MinCutSolver::regions
-                                 ? mask::min_cut_regions(dev, g, options.regions, rb, excess, sink, cut.source_side, st)
-                                 : push_relabel(dev, g, options, rb, excess, sink, cut.source_side, st);
+  st.solver = resolve_min_cut_solver(dev.info(), options.solver);
+  uint64_t into_sink = 0;
+  bool finished = false;
+  if (st.solver == MinCutSolver::regions) {
+    const RegionShape shape = region_shape(dev.info(), options);
+    into_sink = mask::min_cut_regions(dev, g, shape.regions, shape.least, rb, excess, sink, cut.source_side, st, finished);
+  }
+  if (!finished) into_sink += push_relabel(dev, g, options, rb, excess, sink, cut.source_side, st);
   cut.value = value + into_sink - added;
   if (flow) {
     flow->width = g.width;

@@ -7,6 +7,7 @@
 
 #include "megavox/device.h"
 #include "megavox/mask_model.h"
+#include "megavox/min_cut.h"
 #include "megavox/raster.h"
 
 namespace mv {
@@ -29,6 +30,7 @@ struct MaskOptions {
   uint32_t iterations = 5;
   bool post = true;            // median and erosion
   uint32_t erode_radius = 2;   // octagon inradius in pixels (0: no erosion)
+  MinCutSolver min_cut_solver = MinCutSolver::automatic;  // every solver gives the same cuts: only the time moves
 };
 
 struct MaskResult {

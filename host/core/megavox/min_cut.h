@@ -1,5 +1,6 @@
-// megavox — exact min-cut of a pixel-grid graph on a device: Boykov-Kolmogorov over regions, merged up to the grid
-// (kernels/common/min_cut_regions.h), or tiled push-relabel (kernels/common/min_cut.h).
+// megavox — exact min-cut of a pixel-grid graph on a device: Boykov-Kolmogorov over regions, merged while many
+// regions are left, finished by push-relabel (kernels/common/min_cut_regions.h), or tiled push-relabel alone
+// (kernels/common/min_cut.h).
 //
 // The answer is the same bytes on every device: the cut value (the maximum flow, exactly) and the canonical
 // minimal source set (the pixels reachable from the source in the residual graph of a maximum flow, which is
@@ -8,29 +9,49 @@
 // global relabel gives a height (push-relabel).
 #pragma once
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 #include "megavox/device.h"
 #include "megavox/grid_graph.h"
 
 namespace mv {
 
-// How the kernels find the cut: push-relabel over tiles (kernels/common/min_cut.h), or Boykov-Kolmogorov over
-// regions, merged 2 x 2 a level up to the whole grid (kernels/common/min_cut_regions.h).
-enum class MinCutSolver : uint8_t { push_relabel, regions };
+// How the kernels find the cut: push-relabel over tiles (kernels/common/min_cut.h); Boykov-Kolmogorov over
+// regions, merged 2 x 2 a level while a level keeps many regions, then push-relabel from the regions' flow for
+// what crosses the last seams (kernels/common/min_cut_regions.h); or by the device (automatic): regions where a
+// few threads run (massively_parallel false), push-relabel on massively parallel devices.
+enum class MinCutSolver : uint8_t { push_relabel, regions, automatic };
+
+// "push-relabel", "regions", "auto"; parse_min_cut_solver takes the same names (nullopt for others).
+const char* min_cut_solver_name(MinCutSolver solver);
+std::optional<MinCutSolver> parse_min_cut_solver(std::string_view name);
+// The solver `automatic` stands for on this device; others as they are.
+MinCutSolver resolve_min_cut_solver(const DeviceInfo& info, MinCutSolver solver);
+// Work-items the device runs at once: compute units (at least 1) x preferred work-group size x 4. A dispatch with
+// fewer leaves part of the device idle ("narrow").
+uint64_t device_lanes(const DeviceInfo& info);
 
 struct MinCutOptions {
-  uint32_t tile = 16;              // push-relabel: tile side in pixels (2 to 32); one work-item per tile
+  // push-relabel: tile side in pixels (2 to 32); one work-item per tile. 0: 16, halved on massively parallel
+  // devices while a colour's tiles are fewer than the device's lanes (device_lanes).
+  uint32_t tile = 0;
   // Push-relabel: passes over the four tile colours between two global relabels; 0: by size, one per 5 tiles
   // across the longer side, 4 to 12 (each pass is four dispatches: small grids lose more to them than they gain).
   uint32_t discharge_passes = 0;
   uint32_t sweeps = 3;             // push-relabel: sweeps over a tile per dispatch (fewer where loops are capped)
-  MinCutSolver solver = MinCutSolver::regions;
-  uint32_t regions = 2;            // regions: regions x regions in the first level (then merged 2 x 2 a level)
+  MinCutSolver solver = MinCutSolver::automatic;
+  // regions: regions x regions in the first level (then merged 2 x 2 a level); 0: from the device.
+  uint32_t regions = 0;
+  // regions: merging stops before a level of fewer regions than this, and push-relabel finishes from there (a
+  // single region at the first level is solved alone); 0: from the device.
+  uint32_t least_regions = 0;
 };
 
 struct MinCutStats {
-  uint32_t rounds = 0;          // regions: dispatches; push-relabel: global relabels (each followed by discharge
-                                // passes but the last)
+  uint32_t rounds = 0;          // region dispatches plus push-relabel's global relabels (each followed by
+                                // discharge passes but the last)
+  MinCutSolver solver = MinCutSolver::automatic;  // the solver that ran (never automatic)
   uint32_t relabel_passes = 0;  // invalidation and relaxation passes over the four colours, summed over the rounds
   bool warm = false;            // started from the flow of an earlier cut (MinCutFlow)
 };

@@ -48,7 +48,9 @@ void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g) {
                     1 / r.megavox_seconds, 1 / r.bk_seconds, r.bk_seconds / r.megavox_seconds, r.same_cut ? "yes" : "NO");
     }
     const double speedup = mv_1mp8 > 0 ? bk_1mp8 / mv_1mp8 : 0;
+    if (g.profile) dev->take_timings();  // the totals below are GrabCut's (masks and post-processing), not the cuts'
     const auto gc = bench::bench_grabcut(*dev, a->data, a->images, a->iterations);
+    if (g.profile) print_kernel_totals(*dev);
     double err = 0, post = 0, secs = 0, cv_err = 0, cv_secs = 0, mv_secs_cv = 0;  // mv_secs_cv: where OpenCV ran
     uint64_t px = 0, cv_px = 0;
     size_t cv_n = 0;

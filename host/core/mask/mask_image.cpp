@@ -42,7 +42,7 @@ MaskResult mask_image(Device& dev, const RasterImage& image, const MaskStart& st
   mask::GrabCutOptions go;
   go.iterations = options.iterations;
   MinCutFlow flow;  // GrabCut's iterations keep the edges: each cut starts from the last one's flow
-  const mask::GrabCutResult gc = mask::grabcut(image, start_labels(image, start), go, [&](const GridGraph& g) {
+  const mask::GrabCutResult gc = mask::grabcut(dev, image, start_labels(image, start), go, [&](const GridGraph& g) {
     return min_cut(dev, g, {}, nullptr, &flow);
   });
   MaskResult r;

@@ -97,14 +97,17 @@ MvGrabCutParams GrabCutKernels::params() const {
 uint32_t GrabCutKernels::pixel_groups() const { return dev_.groups_for(n_, kGcLocal); }
 
 // Groups for a summing kernel: each flushes its sums once, so CPU devices get a few per compute unit; enough
-// everywhere that no work-item loops past the device's loop cap.
+// everywhere that no work-item runs past the device's loop cap. A loop-capped device (lavapipe) counts the
+// iterations of every loop of the invocation together, and a pixel of the data terms runs up to about 250 of
+// them (8 exps of 20, 2 logs of 11, the components' loops): a work-item takes at most cap / 512 pixels.
 uint32_t GrabCutKernels::sum_groups() const {
   const DeviceInfo& info = dev_.info();
   uint64_t groups = (n_ + kGcLocal - 1) / kGcLocal;
   if (!info.massively_parallel) groups = std::min<uint64_t>(groups, uint64_t{std::max(info.compute_units, 1u)} * 4);
-  if (info.max_loop_iterations > 0)
-    groups = std::max<uint64_t>(groups, (n_ + uint64_t{kGcLocal} * info.max_loop_iterations - 1) /
-                                            (uint64_t{kGcLocal} * info.max_loop_iterations));
+  if (info.max_loop_iterations > 0) {
+    const uint64_t per_item = std::max<uint64_t>(1, info.max_loop_iterations / 512);
+    groups = std::max<uint64_t>(groups, (n_ + kGcLocal * per_item - 1) / (kGcLocal * per_item));
+  }
   return dev_.groups_for(groups * kGcLocal, kGcLocal);
 }
 

@@ -111,7 +111,7 @@ GcFit gc_mixture(const GcMixture& m, uint32_t colour) {
   if (best < 0 || !(e[best] < -std::log(std::numeric_limits<double>::denorm_min()))) return {690.8, 0};
   double s = 0;
   for (int k = 0; k < 5; ++k)
-    if (k != best && m[k].present) s += gc_exp_neg(e[k] - e[best]);
+    if (k != best && m[k].present && e[k] - e[best] < 40.0) s += gc_exp_neg(e[k] - e[best]);  // exp(-40) < 5e-18
   const double v = e[best] - gc_log(1.0 + s);
   return {v >= -std::log(1e-300) ? 690.8 : v, uint32_t(best)};
 }

@@ -34,6 +34,7 @@
 #define MV_GC_CONSTS 528u  /* doubles in all */
 #define MV_GC_K 5u         /* mixture components */
 #define MV_GC_FIX 1048576.0 /* 2^20: sums of capacities in fixed point */
+#define MV_GC_GAP 40.0      /* mixtures: components this far (nats) above the best add no term */
 
 /* Round half up of a non-negative double (llround's result for x >= 0), as an integer. */
 MV_INLINE mv_u64 mv_gc_round(mv_f64 x) {
@@ -72,7 +73,9 @@ MV_INLINE mv_f64 mv_gc_channel(mv_u32 colour, mv_u32 a) { return MV_F64((colour 
 
 /* -log of a mixture's density at a colour (side 0 background, 1 foreground), OpenCV's form without the
  * (2 pi)^-3/2 that cancels: e_k = m_k / 2 + L_k per component (m_k the Mahalanobis distance, in the order
- * sum over a, b of (d_a inv_ab) d_b), then min e - log(1 + sum over the others of exp(min e - e_k)).
+ * sum over a, b of (d_a inv_ab) d_b), then min e - log(1 + sum over the others of exp(min e - e_k)), the sum
+ * over the others less than MV_GC_GAP above min e only: exp(-40) < 5e-18 is below a double's resolution of
+ * 1 + sum, and the test is a plain comparison of a difference, so every device skips the same terms.
  * component: the component of least e_k (the lowest among equals); 0 where every density underflows. */
 MV_STRUCT_BEGIN(MvGcFit)
   mv_f64 energy;
@@ -109,9 +112,11 @@ MV_INLINE MvGcFit mv_gc_mixture(MvBufF64 c, mv_u32 side, mv_u32 colour) {
   if (best == 5u || !(e[best] < MV_LD(c, MV_GC_ZERO))) return fit;
   fit.component = best;
   MV_PRECISE mv_f64 s = 0.0;
-  for (mv_u32 k = 0u; k < MV_GC_K; ++k)
-    if (k != best && MV_LD(c, MV_GC_MIX + (side * MV_GC_K + k) * 16u + 13u) != 0.0)
-      s = s + mv_gc_exp_neg(c, e[k] - e[best]);
+  for (mv_u32 k = 0u; k < MV_GC_K; ++k) {
+    if (k == best || MV_LD(c, MV_GC_MIX + (side * MV_GC_K + k) * 16u + 13u) == 0.0) continue;
+    MV_PRECISE mv_f64 gap = e[k] - e[best];
+    if (gap < MV_GC_GAP) s = s + mv_gc_exp_neg(c, gap);
+  }
   MV_PRECISE mv_f64 d = e[best] - mv_gc_log_1_5(c, 1.0 + s);
   if (d < MV_LD(c, MV_GC_UNDER)) fit.energy = d;
   return fit;

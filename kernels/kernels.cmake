@@ -83,7 +83,7 @@ mv_kernel(grabcut_terminals        mask/grabcut.cl   mask/grabcut.comp    3  MvG
 mv_kernel(grabcut_seed_d2          mask/grabcut.cl   mask/grabcut.comp    4  MvGrabCutParams   MV_ENTRY_seed_d2)
 mv_kernel(grabcut_seed_find        mask/grabcut.cl   mask/grabcut.comp    3  MvGrabCutParams   MV_ENTRY_seed_find)
 mv_kernel(grabcut_beta_sum         mask/grabcut.cl   mask/grabcut.comp    2  MvGrabCutParams   MV_ENTRY_beta_sum)
-mv_kernel(grabcut_smooth_sum       mask/grabcut.cl   mask/grabcut.comp    3  MvGrabCutParams   MV_ENTRY_smooth_sum)
+mv_kernel(grabcut_smooth_sum       mask/grabcut.cl   mask/grabcut.comp    4  MvGrabCutParams   MV_ENTRY_smooth_sum)
 mv_kernel(grabcut_data             mask/grabcut.cl   mask/grabcut.comp    6  MvGrabCutParams   MV_ENTRY_data)
 mv_kernel(grabcut_moments          mask/grabcut.cl   mask/grabcut.comp    4  MvGrabCutParams   MV_ENTRY_moments)
 mv_kernel(grabcut_kmeans           mask/grabcut.cl   mask/grabcut.comp    5  MvGrabCutParams   MV_ENTRY_kmeans)

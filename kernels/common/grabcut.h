@@ -3,8 +3,9 @@
  * from + - * and floor in a fixed order (grabcut_math.h). The sums the host needs are in grabcut_sums.h.
  *   grabcut_colours: image samples (16-bit, two to a word) to packed 8-bit colours r | g << 8 | b << 16,
  *                    round(s * 255 / max) (grey replicated).
- *   grabcut_edges:   the 8-neighbour smoothness capacities, round(gamma_d exp(-beta |z_i - z_j|^2) scale); 0 for
- *                    neighbours past the border (grid_graph.h's numbering).
+ *   grabcut_edges:   the 8-neighbour smoothness capacities, round(w scale) of the weights grabcut_smooth_sum left
+ *                    (w = gamma_d exp(-beta |z_i - z_j|^2), pixel i's even edges d at weights[4 i + d / 2], an
+ *                    odd edge the reverse of its neighbour's even one); 0 past the border (grid_graph.h's numbering).
  *   grabcut_terminals: the terminal capacities round(source scale) (first n words), round(sink scale) (next n)
  *                    from the data terms (doubles, source and sink interleaved).
  *   grabcut_seed_d2: k-means++ seeding of both sides at once: per side, 1 for its pixels (mode 0: a rank to draw
@@ -76,7 +77,8 @@ MV_INLINE void mv_gc_colours(MvBufU32 samples, MvBufU32 colour, MvGrabCutParams 
   MV_ST(colour, i, packed);
 }
 
-/* gamma_d exp(-beta |z_i - z_j|^2) of pixel i's edge d, 0 past the border; the same from both ends. */
+/* gamma_d exp(-beta |z_i - z_j|^2) of pixel i's edge d, 0 past the border; the same from both ends, so each pair
+ * is computed once (its even end) and kept for the capacities. */
 MV_INLINE mv_f64 mv_gc_smooth(MvBufU32 colour, MvBufF64 c, MvGrabCutParams p, mv_u32 i, mv_u32 d) {
   mv_i32 nx = MV_I32(i % p.width) + mv_grid_dx(d);
   mv_i32 ny = MV_I32(i / p.width) + mv_grid_dy(d);
@@ -87,10 +89,17 @@ MV_INLINE mv_f64 mv_gc_smooth(MvBufU32 colour, MvBufF64 c, MvGrabCutParams p, mv
   return w;
 }
 
-MV_INLINE void mv_gc_edges(MvBufU32 colour, MvBufF64 c, MvBufU32 edges, MvGrabCutParams p, mv_u32 i) {
+MV_INLINE void mv_gc_edges(MvBufF64 weights, MvBufF64 c, MvBufU32 edges, MvGrabCutParams p, mv_u32 i) {
   for (mv_u32 d = 0u; d < 8u; ++d) {
-    MV_PRECISE mv_f64 w = mv_gc_smooth(colour, c, p, i, d) * MV_LD(c, MV_GC_SCALE);
-    MV_ST(edges, i * 8u + d, MV_U32(mv_gc_round(w)));
+    mv_i32 nx = MV_I32(i % p.width) + mv_grid_dx(d);
+    mv_i32 ny = MV_I32(i / p.width) + mv_grid_dy(d);
+    mv_u32 q = 0u;
+    if (nx >= 0 && ny >= 0 && nx < MV_I32(p.width) && ny < MV_I32(p.height)) {
+      mv_u32 end = (d & 1u) == 0u ? i : MV_U32(ny) * p.width + MV_U32(nx);
+      MV_PRECISE mv_f64 w = MV_LD(weights, 4u * end + (d >> 1)) * MV_LD(c, MV_GC_SCALE);
+      q = MV_U32(mv_gc_round(w));
+    }
+    MV_ST(edges, i * 8u + d, q);
   }
 }
 

@@ -5,8 +5,8 @@ __kernel void grabcut_colours(__global uint* samples, __global uint* colour, MvG
   for (uint i = MV_GLOBAL_ID(); i < p.pixels; i += MV_GLOBAL_SIZE()) mv_gc_colours(samples, colour, p, i);
 }
 
-__kernel void grabcut_edges(__global uint* colour, __global double* c, __global uint* edges, MvGrabCutParams p) {
-  for (uint i = MV_GLOBAL_ID(); i < p.pixels; i += MV_GLOBAL_SIZE()) mv_gc_edges(colour, c, edges, p, i);
+__kernel void grabcut_edges(__global double* weights, __global double* c, __global uint* edges, MvGrabCutParams p) {
+  for (uint i = MV_GLOBAL_ID(); i < p.pixels; i += MV_GLOBAL_SIZE()) mv_gc_edges(weights, c, edges, p, i);
 }
 
 __kernel void grabcut_terminals(__global double* terms, __global double* c, __global uint* q, MvGrabCutParams p) {
@@ -28,9 +28,10 @@ __kernel void grabcut_beta_sum(__global uint* colour, __global uint* sums, MvGra
   mv_gc_beta_sum(acc, colour, sums, p);
 }
 
-__kernel void grabcut_smooth_sum(__global uint* colour, __global double* c, __global uint* sums, MvGrabCutParams p) {
+__kernel void grabcut_smooth_sum(__global uint* colour, __global double* c, __global double* weights,
+                                 __global uint* sums, MvGrabCutParams p) {
   MV_SHARED(uint, acc, 2);
-  mv_gc_smooth_sum(acc, colour, c, sums, p);
+  mv_gc_smooth_sum(acc, colour, c, weights, sums, p);
 }
 
 __kernel void grabcut_data(__global uint* colour, __global uint* labels, __global uint* comp, __global double* c,

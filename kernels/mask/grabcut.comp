@@ -20,8 +20,8 @@ MV_SHARED(uint, acc, 2);
 MV_ARGS(MvBufU32 samples; MvBufU32 colour; MvGrabCutParams p;);
 void main() { MV_GC_PIXELS(mv_gc_colours(args.samples, args.colour, args.p, i);) }
 #elif defined(MV_ENTRY_edges)
-MV_ARGS(MvBufU32 colour; MvBufF64 c; MvBufU32 edges; MvGrabCutParams p;);
-void main() { MV_GC_PIXELS(mv_gc_edges(args.colour, args.c, args.edges, args.p, i);) }
+MV_ARGS(MvBufF64 weights; MvBufF64 c; MvBufU32 edges; MvGrabCutParams p;);
+void main() { MV_GC_PIXELS(mv_gc_edges(args.weights, args.c, args.edges, args.p, i);) }
 #elif defined(MV_ENTRY_terminals)
 MV_ARGS(MvBufF64 terms; MvBufF64 c; MvBufU32 q; MvGrabCutParams p;);
 void main() { MV_GC_PIXELS(mv_gc_terminals(args.terms, args.c, args.q, args.p, i);) }
@@ -35,8 +35,8 @@ void main() { MV_GC_PIXELS(mv_gc_seed_find(args.scan_bg, args.scan_fg, args.foun
 MV_ARGS(MvBufU32 colour; MvBufU32 sums; MvGrabCutParams p;);
 void main() { mv_gc_beta_sum(args.colour, args.sums, args.p); }
 #elif defined(MV_ENTRY_smooth_sum)
-MV_ARGS(MvBufU32 colour; MvBufF64 c; MvBufU32 sums; MvGrabCutParams p;);
-void main() { mv_gc_smooth_sum(args.colour, args.c, args.sums, args.p); }
+MV_ARGS(MvBufU32 colour; MvBufF64 c; MvBufF64 weights; MvBufU32 sums; MvGrabCutParams p;);
+void main() { mv_gc_smooth_sum(args.colour, args.c, args.weights, args.sums, args.p); }
 #elif defined(MV_ENTRY_data)
 MV_ARGS(MvBufU32 colour; MvBufU32 labels; MvBufU32 comp; MvBufF64 c; MvBufF64 terms; MvBufU32 sums;
         MvGrabCutParams p;);

@@ -135,12 +135,14 @@ uint64_t GrabCutKernels::beta_sum() {
 uint64_t GrabCutKernels::smooth_sum() {
   MvGrabCutParams p = params();
   p.sum_at = kSumSmooth;
-  return run_sums(KernelId::grabcut_smooth_sum, {&colour_, &consts_, &sums_}, p, 1)[0];
+  if (weights_.empty()) weights_ = dev_.alloc(n_ * 32, "grabcut smoothness weights");
+  return run_sums(KernelId::grabcut_smooth_sum, {&colour_, &consts_, &weights_, &sums_}, p, 1)[0];
 }
 
 void GrabCutKernels::edges(std::vector<uint32_t>& out) {
+  if (weights_.empty()) throw Error("grabcut: the edges take the weights smooth_sum leaves; call it first");
   if (edges_.empty()) edges_ = dev_.alloc(n_ * 32, "grabcut edge capacities");
-  dev_.dispatch(dev_.kernel(KernelId::grabcut_edges), pixel_groups(), kGcLocal, {&colour_, &consts_, &edges_}, params());
+  dev_.dispatch(dev_.kernel(KernelId::grabcut_edges), pixel_groups(), kGcLocal, {&weights_, &consts_, &edges_}, params());
   dev_.barrier();
   out.resize(n_ * 8);
   dev_.download(edges_, out.data(), n_ * 32);

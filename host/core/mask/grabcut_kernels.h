@@ -34,9 +34,9 @@ class GrabCutKernels {
   void upload_consts(const GrabCutConsts& c);
   // Sum of squared colour differences over the 8-neighbour pairs (each once).
   uint64_t beta_sum();
-  // Sum over every pixel's 8 edges of round(w * 2^20).
+  // Sum over every pixel's 8 edges of round(w * 2^20); keeps the weights (each pair's once) for edges().
   uint64_t smooth_sum();
-  // The smoothness capacities at the constants' scale (grid_graph.h's layout).
+  // The smoothness capacities of the last smooth_sum's weights at the constants' scale (grid_graph.h's layout).
   void edges(std::vector<uint32_t>& out);
   // Data terms and components (own_side_only: labelled pixels' own-side components only, no terms); returns
   // the terms' sum in units of 2^-20 (0 with own_side_only).
@@ -73,7 +73,7 @@ class GrabCutKernels {
   uint32_t w_, h_;
   uint64_t n_;
   std::vector<uint8_t> side_bytes_;
-  Buffer samples_, colour_, labels_, comp_, consts_, terms_, q_, edges_, sums_, side_, d2_[2], scan_[2], found_;
+  Buffer samples_, colour_, labels_, comp_, consts_, terms_, q_, edges_, weights_, sums_, side_, d2_[2], scan_[2], found_;
 };
 
 }  // namespace mv::mask

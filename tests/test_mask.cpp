@@ -51,11 +51,18 @@ std::vector<uint16_t> crop_truth(const std::vector<uint16_t>& t, uint32_t tw, ui
   return out;
 }
 
-mask::GrabCutResult grabcut_bk(const RasterImage& img, const std::vector<uint8_t>& labels, uint32_t iterations = 5) {
+// GrabCut with Boost's cut on `dev` (the first device where a test is not per device: every device gives the
+// same labels, test_grabcut.cpp).
+mask::GrabCutResult grabcut_bk(Device& dev, const RasterImage& img, const std::vector<uint8_t>& labels,
+                               uint32_t iterations = 5) {
   mask::GrabCutOptions o;
   o.iterations = iterations;
-  return mask::grabcut(img, labels, o, [](const GridGraph& g) { return ref::bk_min_cut(g); });
+  return mask::grabcut(dev, img, labels, o, [](const GridGraph& g) { return ref::bk_min_cut(g); });
 }
+
+#define MV_MASK_FIRST_DEVICE(dev)                                   \
+  if (all_devices().empty()) GTEST_SKIP() << "no device";           \
+  Device& dev = shared_device(all_devices().front())
 
 class MaskTest : public ::testing::TestWithParam<DeviceInfo> {
  protected:
@@ -131,7 +138,7 @@ TEST_P(MaskTest, RealPhotographGraphsMatchBoykovKolmogorov) {
   uint32_t cuts = 0;
   const auto labels = start_labels(img, MaskStart{mask::box_from_truth(truth, w, h), {}, nullptr});
   MinCutFlow flow;  // as mask_image cuts: each iteration from the last one's flow
-  const mask::GrabCutResult r = mask::grabcut(img, labels, o, [&](const GridGraph& g) {
+  const mask::GrabCutResult r = mask::grabcut(dev(), img, labels, o, [&](const GridGraph& g) {
     MinCutStats st;
     const MinCut want = ref::bk_min_cut(g), got = min_cut(dev(), g, {}, &st, &flow);
     EXPECT_EQ(got.value, want.value) << "cut " << cuts;
@@ -140,7 +147,7 @@ TEST_P(MaskTest, RealPhotographGraphsMatchBoykovKolmogorov) {
     ++cuts;
     return got;
   });
-  EXPECT_EQ(r.labels, grabcut_bk(img, labels, 3).labels);
+  EXPECT_EQ(r.labels, grabcut_bk(dev(), img, labels, 3).labels);
   EXPECT_GE(cuts, 1u);
 }
 
@@ -149,6 +156,7 @@ MV_INSTANTIATE_ON_ALL_DEVICES(MaskTest);
 // GrabCut (host, with Boost's cut: the device's is the same, above) and the classifier on six images.
 TEST(MaskGroundTruth, GrabCutAndClassifierOnSixImages) {
   MV_SKIP_WITHOUT_SHARED_DATA("grabcut/images/llama.ppm");
+  MV_MASK_FIRST_DEVICE(dev);
   const char* names[] = {"llama", "teddy", "106024", "153093", "189080", "376043"};
   double grabcut_sum = 0;
   std::vector<RasterImage> images;
@@ -158,7 +166,7 @@ TEST(MaskGroundTruth, GrabCutAndClassifierOnSixImages) {
     truths.push_back(io::read_image(shared_data_file(std::string("grabcut/masks/") + name + ".pgm")).samples);
     const RasterImage& img = images.back();
     const MaskBox box = mask::box_from_truth(truths.back(), img.width, img.height);
-    const auto r = grabcut_bk(img, mask::box_labels(img.width, img.height, box.x, box.y, box.w, box.h));
+    const auto r = grabcut_bk(dev, img, mask::box_labels(img.width, img.height, box.x, box.y, box.w, box.h));
     const double err = mask::mask_error(mask::labels_to_mask(r.labels), truths.back());
     std::printf("  %-8s grabcut error %.2f %% (%u iterations)\n", name, 100 * err, r.iterations);
     grabcut_sum += err;
@@ -180,6 +188,7 @@ TEST(MaskGroundTruth, GrabCutAndClassifierOnSixImages) {
 // A graph too large for scale 256: the first iteration's scale is kept, so every iteration's edges are the first
 // one's and each cut can start from the last one's flow (MinCutFlow needs the same edges).
 TEST(MaskQuantization, LaterIterationsKeepTheFirstScale) {
+  MV_MASK_FIRST_DEVICE(dev);
   std::vector<uint16_t> truth;
   const RasterImage img = ellipse_image(800, 600, truth, 5);
   const MaskBox box = mask::box_from_truth(truth, img.width, img.height);
@@ -187,7 +196,7 @@ TEST(MaskQuantization, LaterIterationsKeepTheFirstScale) {
   uint32_t cuts = 0;
   mask::GrabCutOptions o;
   const std::vector<uint8_t> start = mask::box_labels(img.width, img.height, box.x, box.y, box.w, box.h);
-  const mask::GrabCutResult r = mask::grabcut(img, start, o, [&](const GridGraph& g) {
+  const mask::GrabCutResult r = mask::grabcut(dev, img, start, o, [&](const GridGraph& g) {
     if (cuts == 0) first_edges = g.edges;
     EXPECT_TRUE(g.edges == first_edges) << "cut " << cuts;
     MinCut c;  // a cut that moves every time (the truth less every fifth column, another each cut): all five run
@@ -201,6 +210,7 @@ TEST(MaskQuantization, LaterIterationsKeepTheFirstScale) {
 }
 
 TEST(MaskStarts, CombineAndFail) {
+  MV_MASK_FIRST_DEVICE(dev);
   std::vector<uint16_t> truth;
   const RasterImage img = ellipse_image(20, 10, truth, 1);
   EXPECT_NE(error_message([&] { start_labels(img, {}); }).find("no start"), std::string::npos);
@@ -230,7 +240,7 @@ TEST(MaskStarts, CombineAndFail) {
   // Only foreground strokes: nothing to learn the background from.
   s.box.reset();
   s.seeds.assign(200, 255);
-  EXPECT_NE(error_message([&] { grabcut_bk(img, start_labels(img, s)); }).find("no background"), std::string::npos);
+  EXPECT_NE(error_message([&] { grabcut_bk(dev, img, start_labels(img, s)); }).find("no background"), std::string::npos);
 }
 
 TEST(MaskModelFile, RoundTripAndDamage) {

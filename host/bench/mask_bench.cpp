@@ -48,12 +48,12 @@ std::vector<uint16_t> upscale2(const std::vector<uint16_t>& t, uint32_t w, uint3
 }
 
 // GrabCut's first graph from the database box (captured from the first cut, which BK makes).
-GridGraph first_graph(const RasterImage& img, const std::vector<uint16_t>& truth) {
+GridGraph first_graph(Device& dev, const RasterImage& img, const std::vector<uint16_t>& truth) {
   const MaskBox box = mask::box_from_truth(truth, img.width, img.height);
   GridGraph g;
   mask::GrabCutOptions o;
   o.iterations = 1;
-  mask::grabcut(img, mask::box_labels(img.width, img.height, box.x, box.y, box.w, box.h), o, [&](const GridGraph& graph) {
+  mask::grabcut(dev, img, mask::box_labels(img.width, img.height, box.x, box.y, box.w, box.h), o, [&](const GridGraph& graph) {
     g = graph;
     MinCut c;
     c.source_side.assign(size_t{graph.width} * graph.height, 0);
@@ -86,7 +86,7 @@ std::vector<CutRun> bench_cuts(Device& dev, const std::string& data, uint32_t cu
     for (int scale : {1, 2}) {
       const RasterImage im = scale == 1 ? img : upscale2(img);
       const std::vector<uint16_t> tr = scale == 1 ? truth.samples : upscale2(truth.samples, truth.width, truth.height);
-      const GridGraph g8 = first_graph(im, tr);
+      const GridGraph g8 = first_graph(dev, im, tr);
       for (uint32_t conn : {4u, 8u}) {
         const GridGraph g = conn == 8 ? g8 : four_connected(g8);
         CutRun r{names[k], g.width, g.height, conn};

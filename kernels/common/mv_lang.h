@@ -2,7 +2,8 @@
  * Kernel bodies and parameter layouts live in kernels/common and use only what is defined here; the
  * per-language entry points (the .cl and .comp files of each kernel family) stay thin. The PNanoVDB.h pattern.
  *
- * Buffers are typed references: MvBufU32 / MvBufU64, read with MV_LD(buf, i), written with MV_ST(buf, i, v).
+ * Buffers are typed references: MvBufU32 / MvBufU64 (MvBufF64: doubles, 8-byte aligned), read with
+ * MV_LD(buf, i), written with MV_ST(buf, i, v).
  * MV_LD_FAR(buf, i) reads element i of a MvBufU32 at a 64-bit index i, for index arithmetic that passes 2^31.
  * MV_ST_U64(buf, i, v) writes element i of a MvBufU32 viewed as 64-bit words (words 2i and 2i + 1, 8-byte
  * aligned), for an output whose width a parameter picks.
@@ -149,6 +150,7 @@ typedef mv_u32* MvBufU32;
 typedef const mv_u32* MvBufConstU32;
 typedef mv_u64* MvBufU64;
 typedef const float* MvBufF32;
+typedef mv_f64* MvBufF64;
 #define MV_LD(buf, i) ((buf)[i])
 #define MV_ST(buf, i, v) ((buf)[i] = (v))
 #elif defined(MV_OPENCL)
@@ -156,12 +158,14 @@ typedef const float* MvBufF32;
 #define MvBufConstU32 __global const uint*
 #define MvBufU64 __global ulong*
 #define MvBufF32 __global float*
+#define MvBufF64 __global double*
 #define MV_LD(buf, i) ((buf)[i])
 #define MV_ST(buf, i, v) ((buf)[i] = (v))
 #else
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32 { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufU64 { uint64_t v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufF32 { float v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer MvBufF64 { double v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair { uint64_t v; };
 #define MvBufConstU32 MvBufU32
 #define MV_LD(buf, i) ((buf).v[i])

@@ -1,55 +1,38 @@
-// Gaussian mixtures of colours for GrabCut: 5 full-covariance components in 3-D, learned in double in a fixed
-// order, so every run on every machine gets the same mixture bits. Initialized by k-means (k-means++ seeding
-// from a fixed-seed splitmix64, 10 Lloyd iterations), as OpenCV's grabCut does with its random generator.
+// Gaussian mixtures of colours for GrabCut: 5 full-covariance components in 3-D, fitted in double from integer
+// moments the device sums (kernels/common/grabcut_sums.h), so every run on every device gets the same mixture
+// bits; the kernels evaluate them (kernels/common/grabcut_math.h). k-means (k-means++ seeding from a fixed-seed
+// splitmix64, 10 Lloyd iterations) initializes them, as OpenCV's grabCut does with its random generator.
 #pragma once
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <array>
 #include <cstdint>
-#include <vector>
 
 namespace mv::mask {
 
-using Colour = std::array<double, 3>;
+inline constexpr int kComponents = 5;
 
-class Gmm {
- public:
-  static constexpr int kComponents = 5;
+// One side's moments per component: count, sums of z_a, sums of z_a z_b (00 01 02 11 12 22) over its pixels.
+using Moments = std::array<std::array<uint64_t, 10>, kComponents>;
 
-  // Learns from the samples with their component labels (0..4); a component without samples gets weight 0.
-  void learn(const std::vector<Colour>& samples, const std::vector<uint8_t>& component);
-  // The component of highest weighted density (the lowest index among equals).
-  int component_of(const Colour& z) const;
-  // The mixture density (without the (2 pi)^-3/2 factor, which cancels between two mixtures; OpenCV's form)
-  // and component_of(), from one evaluation of the components.
-  struct Fit {
-    double density;
-    int component;
-  };
-  Fit fit(const Colour& z) const;
-
- private:
-  double component_density(int k, const Colour& z) const;
-  struct Gaussian {
-    double weight = 0, det = 1;
-    double factor = 0;  // weight / sqrt(det), the density's constant
-    Colour mean{};
-    double inverse[9] = {};
-  };
-  std::array<Gaussian, kComponents> g_{};
+struct Gaussian {
+  double weight = 0;       // 0: no pixel; the component takes no part
+  double mean[3] = {};
+  double inverse[9] = {};  // row major
+  double energy = 0;       // -log(weight / sqrt(det)): a pixel's energy is this plus half its Mahalanobis distance
 };
 
-// f(i) for i in [0, n) on the host's threads. Each call writes only its own outputs, so the result does not
-// depend on the threads; sums stay serial, in index order.
-template <class F>
-void for_each_sample(size_t n, const F& f) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i) f(i);
-  });
-}
+// The maximum-likelihood fit per component (OpenCV's: a singular covariance gets 0.01 added to its diagonal).
+std::array<Gaussian, kComponents> fit_mixture(const Moments& m);
 
-// Component labels of k-means over the samples (k = 5; fewer distinct samples leave components empty).
-std::vector<uint8_t> kmeans_components(const std::vector<Colour>& samples);
+// splitmix64: a fixed sequence, so k-means++ draws the same centres everywhere (std distributions are not).
+struct SplitMix {
+  uint64_t s = 0x9e3779b97f4a7c15ull;
+  double unit() {  // [0, 1) from the top 53 bits
+    uint64_t z = (s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-53;
+  }
+};
 
 }  // namespace mv::mask

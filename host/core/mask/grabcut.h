@@ -1,19 +1,25 @@
-// GrabCut on the host (Rother, Kolmogorov, Blake 2004, as OpenCV implements it): mixtures, data terms and
-// contrast-sensitive 8-neighbour smoothness in double, quantized to an integer grid graph whose min-cut a
-// caller supplies (the device kernels, or Boost's BK in tests and benchmarks).
+// GrabCut (Rother, Kolmogorov, Blake 2004, as OpenCV implements it) on a device: k-means, the mixtures' moments,
+// data terms, contrast-sensitive 8-neighbour smoothness and their quantization to an integer grid graph are
+// kernels (grabcut_kernels.h); the host fits each mixture component from the summed moments and asks a caller
+// for the graph's min-cut (the device min-cut, or Boost's BK in tests and benchmarks). Every step is the same
+// bits on every device (docs/masks.md, "Exact GrabCut"), so masks are too.
+//
+// Colours are 8-bit: samples of another max_value are scaled to 0..255 and rounded (grey replicated).
 //
 // Quantization: every capacity is llround(w * scale), the total kept within room = 2^31 - 1 - capacities
 // whatever the rounding. The first iteration takes scale = min(256, room / (2 * sum of all weights)): half the
 // room, the other half left for later iterations' sums and a warm start's growth (MinCutFlow). Later ones keep
 // the scale while their sum fits the room, so their edges stay the same and each cut can start from the last
 // one's flow. Before that a pixel's two terminal weights lose their common part (min of the two), which
-// changes every cut by the same constant and no label.
+// changes every cut by the same constant and no label. The sum of all weights is taken in fixed point (each
+// weight rounded to 2^-20), an integer sum, so the scale is the same on every device.
 #pragma once
 #include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "megavox/device.h"
 #include "megavox/grid_graph.h"
 #include "megavox/raster.h"
 
@@ -38,16 +44,10 @@ struct GrabCutResult {
 
 using MinCutFn = std::function<MinCut(const GridGraph&)>;
 
-// Colours in 0..255 (an image of other max_value scaled; grey replicated to three channels).
-std::vector<std::array<double, 3>> image_colours(const RasterImage& image);
-
-// OpenCV's beta: 1 / (2 * mean squared colour difference over all 8-neighbour pairs), 0 for a flat image.
-double smoothness_beta(const std::vector<std::array<double, 3>>& colours, uint32_t width, uint32_t height);
-
-// Runs GrabCut from `labels` (the start: every value a Label). Throws mv::Error when the start leaves the
-// foreground or the background without a pixel to learn from.
-GrabCutResult grabcut(const RasterImage& image, std::vector<uint8_t> labels, const GrabCutOptions& options,
-                      const MinCutFn& cut);
+// Runs GrabCut on `dev` from `labels` (the start: every value a Label). Throws mv::Error when the start leaves
+// the foreground or the background without a pixel to learn from.
+GrabCutResult grabcut(Device& dev, const RasterImage& image, const std::vector<uint8_t>& labels,
+                      const GrabCutOptions& options, const MinCutFn& cut);
 
 // The labels of a box start: outside sure background, inside probable foreground.
 std::vector<uint8_t> box_labels(uint32_t width, uint32_t height, uint32_t x, uint32_t y, uint32_t w, uint32_t h);

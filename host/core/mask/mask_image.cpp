@@ -44,7 +44,7 @@ MaskResult mask_image(Device& dev, const RasterImage& image, const MaskStart& st
   MinCutFlow flow;  // GrabCut's iterations keep the edges: each cut starts from the last one's flow
   MinCutOptions cut_options;
   cut_options.solver = options.min_cut_solver;
-  const mask::GrabCutResult gc = mask::grabcut(image, start_labels(image, start), go, [&](const GridGraph& g) {
+  const mask::GrabCutResult gc = mask::grabcut(dev, image, start_labels(image, start), go, [&](const GridGraph& g) {
     return min_cut(dev, g, cut_options, nullptr, &flow);
   });
   MaskResult r;

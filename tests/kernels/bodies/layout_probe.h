@@ -21,6 +21,7 @@
 #include "common/points.h"
 #include "common/omicron.h"
 #include "common/segmented.h"
+#include "common/grabcut.h"
 #include "common/splat.h"
 #include "common/min_cut.h"
 #include "common/min_cut_regions.h"
@@ -79,6 +80,10 @@
   X(MV_U32, n) X(MV_U32, count) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, pad0)
 #define MV_FIELDS_REP(X)                                                                                               \
   X(MV_U32, n) X(MV_U32, cells) X(MV_U32, groups) X(MV_U32, cell_bits) X(MV_U32, cap) X(MV_U32, pad0)
+#define MV_FIELDS_GRABCUT(X)                                                                                           \
+  X(MV_U32, width) X(MV_U32, height) X(MV_U32, pixels) X(MV_U32, channels) X(MV_U32, max_value) X(MV_U32, mode)        \
+  X(MV_U32, sum_at) X(MV_U32, centres_bg) X(MV_U32, centres_fg) X(MV_U32, seeding) X(MV_U32, colour_bg)                \
+  X(MV_U32, colour_fg) X(MV_U32, pick_bg_lo) X(MV_U32, pick_bg_hi) X(MV_U32, pick_fg_lo) X(MV_U32, pick_fg_hi)
 #define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
 
 #define MV_PROBE_VALUE(word, f)                                                                                        \
@@ -124,5 +129,6 @@ MV_PROBE(min_cut_regions_params, MvMinCutRegionsParams, MV_FIELDS_MIN_CUT_REGION
 MV_PROBE(mask_post_params, MvMaskPostParams, MV_FIELDS_MASK_POST)
 MV_PROBE(seg_params, MvSegParams, MV_FIELDS_SEG)
 MV_PROBE(rep_params, MvRepParams, MV_FIELDS_REP)
+MV_PROBE(grabcut_params, MvGrabCutParams, MV_FIELDS_GRABCUT)
 
 #endif /* MV_LAYOUT_PROBE_H */

@@ -62,6 +62,9 @@
 #elif defined(MV_ENTRY_probe_rep_params)
 #define MV_PROBE_T MvRepParams
 #define MV_PROBE_FN mv_probe_rep_params
+#elif defined(MV_ENTRY_probe_grabcut_params)
+#define MV_PROBE_T MvGrabCutParams
+#define MV_PROBE_FN mv_probe_grabcut_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

@@ -49,6 +49,19 @@ uint64_t unique_sorted(Device& dev, const Buffer& keys, Buffer& out, uint64_t n)
 // dropped on the host, and output positions count in 64 bits. Waits.
 uint64_t unique_sorted(Device& dev, std::span<const uint64_t> keys, std::span<uint64_t> out);
 
+// dst record i = src record index[i] for n records of `record_bytes` bytes each (index: n 32-bit record numbers;
+// dst: n * record_bytes bytes, rounded up to whole 32-bit words, the padding of the last word zero). One
+// work-item per output word: any record size packs without atomics. Queues the dispatch (no wait).
+// A source larger than one binding goes in slices: `src` then holds records [slice.first, slice.first +
+// slice.count) of the whole source, and every pass but the first merges (keeps what earlier slices wrote).
+struct GatherSlice {
+  uint32_t first = 0;
+  uint32_t count = UINT32_MAX;
+  bool merge = false;
+};
+void gather_records(Device& dev, const Buffer& src, const Buffer& index, Buffer& dst, uint64_t n, uint32_t record_bytes,
+                    const GatherSlice& slice = {});
+
 struct SortReport {
   uint32_t passes = 0;          // 8-bit digits sorted on (global passes, or global + in-bucket with hybrid)
   uint32_t digits_skipped = 0;  // digits constant over all keys

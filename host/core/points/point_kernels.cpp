@@ -42,6 +42,45 @@ PointCube cube_of_bounds(const int64_t lo[3], const int64_t hi[3]) {
   return cube;
 }
 
+void point_bounds(Device& dev, std::span<const int32_t> xyz, int64_t lo[3], int64_t hi[3]) {
+  const uint64_t n = xyz.size() / 3;
+  if (n == 0) throw Error("points: the bounds of no points");
+  constexpr uint32_t kLocal = 64;
+  constexpr uint64_t kMaxItems = uint64_t{1} << 15;  // partial boxes per chunk: 768 KiB, reduced on the host
+  const uint64_t chunk = std::min<uint64_t>({n, uint64_t{1} << 23, detail::device_chunk(dev, "point_bounds", 12, 12)});
+  Buffer xb = dev.alloc(chunk * 12, "point coordinates");
+  const uint32_t groups = dev.groups_for(std::min<uint64_t>(chunk, kMaxItems), kLocal);
+  const uint64_t items = uint64_t{groups} * kLocal;
+  Buffer pb = dev.alloc(items * 24, "point bounds");
+  std::vector<uint32_t> partial(items * 6);
+  uint32_t box[6] = {UINT32_MAX, UINT32_MAX, UINT32_MAX, 0, 0, 0};  // sign-flipped bits, as the kernel keeps them
+  for (uint64_t first = 0; first < n; first += chunk) {
+    const uint64_t m = std::min(chunk, n - first);
+    dev.upload(xb, xyz.data() + 3 * first, m * 12);
+    MvPointParams p{};
+    p.n = static_cast<uint32_t>(m);
+    dev.dispatch(dev.kernel(KernelId::point_bounds), groups, kLocal, {&xb, &pb}, p);
+    dev.barrier();
+    dev.download(pb, partial.data(), items * 24);
+    for (uint64_t i = 0; i < items; ++i)
+      for (int a = 0; a < 3; ++a) {
+        box[a] = std::min(box[a], partial[6 * i + a]);
+        box[3 + a] = std::max(box[3 + a], partial[6 * i + 3 + a]);
+      }
+  }
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = static_cast<int32_t>(box[a] ^ 0x80000000u);
+    hi[a] = static_cast<int32_t>(box[3 + a] ^ 0x80000000u);
+  }
+}
+
+PointCube cube_on_device(Device& dev, std::span<const int32_t> xyz) {
+  if (xyz.empty()) return PointCube{};
+  int64_t lo[3], hi[3];
+  point_bounds(dev, xyz, lo, hi);
+  return cube_of_bounds(lo, hi);
+}
+
 namespace {
 
 // One point_codes dispatch: points [first, first + m) of the cloud through the coordinates' buffer xb, their

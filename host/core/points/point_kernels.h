@@ -23,6 +23,11 @@ struct PointCube {
 PointCube cube_of(std::span<const int32_t> xyz);
 // The same from the points' bounds per axis (lo <= hi).
 PointCube cube_of_bounds(const int64_t lo[3], const int64_t hi[3]);
+// The points' bounds per axis (at least one point), reduced on the device: each work-item reduces its share of a
+// chunk of points, the host the few thousand boxes that leaves.
+void point_bounds(Device& dev, std::span<const int32_t> xyz, int64_t lo[3], int64_t hi[3]);
+// cube_of_bounds of point_bounds.
+PointCube cube_on_device(Device& dev, std::span<const int32_t> xyz);
 
 // codes[i] = the 63-bit Morton code of point i's cell, index[i] = i; computed on the device in chunks.
 void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,

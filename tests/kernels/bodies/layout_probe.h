@@ -21,6 +21,7 @@
 #include "common/points.h"
 #include "common/omicron.h"
 #include "common/segmented.h"
+#include "common/gather.h"
 #include "common/grabcut.h"
 #include "common/splat.h"
 #include "common/min_cut.h"
@@ -80,6 +81,9 @@
   X(MV_U32, n) X(MV_U32, count) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, pad0)
 #define MV_FIELDS_REP(X)                                                                                               \
   X(MV_U32, n) X(MV_U32, cells) X(MV_U32, groups) X(MV_U32, cell_bits) X(MV_U32, cap) X(MV_U32, pad0)
+#define MV_FIELDS_GATHER(X)                                                                                            \
+  X(MV_U32, words) X(MV_U32, units) X(MV_U32, per_record) X(MV_U32, unit_shift) X(MV_U32, lo) X(MV_U32, count)        \
+  X(MV_U32, merge) X(MV_U32, pad0)
 #define MV_FIELDS_GRABCUT(X)                                                                                           \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, pixels) X(MV_U32, channels) X(MV_U32, max_value) X(MV_U32, mode)        \
   X(MV_U32, sum_at) X(MV_U32, centres_bg) X(MV_U32, centres_fg) X(MV_U32, seeding) X(MV_U32, colour_bg)                \
@@ -130,5 +134,6 @@ MV_PROBE(mask_post_params, MvMaskPostParams, MV_FIELDS_MASK_POST)
 MV_PROBE(seg_params, MvSegParams, MV_FIELDS_SEG)
 MV_PROBE(rep_params, MvRepParams, MV_FIELDS_REP)
 MV_PROBE(grabcut_params, MvGrabCutParams, MV_FIELDS_GRABCUT)
+MV_PROBE(gather_params, MvGatherParams, MV_FIELDS_GATHER)
 
 #endif /* MV_LAYOUT_PROBE_H */

@@ -1,0 +1,32 @@
+#include "common/gather.h"
+
+#include <string>
+
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+#include "primitives/chunking.h"
+
+namespace mv {
+
+void gather_records(Device& dev, const Buffer& src, const Buffer& index, Buffer& dst, uint64_t n,
+                    uint32_t record_bytes, const GatherSlice& slice) {
+  if (record_bytes == 0) throw Error("gather: records of 0 bytes");
+  const uint32_t unit_shift = record_bytes % 4 == 0 ? 2 : record_bytes % 2 == 0 ? 1 : 0;
+  const uint64_t units = n * (record_bytes >> unit_shift);
+  const uint64_t words = (n * record_bytes + 3) / 4;
+  detail::check_device_items("gather", units);  // every unit index, and so every word index, stays 32-bit
+  if (words == 0) return;
+  MvGatherParams p{};
+  p.words = static_cast<uint32_t>(words);
+  p.units = static_cast<uint32_t>(units);
+  p.per_record = record_bytes >> unit_shift;
+  p.unit_shift = unit_shift;
+  p.lo = slice.first;
+  p.count = slice.count;
+  p.merge = slice.merge ? 1 : 0;
+  constexpr uint32_t kLocal = 64;
+  dev.dispatch(dev.kernel(KernelId::gather_records), dev.groups_for(words, kLocal), kLocal, {&src, &index, &dst}, p);
+  dev.barrier();
+}
+
+}  // namespace mv

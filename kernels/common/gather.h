@@ -1,0 +1,52 @@
+/* Gather of fixed-size records by index: dst record i = src record index[i]. The columns of a point cloud
+ * (coordinates, colours, normals, intensities, extra bytes) into another order in one pass each. Host side:
+ * host/core/primitives/gather.cpp.
+ * A record is `units` units of 1, 2 or 4 bytes (the widest that divides its size). Each work-item writes one
+ * whole 32-bit word of the output, whose units may come from two records: no two work-items share a word, so
+ * records of any size pack without atomics and the bytes are the same on every device. */
+#ifndef MV_GATHER_H
+#define MV_GATHER_H
+#include "mv_lang.h"
+
+MV_STRUCT_BEGIN(MvGatherParams)
+  mv_u32 words;       /* output words of this dispatch */
+  mv_u32 units;       /* output units of this dispatch (records times units per record) */
+  mv_u32 per_record;  /* units per record */
+  mv_u32 unit_shift;  /* log2 of a unit's bytes: 0, 1 or 2 */
+  mv_u32 lo;          /* the source holds records [lo, lo + count) of the whole source: a slice of a source */
+  mv_u32 count;       /* larger than one binding; records outside it are left to the passes of other slices */
+  mv_u32 merge;       /* 0: the first pass, which writes whole words; 1: later passes keep the units not theirs */
+  mv_u32 pad0;
+MV_STRUCT_END(MvGatherParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvGatherParams, 32);
+MV_LAYOUT_AT(MvGatherParams, words, 0); MV_LAYOUT_AT(MvGatherParams, units, 4);
+MV_LAYOUT_AT(MvGatherParams, per_record, 8); MV_LAYOUT_AT(MvGatherParams, unit_shift, 12);
+MV_LAYOUT_AT(MvGatherParams, lo, 16); MV_LAYOUT_AT(MvGatherParams, count, 20);
+MV_LAYOUT_AT(MvGatherParams, merge, 24); MV_LAYOUT_AT(MvGatherParams, pad0, 28);
+#endif
+
+MV_INLINE void mv_gather_records(MvBufConstU32 src, MvBufConstU32 index, MvBufU32 dst, MvGatherParams p, mv_u32 gid,
+                                 mv_u32 stride) {
+  mv_u32 per_word = 4u >> p.unit_shift;
+  mv_u32 unit_bits = 8u << p.unit_shift;
+  mv_u32 mask = p.unit_shift == 2u ? 0xffffffffu : ((1u << unit_bits) - 1u);
+  for (mv_u32 w = gid; w < p.words; w += stride) {
+    mv_u32 word = p.merge != 0u ? MV_LD(dst, w) : 0u;
+    for (mv_u32 k = 0u; k < per_word; ++k) {
+      mv_u32 g = w * per_word + k;
+      if (g >= p.units) break;
+      mv_u32 r = g / p.per_record;
+      mv_u32 rec = MV_LD(index, r) - p.lo;  /* wraps past count below lo */
+      if (rec >= p.count) continue;
+      mv_u64 s = MV_U64(rec) * MV_U64(p.per_record) + MV_U64(g - r * p.per_record);
+      mv_u32 at = MV_U32(s & MV_U64(per_word - 1u)) * unit_bits;
+      mv_u32 v = (MV_LD_FAR(src, s >> (2u - p.unit_shift)) >> at) & mask;
+      mv_u32 place = k * unit_bits;
+      word = (word & ~(mask << place)) | (v << place);
+    }
+    MV_ST(dst, w, word);
+  }
+}
+
+#endif

@@ -5,6 +5,7 @@
 
 #include "gather_reference.h"
 #include "megavox/primitives.h"
+#include "points/point_gather.h"
 #include "points/point_kernels.h"
 #include "test_support.h"
 
@@ -91,6 +92,76 @@ TEST_P(GatherTest, PointBoundsMatchTheReference) {
       EXPECT_EQ(hi[a], want[3 + a]) << n << " points, axis " << a;
     }
   }
+}
+
+// Random columns (every kind, 3 extra bytes a point), a random permutation as the sort's, and node sources that
+// mix leaf runs and representatives, in chunks of a few records and in one.
+struct NodeCase {
+  PointColumns points;
+  std::vector<uint32_t> index;
+  std::vector<points::NodePoints> sources;
+  std::vector<uint64_t> reps;
+};
+
+NodeCase node_case(size_t n, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  NodeCase c;
+  for (size_t i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      c.points.xyz.push_back(static_cast<int32_t>(rng()));
+      c.points.rgb.push_back(static_cast<uint16_t>(rng()));
+      c.points.normal.push_back(static_cast<float>(rng() % 1000) / 7.0f);
+      c.points.extra.push_back(static_cast<uint8_t>(rng()));
+    }
+    c.points.intensity.push_back(static_cast<uint16_t>(rng()));
+    c.index.push_back(static_cast<uint32_t>(i));
+  }
+  std::shuffle(c.index.begin(), c.index.end(), rng);
+  for (uint64_t at = 0; at < n;) {  // leaves cover the sorted points; an inner node after every few
+    const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(1 + rng() % 40, n - at));
+    c.sources.push_back({at, count, false});
+    at += count;
+    if (rng() % 3 == 0) {
+      const uint32_t picks = static_cast<uint32_t>(rng() % 9);
+      c.sources.push_back({c.reps.size(), picks, true});
+      for (uint32_t k = 0; k < picks; ++k) c.reps.push_back(rng() % n);
+    }
+  }
+  return c;
+}
+
+void check_node_gather(Device& dev, const NodeCase& c, uint64_t chunk) {
+  std::vector<uint32_t> order;  // input position of every node-order point
+  for (const points::NodePoints& s : c.sources)
+    for (uint32_t i = 0; i < s.count; ++i) order.push_back(c.index[s.reps ? c.reps[s.first + i] : s.first + i]);
+  const PointColumns got = points::gather_node_points(dev, c.points, c.index, c.sources, c.reps, 3, chunk);
+  auto bytes = [](const auto& v) {
+    return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(v.data()), v.size() * sizeof(v[0]));
+  };
+  EXPECT_EQ(bytes(got.xyz).size(), order.size() * 12);
+  EXPECT_TRUE(std::ranges::equal(bytes(got.xyz), ref::gather_records(bytes(c.points.xyz), order, 12))) << chunk;
+  EXPECT_TRUE(std::ranges::equal(bytes(got.rgb), ref::gather_records(bytes(c.points.rgb), order, 6))) << chunk;
+  EXPECT_TRUE(std::ranges::equal(bytes(got.normal), ref::gather_records(bytes(c.points.normal), order, 12))) << chunk;
+  EXPECT_TRUE(std::ranges::equal(bytes(got.intensity), ref::gather_records(bytes(c.points.intensity), order, 2)))
+      << chunk;
+  EXPECT_TRUE(std::ranges::equal(bytes(got.extra), ref::gather_records(bytes(c.points.extra), order, 3))) << chunk;
+}
+
+TEST_P(GatherTest, NodeOrderColumnsMatchTheReference) {
+  Device& dev = shared_device(GetParam());
+  for (size_t n : {size_t{1}, size_t{7}, size_t{5000}}) {
+    const NodeCase c = node_case(n, n);
+    for (uint64_t chunk : {uint64_t{4}, uint64_t{36}, uint64_t{0}}) check_node_gather(dev, c, chunk);
+  }
+}
+
+// A device whose budget cannot hold the columns: the host gathers them, the same bytes.
+TEST_P(GatherTest, NodeOrderColumnsOnTheHostWhereTheDeviceCannotHoldThem) {
+  DeviceOptions o;
+  o.selector = GetParam().selector();
+  o.memory_budget = 4u << 20;
+  std::unique_ptr<Device> dev = Device::open(o);
+  check_node_gather(*dev, node_case(200000, 3), 0);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(GatherTest);

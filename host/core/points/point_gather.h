@@ -3,18 +3,23 @@
 #include <cstdint>
 #include <span>
 
+#include "megavox/device.h"
 #include "megavox/points.h"
 #include "omicron.h"
 
 namespace mv::points {
 
 // out point i = src point index[i], every column src carries.
+// On the host (a snapshot's few points while the build goes on).
 PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> index, uint32_t extra_bytes);
-PointColumns gather_columns(const PointColumns& src, std::span<const uint32_t> index, uint32_t extra_bytes);
 
-// The columns of sorted points into node order (OmicronBuilder::assemble's sources, with its reps): a leaf's
-// points are one block copy, a representative one read each.
-PointColumns gather_node_points(const PointColumns& sorted, std::span<const NodePoints> sources,
-                                std::span<const uint64_t> reps, uint32_t extra_bytes);
+// The columns of the points (input order) in node order (OmicronBuilder::assemble's sources, with its reps), on
+// the device: each column gathered once through the composed index (node order -> sorted position -> input
+// position, `index` being the sort's permutation), a column past one device binding in slices of it, the output
+// in chunks of `chunk_records` (0: the default; tests shrink it). A column the device's memory cannot hold is
+// gathered on the host the same way (the same bytes).
+PointColumns gather_node_points(Device& dev, const PointColumns& points, std::span<const uint32_t> index,
+                                std::span<const NodePoints> sources, std::span<const uint64_t> reps,
+                                uint32_t extra_bytes, uint64_t chunk_records = 0);
 
 }  // namespace mv::points

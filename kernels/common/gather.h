@@ -1,9 +1,10 @@
 /* Gather of fixed-size records by index: dst record i = src record index[i]. The columns of a point cloud
  * (coordinates, colours, normals, intensities, extra bytes) into another order in one pass each. Host side:
  * host/core/primitives/gather.cpp.
- * A record is `units` units of 1, 2 or 4 bytes (the widest that divides its size). Each work-item writes one
- * whole 32-bit word of the output, whose units may come from two records: no two work-items share a word, so
- * records of any size pack without atomics and the bytes are the same on every device. */
+ * A record is `units` units of 1, 2 or 4 bytes (the widest that divides its size). Records of whole words go a
+ * work-item per record. Other records go a work-item per 32-bit word of the output, whose units may come from
+ * two records: no two work-items share a word, so records of any size pack without atomics and the bytes are the
+ * same on every device. */
 #ifndef MV_GATHER_H
 #define MV_GATHER_H
 #include "mv_lang.h"
@@ -28,22 +29,39 @@ MV_LAYOUT_AT(MvGatherParams, merge, 24); MV_LAYOUT_AT(MvGatherParams, pad0, 28);
 
 MV_INLINE void mv_gather_records(MvBufConstU32 src, MvBufConstU32 index, MvBufU32 dst, MvGatherParams p, mv_u32 gid,
                                  mv_u32 stride) {
+  if (p.unit_shift == 2u) {
+    /* Records of whole words: a work-item per record, whose words no other record shares. */
+    mv_u32 records = p.units / p.per_record;
+    for (mv_u32 r = gid; r < records; r += stride) {
+      mv_u32 rec = MV_LD(index, r) - p.lo; /* wraps past count below lo */
+      if (rec >= p.count) continue;
+      mv_u64 s = MV_U64(rec) * MV_U64(p.per_record);
+      mv_u32 d = r * p.per_record;
+      for (mv_u32 u = 0u; u < p.per_record; ++u) MV_ST(dst, d + u, MV_LD_FAR(src, s + MV_U64(u)));
+    }
+    return;
+  }
   mv_u32 per_word = 4u >> p.unit_shift;
   mv_u32 unit_bits = 8u << p.unit_shift;
-  mv_u32 mask = p.unit_shift == 2u ? 0xffffffffu : ((1u << unit_bits) - 1u);
+  mv_u32 mask = (1u << unit_bits) - 1u;
   for (mv_u32 w = gid; w < p.words; w += stride) {
     mv_u32 word = p.merge != 0u ? MV_LD(dst, w) : 0u;
-    for (mv_u32 k = 0u; k < per_word; ++k) {
-      mv_u32 g = w * per_word + k;
-      if (g >= p.units) break;
-      mv_u32 r = g / p.per_record;
-      mv_u32 rec = MV_LD(index, r) - p.lo;  /* wraps past count below lo */
-      if (rec >= p.count) continue;
-      mv_u64 s = MV_U64(rec) * MV_U64(p.per_record) + MV_U64(g - r * p.per_record);
-      mv_u32 at = MV_U32(s & MV_U64(per_word - 1u)) * unit_bits;
-      mv_u32 v = (MV_LD_FAR(src, s >> (2u - p.unit_shift)) >> at) & mask;
-      mv_u32 place = k * unit_bits;
-      word = (word & ~(mask << place)) | (v << place);
+    mv_u32 g = w * per_word;
+    mv_u32 r = g / p.per_record;  /* the record and unit of the word's first unit, then stepped */
+    mv_u32 u = g - r * p.per_record;
+    for (mv_u32 k = 0u; k < per_word && g + k < p.units; ++k) {
+      mv_u32 rec = MV_LD(index, r) - p.lo;
+      if (rec < p.count) {
+        mv_u64 s = MV_U64(rec) * MV_U64(p.per_record) + MV_U64(u);
+        mv_u32 at = MV_U32(s & MV_U64(per_word - 1u)) * unit_bits;
+        mv_u32 v = (MV_LD_FAR(src, s >> (2u - p.unit_shift)) >> at) & mask;
+        mv_u32 place = k * unit_bits;
+        word = (word & ~(mask << place)) | (v << place);
+      }
+      if (++u == p.per_record) {
+        u = 0u;
+        ++r;
+      }
     }
     MV_ST(dst, w, word);
   }

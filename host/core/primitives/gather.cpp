@@ -25,7 +25,8 @@ void gather_records(Device& dev, const Buffer& src, const Buffer& index, Buffer&
   p.count = slice.count;
   p.merge = slice.merge ? 1 : 0;
   constexpr uint32_t kLocal = 64;
-  dev.dispatch(dev.kernel(KernelId::gather_records), dev.groups_for(words, kLocal), kLocal, {&src, &index, &dst}, p);
+  const uint64_t items = unit_shift == 2 ? n : words;  // a work-item per record of whole words, else per word
+  dev.dispatch(dev.kernel(KernelId::gather_records), dev.groups_for(items, kLocal), kLocal, {&src, &index, &dst}, p);
   dev.barrier();
 }
 

@@ -82,11 +82,12 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
     info = src->info();
     PointColumns batch;
     while (src->next(batch, size_t{1} << 20)) {
-      for (size_t i = 0; i < batch.xyz.size(); i += 3)
-        for (int a = 0; a < 3; ++a) {
-          lo[a] = std::min<int64_t>(lo[a], batch.xyz[i + a]);
-          hi[a] = std::max<int64_t>(hi[a], batch.xyz[i + a]);
-        }
+      int64_t blo[3], bhi[3];
+      if (batch.size()) points::point_bounds(dev, batch.xyz, blo, bhi);
+      for (int a = 0; a < 3 && batch.size(); ++a) {
+        lo[a] = std::min(lo[a], blo[a]);
+        hi[a] = std::max(hi[a], bhi[a]);
+      }
       n += batch.size();
       batch.clear();
       if (progress && info.points) progress("read", 0.5 * std::min(1.0, double(n) / double(info.points)));

@@ -4,6 +4,8 @@
 
 #include "huge_pages.h"
 #include "megavox/error.h"
+#include "megavox/segmented.h"
+#include "primitives/chunking.h"
 #include "omicron_representatives.h"
 #include "point_kernels.h"
 
@@ -13,6 +15,10 @@ namespace {
 
 // Candidates per selection call: their positions and codes take 16 bytes each on the host.
 constexpr uint64_t kCallCandidates = uint64_t{1} << 24;
+// Codes per leaf-cell segmentation, each with its device bytes: the code, its head flag, its run number and at
+// most one run start.
+constexpr uint64_t kLeafChunk = uint64_t{1} << 23;
+constexpr uint64_t kLeafBytes = 8 + 4 + 4 + 4;
 
 }  // namespace
 
@@ -25,21 +31,44 @@ OmicronBuilder::OmicronBuilder(Device& dev, const OmicronRule& rule)
 uint64_t OmicronBuilder::concatenate(std::span<const uint64_t> sorted, bool last) {
   const uint32_t leaf_shift = 3 * (21 - rule_.depth);
   const uint64_t n = sorted.size();
-  uint64_t i = formed_;
   std::vector<LodNode>& leaves = levels_[rule_.depth];
-  while (i < n) {
-    const uint64_t cell = sorted[i] >> leaf_shift;
-    uint64_t j = i + 1;
-    while (j < n && (sorted[j] >> leaf_shift) == cell) ++j;
-    if (j == n && !last) break;  // the last cell seen may go on in the next prefix
-    if (!leaves.empty() && leaves.back().prefix >= cell)
-      throw Error("points: the sorted stream is out of order at point " + std::to_string(i));
-    LodNode leaf;
-    leaf.prefix = cell;
-    leaf.first = i;
-    leaf.points = j - i;
+  // The leaf cells' boundaries over the new codes are found on the device (a segmentation by leaf cell, chunk by
+  // chunk); the host walks the cells. A cell runs on until the next one starts: the last cell seen stays open
+  // unless this is the last prefix, as it may go on in the next.
+  bool open = false;
+  LodNode leaf;
+  const uint64_t chunk =
+      formed_ < n ? std::min(kLeafChunk, detail::device_chunk(dev_, "leaf cells", kLeafBytes, 8)) : 1;
+  std::vector<uint32_t> starts;
+  for (uint64_t at = formed_; at < n; at += chunk) {
+    const uint64_t m = std::min(chunk, n - at);
+    Buffer codes = dev_.alloc(m * 8, "leaf codes");
+    dev_.upload(codes, sorted.data() + at, m * 8);
+    dev_.barrier();
+    const Segmentation cells = segment_by_key(dev_, codes, m, leaf_shift);
+    starts.resize(cells.count + 1);
+    dev_.download(cells.starts, starts.data(), starts.size() * 4);
+    for (uint64_t s = 0; s < cells.count; ++s) {
+      const uint64_t first = at + starts[s];
+      const uint64_t cell = sorted[first] >> leaf_shift;
+      if (open && leaf.prefix == cell) continue;  // a cell across the chunks' seam
+      if (open) {
+        leaf.points = first - leaf.first;
+        leaves.push_back(leaf);
+      }
+      if (!leaves.empty() && leaves.back().prefix >= cell)
+        throw Error("points: the sorted stream is out of order at point " + std::to_string(first));
+      leaf = LodNode{};
+      leaf.prefix = cell;
+      leaf.first = first;
+      open = true;
+    }
+  }
+  uint64_t i = open ? leaf.first : formed_;
+  if (open && last) {
+    leaf.points = n - leaf.first;
     leaves.push_back(leaf);
-    i = j;
+    i = n;
   }
   formed_ = i;
   if (last) frontier_ = uint64_t{1} << (3 * rule_.depth);

@@ -2,9 +2,9 @@
  * (coordinates, colours, normals, intensities, extra bytes) into another order in one pass each. Host side:
  * host/core/primitives/gather.cpp.
  * A record is `units` units of 1, 2 or 4 bytes (the widest that divides its size). Records of whole words go a
- * work-item per record. Other records go a work-item per 32-bit word of the output, whose units may come from
- * two records: no two work-items share a word, so records of any size pack without atomics and the bytes are the
- * same on every device. */
+ * work-item per record; records of 2-byte units a work-item per output word; records of an odd size a work-item
+ * per 4 records (whole words). A word may hold units of two records, but no two work-items share a word, so
+ * records of any size pack without atomics and the bytes are the same on every device. */
 #ifndef MV_GATHER_H
 #define MV_GATHER_H
 #include "mv_lang.h"
@@ -41,29 +41,65 @@ MV_INLINE void mv_gather_records(MvBufConstU32 src, MvBufConstU32 index, MvBufU3
     }
     return;
   }
-  mv_u32 per_word = 4u >> p.unit_shift;
-  mv_u32 unit_bits = 8u << p.unit_shift;
-  mv_u32 mask = (1u << unit_bits) - 1u;
-  for (mv_u32 w = gid; w < p.words; w += stride) {
-    mv_u32 word = p.merge != 0u ? MV_LD(dst, w) : 0u;
-    mv_u32 g = w * per_word;
-    mv_u32 r = g / p.per_record;  /* the record and unit of the word's first unit, then stepped */
-    mv_u32 u = g - r * p.per_record;
-    for (mv_u32 k = 0u; k < per_word && g + k < p.units; ++k) {
+  if (p.unit_shift == 1u) {
+    /* Records of 2-byte units: a work-item per word, its two units straight-line (one division). */
+    for (mv_u32 w = gid; w < p.words; w += stride) {
+      mv_u32 a = 2u * w;
+      mv_u32 r = a / p.per_record;
+      mv_u32 u = a - r * p.per_record;
+      mv_u32 word = p.merge != 0u ? MV_LD(dst, w) : 0u;
       mv_u32 rec = MV_LD(index, r) - p.lo;
       if (rec < p.count) {
         mv_u64 s = MV_U64(rec) * MV_U64(p.per_record) + MV_U64(u);
-        mv_u32 at = MV_U32(s & MV_U64(per_word - 1u)) * unit_bits;
-        mv_u32 v = (MV_LD_FAR(src, s >> (2u - p.unit_shift)) >> at) & mask;
-        mv_u32 place = k * unit_bits;
-        word = (word & ~(mask << place)) | (v << place);
+        word = (word & 0xffff0000u) | ((MV_LD_FAR(src, s >> 1u) >> (MV_U32(s & MV_U64(1u)) * 16u)) & 0xffffu);
       }
-      if (++u == p.per_record) {
-        u = 0u;
-        ++r;
+      if (a + 1u < p.units) {
+        if (++u == p.per_record) {
+          u = 0u;
+          rec = MV_LD(index, r + 1u) - p.lo;
+        }
+        if (rec < p.count) {
+          mv_u64 s = MV_U64(rec) * MV_U64(p.per_record) + MV_U64(u);
+          word = (word & 0xffffu) | (((MV_LD_FAR(src, s >> 1u) >> (MV_U32(s & MV_U64(1u)) * 16u)) & 0xffffu) << 16u);
+        }
       }
+      MV_ST(dst, w, word);
     }
-    MV_ST(dst, w, word);
+    return;
+  }
+  /* Records of bytes: a work-item per group of 4 records, which ends on a whole word: one index load per record,
+   * the group's words written whole. */
+  mv_u32 per_word = 4u >> p.unit_shift;
+  mv_u32 unit_bits = 8u << p.unit_shift;
+  mv_u32 mask = (1u << unit_bits) - 1u;
+  mv_u32 group_words = p.per_record; /* (per_word records) x per_record units / per_word units a word */
+  mv_u32 groups = (p.words + group_words - 1u) / group_words;
+  for (mv_u32 t = gid; t < groups; t += stride) {
+    mv_u32 r = t * per_word; /* the group's first record; its units then step along */
+    mv_u32 u = 0u;
+    mv_u32 g = t * group_words * per_word;
+    mv_u32 rec = r < p.units / p.per_record ? MV_LD(index, r) - p.lo : 0u;
+    for (mv_u32 j = 0u; j < group_words; ++j) {
+      mv_u32 w = t * group_words + j;
+      if (w >= p.words) break;
+      mv_u32 word = p.merge != 0u ? MV_LD(dst, w) : 0u;
+      for (mv_u32 k = 0u; k < per_word && g < p.units; ++k) {
+        if (rec < p.count) { /* wraps past count below lo: left to another slice's pass */
+          mv_u64 s = MV_U64(rec) * MV_U64(p.per_record) + MV_U64(u);
+          mv_u32 at = MV_U32(s & MV_U64(per_word - 1u)) * unit_bits;
+          mv_u32 v = (MV_LD_FAR(src, s >> (2u - p.unit_shift)) >> at) & mask;
+          mv_u32 place = k * unit_bits;
+          word = (word & ~(mask << place)) | (v << place);
+        }
+        ++g;
+        if (++u == p.per_record) {
+          u = 0u;
+          ++r;
+          if (g < p.units) rec = MV_LD(index, r) - p.lo;
+        }
+      }
+      MV_ST(dst, w, word);
+    }
   }
 }
 

@@ -25,7 +25,8 @@ void gather_records(Device& dev, const Buffer& src, const Buffer& index, Buffer&
   p.count = slice.count;
   p.merge = slice.merge ? 1 : 0;
   constexpr uint32_t kLocal = 64;
-  const uint64_t items = unit_shift == 2 ? n : words;  // a work-item per record of whole words, else per word
+  // A work-item per record of whole words, per word of 2-byte units, per 4 records (per_record words) of bytes.
+  const uint64_t items = unit_shift == 2 ? n : unit_shift == 1 ? words : (words + p.per_record - 1) / p.per_record;
   dev.dispatch(dev.kernel(KernelId::gather_records), dev.groups_for(items, kLocal), kLocal, {&src, &index, &dst}, p);
   dev.barrier();
 }

@@ -156,28 +156,23 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   rep.build_seconds = build_in_sort + seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  // What the gathers no longer need goes back first, so that their fresh columns land on memory this process has
-  // already touched (a first touch is the slow part of fresh memory): the codes, the builder's lists and the
-  // device's storage (host memory on a CPU device; trim() frees it once no buffer lives there).
+  // What the gather no longer needs goes back first: the codes and the builder's lists. The device keeps its
+  // storage (host memory on a CPU device, already touched: a first touch is the slow part of fresh memory) for
+  // the gather's buffers, and gives it back after.
   front.reset();
   const std::vector<uint64_t> reps = builder.take_reps();
   owned_builder.reset();
   codes = {};
   host_codes = {};
   in_place.keys = Buffer();
-  if (!in_place.values.empty()) {  // the index leaves the device's storage (a third of it), so that all of it goes back
-    reserve_huge(host_index, n);
-    host_index.assign(index.begin(), index.end());
-    index = host_index;
-    in_place.values = Buffer();
-  }
-  dev.trim();
 
   // The columns straight into node order on the device, each through the composed index.
   h.points = points::gather_node_points(dev, points, index, sources, reps, info.extra_bytes);
   points = PointColumns();
   index = {};
   host_index = {};
+  in_place.values = Buffer();
+  dev.trim();
   rep.gather_seconds = seconds_since(t0);
 
   h.source = info;

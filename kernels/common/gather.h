@@ -17,22 +17,30 @@ MV_STRUCT_BEGIN(MvGatherParams)
   mv_u32 lo;          /* the source holds records [lo, lo + count) of the whole source: a slice of a source */
   mv_u32 count;       /* larger than one binding; records outside it are left to the passes of other slices */
   mv_u32 merge;       /* 0: the first pass, which writes whole words; 1: later passes keep the units not theirs */
-  mv_u32 pad0;
+  mv_u32 block;       /* 0: grid-stride (GPUs); else a block of this many records (words) a work-item (CPUs) */
 MV_STRUCT_END(MvGatherParams)
 #if defined(MV_CPP)
 MV_LAYOUT_SIZE(MvGatherParams, 32);
 MV_LAYOUT_AT(MvGatherParams, words, 0); MV_LAYOUT_AT(MvGatherParams, units, 4);
 MV_LAYOUT_AT(MvGatherParams, per_record, 8); MV_LAYOUT_AT(MvGatherParams, unit_shift, 12);
 MV_LAYOUT_AT(MvGatherParams, lo, 16); MV_LAYOUT_AT(MvGatherParams, count, 20);
-MV_LAYOUT_AT(MvGatherParams, merge, 24); MV_LAYOUT_AT(MvGatherParams, pad0, 28);
+MV_LAYOUT_AT(MvGatherParams, merge, 24); MV_LAYOUT_AT(MvGatherParams, block, 28);
 #endif
+
+#define MV_GATHER_AHEAD 32u /* records (words) a CPU's block prefetches ahead */
 
 MV_INLINE void mv_gather_records(MvBufConstU32 src, MvBufConstU32 index, MvBufU32 dst, MvGatherParams p, mv_u32 gid,
                                  mv_u32 stride) {
   if (p.unit_shift == 2u) {
     /* Records of whole words: a work-item per record, whose words no other record shares. */
     mv_u32 records = p.units / p.per_record;
-    for (mv_u32 r = gid; r < records; r += stride) {
+    mv_u32 r = p.block != 0u ? gid * p.block : gid;
+    mv_u32 end = p.block != 0u ? MV_MIN(records, r + p.block) : records;
+    mv_u32 step = p.block != 0u ? 1u : stride;
+    for (; r < end; r += step) {
+      /* A CPU runs a block one record at a time: ask for a record a few dozen ahead while this one is copied. */
+      if (p.block != 0u && r + MV_GATHER_AHEAD < end)
+        MV_PREFETCH(src, MV_U64(MV_LD(index, r + MV_GATHER_AHEAD) - p.lo) * MV_U64(p.per_record));
       mv_u32 rec = MV_LD(index, r) - p.lo; /* wraps past count below lo */
       if (rec >= p.count) continue;
       mv_u64 s = MV_U64(rec) * MV_U64(p.per_record);
@@ -43,8 +51,15 @@ MV_INLINE void mv_gather_records(MvBufConstU32 src, MvBufConstU32 index, MvBufU3
   }
   if (p.unit_shift == 1u) {
     /* Records of 2-byte units: a work-item per word, its two units straight-line (one division). */
-    for (mv_u32 w = gid; w < p.words; w += stride) {
+    mv_u32 w = p.block != 0u ? gid * p.block : gid;
+    mv_u32 end = p.block != 0u ? MV_MIN(p.words, w + p.block) : p.words;
+    mv_u32 step = p.block != 0u ? 1u : stride;
+    for (; w < end; w += step) {
       mv_u32 a = 2u * w;
+      if (p.block != 0u && w + MV_GATHER_AHEAD < end) {
+        mv_u32 ahead = 2u * (w + MV_GATHER_AHEAD) / p.per_record;
+        MV_PREFETCH(src, (MV_U64(MV_LD(index, ahead) - p.lo) * MV_U64(p.per_record)) >> 1u);
+      }
       mv_u32 r = a / p.per_record;
       mv_u32 u = a - r * p.per_record;
       mv_u32 word = p.merge != 0u ? MV_LD(dst, w) : 0u;

@@ -198,6 +198,20 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair
 #if !defined(MV_ST_STREAM)
 #define MV_ST_STREAM(buf, i, v) MV_ST(buf, i, v)
 #endif
+/* MV_PREFETCH(buf, i): a hint that element i of buf will be read soon (a CPU's prefetch, where the compiler has
+ * one; nothing elsewhere). For block-per-work-item loops that read at random, which a CPU runs one item at a time. */
+#if defined(MV_OPENCL) && defined(__clang__) && defined(__has_builtin)
+#if __has_builtin(__builtin_prefetch)
+#define MV_PREFETCH(buf, i) __builtin_prefetch(&(buf)[i])
+#endif
+#elif defined(MV_CPP)
+#define MV_PREFETCH(buf, i) __builtin_prefetch(&(buf)[i])
+#endif
+#if !defined(MV_PREFETCH) && defined(MV_GLSL)
+#define MV_PREFETCH(buf, i) /* GLSL has no (void) cast */
+#elif !defined(MV_PREFETCH)
+#define MV_PREFETCH(buf, i) ((void)0)
+#endif
 #if !defined(MV_STREAM_FENCE) && defined(MV_GLSL)
 #define MV_STREAM_FENCE() /* GLSL has no (void) cast */
 #elif !defined(MV_STREAM_FENCE)

@@ -1,5 +1,6 @@
 #include "common/gather.h"
 
+#include <algorithm>
 #include <string>
 
 #include "megavox/error.h"
@@ -24,10 +25,22 @@ void gather_records(Device& dev, const Buffer& src, const Buffer& index, Buffer&
   p.lo = slice.first;
   p.count = slice.count;
   p.merge = slice.merge ? 1 : 0;
-  constexpr uint32_t kLocal = 64;
   // A work-item per record of whole words, per word of 2-byte units, per 4 records (per_record words) of bytes.
   const uint64_t items = unit_shift == 2 ? n : unit_shift == 1 ? words : (words + p.per_record - 1) / p.per_record;
-  dev.dispatch(dev.kernel(KernelId::gather_records), dev.groups_for(items, kLocal), kLocal, {&src, &index, &dst}, p);
+  const DeviceInfo& info = dev.info();
+  uint32_t local = 64;
+  uint64_t work_items = items;
+  if (!info.massively_parallel && info.preferred_work_group_size <= 1 && unit_shift != 0) {
+    // Work-items that are CPU threads running their items as a loop: blocks of records (words), several a thread
+    // for balance, each read with prefetches (the loop has no way to overlap its random reads otherwise).
+    local = 1;
+    const uint64_t blocks = uint64_t{std::max<uint32_t>(info.compute_units, 1)} * 16;
+    uint64_t block = std::max<uint64_t>((items + blocks - 1) / blocks, 1024);
+    if (info.max_loop_iterations) block = std::min<uint64_t>(block, info.max_loop_iterations);
+    p.block = static_cast<uint32_t>(block);
+    work_items = (items + block - 1) / block;
+  }
+  dev.dispatch(dev.kernel(KernelId::gather_records), dev.groups_for(work_items, local), local, {&src, &index, &dst}, p);
   dev.barrier();
 }
 

@@ -83,7 +83,7 @@
   X(MV_U32, n) X(MV_U32, cells) X(MV_U32, groups) X(MV_U32, cell_bits) X(MV_U32, cap) X(MV_U32, pad0)
 #define MV_FIELDS_GATHER(X)                                                                                            \
   X(MV_U32, words) X(MV_U32, units) X(MV_U32, per_record) X(MV_U32, unit_shift) X(MV_U32, lo) X(MV_U32, count)        \
-  X(MV_U32, merge) X(MV_U32, pad0)
+  X(MV_U32, merge) X(MV_U32, block)
 #define MV_FIELDS_GRABCUT(X)                                                                                           \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, pixels) X(MV_U32, channels) X(MV_U32, max_value) X(MV_U32, mode)        \
   X(MV_U32, sum_at) X(MV_U32, centres_bg) X(MV_U32, centres_fg) X(MV_U32, seeding) X(MV_U32, colour_bg)                \

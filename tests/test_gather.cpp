@@ -130,11 +130,11 @@ NodeCase node_case(size_t n, uint64_t seed) {
   return c;
 }
 
-void check_node_gather(Device& dev, const NodeCase& c, uint64_t chunk) {
+void check_node_gather(Device& dev, const NodeCase& c, uint64_t chunk, uint64_t slice = 0) {
   std::vector<uint32_t> order;  // input position of every node-order point
   for (const points::NodePoints& s : c.sources)
     for (uint32_t i = 0; i < s.count; ++i) order.push_back(c.index[s.reps ? c.reps[s.first + i] : s.first + i]);
-  const PointColumns got = points::gather_node_points(dev, c.points, c.index, c.sources, c.reps, 3, chunk);
+  const PointColumns got = points::gather_node_points(dev, c.points, c.index, c.sources, c.reps, 3, chunk, slice);
   auto bytes = [](const auto& v) {
     return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(v.data()), v.size() * sizeof(v[0]));
   };
@@ -152,6 +152,8 @@ TEST_P(GatherTest, NodeOrderColumnsMatchTheReference) {
   for (size_t n : {size_t{1}, size_t{7}, size_t{5000}}) {
     const NodeCase c = node_case(n, n);
     for (uint64_t chunk : {uint64_t{4}, uint64_t{36}, uint64_t{0}}) check_node_gather(dev, c, chunk);
+    for (uint64_t slice : {uint64_t{3}, uint64_t{999}})  // sources in slices
+      if (n <= 7 || slice > 3) check_node_gather(dev, c, n <= 7 ? 4 : 1024, slice);
   }
 }
 

@@ -134,7 +134,8 @@ void check_node_gather(Device& dev, const NodeCase& c, uint64_t chunk, uint64_t 
   std::vector<uint32_t> order;  // input position of every node-order point
   for (const points::NodePoints& s : c.sources)
     for (uint32_t i = 0; i < s.count; ++i) order.push_back(c.index[s.reps ? c.reps[s.first + i] : s.first + i]);
-  const PointColumns got = points::gather_node_points(dev, c.points, c.index, c.sources, c.reps, 3, chunk, slice);
+  PointColumns copy = c.points;
+  const PointColumns got = points::gather_node_points(dev, std::move(copy), c.index, c.sources, c.reps, 3, chunk, slice);
   auto bytes = [](const auto& v) {
     return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(v.data()), v.size() * sizeof(v[0]));
   };

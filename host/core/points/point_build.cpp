@@ -156,23 +156,28 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   rep.build_seconds = build_in_sort + seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  // What the gather no longer needs goes back first: the codes and the builder's lists. The device keeps its
-  // storage (host memory on a CPU device, already touched: a first touch is the slow part of fresh memory) for
-  // the gather's buffers, and gives it back after.
+  // What the gather no longer needs goes back first, the device's storage included (host memory on a CPU device;
+  // trim() frees it once no buffer lives there), so that the gather's fresh memory lands on pages this process
+  // has just given back (a first touch of new memory is the slow part of it).
   front.reset();
   const std::vector<uint64_t> reps = builder.take_reps();
   owned_builder.reset();
   codes = {};
   host_codes = {};
   in_place.keys = Buffer();
+  if (!in_place.values.empty()) {  // the index leaves the device's storage (a third of it), so that all of it goes back
+    reserve_huge(host_index, n);
+    host_index.assign(index.begin(), index.end());
+    index = host_index;
+    in_place.values = Buffer();
+  }
+  dev.trim();
 
-  // The columns straight into node order on the device, each through the composed index.
-  h.points = points::gather_node_points(dev, points, index, sources, reps, info.extra_bytes);
-  points = PointColumns();
+  // The columns straight into node order on the device, each through the composed index, each input column freed
+  // once gathered.
+  h.points = points::gather_node_points(dev, std::move(points), index, sources, reps, info.extra_bytes);
   index = {};
   host_index = {};
-  in_place.values = Buffer();
-  dev.trim();
   rep.gather_seconds = seconds_since(t0);
 
   h.source = info;

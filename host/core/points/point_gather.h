@@ -17,8 +17,9 @@ PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> i
 // the device: each column gathered once through the composed index (node order -> sorted position -> input
 // position, `index` being the sort's permutation), a column past one device binding in slices of it, the output
 // in chunks. A column the device's memory cannot hold is gathered on the host the same way (the same bytes).
+// Each input column is freed once gathered, so that the next output column reuses its memory.
 // chunk_records and slice_records (0: the defaults) are for tests, which shrink them to put seams anywhere.
-PointColumns gather_node_points(Device& dev, const PointColumns& points, std::span<const uint32_t> index,
+PointColumns gather_node_points(Device& dev, PointColumns&& points, std::span<const uint32_t> index,
                                 std::span<const NodePoints> sources, std::span<const uint64_t> reps,
                                 uint32_t extra_bytes, uint64_t chunk_records = 0, uint64_t slice_records = 0);
 

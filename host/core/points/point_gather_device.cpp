@@ -91,7 +91,7 @@ void device_gather(Device& dev, const uint8_t* src, uint64_t n, uint32_t record_
 }
 
 template <class T>
-void gather_column(Device& dev, const std::vector<T>& src, uint64_t n, uint32_t per_point, std::span<const uint32_t> order,
+void gather_column(Device& dev, std::vector<T>&& src, uint64_t n, uint32_t per_point, std::span<const uint32_t> order,
                    uint64_t chunk, uint64_t slice, std::vector<T>& out) {
   if (src.empty()) return;
   const uint32_t record_bytes = static_cast<uint32_t>(per_point * sizeof(T));
@@ -105,11 +105,12 @@ void gather_column(Device& dev, const std::vector<T>& src, uint64_t n, uint32_t 
     dev.finish();  // the device cannot hold this column's buffers: the host gathers it
     host_gather(from, record_bytes, order, to);
   }
+  src = std::vector<T>();
 }
 
 }  // namespace
 
-PointColumns gather_node_points(Device& dev, const PointColumns& points, std::span<const uint32_t> index,
+PointColumns gather_node_points(Device& dev, PointColumns&& points, std::span<const uint32_t> index,
                                 std::span<const NodePoints> sources, std::span<const uint64_t> reps,
                                 uint32_t extra_bytes, uint64_t chunk_records, uint64_t slice_records) {
   const uint64_t n = points.size();
@@ -118,11 +119,11 @@ PointColumns gather_node_points(Device& dev, const PointColumns& points, std::sp
   const uint64_t chunk =
       std::max<uint64_t>(4, std::min<uint64_t>(chunk_records ? chunk_records : kChunkRecords, binding / 16) / 4 * 4);
   PointColumns out;
-  gather_column(dev, points.xyz, n, 3, order, chunk, slice_records, out.xyz);
-  gather_column(dev, points.rgb, n, 3, order, chunk, slice_records, out.rgb);
-  gather_column(dev, points.normal, n, 3, order, chunk, slice_records, out.normal);
-  gather_column(dev, points.intensity, n, 1, order, chunk, slice_records, out.intensity);
-  if (extra_bytes) gather_column(dev, points.extra, n, extra_bytes, order, chunk, slice_records, out.extra);
+  gather_column(dev, std::move(points.xyz), n, 3, order, chunk, slice_records, out.xyz);
+  gather_column(dev, std::move(points.rgb), n, 3, order, chunk, slice_records, out.rgb);
+  gather_column(dev, std::move(points.normal), n, 3, order, chunk, slice_records, out.normal);
+  gather_column(dev, std::move(points.intensity), n, 1, order, chunk, slice_records, out.intensity);
+  if (extra_bytes) gather_column(dev, std::move(points.extra), n, extra_bytes, order, chunk, slice_records, out.extra);
   return out;
 }
 

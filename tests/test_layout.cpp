@@ -63,6 +63,7 @@ TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   expect_same_layout(dev, offsets, TestKernelId::probe_seg_params, mv_probe_seg_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_rep_params, mv_probe_rep_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_grabcut_params, mv_probe_grabcut_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_colour_params, mv_probe_colour_params);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(LayoutTest);

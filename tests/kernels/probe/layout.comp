@@ -65,6 +65,9 @@
 #elif defined(MV_ENTRY_probe_grabcut_params)
 #define MV_PROBE_T MvGrabCutParams
 #define MV_PROBE_FN mv_probe_grabcut_params
+#elif defined(MV_ENTRY_probe_colour_params)
+#define MV_PROBE_T MvColourParams
+#define MV_PROBE_FN mv_probe_colour_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

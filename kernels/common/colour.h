@@ -4,10 +4,11 @@
  * carry the sums up a level, and scatter into depth-first order.
  *
  * Planes: a level of n elements carries MV_COLOUR_PLANES 32-bit planes, plane-major (plane k of element i at
- * k * n + i): red, green, blue as low and high 32-bit words of their sums (a sum over many voxels passes 2^32),
- * the voxel count below, and the subtree size (nodes of the octree in the element's subtree, itself included).
- * The segmented sums of each plane over the elements' parents give that many 64-bit planes for the level above.
- *   colour_unpack:      points' packed 0xBBGGRR -> planes (r, 0, g, 0, b, 0, 1, 0): a point is one sample;
+ * k * n + i): the low 32-bit words of the red, green and blue sums, the voxel count below, the subtree size
+ * (octree nodes in the element's subtree, itself included), then the sums' high words (a sum over more than
+ * 2^32 / 255 voxels passes 32 bits). The segmented sums of each plane over the elements' parents give that many
+ * 64-bit planes for the level above; the host sums only the leading planes that can be nonzero.
+ *   colour_unpack:      points' packed 0xBBGGRR -> planes (r, g, b, 1, 0, 0, 0, 0): a point is one sample;
  *   colour_level:       64-bit plane sums of n nodes -> rgb[i] (each channel sum / count rounded half up) and the
  *                       planes the level above sums; `leaf` 1: the nodes are voxels made of points, so a voxel
  *                       counts as one sample of its mean colour, with subtree size 1;
@@ -20,6 +21,9 @@
 #include "mv_lang.h"
 
 #define MV_COLOUR_PLANES 8u
+#define MV_COLOUR_COUNT 3u /* plane of the voxel count */
+#define MV_COLOUR_SIZE 4u  /* plane of the subtree size */
+#define MV_COLOUR_HIGH 5u  /* first plane of the sums' high words */
 
 MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;     /* elements of the dispatch */
@@ -36,14 +40,12 @@ MV_LAYOUT_AT(MvColourParams, pad0, 12);
 MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 c = MV_LD(rgb, i);
-    MV_ST(planes, i, c & 255u);
-    MV_ST(planes, p.n + i, 0u);
-    MV_ST(planes, 2u * p.n + i, (c >> 8) & 255u);
-    MV_ST(planes, 3u * p.n + i, 0u);
-    MV_ST(planes, 4u * p.n + i, (c >> 16) & 255u);
-    MV_ST(planes, 5u * p.n + i, 0u);
-    MV_ST(planes, 6u * p.n + i, 1u);
-    MV_ST(planes, 7u * p.n + i, 0u);
+    for (mv_u32 k = 0u; k < 3u; ++k) {
+      MV_ST(planes, k * p.n + i, (c >> (8u * k)) & 255u);
+      MV_ST(planes, (MV_COLOUR_HIGH + k) * p.n + i, 0u);
+    }
+    MV_ST(planes, MV_COLOUR_COUNT * p.n + i, 1u);
+    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, 0u);
   }
 }
 
@@ -57,18 +59,18 @@ MV_INLINE mv_u32 mv_colour_mean(mv_u64 sum, mv_u64 count) {
 MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid,
                                mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u64 count = MV_LD(sums, 6u * p.n + i);
+    mv_u64 count = MV_LD(sums, MV_COLOUR_COUNT * p.n + i);
     mv_u32 packed = 0u;
     for (mv_u32 c = 0u; c < 3u; ++c) {
-      mv_u64 s = MV_LD(sums, 2u * c * p.n + i) + (MV_LD(sums, (2u * c + 1u) * p.n + i) << 32);
+      mv_u64 s = MV_LD(sums, c * p.n + i) + (MV_LD(sums, (MV_COLOUR_HIGH + c) * p.n + i) << 32);
       mv_u32 mean = mv_colour_mean(s, count);
       packed |= mean << (8u * c);
-      MV_ST(planes, 2u * c * p.n + i, p.leaf != 0u ? mean : MV_U32(s));
-      MV_ST(planes, (2u * c + 1u) * p.n + i, p.leaf != 0u ? 0u : MV_U32(s >> 32));
+      MV_ST(planes, c * p.n + i, p.leaf != 0u ? mean : MV_U32(s));
+      MV_ST(planes, (MV_COLOUR_HIGH + c) * p.n + i, p.leaf != 0u ? 0u : MV_U32(s >> 32));
     }
     MV_ST(rgb, i, packed);
-    MV_ST(planes, 6u * p.n + i, p.leaf != 0u ? 1u : MV_U32(count));
-    MV_ST(planes, 7u * p.n + i, p.leaf != 0u ? 1u : 1u + MV_U32(MV_LD(sums, 7u * p.n + i)));
+    MV_ST(planes, MV_COLOUR_COUNT * p.n + i, p.leaf != 0u ? 1u : MV_U32(count));
+    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, p.leaf != 0u ? 1u : 1u + MV_U32(MV_LD(sums, MV_COLOUR_SIZE * p.n + i)));
   }
 }
 

@@ -26,8 +26,9 @@ struct CloudVoxels {
 // cells: x, y, z per point, each below 2^levels (1 <= levels <= 21); rgb: 0xBBGGRR per point, or empty for no
 // colour. Throws mv::Error when the points pass what one device call holds (2^28 points with colour, 2^31
 // without) or the octree has 2^32 nodes or more (the attribute array's 32-bit indices).
+// `colour_seconds`, when given, receives the time spent on the colours (included in the call's).
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
-                           uint32_t levels);
+                           uint32_t levels, double* colour_seconds = nullptr);
 
 // The number of octree nodes in the subtree of every DAG node (itself included, voxels counted as nodes), by
 // level and node id: sizes[l][i] for l >= 1 (level 1: 1 + its voxels). A mirrored subtree has the size of the

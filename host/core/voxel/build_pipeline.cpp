@@ -434,6 +434,11 @@ BuildPlan plan_build(const BuildOptions& o) {
     io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
     return plan_vdb_build(o, vdb.keys.size(), vdb.grid, plan_budgets(o, nullptr));
   }
+  if (!o.mesh && io::is_point_cloud(o.input)) {  // the points bound the voxels
+    const io::CloudPoints cloud = io::read_cloud(o.input, false);
+    const GridTransform grid = grid_for_bounds(cloud.bounds, resolution, o.placement);
+    return plan_vdb_build(o, cloud.xyz.size() / 3, grid, plan_budgets(o, nullptr));
+  }
   MeshSurvey survey = survey_mesh(o, nullptr);
   const GridTransform grid = place_mesh_grid(o, resolution, survey.bounds);
   return plan_mesh_build(o, survey, grid, plan_budgets(o, nullptr));

@@ -71,10 +71,14 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   if (on_plan) on_plan(r.plan);
   lap("read");
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
-  CloudVoxels voxels = voxelize_cloud(dev, cells, rgb, levels);
+  double colour_seconds = 0;
+  auto t = Clock::now();
+  CloudVoxels voxels = voxelize_cloud(dev, cells, rgb, levels, &colour_seconds);
   cells = {};
   rgb = {};
-  lap("voxelize");
+  const double total = std::chrono::duration<double>(Clock::now() - t).count();
+  r.seconds.push_back({"voxelize", total - colour_seconds});
+  if (!voxels.colours.empty()) r.seconds.push_back({"colours", colour_seconds});
   r.resolution = resolution;
   r.voxels = voxels.keys.size();
   const bool symmetric = o.encoding == Encoding::ussvdag || o.encoding == Encoding::ssvdag;
@@ -84,7 +88,7 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   r.seconds.push_back({"svo", times.svo_seconds});
   r.seconds.push_back(
       {o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
-  auto t = Clock::now();
+  t = Clock::now();
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
   file.colours = std::move(voxels.colours);
   r.seconds.push_back({"encode", std::chrono::duration<double>(Clock::now() - t).count()});

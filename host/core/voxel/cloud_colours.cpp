@@ -1,8 +1,9 @@
 // Voxels and their depth-first colours from a cloud's cells, on the device (megavox/colour.h,
 // kernels/common/colour.h). Bottom-up, each level's 8 planes are summed over the runs of one parent
-// (one segmented_sum for all planes) and divided; top-down, each node's pre-order index is its parent's + 1 +
+// (one segmented_sum for the planes that can be nonzero) and divided; top-down, each node's pre-order index is its parent's + 1 +
 // the subtree sizes of its earlier siblings (segmented_exclusive_scan), and its colour is scattered there.
 #include <algorithm>
+#include <chrono>
 #include <string>
 
 #include "common/colour.h"
@@ -24,7 +25,7 @@ struct ColourLevel {
   Buffer keys;    // n 64-bit codes at this level
   Buffer rgb;     // n packed 0xBBGGRR
   Buffer planes;  // kColourPlanes x n
-  Buffer sizes;   // n subtree sizes (plane 7), kept for the top-down pass
+  Buffer sizes;   // n subtree sizes (the size plane), kept for the top-down pass
   Segmentation by_parent;
 };
 
@@ -36,18 +37,48 @@ void colour_dispatch(Device& dev, KernelId id, uint64_t n, std::initializer_list
   dev.barrier();
 }
 
-// The 64-bit sums of `planes` (kColourPlanes x n, plane-major) over the runs `heads` flags, all planes in one
-// segmented_sum: the heads repeated once per plane cut the planes into kColourPlanes x m runs, so run k * m + s
-// is run s of plane k and the sums come out plane-major too.
-Buffer colour_plane_sums(Device& dev, const Buffer& heads, uint64_t n, uint64_t m, const Buffer& planes) {
-  Buffer all_heads = colour_alloc(dev, kColourPlanes * n * 4, "colour plane heads");
-  for (uint32_t k = 0; k < kColourPlanes; ++k) dev.copy(heads, all_heads, n * 4, 0, k * n * 4);
+// The runs `heads` flags over n elements, repeated once per plane for `used` planes (each plane-major run of n
+// elements starts a run at its first element anyway): run k * m + s is run s of plane k, so one segmented_sum
+// sums every plane and the sums come out plane-major. Waits once, for the count.
+Segmentation plane_runs(Device& dev, const Buffer& heads, uint64_t n, uint32_t used) {
+  Buffer all_heads = colour_alloc(dev, used * n * 4, "colour plane heads");
+  for (uint32_t k = 0; k < used; ++k) dev.copy(heads, all_heads, n * 4, 0, k * n * 4);
   dev.barrier();
-  const Segmentation runs = segment_by_heads(dev, all_heads, kColourPlanes * n);
-  if (runs.count != kColourPlanes * m) throw Error("voxel colours: the planes' runs disagree with the nodes");
+  Segmentation runs = segment_by_heads(dev, all_heads, used * n);
+  if (runs.count % used) throw Error("voxel colours: the planes' runs disagree");
+  return runs;
+}
+
+// The runs of the first plane alone: a prefix of the planes' runs (e[n] counts plane 0's m runs, and
+// starts[m] = n is where plane 1 begins), copied without a wait.
+Segmentation first_plane(Device& dev, const Segmentation& runs, uint64_t n, uint32_t used) {
+  Segmentation seg;
+  seg.n = n;
+  seg.count = runs.count / used;
+  seg.e = colour_alloc(dev, (n + 1) * 4, "segment numbers");
+  seg.starts = colour_alloc(dev, (seg.count + 1) * 4, "segment starts");
+  dev.copy(runs.e, seg.e, (n + 1) * 4);
+  dev.copy(runs.starts, seg.starts, (seg.count + 1) * 4);
+  dev.barrier();
+  return seg;
+}
+
+// The 64-bit sums of `planes` (kColourPlanes x n) over `runs` (plane_runs of its first `used` planes): m runs
+// a plane, kColourPlanes x m sums; the planes not summed hold zeros, so their sums are zeros.
+Buffer colour_plane_sums(Device& dev, const Segmentation& runs, uint32_t used, const Buffer& planes) {
+  const uint64_t m = runs.count / used;
   Buffer sums = colour_alloc(dev, kColourPlanes * m * 8, "colour sums");
+  if (used < kColourPlanes) dev.fill(sums, 0, (kColourPlanes - used) * m * 8, used * m * 8);
   segmented_sum(dev, runs, planes, sums);
   return sums;
+}
+
+// Planes the level above must sum from `level`'s: the sums' high words only once a node of `level` can have
+// 2^32 / 255 voxels or more below it (never for voxels, whose planes hold their 8-bit means).
+uint32_t colour_planes_used(uint32_t level, uint64_t voxels) {
+  if (level == 0) return MV_COLOUR_HIGH;
+  const uint64_t most = level >= 21 ? voxels : std::min<uint64_t>(voxels, uint64_t{1} << (3 * level));
+  return most * 255 < (uint64_t{1} << 32) ? MV_COLOUR_HIGH : kColourPlanes;
 }
 
 // Divides the sums of m nodes into their colours and the planes the level above sums.
@@ -60,7 +91,7 @@ void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, bo
   p.leaf = leaf ? 1u : 0u;
   colour_dispatch(dev, KernelId::colour_level, m, {&sums, &level.rgb, &level.planes}, p);
   level.sizes = colour_alloc(dev, m * 4, "subtree sizes");
-  dev.copy(level.planes, level.sizes, m * 4, 7 * m * 4, 0);
+  dev.copy(level.planes, level.sizes, m * 4, MV_COLOUR_SIZE * m * 4, 0);
   dev.barrier();
 }
 
@@ -74,7 +105,10 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     MvColourParams p{};
     p.n = static_cast<uint32_t>(points);
     colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
-    Buffer sums = colour_plane_sums(dev, heads, points, voxels, planes);
+    const uint32_t used = MV_COLOUR_COUNT + 1;
+    const Segmentation runs = plane_runs(dev, heads, points, used);
+    if (runs.count != used * voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
+    Buffer sums = colour_plane_sums(dev, runs, used, planes);
     lv[0].n = voxels;
     lv[0].keys = std::move(voxel_keys);
     finish_colour_level(dev, lv[0], sums, true);
@@ -83,7 +117,9 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     ColourLevel& below = lv[l - 1];
     Buffer heads = colour_alloc(dev, below.n * 4, "parent run heads");
     segment_heads(dev, below.keys, heads, below.n, 3);
-    below.by_parent = segment_by_heads(dev, heads, below.n);
+    const uint32_t used = colour_planes_used(l - 1, voxels);
+    const Segmentation runs = plane_runs(dev, heads, below.n, used);
+    below.by_parent = first_plane(dev, runs, below.n, used);
     ColourLevel& level = lv[l];
     level.n = below.by_parent.count;
     level.keys = colour_alloc(dev, level.n * 8, "node codes");
@@ -91,7 +127,7 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     p.n = static_cast<uint32_t>(level.n);
     p.shift = 3;
     colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
-    Buffer sums = colour_plane_sums(dev, heads, below.n, level.n, below.planes);
+    Buffer sums = colour_plane_sums(dev, runs, used, below.planes);
     finish_colour_level(dev, level, sums, false);
     below.keys = Buffer();
     below.planes = Buffer();
@@ -135,7 +171,7 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
 }  // namespace
 
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
-                           uint32_t levels) {
+                           uint32_t levels, double* colour_seconds) {
   if (levels < 1 || levels > 21) throw Error("voxelize_cloud: " + std::to_string(levels) + " levels (1 to 21)");
   const uint64_t points = cells.size() / 3;
   const bool colour = !rgb.empty();
@@ -167,7 +203,11 @@ CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::sp
   const uint64_t voxels = unique_sorted(dev, keys, unique, points);
   out.keys.resize(voxels);
   dev.download(unique, out.keys.data(), voxels * 8);
-  if (colour) out.colours = depth_first_colours(dev, keys, values, points, std::move(unique), voxels, levels);
+  if (colour) {
+    const auto start = std::chrono::steady_clock::now();
+    out.colours = depth_first_colours(dev, keys, values, points, std::move(unique), voxels, levels);
+    if (colour_seconds) *colour_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   return out;
 }
 

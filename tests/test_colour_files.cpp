@@ -182,6 +182,32 @@ TEST_P(ColourFilesTest, LasColoursUseTheHighByteUnlessAllFitEightBits) {
   }
 }
 
+// An explicit cube (--bounds) keeps the points inside it, its top faces included, and drops the rest.
+TEST_P(ColourFilesTest, BoundsKeepThePointsInside) {
+  Device& dev = shared_device(GetParam());
+  const FaceCloud c = face_cloud();
+  const std::string in = face_cloud_ply(c, "bounded.ply");
+  BuildOptions o;
+  o.input = in;
+  o.output = temp_path("bounded.mvx");
+  o.resolution = 8;
+  o.placement = parse_grid_bounds("0,0,0,4");
+  const BuildReport r = build_mvx(dev, o);
+  std::vector<uint32_t> cells, rgb;
+  for (size_t p = 0; p < c.rgb.size(); ++p) {
+    const double* v = &c.xyz[3 * p];
+    if (v[0] > 4 || v[1] > 4 || v[2] > 4) continue;
+    for (int a = 0; a < 3; ++a) cells.push_back(std::min(7u, static_cast<uint32_t>(2 * v[a])));
+    rgb.push_back(c.rgb[p]);
+  }
+  EXPECT_EQ(r.points, rgb.size());
+  const MvxFile f = read_mvx(o.output);
+  EXPECT_EQ(decode_encoded(f.dag), ref::cloud_voxel_keys(cells));
+  std::vector<uint8_t> bytes;
+  for (const auto& n : ref::preorder_colours(cells, rgb, 3)) bytes.insert(bytes.end(), n.rgb, n.rgb + 3);
+  EXPECT_EQ(f.colours, bytes);
+}
+
 // --attributes rgb on a cloud without colour is an error; a PLY with faces stays a mesh.
 TEST_P(ColourFilesTest, RgbWithoutColourIsAnError) {
   Device& dev = shared_device(GetParam());

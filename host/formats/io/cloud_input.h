@@ -20,7 +20,7 @@ struct CloudPoints {
   Bounds bounds;
 };
 
-// Reads every point (held in memory: 28 bytes per point). Stored 16-bit channels keep their high byte unless
+// Reads every point (held in memory: about 34 bytes per point with colour). Stored 16-bit channels keep their high byte unless
 // every value of the cloud fits 8 bits; `colour` false skips the colour. Throws mv::Error naming the file.
 CloudPoints read_cloud(const std::string& path, bool colour);
 

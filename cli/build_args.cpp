@@ -7,7 +7,10 @@
 namespace mv::cli {
 
 void add_build_options(CLI::App& cmd, BuildArgs& a) {
-  cmd.add_option("input", a.input, "Mesh file (.ply, .obj, .gltf, .fbx, .stl, ...)")->required();
+  cmd.add_option("input", a.input,
+                 "Mesh file (.ply, .obj, .gltf, .fbx, .stl, ...), or a point cloud (.las, or a .ply with vertices and\n"
+                 "no faces): each point fills the voxel it falls in")
+      ->required();
   cmd.add_option("--resolution", a.resolution,
                  "Voxels per axis, a power of two: 1024, 2K, 16K, ... (default: 1K for meshes; for a .vdb the\n"
                  "smallest power of two that holds its voxels, one VDB voxel per voxel; a smaller one resamples)");
@@ -37,6 +40,11 @@ void add_build_options(CLI::App& cmd, BuildArgs& a) {
                  "Seidel's 6-separating surface, about 1/3 fewer voxels)")
       ->check(CLI::IsMember({"conservative", "thin"}))
       ->capture_default_str();
+  cmd.add_option("--attributes", a.attributes,
+                 "Point clouds: voxel colours. rgb: the mean of each voxel's points (inner nodes: of the voxels below),\n"
+                 "stored in depth-first order beside the DAG; none: geometry only; auto: rgb when the cloud has colour")
+      ->check(CLI::IsMember({"auto", "none", "rgb"}))
+      ->capture_default_str();
   cmd.add_option("--memory", a.memory,
                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM). PLY vertex positions past a quarter of it,\n"
                  "and out of core the triangles past another quarter, go to scratch files in $TMPDIR (or /tmp); a\n"
@@ -53,6 +61,7 @@ BuildOptions build_options(const BuildArgs& a) {
   o.placement = a.bounds.empty() ? parse_grid_origin(a.grid_origin) : parse_grid_bounds(a.bounds);
   o.voxelize = parse_voxelize_rule(a.voxelize);
   o.memory = a.memory.empty() ? 0 : parse_size(a.memory);
+  o.attributes = a.attributes == "rgb" ? Attributes::rgb : a.attributes == "none" ? Attributes::none : Attributes::automatic;
   return o;
 }
 
@@ -62,6 +71,9 @@ nlohmann::json report_json(const BuildReport& r) {
   return {{"input", r.input},         {"output", r.output},
           {"format", r.format},       {"resolution", r.resolution},
           {"triangles", r.triangles}, {"voxels", r.voxels},
+          {"points", r.points},       {"attributes", r.attributes},
+          {"colour_entries", r.colour_entries}, {"colour_bytes", r.colour_bytes},
+          {"colour_bits", r.colour_entries ? 24 : 0}, {"colour_bits_per_voxel", r.colour_bits_per_voxel},
           {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
           {"spilled_bytes", r.spilled_bytes}, {"vertex_scratch_bytes", r.vertex_scratch_bytes},
           {"cube_retries", r.cube_retries},

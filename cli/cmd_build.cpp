@@ -28,6 +28,10 @@ void print_table(const BuildReport& r) {
               cubes.c_str());
   if (!r.vdb_grid.empty())
     std::printf("  grid '%s' (%s), voxels %llu\n", r.vdb_grid.c_str(), r.vdb_class.c_str(), (unsigned long long)r.voxels);
+  else if (r.voxelize == "points")
+    std::printf("  points %llu, voxels %llu (grid origin %s: %.9g,%.9g,%.9g, voxel %.9g)\n", (unsigned long long)r.points,
+                (unsigned long long)r.voxels, r.grid_origin.c_str(), r.grid.origin[0], r.grid.origin[1],
+                r.grid.origin[2], r.grid.voxel_size);
   else
     std::printf("  triangles %llu, voxels %llu (%s, grid origin %s: %.9g,%.9g,%.9g, voxel %.9g)\n",
                 (unsigned long long)r.triangles, (unsigned long long)r.voxels, r.voxelize.c_str(), r.grid_origin.c_str(),
@@ -39,6 +43,10 @@ void print_table(const BuildReport& r) {
                 r.svo_nodes[l] ? double(r.nodes_per_level[l]) / double(r.svo_nodes[l]) : 0.0);
   std::printf("  DAG nodes (levels >= 2): %llu; encoded %llu bytes, %.3f bits per voxel\n",
               (unsigned long long)r.nodes_total, (unsigned long long)r.bytes, r.bits_per_voxel);
+  if (r.colour_entries)
+    std::printf("  colours (%s, raw RGB24): %llu entries (voxels and inner nodes), %llu bytes, %.3f bits per voxel\n",
+                r.attributes.c_str(), (unsigned long long)r.colour_entries, (unsigned long long)r.colour_bytes,
+                r.colour_bits_per_voxel);
   std::printf("  seconds:");
   for (const auto& s : r.seconds) std::printf(" %s %.3f", s.name.c_str(), s.seconds);
   std::printf("\n");

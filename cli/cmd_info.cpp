@@ -25,6 +25,9 @@ void add_info_command(CLI::App& app) {
     const double bpv = f.voxels ? 8.0 * double(bytes) / double(f.voxels) : 0;
     const uint32_t pw = f.paging.page_words;
     const uint64_t pages = pw ? (f.paged_words + pw - 1) / pw : 0;
+    // Colours: the section's bits (head included, inner nodes' colours included) over the voxels.
+    const uint64_t colour_entries = f.colours.size() / 3, colour_bytes = mvx_colour_section_bytes(f);
+    const double colour_bpv = f.voxels ? 8.0 * double(colour_bytes) / double(f.voxels) : 0;
     if (*json) {
       nlohmann::json j = {{"file", *path},
                           {"format", encoding_name(f.dag.encoding)},
@@ -38,7 +41,11 @@ void add_info_command(CLI::App& app) {
                           {"nodes_per_level", f.dag_nodes},
                           {"nodes_total", total},
                           {"bytes", bytes},
-                          {"bits_per_voxel", bpv}};
+                          {"bits_per_voxel", bpv},
+                          {"colour_entries", colour_entries},
+                          {"colour_bits", colour_entries ? 24 : 0},
+                          {"colour_bytes", colour_bytes},
+                          {"colour_bits_per_voxel", colour_bpv}};
       if (pw)
         j["paging"] = {{"page_words", pw}, {"page_bytes", uint64_t{pw} * 4}, {"pages", pages},
                        {"node_order", node_order_name(f.paging.order)}, {"paged_words", f.paged_words},
@@ -60,6 +67,10 @@ void add_info_command(CLI::App& app) {
       std::printf("  %-6zu %14llu %14llu\n", l, (unsigned long long)f.svo_nodes[l], (unsigned long long)f.dag_nodes[l]);
     std::printf("  DAG nodes (levels >= 2): %llu; encoded %llu bytes, %.3f bits per voxel\n",
                 (unsigned long long)total, (unsigned long long)bytes, bpv);
+    if (colour_entries)
+      std::printf("  colours: raw RGB24, %llu entries (voxels and inner nodes, depth-first), %llu bytes, %.3f bits "
+                  "per voxel; checked\n", (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
+                  colour_bpv);
     if (pw)
       std::printf("  paged: %u-word pages (%u KiB), %llu pages, %s order, %llu words with padding (x%.4f); every "
                   "page checked\n", pw, pw / 256, (unsigned long long)pages, node_order_name(f.paging.order).c_str(),

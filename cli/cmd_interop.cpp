@@ -17,17 +17,20 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
   auto* cmd = app.add_subcommand(
       "export",
       "Write a .mvx for other tools: SymVox-family DAG files (the SSVDAG authors' viewer; voxcom reads the 32-bit\n"
-      "ones) or the voxels as an OpenVDB mask grid / NanoVDB grid named 'voxels'. Examples:\n"
+      "ones), the voxels as an OpenVDB mask grid / NanoVDB grid named 'voxels', or as a PLY of voxel centres with\n"
+      "their colours. Examples:\n"
       "  megavox export bunny.mvx --format symvox-ssvdag -o bunny.ssvdag\n"
-      "  megavox export bunny.mvx --format vdb -o bunny.vdb");
+      "  megavox export bunny.mvx --format vdb -o bunny.vdb\n"
+      "  megavox export lion.mvx --format ply -o lion_voxels.ply");
   cmd->add_option("file", o->input, "The .mvx file")->required();
   cmd->add_option("-o,--output", o->output, "The file to write (named only once complete)")->required();
   add_no_clobber_flag(*cmd, o->no_clobber);
   cmd->add_option("--format", *format,
                   "symvox-svdag (32-bit SVDAG), symvox-ussvdag (32-bit, per-child mirror bits), symvox-ssvdag\n"
-                  "(SymVox's compact 16-bit SSVDAG), vdb (OpenVDB MaskGrid) or nvdb (NanoVDB)")
+                  "(SymVox's compact 16-bit SSVDAG), vdb (OpenVDB MaskGrid), nvdb (NanoVDB) or ply (one vertex per\n"
+                  "voxel: its centre, and uchar red, green, blue when the file has colours)")
       ->required()
-      ->check(CLI::IsMember({"symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb", "nvdb"}));
+      ->check(CLI::IsMember({"symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb", "nvdb", "ply"}));
   cmd->add_flag("--json", *json, "Print one JSON object");
   cmd->callback([&g, o, format, json] {
     o->format = parse_export_format(*format);

@@ -118,7 +118,7 @@ TEST(MvxPaged, EveryEncodingAndPagingReadsBackInLevelOrder) {
         EXPECT_TRUE(g.dag.words == f.dag.words);
       }
       Bytes b(p);
-      EXPECT_EQ(b.h.version, 3u);
+      EXPECT_EQ(b.h.version, kMvxVersion);
       EXPECT_EQ(b.find_index(), paging.page_words != 0);
     }
   }

@@ -102,7 +102,7 @@ TEST_P(MvxVersionTest, VersionOneVoxelFilesStillOpen) {
   std::vector<char> b = file_bytes(p);
   mvx_format::Header h;
   std::memcpy(&h, b.data(), sizeof h);
-  EXPECT_EQ(h.version, 3u);
+  EXPECT_EQ(h.version, kMvxVersion);
   h.version = 1;
   h.checksum = XXH3_64bits(&h, offsetof(mvx_format::Header, checksum));
   std::memcpy(b.data(), &h, sizeof h);

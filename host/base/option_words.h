@@ -43,16 +43,17 @@ inline PointOutput parse_point_output(std::string_view word) {
 }
 inline const char* point_output_name(PointOutput o) { return o == PointOutput::tiles3d ? "3dtiles" : "mvx"; }
 
-// "symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb" or "nvdb" (also output_path.h's format names).
+// "symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb", "nvdb" or "ply" (also output_path.h's format names).
 inline ExportFormat parse_export_format(std::string_view word) {
   if (word == "symvox-svdag") return ExportFormat::symvox_svdag;
   if (word == "symvox-ussvdag") return ExportFormat::symvox_ussvdag;
   if (word == "symvox-ssvdag") return ExportFormat::symvox_ssvdag;
   if (word == "vdb") return ExportFormat::vdb;
   if (word == "nvdb") return ExportFormat::nvdb;
+  if (word == "ply") return ExportFormat::ply;
   throw CodedError(ErrorCode::invalid_argument,
                    "export format '" + std::string(word) +
-                       "': choose symvox-svdag, symvox-ussvdag, symvox-ssvdag, vdb or nvdb",
+                       "': choose symvox-svdag, symvox-ussvdag, symvox-ssvdag, vdb, nvdb or ply",
                    setting_encoding);
 }
 inline const char* export_format_name(ExportFormat f) {
@@ -62,6 +63,7 @@ inline const char* export_format_name(ExportFormat f) {
     case ExportFormat::symvox_ssvdag: return "symvox-ssvdag";
     case ExportFormat::vdb: return "vdb";
     case ExportFormat::nvdb: return "nvdb";
+    case ExportFormat::ply: return "ply";
   }
   return "?";
 }

@@ -23,6 +23,9 @@ struct MeshArrays {
   std::span<const uint32_t> indices;
 };
 
+// Voxel colours: automatic = rgb when the input has colour; rgb on an input without colour is an error.
+enum class Attributes { automatic, none, rgb };
+
 struct BuildOptions {
   std::string input;         // a mesh: PLY (streamed) or anything assimp reads (OBJ, glTF, FBX, STL, ...),
                              // or an OpenVDB .vdb volume (one VDB voxel = one voxel)
@@ -39,6 +42,7 @@ struct BuildOptions {
   // Host RAM budget in bytes (0: half the physical RAM). A build whose triangles or voxel keys would pass it
   // stops with an error naming what it needs (nothing is written).
   uint64_t memory = 0;
+  Attributes attributes = Attributes::automatic;  // point clouds (docs/colour.md)
   // Instead of reading `input`: this mesh (then `input` only names it in messages).
   const MeshArrays* mesh = nullptr;
   // How the file is paged (megavox/mvx.h; an ssvdag always in level order).
@@ -70,6 +74,11 @@ struct BuildReport {
   std::string input, output, format;
   uint32_t resolution = 0;
   uint64_t triangles = 0;  // 0 for a .vdb input
+  uint64_t points = 0;     // a point cloud input: its points read (and inside the grid)
+  std::string attributes = "none";  // "rgb" when the file carries voxel colours
+  uint64_t colour_entries = 0;      // colours stored: voxels and inner nodes
+  uint64_t colour_bytes = 0;        // the colour section's payload
+  double colour_bits_per_voxel = 0; // colour bits (inner nodes' included) / voxels
   std::string vdb_grid, vdb_class;  // the .vdb grid read and its class
   uint32_t cube = 0;                // out of core: the cube side used; 0 = in core
   uint64_t spilled_bytes = 0;       // out of core: triangle bytes spilled to a temporary file (over --memory)

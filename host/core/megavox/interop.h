@@ -14,9 +14,11 @@ namespace mv {
 //   symvox-ssvdag   SymVox's compact 16-bit SSVDAG (.ssvdag): each with the header SymVox's viewer reads
 //                   (bbox, root side, levels, node count, first-leaf word, word count) and its child order;
 //   vdb             an OpenVDB mask grid "voxels" (one active voxel per voxel, world transform kept);
-//   nvdb            the same grid as NanoVDB.
+//   nvdb            the same grid as NanoVDB;
+//   ply             one vertex per voxel: its centre in model units (double x, y, z) and, when the file has
+//                   colours, uchar red, green, blue (binary little endian).
 // An .mvx already in the wanted encoding is written as is; otherwise its voxels are decoded and rebuilt.
-enum class ExportFormat { symvox_svdag, symvox_ussvdag, symvox_ssvdag, vdb, nvdb };
+enum class ExportFormat { symvox_svdag, symvox_ussvdag, symvox_ssvdag, vdb, nvdb, ply };
 struct ExportOptions {
   std::string input, output;
   ExportFormat format = ExportFormat::symvox_svdag;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <unistd.h>
 
+#include "io/cloud_input.h"
 #include "io/memory_mesh.h"
 #include "io/mesh_source.h"
 #include "io/output_path.h"
@@ -344,6 +345,13 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     r.grid_origin = to_string(o.placement.origin);
     r.voxelize = voxelize_rule_name(o.voxelize);
   }
+  if (!vdb && !o.mesh && io::is_point_cloud(o.input)) {
+    if (o.resolution) check_ssvdag_resolution(o.encoding, o.resolution);
+    r.grid_origin = to_string(o.placement.origin);
+    r.voxelize = "points";
+    build_cloud(dev, o, r, lap, on_plan);
+    return r;
+  }
   if (!vdb && o.cube && mesh_resolution > o.cube) {
     return build_out_of_core(dev, o, mesh_resolution, r, report, lap, on_plan);
   }
@@ -412,7 +420,8 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
       const bool in_core = !(attempt.cube && resolution > attempt.cube);
       const bool cube_failed = in_core || dynamic_cast<const CubeMemoryError*>(&e) != nullptr;
       const uint32_t cube = in_core ? resolution : attempt.cube;
-      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || (!o.mesh && io::is_vdb(o.input))) throw;
+      const bool voxels_read = !o.mesh && (io::is_vdb(o.input) || io::is_point_cloud(o.input));
+      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || voxels_read) throw;
       attempt.cube = cube / 2;
       if (progress) progress("cubes of " + std::to_string(attempt.cube) + "^3 (device memory)", 0);
     }
@@ -424,6 +433,11 @@ BuildPlan plan_build(const BuildOptions& o) {
   if (!o.mesh && io::is_vdb(o.input)) {
     io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
     return plan_vdb_build(o, vdb.keys.size(), vdb.grid, plan_budgets(o, nullptr));
+  }
+  if (!o.mesh && io::is_point_cloud(o.input)) {  // the points bound the voxels
+    const io::CloudPoints cloud = io::read_cloud(o.input, false);
+    const GridTransform grid = grid_for_bounds(cloud.bounds, resolution, o.placement);
+    return plan_vdb_build(o, cloud.xyz.size() / 3, grid, plan_budgets(o, nullptr));
   }
   MeshSurvey survey = survey_mesh(o, nullptr);
   const GridTransform grid = place_mesh_grid(o, resolution, survey.bounds);

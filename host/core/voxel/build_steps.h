@@ -1,9 +1,11 @@
 // Steps of the build shared by `build`, `import` and `export`: voxels -> DAG of a format -> .mvx contents.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "megavox/build.h"
 #include "megavox/dag.h"
 #include "megavox/mvx.h"
 
@@ -18,6 +20,10 @@ Dag build_dag_for_format(Device& dev, const std::vector<uint64_t>& keys, uint32_
 
 // Encodes `dag` in `format` with its counts, grid and bounds.
 MvxFile mvx_for_dag(const Dag& dag, Encoding format, const GridTransform& grid, const Bounds& bounds);
+
+// A point cloud (io::is_point_cloud) voxelized, reduced, encoded and written, with its colours: fills r.
+void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::function<void(const std::string&)>& lap,
+                 const PlanListener& on_plan);
 
 // DAG nodes over levels >= 2 (bricks counted as nodes).
 uint64_t nodes_total(const MvxFile& file);

@@ -10,6 +10,7 @@
 #include "io/output_path.h"
 #include "io/symvox_file.h"
 #include "io/vdb_writer.h"
+#include "io/voxel_ply.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "option_words.h"
@@ -49,6 +50,27 @@ void symvox_box(const MvxFile& in, io::SymvoxFile& out) {
   out.root_side = static_cast<float>(side);
 }
 
+// The voxels' own colours out of the depth-first array: leaves in pre-order come in Morton order, each after
+// the inner nodes it is the first voxel of (the levels where its code first differs from the voxel before).
+std::vector<uint8_t> voxel_colours(const std::vector<uint64_t>& keys, const std::vector<uint8_t>& colours,
+                                   uint32_t levels) {
+  if (colours.empty()) return {};
+  std::vector<uint8_t> out(keys.size() * 3);
+  uint64_t index = 0;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    uint32_t fresh = levels;  // the first voxel opens every level, the root included
+    if (i > 0) {
+      fresh = 0;
+      for (uint32_t l = 1; l < levels; ++l) fresh += (keys[i] >> (3 * l)) != (keys[i - 1] >> (3 * l));
+    }
+    index += fresh;
+    if (3 * index + 3 > colours.size()) throw Error("export: the colours end before the voxels do");
+    std::copy(colours.begin() + 3 * index, colours.begin() + 3 * index + 3, out.begin() + 3 * i);
+    ++index;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string check_output(const ExportOptions& o) {
@@ -66,7 +88,10 @@ ExportReport export_mvx(Device& dev, const ExportOptions& o) {
   const std::string output = check_output(o);
   MvxFile in = read_mvx(o.input);
   r.voxels = in.voxels;
-  if (!encoding) {
+  if (o.format == ExportFormat::ply) {
+    const std::vector<uint64_t> keys = decode_encoded(in.dag);
+    io::write_voxel_ply(output, keys, in.grid, voxel_colours(keys, in.colours, in.dag.levels));
+  } else if (!encoding) {
     io::write_voxel_grid(output, decode_encoded(in.dag), in.grid, o.format == ExportFormat::nvdb);
   } else {
     MvxFile dag = in_format(dev, std::move(in), *encoding, r.rebuilt);

@@ -78,7 +78,25 @@ PagedNodes paged_nodes(const EncodedDag& dag, const MvxPaging& paging) {
   return p;
 }
 
+std::vector<uint8_t> colour_section(const MvxFile& in) {
+  std::vector<uint8_t> out(sizeof(ColourHead) + in.colours.size());
+  ColourHead head{kColourRaw24, 24, in.colours.size() / 3, {0, 0}};
+  std::memcpy(out.data(), &head, sizeof head);
+  std::copy(in.colours.begin(), in.colours.end(), out.begin() + sizeof head);
+  return out;
+}
+
+uint64_t octree_node_total(const std::vector<uint64_t>& svo_nodes) {
+  uint64_t n = 0;
+  for (uint64_t c : svo_nodes) n += c;
+  return n;
+}
+
 }  // namespace
+
+uint64_t mvx_colour_section_bytes(const MvxFile& file) {
+  return file.colours.empty() ? 0 : sizeof(ColourHead) + file.colours.size();
+}
 
 void write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& paging) {
   const uint32_t L = in.dag.levels;
@@ -97,6 +115,14 @@ void write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& pagi
     blobs.push_back({kBricks, in.dag.bricks.data(), in.dag.bricks.size() * 8});
   } else {
     blobs.push_back({kNodes, in.dag.words.data(), in.dag.words.size() * 4});
+  }
+  std::vector<uint8_t> colours;
+  if (!in.colours.empty()) {
+    if (in.colours.size() % 3 || in.colours.size() / 3 != octree_node_total(in.svo_nodes))
+      throw Error(path + ": " + std::to_string(in.colours.size()) + " colour bytes for " +
+                  std::to_string(octree_node_total(in.svo_nodes)) + " octree nodes");
+    colours = colour_section(in);
+    blobs.push_back({kColours, colours.data(), colours.size()});
   }
   Header h{};
   h.version = kMvxVersion;
@@ -191,7 +217,9 @@ void check_voxel_file(const Opened& o, const std::string& path) {
   const bool paged = o.find[kPageIndex] != nullptr;
   // counts, levels, then inner + bricks (an unpaged ssvdag), nodes (unpaged), or nodes + page index (paged)
   // + paged level starts (a paged ssvdag)
-  const uint32_t sections = paged ? (compact ? 5 : 4) : (compact ? 4 : 3);
+  const uint32_t sections = (paged ? (compact ? 5 : 4) : (compact ? 4 : 3)) + (o.find[kColours] ? 1 : 0);
+  if (o.find[kColours] && h.version < 4)
+    throw Error(path + ": bad section table (voxel colours in a version " + std::to_string(h.version) + " file)");
   if (!(h.voxel_size > 0) || h.sections != sections) throw Error(path + ": bad grid or section count");
   const bool kinds_ok = o.find[kCounts] && o.find[kLevels] &&
                         (compact && !paged ? o.find[kInner] && o.find[kBricks] : o.find[kNodes] != nullptr) &&
@@ -292,6 +320,24 @@ void read_paged_nodes(const Opened& o, const std::string& path, MvxFile& out) {
   out.paged_words = pi.head.words;
 }
 
+// The colour section, checked: its head, and one RGB24 entry per octree node the counts name.
+void read_colours(const Opened& o, const std::string& path, MvxFile& out) {
+  const std::vector<uint8_t> raw = section_data<uint8_t>(o.file.get(), *o.find[kColours], path, "colours");
+  ColourHead head{};
+  if (raw.size() < sizeof head) throw Error(path + ": the colours section is shorter than its head");
+  std::memcpy(&head, raw.data(), sizeof head);
+  if (head.format != kColourRaw24 || head.bits != 24 || head.reserved[0] || head.reserved[1])
+    throw Error(path + ": colours of unknown format " + std::to_string(head.format) + " (" +
+                std::to_string(head.bits) + " bits)");
+  const uint64_t nodes = octree_node_total(out.svo_nodes);
+  if (head.entries != nodes)
+    throw Error(path + ": " + std::to_string(head.entries) + " colours for " + std::to_string(nodes) + " octree nodes");
+  if (raw.size() - sizeof head != head.entries * 3)
+    throw Error(path + ": the colours section holds " + std::to_string(raw.size() - sizeof head) + " bytes for " +
+                std::to_string(head.entries) + " RGB24 colours");
+  out.colours.assign(raw.begin() + sizeof head, raw.end());
+}
+
 }  // namespace
 
 MvxFile read_mvx(const std::string& path) {
@@ -331,6 +377,7 @@ MvxFile read_mvx(const std::string& path) {
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }
+  if (find[kColours]) read_colours(o, path, out);
   return out;
 }
 

@@ -18,15 +18,26 @@ namespace mv::mvx_format {
 constexpr char kMagic[8] = {'M', 'E', 'G', 'A', 'V', 'O', 'X', '\x1a'};
 constexpr uint64_t kPage = 4096;
 constexpr uint32_t kMaxSections = 16;
-// Voxel content: counts, levels, nodes (or inner + bricks), the page index of paged nodes (version 3), and
+// Voxel content (version 4 on: voxel colours, kind 16): counts, levels, nodes (or inner + bricks), the page index of paged nodes (version 3), and
 // for a paged ssvdag where its levels start in the paged stream (PagedSsvdag::starts).
 // Point content (version 2 on): the rest. Kinds are shared by both contents: a new one takes the next number.
 enum SectionKind : uint32_t {
   kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5,
   kSecPointMeta = 6, kSecPointNodes = 7, kSecPointXyz = 8, kSecPointRgb = 9, kSecPointNormal = 10,
   kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13, kPageIndex = 14, kPagedStarts = 15,
+  kColours = 16,
 };
-constexpr uint32_t kKinds = 16;
+constexpr uint32_t kKinds = 17;
+
+// The voxel colours section (version 4 on): this head, then `entries` colours of `bits` bits in depth-first
+// order. Format 0 is raw RGB24 (3 bytes per entry, R first); palette formats take the next numbers.
+struct ColourHead {
+  uint32_t format, bits;
+  uint64_t entries;
+  uint64_t reserved[2];  // zero: room for a palette's counts
+};
+static_assert(sizeof(ColourHead) == 32);
+enum ColourFormat : uint32_t { kColourRaw24 = 0 };
 // Header::content (version 2; version 1 files are voxels and hold 0 there).
 enum Content : uint32_t { kVoxels = 0, kPoints = 1 };
 

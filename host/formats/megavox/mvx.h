@@ -17,6 +17,10 @@
 // Points: a meta section (grid, cube, counts, attributes, CRS), nodes per level, the node table (breadth-first,
 // 40 bytes per node) and one section per point column in node order, so the top levels' points are a prefix
 // of every column: a reader can stop after the levels it wants.
+// Version 4 adds voxel colours (kind 16, only in a file that has them): a 32-byte head (format 0 = raw RGB24,
+// bits per entry, entries = every octree node, voxels and inner nodes) and the colours in depth-first order
+// (docs/colour.md). Versions 1 to 3 still open; a file without colours is written as version 3 would be, bar the
+// version number.
 // Versions 1 and 2 (unpaged voxels; version 2 points, the same sections as version 3's) still open.
 // Written to a temporary name and renamed on success; the reader checks every field, every checksum and
 // the encoding itself before returning.
@@ -31,7 +35,7 @@
 
 namespace mv {
 
-inline constexpr uint32_t kMvxVersion = 3;
+inline constexpr uint32_t kMvxVersion = 4;
 inline constexpr uint32_t kMvxPageWords = 4096;  // 16 KiB pages: the default of write_mvx
 
 // How the nodes of a file are paged: pages of page_words words (a power of two, at least 16), nodes placed in
@@ -47,11 +51,17 @@ struct MvxFile {
   uint64_t voxels = 0;
   std::vector<uint64_t> svo_nodes;  // index = level (0 = voxels)
   std::vector<uint64_t> dag_nodes;  // index = level (0 = voxels)
+  // Voxel colours (version 4 on): RGB24 per octree node, voxels and inner nodes, in depth-first order
+  // (docs/colour.md); empty for a colourless file.
+  std::vector<uint8_t> colours;
   EncodedDag dag;  // read_mvx: always the level-order stream, whatever the file's paging
   // As read (write_mvx ignores these): the file's paging ({0} when not paged) and its paged stream's words.
   MvxPaging paging{0, NodeOrder::level};
   uint64_t paged_words = 0;
 };
+
+// The colour section's bytes as write_mvx stores them (0 without colours).
+uint64_t mvx_colour_section_bytes(const MvxFile& file);
 
 enum class MvxContent { voxels, points };
 // What a file holds, from its checked header alone.

@@ -28,6 +28,7 @@
 #include "common/min_cut_regions.h"
 #include "common/mask_post.h"
 #include "common/voxelize.h"
+#include "common/colour.h"
 
 #define MV_PROBE_FIELDS 32u /* at most, per struct */
 #define MV_PROBE_WORDS (2u + 2u * MV_PROBE_FIELDS)
@@ -88,6 +89,7 @@
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, pixels) X(MV_U32, channels) X(MV_U32, max_value) X(MV_U32, mode)        \
   X(MV_U32, sum_at) X(MV_U32, centres_bg) X(MV_U32, centres_fg) X(MV_U32, seeding) X(MV_U32, colour_bg)                \
   X(MV_U32, colour_fg) X(MV_U32, pick_bg_lo) X(MV_U32, pick_bg_hi) X(MV_U32, pick_fg_lo) X(MV_U32, pick_fg_hi)
+#define MV_FIELDS_COLOUR(X) X(MV_U32, n) X(MV_U32, leaf) X(MV_U32, shift) X(MV_U32, pad0)
 #define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
 
 #define MV_PROBE_VALUE(word, f)                                                                                        \
@@ -135,5 +137,6 @@ MV_PROBE(seg_params, MvSegParams, MV_FIELDS_SEG)
 MV_PROBE(rep_params, MvRepParams, MV_FIELDS_REP)
 MV_PROBE(grabcut_params, MvGrabCutParams, MV_FIELDS_GRABCUT)
 MV_PROBE(gather_params, MvGatherParams, MV_FIELDS_GATHER)
+MV_PROBE(colour_params, MvColourParams, MV_FIELDS_COLOUR)
 
 #endif /* MV_LAYOUT_PROBE_H */

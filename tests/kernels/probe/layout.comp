@@ -68,6 +68,9 @@
 #elif defined(MV_ENTRY_probe_gather_params)
 #define MV_PROBE_T MvGatherParams
 #define MV_PROBE_FN mv_probe_gather_params
+#elif defined(MV_ENTRY_probe_colour_params)
+#define MV_PROBE_T MvColourParams
+#define MV_PROBE_FN mv_probe_colour_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

@@ -1,0 +1,214 @@
+// Voxels and their depth-first colours from a cloud's cells, on the device (megavox/colour.h,
+// kernels/common/colour.h). Bottom-up, each level's 8 planes are summed over the runs of one parent
+// (one segmented_sum for the planes that can be nonzero) and divided; top-down, each node's pre-order index is its parent's + 1 +
+// the subtree sizes of its earlier siblings (segmented_exclusive_scan), and its colour is scattered there.
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+#include "common/colour.h"
+#include "megavox/colour.h"
+#include "megavox/error.h"
+#include "megavox/primitives.h"
+#include "megavox/segmented.h"
+
+namespace mv {
+
+namespace {
+
+constexpr uint32_t kColourLocal = 64;
+constexpr uint32_t kColourPlanes = MV_COLOUR_PLANES;
+
+// One level of the octree on the device: its nodes' codes, colours, planes and the runs of their parents.
+struct ColourLevel {
+  uint64_t n = 0;
+  Buffer keys;    // n 64-bit codes at this level
+  Buffer rgb;     // n packed 0xBBGGRR
+  Buffer planes;  // kColourPlanes x n
+  Buffer sizes;   // n subtree sizes (the size plane), kept for the top-down pass
+  Segmentation by_parent;
+};
+
+Buffer colour_alloc(Device& dev, uint64_t bytes, const char* what) { return dev.alloc(std::max<uint64_t>(bytes, 8), what); }
+
+void colour_dispatch(Device& dev, KernelId id, uint64_t n, std::initializer_list<const Buffer*> buffers,
+                     MvColourParams p) {
+  if (n) dev.dispatch(dev.kernel(id), dev.groups_for(n, kColourLocal), kColourLocal, buffers, p);
+  dev.barrier();
+}
+
+// The runs `heads` flags over n elements, repeated once per plane for `used` planes (each plane-major run of n
+// elements starts a run at its first element anyway): run k * m + s is run s of plane k, so one segmented_sum
+// sums every plane and the sums come out plane-major. Waits once, for the count.
+Segmentation plane_runs(Device& dev, const Buffer& heads, uint64_t n, uint32_t used) {
+  Buffer all_heads = colour_alloc(dev, used * n * 4, "colour plane heads");
+  for (uint32_t k = 0; k < used; ++k) dev.copy(heads, all_heads, n * 4, 0, k * n * 4);
+  dev.barrier();
+  Segmentation runs = segment_by_heads(dev, all_heads, used * n);
+  if (runs.count % used) throw Error("voxel colours: the planes' runs disagree");
+  return runs;
+}
+
+// The runs of the first plane alone: a prefix of the planes' runs (e[n] counts plane 0's m runs, and
+// starts[m] = n is where plane 1 begins), copied without a wait.
+Segmentation first_plane(Device& dev, const Segmentation& runs, uint64_t n, uint32_t used) {
+  Segmentation seg;
+  seg.n = n;
+  seg.count = runs.count / used;
+  seg.e = colour_alloc(dev, (n + 1) * 4, "segment numbers");
+  seg.starts = colour_alloc(dev, (seg.count + 1) * 4, "segment starts");
+  dev.copy(runs.e, seg.e, (n + 1) * 4);
+  dev.copy(runs.starts, seg.starts, (seg.count + 1) * 4);
+  dev.barrier();
+  return seg;
+}
+
+// The 64-bit sums of `planes` (kColourPlanes x n) over `runs` (plane_runs of its first `used` planes): m runs
+// a plane, kColourPlanes x m sums; the planes not summed hold zeros, so their sums are zeros.
+Buffer colour_plane_sums(Device& dev, const Segmentation& runs, uint32_t used, const Buffer& planes) {
+  const uint64_t m = runs.count / used;
+  Buffer sums = colour_alloc(dev, kColourPlanes * m * 8, "colour sums");
+  if (used < kColourPlanes) dev.fill(sums, 0, (kColourPlanes - used) * m * 8, used * m * 8);
+  segmented_sum(dev, runs, planes, sums);
+  return sums;
+}
+
+// Planes the level above must sum from `level`'s: the sums' high words only once a node of `level` can have
+// 2^32 / 255 voxels or more below it (never for voxels, whose planes hold their 8-bit means).
+uint32_t colour_planes_used(uint32_t level, uint64_t voxels) {
+  if (level == 0) return MV_COLOUR_HIGH;
+  const uint64_t most = level >= 21 ? voxels : std::min<uint64_t>(voxels, uint64_t{1} << (3 * level));
+  return most * 255 < (uint64_t{1} << 32) ? MV_COLOUR_HIGH : kColourPlanes;
+}
+
+// Divides the sums of m nodes into their colours and the planes the level above sums.
+void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, bool leaf) {
+  const uint64_t m = level.n;
+  level.rgb = colour_alloc(dev, m * 4, "node colours");
+  level.planes = colour_alloc(dev, kColourPlanes * m * 4, "colour planes");
+  MvColourParams p{};
+  p.n = static_cast<uint32_t>(m);
+  p.leaf = leaf ? 1u : 0u;
+  colour_dispatch(dev, KernelId::colour_level, m, {&sums, &level.rgb, &level.planes}, p);
+  level.sizes = colour_alloc(dev, m * 4, "subtree sizes");
+  dev.copy(level.planes, level.sizes, m * 4, MV_COLOUR_SIZE * m * 4, 0);
+  dev.barrier();
+}
+
+std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys, const Buffer& sorted_rgb,
+                                         uint64_t points, Buffer voxel_keys, uint64_t voxels, uint32_t levels) {
+  std::vector<ColourLevel> lv(levels + 1);
+  {  // voxels from their points
+    Buffer heads = colour_alloc(dev, points * 4, "point run heads");
+    segment_heads(dev, sorted_keys, heads, points, 0);
+    Buffer planes = colour_alloc(dev, kColourPlanes * points * 4, "point colour planes");
+    MvColourParams p{};
+    p.n = static_cast<uint32_t>(points);
+    colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
+    const uint32_t used = MV_COLOUR_COUNT + 1;
+    const Segmentation runs = plane_runs(dev, heads, points, used);
+    if (runs.count != used * voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
+    Buffer sums = colour_plane_sums(dev, runs, used, planes);
+    lv[0].n = voxels;
+    lv[0].keys = std::move(voxel_keys);
+    finish_colour_level(dev, lv[0], sums, true);
+  }
+  for (uint32_t l = 1; l <= levels; ++l) {
+    ColourLevel& below = lv[l - 1];
+    Buffer heads = colour_alloc(dev, below.n * 4, "parent run heads");
+    segment_heads(dev, below.keys, heads, below.n, 3);
+    const uint32_t used = colour_planes_used(l - 1, voxels);
+    const Segmentation runs = plane_runs(dev, heads, below.n, used);
+    below.by_parent = first_plane(dev, runs, below.n, used);
+    ColourLevel& level = lv[l];
+    level.n = below.by_parent.count;
+    level.keys = colour_alloc(dev, level.n * 8, "node codes");
+    MvColourParams p{};
+    p.n = static_cast<uint32_t>(level.n);
+    p.shift = 3;
+    colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
+    Buffer sums = colour_plane_sums(dev, runs, used, below.planes);
+    finish_colour_level(dev, level, sums, false);
+    below.keys = Buffer();
+    below.planes = Buffer();
+  }
+  if (lv[levels].n != 1) throw Error("voxel colours: the octree has " + std::to_string(lv[levels].n) + " roots");
+  uint32_t entries32 = 0;
+  dev.download(lv[levels].sizes, &entries32, 4);
+  uint64_t entries = 0;
+  for (const ColourLevel& level : lv) entries += level.n;
+  // The root's size counts the nodes in 32 bits: it is exact only below 2^32.
+  if (entries >= (uint64_t{1} << 32) || entries > kMaxDeviceItems)
+    throw Error("voxel colours: " + std::to_string(entries) + " octree nodes, over the " +
+                std::to_string(kMaxDeviceItems) + " one attribute array holds");
+  if (entries32 != entries) throw Error("voxel colours: the root's subtree size disagrees with the node count");
+  Buffer attributes = colour_alloc(dev, entries * 4, "depth-first colours");
+  Buffer index = colour_alloc(dev, 4, "node indices");
+  dev.fill(index, 0, 4);
+  dev.copy(lv[levels].rgb, attributes, 4, 0, 0);
+  dev.barrier();
+  for (uint32_t l = levels; l >= 1; --l) {
+    ColourLevel& below = lv[l - 1];
+    Buffer before = colour_alloc(dev, below.n * 8, "earlier siblings' sizes");
+    segmented_exclusive_scan(dev, below.by_parent, below.sizes, before);
+    Buffer below_index = colour_alloc(dev, below.n * 4, "node indices");
+    MvColourParams p{};
+    p.n = static_cast<uint32_t>(below.n);
+    colour_dispatch(dev, KernelId::colour_place, below.n,
+                    {&below.by_parent.e, &index, &before, &below.rgb, &below_index, &attributes}, p);
+    index = std::move(below_index);
+    lv[l] = ColourLevel();
+  }
+  dev.finish();
+  std::vector<uint32_t> packed(entries);
+  dev.download(attributes, packed.data(), entries * 4);
+  std::vector<uint8_t> rgb(entries * 3);
+  for (uint64_t i = 0; i < entries; ++i)
+    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = static_cast<uint8_t>(packed[i] >> (8 * c));
+  return rgb;
+}
+
+}  // namespace
+
+CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
+                           uint32_t levels, double* colour_seconds) {
+  if (levels < 1 || levels > 21) throw Error("voxelize_cloud: " + std::to_string(levels) + " levels (1 to 21)");
+  const uint64_t points = cells.size() / 3;
+  const bool colour = !rgb.empty();
+  if (colour && rgb.size() != points)
+    throw Error("voxelize_cloud: " + std::to_string(rgb.size()) + " colours for " + std::to_string(points) + " points");
+  const uint64_t most = colour ? kMaxDeviceItems / kColourPlanes : kMaxDeviceItems;
+  if (points > most)
+    throw Error("voxelize_cloud: " + std::to_string(points) + " points, over the " + std::to_string(most) +
+                " one device call holds" + (colour ? " with colour" : ""));
+  CloudVoxels out;
+  if (points == 0) return out;
+  Buffer keys = dev.alloc(points * 8, "point codes");
+  {
+    Buffer xyz = dev.alloc(points * 12, "point cells");
+    dev.upload(xyz, cells.data(), points * 12);
+    dev.barrier();
+    morton_encode(dev, xyz, keys, points, KeyBits::k64);
+    dev.barrier();
+  }
+  Buffer values;
+  if (colour) {
+    values = dev.alloc(points * 4, "point colours");
+    dev.upload(values, rgb.data(), points * 4);
+    dev.barrier();
+  }
+  radix_sort(dev, keys, colour ? &values : nullptr, points, KeyBits::k64);
+  dev.barrier();
+  Buffer unique = dev.alloc(points * 8, "voxel codes");
+  const uint64_t voxels = unique_sorted(dev, keys, unique, points);
+  out.keys.resize(voxels);
+  dev.download(unique, out.keys.data(), voxels * 8);
+  if (colour) {
+    const auto start = std::chrono::steady_clock::now();
+    out.colours = depth_first_colours(dev, keys, values, points, std::move(unique), voxels, levels);
+    if (colour_seconds) *colour_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return out;
+}
+
+}  // namespace mv

@@ -1,0 +1,19 @@
+// OpenCL entry points of the voxel colour kernels (bodies: common/colour.h).
+#include "common/colour.h"
+
+__kernel void colour_unpack(__global uint* rgb, __global uint* planes, MvColourParams p) {
+  mv_colour_unpack(rgb, planes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void colour_level(__global ulong* sums, __global uint* rgb, __global uint* planes, MvColourParams p) {
+  mv_colour_level(sums, rgb, planes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void colour_parent_keys(__global ulong* keys, __global uint* starts, __global ulong* up, MvColourParams p) {
+  mv_colour_parent_keys(keys, starts, up, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void colour_place(__global uint* e, __global uint* parent_index, __global ulong* before, __global uint* rgb,
+                           __global uint* index, __global uint* attributes, MvColourParams p) {
+  mv_colour_place(e, parent_index, before, rgb, index, attributes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}

@@ -1,0 +1,27 @@
+// Vulkan entry points of the voxel colour kernels, one module per -DMV_ENTRY_<name> (bodies: common/colour.h).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common/mv_glsl_prelude.h"
+#include "common/colour.h"
+
+#if defined(MV_ENTRY_unpack)
+layout(push_constant) uniform Args { MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
+void main() { mv_colour_unpack(args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_level)
+layout(push_constant) uniform Args { MvBufU64 sums; MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
+void main() { mv_colour_level(args.sums, args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_parent_keys)
+layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 starts; MvBufU64 up; MvColourParams p; } args;
+void main() { mv_colour_parent_keys(args.keys, args.starts, args.up, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_place)
+layout(push_constant) uniform Args {
+  MvBufU32 e; MvBufU32 parent_index; MvBufU64 before; MvBufU32 rgb; MvBufU32 index; MvBufU32 attributes;
+  MvColourParams p;
+} args;
+void main() {
+  mv_colour_place(args.e, args.parent_index, args.before, args.rgb, args.index, args.attributes, args.p,
+                  MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+#else
+#error "define MV_ENTRY_unpack, _level, _parent_keys or _place"
+#endif

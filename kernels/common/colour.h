@@ -1,0 +1,91 @@
+/* Voxel colours from points: per-voxel and per-node means over Morton-sorted codes, and their place in the
+ * depth-first (pre-order) attribute array. Host side: host/core/voxel/cloud_colours.cpp; the sums themselves are
+ * the shared segmented_sum (kernels/common/segmented.h), these kernels only do what it does not: unpack, divide,
+ * carry the sums up a level, and scatter into depth-first order.
+ *
+ * Planes: a level of n elements carries MV_COLOUR_PLANES 32-bit planes, plane-major (plane k of element i at
+ * k * n + i): the low 32-bit words of the red, green and blue sums, the voxel count below, the subtree size
+ * (octree nodes in the element's subtree, itself included), then the sums' high words (a sum over more than
+ * 2^32 / 255 voxels passes 32 bits). The segmented sums of each plane over the elements' parents give that many
+ * 64-bit planes for the level above; the host sums only the leading planes that can be nonzero.
+ *   colour_unpack:      points' packed 0xBBGGRR -> planes (r, g, b, 1, 0, 0, 0, 0): a point is one sample;
+ *   colour_level:       64-bit plane sums of n nodes -> rgb[i] (each channel sum / count rounded half up) and the
+ *                       planes the level above sums; `leaf` 1: the nodes are voxels made of points, so a voxel
+ *                       counts as one sample of its mean colour, with subtree size 1;
+ *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> 3, the codes of the level above;
+ *   colour_place:       index[i] = parent_index[parent of i] + 1 + before[i] (before: the subtree sizes of the
+ *                       earlier siblings), attributes[index[i]] = rgb[i].
+ * Integer arithmetic only: the same bits on every device. */
+#ifndef MV_COLOUR_H
+#define MV_COLOUR_H
+#include "mv_lang.h"
+
+#define MV_COLOUR_PLANES 8u
+#define MV_COLOUR_COUNT 3u /* plane of the voxel count */
+#define MV_COLOUR_SIZE 4u  /* plane of the subtree size */
+#define MV_COLOUR_HIGH 5u  /* first plane of the sums' high words */
+
+MV_STRUCT_BEGIN(MvColourParams)
+  mv_u32 n;     /* elements of the dispatch */
+  mv_u32 leaf;  /* colour_level: 1 for voxels made of points */
+  mv_u32 shift; /* colour_parent_keys: bits the keys shift right */
+  mv_u32 pad0;
+MV_STRUCT_END(MvColourParams)
+#if defined(MV_CPP)
+MV_LAYOUT_SIZE(MvColourParams, 16);
+MV_LAYOUT_AT(MvColourParams, n, 0); MV_LAYOUT_AT(MvColourParams, leaf, 4); MV_LAYOUT_AT(MvColourParams, shift, 8);
+MV_LAYOUT_AT(MvColourParams, pad0, 12);
+#endif
+
+MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 c = MV_LD(rgb, i);
+    for (mv_u32 k = 0u; k < 3u; ++k) {
+      MV_ST(planes, k * p.n + i, (c >> (8u * k)) & 255u);
+      MV_ST(planes, (MV_COLOUR_HIGH + k) * p.n + i, 0u);
+    }
+    MV_ST(planes, MV_COLOUR_COUNT * p.n + i, 1u);
+    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, 0u);
+  }
+}
+
+/* sum / count rounded half up, without forming 2 * sum. */
+MV_INLINE mv_u32 mv_colour_mean(mv_u64 sum, mv_u64 count) {
+  mv_u64 q = sum / count;
+  mv_u64 r = sum - q * count;
+  return MV_U32(q) + (r >= count - r ? 1u : 0u);
+}
+
+MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid,
+                               mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u64 count = MV_LD(sums, MV_COLOUR_COUNT * p.n + i);
+    mv_u32 packed = 0u;
+    for (mv_u32 c = 0u; c < 3u; ++c) {
+      mv_u64 s = MV_LD(sums, c * p.n + i) + (MV_LD(sums, (MV_COLOUR_HIGH + c) * p.n + i) << 32);
+      mv_u32 mean = mv_colour_mean(s, count);
+      packed |= mean << (8u * c);
+      MV_ST(planes, c * p.n + i, p.leaf != 0u ? mean : MV_U32(s));
+      MV_ST(planes, (MV_COLOUR_HIGH + c) * p.n + i, p.leaf != 0u ? 0u : MV_U32(s >> 32));
+    }
+    MV_ST(rgb, i, packed);
+    MV_ST(planes, MV_COLOUR_COUNT * p.n + i, p.leaf != 0u ? 1u : MV_U32(count));
+    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, p.leaf != 0u ? 1u : 1u + MV_U32(MV_LD(sums, MV_COLOUR_SIZE * p.n + i)));
+  }
+}
+
+MV_INLINE void mv_colour_parent_keys(MvBufU64 keys, MvBufU32 starts, MvBufU64 up, MvColourParams p, mv_u32 gid,
+                                     mv_u32 stride) {
+  for (mv_u32 s = gid; s < p.n; s += stride) MV_ST(up, s, MV_LD(keys, MV_LD(starts, s)) >> p.shift);
+}
+
+MV_INLINE void mv_colour_place(MvBufU32 e, MvBufU32 parent_index, MvBufU64 before, MvBufU32 rgb, MvBufU32 index,
+                               MvBufU32 attributes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 at = MV_LD(parent_index, MV_LD(e, i + 1u) - 1u) + 1u + MV_U32(MV_LD(before, i));
+    MV_ST(index, i, at);
+    MV_ST(attributes, at, MV_LD(rgb, i));
+  }
+}
+
+#endif

@@ -126,15 +126,17 @@ uint64_t start_edges(const GridGraph& g, uint64_t total, const MinCutFlow* flow,
   return added;
 }
 
-// The wave relabel's tiles: as wide as the work list allows (32) where a few threads run, so a wave crosses
-// many levels a dispatch; on massively parallel devices the discharge's, so a colour has a tile per lane.
-// A run visits up to 64 x its pixels (each visit loops over the pixel's neighbours), fewer under a loop cap.
-// A tile set in the options is the wave's too.
+// The wave relabel's tiles: as wide as the work list allows (32), so a wave crosses many levels a dispatch, but
+// halved while a colour has fewer tiles than the device has lanes; on massively parallel devices the
+// discharge's. A run visits up to 64 x its pixels (each visit loops over the pixel's neighbours), fewer under a
+// loop cap. A tile set in the options is the wave's too.
 TilePlan plan_wave(const Device& dev, const GridGraph& g, const MinCutOptions& o, const TilePlan& discharge) {
   const DeviceInfo& info = dev.info();
   TilePlan plan = discharge;
   MvMinCutParams& p = plan.base;
   p.tile = info.massively_parallel || o.tile != 0 ? discharge.base.tile : MV_MINCUT_MAX_TILE;
+  if (o.tile == 0)
+    while (p.tile > 2 && colour_tiles(g, p.tile) < device_lanes(info)) p.tile /= 2;
   const uint64_t per_pixel = uint64_t{g.connectivity} + 2;
   while (info.max_loop_iterations != 0 && p.tile > 2 && uint64_t{p.tile} * p.tile * per_pixel > info.max_loop_iterations)
     p.tile /= 2;

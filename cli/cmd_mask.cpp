@@ -33,9 +33,10 @@ CLI::Option* add_min_cut_solver_option(CLI::App& cmd, std::string& name) {
   return cmd
       .add_option("--min-cut-solver", name,
                   "How the device finds each min-cut (every solver gives the same cut, so the same masks):\n"
-                  "auto (default: regions where a few threads run, push-relabel on massively parallel devices),\n"
-                  "regions (Boykov-Kolmogorov in a region per device lane, all side by side, then push-relabel\n"
-                  "across their seams), push-relabel (tiled push-relabel with a global relabel, every tile at once)")
+                  "auto (default: regions where each work-item is a CPU thread (PoCL), push-relabel on SIMT and\n"
+                  "massively parallel devices), regions (Boykov-Kolmogorov over regions side by side, merged 2 x 2;\n"
+                  "where lanes run in lock step, a region per lane, then push-relabel across their seams),\n"
+                  "push-relabel (tiled push-relabel with a breadth-first global relabel, every tile at once)")
       ->check(CLI::IsMember({"auto", "regions", "push-relabel"}))
       ->capture_default_str();
 }

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "min_cut_reference.h"
+#include "megavox/error.h"
 #include "megavox/min_cut.h"
 #include "test_support.h"
 
@@ -271,13 +272,68 @@ TEST_P(MinCutTest, SolverNamesAndTheAutomaticChoice) {
   EXPECT_FALSE(parse_min_cut_solver("bk").has_value());
   DeviceInfo info = GetParam();
   info.massively_parallel = false;
+  info.preferred_work_group_size = 1;  // a CPU thread a work-item
   EXPECT_EQ(resolve_min_cut_solver(info, MinCutSolver::automatic), MinCutSolver::regions);
+  info.preferred_work_group_size = 8;  // SIMT lanes
+  EXPECT_EQ(resolve_min_cut_solver(info, MinCutSolver::automatic), MinCutSolver::push_relabel);
   info.massively_parallel = true;
   EXPECT_EQ(resolve_min_cut_solver(info, MinCutSolver::automatic), MinCutSolver::push_relabel);
   EXPECT_EQ(resolve_min_cut_solver(info, MinCutSolver::regions), MinCutSolver::regions);
   MinCutStats st;
   min_cut(dev(), random_graph(9, 7, 8, 10, 0.5, 1), {}, &st);
   EXPECT_EQ(st.solver, resolve_min_cut_solver(dev().info(), MinCutSolver::automatic));
+}
+
+// The global relabel alone against a breadth-first search: random residual edges (some pixels cut off), a
+// serpentine path through the whole grid (thousands of levels, every tile crossed many times), no sink at all,
+// sink everywhere, one pixel and one line; every tile size, and the device's.
+TEST_P(MinCutTest, WaveRelabelGivesTheDistancesToTheSink) {
+  struct Case {
+    std::string what;
+    uint32_t w, h, conn;
+    std::vector<uint32_t> residual, sink;
+  };
+  std::vector<Case> cases;
+  for (uint32_t conn : {4u, 8u}) {
+    for (double keep : {0.3, 0.6, 0.95}) {
+      GridGraph g = random_graph(77, 53, conn, 4, 0.02, 90 + conn + uint64_t(keep * 10));
+      std::mt19937 rng(conn);
+      for (uint32_t& e : g.edges)
+        if (rng() % 1000 >= keep * 1000) e = 0;
+      cases.push_back({"random, " + std::to_string(keep) + " of the edges", g.width, g.height, conn, g.edges, g.sink});
+    }
+    GridGraph snake = empty_graph(70, 45, conn);  // row y runs toward x = 0 on even rows, then down at the end
+    for (uint32_t y = 0; y < snake.height; ++y)
+      for (uint32_t x = 0; x < snake.width; ++x) {
+        const size_t i = size_t{y} * snake.width + x;
+        const bool left = y % 2 == 0;
+        const bool end = left ? x == 0 : x + 1 == snake.width;
+        snake.edges[i * conn + (end ? 2u : left ? 1u : 0u)] = y + 1 == snake.height && end ? 0u : 1u;
+      }
+    snake.sink[snake.sink.size() - (snake.height % 2 ? snake.width : 1)] = 5;
+    cases.push_back({"serpentine", snake.width, snake.height, conn, snake.edges, snake.sink});
+    GridGraph none = random_graph(40, 30, conn, 9, 0.0, 7);
+    cases.push_back({"no sink", none.width, none.height, conn, none.edges, none.sink});
+    GridGraph all = random_graph(40, 30, conn, 9, 1.0, 8);
+    for (uint32_t& c : all.sink) c = 1;
+    cases.push_back({"sink everywhere", all.width, all.height, conn, all.edges, all.sink});
+    cases.push_back({"one pixel", 1, 1, conn, std::vector<uint32_t>(conn, 0), {0}});
+    GridGraph line = random_graph(200, 1, conn, 3, 0.01, 9);
+    cases.push_back({"one line", line.width, line.height, conn, line.edges, line.sink});
+  }
+  for (const Case& c : cases)
+    for (uint32_t tile : {0u, 2u, 5u, 16u, 32u}) {
+      SCOPED_TRACE(c.what + ", " + std::to_string(c.conn) + "-connected, tile " + std::to_string(tile));
+      MinCutOptions o;
+      o.tile = tile;
+      const std::vector<uint32_t> want = ref::sink_distances(c.w, c.h, c.conn, c.residual, c.sink);
+      const std::vector<uint32_t> got = min_cut_sink_distances(dev(), c.w, c.h, c.conn, c.residual, c.sink, o);
+      ASSERT_EQ(got.size(), want.size());
+      size_t differ = 0;
+      for (size_t i = 0; i < want.size(); ++i) differ += got[i] != want[i];
+      ASSERT_EQ(differ, 0u);
+    }
+  EXPECT_THROW(min_cut_sink_distances(dev(), 3, 3, 4, std::vector<uint32_t>(35), std::vector<uint32_t>(9)), Error);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(MinCutTest);

@@ -71,4 +71,30 @@ MinCut bk_min_cut(const GridGraph& g, double* solve_seconds) {
   return cut;
 }
 
+std::vector<uint32_t> sink_distances(uint32_t width, uint32_t height, uint32_t connectivity,
+                                     const std::vector<uint32_t>& residual, const std::vector<uint32_t>& sink) {
+  const size_t n = size_t{width} * height;
+  std::vector<uint32_t> dist(n, UINT32_MAX);
+  std::vector<size_t> queue;
+  queue.reserve(n);
+  for (size_t i = 0; i < n; ++i)
+    if (sink[i] > 0) {
+      dist[i] = 1;
+      queue.push_back(i);
+    }
+  for (size_t head = 0; head < queue.size(); ++head) {
+    const size_t v = queue[head];
+    const long vx = long(v % width), vy = long(v / width);
+    for (uint32_t d = 0; d < connectivity; ++d) {  // u whose edge d leads to v
+      const long ux = vx - kDx[d], uy = vy - kDy[d];
+      if (ux < 0 || uy < 0 || ux >= long{width} || uy >= long{height}) continue;
+      const size_t u = size_t(uy) * width + size_t(ux);
+      if (dist[u] != UINT32_MAX || residual[u * connectivity + d] == 0) continue;
+      dist[u] = dist[v] + 1;
+      queue.push_back(u);
+    }
+  }
+  return dist;
+}
+
 }  // namespace mv::ref

@@ -5,22 +5,13 @@
  * never touch (not even diagonally; tiles are at least 2 pixels wide), so an item may read and write its
  * pixels' neighbours in the adjacent, idle tiles without atomics: every device runs the same operations in
  * the same order and keeps the same state, bit for bit.
- * A round is a global relabel (height = distance to the sink in the residual graph), made incrementally from
- * the heights the last round left, then discharge passes:
- *   min_cut_invalidate: heights that are not an upper bound of the distance become MV_MINCUT_INF: a
- *                     pixel keeps its height only with sink capacity or a residual edge to a lower neighbour,
- *                     so every height kept has a path of falling heights to the sink. Tiles the discharge
- *                     touched are checked first, then the tiles around each change, pass by pass.
- *   min_cut_relax:     lowers heights to the distances (Gauss-Seidel sweeps inside a tile, forward then
- *                     backward, until the tile is still) in the tiles around a change, pass by pass. Starting
- *                     from upper bounds, the sweeps end at the distances exactly.
- *                     Both set their pass's flag word (p.flag_word) when anything changed; the host queues
- *                     passes in batches, each with its own word, until a pass changes nothing (the passes
- *                     after a still pass run no tile, so the batch's extra passes cost only their launch).
+ * A round is a global relabel (height = distance to the sink in the residual graph), computed afresh as a
+ * breadth-first wave from the sink (min_cut_relabel.h: min_cut_seed, then min_cut_wave passes until still, which
+ * the host queues in batches, a flag word a pass), then discharge passes:
  *   min_cut_active:   flag[1] is set when a pixel with excess can still reach the sink.
  *   min_cut_discharge: push-relabel sweeps over a tile: push to the sink, then along admissible edges
  *                     (height one above the neighbour's), then relabel (1 + the lowest residual neighbour);
- *                     tiles without movable excess are skipped. It marks the tiles it changes as touched.
+ *                     tiles without movable excess are skipped.
  * Heights of pixels that cannot reach the sink are MV_MINCUT_INF: such pixels never receive flow again.
  * All values are 32-bit unsigned; the host keeps the total capacity below 2^31, so nothing overflows.
  * Loops are bounded by the tile size and the sweep count, which the host keeps within lavapipe's loop cap.

@@ -1,15 +1,13 @@
-/* The tiled push-relabel min-cut's discharge (min_cut.h): push-relabel sweeps over one tile, marking the
- * tiles they change, with tiles that hold no movable excess skipped. */
+/* The tiled push-relabel min-cut's discharge (min_cut.h): push-relabel sweeps over one tile, with tiles that
+ * hold no movable excess skipped. */
 #ifndef MV_MIN_CUT_DISCHARGE_H
 #define MV_MIN_CUT_DISCHARGE_H
 #include "min_cut_tiles.h"
 
 /* Marks tile (tx, ty) as holding excess (a push from a neighbouring tile; same-coloured tiles may mark one tile
  * at once, with the same value). */
-MV_INLINE void mv_min_cut_mark(MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y) {
-  mv_u32 tile = (y / p.tile) * p.tiles_x + x / p.tile;
-  MV_ATOMIC_OR(busy, tile, 1u);
-  MV_ATOMIC_OR(touched, tile, 1u);
+MV_INLINE void mv_min_cut_mark(MvBufU32 busy, MvMinCutParams p, mv_u32 x, mv_u32 y) {
+  MV_ATOMIC_OR(busy, (y / p.tile) * p.tiles_x + x / p.tile, 1u);
 }
 
 /* What mv_min_cut_discharge_pixel did: bit d (d < 8) when it pushed to neighbour d inside the tile, which then
@@ -20,7 +18,7 @@ MV_INLINE void mv_min_cut_mark(MvBufU32 busy, MvBufU32 touched, MvMinCutParams p
  * past the tile [x0, x1) x [y0, y1) marks the neighbour's tile busy. Called only on a pixel with excess and a
  * height below MV_MINCUT_INF. */
 MV_INLINE mv_u32 mv_min_cut_discharge_pixel(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
-                                          MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 x, mv_u32 y,
+                                          MvBufU32 busy, MvMinCutParams p, mv_u32 x, mv_u32 y,
                                           mv_u32 x0, mv_u32 y0, mv_u32 x1, mv_u32 y1) {
   mv_u32 i = y * p.width + x;
   mv_u32 e = MV_LD(excess, i);
@@ -45,7 +43,7 @@ MV_INLINE mv_u32 mv_min_cut_discharge_pixel(MvBufU32 excess, MvBufU32 height, Mv
       e -= f;
       mv_u32 jx = MV_U32(MV_I32(x) + mv_grid_dx(d));
       mv_u32 jy = MV_U32(MV_I32(y) + mv_grid_dy(d));
-      if (jx < x0 || jx >= x1 || jy < y0 || jy >= y1) mv_min_cut_mark(busy, touched, p, jx, jy);
+      if (jx < x0 || jx >= x1 || jy < y0 || jy >= y1) mv_min_cut_mark(busy, p, jx, jy);
       else done |= 1u << d; /* its height is h - 1: it can move what it got */
     }
     if (e == 0u) break;
@@ -62,15 +60,12 @@ MV_INLINE mv_u32 mv_min_cut_discharge_pixel(MvBufU32 excess, MvBufU32 height, Mv
  * pixel at (y - y0) * tile + (x - x0): a sweep visits these alone, in the order of a full scan of the tile, so
  * it does what a scan visiting every pixel did, without reading the others. The bits change only where this
  * item moves excess: tiles of one colour never touch. */
-#define MV_MINCUT_MAX_TILE 32u
-#define MV_MINCUT_MASK_WORDS (MV_MINCUT_MAX_TILE * MV_MINCUT_MAX_TILE / 32u)
 
 /* busy[tile] = 0 only when no pixel of the tile has excess it can still move: such a tile is skipped. The
- * tile's own word is rewritten at the end from what is left in it. A tile that runs, and every tile it pushes
- * into, is marked touched for the next global relabel. Sweeps alternate forward and backward; the tile is done
+ * tile's own word is rewritten at the end from what is left in it. Sweeps alternate forward and backward; the tile is done
  * after a sweep that finds nothing to move, or after p.sweeps. */
 MV_INLINE void mv_min_cut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 sink, MvBufU32 resid,
-                                    MvBufU32 busy, MvBufU32 touched, MvMinCutParams p, mv_u32 t) {
+                                    MvBufU32 busy, MvMinCutParams p, mv_u32 t) {
   mv_u32 tx = mv_min_cut_tile_x(p, t);
   mv_u32 ty = mv_min_cut_tile_y(p, t);
   if (tx >= p.tiles_x || ty >= p.tiles_y) return;
@@ -110,7 +105,7 @@ MV_INLINE void mv_min_cut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 s
       any = true;
       mv_u32 lx = l % p.tile;
       mv_u32 ly = l / p.tile;
-      mv_u32 done = mv_min_cut_discharge_pixel(excess, height, sink, resid, busy, touched, p, x0 + lx, y0 + ly, x0,
+      mv_u32 done = mv_min_cut_discharge_pixel(excess, height, sink, resid, busy, p, x0 + lx, y0 + ly, x0,
                                                y0, x1, y1);
       if ((done & MV_MINCUT_STILL_ACTIVE) == 0u) movable[w] &= ~(1u << (l & 31u));
       for (mv_u32 d = 0u; d < p.conn; ++d) {
@@ -126,7 +121,6 @@ MV_INLINE void mv_min_cut_discharge(MvBufU32 excess, MvBufU32 height, MvBufU32 s
   for (mv_u32 w = 0u; w < words; ++w)
     if (movable[w] != 0u) left = 1u;
   MV_ST(busy, ty * p.tiles_x + tx, left);
-  MV_ST(touched, ty * p.tiles_x + tx, 1u);
 }
 
 #endif /* MV_MIN_CUT_DISCHARGE_H */

@@ -10,6 +10,10 @@
  * 1.21-1.33x; 8: 1.20-1.47x; 16: no better). Each runs one loop over the pixel's edges. */
 #define MV_MINCUT_ATTEMPTS 8u
 
+/* The largest tile: a pass keeps a bit per pixel of its tile (a work list) in MV_MINCUT_MASK_WORDS words. */
+#define MV_MINCUT_MAX_TILE 32u
+#define MV_MINCUT_MASK_WORDS (MV_MINCUT_MAX_TILE * MV_MINCUT_MAX_TILE / 32u)
+
 MV_STRUCT_BEGIN(MvMinCutParams)
   mv_u32 width;
   mv_u32 height;
@@ -21,10 +25,10 @@ MV_STRUCT_BEGIN(MvMinCutParams)
   mv_u32 color_tiles_x; /* tiles of that colour across */
   mv_u32 first_tile;    /* index of this dispatch's first tile among the colour's tiles */
   mv_u32 sweeps;        /* sweeps over a tile per dispatch */
-  mv_u32 stamp_now;     /* invalidate, relax: this pass's number (tile stamps count passes of every round) */
-  mv_u32 stamp_since;   /* invalidate, relax: a tile runs when a stamp around it is at least this */
-  mv_u32 from_touched;  /* invalidate, relax: 1 in a step's first pass, which runs the touched tiles instead */
-  mv_u32 flag_word;     /* invalidate, relax: the flag word this pass sets when anything changed (2 on) */
+  mv_u32 stamp_now;     /* wave: this pass's number (tile stamps count the passes of every relabel) */
+  mv_u32 stamp_since;   /* wave: a tile runs when a stamp around it is at least this */
+  mv_u32 first_pass;  /* wave: 1 in a relabel's first pass, which runs every tile and pixel */
+  mv_u32 flag_word;     /* wave: the flag word this pass sets when a border fell (2 on) */
 MV_STRUCT_END(MvMinCutParams)
 #if defined(MV_CPP)
 MV_LAYOUT_SIZE(MvMinCutParams, 56);
@@ -33,7 +37,7 @@ MV_LAYOUT_AT(MvMinCutParams, tile, 12); MV_LAYOUT_AT(MvMinCutParams, tiles_x, 16
 MV_LAYOUT_AT(MvMinCutParams, tiles_y, 20); MV_LAYOUT_AT(MvMinCutParams, color, 24);
 MV_LAYOUT_AT(MvMinCutParams, color_tiles_x, 28); MV_LAYOUT_AT(MvMinCutParams, first_tile, 32);
 MV_LAYOUT_AT(MvMinCutParams, sweeps, 36); MV_LAYOUT_AT(MvMinCutParams, stamp_now, 40);
-MV_LAYOUT_AT(MvMinCutParams, stamp_since, 44); MV_LAYOUT_AT(MvMinCutParams, from_touched, 48);
+MV_LAYOUT_AT(MvMinCutParams, stamp_since, 44); MV_LAYOUT_AT(MvMinCutParams, first_pass, 48);
 MV_LAYOUT_AT(MvMinCutParams, flag_word, 52);
 #endif
 
@@ -71,8 +75,8 @@ MV_INLINE mv_u32 mv_min_cut_lowest(MvBufU32 height, MvBufU32 resid, MvMinCutPara
     if (++(x) == (x1)) { (x) = (x0); ++(y); }                                                                        \
   } else if ((x) == (x0)) { (x) = (x1) - 1u; --(y); } else { --(x); }
 
-/* stamp[tile] = the last pass in which a height on the tile's border changed, or in which the tile was cut
- * short by the sweep count before it was still. A tile whose 3 x 3 tiles around have no stamp from
+/* stamp[tile] = the last pass in which a height on the tile's border fell, or in which the tile was cut
+ * short by its visit budget before it was still. A tile whose 3 x 3 tiles around have no stamp from
  * p.stamp_since on is still: its last run ended still and nothing it reads has changed since. */
 MV_INLINE bool mv_min_cut_near_change(MvBufU32 stamp, MvMinCutParams p, mv_u32 tx, mv_u32 ty) {
   bool near = false;

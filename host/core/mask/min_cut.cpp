@@ -1,5 +1,5 @@
 // The host side of the tiled push-relabel min-cut: uploads the reversed graph's residual capacities, then
-// alternates global relabels (invalidation passes, then relaxation passes, each until nothing changes) and
+// alternates global relabels (a breadth-first wave from the sink, pass after pass until it is still) and
 // discharge passes until no pixel with excess can reach the sink, and reads the cut off the last heights.
 #include "megavox/min_cut.h"
 
@@ -126,6 +126,80 @@ uint64_t start_edges(const GridGraph& g, uint64_t total, const MinCutFlow* flow,
   return added;
 }
 
+// The wave relabel's tiles: as wide as the work list allows (32), so a wave crosses many levels a dispatch, but
+// halved while a colour has fewer tiles than the device has lanes; on massively parallel devices the
+// discharge's. A run visits up to 64 x its pixels (each visit loops over the pixel's neighbours), fewer under a
+// loop cap. A tile set in the options is the wave's too.
+TilePlan plan_wave(const Device& dev, const GridGraph& g, const MinCutOptions& o, const TilePlan& discharge) {
+  const DeviceInfo& info = dev.info();
+  TilePlan plan = discharge;
+  MvMinCutParams& p = plan.base;
+  p.tile = info.massively_parallel || o.tile != 0 ? discharge.base.tile : MV_MINCUT_MAX_TILE;
+  if (o.tile == 0)
+    while (p.tile > 2 && colour_tiles(g, p.tile) < device_lanes(info)) p.tile /= 2;
+  const uint64_t per_pixel = uint64_t{g.connectivity} + 2;
+  while (info.max_loop_iterations != 0 && p.tile > 2 && uint64_t{p.tile} * p.tile * per_pixel > info.max_loop_iterations)
+    p.tile /= 2;
+  p.tiles_x = (g.width + p.tile - 1) / p.tile;
+  p.tiles_y = (g.height + p.tile - 1) / p.tile;
+  p.sweeps = capped_sweeps(info, p.tile, per_pixel, 64);
+  for (uint32_t c = 0; c < 4; ++c) {
+    const uint32_t across = (p.tiles_x + 1 - (c & 1)) / 2, down = (p.tiles_y + 1 - (c >> 1)) / 2;
+    plan.tiles_of[c] = across * down;
+  }
+  return plan;
+}
+
+// The flags of a relabel's wave passes: [1] active pixels left; [2, 2 + kMaxWaveBatch) one word per pass of a batch.
+constexpr uint32_t kMaxWaveBatch = 16;
+
+// The global relabel (kernels/common/min_cut_relabel.h): heights in hb become the distances to the sink in the
+// residual graph rb, MV_MINCUT_INF where none. A seed, then wave passes until one changes no tile's border,
+// queued in batches of 2, 4, ... 16 passes read back at once (a pass after a still one runs no tile), so a
+// relabel of P passes waits on the device about log P times. `stamp` counts passes across relabels.
+struct WaveRelabel {
+  Device& dev;
+  const GridGraph& g;
+  TilePlan plan;
+  Buffer tb, ub, fb;  // tile stamps, unfinished tiles, flags
+
+  WaveRelabel(Device& d, const GridGraph& graph, const MinCutOptions& o, const TilePlan& discharge)
+      : dev(d), g(graph), plan(plan_wave(d, graph, o, discharge)) {
+    const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
+    tb = dev.alloc(tiles * 4, "min-cut wave stamps");
+    ub = dev.alloc(tiles * 4, "min-cut wave unfinished tiles");
+    fb = dev.alloc((2 + kMaxWaveBatch) * 4, "min-cut flags");
+    dev.fill(tb, 0, tiles * 4);
+    dev.fill(ub, 0, tiles * 4);
+  }
+
+  void run(Buffer& hb, Buffer& sb, Buffer& rb, MinCutStats& st) {
+    const uint64_t n = uint64_t{g.width} * g.height;
+    Kernel& seed = dev.kernel(KernelId::min_cut_seed);
+    Kernel& wave = dev.kernel(KernelId::min_cut_wave);
+    dev.dispatch(seed, dev.groups_for(n, 64), 64, {&hb, &sb}, plan.base);
+    dev.barrier();
+    MvMinCutParams& p = plan.base;
+    p.first_pass = 1;
+    uint32_t flags[2 + kMaxWaveBatch] = {};
+    for (uint32_t batch = 1, still = 0; !still; batch = std::min(2 * batch, kMaxWaveBatch)) {
+      dev.fill(fb, 0, (2 + kMaxWaveBatch) * 4);
+      dev.barrier();
+      for (uint32_t j = 0; j < batch; ++j, p.first_pass = 0) {
+        ++p.stamp_now;
+        p.flag_word = 2 + j;
+        run_colours(dev, wave, plan, {&hb, &rb, &fb, &tb, &ub});
+        p.stamp_since = p.stamp_now;
+      }
+      dev.download(fb, flags, (2 + batch) * 4);
+      for (uint32_t j = 0; j < batch && !still; ++j) {
+        ++st.relabel_passes;
+        still = flags[2 + j] == 0;
+      }
+    }
+  }
+};
+
 // Tiled push-relabel on the reversed graph (kernels/common/min_cut.h), from the residual edges in rb and the
 // pixels' excess and sink capacities: the flow that reached the sink, and in `reaches` the pixels that can
 // still reach it (the canonical source set of the graph before its reversal).
@@ -138,51 +212,16 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   Buffer eb = dev.alloc(n * 4, "min-cut excess");
   Buffer hb = dev.alloc(n * 4, "min-cut heights");
   Buffer sb = dev.alloc(n * 4, "min-cut sink capacities");
-  // flags: [1] active pixels left; [2, 2 + kMaxBatch) one word per relabel pass of a batch.
-  constexpr uint32_t kMaxBatch = 16;
-  Buffer fb = dev.alloc((2 + kMaxBatch) * 4, "min-cut flags");
   const TilePlan plan = plan_tiles(dev, g, options);
   const uint64_t tiles = uint64_t{plan.base.tiles_x} * plan.base.tiles_y;
-  Buffer tb = dev.alloc(tiles * 4, "min-cut tile stamps");
   Buffer ab = dev.alloc(tiles * 4, "min-cut active tiles");
-  Buffer ub = dev.alloc(tiles * 4, "min-cut touched tiles");
-  dev.fill(hb, MV_MINCUT_INF, n * 4);  // no pixel is known to reach the sink: the first relax finds them all
-  dev.fill(tb, 0, tiles * 4);
   dev.fill(ab, 1, tiles * 4);  // every tile may hold excess at first
-  dev.fill(ub, 1, tiles * 4);  // and is relaxed in the first round
   dev.upload(eb, excess.data(), n * 4);
   dev.upload(sb, sink.data(), n * 4);
-
-  TilePlan still_plan = plan;
-  still_plan.base.sweeps =
-      capped_sweeps(dev.info(), plan.base.tile, g.connectivity, 4 * std::max<uint32_t>(options.sweeps, 1));
-  Kernel& invalidate = dev.kernel(KernelId::min_cut_invalidate);
-  Kernel& relax = dev.kernel(KernelId::min_cut_relax);
+  WaveRelabel relabel(dev, g, options, plan);
   Kernel& active = dev.kernel(KernelId::min_cut_active);
   Kernel& discharge = dev.kernel(KernelId::min_cut_discharge);
-  uint32_t flags[2 + kMaxBatch] = {};
-  MvMinCutParams& sp = still_plan.base;
-  // One step of a global relabel (min_cut_invalidate or min_cut_relax), pass after pass until nothing changes:
-  // first the touched tiles, then the tiles around each change of the pass before. Passes go in batches read
-  // back at once, 2, 4, ... 16 a batch, so a relabel of P passes waits on the device about log P times, not P.
-  auto settle = [&](Kernel& k) {
-    sp.from_touched = 1;
-    for (uint32_t batch = 1, still = 0; !still; batch = std::min(2 * batch, kMaxBatch)) {
-      dev.fill(fb, 0, (2 + kMaxBatch) * 4);
-      dev.barrier();
-      for (uint32_t j = 0; j < batch; ++j, sp.from_touched = 0) {
-        ++sp.stamp_now;
-        sp.flag_word = 2 + j;
-        run_colours(dev, k, still_plan, {&hb, &sb, &rb, &fb, &tb, &ub});
-        sp.stamp_since = sp.stamp_now;
-      }
-      dev.download(fb, flags, (2 + batch) * 4);
-      for (uint32_t j = 0; j < batch && !still; ++j) {
-        ++st.relabel_passes;
-        still = flags[2 + j] == 0;
-      }
-    }
-  };
+  uint32_t flags[2] = {};
   // Each round's discharge moves excess closer to the sink or raises heights; push-relabel's bound on
   // relabels (2n per pixel) bounds the rounds, so the guard below only catches a broken device.
   const uint64_t max_rounds = 4 * n + 16;
@@ -192,18 +231,15 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
   for (uint64_t round = 1;; ++round) {
     if (round > max_rounds) throw Error("min-cut: no convergence after " + std::to_string(max_rounds) + " rounds");
     ++st.rounds;
-    // The global relabel, from the heights the last round left: heights without support rise to unreachable,
-    // then all fall to the distances.
-    settle(invalidate);
-    settle(relax);
-    dev.fill(fb, 0, 8);
+    relabel.run(hb, sb, rb, st);
+    dev.fill(relabel.fb, 0, 8);
     dev.barrier();
-    dev.dispatch(active, dev.groups_for(n, 64), 64, {&eb, &hb, &fb}, plan.base);
+    dev.dispatch(active, dev.groups_for(n, 64), 64, {&eb, &hb, &relabel.fb}, plan.base);
     dev.barrier();
-    dev.download(fb, flags, 8);
+    dev.download(relabel.fb, flags, 8);
     if (flags[1] == 0) break;
     for (uint32_t p = 0; p < passes; ++p)
-      run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb, &ab, &ub});
+      run_colours(dev, discharge, plan, {&eb, &hb, &sb, &rb, &ab});
   }
   std::vector<uint32_t> heights(n);
   dev.download(hb, heights.data(), n * 4);
@@ -215,16 +251,12 @@ uint64_t push_relabel(Device& dev, const GridGraph& g, const MinCutOptions& opti
 }
 
 // The region solver's shape on this device: the first level's regions across (and down), and the fewest regions a
-// level may have. A region per lane at least (PoCL on 2 cores 4 x 4, lavapipe 8 x 8), and no level with fewer
-// regions than lanes, so no region dispatch leaves the device idle: push-relabel finishes the seams.
+// level may have. Where each work-item is a CPU thread (PoCL), 2 x 2 regions merged up to the whole grid; else a
+// region per lane at least (lavapipe 8 x 8), and no level with fewer regions than lanes: push-relabel finishes.
 struct RegionShape {
   uint32_t regions, least;
 };
 RegionShape region_shape(const DeviceInfo& info, const MinCutOptions& o) {
-  // Where each work-item is a CPU thread running its items as a plain loop (a preferred work-group size of 1:
-  // PoCL), 2 x 2 regions merged up to the whole grid are the fastest: the last level is one of the device's two
-  // threads, and a thread runs BK's serial search as well as anything. Measured at ~1 MP 8-connected: 3.4x
-  // Boost BK, against 0.9x for regions per lane finished by push-relabel (docs/decisions/min-cut-wide.md).
   const bool threads = info.preferred_work_group_size <= 1 && !info.massively_parallel;
   const uint64_t lanes = device_lanes(info);
   uint32_t regions = 2;
@@ -253,11 +285,41 @@ std::optional<MinCutSolver> parse_min_cut_solver(std::string_view name) {
 
 MinCutSolver resolve_min_cut_solver(const DeviceInfo& info, MinCutSolver solver) {
   if (solver != MinCutSolver::automatic) return solver;
-  return info.massively_parallel ? MinCutSolver::push_relabel : MinCutSolver::regions;
+  // Where each work-item is a CPU thread running its items as a plain loop (a preferred work-group size of 1:
+  // PoCL), BK over 2 x 2 regions merged up to the whole grid is the fastest: the last level is one of the
+  // device's threads, and a thread runs BK's serial search as well as anything. Elsewhere (SIMT lanes, GPUs)
+  // push-relabel with the wave relabel: every dispatch is wide (docs/decisions/min-cut-wide.md).
+  const bool threads = info.preferred_work_group_size <= 1 && !info.massively_parallel;
+  return threads ? MinCutSolver::regions : MinCutSolver::push_relabel;
 }
 
 uint64_t device_lanes(const DeviceInfo& info) {
   return uint64_t{std::max<uint32_t>(info.compute_units, 1)} * std::max<uint32_t>(info.preferred_work_group_size, 1) * 4;
+}
+
+std::vector<uint32_t> min_cut_sink_distances(Device& dev, uint32_t width, uint32_t height, uint32_t connectivity,
+                                             const std::vector<uint32_t>& residual, const std::vector<uint32_t>& sink,
+                                             const MinCutOptions& options) {
+  GridGraph g;
+  g.width = width;
+  g.height = height;
+  g.connectivity = connectivity;
+  const uint64_t n = uint64_t{width} * height;
+  if (n == 0 || (connectivity != 4 && connectivity != 8) || residual.size() != n * connectivity || sink.size() != n)
+    throw Error("min-cut distances: " + std::to_string(width) + " x " + std::to_string(height) + ", " +
+                std::to_string(connectivity) + "-connected, does not match its " + std::to_string(residual.size()) +
+                " edges and " + std::to_string(sink.size()) + " sink capacities");
+  Buffer rb = dev.alloc(n * 4 * connectivity, "min-cut residual capacities");
+  Buffer sb = dev.alloc(n * 4, "min-cut sink capacities");
+  Buffer hb = dev.alloc(n * 4, "min-cut heights");
+  dev.upload(rb, residual.data(), n * 4 * connectivity);
+  dev.upload(sb, sink.data(), n * 4);
+  MinCutStats st;
+  WaveRelabel relabel(dev, g, options, plan_tiles(dev, g, options));
+  relabel.run(hb, sb, rb, st);
+  std::vector<uint32_t> heights(n);
+  dev.download(hb, heights.data(), n * 4);
+  return heights;
 }
 
 MinCut min_cut(Device& dev, const GridGraph& g, const MinCutOptions& options, MinCutStats* stats,

@@ -19,8 +19,9 @@ namespace mv {
 
 // How the kernels find the cut: push-relabel over tiles (kernels/common/min_cut.h); Boykov-Kolmogorov over
 // regions, merged 2 x 2 a level while a level keeps many regions, then push-relabel from the regions' flow for
-// what crosses the last seams (kernels/common/min_cut_regions.h); or by the device (automatic): regions where a
-// few threads run (massively_parallel false), push-relabel on massively parallel devices.
+// what crosses the last seams (kernels/common/min_cut_regions.h); or by the device (automatic): regions where each
+// work-item is a CPU thread (a preferred work-group size of 1, not massively parallel: PoCL), push-relabel on
+// SIMT devices (lavapipe) and massively parallel ones.
 enum class MinCutSolver : uint8_t { push_relabel, regions, automatic };
 
 // "push-relabel", "regions", "auto"; parse_min_cut_solver takes the same names (nullopt for others).
@@ -52,7 +53,7 @@ struct MinCutStats {
   uint32_t rounds = 0;          // region dispatches plus push-relabel's global relabels (each followed by
                                 // discharge passes but the last)
   MinCutSolver solver = MinCutSolver::automatic;  // the solver that ran (never automatic)
-  uint32_t relabel_passes = 0;  // invalidation and relaxation passes over the four colours, summed over the rounds
+  uint32_t relabel_passes = 0;  // the global relabels' wave passes over the four colours, summed over the rounds
   bool warm = false;            // started from the flow of an earlier cut (MinCutFlow)
 };
 
@@ -66,6 +67,14 @@ struct MinCutFlow {
   std::vector<uint32_t> edges;     // the graph's edge capacities
   std::vector<uint32_t> residual;  // the reversed graph's residual edge capacities at the end of the cut
 };
+
+// The push-relabel solver's global relabel alone (a breadth-first wave from the sink, kernels/common/
+// min_cut_relabel.h), for its tests: each pixel's distance to the sink along edges with residual capacity
+// (`residual[i * connectivity + d]`, pixel i's edge d, none leaving the grid; a pixel with sink capacity is one
+// step away), UINT32_MAX where the sink cannot be reached. options.tile sets the tiles, as for the solver.
+std::vector<uint32_t> min_cut_sink_distances(Device& dev, uint32_t width, uint32_t height, uint32_t connectivity,
+                                             const std::vector<uint32_t>& residual, const std::vector<uint32_t>& sink,
+                                             const MinCutOptions& options = {});
 
 // Throws mv::Error on an invalid graph (validate_grid_graph) or when the device memory cannot hold it.
 // With `flow`, starts from the flow it holds where it fits g, and leaves g's flow in it.

@@ -47,7 +47,7 @@
 #define MV_FIELDS_MIN_CUT(X)                                                                                            \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, tile) X(MV_U32, tiles_x) X(MV_U32, tiles_y)           \
   X(MV_U32, color) X(MV_U32, color_tiles_x) X(MV_U32, first_tile) X(MV_U32, sweeps) X(MV_U32, stamp_now)  \
-  X(MV_U32, stamp_since) X(MV_U32, from_touched) X(MV_U32, flag_word)
+  X(MV_U32, stamp_since) X(MV_U32, first_pass) X(MV_U32, flag_word)
 #define MV_FIELDS_MIN_CUT_REGIONS(X)                                                                                         \
   X(MV_U32, width) X(MV_U32, height) X(MV_U32, conn) X(MV_U32, regions_x) X(MV_U32, regions_y) X(MV_U32, group)        \
   X(MV_U32, budget) X(MV_U32, walk)

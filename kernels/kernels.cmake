@@ -103,4 +103,5 @@ mv_kernel(grabcut_labels           mask/grabcut.cl   mask/grabcut.comp    3  MvG
 mv_kernel(colour_unpack            colour/colour.cl  colour/colour.comp   2  MvColourParams    MV_ENTRY_unpack)
 mv_kernel(colour_level             colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_level)
 mv_kernel(colour_parent_keys       colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_parent_keys)
-mv_kernel(colour_place             colour/colour.cl  colour/colour.comp   6  MvColourParams    MV_ENTRY_place)
+mv_kernel(colour_place             colour/colour.cl  colour/colour.comp   7  MvColourParams    MV_ENTRY_place)
+mv_kernel(colour_child_sums        colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_child_sums)

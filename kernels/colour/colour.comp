@@ -13,15 +13,19 @@ void main() { mv_colour_level(args.sums, args.rgb, args.planes, args.p, MV_GLOBA
 #elif defined(MV_ENTRY_parent_keys)
 layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 starts; MvBufU64 up; MvColourParams p; } args;
 void main() { mv_colour_parent_keys(args.keys, args.starts, args.up, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_child_sums)
+layout(push_constant) uniform Args { MvBufU32 planes; MvBufU32 starts; MvBufU64 sums; MvColourParams p; } args;
+void main() { mv_colour_child_sums(args.planes, args.starts, args.sums, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_place)
 layout(push_constant) uniform Args {
-  MvBufU32 e; MvBufU32 parent_index; MvBufU64 before; MvBufU32 rgb; MvBufU32 index; MvBufU32 attributes;
+  MvBufU32 e; MvBufU32 starts; MvBufU32 sizes; MvBufU32 parent_index; MvBufU32 rgb; MvBufU32 index;
+  MvBufU32 attributes;
   MvColourParams p;
 } args;
 void main() {
-  mv_colour_place(args.e, args.parent_index, args.before, args.rgb, args.index, args.attributes, args.p,
+  mv_colour_place(args.e, args.starts, args.sizes, args.parent_index, args.rgb, args.index, args.attributes, args.p,
                   MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #else
-#error "define MV_ENTRY_unpack, _level, _parent_keys or _place"
+#error "define MV_ENTRY_unpack, _level, _parent_keys, _child_sums or _place"
 #endif

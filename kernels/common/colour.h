@@ -13,8 +13,11 @@
  *                       planes the level above sums; `leaf` 1: the nodes are voxels made of points, so a voxel
  *                       counts as one sample of its mean colour, with subtree size 1;
  *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> 3, the codes of the level above;
- *   colour_place:       index[i] = parent_index[parent of i] + 1 + before[i] (before: the subtree sizes of the
- *                       earlier siblings), attributes[index[i]] = rgb[i].
+ *   colour_child_sums:  the 64-bit plane sums of each node over its children (at most 8, consecutive from
+ *                       starts[s]): a work-item per plane and node, a bounded loop (the segmented_sum of the
+ *                       points' runs into voxels has no bound, these do);
+ *   colour_place:       index[i] = parent_index[parent of i] + 1 + the subtree sizes of its earlier siblings (at
+ *                       most 7), attributes[index[i]] = rgb[i].
  * Integer arithmetic only: the same bits on every device. */
 #ifndef MV_COLOUR_H
 #define MV_COLOUR_H
@@ -29,12 +32,14 @@ MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;     /* elements of the dispatch */
   mv_u32 leaf;  /* colour_level: 1 for voxels made of points */
   mv_u32 shift; /* colour_parent_keys: bits the keys shift right */
+  mv_u32 below; /* colour_child_sums: elements of the level below (its planes' stride) */
+  mv_u32 used;  /* colour_child_sums: the leading planes summed (the rest can only sum to zero) */
   mv_u32 pad0;
 MV_STRUCT_END(MvColourParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvColourParams, 16);
+MV_LAYOUT_SIZE(MvColourParams, 24);
 MV_LAYOUT_AT(MvColourParams, n, 0); MV_LAYOUT_AT(MvColourParams, leaf, 4); MV_LAYOUT_AT(MvColourParams, shift, 8);
-MV_LAYOUT_AT(MvColourParams, pad0, 12);
+MV_LAYOUT_AT(MvColourParams, below, 12); MV_LAYOUT_AT(MvColourParams, used, 16); MV_LAYOUT_AT(MvColourParams, pad0, 20);
 #endif
 
 MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
@@ -79,10 +84,24 @@ MV_INLINE void mv_colour_parent_keys(MvBufU64 keys, MvBufU32 starts, MvBufU64 up
   for (mv_u32 s = gid; s < p.n; s += stride) MV_ST(up, s, MV_LD(keys, MV_LD(starts, s)) >> p.shift);
 }
 
-MV_INLINE void mv_colour_place(MvBufU32 e, MvBufU32 parent_index, MvBufU64 before, MvBufU32 rgb, MvBufU32 index,
-                               MvBufU32 attributes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_colour_child_sums(MvBufU32 planes, MvBufU32 starts, MvBufU64 sums, MvColourParams p, mv_u32 gid,
+                                    mv_u32 stride) {
+  for (mv_u32 i = gid; i < MV_COLOUR_PLANES * p.n; i += stride) {
+    mv_u32 k = i / p.n;
+    mv_u32 s = i - k * p.n;
+    mv_u64 sum = MV_U64(0u);
+    if (k < p.used)
+      for (mv_u32 c = MV_LD(starts, s); c < MV_LD(starts, s + 1u); ++c) sum += MV_U64(MV_LD(planes, k * p.below + c));
+    MV_ST(sums, i, sum);
+  }
+}
+
+MV_INLINE void mv_colour_place(MvBufU32 e, MvBufU32 starts, MvBufU32 sizes, MvBufU32 parent_index, MvBufU32 rgb,
+                               MvBufU32 index, MvBufU32 attributes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 at = MV_LD(parent_index, MV_LD(e, i + 1u) - 1u) + 1u + MV_U32(MV_LD(before, i));
+    mv_u32 parent = MV_LD(e, i + 1u) - 1u;
+    mv_u32 at = MV_LD(parent_index, parent) + 1u;
+    for (mv_u32 c = MV_LD(starts, parent); c < i; ++c) at += MV_LD(sizes, c); /* at most 7 earlier siblings */
     MV_ST(index, i, at);
     MV_ST(attributes, at, MV_LD(rgb, i));
   }

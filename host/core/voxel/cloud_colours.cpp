@@ -1,7 +1,8 @@
 // Voxels and their depth-first colours from a cloud's cells, on the device (megavox/colour.h,
-// kernels/common/colour.h). Bottom-up, each level's 8 planes are summed over the runs of one parent
-// (one segmented_sum for the planes that can be nonzero) and divided; top-down, each node's pre-order index is its parent's + 1 +
-// the subtree sizes of its earlier siblings (segmented_exclusive_scan), and its colour is scattered there.
+// kernels/common/colour.h). Bottom-up, the points' planes are summed over each voxel's run (one segmented_sum
+// for the planes that can be nonzero), each level's over its at most 8 children (colour_child_sums), and
+// divided; top-down, each node's pre-order index is its parent's + 1 + the subtree sizes of its earlier
+// siblings (at most 7), and its colour is scattered there.
 #include <algorithm>
 #include <chrono>
 #include <string>
@@ -47,20 +48,6 @@ Segmentation plane_runs(Device& dev, const Buffer& heads, uint64_t n, uint32_t u
   Segmentation runs = segment_by_heads(dev, all_heads, used * n);
   if (runs.count % used) throw Error("voxel colours: the planes' runs disagree");
   return runs;
-}
-
-// The runs of the first plane alone: a prefix of the planes' runs (e[n] counts plane 0's m runs, and
-// starts[m] = n is where plane 1 begins), copied without a wait.
-Segmentation first_plane(Device& dev, const Segmentation& runs, uint64_t n, uint32_t used) {
-  Segmentation seg;
-  seg.n = n;
-  seg.count = runs.count / used;
-  seg.e = colour_alloc(dev, (n + 1) * 4, "segment numbers");
-  seg.starts = colour_alloc(dev, (seg.count + 1) * 4, "segment starts");
-  dev.copy(runs.e, seg.e, (n + 1) * 4);
-  dev.copy(runs.starts, seg.starts, (seg.count + 1) * 4);
-  dev.barrier();
-  return seg;
 }
 
 // The 64-bit sums of `planes` (kColourPlanes x n) over `runs` (plane_runs of its first `used` planes): m runs
@@ -115,19 +102,19 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
   }
   for (uint32_t l = 1; l <= levels; ++l) {
     ColourLevel& below = lv[l - 1];
-    Buffer heads = colour_alloc(dev, below.n * 4, "parent run heads");
-    segment_heads(dev, below.keys, heads, below.n, 3);
-    const uint32_t used = colour_planes_used(l - 1, voxels);
-    const Segmentation runs = plane_runs(dev, heads, below.n, used);
-    below.by_parent = first_plane(dev, runs, below.n, used);
+    below.by_parent = segment_by_key(dev, below.keys, below.n, 3);  // siblings: at most 8 a run
     ColourLevel& level = lv[l];
     level.n = below.by_parent.count;
     level.keys = colour_alloc(dev, level.n * 8, "node codes");
     MvColourParams p{};
     p.n = static_cast<uint32_t>(level.n);
     p.shift = 3;
+    p.below = static_cast<uint32_t>(below.n);
+    p.used = colour_planes_used(l - 1, voxels);
     colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
-    Buffer sums = colour_plane_sums(dev, runs, used, below.planes);
+    Buffer sums = colour_alloc(dev, kColourPlanes * level.n * 8, "colour sums");
+    colour_dispatch(dev, KernelId::colour_child_sums, kColourPlanes * level.n, {&below.planes, &below.by_parent.starts, &sums},
+                    p);
     finish_colour_level(dev, level, sums, false);
     below.keys = Buffer();
     below.planes = Buffer();
@@ -149,13 +136,13 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
   dev.barrier();
   for (uint32_t l = levels; l >= 1; --l) {
     ColourLevel& below = lv[l - 1];
-    Buffer before = colour_alloc(dev, below.n * 8, "earlier siblings' sizes");
-    segmented_exclusive_scan(dev, below.by_parent, below.sizes, before);
     Buffer below_index = colour_alloc(dev, below.n * 4, "node indices");
     MvColourParams p{};
     p.n = static_cast<uint32_t>(below.n);
     colour_dispatch(dev, KernelId::colour_place, below.n,
-                    {&below.by_parent.e, &index, &before, &below.rgb, &below_index, &attributes}, p);
+                    {&below.by_parent.e, &below.by_parent.starts, &below.sizes, &index, &below.rgb, &below_index,
+                     &attributes},
+                    p);
     index = std::move(below_index);
     lv[l] = ColourLevel();
   }

@@ -74,6 +74,8 @@ nlohmann::json report_json(const BuildReport& r) {
           {"points", r.points},       {"attributes", r.attributes},
           {"colour_entries", r.colour_entries}, {"colour_bytes", r.colour_bytes},
           {"colour_bits", r.colour_entries ? 24 : 0}, {"colour_bits_per_voxel", r.colour_bits_per_voxel},
+          {"colour_format", r.colour_format}, {"colour_palette_bytes", r.colour_palette_bytes},
+          {"colour_palette_seconds", r.colour_palette_seconds},
           {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
           {"spilled_bytes", r.spilled_bytes}, {"vertex_scratch_bytes", r.vertex_scratch_bytes},
           {"cube_retries", r.cube_retries},

@@ -44,9 +44,11 @@ void print_table(const BuildReport& r) {
   std::printf("  DAG nodes (levels >= 2): %llu; encoded %llu bytes, %.3f bits per voxel\n",
               (unsigned long long)r.nodes_total, (unsigned long long)r.bytes, r.bits_per_voxel);
   if (r.colour_entries)
-    std::printf("  colours (%s, raw RGB24): %llu entries (voxels and inner nodes), %llu bytes, %.3f bits per voxel\n",
-                r.attributes.c_str(), (unsigned long long)r.colour_entries, (unsigned long long)r.colour_bytes,
-                r.colour_bits_per_voxel);
+    std::printf("  colours (%s, %s RGB24): %llu entries (voxels and inner nodes), %llu bytes, %.3f bits per voxel; "
+                "palette %llu bytes, selected in %.3f s\n",
+                r.attributes.c_str(), r.colour_format.c_str(), (unsigned long long)r.colour_entries,
+                (unsigned long long)r.colour_bytes, r.colour_bits_per_voxel,
+                (unsigned long long)r.colour_palette_bytes, r.colour_palette_seconds);
   std::printf("  seconds:");
   for (const auto& s : r.seconds) std::printf(" %s %.3f", s.name.c_str(), s.seconds);
   std::printf("\n");

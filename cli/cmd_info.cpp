@@ -46,7 +46,7 @@ void add_info_command(CLI::App& app) {
                           {"bytes", bytes},
                           {"bits_per_voxel", bpv},
                           {"colour_entries", colour_entries},
-                          {"colour_bits", colour_entries ? 24 : 0},
+                          {"colour_bits", colour_entries ? f.colour_bits : 0},
                           {"colour_bytes", colour_bytes},
                           {"colour_bits_per_voxel", colour_bpv},
                           {"colour_format", colour_entries ? (cs.format == 1 ? "palette" : "raw") : "none"},
@@ -77,14 +77,14 @@ void add_info_command(CLI::App& app) {
     std::printf("  DAG nodes (levels >= 2): %llu; encoded %llu bytes, %.3f bits per voxel\n",
                 (unsigned long long)total, (unsigned long long)bytes, bpv);
     if (colour_entries && cs.format == 1)
-      std::printf("  colours: palette RGB24, %llu entries (voxels and inner nodes, depth-first), %llu bytes, %.3f bits "
+      std::printf("  colours: palette RGB24 (%u-bit colours), %llu entries (voxels and inner nodes, depth-first), %llu bytes, %.3f bits "
                   "per voxel, %.2f%% of raw; %llu blocks, %llu palettes, %llu palette entries, %llu distinct "
-                  "colours; checked\n", (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
+                  "colours; checked\n", f.colour_bits, (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
                   colour_bpv, 100.0 * colour_rate, (unsigned long long)cs.blocks, (unsigned long long)cs.palettes,
                   (unsigned long long)cs.palette_entries, (unsigned long long)cs.materials);
     else if (colour_entries)
-      std::printf("  colours: raw RGB24, %llu entries (voxels and inner nodes, depth-first), %llu bytes, %.3f bits "
-                  "per voxel; checked\n", (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
+      std::printf("  colours: raw RGB24 (%u-bit colours), %llu entries (voxels and inner nodes, depth-first), %llu "
+                  "bytes, %.3f bits per voxel; checked\n", f.colour_bits, (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
                   colour_bpv);
     if (pw)
       std::printf("  paged: %u-word pages (%u KiB), %llu pages, %s order, %llu words with padding (x%.4f); every "

@@ -8,6 +8,7 @@
 #include "io/mvx_format.h"
 #include "megavox/build.h"
 #include "megavox/colour_palette.h"
+#include "megavox/colour_quantize.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "point_fixture.h"
@@ -117,6 +118,70 @@ TEST(ColourPalette, DamagedBytesAreErrors) {
   EXPECT_THROW(palette_parse(good, uint64_t{1} << 40, p.blocks(), p.palettes()), Error);
 }
 
+TEST(ColourQuantize, LabAndDeltaE94) {
+  const uint8_t white[3] = {255, 255, 255}, black[3] = {0, 0, 0}, red[3] = {255, 0, 0};
+  const auto w = srgb_to_lab(white), k = srgb_to_lab(black), r = srgb_to_lab(red);
+  EXPECT_NEAR(w[0], 100, 1e-3);
+  EXPECT_NEAR(w[1], 0, 1e-2);
+  EXPECT_NEAR(w[2], 0, 1e-2);
+  EXPECT_NEAR(k[0], 0, 1e-9);
+  EXPECT_NEAR(r[0], 53.24, 0.01);
+  EXPECT_NEAR(r[1], 80.09, 0.01);
+  EXPECT_NEAR(r[2], 67.20, 0.01);
+  EXPECT_DOUBLE_EQ(delta_e94({50, 10, 10}, {50, 10, 10}), 0);
+  EXPECT_NEAR(delta_e94({50, 0, 0}, {60, 0, 0}), 10, 1e-12);
+  EXPECT_NEAR(delta_e94({50, 30, 0}, {50, 20, 0}), 10 / 2.35, 1e-12);          // chroma: S_C = 1 + 0.045 C1
+  EXPECT_NEAR(delta_e94({50, 30, 0}, {50, 0, 30}), std::sqrt(1800) / 1.45, 1e-12);  // hue: S_H = 1 + 0.015 C1
+  std::vector<uint8_t> rgb = {1, 2, 3};
+  EXPECT_THROW(quantize_colours(rgb, 0), Error);
+  EXPECT_THROW(quantize_colours(rgb, 25), Error);
+}
+
+// At most 2^bits colours out, the same bytes every run, the reported errors those of the output, and few
+// colours (or 24 bits) unchanged.
+TEST(ColourQuantize, BoundedDeterministicAndReported) {
+  for (uint32_t bits : {4u, 8u, 12u}) {
+    SCOPED_TRACE(bits);
+    const std::vector<uint8_t> in = palette_test_colours(30000, 0, 3, 20 + bits);
+    std::vector<uint8_t> a = in, b = in;
+    const ColourQuantizeReport r = quantize_colours(a, bits);
+    quantize_colours(b, bits);
+    EXPECT_EQ(a, b);
+    std::vector<uint32_t> seen;
+    double mean[3] = {}, max[3] = {}, de = 0, de_max = 0;
+    for (size_t i = 0; i < in.size() / 3; ++i) {
+      seen.push_back(uint32_t{a[3 * i]} << 16 | uint32_t{a[3 * i + 1]} << 8 | a[3 * i + 2]);
+      for (int c = 0; c < 3; ++c) {
+        const double e = std::abs(int(a[3 * i + c]) - int(in[3 * i + c]));
+        mean[c] += e;
+        max[c] = std::max(max[c], e);
+      }
+      const double d = delta_e94(srgb_to_lab(&in[3 * i]), srgb_to_lab(&a[3 * i]));
+      de += d;
+      de_max = std::max(de_max, d);
+    }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    EXPECT_LE(seen.size(), size_t{1} << bits);
+    EXPECT_EQ(seen.size(), r.colours_out);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(r.mean_rgb[c], mean[c] / double(in.size() / 3), 1e-9);
+      EXPECT_EQ(r.max_rgb[c], max[c]);
+    }
+    EXPECT_NEAR(r.mean_delta_e, de / double(in.size() / 3), 1e-9);
+    EXPECT_NEAR(r.max_delta_e, de_max, 1e-12);
+    EXPECT_GT(r.mean_delta_e, 0);
+  }
+  const std::vector<uint8_t> few = palette_test_colours(5000, 100, 4, 9);
+  std::vector<uint8_t> q = few;
+  EXPECT_EQ(quantize_colours(q, 12).colours_out, quantize_colours(q, 12).colours_in);
+  EXPECT_EQ(q, few);
+  q = palette_test_colours(5000, 0, 1, 9);
+  const std::vector<uint8_t> kept = q;
+  EXPECT_EQ(quantize_colours(q, 24).max_delta_e, 0);
+  EXPECT_EQ(q, kept);
+}
+
 class ColourPaletteFilesTest : public ::testing::TestWithParam<DeviceInfo> {};
 
 // A clumped cloud of `colours` colours on a 32^3 grid, as a PLY file.
@@ -155,6 +220,17 @@ TEST_P(ColourPaletteFilesTest, EveryEncodingRoundTrips) {
       o.encoding = e;
       o.placement = parse_grid_origin("min");
       const BuildReport r = build_mvx(dev, o);
+      {  // quantized to 3 bits: at most 8 colours, recorded in the file and checked when read
+        BuildOptions q = o;
+        q.output = temp_path("palette_q_" + encoding_name(e) + ".mvx");
+        q.colour_bits = 3;
+        const BuildReport rq = build_mvx(dev, q);
+        EXPECT_EQ(rq.colour_quantize.bits, 3u);
+        EXPECT_LE(rq.colour_quantize.colours_out, 8u);
+        const MvxFile fq = read_mvx(q.output);
+        EXPECT_EQ(fq.colour_bits, 3u);
+        EXPECT_EQ(decode_encoded(fq.dag), decode_encoded(read_mvx(o.output).dag));
+      }
       const uint64_t raw = 32 + 3 * r.colour_entries;
       EXPECT_EQ(r.colour_bytes, std::min(raw, r.colour_palette_bytes));
       EXPECT_EQ(r.colour_format, colours ? "palette" : "raw");

@@ -91,6 +91,11 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   t = Clock::now();
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
   file.colours = std::move(voxels.colours);
+  if (!file.colours.empty() && o.colour_bits < 24) {
+    r.colour_quantize = quantize_colours(file.colours, o.colour_bits);
+    file.colour_bits = o.colour_bits;
+    r.seconds.push_back({"quantize", r.colour_quantize.seconds});
+  }
   r.seconds.push_back({"encode", std::chrono::duration<double>(Clock::now() - t).count()});
   t = Clock::now();
   const MvxColourStats colour = write_mvx(o.output, file, o.paging);

@@ -85,7 +85,8 @@ std::vector<uint8_t> colour_section(const MvxFile& in, MvxColourStats& stats) {
   const uint64_t entries = in.colours.size() / 3;
   stats.entries = entries;
   std::vector<uint8_t> body;
-  ColourHead head{kColourRaw24, 24, entries, {0, 0}};
+  if (in.colour_bits < 1 || in.colour_bits > 24) throw Error("colour bits " + std::to_string(in.colour_bits) + ": 1 to 24");
+  ColourHead head{kColourRaw24, in.colour_bits, entries, {0, 0}};
   if (in.colour_storage != ColourStorage::raw) {
     const auto t = std::chrono::steady_clock::now();
     const ColourPalette p = palette_encode(in.colours);
@@ -93,7 +94,7 @@ std::vector<uint8_t> colour_section(const MvxFile& in, MvxColourStats& stats) {
     stats.palette_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     stats.palette_bytes = sizeof head + packed.size();
     if (in.colour_storage == ColourStorage::palette || packed.size() < in.colours.size()) {
-      head = {kColourPalette24, 24, entries, {p.blocks(), p.palettes()}};
+      head = {kColourPalette24, in.colour_bits, entries, {p.blocks(), p.palettes()}};
       stats.blocks = p.blocks();
       stats.palettes = p.palettes();
       stats.palette_entries = p.palette_entries();
@@ -350,7 +351,8 @@ void read_colours(const Opened& o, const std::string& path, MvxFile& out) {
   if (raw.size() < sizeof head) throw Error(path + ": the colours section is shorter than its head");
   std::memcpy(&head, raw.data(), sizeof head);
   const bool palette = head.format == kColourPalette24;
-  if ((head.format != kColourRaw24 && !palette) || head.bits != 24 || (!palette && (head.counts[0] || head.counts[1])))
+  if ((head.format != kColourRaw24 && !palette) || head.bits < 1 || head.bits > 24 ||
+      (!palette && (head.counts[0] || head.counts[1])))
     throw Error(path + ": colours of unknown format " + std::to_string(head.format) + " (" +
                 std::to_string(head.bits) + " bits)");
   const uint64_t nodes = octree_node_total(out.svo_nodes);
@@ -360,6 +362,7 @@ void read_colours(const Opened& o, const std::string& path, MvxFile& out) {
   stats.format = head.format;
   stats.entries = head.entries;
   stats.bytes = raw.size();
+  out.colour_bits = head.bits;
   if (palette) {
     ColourPalette p;
     try {
@@ -367,6 +370,9 @@ void read_colours(const Opened& o, const std::string& path, MvxFile& out) {
     } catch (const Error& e) {
       throw Error(path + ": " + e.what());
     }
+    if (p.materials_count() > uint64_t{1} << head.bits)
+      throw Error(path + ": " + std::to_string(p.materials_count()) + " distinct colours in a " +
+                  std::to_string(head.bits) + "-bit colour palette");
     stats.blocks = p.blocks();
     stats.palettes = p.palettes();
     stats.palette_entries = p.palette_entries();

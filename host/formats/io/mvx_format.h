@@ -30,7 +30,8 @@ enum SectionKind : uint32_t {
 constexpr uint32_t kKinds = 17;
 
 // The voxel colours section (version 4 on): this head, then `entries` colours of `bits` bits in depth-first
-// order. Format 0 is raw RGB24 (3 bytes per entry, R first), `counts` zero. Format 1 is palette-compressed
+// order; `bits`: the quantization (at most 2^bits distinct colours; 24 lossless), entries stay RGB24 either way.
+// Format 0 is raw RGB24 (3 bytes per entry, R first), `counts` zero. Format 1 is palette-compressed
 // (megavox/colour_palette.h: palette_serialise's bytes follow), `counts` = blocks, palettes.
 struct ColourHead {
   uint32_t format, bits;

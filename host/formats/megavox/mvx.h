@@ -18,7 +18,7 @@
 // 40 bytes per node) and one section per point column in node order, so the top levels' points are a prefix
 // of every column: a reader can stop after the levels it wants.
 // Version 4 adds voxel colours (kind 16, only in a file that has them): a 32-byte head (format 0 = raw RGB24,
-// bits per entry, entries = every octree node, voxels and inner nodes) and the colours in depth-first order
+// the quantization's bits, entries = every octree node, voxels and inner nodes) and the colours in depth-first order
 // (docs/colour.md). Format 1 stores them palette-compressed (megavox/colour_palette.h; the head's two reserved
 // words hold the blocks and palettes); the writer keeps raw where that is smaller. Versions 1 to 3 still open; a file without colours is written as version 3 would be, bar the
 // version number.
@@ -68,6 +68,9 @@ struct MvxFile {
   // Voxel colours (version 4 on): RGB24 per octree node, voxels and inner nodes, in depth-first order
   // (docs/colour.md); empty for a colourless file.
   std::vector<uint8_t> colours;
+  // The colours' quantization: at most 2^colour_bits distinct colours (24: as measured, lossless). Stored in the
+  // colour section's head; for a palette the reader checks the distinct colours against it.
+  uint32_t colour_bits = 24;
   ColourStorage colour_storage = ColourStorage::smallest;  // write_mvx only
   MvxColourStats colour_stats;                             // read_mvx only
   EncodedDag dag;  // read_mvx: always the level-order stream, whatever the file's paging

@@ -235,6 +235,7 @@ TEST_P(ColourPaletteFilesTest, EveryEncodingRoundTrips) {
       EXPECT_EQ(r.colour_bytes, std::min(raw, r.colour_palette_bytes));
       EXPECT_EQ(r.colour_format, colours ? "palette" : "raw");
       MvxFile f = read_mvx(o.output);
+      EXPECT_EQ(encoded_octree_nodes(f.dag), f.svo_nodes);
       EXPECT_EQ(f.colour_stats.bytes, r.colour_bytes);
       EXPECT_EQ(f.colour_stats.format, colours ? 1u : 0u);
       if (colours) EXPECT_GE(f.colour_stats.blocks, 1u);

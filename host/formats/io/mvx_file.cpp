@@ -425,7 +425,13 @@ MvxFile read_mvx(const std::string& path) {
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }
-  if (find[kColours]) read_colours(o, path, out);
+  if (find[kColours]) {
+    // The colours' count comes from the counts section: tie it to the geometry before a palette section of a
+    // few bytes may ask for that many colours.
+    if (encoded_octree_nodes(out.dag) != out.svo_nodes)
+      throw Error(path + ": the octree node counts do not match the DAG the file holds");
+    read_colours(o, path, out);
+  }
   return out;
 }
 

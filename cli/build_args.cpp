@@ -45,6 +45,11 @@ void add_build_options(CLI::App& cmd, BuildArgs& a) {
                  "stored in depth-first order beside the DAG; none: geometry only; auto: rgb when the cloud has colour")
       ->check(CLI::IsMember({"auto", "none", "rgb"}))
       ->capture_default_str();
+  cmd.add_option("--colour-bits", a.colour_bits,
+                 "Point clouds: 24 keeps the colours; 16, 14 or 12 quantize them to at most 2^bits colours (k-means in\n"
+                 "CIELAB, deterministic) before palette compression, and report the errors (RGB, ΔE CIE94)")
+      ->check(CLI::IsMember({24u, 16u, 14u, 12u}))
+      ->capture_default_str();
   cmd.add_option("--memory", a.memory,
                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM). PLY vertex positions past a quarter of it,\n"
                  "and out of core the triangles past another quarter, go to scratch files in $TMPDIR (or /tmp); a\n"
@@ -61,6 +66,7 @@ BuildOptions build_options(const BuildArgs& a) {
   o.placement = a.bounds.empty() ? parse_grid_origin(a.grid_origin) : parse_grid_bounds(a.bounds);
   o.voxelize = parse_voxelize_rule(a.voxelize);
   o.memory = a.memory.empty() ? 0 : parse_size(a.memory);
+  o.colour_bits = a.colour_bits;
   o.attributes = a.attributes == "rgb" ? Attributes::rgb : a.attributes == "none" ? Attributes::none : Attributes::automatic;
   return o;
 }
@@ -73,7 +79,13 @@ nlohmann::json report_json(const BuildReport& r) {
           {"triangles", r.triangles}, {"voxels", r.voxels},
           {"points", r.points},       {"attributes", r.attributes},
           {"colour_entries", r.colour_entries}, {"colour_bytes", r.colour_bytes},
-          {"colour_bits", r.colour_entries ? 24 : 0}, {"colour_bits_per_voxel", r.colour_bits_per_voxel},
+          {"colour_bits", r.colour_entries ? r.colour_quantize.bits : 0},
+          {"colour_quantize", {{"colours_in", r.colour_quantize.colours_in}, {"colours_out", r.colour_quantize.colours_out},
+                               {"mean_rgb_error", r.colour_quantize.mean_rgb}, {"max_rgb_error", r.colour_quantize.max_rgb},
+                               {"mean_delta_e94", r.colour_quantize.mean_delta_e}, {"max_delta_e94", r.colour_quantize.max_delta_e},
+                               {"iterations", r.colour_quantize.iterations}, {"seconds", r.colour_quantize.seconds}}}, {"colour_bits_per_voxel", r.colour_bits_per_voxel},
+          {"colour_format", r.colour_format}, {"colour_palette_bytes", r.colour_palette_bytes},
+          {"colour_palette_seconds", r.colour_palette_seconds},
           {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
           {"spilled_bytes", r.spilled_bytes}, {"vertex_scratch_bytes", r.vertex_scratch_bytes},
           {"cube_retries", r.cube_retries},

@@ -12,6 +12,7 @@ namespace mv::cli {
 struct BuildArgs {
   std::string input, resolution, format = "svdag", grid, grid_origin = "center", bounds, voxelize = "conservative";
   std::string memory, attributes = "auto";
+  uint32_t colour_bits = 24;
   uint32_t cube = kDefaultCube;
 };
 

@@ -44,9 +44,18 @@ void print_table(const BuildReport& r) {
   std::printf("  DAG nodes (levels >= 2): %llu; encoded %llu bytes, %.3f bits per voxel\n",
               (unsigned long long)r.nodes_total, (unsigned long long)r.bytes, r.bits_per_voxel);
   if (r.colour_entries)
-    std::printf("  colours (%s, raw RGB24): %llu entries (voxels and inner nodes), %llu bytes, %.3f bits per voxel\n",
-                r.attributes.c_str(), (unsigned long long)r.colour_entries, (unsigned long long)r.colour_bytes,
-                r.colour_bits_per_voxel);
+    std::printf("  colours (%s, %s RGB24): %llu entries (voxels and inner nodes), %llu bytes, %.3f bits per voxel; "
+                "palette %llu bytes, selected in %.3f s\n",
+                r.attributes.c_str(), r.colour_format.c_str(), (unsigned long long)r.colour_entries,
+                (unsigned long long)r.colour_bytes, r.colour_bits_per_voxel,
+                (unsigned long long)r.colour_palette_bytes, r.colour_palette_seconds);
+  if (r.colour_quantize.bits < 24) {
+    const ColourQuantizeReport& q = r.colour_quantize;
+    std::printf("  quantized to %u bits: %llu -> %llu colours; error mean %.2f/%.2f/%.2f max %.0f/%.0f/%.0f (R/G/B), "
+                "dE94 mean %.3f max %.3f\n", q.bits, (unsigned long long)q.colours_in,
+                (unsigned long long)q.colours_out, q.mean_rgb[0], q.mean_rgb[1], q.mean_rgb[2], q.max_rgb[0],
+                q.max_rgb[1], q.max_rgb[2], q.mean_delta_e, q.max_delta_e);
+  }
   std::printf("  seconds:");
   for (const auto& s : r.seconds) std::printf(" %s %.3f", s.name.c_str(), s.seconds);
   std::printf("\n");

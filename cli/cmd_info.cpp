@@ -26,8 +26,11 @@ void add_info_command(CLI::App& app) {
     const uint32_t pw = f.paging.page_words;
     const uint64_t pages = pw ? (f.paged_words + pw - 1) / pw : 0;
     // Colours: the section's bits (head included, inner nodes' colours included) over the voxels.
-    const uint64_t colour_entries = f.colours.size() / 3, colour_bytes = mvx_colour_section_bytes(f);
+    const MvxColourStats& cs = f.colour_stats;
+    const uint64_t colour_entries = f.colours.size() / 3, colour_bytes = cs.bytes;
     const double colour_bpv = f.voxels ? 8.0 * double(colour_bytes) / double(f.voxels) : 0;
+    // The thesis's compression rate: the stored colours over the raw attribute array (3 bytes per entry).
+    const double colour_rate = colour_entries ? double(colour_bytes) / (3.0 * double(colour_entries)) : 0;
     if (*json) {
       nlohmann::json j = {{"file", *path},
                           {"format", encoding_name(f.dag.encoding)},
@@ -43,9 +46,15 @@ void add_info_command(CLI::App& app) {
                           {"bytes", bytes},
                           {"bits_per_voxel", bpv},
                           {"colour_entries", colour_entries},
-                          {"colour_bits", colour_entries ? 24 : 0},
+                          {"colour_bits", colour_entries ? f.colour_bits : 0},
                           {"colour_bytes", colour_bytes},
-                          {"colour_bits_per_voxel", colour_bpv}};
+                          {"colour_bits_per_voxel", colour_bpv},
+                          {"colour_format", colour_entries ? (cs.format == 1 ? "palette" : "raw") : "none"},
+                          {"colour_palette_blocks", cs.blocks},
+                          {"colour_palettes", cs.palettes},
+                          {"colour_palette_entries", cs.palette_entries},
+                          {"colour_materials", cs.materials},
+                          {"colour_compression_rate", colour_rate}};
       if (pw)
         j["paging"] = {{"page_words", pw}, {"page_bytes", uint64_t{pw} * 4}, {"pages", pages},
                        {"node_order", node_order_name(f.paging.order)}, {"paged_words", f.paged_words},
@@ -67,9 +76,15 @@ void add_info_command(CLI::App& app) {
       std::printf("  %-6zu %14llu %14llu\n", l, (unsigned long long)f.svo_nodes[l], (unsigned long long)f.dag_nodes[l]);
     std::printf("  DAG nodes (levels >= 2): %llu; encoded %llu bytes, %.3f bits per voxel\n",
                 (unsigned long long)total, (unsigned long long)bytes, bpv);
-    if (colour_entries)
-      std::printf("  colours: raw RGB24, %llu entries (voxels and inner nodes, depth-first), %llu bytes, %.3f bits "
-                  "per voxel; checked\n", (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
+    if (colour_entries && cs.format == 1)
+      std::printf("  colours: palette RGB24 (%u-bit colours), %llu entries (voxels and inner nodes, depth-first), %llu bytes, %.3f bits "
+                  "per voxel, %.2f%% of raw; %llu blocks, %llu palettes, %llu palette entries, %llu distinct "
+                  "colours; checked\n", f.colour_bits, (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
+                  colour_bpv, 100.0 * colour_rate, (unsigned long long)cs.blocks, (unsigned long long)cs.palettes,
+                  (unsigned long long)cs.palette_entries, (unsigned long long)cs.materials);
+    else if (colour_entries)
+      std::printf("  colours: raw RGB24 (%u-bit colours), %llu entries (voxels and inner nodes, depth-first), %llu "
+                  "bytes, %.3f bits per voxel; checked\n", f.colour_bits, (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
                   colour_bpv);
     if (pw)
       std::printf("  paged: %u-word pages (%u KiB), %llu pages, %s order, %llu words with padding (x%.4f); every "

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "megavox/colour_quantize.h"
 #include "megavox/device.h"
 #include "megavox/mvx.h"
 #include "megavox/voxelize.h"
@@ -43,6 +44,7 @@ struct BuildOptions {
   // stops with an error naming what it needs (nothing is written).
   uint64_t memory = 0;
   Attributes attributes = Attributes::automatic;  // point clouds (docs/colour.md)
+  uint32_t colour_bits = 24;  // below 24: quantized to at most 2^bits colours (megavox/colour_quantize.h)
   // Instead of reading `input`: this mesh (then `input` only names it in messages).
   const MeshArrays* mesh = nullptr;
   // How the file is paged (megavox/mvx.h; an ssvdag always in level order).
@@ -77,7 +79,11 @@ struct BuildReport {
   uint64_t points = 0;     // a point cloud input: its points read (and inside the grid)
   std::string attributes = "none";  // "rgb" when the file carries voxel colours
   uint64_t colour_entries = 0;      // colours stored: voxels and inner nodes
-  uint64_t colour_bytes = 0;        // the colour section's payload
+  uint64_t colour_bytes = 0;        // the colour section's bytes, head included
+  std::string colour_format;        // "raw" or "palette": the smaller, as stored
+  uint64_t colour_palette_bytes = 0;    // the palette's section bytes, also when raw was smaller
+  double colour_palette_seconds = 0;    // palette selection on the host (part of the write)
+  ColourQuantizeReport colour_quantize; // bits 24: not quantized
   double colour_bits_per_voxel = 0; // colour bits (inner nodes' included) / voxels
   std::string vdb_grid, vdb_class;  // the .vdb grid read and its class
   uint32_t cube = 0;                // out of core: the cube side used; 0 = in core

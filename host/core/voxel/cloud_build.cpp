@@ -91,9 +91,14 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   t = Clock::now();
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
   file.colours = std::move(voxels.colours);
+  if (!file.colours.empty() && o.colour_bits < 24) {
+    r.colour_quantize = quantize_colours(file.colours, o.colour_bits);
+    file.colour_bits = o.colour_bits;
+    r.seconds.push_back({"quantize", r.colour_quantize.seconds});
+  }
   r.seconds.push_back({"encode", std::chrono::duration<double>(Clock::now() - t).count()});
   t = Clock::now();
-  write_mvx(o.output, file, o.paging);
+  const MvxColourStats colour = write_mvx(o.output, file, o.paging);
   r.seconds.push_back({"write", std::chrono::duration<double>(Clock::now() - t).count()});
   r.grid = grid;
   r.svo_nodes = file.svo_nodes;
@@ -104,7 +109,10 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   if (!file.colours.empty()) {
     r.attributes = "rgb";
     r.colour_entries = file.colours.size() / 3;
-    r.colour_bytes = mvx_colour_section_bytes(file);
+    r.colour_bytes = colour.bytes;
+    r.colour_format = colour.format == 1 ? "palette" : "raw";
+    r.colour_palette_bytes = colour.palette_bytes;
+    r.colour_palette_seconds = colour.palette_seconds;
     r.colour_bits_per_voxel = r.voxels ? 8.0 * double(r.colour_bytes) / double(r.voxels) : 0;
   }
 }

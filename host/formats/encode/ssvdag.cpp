@@ -208,6 +208,42 @@ std::vector<uint64_t> decode_ssvdag(const EncodedDag& enc) {
   return out;
 }
 
+std::vector<uint64_t> encoded_octree_nodes(const EncodedDag& enc) {
+  if (enc.encoding != Encoding::ssvdag) return encoded_octree_nodes_svdag(enc);
+  if (enc.inner.empty()) return {};
+  const uint32_t L = enc.levels;
+  auto add = [](uint64_t a, uint64_t b) { return a > UINT64_MAX - b ? UINT64_MAX : a + b; };
+  auto times = [](uint64_t a, uint64_t k) { return k && a > UINT64_MAX / k ? UINT64_MAX : a * k; };
+  std::vector<uint64_t> out(L + 1, 0), here(1, 1), below;
+  // Levels root first; a pointer's offset is relative to its child level (bricks at level 2).
+  for (uint32_t l = L; l >= 3; --l) {
+    const uint64_t begin = enc.level_offset[l], end = l == 3 ? enc.inner.size() : enc.level_offset[l - 1];
+    const uint64_t child_words =
+        l == 3 ? enc.bricks.size() : (l - 1 == 3 ? enc.inner.size() : enc.level_offset[l - 2]) - enc.level_offset[l - 1];
+    below.assign(child_words, 0);
+    for (uint64_t w = begin; w < end;) {
+      const uint64_t n = here[w - begin];
+      out[l] = add(out[l], n);
+      w = read_node(enc.inner, w, [&](uint32_t, Pointer p) { below[p.offset] = add(below[p.offset], n); });
+    }
+    here.swap(below);
+  }
+  for (size_t b = 0; b < enc.bricks.size(); ++b) {
+    const uint64_t n = here[b], brick = enc.bricks[b];
+    out[2] = add(out[2], n);
+    uint32_t cells = 0;
+    for (uint32_t c = 0; c < 8; ++c) {  // the 2x2x2 cells of the brick that hold a voxel
+      uint64_t cell = 0;
+      for (uint32_t v = 0; v < 8; ++v)
+        cell |= brick >> brick_bit(2 * (c & 1) + (v & 1), 2 * (c >> 1 & 1) + (v >> 1 & 1), 2 * (c >> 2) + (v >> 2)) & 1;
+      cells += static_cast<uint32_t>(cell);
+    }
+    out[1] = add(out[1], times(n, cells));
+    out[0] = add(out[0], times(n, static_cast<uint64_t>(__builtin_popcountll(brick))));
+  }
+  return out;
+}
+
 void validate_encoded(const EncodedDag& enc) {
   if (enc.encoding == Encoding::ssvdag) validate_ssvdag(enc);
   else validate_svdag(enc);

@@ -94,6 +94,31 @@ void validate_svdag(const EncodedDag& enc) {
   if (here_nodes != 1) throw fail("the root level must hold exactly one node");
 }
 
+std::vector<uint64_t> encoded_octree_nodes_svdag(const EncodedDag& enc) {
+  if (enc.words.empty()) return {};
+  const uint32_t L = enc.levels;
+  auto add = [](uint64_t a, uint64_t b) { return a > UINT64_MAX - b ? UINT64_MAX : a + b; };
+  std::vector<uint64_t> paths(enc.words.size(), 0), out(L + 1, 0);
+  paths[0] = 1;
+  // Levels are stored root first, so every node's paths are complete before its level is walked.
+  for (uint32_t l = L; l >= 1; --l) {
+    const uint64_t end = l == 1 ? enc.words.size() : enc.level_offset[l - 1];
+    for (uint64_t w = enc.level_offset[l]; w < end;) {
+      const uint32_t mask = enc.words[w] & 0xff, kids = __builtin_popcount(mask);
+      out[l] = add(out[l], paths[w]);
+      if (l == 1) {
+        const uint64_t v = paths[w] > UINT64_MAX / 8 ? UINT64_MAX : paths[w] * kids;
+        out[0] = add(out[0], v);
+        w += 1;
+        continue;
+      }
+      for (uint64_t q = w + 1; q <= w + kids; ++q) paths[enc.words[q]] = add(paths[enc.words[q]], paths[w]);
+      w += 1 + kids;
+    }
+  }
+  return out;
+}
+
 std::vector<uint64_t> decode_svdag(const EncodedDag& enc) {
   validate_svdag(enc);
   std::vector<uint64_t> out;

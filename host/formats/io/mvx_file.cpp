@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cstddef>
 #include <cerrno>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "paging/paged_stream.h"
 #include "file_ops.h"
 #include "mvx_format.h"
+#include "megavox/colour_palette.h"
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 
@@ -78,11 +80,34 @@ PagedNodes paged_nodes(const EncodedDag& dag, const MvxPaging& paging) {
   return p;
 }
 
-std::vector<uint8_t> colour_section(const MvxFile& in) {
-  std::vector<uint8_t> out(sizeof(ColourHead) + in.colours.size());
-  ColourHead head{kColourRaw24, 24, in.colours.size() / 3, {0, 0}};
+// The colour section as `in.colour_storage` asks: raw RGB24, the palette, or the smaller of the two.
+std::vector<uint8_t> colour_section(const MvxFile& in, MvxColourStats& stats) {
+  const uint64_t entries = in.colours.size() / 3;
+  stats.entries = entries;
+  std::vector<uint8_t> body;
+  if (in.colour_bits < 1 || in.colour_bits > 24) throw Error("colour bits " + std::to_string(in.colour_bits) + ": 1 to 24");
+  ColourHead head{kColourRaw24, in.colour_bits, entries, {0, 0}};
+  if (in.colour_storage != ColourStorage::raw) {
+    const auto t = std::chrono::steady_clock::now();
+    const ColourPalette p = palette_encode(in.colours);
+    std::vector<uint8_t> packed = palette_serialise(p);
+    stats.palette_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    stats.palette_bytes = sizeof head + packed.size();
+    if (in.colour_storage == ColourStorage::palette || packed.size() < in.colours.size()) {
+      head = {kColourPalette24, in.colour_bits, entries, {p.blocks(), p.palettes()}};
+      stats.blocks = p.blocks();
+      stats.palettes = p.palettes();
+      stats.palette_entries = p.palette_entries();
+      stats.materials = p.materials_count();
+      body = std::move(packed);
+    }
+  }
+  const std::vector<uint8_t>& payload = head.format == kColourRaw24 ? in.colours : body;
+  stats.format = head.format;
+  std::vector<uint8_t> out(sizeof head + payload.size());
   std::memcpy(out.data(), &head, sizeof head);
-  std::copy(in.colours.begin(), in.colours.end(), out.begin() + sizeof head);
+  std::copy(payload.begin(), payload.end(), out.begin() + sizeof head);
+  stats.bytes = out.size();
   return out;
 }
 
@@ -94,11 +119,7 @@ uint64_t octree_node_total(const std::vector<uint64_t>& svo_nodes) {
 
 }  // namespace
 
-uint64_t mvx_colour_section_bytes(const MvxFile& file) {
-  return file.colours.empty() ? 0 : sizeof(ColourHead) + file.colours.size();
-}
-
-void write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& paging) {
+MvxColourStats write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& paging) {
   const uint32_t L = in.dag.levels;
   std::vector<uint64_t> counts = in.svo_nodes;
   counts.insert(counts.end(), in.dag_nodes.begin(), in.dag_nodes.end());
@@ -117,11 +138,12 @@ void write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& pagi
     blobs.push_back({kNodes, in.dag.words.data(), in.dag.words.size() * 4});
   }
   std::vector<uint8_t> colours;
+  MvxColourStats stats;
   if (!in.colours.empty()) {
     if (in.colours.size() % 3 || in.colours.size() / 3 != octree_node_total(in.svo_nodes))
       throw Error(path + ": " + std::to_string(in.colours.size()) + " colour bytes for " +
                   std::to_string(octree_node_total(in.svo_nodes)) + " octree nodes");
-    colours = colour_section(in);
+    colours = colour_section(in, stats);
     blobs.push_back({kColours, colours.data(), colours.size()});
   }
   Header h{};
@@ -138,6 +160,7 @@ void write_mvx(const std::string& path, const MvxFile& in, const MvxPaging& pagi
   h.resolution = in.grid.resolution;
   h.voxels = in.voxels;
   write_file(path, h, blobs);
+  return stats;
 }
 
 namespace mvx_format {
@@ -320,18 +343,43 @@ void read_paged_nodes(const Opened& o, const std::string& path, MvxFile& out) {
   out.paged_words = pi.head.words;
 }
 
-// The colour section, checked: its head, and one RGB24 entry per octree node the counts name.
+// The colour section, checked: its head, and one RGB24 entry per octree node the counts name, raw or in a
+// palette checked whole (palette_parse).
 void read_colours(const Opened& o, const std::string& path, MvxFile& out) {
   const std::vector<uint8_t> raw = section_data<uint8_t>(o.file.get(), *o.find[kColours], path, "colours");
   ColourHead head{};
   if (raw.size() < sizeof head) throw Error(path + ": the colours section is shorter than its head");
   std::memcpy(&head, raw.data(), sizeof head);
-  if (head.format != kColourRaw24 || head.bits != 24 || head.reserved[0] || head.reserved[1])
+  const bool palette = head.format == kColourPalette24;
+  if ((head.format != kColourRaw24 && !palette) || head.bits < 1 || head.bits > 24 ||
+      (!palette && (head.counts[0] || head.counts[1])))
     throw Error(path + ": colours of unknown format " + std::to_string(head.format) + " (" +
                 std::to_string(head.bits) + " bits)");
   const uint64_t nodes = octree_node_total(out.svo_nodes);
   if (head.entries != nodes)
     throw Error(path + ": " + std::to_string(head.entries) + " colours for " + std::to_string(nodes) + " octree nodes");
+  MvxColourStats& stats = out.colour_stats;
+  stats.format = head.format;
+  stats.entries = head.entries;
+  stats.bytes = raw.size();
+  out.colour_bits = head.bits;
+  if (palette) {
+    ColourPalette p;
+    try {
+      p = palette_parse(std::span<const uint8_t>(raw).subspan(sizeof head), head.entries, head.counts[0], head.counts[1]);
+    } catch (const Error& e) {
+      throw Error(path + ": " + e.what());
+    }
+    if (p.materials_count() > uint64_t{1} << head.bits)
+      throw Error(path + ": " + std::to_string(p.materials_count()) + " distinct colours in a " +
+                  std::to_string(head.bits) + "-bit colour palette");
+    stats.blocks = p.blocks();
+    stats.palettes = p.palettes();
+    stats.palette_entries = p.palette_entries();
+    stats.materials = p.materials_count();
+    out.colours = p.decode();
+    return;
+  }
   if (raw.size() - sizeof head != head.entries * 3)
     throw Error(path + ": the colours section holds " + std::to_string(raw.size() - sizeof head) + " bytes for " +
                 std::to_string(head.entries) + " RGB24 colours");
@@ -377,7 +425,13 @@ MvxFile read_mvx(const std::string& path) {
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }
-  if (find[kColours]) read_colours(o, path, out);
+  if (find[kColours]) {
+    // The colours' count comes from the counts section: tie it to the geometry before a palette section of a
+    // few bytes may ask for that many colours.
+    if (encoded_octree_nodes(out.dag) != out.svo_nodes)
+      throw Error(path + ": the octree node counts do not match the DAG the file holds");
+    read_colours(o, path, out);
+  }
   return out;
 }
 

@@ -30,14 +30,16 @@ enum SectionKind : uint32_t {
 constexpr uint32_t kKinds = 17;
 
 // The voxel colours section (version 4 on): this head, then `entries` colours of `bits` bits in depth-first
-// order. Format 0 is raw RGB24 (3 bytes per entry, R first); palette formats take the next numbers.
+// order; `bits`: the quantization (at most 2^bits distinct colours; 24 lossless), entries stay RGB24 either way.
+// Format 0 is raw RGB24 (3 bytes per entry, R first), `counts` zero. Format 1 is palette-compressed
+// (megavox/colour_palette.h: palette_serialise's bytes follow), `counts` = blocks, palettes.
 struct ColourHead {
   uint32_t format, bits;
   uint64_t entries;
-  uint64_t reserved[2];  // zero: room for a palette's counts
+  uint64_t counts[2];
 };
 static_assert(sizeof(ColourHead) == 32);
-enum ColourFormat : uint32_t { kColourRaw24 = 0 };
+enum ColourFormat : uint32_t { kColourRaw24 = 0, kColourPalette24 = 1 };
 // Header::content (version 2; version 1 files are voxels and hold 0 there).
 enum Content : uint32_t { kVoxels = 0, kPoints = 1 };
 

@@ -57,6 +57,11 @@ std::vector<uint64_t> decode_ssvdag(const EncodedDag& enc);
 // stream's own order (levels root first), `subtree` clusters each page around a subtree.
 enum class NodeOrder : uint32_t { level = 0, subtree = 1 };
 
+// The octree nodes per level (index 0 = voxels .. levels = the root) of a validated encoding: every node counted
+// once per path that reaches it, in one pass over the stream (saturating at 2^64 - 1). Empty for an empty DAG.
+std::vector<uint64_t> encoded_octree_nodes_svdag(const EncodedDag& enc);
+std::vector<uint64_t> encoded_octree_nodes(const EncodedDag& enc);
+
 // Validates / decodes whichever encoding `enc` holds.
 void validate_encoded(const EncodedDag& enc);
 std::vector<uint64_t> decode_encoded(const EncodedDag& enc);

@@ -18,8 +18,9 @@
 // 40 bytes per node) and one section per point column in node order, so the top levels' points are a prefix
 // of every column: a reader can stop after the levels it wants.
 // Version 4 adds voxel colours (kind 16, only in a file that has them): a 32-byte head (format 0 = raw RGB24,
-// bits per entry, entries = every octree node, voxels and inner nodes) and the colours in depth-first order
-// (docs/colour.md). Versions 1 to 3 still open; a file without colours is written as version 3 would be, bar the
+// the quantization's bits, entries = every octree node, voxels and inner nodes) and the colours in depth-first order
+// (docs/colour.md). Format 1 stores them palette-compressed (megavox/colour_palette.h; the head's two reserved
+// words hold the blocks and palettes); the writer keeps raw where that is smaller. Versions 1 to 3 still open; a file without colours is written as version 3 would be, bar the
 // version number.
 // Versions 1 and 2 (unpaged voxels; version 2 points, the same sections as version 3's) still open.
 // Written to a temporary name and renamed on success; the reader checks every field, every checksum and
@@ -45,6 +46,19 @@ struct MvxPaging {
   NodeOrder order = NodeOrder::subtree;
 };
 
+// How write_mvx stores colours: the smaller of raw and palette (ties: raw), or one of them.
+enum class ColourStorage { smallest, raw, palette };
+
+// What a colour section holds (read_mvx fills the stored half; write_mvx returns all of it).
+struct MvxColourStats {
+  uint32_t format = 0;               // 0 raw RGB24, 1 palette
+  uint64_t entries = 0, bytes = 0;   // colours stored; the section's bytes, head included (0: no colours)
+  uint64_t blocks = 0, palettes = 0, palette_entries = 0, materials = 0;  // the palette's counts (0 when raw)
+  // Write only: the palette's section bytes, also when raw was kept, and the time its selection took.
+  uint64_t palette_bytes = 0;
+  double palette_seconds = 0;
+};
+
 struct MvxFile {
   GridTransform grid;
   Bounds bounds;  // of the input model, in its own units
@@ -54,21 +68,24 @@ struct MvxFile {
   // Voxel colours (version 4 on): RGB24 per octree node, voxels and inner nodes, in depth-first order
   // (docs/colour.md); empty for a colourless file.
   std::vector<uint8_t> colours;
+  // The colours' quantization: at most 2^colour_bits distinct colours (24: as measured, lossless). Stored in the
+  // colour section's head; for a palette the reader checks the distinct colours against it.
+  uint32_t colour_bits = 24;
+  ColourStorage colour_storage = ColourStorage::smallest;  // write_mvx only
+  MvxColourStats colour_stats;                             // read_mvx only
   EncodedDag dag;  // read_mvx: always the level-order stream, whatever the file's paging
   // As read (write_mvx ignores these): the file's paging ({0} when not paged) and its paged stream's words.
   MvxPaging paging{0, NodeOrder::level};
   uint64_t paged_words = 0;
 };
 
-// The colour section's bytes as write_mvx stores them (0 without colours).
-uint64_t mvx_colour_section_bytes(const MvxFile& file);
-
 enum class MvxContent { voxels, points };
 // What a file holds, from its checked header alone.
 MvxContent mvx_content(const std::string& path);
 
 // Written paged as `paging` says (page_words 0: unpaged).
-void write_mvx(const std::string& path, const MvxFile& file, const MvxPaging& paging = {});
+// Returns how the colours were stored (all zero without colours).
+MvxColourStats write_mvx(const std::string& path, const MvxFile& file, const MvxPaging& paging = {});
 // Voxel content; a point file is an error that says so. A paged file's pages are each checked against the page
 // index and its stream turned back into level order (level_order_stream), checked on the way.
 MvxFile read_mvx(const std::string& path);

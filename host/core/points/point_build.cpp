@@ -156,9 +156,9 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   rep.build_seconds = build_in_sort + seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  // What the gather no longer needs goes back first, the device's storage included (host memory on a CPU device;
-  // trim() frees it once no buffer lives there), so that the gather's fresh memory lands on pages this process
-  // has just given back (a first touch of new memory is the slow part of it).
+  // What the gathers no longer need goes back first, the device's storage included (host memory on a CPU device;
+  // trim() frees it once no buffer lives there), so that their fresh memory lands on pages this process has just
+  // given back (a first touch of new memory is the slow part of it).
   front.reset();
   const std::vector<uint64_t> reps = builder.take_reps();
   owned_builder.reset();
@@ -173,9 +173,17 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   }
   dev.trim();
 
-  // The columns straight into node order on the device, each through the composed index, each input column freed
-  // once gathered.
-  h.points = points::gather_node_points(dev, std::move(points), index, sources, reps, info.extra_bytes);
+  if (points::gathers_on_host(dev)) {
+    // Where the device's memory is the host's: the columns into sorted order first (one random read per input
+    // point), then into node order, where a leaf is a block copy and representatives ascend within their node (at
+    // 100M points 1.5x faster than one gather through the composed index).
+    PointColumns sorted = points::gather_columns(points, std::span<const uint32_t>(index), info.extra_bytes);
+    points = PointColumns();
+    h.points = points::gather_node_points(sorted, sources, reps, info.extra_bytes);
+  } else {
+    // Elsewhere each column goes up once and straight into node order, through the composed index.
+    h.points = points::gather_node_points(dev, std::move(points), index, sources, reps, info.extra_bytes);
+  }
   index = {};
   host_index = {};
   rep.gather_seconds = seconds_since(t0);

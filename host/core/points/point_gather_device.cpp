@@ -127,4 +127,9 @@ PointColumns gather_node_points(Device& dev, PointColumns&& points, std::span<co
   return out;
 }
 
+bool gathers_on_host(Device& dev) {
+  const Buffer probe = dev.alloc(4, "host memory probe");
+  return dev.host_view(probe) != nullptr;
+}
+
 }  // namespace mv::points

@@ -25,6 +25,15 @@ void gather(const std::vector<T>& src, std::span<const I> index, std::vector<T>&
   });
 }
 
+// Records of `record_bytes` bytes: out record i = src record index[i].
+template <class I>
+void gather_bytes(const uint8_t* src, uint32_t record_bytes, std::span<const I> index, uint8_t* out) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, index.size(), 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i)
+      std::memcpy(out + i * record_bytes, src + uint64_t{index[i]} * record_bytes, record_bytes);
+  });
+}
+
 template <class I>
 PointColumns gather_all(const PointColumns& src, std::span<const I> index, uint32_t extra_bytes) {
   PointColumns out;
@@ -34,9 +43,7 @@ PointColumns gather_all(const PointColumns& src, std::span<const I> index, uint3
   gather<uint16_t, 1, I>(src.intensity, index, out.intensity);
   if (!src.extra.empty() && extra_bytes) {
     out.extra.resize(index.size() * extra_bytes);
-    tbb::parallel_for(size_t{0}, index.size(), [&](size_t i) {
-      std::memcpy(&out.extra[i * extra_bytes], &src.extra[index[i] * extra_bytes], extra_bytes);
-    });
+    gather_bytes<I>(src.extra.data(), extra_bytes, index, out.extra.data());
   }
   return out;
 }
@@ -97,6 +104,10 @@ PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> i
 }
 PointColumns gather_columns(const PointColumns& src, std::span<const uint32_t> index, uint32_t extra_bytes) {
   return gather_all(src, index, extra_bytes);
+}
+
+void gather_record_bytes(const uint8_t* src, uint32_t record_bytes, std::span<const uint32_t> index, uint8_t* out) {
+  gather_bytes<uint32_t>(src, record_bytes, index, out);
 }
 
 }  // namespace mv::points

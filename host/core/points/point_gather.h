@@ -14,6 +14,9 @@ namespace mv::points {
 PointColumns gather_columns(const PointColumns& src, std::span<const uint64_t> index, uint32_t extra_bytes);
 PointColumns gather_columns(const PointColumns& src, std::span<const uint32_t> index, uint32_t extra_bytes);
 
+// out record i = src record index[i], records of record_bytes bytes (one column of any kind, on the host).
+void gather_record_bytes(const uint8_t* src, uint32_t record_bytes, std::span<const uint32_t> index, uint8_t* out);
+
 // The columns of sorted points into node order (OmicronBuilder::assemble's sources, with its reps), on the host:
 // a leaf's points are one block copy, a representative one read each.
 PointColumns gather_node_points(const PointColumns& sorted, std::span<const NodePoints> sources,

@@ -37,14 +37,6 @@ std::vector<uint32_t> composed_order(std::span<const uint32_t> index, std::span<
   return order;
 }
 
-// out record i = src record order[i] on the host, for a column the device cannot hold.
-void host_gather(const uint8_t* src, uint32_t record_bytes, std::span<const uint32_t> order, uint8_t* out) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i)
-      std::memcpy(out + i * record_bytes, src + uint64_t{order[i]} * record_bytes, record_bytes);
-  });
-}
-
 // One column: n source records of record_bytes bytes, through the order in chunks of `chunk` records, into out
 // (order.size() records). A source within one binding is uploaded once, and each chunk of the order goes up, is
 // gathered and comes back through the same two small buffers. A larger source goes in slices, each uploaded once:
@@ -103,7 +95,7 @@ void gather_column(Device& dev, std::vector<T>&& src, uint64_t n, uint32_t per_p
     device_gather(dev, from, n, record_bytes, order, chunk, slice, to);
   } catch (const DeviceMemoryError&) {
     dev.finish();  // the device cannot hold this column's buffers: the host gathers it
-    host_gather(from, record_bytes, order, to);
+    gather_record_bytes(from, record_bytes, order, to);
   }
   src = std::vector<T>();
 }

@@ -143,18 +143,18 @@ struct PaletteSelection {
   // less than one bit per entry, recurse on both sides; else FINDREMAININGBLOCKS. An explicit stack: the
   // result does not depend on the order the ranges are taken.
   void large_blocks(uint32_t n) {
-    std::vector<std::pair<uint32_t, uint32_t>> todo = {{0, n}};
-    while (!todo.empty()) {
-      const auto [i, j] = todo.back();
-      todo.pop_back();
+    std::vector<std::pair<uint32_t, uint32_t>> ranges = {{0, n}};
+    while (!ranges.empty()) {
+      const auto [i, j] = ranges.back();
+      ranges.pop_back();
       if (i >= j) continue;
       bool taken = false;
       for (uint32_t omega = 0; omega < kPalettePhase1Omegas && !taken; ++omega) {
         const auto [k, l] = large[omega].largest(i, j);
         if ((uint64_t{1} << omega) * b + kPaletteDirBits < uint64_t{l - k}) {
           blocks.push_back({k, l});
-          todo.push_back({l, j});
-          todo.push_back({i, k});
+          ranges.push_back({l, j});
+          ranges.push_back({i, k});
           taken = true;
         }
       }

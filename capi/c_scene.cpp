@@ -115,6 +115,18 @@ void mvInitTraceArguments(MvTraceArguments* args) {
 }
 
 MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, size_t count, const MvTraceArguments* args) {
+  return mvTraceRaysRgba(scene, rays, hits, nullptr, count, args);
+}
+
+MvError mvGetSceneColourEntries(MvScene scene, uint64_t* entries) {
+  return guard(scene_device(scene), [&] {
+    require(scene && entries, "mvGetSceneColourEntries: scene or entries is NULL");
+    *entries = scene->file.colours.size() / 3;
+  });
+}
+
+MvError mvTraceRaysRgba(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, uint8_t* rgba, size_t count,
+                        const MvTraceArguments* args) {
   return guard(scene_device(scene), [&] {
     require(scene, "mvTraceRays: no scene");
     require((rays && hits) || count == 0, "mvTraceRays: rays or hits is NULL");
@@ -137,7 +149,11 @@ MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, siz
         }
         batch[i].tmax = r.tmax;
       }
-      const std::vector<mv::RayHit> got = tracer.trace(batch, options);
+      std::vector<uint32_t> colours;
+      const std::vector<mv::RayHit> got = tracer.trace(batch, options, rgba ? &colours : nullptr);
+      if (rgba)
+        for (size_t i = 0; i < n; ++i)
+          for (int k = 0; k < 4; ++k) rgba[4 * (first + i) + k] = colours.empty() ? 0 : colours[i] >> (8 * k) & 255;
       for (size_t i = 0; i < n; ++i) {
         const mv::RayHit& h = got[i];
         MvTraceHit& out = hits[first + i];

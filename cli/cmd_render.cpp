@@ -97,15 +97,18 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
     std::string input, output, shading = "shaded", cache_memory, path;
     CameraArgs camera;
     RenderOptions opt;
-    bool no_clobber = false;
+    bool no_clobber = false, no_colour = false;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("render", "Render a .mvx file to a PNG picture through the ray traversal kernel");
   cmd->footer(
       "Camera: a preset view framing the model (--view), or --eye/--target/--up/--fov in the model's own\n"
       "units (the coordinates of the mesh the file was built from). Shading: shaded (light, hard shadows and\n"
-      "ambient occlusion), normal, depth, level (false colour per level of detail) or heat (traversal steps).\n"
-      "Rays stop at cells smaller than --lod-pixels pixels (0: always go down to voxels).\n\n"
+      "ambient occlusion), normal, depth, level (false colour per level of detail), heat (traversal steps) or\n"
+      "colour (the voxel colours unlit). A file with voxel colours (built from a coloured cloud) is shaded with\n"
+      "them: a voxel's own colour, or where a ray stops at a coarser cell the mean of the voxels below it;\n"
+      "--no-colour renders it grey. Rays stop at cells smaller than --lod-pixels pixels (0: always go down to\n"
+      "voxels).\n\n"
       "Streaming: --cache-memory SIZE renders a paged file (built by this version: svo, svdag, ussvdag)\n"
       "through a device page cache of SIZE, which counts toward --device-memory: only the pages rays touch\n"
       "are read from the memory-mapped file. Each frame takes passes until no ray meets a missing page (the\n"
@@ -131,7 +134,8 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
   add_no_clobber_flag(*cmd, a->no_clobber);
   add_camera_options(*cmd, a->camera, "0,1,0", "Print JSON (one line per frame of a flight) instead of the summary");
   cmd->add_option("--path", a->path, "A camera flight (JSON): render its frames into the folder -o");
-  cmd->add_option("--shading", a->shading, "shaded, normal, depth, level or heat")->capture_default_str();
+  cmd->add_option("--shading", a->shading, "shaded, normal, depth, level, heat or colour")->capture_default_str();
+  cmd->add_flag("--no-colour", a->no_colour, "Shade grey even where the file has voxel colours");
   cmd->add_option("--lod-pixels", a->opt.lod_pixels, "Stop at cells smaller than this many pixels; 0 = voxels")
       ->capture_default_str();
   cmd->add_option("--ao-samples", a->opt.ao_samples, "Ambient-occlusion rays per hit (shaded)")->capture_default_str();
@@ -143,6 +147,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
   cmd->callback([a, &g, cmd] {
     const CameraVectors v = camera_vectors(a->camera);
     a->opt.shading = with_code(ErrorCode::invalid_argument, [&] { return parse_shading(a->shading); });
+    a->opt.colours = !a->no_colour;
     a->opt.width = a->camera.width;
     a->opt.height = a->camera.height;
     // Before the device opens or the file is read: a PNG or JPEG takes about a byte a pixel.
@@ -161,13 +166,16 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
       bounds = dag.bounds;
       format = encoding_name(dag.encoding);
       resolution = dag.grid.resolution;
+      if (dag.has_colours && frame_uses_colours(a->opt) && !a->camera.quiet)
+        std::fprintf(stderr, "megavox: %s has voxel colours, but streaming (--cache-memory) shows geometry only: "
+                             "render without --cache-memory to see them\n", a->input.c_str());
       tracer = std::make_unique<Tracer>(*dev, std::move(dag), parse_size(a->cache_memory));
     } else {
       MvxFile file = read_mvx(a->input);
       bounds = file.bounds;
       format = encoding_name(file.dag.encoding);
       resolution = file.grid.resolution;
-      tracer = std::make_unique<Tracer>(*dev, file);
+      tracer = std::make_unique<Tracer>(*dev, file, frame_uses_colours(a->opt));
     }
     std::vector<Camera> cams;
     if (!a->path.empty()) {
@@ -202,7 +210,8 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
                             {"height", a->opt.height}, {"shading", a->shading}, {"lod_pixels", a->opt.lod_pixels},
                             {"eye", {cam.eye[0], cam.eye[1], cam.eye[2]}},
                             {"target", {cam.target[0], cam.target[1], cam.target[2]}}, {"fov", cam.fov},
-                            {"hits", r.hits}, {"seconds", seconds}, {"passes", passes}};
+                            {"hits", r.hits}, {"seconds", seconds}, {"passes", passes},
+                            {"colours", tracer->has_colours()}};
         if (!a->path.empty()) j["frame"] = i;
         if (tracer->paged()) {
           j["cache"] = cache_json(r, seconds);
@@ -212,8 +221,9 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
         return;
       }
       if (a->path.empty()) {
-        std::printf("%s (%s, %u^3) -> %s: %ux%u %s on %s, %llu of %llu pixels hit\n", a->input.c_str(), format.c_str(),
-                    resolution, png.c_str(), a->opt.width, a->opt.height, a->shading.c_str(),
+        std::printf("%s (%s, %u^3%s) -> %s: %ux%u %s on %s, %llu of %llu pixels hit\n", a->input.c_str(),
+                    format.c_str(), resolution, tracer->has_colours() ? ", coloured" : "", png.c_str(), a->opt.width,
+                    a->opt.height, a->shading.c_str(),
                     dev->info().name.c_str(), (unsigned long long)r.hits,
                     (unsigned long long)a->opt.width * a->opt.height);
         for (const RenderPass& p : passes_by_name(r.passes))

@@ -208,7 +208,8 @@ void HttpApi::routes() {
       });
     });
   });
-  // Rays in: 7 little-endian f32 each (origin, direction, t_max); out: the 32-byte MvTraceHit per ray.
+  // Rays in: 7 little-endian f32 each (origin, direction, t_max); out: the 32-byte MvTraceHit per ray, then with
+  // ?colour=rgba 4 bytes of colour per ray.
   s.Post(R"(/v1/jobs/([0-9a-f]{1,32})/rays)", [this](const httplib::Request& req, httplib::Response& res) {
     handle(res, [&] {
       static_assert(sizeof(MvTraceRay) == 28 && sizeof(MvTraceHit) == 32);
@@ -218,9 +219,15 @@ void HttpApi::routes() {
                                  std::to_string(req.body.size()) + " bytes");
       std::vector<MvTraceRay> rays(req.body.size() / sizeof(MvTraceRay));
       if (!rays.empty()) std::memcpy(rays.data(), req.body.data(), req.body.size());
-      const std::vector<MvTraceHit> hits = pool_.trace(req.matches[1], rays.data(), rays.size());
-      res.set_content(std::string(reinterpret_cast<const char*>(hits.data()), hits.size() * sizeof(MvTraceHit)),
-                      "application/octet-stream");
+      const std::string colour = req.has_param("colour") ? req.get_param_value("colour") : "none";
+      if (colour != "none" && colour != "rgba")
+        throw HttpError(400, "colour must be none or rgba (4 bytes per ray after the hits); got '" + colour + "'");
+      std::vector<uint8_t> rgba;
+      const std::vector<MvTraceHit> hits =
+          pool_.trace(req.matches[1], rays.data(), rays.size(), colour == "rgba" ? &rgba : nullptr);
+      std::string body(reinterpret_cast<const char*>(hits.data()), hits.size() * sizeof(MvTraceHit));
+      body.append(reinterpret_cast<const char*>(rgba.data()), rgba.size());
+      res.set_content(std::move(body), "application/octet-stream");
     });
   });
 }

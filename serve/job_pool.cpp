@@ -262,7 +262,8 @@ MvScene JobPool::query_scene(const std::string& id, const std::string& path) {
   return s;
 }
 
-std::vector<MvTraceHit> JobPool::trace(const std::string& id, const MvTraceRay* rays, size_t count) {
+std::vector<MvTraceHit> JobPool::trace(const std::string& id, const MvTraceRay* rays, size_t count,
+                                       std::vector<uint8_t>* rgba) {
   std::string path;
   {
     std::lock_guard<std::mutex> g(lock_);
@@ -275,7 +276,8 @@ std::vector<MvTraceHit> JobPool::trace(const std::string& id, const MvTraceRay* 
   std::vector<MvTraceHit> hits(count);
   std::lock_guard<std::mutex> g(query_lock_);
   MvScene s = query_scene(id, path);
-  if (mvTraceRays(s, rays, hits.data(), count, nullptr) != MV_ERROR_NONE) {
+  if (rgba) rgba->assign(4 * count, 0);
+  if (mvTraceRaysRgba(s, rays, hits.data(), rgba ? rgba->data() : nullptr, count, nullptr) != MV_ERROR_NONE) {
     const MvError e = mvGetDeviceError(query_device_);
     const std::string m = mvGetDeviceLastErrorMessage(query_device_);
     throw HttpError(e == MV_ERROR_OUT_OF_MEMORY ? 503 : e == MV_ERROR_INPUT ? 400 : 500, m, 1);

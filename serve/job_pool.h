@@ -62,7 +62,9 @@ class JobPool {
   Result result(const std::string& id) const;  // 404, 409 (not done)
 
   // Ray queries against a finished build (HttpError 404, 409; 400 for bad rays).
-  std::vector<MvTraceHit> trace(const std::string& id, const MvTraceRay* rays, size_t count);
+  // rgba, when given, receives 4 bytes per ray: the hit's colour (mvTraceRaysRgba).
+  std::vector<MvTraceHit> trace(const std::string& id, const MvTraceRay* rays, size_t count,
+                                std::vector<uint8_t>* rgba = nullptr);
 
   // Stops taking jobs, cancels the queued and running ones, waits for the workers and deletes the files of
   // every job that did not finish. Idempotent.

@@ -174,7 +174,7 @@ JobRequest from_object(const json& j) {
     else if (key == "width") r.width = number(v, "width", 1, 8192);
     else if (key == "height") r.height = number(v, "height", 1, 8192);
     else if (key == "view") r.view = choice(v, "view", {"iso", "front", "back", "left", "right", "top"});
-    else if (key == "shading") r.shading = choice(v, "shading", {"shaded", "normal", "depth", "level", "heat"});
+    else if (key == "shading") r.shading = choice(v, "shading", {"shaded", "normal", "depth", "level", "heat", "colour"});
     else if (key == "eye") r.eye = vec3(v, "eye");
     else if (key == "target") r.target = vec3(v, "target");
     else if (key == "up") r.up = vec3(v, "up");

@@ -70,4 +70,28 @@ std::vector<ColourNode> preorder_colours(const std::vector<uint32_t>& cells, con
   return w.out;
 }
 
+NodeColours::NodeColours(const std::vector<uint64_t>& sorted_voxels, uint32_t levels, const std::vector<uint8_t>& rgb)
+    : index_(levels + 1), rgb_(rgb) {
+  uint64_t next = 0;
+  for (size_t k = 0; k < sorted_voxels.size(); ++k) {
+    const uint64_t v = sorted_voxels[k];
+    for (uint32_t l = levels; l >= 1; --l) {  // the nodes above v that no earlier voxel opened, root first
+      const uint64_t code = l >= 22 ? 0 : v >> (3 * l);
+      if (k == 0 || code != (l >= 22 ? 0 : sorted_voxels[k - 1] >> (3 * l))) index_[l][code] = next++;
+    }
+    index_[0][v] = next++;
+  }
+}
+
+uint32_t NodeColours::at(uint32_t level, uint32_t x, uint32_t y, uint32_t z) const {
+  uint64_t code = 0;
+  for (uint32_t b = 0; b < 21; ++b)
+    code |= (uint64_t{x} >> b & 1) << (3 * b) | (uint64_t{y} >> b & 1) << (3 * b + 1) | (uint64_t{z} >> b & 1) << (3 * b + 2);
+  if (level >= index_.size()) return 0;
+  const auto it = index_[level].find(code);
+  if (it == index_[level].end() || 3 * it->second + 2 >= rgb_.size()) return 0;
+  const uint8_t* c = &rgb_[3 * it->second];
+  return c[0] | uint32_t{c[1]} << 8 | uint32_t{c[2]} << 16 | 0xff000000u;
+}
+
 }  // namespace mv::ref

@@ -2,6 +2,7 @@
 // from codes to sums, a recursive pre-order walk. Shares no code with the kernels or the DAG.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <vector>
 
 namespace mv::ref {
@@ -20,5 +21,19 @@ std::vector<ColourNode> preorder_colours(const std::vector<uint32_t>& cells, con
 
 // The sorted unique voxel codes of those cells.
 std::vector<uint64_t> cloud_voxel_keys(const std::vector<uint32_t>& cells);
+
+// The colour of every octree node of a voxel set, looked up by cell: each node's pre-order index counted over the
+// sorted voxel codes (a node comes just before the first voxel below it), then that entry of the depth-first
+// colours. For the hit colours of ray traversal.
+class NodeColours {
+ public:
+  NodeColours(const std::vector<uint64_t>& sorted_voxels, uint32_t levels, const std::vector<uint8_t>& rgb);
+  // R | G << 8 | B << 16 | 255 << 24 of cell (x, y, z) of `level` (0 = voxels); 0 when the cell is empty.
+  uint32_t at(uint32_t level, uint32_t x, uint32_t y, uint32_t z) const;
+
+ private:
+  std::vector<std::map<uint64_t, uint64_t>> index_;  // per level: code -> pre-order index
+  const std::vector<uint8_t>& rgb_;
+};
 
 }  // namespace mv::ref

@@ -2,6 +2,7 @@
 #include <tbb/parallel_for.h>
 
 #include "megavox/render.h"
+#include "colour_reference.h"
 #include "trace_reference.h"
 #include "trace/host_trace.h"
 #include "render/frame.h"
@@ -27,6 +28,14 @@ RenderResult render_reference(const MvxFile& file, const Camera& camera, const R
   });
   RenderResult out;
   for (const MvHit& h : first) out.hits += MV_INFO_STATUS(h.info) == MV_TRACE_HIT;
+  if (frame_uses_colours(options) && !file.colours.empty()) {
+    const ref::NodeColours colours(decode_encoded(file.dag), file.dag.levels, file.colours);
+    res.colours.resize(n);
+    for (uint32_t i = 0; i < n; ++i)
+      res.colours[i] = MV_INFO_STATUS(first[i].info) != MV_TRACE_HIT
+                           ? 0
+                           : colours.at(MV_INFO_LEVEL(first[i].info), first[i].x, first[i].y, first[i].z);
+  }
   if (options.shading == Shading::shaded) {
     res.shadow.assign(n, 0);
     res.ao.assign(n, 0);

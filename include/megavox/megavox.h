@@ -172,6 +172,15 @@ MV_API void mvInitTraceArguments(MvTraceArguments* args);
 /* Traces count rays into hits[0..count) (args NULL: the defaults). The same bytes on every device. */
 MV_API MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, size_t count, const MvTraceArguments* args);
 
+/* As mvTraceRays, and each hit's colour into rgba[4 * i .. 4 * i + 3] (R, G, B, A) when rgba is not NULL: for a
+ * scene with voxel colours (built from a coloured point cloud) the hit cell's colour, a voxel's own or, at a
+ * coarser level, the mean of the voxels below it, with A = 255; all four 0 for a miss or a scene without colours. */
+MV_API MvError mvTraceRaysRgba(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, uint8_t* rgba, size_t count,
+                               const MvTraceArguments* args);
+
+/* The scene's stored colours (voxels and inner nodes, depth-first) into *entries: 0 when it has none. */
+MV_API MvError mvGetSceneColourEntries(MvScene scene, uint64_t* entries);
+
 /* ---- pictures ---- */
 
 typedef struct MvCamera {
@@ -182,7 +191,8 @@ typedef struct MvCamera {
 typedef struct MvRenderArguments {
   size_t byteSize;      /* sizeof(MvRenderArguments), set by mvInitRenderArguments */
   uint32_t width, height;
-  const char* shading;  /* "shaded" (default), "normal", "depth", "level" or "heat" */
+  const char* shading;  /* "shaded" (default), "normal", "depth", "level", "heat" or "colour" (a scene with voxel
+                           colours is shaded with them; "colour": unlit) */
   const char* view;     /* camera NULL: "iso" (default), "front", "back", "left", "right" or "top" */
   double lodPixels;     /* stop at cells smaller than this many pixels; 0: voxels only (default 1) */
   uint32_t aoSamples;   /* ambient-occlusion rays per hit (default 8, at most 256) */

@@ -107,6 +107,20 @@ class Scene : public detail::Handle<MvScene, mvRetainScene, mvReleaseScene> {
     detail::check(device_, mvTraceRays(get(), rays.data(), hits.data(), rays.size(), args));
     return hits;
   }
+  // As trace, with each hit's colour into rgba (4 bytes per ray; all 0 for a miss or a scene without colours).
+  std::vector<MvTraceHit> trace(const std::vector<MvTraceRay>& rays, std::vector<uint8_t>& rgba,
+                                const MvTraceArguments* args = nullptr) const {
+    std::vector<MvTraceHit> hits(rays.size());
+    rgba.assign(rays.size() * 4, 0);
+    detail::check(device_, mvTraceRaysRgba(get(), rays.data(), hits.data(), rgba.data(), rays.size(), args));
+    return hits;
+  }
+  // Colours stored (voxels and inner nodes): 0 without colours.
+  uint64_t colour_entries() const {
+    uint64_t n = 0;
+    detail::check(device_, mvGetSceneColourEntries(get(), &n));
+    return n;
+  }
   // RGBA, 4 bytes per pixel, rows top first.
   std::vector<uint8_t> render(const MvRenderArguments& args, const MvCamera* camera = nullptr) const {
     std::vector<uint8_t> rgba(size_t{args.width} * args.height * 4);

@@ -1,5 +1,6 @@
 // OpenCL entry points of ray traversal (bodies: common/trace.h, common/secondary.h).
 #include "common/secondary.h"
+#include "common/trace_colour.h"
 
 // One kernel per encoding family, the encoding a constant: svo / svdag / ussvdag (32-bit words) and ssvdag
 // (level starts read from memory, or taken from the parameters: mv_level_base).
@@ -67,4 +68,15 @@ __kernel void trace_rays_paged_ssvdag_whole_params(__global float* src, __global
 __kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global float* table,
                              __global uint* out, MvSecondaryParams p) {
   mv_secondary_rays(rays, cam, hits, table, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+// Each hit's colour from the depth-first colours (common/trace_colour.h): the 32-bit word encodings, and ssvdag.
+__kernel void hit_colours(__global uint* hits, __global uint* words, __global uint* bricks, __global uint* meta,
+                          __global uint* colours, __global uint* out, MvTraceParams p) {
+  mv_hit_colours(hits, words, bricks, meta, colours, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SVDAG);
+}
+
+__kernel void hit_colours_ssvdag(__global uint* hits, __global uint* words, __global uint* bricks, __global uint* meta,
+                                 __global uint* colours, __global uint* out, MvTraceParams p) {
+  mv_hit_colours(hits, words, bricks, meta, colours, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG);
 }

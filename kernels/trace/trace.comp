@@ -4,6 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/secondary.h"
+#include "common/trace_colour.h"
 
 #if defined(MV_ENTRY_trace_rays)
 /* MV_TRACE_ENC: the encoding family, MV_TRACE_PARAMS: level starts from the parameters; constants (see trace.cl) */
@@ -30,4 +31,12 @@ layout(push_constant) uniform Args {
   MvBufF32 rays; MvBufF32 cam; MvBufU32 hits; MvBufF32 table; MvBufU32 out_; MvSecondaryParams p;
 } a;
 void main() { mv_secondary_rays(a.rays, a.cam, a.hits, a.table, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_hit_colours)
+/* MV_TRACE_ENC: the encoding family, a constant (see trace.cl) */
+layout(push_constant) uniform Args {
+  MvBufU32 hits; MvBufU32 words; MvBufU32 bricks; MvBufU32 meta; MvBufU32 colours; MvBufU32 out_; MvTraceParams p;
+} a;
+void main() {
+  mv_hit_colours(a.hits, a.words, a.bricks, a.meta, a.colours, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC);
+}
 #endif

@@ -87,6 +87,17 @@ ptsfinal=$(wait_job "$ptsid")
 [[ $(jq -r .status <<< "$ptsfinal") == done && $(jq -r .stage <<< "$ptsfinal") == done ]] || fail "points: $ptsfinal"
 curl -sf "${auth[@]}" -o "$dir/lattice.mvx" "$url/v1/jobs/$ptsid/result"
 "$mv" points info "$dir/lattice.mvx" | grep -q "1000 points" || fail "points .mvx: $("$mv" points info "$dir/lattice.mvx" 2>&1)"
+# the coloured cloud as voxels, and a ray's colour beside its hit (?colour=rgba): the lattice point (5.5, 5.25, 9)
+# fills its voxel alone at 16^3 (a voxel is 9/16 wide), so a ray down onto it sees 125, 125, 225
+vox=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"build","input":"lattice.ply","resolution":16,"grid_origin":"min"}' "$url/v1/jobs")
+voxid=$(jq -r .id <<< "$vox")
+[[ $(jq -r .status <<< "$(wait_job "$voxid")") == done ]] || fail "coloured cloud build"
+node -e 'const f=new Float32Array([5.5,5.25,20, 0,0,-1, Infinity, 30,30,20, 0,0,-1, Infinity]);process.stdout.write(Buffer.from(f.buffer))' > "$dir/crays.bin"
+curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$dir/crays.bin" "$url/v1/jobs/$voxid/rays?colour=rgba" -o "$dir/chits.bin"
+[[ $(stat -c %s "$dir/chits.bin") == 72 ]] || fail "coloured hits: $(stat -c %s "$dir/chits.bin") bytes"
+[[ $(od -An -tu1 -j64 "$dir/chits.bin" | tr -s ' ') == " 125 125 225 255 0 0 0 0" ]] || fail "hit colours: $(od -An -tu1 -j64 "$dir/chits.bin")"
+[[ $(code "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$dir/crays.bin" "$url/v1/jobs/$voxid/rays?colour=rgb") == 400 ]] ||
+  fail "colour=rgb: not 400"
 tz=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"points","input":"lattice.ply","format":"3dtiles","max_node_points":100}' "$url/v1/jobs")
 tzid=$(jq -r .id <<< "$tz")
 [[ $(jq -r .status <<< "$(wait_job "$tzid")") == done ]] || fail "points 3dtiles"

@@ -20,6 +20,7 @@ enum class Shading {
   depth,   // distance along the view axis, near = bright
   level,   // false colour per level of detail the ray stopped at
   heat,    // traversal steps per pixel (log scale)
+  colour,  // the voxel colours as stored, unlit (grey where the file has none)
 };
 Shading parse_shading(const std::string& name);  // throws mv::Error naming the choices
 std::string shading_name(Shading s);
@@ -52,10 +53,16 @@ struct RenderOptions {
   // Unset: where the device does not trace on the host's cores (GPUs). On the 2-core CPU devices measured, the
   // reading thread took cores from the tracing: shaded flight frames 5 % slower with it (BENCHMARKS.md).
   std::optional<bool> read_ahead;
+  // Shade with the file's voxel colours (shaded and colour shadings) where the tracer has them: a voxel's own, or
+  // at a coarser level of detail the mean of the voxels below (docs/colour.md). Off: grey.
+  bool colours = true;
 };
 
+// Whether a frame with these options shows voxel colours, where the model has them.
+bool frame_uses_colours(const RenderOptions& options);
+
 struct RenderPass {
-  std::string name;   // "primary", "shadow", "ao"
+  std::string name;   // "primary", "colour" (the hits' colours), "shadow", "ao"
   uint64_t rays = 0;  // rays traced (secondary passes: one per hit and sample)
   double seconds = 0;
 };
@@ -66,7 +73,7 @@ struct RenderResult {
   uint64_t hits = 0;  // pixels whose primary ray hit
   // Paged tracers: one update per pass; converged when every tile's last pass met no missing page, so the
   // picture equals the resident render's. A frame is one tile unless its per-pixel device buffers (60 bytes a
-  // pixel shaded, 24 otherwise) exceed the device budget left beside the cache and the DAG, or its pages
+  // pixel shaded, 24 otherwise, 4 more with colours) exceed the device budget left beside the cache and the DAG, or its pages
   // exceed the cache: then bands of rows that fit, halved until their pages fit too (render.cpp).
   std::vector<CacheUpdateStats> cache;
   bool converged = true;

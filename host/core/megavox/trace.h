@@ -36,6 +36,7 @@ struct PagedDag {
   uint32_t pages = 0;
   // ssvdag: where its levels start in the paged stream (host/formats/paging/paged_ssvdag.h: levels + 1 entries)
   std::vector<uint64_t> level_starts;
+  bool has_colours = false;  // the file has voxel colours; paged traversal does not show them (yet: docs/colour.md)
   std::function<void(uint32_t page, std::span<uint32_t> words)> read;
 };
 
@@ -46,7 +47,8 @@ PagedDag open_paged_mvx(const std::string& path);
 
 class Tracer {
  public:
-  Tracer(Device& dev, const MvxFile& file);
+  // Uploads the file's voxel colours too, when it has them and `colours` is set.
+  Tracer(Device& dev, const MvxFile& file, bool colours = true);
   // Streams `dag` through a device page cache of `cache_bytes` (whole pages; counted in the device budget):
   // only the pages rays touch are loaded. Throws mv::Error when cache_bytes holds no page. A cache with room
   // for every page is, with `preload`, filled whole here instead, in page order (preloaded() tells how it went):
@@ -58,7 +60,13 @@ class Tracer {
 
   // Paged: passes over the batch until no ray misses a page (or options.max_passes); the hits equal those of
   // the resident DAG once it converges. last_passes() tells what each pass loaded.
-  std::vector<RayHit> trace(const std::vector<Ray>& rays, const TraceOptions& options = {});
+  // `colours`, when given and the file has voxel colours (has_colours()), receives one RGBA word per ray
+  // (R | G << 8 | B << 16 | A << 24): the hit cell's colour, a voxel's or, at a coarser level, the mean below it,
+  // with A = 255; 0 for a miss. Without colours in the file it is left empty.
+  std::vector<RayHit> trace(const std::vector<Ray>& rays, const TraceOptions& options = {},
+                            std::vector<uint32_t>* colours = nullptr);
+  // Whether hits carry colours: a resident tracer of a file with voxel colours.
+  bool has_colours() const;
 
   TraceEngine& engine() { return *engine_; }
   const GridTransform& grid() const { return grid_; }

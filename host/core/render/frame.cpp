@@ -27,9 +27,9 @@ constexpr uint32_t kAoTable = 256;
 }  // namespace
 
 Shading parse_shading(const std::string& name) {
-  for (Shading s : {Shading::shaded, Shading::normal, Shading::depth, Shading::level, Shading::heat})
+  for (Shading s : {Shading::shaded, Shading::normal, Shading::depth, Shading::level, Shading::heat, Shading::colour})
     if (shading_name(s) == name) return s;
-  throw Error("unknown shading '" + name + "' (choose shaded, normal, depth, level or heat)");
+  throw Error("unknown shading '" + name + "' (choose shaded, normal, depth, level, heat or colour)");
 }
 
 std::string shading_name(Shading s) {
@@ -39,6 +39,7 @@ std::string shading_name(Shading s) {
     case Shading::depth: return "depth";
     case Shading::level: return "level";
     case Shading::heat: return "heat";
+    case Shading::colour: return "colour";
   }
   return "?";
 }
@@ -208,9 +209,16 @@ bool depth_normal(const FrameSetup& s, const FrameResults& res, uint32_t x, uint
   return true;
 }
 
+// A hit's colour word as 0..1 channels (sRGB as stored).
+Rgb unpack_colour(uint32_t c) { return {(c & 0xff) / 255.0, (c >> 8 & 0xff) / 255.0, (c >> 16 & 0xff) / 255.0}; }
+
 uint8_t to_byte(double v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255)); }
 
 }  // namespace
+
+bool frame_uses_colours(const RenderOptions& o) {
+  return o.colours && (o.shading == Shading::shaded || o.shading == Shading::colour);
+}
 
 Image shade(const FrameSetup& s, const RenderOptions& o, const FrameResults& res) {
   Image img;
@@ -251,8 +259,14 @@ Image shade(const FrameSetup& s, const RenderOptions& o, const FrameResults& res
           double lit = res.shadow.empty() || res.shadow[i] == 0 ? 1.0 : 0.0;
           double ao = s.ao_samples && !res.ao.empty() ? 1.0 - double(res.ao[i]) / s.ao_samples : 1.0;
           double v = 0.32 * ao + 0.68 * diffuse * lit;
-          c = {0.86 * v, 0.83 * v, 0.78 * v};
-          c = {std::sqrt(c.r), std::sqrt(c.g), std::sqrt(c.b)};  // display gamma ~2
+          // the albedo in linear light (display gamma ~2: a stored colour squared), lit, back to display
+          Rgb albedo = {0.86, 0.83, 0.78};
+          if (!res.colours.empty()) {
+            const Rgb k = unpack_colour(res.colours[i]);
+            albedo = {k.r * k.r, k.g * k.g, k.b * k.b};
+          }
+          c = {albedo.r * v, albedo.g * v, albedo.b * v};
+          c = {std::sqrt(c.r), std::sqrt(c.g), std::sqrt(c.b)};
         }
         break;
       case Shading::normal:
@@ -270,6 +284,9 @@ Image shade(const FrameSetup& s, const RenderOptions& o, const FrameResults& res
           double v = 0.55 + 0.45 * facing;
           c = {p.r * v, p.g * v, p.b * v};
         }
+        break;
+      case Shading::colour:
+        if (hit) c = res.colours.empty() ? Rgb{0.6, 0.6, 0.6} : unpack_colour(res.colours[i]);
         break;
       case Shading::heat:
         c = heat_ramp(std::log2(double(std::max<uint32_t>(h.steps, 1))) / std::log2(double(std::max<uint32_t>(max_steps, 2))));

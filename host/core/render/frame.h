@@ -21,9 +21,10 @@ struct FrameSetup {
 
 FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera& camera, const RenderOptions& options);
 
-// Per-pixel trace results: hit records (MV_HIT_WORDS each) and occlusion counts (empty when not traced).
+// Per-pixel trace results: hit records (MV_HIT_WORDS each), occlusion counts and the hits' colours (R | G << 8 |
+// B << 16 | A << 24, kernels/common/trace_colour.h), each empty when not traced.
 struct FrameResults {
-  std::vector<uint32_t> hits, shadow, ao;
+  std::vector<uint32_t> hits, shadow, ao, colours;
 };
 
 Image shade(const FrameSetup& setup, const RenderOptions& options, const FrameResults& results);

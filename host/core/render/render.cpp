@@ -37,6 +37,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   };
 
   const bool shaded = options.shading == Shading::shaded;
+  const bool coloured = frame_uses_colours(options) && engine.has_colours();
   const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
   Buffer cam = dev.alloc(sizeof(s.camera), "camera");
   Buffer rays, counts, table;
@@ -46,13 +47,13 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   }
   // The per-pixel buffers hold one tile: the whole frame when the device budget left beside the page cache (and
   // the rest) holds it, else bands of whole rows that do, each traced with its own first pixel (MV_CAMERA_FIRST).
-  const uint64_t per_pixel = 4 * (MV_HIT_WORDS + (shaded ? MV_RAY_FLOATS + 1 : 0));
+  const uint64_t per_pixel = 4 * (MV_HIT_WORDS + (shaded ? MV_RAY_FLOATS + 1 : 0) + (coloured ? 1 : 0));
   // each buffer rounds up to whole pages; a paged tracer's cache update needs its batch beside them
   const uint64_t keep = 4 * dev.page_bytes() + (tracer.paged() ? tracer.cache()->update_scratch_bytes() : 0);
   const uint64_t budget = dev.memory_budget(), used = dev.memory_used();
   const uint64_t left = budget > used + keep ? budget - used - keep : 0;
   uint32_t rows = static_cast<uint32_t>(std::clamp<uint64_t>(left / (per_pixel * s.width), 1, s.height));
-  Buffer hits;
+  Buffer hits, colours;
   for (;;) {  // fewer rows when the pool cannot place them (its pages are carved out of a few arenas)
     try {
       hits = dev.alloc(uint64_t{rows} * s.width * MV_HIT_WORDS * 4, "primary hits");
@@ -60,9 +61,10 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
         rays = dev.alloc(uint64_t{rows} * s.width * MV_RAY_FLOATS * 4, "secondary rays");
         counts = dev.alloc(uint64_t{rows} * s.width * 4, "occlusion counts");
       }
+      if (coloured) colours = dev.alloc(uint64_t{rows} * s.width * 4, "hit colours");
       break;
     } catch (const DeviceMemoryError&) {
-      hits = Buffer(), rays = Buffer(), counts = Buffer();
+      hits = Buffer(), rays = Buffer(), counts = Buffer(), colours = Buffer();
       if (rows == 1)
         throw DeviceMemoryError("render: one row of " + std::to_string(s.width) + " pixels needs " +
                                 format_bytes(per_pixel * s.width) + " of device memory, and " + format_bytes(left) +
@@ -79,6 +81,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     if (s.ao_samples) res.ao.assign(n, 0);
   }
   res.hits.resize(uint64_t{n} * MV_HIT_WORDS);
+  if (coloured) res.colours.assign(n, 0);
 
   // One pass over the pixels [first, first + count) (a band of rows): primary rays, then for their hits the
   // shadow and AO rays; the results land in `res` at those pixels.
@@ -97,6 +100,10 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     pass("primary", t.count,
          [&] { engine.trace(nullptr, &cam, 0, t.count, s.width, s.proj, options.max_steps, false, hits); });
     dev.download(hits, res.hits.data() + uint64_t{t.first} * MV_HIT_WORDS, uint64_t{t.count} * MV_HIT_WORDS * 4);
+    if (coloured) {
+      pass("colour", t.count, [&] { engine.hit_colours(hits, 0, t.count, colours); });
+      dev.download(colours, res.colours.data() + t.first, uint64_t{t.count} * 4);
+    }
     for (uint32_t i = t.first; i < t.first + t.count; ++i) {
       const uint32_t info = mv_load_hit(res.hits.data(), i).info;
       const bool hit = MV_INFO_STATUS(info) == MV_TRACE_HIT;

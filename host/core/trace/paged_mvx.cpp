@@ -17,6 +17,7 @@ PagedDag open_paged_mvx(const std::string& path) {
   d.page_words = file->page_words();
   d.pages = file->pages();
   d.level_starts = file->level_starts();
+  d.has_colours = file->has_colours();
   d.read = [file](uint32_t page, std::span<uint32_t> words) {
     std::string error;
     if (!file->read_page(page, words, &error)) throw Error(error);

@@ -15,6 +15,7 @@
 #include "megavox/trace.h"
 #include "timing.h"
 #include "trace/trace_layout.h"
+#include "common/trace_colour.h"
 
 namespace mv {
 
@@ -154,10 +155,43 @@ void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buff
   dev_.barrier();
 }
 
+void TraceEngine::attach_colours(const EncodedDag& dag, const std::vector<uint8_t>& rgb) {
+  if (cache_) throw Error("trace: colours are traced on resident DAGs only");
+  const std::vector<uint32_t> meta = trace_colour_meta(dag);
+  const uint64_t root = meta.size() > MV_COLOUR_SIZES_AT(levels_) ? meta[MV_COLOUR_SIZES_AT(levels_)] : 0;
+  if (rgb.size() % 3 != 0 || rgb.size() / 3 != root)
+    throw Error("trace: " + std::to_string(rgb.size() / 3) + " colours for a DAG of " + std::to_string(root) +
+                " octree nodes");
+  const std::vector<uint32_t> words = trace_colour_words(rgb);
+  colour_meta_ = dev_.alloc(meta.size() * 4, "hit colour sizes");
+  dev_.upload(colour_meta_, meta.data(), meta.size() * 4);
+  colours_ = dev_.alloc(std::max<size_t>(words.size(), 1) * 4, "voxel colours");
+  if (!words.empty()) dev_.upload(colours_, words.data(), words.size() * 4);
+}
+
+void TraceEngine::hit_colours(const Buffer& hits, uint32_t first_hit, uint32_t count, Buffer& out) {
+  if (!has_colours()) throw Error("trace: the DAG has no colours");
+  const bool ssvdag = encoding_ == static_cast<uint32_t>(Encoding::ssvdag);
+  Kernel& k = dev_.kernel(ssvdag ? KernelId::hit_colours_ssvdag : KernelId::hit_colours);
+  const Buffer* bricks = ssvdag ? &bricks_ : &words_;
+  for_each_dispatch(first_hit, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t) {
+    MvTraceParams p = params_;
+    p.first = first;
+    p.count = n;
+    p.mode = MV_TRACE_MODE(levels_, 0u, 0u, 0u);
+    dev_.dispatch(k, groups, local, {&hits, &words_, bricks, &colour_meta_, &colours_, &out}, p);
+  });
+  dev_.barrier();
+}
+
 // ---- the public ray-query interface ----
 
-Tracer::Tracer(Device& dev, const MvxFile& file)
-    : grid_(file.grid), engine_(std::make_unique<TraceEngine>(dev, file.dag)) {}
+Tracer::Tracer(Device& dev, const MvxFile& file, bool colours)
+    : grid_(file.grid), engine_(std::make_unique<TraceEngine>(dev, file.dag)) {
+  if (colours && !file.colours.empty()) engine_->attach_colours(file.dag, file.colours);
+}
+
+bool Tracer::has_colours() const { return engine_->has_colours(); }
 
 Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
     : grid_(dag.grid), paged_(std::move(dag)) {
@@ -243,8 +277,10 @@ CacheUpdateStats Tracer::end_pass() {
   return st;
 }
 
-std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptions& options) {
+std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptions& options,
+                                  std::vector<uint32_t>* colours) {
   std::vector<RayHit> out(rays.size());
+  if (colours) colours->clear();
   if (rays.empty()) return out;
   if (rays.size() > UINT32_MAX / MV_HIT_WORDS) throw Error("trace: too many rays in one batch");
   // World to the root cube [0, 1)^3: a translation and one scale, so t keeps its meaning.
@@ -277,6 +313,12 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
   }
   std::vector<uint32_t> words(uint64_t{n} * MV_HIT_WORDS);
   dev.download(hit_buf, words.data(), words.size() * 4);
+  if (colours && has_colours()) {
+    Buffer colour_buf = dev.alloc(uint64_t{n} * 4, "hit colours");
+    engine_->hit_colours(hit_buf, 0, n, colour_buf);
+    colours->resize(n);
+    dev.download(colour_buf, colours->data(), uint64_t{n} * 4);
+  }
   for (uint32_t i = 0; i < n; ++i) {
     const MvHit w = mv_load_hit(words.data(), i);
     RayHit& h = out[i];

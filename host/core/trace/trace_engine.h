@@ -39,6 +39,15 @@ class TraceEngine {
   void trace(const Buffer* rays, const Buffer* camera, uint32_t first, uint32_t count, uint32_t width, float proj,
              uint32_t max_steps, bool occlusion, Buffer& results);
 
+  // Voxel colours (resident DAGs): `rgb`, RGB24 per octree node in depth-first order (docs/colour.md), uploaded
+  // with the subtree sizes the hit colour walk reads. Throws mv::Error when the entries are not the DAG's octree
+  // nodes, or when paged.
+  void attach_colours(const EncodedDag& dag, const std::vector<uint8_t>& rgb);
+  bool has_colours() const { return !colours_.empty(); }
+  // For hit records [first, first + count) of `hits`: each hit's colour, R | G << 8 | B << 16 | 255 << 24, a miss
+  // 0, into `out` at the same positions (kernel hit_colours: kernels/common/trace_colour.h).
+  void hit_colours(const Buffer& hits, uint32_t first, uint32_t count, Buffer& out);
+
   // Writes one secondary ray per primary ray of [first, first + count) (p.first / p.count are set here).
   void secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table, uint32_t first,
                  uint32_t count, MvSecondaryParams p, Buffer& out);
@@ -51,6 +60,7 @@ class TraceEngine {
   uint32_t levels_ = 0;
   uint32_t encoding_ = 0;
   Buffer words_, bricks_, level_offsets_;
+  Buffer colour_meta_, colours_;  // attach_colours
   bool starts_in_params_ = false;
   PageCache* cache_ = nullptr;
   uint32_t page_shift_ = 0;

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
+
+#include "common/trace_colour.h"
+#include "megavox/error.h"
 
 namespace mv {
 
@@ -24,6 +28,26 @@ std::vector<uint32_t> trace_level_offsets(const EncodedDag& dag) {
   for (uint32_t l = 0; l <= dag.levels && l < dag.level_offset.size(); ++l)
     offsets[l] = static_cast<uint32_t>(dag.level_offset[l]);
   return offsets;
+}
+
+std::vector<uint32_t> trace_colour_meta(const EncodedDag& dag) {
+  const std::vector<uint64_t> sizes = encoded_subtree_sizes(dag);
+  const uint32_t at = MV_COLOUR_SIZES_AT(dag.levels);
+  std::vector<uint32_t> meta(at + sizes.size(), 0);
+  const std::vector<uint32_t> starts = trace_level_offsets(dag);
+  std::copy(starts.begin(), starts.end(), meta.begin());
+  if (!sizes.empty() && sizes[0] > UINT32_MAX)
+    throw Error("trace: the DAG has " + std::to_string(sizes[0]) +
+                " octree nodes; a hit's colour index is 32-bit (at most 2^32 - 1 nodes)");
+  for (size_t i = 0; i < sizes.size(); ++i) meta[at + i] = static_cast<uint32_t>(sizes[i]);
+  return meta;
+}
+
+std::vector<uint32_t> trace_colour_words(const std::vector<uint8_t>& rgb) {
+  std::vector<uint32_t> words(rgb.size() / 3);
+  for (size_t i = 0; i < words.size(); ++i)
+    words[i] = rgb[3 * i] | uint32_t{rgb[3 * i + 1]} << 8 | uint32_t{rgb[3 * i + 2]} << 16;
+  return words;
 }
 
 void set_trace_levels(MvTraceParams& p, const EncodedDag& dag) {

@@ -20,6 +20,14 @@ std::vector<uint32_t> trace_bricks(const EncodedDag& dag);
 // ssvdag: where each level starts in the inner stream (index = level); empty for the other encodings.
 std::vector<uint32_t> trace_level_offsets(const EncodedDag& dag);
 
+// What the hit colour walk (kernels/common/trace_colour.h) reads beside the node words: the level starts (index =
+// level; ssvdag only, else zeros), then one 32-bit subtree size per stream position (encoded_subtree_sizes).
+// Throws mv::Error when the DAG has 2^32 octree nodes or more (the walk's indices are 32-bit).
+std::vector<uint32_t> trace_colour_meta(const EncodedDag& dag);
+
+// RGB24 depth-first colours as the walk reads them: one R | G << 8 | B << 16 word per entry.
+std::vector<uint32_t> trace_colour_words(const std::vector<uint8_t>& rgb);
+
 // Sets p.mode (the levels; rays from a buffer, hit records) and the ssvdag level starts the parameters carry.
 void set_trace_levels(MvTraceParams& p, const EncodedDag& dag);
 

@@ -244,6 +244,39 @@ std::vector<uint64_t> encoded_octree_nodes(const EncodedDag& enc) {
   return out;
 }
 
+std::vector<uint64_t> encoded_subtree_sizes_svdag(const EncodedDag& enc);  // svdag.cpp
+
+std::vector<uint64_t> encoded_subtree_sizes(const EncodedDag& enc) {
+  if (enc.encoding != Encoding::ssvdag) return encoded_subtree_sizes_svdag(enc);
+  std::vector<uint64_t> size(enc.inner.size(), 0);
+  auto add = [](uint64_t a, uint64_t b) { return a > UINT64_MAX - b ? UINT64_MAX : a + b; };
+  auto brick_size = [](uint64_t brick) {
+    uint64_t s = 1 + static_cast<uint64_t>(__builtin_popcountll(brick));
+    for (uint32_t x = 0; x < 2; ++x)  // the full 2x2x2 sub-blocks
+      for (uint32_t y = 0; y < 2; ++y)
+        for (uint32_t z = 0; z < 2; ++z) {
+          uint64_t cell = 0;
+          for (uint32_t v = 0; v < 8; ++v)
+            cell |= brick >> brick_bit(2 * x + (v & 1), 2 * y + (v >> 1 & 1), 2 * z + (v >> 2)) & 1;
+          s += cell;
+        }
+    return s;
+  };
+  // Levels bottom-up (level 3 last in the stream); pointers are relative to the child level's start.
+  for (uint32_t l = 3; l <= enc.levels && !enc.inner.empty(); ++l) {
+    const uint64_t begin = enc.level_offset[l], end = l == 3 ? enc.inner.size() : enc.level_offset[l - 1];
+    for (uint64_t w = begin; w < end;) {
+      uint64_t s = 1;
+      const uint64_t next = read_node(enc.inner, w, [&](uint32_t, Pointer p) {
+        s = add(s, l == 3 ? brick_size(enc.bricks[p.offset]) : size[enc.level_offset[l - 1] + p.offset]);
+      });
+      size[w] = s;
+      w = next;
+    }
+  }
+  return size;
+}
+
 void validate_encoded(const EncodedDag& enc) {
   if (enc.encoding == Encoding::ssvdag) validate_ssvdag(enc);
   else validate_svdag(enc);

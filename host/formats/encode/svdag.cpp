@@ -119,6 +119,27 @@ std::vector<uint64_t> encoded_octree_nodes_svdag(const EncodedDag& enc) {
   return out;
 }
 
+std::vector<uint64_t> encoded_subtree_sizes_svdag(const EncodedDag& enc) {
+  std::vector<uint64_t> size(enc.words.size(), 0);
+  auto add = [](uint64_t a, uint64_t b) { return a > UINT64_MAX - b ? UINT64_MAX : a + b; };
+  // Levels bottom-up, so a node's children are sized before it.
+  for (uint32_t l = 1; l <= enc.levels && !enc.words.empty(); ++l) {
+    const uint64_t end = l == 1 ? enc.words.size() : enc.level_offset[l - 1];
+    for (uint64_t w = enc.level_offset[l]; w < end;) {
+      const uint32_t mask = enc.words[w] & 0xff, kids = __builtin_popcount(mask);
+      if (l == 1) {
+        size[w++] = 1 + kids;
+        continue;
+      }
+      uint64_t s = 1;
+      for (uint64_t q = w + 1; q <= w + kids; ++q) s = add(s, size[enc.words[q]]);
+      size[w] = s;
+      w += 1 + kids;
+    }
+  }
+  return size;
+}
+
 std::vector<uint64_t> decode_svdag(const EncodedDag& enc) {
   validate_svdag(enc);
   std::vector<uint64_t> out;

@@ -42,6 +42,7 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
       bounds_.hi[a] = h.bounds_hi[a];
     }
     voxels_ = h.voxels;
+    has_colours_ = o.find[kColours] != nullptr;
     nodes_offset_ = o.find[kNodes]->offset;
     file_bytes = nodes_offset_ + o.find[kNodes]->bytes;
   }

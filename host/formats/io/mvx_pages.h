@@ -34,6 +34,8 @@ class MvxPages {
   const std::string& path() const { return path_; }
   // ssvdag: where its levels start in the paged stream (PagedSsvdag::starts); empty otherwise.
   const std::vector<uint64_t>& level_starts() const { return starts_; }
+  // Whether the file has a voxel colour section (not streamed: paged traversal shows geometry only).
+  bool has_colours() const { return has_colours_; }
 
   // Copies page `page` into `out` (page_words() words; the last page zero-padded) and checks its hash.
   // False with a message in *error on a page past the end, a wrong `out` size, a failed read (io::faults
@@ -52,6 +54,7 @@ class MvxPages {
   uint64_t words_ = 0;
   std::vector<uint64_t> hashes_;
   std::vector<uint64_t> starts_;
+  bool has_colours_ = false;
   io::MappedFile map_;                  // the whole file, read-only
   uint64_t nodes_offset_ = 0;           // of the nodes section in the file
 };

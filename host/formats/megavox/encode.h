@@ -62,6 +62,12 @@ enum class NodeOrder : uint32_t { level = 0, subtree = 1 };
 std::vector<uint64_t> encoded_octree_nodes_svdag(const EncodedDag& enc);
 std::vector<uint64_t> encoded_octree_nodes(const EncodedDag& enc);
 
+// The depth-first subtree size (octree nodes below and including it, voxels counted, every path once) of each
+// node of a validated encoding, at its stream position: per 32-bit word for svo / svdag / ussvdag, per 16-bit
+// word of the inner stream for an ssvdag; positions that start no node hold 0. The colour walk of a ray hit
+// (kernels/common/trace_colour.h) reads them (saturating at 2^64 - 1).
+std::vector<uint64_t> encoded_subtree_sizes(const EncodedDag& enc);
+
 // Validates / decodes whichever encoding `enc` holds.
 void validate_encoded(const EncodedDag& enc);
 std::vector<uint64_t> decode_encoded(const EncodedDag& enc);

@@ -1,0 +1,128 @@
+/* A hit's colour (docs/colour.md), written once for the host, OpenCL C and GLSL. The colours are one per octree
+ * node in depth-first order, so a hit's colour is entry index(cell), where the index comes from a walk from the
+ * root down to the hit's cell: a child's index is its parent's + 1 + the subtree sizes of its earlier siblings in
+ * the order the walk sees them (mirrored where a pointer's tag says so). The walk reads the same node words as the
+ * traversal (trace_nodes.h) plus one 32-bit subtree size per inner node above the leaves' parents (the `meta`
+ * buffer); the sizes of the nodes two levels above the voxels come from their own masks.
+ *
+ * It runs after the trace, once per hit, and leaves the trace loop as it is: a render without colour pays
+ * nothing, and the walk's cost (at most L levels of 8 sibling sizes) is paid only where a ray hit. */
+#ifndef MV_TRACE_COLOUR_H
+#define MV_TRACE_COLOUR_H
+#include "trace_nodes.h"
+
+/* meta: where the level starts lie (index = level, ssvdag: in 16-bit words of the inner stream; zeros for the
+ * word encodings), then from MV_COLOUR_SIZES_AT(L) one subtree size per stream position: per 32-bit word for the
+ * word encodings, per 16-bit word of the inner stream for an ssvdag; only node starts of levels >= 3 are read. */
+#define MV_COLOUR_SIZES_AT(L) ((L) + 1u)
+#define MV_COLOUR_ALPHA 0xff000000u /* a hit's colour word: R | G << 8 | B << 16 | 255 << 24; a miss: 0 */
+
+/* The subtree size of an ssvdag brick (a level-2 node): itself, its full 2^3 sub-blocks and its voxels. */
+MV_INLINE mv_u32 mv_brick_size(mv_u32 lo, mv_u32 hi) {
+  return 1u + MV_POPCOUNT(mv_brick_occupancy(lo, hi)) + MV_POPCOUNT(lo) + MV_POPCOUNT(hi);
+}
+
+/* One stored child of a node: where it is (a word; an ssvdag inner node: a 16-bit word of its level's start +
+ * offset; a brick: its number), its mirror tag, and its subtree size. */
+MV_STRUCT_BEGIN(MvColourChild)
+  mv_u32 at;
+  mv_u32 tag;
+  mv_u32 size;
+MV_STRUCT_END(MvColourChild)
+
+/* Stored child `v` (Morton) of the node `node` (header `hdr`) of level l >= 2. Word encodings: level 2's
+ * children are one-word leaves sized by their masks. ssvdag: l >= 3 (bricks are handled by the caller). */
+MV_INLINE MvColourChild mv_colour_child(MvBufU32 words, MvBufU32 bricks, MvBufU32 meta, mv_u32 enc, mv_u32 L,
+                                        mv_u32 l, mv_u32 node, mv_u32 hdr, mv_u32 v) {
+  MvColourChild c;
+  mv_u32 t8 = mv_xmajor_octant(v);
+  if (!mv_enc_compact(enc)) {
+    c.at = MV_LD(words, mv_word_child_at(node, hdr, t8));
+    c.tag = mv_word_child_tag(hdr, t8);
+    c.size = l == 2u ? 1u + MV_POPCOUNT(MV_LD(words, c.at) & 0xffu) : MV_LD(meta, MV_COLOUR_SIZES_AT(L) + c.at);
+    return c;
+  }
+  mv_u32 at = mv_ssvdag_child_at(node, hdr, t8);
+  mv_u32 ptr = mv_inner_words(mv_node_load(words, bricks, enc, l, at), at);
+  mv_u32 off = mv_ssvdag_offset(ptr, mv_ssvdag_child_code(hdr, t8));
+  c.tag = mv_ssvdag_tag(ptr);
+  if (l == 3u) {
+    c.at = off;
+    c.size = mv_brick_size(MV_LD(bricks, 2u * off), MV_LD(bricks, 2u * off + 1u));
+  } else {
+    c.at = MV_LD(meta, l - 1u) + off;
+    c.size = MV_LD(meta, MV_COLOUR_SIZES_AT(L) + c.at);
+  }
+  return c;
+}
+
+/* The depth-first index of the cell (x, y, z) of level lc in a DAG of L levels (the cell is full: a hit). */
+MV_INLINE mv_u32 mv_hit_attribute(MvBufU32 words, MvBufU32 bricks, MvBufU32 meta, mv_u32 enc, mv_u32 L,
+                                  mv_u32 x, mv_u32 y, mv_u32 z, mv_u32 lc) {
+  mv_u32 index = 0u;
+  mv_u32 node = 0u; /* the root: word 0, or the inner stream's 16-bit word 0 */
+  mv_u32 hdr = mv_enc_compact(enc) ? mv_inner_word(mv_node_load(words, bricks, enc, L, 0u), 0u) : MV_LD(words, 0u);
+  mv_u32 lo = 0u, hi = 0u; /* ssvdag: the brick, once the walk is in one */
+  mv_u32 mir = 0u;
+  for (mv_u32 l = L; l > lc; --l) {
+    mv_u32 sh = l - 1u - lc;
+    mv_u32 a = ((x >> sh) & 1u) | (((y >> sh) & 1u) << 1) | (((z >> sh) & 1u) << 2); /* the octant as seen */
+    bool in_brick = mv_enc_compact(enc) && l <= 2u;
+    mv_u32 occ = !in_brick ? mv_node_occupancy(enc, hdr)
+                 : l == 2u ? mv_brick_occupancy(lo, hi)
+                           : mv_sub_block_occupancy(lo, hi, node);
+    mv_u32 skip = 1u;
+    mv_u32 next = 0u, next_tag = 0u;
+    for (mv_u32 b = 0u; b < 8u; ++b) {
+      mv_u32 v = b ^ mir;
+      if (b > a || ((occ >> v) & 1u) == 0u) continue;
+      mv_u32 size = 1u, at = v, tag = 0u;
+      if (l == 2u && in_brick) {
+        size = 1u + MV_POPCOUNT(mv_sub_block_occupancy(lo, hi, v));
+      } else if (l >= 2u) {
+        MvColourChild c = mv_colour_child(words, bricks, meta, enc, L, l, node, hdr, v);
+        size = c.size;
+        at = c.at;
+        tag = c.tag;
+      }
+      if (b < a) skip += size;
+      else {
+        next = at;
+        next_tag = tag;
+      }
+    }
+    index += skip;
+    /* into the child: its words (a brick's halves once at level 2; a sub-block keeps the brick and its slot) */
+    mir = mir ^ next_tag;
+    node = next;
+    if (mv_enc_compact(enc) && l == 3u) {
+      lo = MV_LD(bricks, 2u * next);
+      hi = MV_LD(bricks, 2u * next + 1u);
+    } else if (!(mv_enc_compact(enc) && l <= 2u) && l >= 2u) {
+      mv_u64 data = mv_node_load(words, bricks, enc, l - 1u, next);
+      hdr = mv_enc_compact(enc) ? mv_inner_word(data, next) : MV_U32(data);
+    }
+  }
+  return index;
+}
+
+#if !defined(MV_CPP)
+/* One work-item's share of hits [p.first, p.first + p.count): each hit's colour word (MV_COLOUR_ALPHA set) from
+ * `colours` (one R | G << 8 | B << 16 word per depth-first entry), 0 for a miss. The levels come from p.mode. */
+MV_INLINE void mv_hit_colours(MvBufU32 hits, MvBufU32 words, MvBufU32 bricks, MvBufU32 meta, MvBufU32 colours,
+                              MvBufU32 colour_out, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc) {
+  const mv_u32 L = MV_TRACE_LEVELS(p);
+  for (mv_u32 j = gid; j < p.count; j += gsize) {
+    mv_u32 i = p.first + j;
+    MvHit h = mv_load_hit(hits, i);
+    mv_u32 rgba = 0u;
+    if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) {
+      mv_u32 e = mv_hit_attribute(words, bricks, meta, enc, L, h.x, h.y, h.z, MV_INFO_LEVEL(h.info));
+      rgba = MV_LD(colours, e) | MV_COLOUR_ALPHA;
+    }
+    MV_ST(colour_out, i, rgba);
+  }
+}
+#endif
+
+#endif /* MV_TRACE_COLOUR_H */

@@ -93,6 +93,7 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_page_layout_command(CLI::App& bench);
 void add_bench_cache_update_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g);
+void add_bench_attributes_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g);
 void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app, const GlobalOptions& g);

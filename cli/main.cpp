@@ -109,6 +109,7 @@ int main(int argc, char** argv) {
   mv::cli::add_bench_page_layout_command(*bench);
   mv::cli::add_bench_cache_update_command(*bench, g);
   mv::cli::add_bench_cache_command(*bench, g);
+  mv::cli::add_bench_attributes_command(*bench, g);
   mv::cli::add_bench_mask_command(*bench, g);
 
   // With --json anywhere on the line, a failure is one JSON object on stdout, like the verb's output would be.

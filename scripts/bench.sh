@@ -50,3 +50,7 @@ if [[ -f $igea ]]; then
 elif ((${#clouds[@]})); then
   run build/megavox --device ocl:0 bench points "${clouds[@]}" --json
 fi
+# Voxel colours on the shared coloured clouds, both backends (about a minute).
+if [[ -d $data/pointcloud_autzen ]]; then
+  for dev in ocl:0 vk:0; do run build/megavox --device "$dev" bench attributes --data "$data" --json; done
+fi

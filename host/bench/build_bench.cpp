@@ -1,10 +1,9 @@
 #include "build_bench.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <filesystem>
 
+#include "peak_rss.h"
 #include "scratch_dir.h"
 #include "megavox/error.h"
 #include "stopwatch.h"
@@ -16,12 +15,6 @@ namespace {
 // Stages of build_mvx's report that come before the DAG reduction (build_pipeline.cpp names them).
 bool voxelization_stage(const std::string& name) {
   return name == "read" || name == "voxelize" || name == "voxelize+cubes";
-}
-
-uint64_t peak_rss_bytes() {
-  struct rusage u {};
-  ::getrusage(RUSAGE_SELF, &u);
-  return uint64_t(u.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
 double difference(uint64_t ours, uint64_t theirs) {

@@ -1,7 +1,5 @@
 #include "points_bench.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -12,6 +10,7 @@
 #include <fstream>
 #include <random>
 
+#include "peak_rss.h"
 #include "scratch_dir.h"
 #include "io/mesh_source.h"
 #include "io/point_source.h"
@@ -36,22 +35,6 @@ void put_le32(uint8_t* out, float f) {
 }
 
 uint8_t normal_channel(double n) { return uint8_t(std::clamp(std::lround((n * 0.5 + 0.5) * 255.0), 0L, 255L)); }
-
-// This process's peak resident set (getrusage RUSAGE_SELF; Linux reports KiB).
-uint64_t peak_rss_bytes() {
-  struct rusage u {};
-  ::getrusage(RUSAGE_SELF, &u);
-  return uint64_t(u.ru_maxrss) * 1024;
-}
-
-// Resets the peak to the current resident set (Linux 4.0+: "5" to /proc/self/clear_refs); false where it cannot.
-bool reset_peak_rss() {
-  std::ofstream f("/proc/self/clear_refs");
-  if (!f) return false;
-  f << "5";
-  f.flush();
-  return bool(f);
-}
 
 }  // namespace
 

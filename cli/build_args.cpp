@@ -41,12 +41,15 @@ void add_build_options(CLI::App& cmd, BuildArgs& a) {
       ->check(CLI::IsMember({"conservative", "thin"}))
       ->capture_default_str();
   cmd.add_option("--attributes", a.attributes,
-                 "Point clouds: voxel colours. rgb: the mean of each voxel's points (inner nodes: of the voxels below),\n"
-                 "stored in depth-first order beside the DAG; none: geometry only; auto: rgb when the cloud has colour")
+                 "Voxel colours, stored in depth-first order beside the DAG. rgb: a cloud's voxel takes the mean of its\n"
+                 "points; a mesh's voxel the colour at the point nearest its centre on the triangles overlapping it\n"
+                 "(vertex colours interpolated; PLY red, green, blue as uchar or ushort, or vertex colours assimp\n"
+                 "reads; meshes build colours in core); inner nodes the mean of the voxels below. none: geometry\n"
+                 "only; auto: rgb when the input has colour")
       ->check(CLI::IsMember({"auto", "none", "rgb"}))
       ->capture_default_str();
   cmd.add_option("--colour-bits", a.colour_bits,
-                 "Point clouds: 24 keeps the colours; 16, 14 or 12 quantize them to at most 2^bits colours (k-means in\n"
+                 "Colours: 24 keeps them; 16, 14 or 12 quantize them to at most 2^bits colours (k-means in\n"
                  "CIELAB, deterministic) before palette compression, and report the errors (RGB, ΔE CIE94)")
       ->check(CLI::IsMember({24u, 16u, 14u, 12u}))
       ->capture_default_str();

@@ -17,8 +17,8 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
   auto* cmd = app.add_subcommand(
       "export",
       "Write a .mvx for other tools: SymVox-family DAG files (the SSVDAG authors' viewer; voxcom reads the 32-bit\n"
-      "ones), the voxels as an OpenVDB mask grid / NanoVDB grid named 'voxels', or as a PLY of voxel centres with\n"
-      "their colours. Examples:\n"
+      "ones; geometry only), the voxels as an OpenVDB mask grid / NanoVDB grid named 'voxels' (with a Vec3s grid\n"
+      "'colour' beside it when the file has colours), or as a PLY of voxel centres with their colours. Examples:\n"
       "  megavox export bunny.mvx --format symvox-ssvdag -o bunny.ssvdag\n"
       "  megavox export bunny.mvx --format vdb -o bunny.vdb\n"
       "  megavox export lion.mvx --format ply -o lion_voxels.ply");
@@ -27,7 +27,7 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
   add_no_clobber_flag(*cmd, o->no_clobber);
   cmd->add_option("--format", *format,
                   "symvox-svdag (32-bit SVDAG), symvox-ussvdag (32-bit, per-child mirror bits), symvox-ssvdag\n"
-                  "(SymVox's compact 16-bit SSVDAG), vdb (OpenVDB MaskGrid), nvdb (NanoVDB) or ply (one vertex per\n"
+                  "(SymVox's compact 16-bit SSVDAG), vdb (OpenVDB MaskGrid, + Vec3s 'colour'), nvdb (NanoVDB) or ply (one vertex per\n"
                   "voxel: its centre, and uchar red, green, blue when the file has colours)")
       ->required()
       ->check(CLI::IsMember({"symvox-svdag", "symvox-ussvdag", "symvox-ssvdag", "vdb", "nvdb", "ply"}));
@@ -39,7 +39,8 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
     ExportReport r = export_mvx(*dev, *o);
     if (*json) {
       std::cout << nlohmann::json{{"input", r.input}, {"output", r.output}, {"format", r.format},
-                                  {"voxels", r.voxels}, {"bytes", r.bytes}, {"rebuilt", r.rebuilt}}
+                                  {"voxels", r.voxels}, {"bytes", r.bytes}, {"rebuilt", r.rebuilt},
+                                  {"colours_dropped", r.colours_dropped}}
                        .dump(2)
                 << "\n";
       return;
@@ -47,6 +48,9 @@ void add_export_command(CLI::App& app, const GlobalOptions& g) {
     std::printf("%s -> %s (%s%s): %llu voxels, %llu bytes\n", r.input.c_str(), r.output.c_str(), r.format.c_str(),
                 r.rebuilt ? ", re-encoded from the voxels" : "", (unsigned long long)r.voxels,
                 (unsigned long long)r.bytes);
+    if (r.colours_dropped)
+      std::fprintf(stderr, "megavox: %s: its voxel colours are not exported: %s files hold geometry only (export "
+                           "--format ply or vdb keeps them)\n", r.input.c_str(), r.format.c_str());
   });
 }
 

@@ -1,6 +1,8 @@
 // Coloured point clouds through the whole build on every device: PLY and LAS in, .mvx out and back, PLY export.
 // Geometry does not change with colour; points on voxel faces fall in the upper voxel (the top face in the last);
 // 16-bit LAS colours keep their high byte unless every value fits 8 bits.
+#include <nanovdb/util/IO.h>
+#include <openvdb/openvdb.h>
 #include <xxhash.h>
 
 #include <cstring>
@@ -151,6 +153,39 @@ TEST_P(ColourFilesTest, PlyCloudBuildsRoundTripsAndExports) {
     read_voxel_ply(x.output, centres, rgb, colour);
     EXPECT_FALSE(colour);
     EXPECT_EQ(centres, want_centres);
+
+    // OpenVDB and NanoVDB: a Vec3s grid 'colour' beside the mask, each voxel's colour / 255; SymVox drops them
+    x.input = out;
+    x.output = temp_path("faces_" + encoding_name(e) + ".vdb");
+    x.format = ExportFormat::vdb;
+    EXPECT_FALSE(export_mvx(dev, x).colours_dropped);
+    openvdb::initialize();
+    openvdb::io::File file(x.output);
+    file.open();
+    auto grid = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("colour"));
+    file.close();
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->activeVoxelCount(), want_rgb.size() / 3);
+    auto acc = grid->getConstAccessor();
+    x.output = temp_path("faces_" + encoding_name(e) + ".nvdb");
+    x.format = ExportFormat::nvdb;
+    export_mvx(dev, x);
+    auto handle = nanovdb::io::readGrid(x.output, "colour");
+    const auto* nano = handle.grid<nanovdb::Vec3f>();
+    ASSERT_NE(nano, nullptr);
+    auto nacc = nano->getAccessor();
+    size_t wrong = 0;
+    for (size_t i = 0; i < want_rgb.size() / 3; ++i) {
+      const openvdb::Coord c(int(want_centres[3 * i]), int(want_centres[3 * i + 1]), int(want_centres[3 * i + 2]));
+      const openvdb::Vec3s v = acc.getValue(c);
+      const nanovdb::Vec3f nv = nacc.getValue(nanovdb::Coord(c.x(), c.y(), c.z()));
+      for (int k = 0; k < 3; ++k)
+        wrong += v[k] != want_rgb[3 * i + k] / 255.0f || nv[k] != want_rgb[3 * i + k] / 255.0f || !acc.isValueOn(c);
+    }
+    EXPECT_EQ(wrong, 0u);
+    x.output = temp_path("faces_" + encoding_name(e) + ".svdag");
+    x.format = ExportFormat::symvox_svdag;
+    EXPECT_TRUE(export_mvx(dev, x).colours_dropped);
   }
 }
 

@@ -22,6 +22,25 @@ std::vector<ColourNode> preorder_colours(const std::vector<uint32_t>& cells, con
 // The sorted unique voxel codes of those cells.
 std::vector<uint64_t> cloud_voxel_keys(const std::vector<uint32_t>& cells);
 
+// The voxel colours of a mesh by the rule (docs/colour.md), plainly: for every triangle (grid units, 9 floats),
+// every voxel ref::voxelize gives it alone; per voxel the triangle whose nearest point to the voxel's centre is
+// nearest (squared distance in double; ties: the lower index), and the vertex colours (`tri_rgb`, 3 0xBBGGRR per
+// triangle) interpolated at that point, rounded half up. Returns the voxels' sorted codes and their colours.
+struct MeshVoxelColours {
+  std::vector<uint64_t> keys;
+  std::vector<uint32_t> rgb;
+};
+// With textures: `tri_tex` per triangle (0xffffffff: none) and `tri_uv` 6 floats (u v per vertex); a textured
+// triangle's colour is its texture (`textures`: width, height, then 0xBBGGRR texels rows top first) sampled
+// bilinearly, repeating, at the interpolated coordinates (v = 0 at the bottom row).
+struct RefTexture {
+  uint32_t width = 0, height = 0;
+  std::vector<uint32_t> rgb;
+};
+MeshVoxelColours mesh_voxel_colours(const std::vector<float>& grid_tris, const std::vector<uint32_t>& tri_rgb,
+                                    uint32_t resolution, const std::vector<uint32_t>& tri_tex = {},
+                                    const std::vector<float>& tri_uv = {}, const std::vector<RefTexture>& textures = {});
+
 // The colour of every octree node of a voxel set, looked up by cell: each node's pre-order index counted over the
 // sorted voxel codes (a node comes just before the first voxel below it), then that entry of the depth-first
 // colours. For the hit colours of ray traversal.

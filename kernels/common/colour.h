@@ -9,6 +9,7 @@
  * 2^32 / 255 voxels passes 32 bits). The segmented sums of each plane over the elements' parents give that many
  * 64-bit planes for the level above; the host sums only the leading planes that can be nonzero.
  *   colour_unpack:      points' packed 0xBBGGRR -> planes (r, g, b, 1, 0, 0, 0, 0): a point is one sample;
+ *                       `leaf` 1: they are voxels of one sample each, subtree size 1 (their own level's planes);
  *   colour_level:       64-bit plane sums of n nodes -> rgb[i] (each channel sum / count rounded half up) and the
  *                       planes the level above sums; `leaf` 1: the nodes are voxels made of points, so a voxel
  *                       counts as one sample of its mean colour, with subtree size 1;
@@ -30,7 +31,7 @@
 
 MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;     /* elements of the dispatch */
-  mv_u32 leaf;  /* colour_level: 1 for voxels made of points */
+  mv_u32 leaf;  /* colour_level: 1 for voxels made of points; colour_unpack: 1 for voxels of one colour each */
   mv_u32 shift; /* colour_parent_keys: bits the keys shift right */
   mv_u32 below; /* colour_child_sums: elements of the level below (its planes' stride) */
   mv_u32 used;  /* colour_child_sums: the leading planes summed (the rest can only sum to zero) */
@@ -50,7 +51,7 @@ MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p,
       MV_ST(planes, (MV_COLOUR_HIGH + k) * p.n + i, 0u);
     }
     MV_ST(planes, MV_COLOUR_COUNT * p.n + i, 1u);
-    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, 0u);
+    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, p.leaf != 0u ? 1u : 0u);
   }
 }
 

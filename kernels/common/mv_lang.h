@@ -126,6 +126,8 @@ typedef double mv_f64;
 #define MV_FIND_MSB(x) (31u - (mv_u32)std::countl_zero((mv_u32)(x))) /* x != 0 */
 #define MV_FIND_LSB(x) ((mv_u32)std::countr_zero((mv_u32)(x))) /* x != 0 */
 #define MV_FBITS(x) std::bit_cast<mv_u32>((mv_f32)(x))
+#define MV_DBITS_HI(x) ((mv_u32)(std::bit_cast<mv_u64>((mv_f64)(x)) >> 32)) /* a double's bits, high word */
+#define MV_DBITS_LO(x) ((mv_u32)std::bit_cast<mv_u64>((mv_f64)(x)))
 #define MV_BITSF(x) std::bit_cast<mv_f32>((mv_u32)(x))
 #define MV_F32(x) ((mv_f32)(x))
 #elif defined(MV_OPENCL)
@@ -133,6 +135,8 @@ typedef double mv_f64;
 #define MV_FIND_MSB(x) (31u - clz((uint)(x)))
 #define MV_FIND_LSB(x) (31u - clz((uint)(x) & (0u - (uint)(x)))) /* OpenCL 1.2 has no ctz */
 #define MV_FBITS(x) as_uint((float)(x))
+#define MV_DBITS_HI(x) ((uint)(as_ulong((double)(x)) >> 32))
+#define MV_DBITS_LO(x) ((uint)as_ulong((double)(x)))
 #define MV_BITSF(x) as_float((uint)(x))
 #define MV_F32(x) ((float)(x))
 #else
@@ -140,6 +144,8 @@ typedef double mv_f64;
 #define MV_FIND_MSB(x) uint(findMSB(uint(x)))
 #define MV_FIND_LSB(x) uint(findLSB(uint(x)))
 #define MV_FBITS(x) floatBitsToUint(float(x))
+#define MV_DBITS_HI(d_) (unpackDouble2x32(double(d_)).y)
+#define MV_DBITS_LO(d_) (unpackDouble2x32(double(d_)).x)
 #define MV_BITSF(x) uintBitsToFloat(uint(x))
 #define MV_F32(x) float(x)
 #endif

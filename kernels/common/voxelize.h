@@ -29,21 +29,28 @@ MV_STRUCT_BEGIN(MvVoxelizeParams)
   mv_u32 items;
   mv_u32 grid;             /* voxels per axis, N <= 2^21 */
   mv_u32 columns_per_item; /* brick columns one work item walks at most */
-  mv_u32 capacity;         /* bricks the keys and masks buffers hold; past it, bricks are counted, not written */
+  mv_u32 capacity;         /* bricks the keys and masks buffers hold; past it, bricks are counted, not written
+                              (mesh colours: the voxels) */
   mv_u32 box_size;         /* only voxels of the cube [box, box + box_size) (out-of-core builds) */
   mv_u32 box_x;
   mv_u32 box_y;
   mv_u32 box_z;
   mv_u32 thin;             /* 0: conservative (tri_box.h); 1: thin, 6-separating (tri_thin.h) */
+  mv_u32 colour_pass;      /* mesh colours (mesh_colour.h): the pass, 1 to 3; 0 when voxelizing */
+  mv_u32 bricks;           /* mesh colours: the bricks of the voxel set */
+  mv_u32 tri_base;         /* mesh colours: the index of this batch's first triangle */
 MV_STRUCT_END(MvVoxelizeParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvVoxelizeParams, 40);
+MV_LAYOUT_SIZE(MvVoxelizeParams, 52);
 MV_LAYOUT_AT(MvVoxelizeParams, first_item, 0); MV_LAYOUT_AT(MvVoxelizeParams, items, 4);
 MV_LAYOUT_AT(MvVoxelizeParams, grid, 8); MV_LAYOUT_AT(MvVoxelizeParams, columns_per_item, 12);
 MV_LAYOUT_AT(MvVoxelizeParams, capacity, 16); MV_LAYOUT_AT(MvVoxelizeParams, box_size, 20);
 MV_LAYOUT_AT(MvVoxelizeParams, box_x, 24); MV_LAYOUT_AT(MvVoxelizeParams, box_y, 28);
 MV_LAYOUT_AT(MvVoxelizeParams, box_z, 32); MV_LAYOUT_AT(MvVoxelizeParams, thin, 36);
+MV_LAYOUT_AT(MvVoxelizeParams, colour_pass, 40); MV_LAYOUT_AT(MvVoxelizeParams, bricks, 44);
+MV_LAYOUT_AT(MvVoxelizeParams, tri_base, 48);
 #endif
+#include "mesh_colour.h"
 
 /* Where a triangle's walk goes: the dominant axis d (0 = x, 1 = y, 2 = z; ties go to the later axis) with
  * the two others u < v, and the voxel range of its bounding box, clamped to the grid and to the box
@@ -195,7 +202,7 @@ MV_INLINE MvTriPlane mv_tri_plane(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv
 MV_INLINE void mv_voxelize_columns(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
                                      mv_f64 cy, mv_f64 cz, MvTriFrame f, MvTriPlane pl, mv_u32 d, mv_u32 first,
                                      mv_u32 last, MvBufU32 counter, MvBufU64 keys, MvBufU64 masks,
-                                     MvVoxelizeParams p) {
+                                     MvVoxelizeParams p, mv_u32 tri, mv_u32 colour) {
   mv_u32 u = d == 0u ? 1u : 0u, v = d == 2u ? 1u : 2u;
   mv_u32 ulo = mv_frame_lo(f, u), uhi = mv_frame_hi(f, u), vlo = mv_frame_lo(f, v), vhi = mv_frame_hi(f, v);
   mv_u32 dlo = mv_frame_lo(f, d), dhi = mv_frame_hi(f, d);
@@ -254,11 +261,16 @@ MV_INLINE void mv_voxelize_columns(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, m
         }
       }
       if (mask == MV_U64(0u)) continue;
-      mv_u32 slot = MV_ATOMIC_ADD(counter, 0u, 1u);
-      if (slot >= p.capacity) continue;
       mv_u32 bx_ = d == 0u ? layer : bu;
       mv_u32 by_ = d == 1u ? layer : d == 0u ? bu : bv;
       mv_u32 bz_ = d == 2u ? layer : bv;
+      if (colour != 0u) { /* keys, masks, counter: the voxel set's bricks, their masks and offsets, the best */
+        mv_mesh_colour_brick(ax, ay, az, bx, by, bz, cx, cy, cz, tri, bx_, by_, bz_, mask, keys, masks, counter,
+                             p.bricks, p.capacity, p.colour_pass);
+        continue;
+      }
+      mv_u32 slot = MV_ATOMIC_ADD(counter, 0u, 1u);
+      if (slot >= p.capacity) continue;
       MV_ST(keys, slot, mv_morton3_64(bx_, by_, bz_));
       MV_ST(masks, slot, mask);
     }
@@ -266,18 +278,20 @@ MV_INLINE void mv_voxelize_columns(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, m
 }
 
 /* One work item: brick columns [first, first + columns_per_item) of triangle t's walk; its non-empty bricks
- * go to the slots the counter hands out. */
+ * go to the slots the counter hands out, or (colour, a constant of the entry) update the voxels' best fragments
+ * (mesh_colour.h). */
 MV_INLINE void mv_voxelize_item(MvBufF32 tris, MvBufU32 counter, MvBufU64 keys, MvBufU64 masks, mv_u32 t,
-                                mv_u32 first, MvVoxelizeParams p) {
+                                mv_u32 first, MvVoxelizeParams p, mv_u32 colour) {
   mv_f64 ax = MV_F64(MV_LD(tris, 9u * t + 0u)), ay = MV_F64(MV_LD(tris, 9u * t + 1u)), az = MV_F64(MV_LD(tris, 9u * t + 2u));
   mv_f64 bx = MV_F64(MV_LD(tris, 9u * t + 3u)), by = MV_F64(MV_LD(tris, 9u * t + 4u)), bz = MV_F64(MV_LD(tris, 9u * t + 5u));
   mv_f64 cx = MV_F64(MV_LD(tris, 9u * t + 6u)), cy = MV_F64(MV_LD(tris, 9u * t + 7u)), cz = MV_F64(MV_LD(tris, 9u * t + 8u));
   MvTriFrame f = mv_tri_frame(ax, ay, az, bx, by, bz, cx, cy, cz, p.grid, p.box_x, p.box_y, p.box_z, p.box_size);
   MvTriPlane pl = mv_tri_plane(ax, ay, az, bx, by, bz, cx, cy, cz, f, p.grid, p.thin);
   mv_u32 last = MV_MIN(first + p.columns_per_item, mv_frame_columns(f));
-  if (f.d == 0u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 0u, first, last, counter, keys, masks, p);
-  else if (f.d == 1u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 1u, first, last, counter, keys, masks, p);
-  else mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 2u, first, last, counter, keys, masks, p);
+  mv_u32 tri = p.tri_base + t;
+  if (f.d == 0u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 0u, first, last, counter, keys, masks, p, tri, colour);
+  else if (f.d == 1u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 1u, first, last, counter, keys, masks, p, tri, colour);
+  else mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 2u, first, last, counter, keys, masks, p, tri, colour);
 }
 
 #endif

@@ -4,6 +4,19 @@
 #include "common/mv_glsl_prelude.h"
 #include "common/voxelize.h"
 
+#if defined(MV_ENTRY_mesh_voxel_colours)
+layout(push_constant) uniform Args {
+  MvBufF32 tris; MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU64 bmeta; MvBufU64 bkeys; MvBufU64 voxel_keys;
+  MvBufU32 voxel_rgb; MvVoxelizeParams p;
+} args;
+
+void main() {
+  mv_mesh_voxel_colours(args.tris, args.attr, args.texels, args.best, args.bmeta, args.bkeys, args.voxel_keys,
+                        args.voxel_rgb, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+#else
+/* MV_COLOUR_WALK: 0 the voxelizer; 1 the mesh colour walk (counter, keys, masks: best, bkeys, bmeta; see
+ * voxelize.cl) */
 layout(push_constant) uniform Args {
   MvBufF32 tris; MvBufU32 item_tri; MvBufU32 item_col; MvBufU32 counter; MvBufU64 keys; MvBufU64 masks;
   MvVoxelizeParams p;
@@ -13,6 +26,7 @@ void main() {
   for (uint j = MV_GLOBAL_ID(); j < args.p.items; j += MV_GLOBAL_SIZE()) {
     uint i = args.p.first_item + j;
     mv_voxelize_item(args.tris, args.counter, args.keys, args.masks, MV_LD(args.item_tri, i), MV_LD(args.item_col, i),
-                     args.p);
+                     args.p, MV_COLOUR_WALK);
   }
 }
+#endif

@@ -30,6 +30,12 @@ struct CloudVoxels {
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
                            uint32_t levels, double* colour_seconds = nullptr);
 
+// The depth-first colours of voxels with one colour each (a mesh's: host/core/voxel/mesh_colours.cpp): voxel_keys
+// sorted unique codes and voxel_rgb 0xBBGGRR in the same order, both on the device; inner nodes get the means
+// of the voxels below them, as for clouds.
+std::vector<uint8_t> depth_first_voxel_colours(Device& dev, Buffer voxel_keys, const Buffer& voxel_rgb, uint64_t voxels,
+                                               uint32_t levels);
+
 // The number of octree nodes in the subtree of every DAG node (itself included, voxels counted as nodes), by
 // level and node id: sizes[l][i] for l >= 1 (level 1: 1 + its voxels). A mirrored subtree has the size of the
 // stored one, so one number per DAG node serves every instance.

@@ -28,6 +28,7 @@ struct ExportReport {
   std::string input, output, format;
   uint64_t voxels = 0, bytes = 0;
   bool rebuilt = false;  // re-encoded from the voxels (the .mvx held another encoding)
+  bool colours_dropped = false;  // the .mvx has voxel colours, and the format (SymVox) holds geometry only
 };
 ExportReport export_mvx(Device& dev, const ExportOptions& options);
 // The output, resolved and checked as io/output_path.h says (not an input, not a FIFO or device, its folder

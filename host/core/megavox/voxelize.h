@@ -11,10 +11,22 @@
 namespace mv {
 
 // Voxelizes triangle batches on a device, within its memory budget, and collects the voxels.
+// Brick columns one voxelizer work item walks at most (256 voxel columns).
+inline constexpr uint32_t kVoxelizeColumnsPerItem = 16;
+
+// The voxelizer's work items for triangles in grid units (9 floats each): a triangle and its first brick column,
+// per run of at most kVoxelizeColumnsPerItem columns of its walk, with a guess of the bricks it meets; only the
+// cube [box, box + box_size) counts. Throws mv::Error past what one dispatch holds.
+struct WalkItems {
+  std::vector<uint32_t> tri, col, guess;
+};
+WalkItems walk_items(std::span<const float> tris, uint32_t resolution, const uint32_t box[3], uint32_t box_size);
+
 class Voxelizer {
  public:
   enum class Rule { kConservative, kThin };  // 26-separating exact overlap, or 6-separating (thin)
   Voxelizer(Device& dev, uint32_t resolution, Rule rule = Rule::kConservative);
+  Rule rule() const { return rule_; }
   // Keeps only the voxels of the cube [x, x + size) x [y, y + size) x [z, z + size) (out-of-core builds
   // voxelize one such cube at a time). Default: the whole grid.
   void restrict_to(uint32_t x, uint32_t y, uint32_t z, uint32_t size);

@@ -12,6 +12,7 @@
 #include "io/vdb_source.h"
 #include "voxel/build_plan.h"
 #include "voxel/build_steps.h"
+#include "voxel/mesh_colours.h"
 #include "megavox/build.h"
 #include "voxel/triangle_buckets.h"
 #include "megavox/dag.h"
@@ -161,24 +162,65 @@ GridTransform plan_mesh(const BuildOptions& o, uint32_t resolution, MeshSurvey& 
   return grid;
 }
 
-// Streams a mesh's triangles in grid units, a batch at a time.
+// A mesh's triangles kept for its voxel colours: in grid units, with their vertex colours (3 each).
+struct MeshColourInput {
+  bool out_of_core = false;  // the build runs in cubes, which do not carry colours yet: refuse them
+  bool wanted = false;       // --attributes and the mesh's vertex colours or textures say so
+  std::vector<float> tris;
+  MeshTriangleColours colours;
+};
+
+// Streams a mesh's triangles in grid units, a batch at a time; with `colours`, decides from --attributes and the
+// mesh whether voxel colours are built and, if so, keeps every triangle with its vertex colours there.
 void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
-                         const std::function<void(const std::vector<float>&, double)>& batch) {
+                         const std::function<void(const std::vector<float>&, double)>& batch,
+                         MeshColourInput* colours = nullptr) {
   auto mesh = open_budgeted_mesh(o);
-  std::vector<uint32_t> idx;
+  const std::span<const uint32_t> vertex_rgb = mesh->vertex_colours(), vertex_tex = mesh->vertex_textures();
+  const std::span<const float> vertex_uv = mesh->vertex_uvs();
+  if (colours) {
+    const bool has = !vertex_rgb.empty() || !vertex_tex.empty();
+    if (o.attributes == Attributes::rgb && !has)
+      throw CodedError(ErrorCode::invalid_argument,
+                       o.input + ": --attributes rgb, but the mesh has no vertex colours or textures", setting_none);
+    colours->wanted = o.attributes != Attributes::none && has;
+    if (colours->wanted) colours->colours.textures = mesh->textures();
+    if (colours->wanted && colours->out_of_core)
+      throw CodedError(ErrorCode::invalid_argument,
+                       o.input + ": voxel colours of a mesh build in core, and a resolution above --cube builds out of "
+                                 "core: raise --cube to the resolution (or --cube 0), or build without colours "
+                                 "(--attributes none)",
+                       setting_cube | setting_none);
+  }
+  const bool keep = colours && colours->wanted;
+  std::vector<uint32_t> idx, kept;
   std::vector<float> tris;
   const double faces = std::max<double>(1, double(mesh->triangles_hint()));
   while (mesh->next_triangles(idx, batch_triangles(o))) {
     tris.clear();
-    triangles_to_grid(grid, mesh->positions(), idx.data(), idx.size() / 3, tris, clips(o));
+    kept.clear();
+    triangles_to_grid(grid, mesh->positions(), idx.data(), idx.size() / 3, tris, clips(o), keep ? &kept : nullptr);
     triangles += tris.size() / 9;
+    if (keep) {
+      colours->tris.insert(colours->tris.end(), tris.begin(), tris.end());
+      MeshTriangleColours& c = colours->colours;
+      for (uint32_t t : kept) {
+        const uint32_t* v = &idx[3 * size_t{t}];
+        for (int k = 0; k < 3; ++k) c.rgb.push_back(vertex_rgb.empty() ? 0xffffffu : vertex_rgb[v[k]]);
+        c.texture.push_back(vertex_tex.empty() ? io::kNoTexture : vertex_tex[v[0]]);
+        for (int k = 0; k < 3 && !vertex_tex.empty(); ++k)
+          c.uv.insert(c.uv.end(), {vertex_uv[2 * size_t{v[k]}], vertex_uv[2 * size_t{v[k]} + 1]});
+        if (vertex_tex.empty()) c.uv.insert(c.uv.end(), 6, 0.0f);
+      }
+    }
     batch(tris, std::min(1.0, double(triangles) / faces));
   }
 }
 
 // A mesh: its bounds, the grid, then the triangles voxelized in batches on the device.
 Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
-                     const std::function<void(const std::string&, double)>& report, const PlanListener& on_plan) {
+                     const std::function<void(const std::string&, double)>& report, const PlanListener& on_plan,
+                     MeshColourInput* colours = nullptr) {
   Voxels v;
   MeshSurvey survey = survey_mesh(o, &r);
   v.grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
@@ -186,10 +228,13 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
   Voxelizer vox(dev, resolution, rule(o));
   vox.limit_host_memory(memory_budget(o) - vertex_share(o));
   uint64_t triangles = 0;
-  for_each_grid_batch(o, v.grid, triangles, [&](const std::vector<float>& tris, double done) {
-    vox.add(tris);
-    report("voxelize", done);
-  });
+  for_each_grid_batch(
+      o, v.grid, triangles,
+      [&](const std::vector<float>& tris, double done) {
+        vox.add(tris);
+        report("voxelize", done);
+      },
+      colours);
   v.bricks = vox.take_bricks();
   r.triangles = vox.triangles();
   return v;
@@ -199,11 +244,13 @@ using Lap = std::function<void(const std::string&)>;
 using Report = std::function<void(const std::string&, double)>;
 
 void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
-                      BuildReport& r, const Lap& lap) {
+                      BuildReport& r, const Lap& lap, std::vector<uint8_t> colours = {}) {
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
+  attach_colours(file, std::move(colours), o, r);
   lap("encode");
-  write_mvx(o.output, file, o.paging);
+  const MvxColourStats stats = write_mvx(o.output, file, o.paging);
   lap("write");
+  report_colours(file, stats, r);
   r.grid = grid;
   r.voxels = dag.voxels;
   r.svo_nodes = file.svo_nodes;
@@ -230,10 +277,15 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   r.cube = o.cube;
   const uint32_t per_axis = resolution / o.cube;
   TriangleBuckets buckets(per_axis, o.cube, bucket_share(o));
-  for_each_grid_batch(o, grid, r.triangles, [&](const std::vector<float>& tris, double done) {
-    buckets.add(tris);
-    report("read", done);
-  });
+  MeshColourInput refuse_colours;
+  refuse_colours.out_of_core = true;
+  for_each_grid_batch(
+      o, grid, r.triangles,
+      [&](const std::vector<float>& tris, double done) {
+        buckets.add(tris);
+        report("read", done);
+      },
+      &refuse_colours);
   r.spilled_bytes = buckets.spilled_bytes();
   lap("read");
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
@@ -357,6 +409,7 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   }
   if (o.resolution) check_ssvdag_resolution(o.encoding, o.resolution);
   Voxels voxels;
+  MeshColourInput mesh_colours;
   if (vdb) {
     io::VdbVoxels vdb = io::read_vdb(o.input, o.grid, o.resolution);
     r.vdb_grid = vdb.grid_name;
@@ -367,7 +420,7 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     vdb.keys = {};
     lap("read");
   } else {
-    voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report, on_plan);
+    voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report, on_plan, &mesh_colours);
     lap("voxelize");
   }
   const uint32_t resolution = voxels.grid.resolution;
@@ -378,6 +431,12 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   const GridTransform grid = voxels.grid;
   const Bounds bounds = voxels.bounds;
 
+  std::vector<uint8_t> colours;
+  if (mesh_colours.wanted) {
+    colours = mesh_voxel_colours(dev, voxels.bricks, mesh_colours.tris, mesh_colours.colours, levels, o.voxelize);
+    mesh_colours = {};
+    lap("colours");
+  }
   const bool symmetric = o.encoding == Encoding::ussvdag || o.encoding == Encoding::ssvdag;
   DagBuildTimes times;
   Dag dag = build_dag_for_format(dev, voxels.bricks, levels, o.encoding, &times);
@@ -386,7 +445,7 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   r.seconds.push_back(
       {o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
-  encode_and_write(dag, o, grid, bounds, r, lap);
+  encode_and_write(dag, o, grid, bounds, r, lap, std::move(colours));
   return r;
 }
 

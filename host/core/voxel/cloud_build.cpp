@@ -90,12 +90,7 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
       {o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
-  file.colours = std::move(voxels.colours);
-  if (!file.colours.empty() && o.colour_bits < 24) {
-    r.colour_quantize = quantize_colours(file.colours, o.colour_bits);
-    file.colour_bits = o.colour_bits;
-    r.seconds.push_back({"quantize", r.colour_quantize.seconds});
-  }
+  attach_colours(file, std::move(voxels.colours), o, r);
   r.seconds.push_back({"encode", std::chrono::duration<double>(Clock::now() - t).count()});
   t = Clock::now();
   const MvxColourStats colour = write_mvx(o.output, file, o.paging);
@@ -106,15 +101,26 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   r.nodes_total = nodes_total(file);
   r.bytes = file.dag.bytes();
   r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
-  if (!file.colours.empty()) {
-    r.attributes = "rgb";
-    r.colour_entries = file.colours.size() / 3;
-    r.colour_bytes = colour.bytes;
-    r.colour_format = colour.format == 1 ? "palette" : "raw";
-    r.colour_palette_bytes = colour.palette_bytes;
-    r.colour_palette_seconds = colour.palette_seconds;
-    r.colour_bits_per_voxel = r.voxels ? 8.0 * double(r.colour_bytes) / double(r.voxels) : 0;
-  }
+  report_colours(file, colour, r);
+}
+
+void attach_colours(MvxFile& file, std::vector<uint8_t> colours, const BuildOptions& o, BuildReport& r) {
+  file.colours = std::move(colours);
+  if (file.colours.empty() || o.colour_bits >= 24) return;
+  r.colour_quantize = quantize_colours(file.colours, o.colour_bits);
+  file.colour_bits = o.colour_bits;
+  r.seconds.push_back({"quantize", r.colour_quantize.seconds});
+}
+
+void report_colours(const MvxFile& file, const MvxColourStats& colour, BuildReport& r) {
+  if (file.colours.empty()) return;
+  r.attributes = "rgb";
+  r.colour_entries = file.colours.size() / 3;
+  r.colour_bytes = colour.bytes;
+  r.colour_format = colour.format == 1 ? "palette" : "raw";
+  r.colour_palette_bytes = colour.palette_bytes;
+  r.colour_palette_seconds = colour.palette_seconds;
+  r.colour_bits_per_voxel = file.voxels ? 8.0 * double(r.colour_bytes) / double(file.voxels) : 0;
 }
 
 }  // namespace mv

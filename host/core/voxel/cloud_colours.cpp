@@ -85,7 +85,21 @@ void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, bo
 std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys, const Buffer& sorted_rgb,
                                          uint64_t points, Buffer voxel_keys, uint64_t voxels, uint32_t levels) {
   std::vector<ColourLevel> lv(levels + 1);
-  {  // voxels from their points
+  if (points == voxels) {  // one point a voxel (a mesh's voxels, or a sparse cloud): its colour is the voxel's
+    ColourLevel& leaf = lv[0];
+    leaf.n = voxels;
+    leaf.keys = std::move(voxel_keys);
+    leaf.rgb = colour_alloc(dev, voxels * 4, "node colours");
+    dev.copy(sorted_rgb, leaf.rgb, voxels * 4, 0, 0);
+    leaf.planes = colour_alloc(dev, kColourPlanes * voxels * 4, "colour planes");
+    MvColourParams p{};
+    p.n = static_cast<uint32_t>(voxels);
+    p.leaf = 1;
+    colour_dispatch(dev, KernelId::colour_unpack, voxels, {&sorted_rgb, &leaf.planes}, p);
+    leaf.sizes = colour_alloc(dev, voxels * 4, "subtree sizes");
+    dev.copy(leaf.planes, leaf.sizes, voxels * 4, MV_COLOUR_SIZE * voxels * 4, 0);
+    dev.barrier();
+  } else {  // voxels from their points
     Buffer heads = colour_alloc(dev, points * 4, "point run heads");
     segment_heads(dev, sorted_keys, heads, points, 0);
     Buffer planes = colour_alloc(dev, kColourPlanes * points * 4, "point colour planes");
@@ -156,6 +170,13 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
 }
 
 }  // namespace
+
+std::vector<uint8_t> depth_first_voxel_colours(Device& dev, Buffer voxel_keys, const Buffer& voxel_rgb, uint64_t voxels,
+                                               uint32_t levels) {
+  if (voxels == 0) return {};
+  // one colour a voxel: no runs of points to find, so no point codes
+  return depth_first_colours(dev, Buffer(), voxel_rgb, voxels, std::move(voxel_keys), voxels, levels);
+}
 
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
                            uint32_t levels, double* colour_seconds) {

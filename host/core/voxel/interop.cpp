@@ -92,8 +92,11 @@ ExportReport export_mvx(Device& dev, const ExportOptions& o) {
     const std::vector<uint64_t> keys = decode_encoded(in.dag);
     io::write_voxel_ply(output, keys, in.grid, voxel_colours(keys, in.colours, in.dag.levels));
   } else if (!encoding) {
-    io::write_voxel_grid(output, decode_encoded(in.dag), in.grid, o.format == ExportFormat::nvdb);
+    const std::vector<uint64_t> keys = decode_encoded(in.dag);
+    io::write_voxel_grid(output, keys, in.grid, o.format == ExportFormat::nvdb,
+                         voxel_colours(keys, in.colours, in.dag.levels));
   } else {
+    r.colours_dropped = !in.colours.empty();
     MvxFile dag = in_format(dev, std::move(in), *encoding, r.rebuilt);
     io::SymvoxFile out;
     out.levels = dag.dag.levels;

@@ -16,7 +16,29 @@
 namespace mv {
 
 namespace {
-constexpr uint32_t kColumnsPerItem = 16;  // brick columns: 256 voxel columns
+constexpr uint32_t kColumnsPerItem = kVoxelizeColumnsPerItem;
+}
+
+WalkItems walk_items(std::span<const float> tris, uint32_t resolution, const uint32_t box[3], uint32_t box_size) {
+  // Work items: runs of at most kColumnsPerItem brick columns of each triangle's walk, with an estimate of
+  // their bricks (two a column: the plane crosses most columns of its bounding box in one or two layers, and
+  // misses many) that sizes the output; a run that finds more is emitted again with room for all.
+  WalkItems w;
+  const size_t count = tris.size() / 9;
+  for (uint32_t t = 0; t < count; ++t) {
+    const float* v = &tris[9 * size_t{t}];
+    MvTriFrame f = mv_tri_frame(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], resolution, box[0], box[1],
+                                box[2], box_size);
+    if (f.empty) continue;
+    const uint64_t columns = mv_frame_columns(f);
+    for (uint64_t c = 0; c < columns; c += kColumnsPerItem) {
+      w.tri.push_back(t);
+      w.col.push_back(static_cast<uint32_t>(c));
+      w.guess.push_back(2 * static_cast<uint32_t>(std::min<uint64_t>(kColumnsPerItem, columns - c)));
+    }
+  }
+  if (w.tri.size() > kMaxDeviceItems) throw Error("voxelize: too many work items in one batch");
+  return w;
 }
 
 GridPlacement parse_grid_origin(const std::string& text) {
@@ -81,7 +103,7 @@ GridTransform grid_for_bounds(const Bounds& b, uint32_t resolution, const GridPl
 }
 
 void triangles_to_grid(const GridTransform& grid, std::span<const float> positions, const uint32_t* indices,
-                       size_t triangles, std::vector<float>& out, bool clip) {
+                       size_t triangles, std::vector<float>& out, bool clip, std::vector<uint32_t>* kept) {
   const double n = grid.resolution;
   const double inv = 1.0 / grid.voxel_size;
   const size_t vertices = positions.size() / 3;
@@ -106,6 +128,7 @@ void triangles_to_grid(const GridTransform& grid, std::span<const float> positio
     for (int a = 0; a < 3; ++a) misses = misses || outside[a][0] || outside[a][1];
     if (clip && misses) continue;
     out.insert(out.end(), g, g + 9);
+    if (kept) kept->push_back(static_cast<uint32_t>(t));
   }
 }
 
@@ -128,23 +151,10 @@ void Voxelizer::add(const std::vector<float>& tris) {
   if (count > UINT32_MAX / 9) throw Error("voxelize: too many triangles in one batch");
   triangles_ += count;
 
-  // Work items: runs of at most kColumnsPerItem brick columns of each triangle's walk, with an estimate of
-  // their bricks (two a column: the plane crosses most columns of its bounding box in one or two layers, and
-  // misses many) that sizes the output; a run that finds more is emitted again with room for all.
-  std::vector<uint32_t> item_tri, item_col, item_guess;
-  for (uint32_t t = 0; t < count; ++t) {
-    const float* v = &tris[9 * size_t{t}];
-    MvTriFrame f = mv_tri_frame(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], resolution_, box_[0], box_[1],
-                                box_[2], box_size_);
-    if (f.empty) continue;
-    const uint64_t columns = mv_frame_columns(f);
-    for (uint64_t c = 0; c < columns; c += kColumnsPerItem) {
-      item_tri.push_back(t);
-      item_col.push_back(static_cast<uint32_t>(c));
-      item_guess.push_back(2 * static_cast<uint32_t>(std::min<uint64_t>(kColumnsPerItem, columns - c)));
-    }
-  }
-  if (item_tri.size() > kMaxDeviceItems) throw Error("voxelize: too many work items in one batch");
+  const WalkItems w = walk_items(tris, resolution_, box_, box_size_);
+  const std::vector<uint32_t>& item_tri = w.tri;
+  const std::vector<uint32_t>& item_col = w.col;
+  const std::vector<uint32_t>& item_guess = w.guess;
   const auto items = static_cast<uint32_t>(item_tri.size());
   if (items == 0) return;
   Emission e{dev_.alloc(tris.size() * 4, "voxelizer triangles"), dev_.alloc(uint64_t{items} * 4, "voxelizer work items"),

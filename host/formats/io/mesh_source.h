@@ -10,12 +10,30 @@
 
 namespace mv::io {
 
+// A base-colour texture: texels 0xBBGGRR, rows top first.
+struct MeshTexture {
+  uint32_t width = 0, height = 0;
+  std::vector<uint32_t> rgb;
+};
+inline constexpr uint32_t kNoTexture = 0xffffffffu;
+
 class MeshSource {
  public:
   virtual ~MeshSource() = default;
   virtual std::span<const float> positions() const = 0;  // 3 floats per vertex
   virtual bool positions_mapped() const { return false; }  // in a mapped scratch file (over the RAM limit)
   virtual uint64_t triangles_hint() const = 0;               // for progress; may be approximate
+  // Per vertex 0xBBGGRR (8-bit sRGB) when the mesh has vertex colours; empty otherwise.
+  virtual std::span<const uint32_t> vertex_colours() const { return {}; }
+  // Base-colour textures (assimp: a material's base-colour or diffuse map, embedded or a PNG / JPEG beside the
+  // mesh), each vertex's texture (kNoTexture: none) and its texture coordinates (u, v; v = 0 at the image's
+  // bottom); all empty without textures.
+  virtual const std::vector<MeshTexture>& textures() const {
+    static const std::vector<MeshTexture> none;
+    return none;
+  }
+  virtual std::span<const uint32_t> vertex_textures() const { return {}; }
+  virtual std::span<const float> vertex_uvs() const { return {}; }
   // Replaces `indices` with up to max_triangles triangles (3 indices each); false at the end.
   virtual bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) = 0;
 };

@@ -52,6 +52,18 @@ void PlyMeshReader::Impl::find_layout() {
     if (ve.props[p].is_list) fail_at(ve.props[p].line, "vertex property '" + std::string(name) + "' is a list");
     vertex_role[p] = axis;
   }
+  // Colours: red, green and blue, all uchar or ushort; other types (float colours) are not read.
+  size_t channel[3] = {find_property(ve, "red"), find_property(ve, "green"), find_property(ve, "blue")};
+  bool colour = true;
+  for (size_t c : channel)
+    colour = colour && c != kNone && !ve.props[c].is_list &&
+             (ve.props[c].type == Scalar::u8 || ve.props[c].type == Scalar::u16);
+  if (colour)
+    for (int k = 0; k < 3; ++k) {
+      vertex_role[channel[k]] = 3 + k;
+      colour_wide = colour_wide || ve.props[channel[k]].type == Scalar::u16;
+    }
+  colour_roles = colour;
   if (face_el == kNone) return;
   const Element& fe = els[face_el];
   if (face_el < vertex_el) fail_at(fe.line, "element 'face' comes before 'vertex' (faces must follow the vertices)");
@@ -90,6 +102,7 @@ PlyMeshReader& PlyMeshReader::operator=(PlyMeshReader&&) noexcept = default;
 const PlyInfo& PlyMeshReader::info() const { return impl_->info; }
 
 std::span<const float> PlyMeshReader::positions() const { return impl_->pos; }
+std::span<const uint32_t> PlyMeshReader::colours() const { return impl_->colours; }
 bool PlyMeshReader::positions_mapped() const { return impl_->mapped != nullptr; }
 
 bool PlyMeshReader::next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) {

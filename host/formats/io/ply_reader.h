@@ -8,7 +8,8 @@
 // from next_triangles the reader is spent: open the file again to retry.
 //
 // Accepted input:
-// - one `vertex` element with scalar x, y, z of any type (converted to float); other properties skipped;
+// - one `vertex` element with scalar x, y, z of any type (converted to float), and red, green, blue when all
+//   three are uchar or ushort; other properties skipped;
 // - an optional `face` element after it whose list `vertex_indices` (or `vertex_index`) has integer count
 //   and index types; polygons are fan-triangulated, a list with fewer than 3 indices is an error.
 //   A file without a face element (a point cloud) is an empty mesh: info().faces == 0;
@@ -46,6 +47,9 @@ class PlyMeshReader {
   // x, y, z of every vertex, 3 floats per vertex.
   std::span<const float> positions() const;
   bool positions_mapped() const;  // in a scratch file (over ram_bytes)
+  // Per vertex 0xBBGGRR when the vertices have red, green and blue as uchar or ushort (ushort: the high byte
+  // unless every value fits 8 bits); empty otherwise.
+  std::span<const uint32_t> colours() const;
 
   // Replaces `indices` with up to `max_triangles` triangles (3 vertex indices each) of the next faces; a
   // polygon may be split across calls. Returns false, with `indices` empty, once every face was read.

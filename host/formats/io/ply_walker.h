@@ -52,7 +52,11 @@ struct PlyMeshReader::Impl {
 
   size_t vertex_el = kNone;
   size_t face_el = kNone;
-  std::vector<int> vertex_role;  // per vertex property: 0/1/2 for x/y/z, -1 skipped
+  std::vector<int> vertex_role;  // per vertex property: 0/1/2 for x/y/z, 3/4/5 for red/green/blue, -1 skipped
+  bool colour_roles = false;     // red, green and blue are read (uchar or ushort)
+  bool colour_wide = false;      // any of them ushort
+  std::vector<uint16_t> rgb16;   // 3 per vertex as stored, while reading
+  std::vector<uint32_t> colours; // per vertex 0xBBGGRR (8-bit: ushort keeps its high byte unless all fit 8 bits)
   size_t index_prop = kNone;     // the face element's index list
   double vertex_limit = 0;       // indices must be below this
 
@@ -165,8 +169,12 @@ struct PlyMeshReader::Impl {
       positions.resize(3 * e.count);
       pos = positions;
     }
+    if (colour_roles) rgb16.resize(3 * e.count);
     if constexpr (V::kBinary) {
-      if (size_t record = record_bytes(e)) return read_vertex_records(v, e, record);
+      if (size_t record = record_bytes(e)) {
+        read_vertex_records(v, e, record);
+        return finish_colours();
+      }
     }
     float* out = pos.data();
     uint64_t i = 0;
@@ -174,32 +182,62 @@ struct PlyMeshReader::Impl {
       for (; i < e.count; ++i, out += 3) {
         for (size_t k = 0; k < e.props.size(); ++k) {
           const Property& p = e.props[k];
-          if (vertex_role[k] < 0) skip_property(v, e, i, p);
-          else out[vertex_role[k]] = checked_coordinate(v, e, i, p, v.scalar(p.type));
+          const int role = vertex_role[k];
+          if (role < 0) skip_property(v, e, i, p);
+          else if (role < 3) out[role] = checked_coordinate(v, e, i, p, v.scalar(p.type));
+          else rgb16[3 * i + (role - 3)] = checked_channel(v, e, i, p, v.scalar(p.type));
         }
       }
     } catch (const EndOfData&) {
       truncated(e, i);
     }
+    finish_colours();
+  }
+
+  template <class V>
+  [[gnu::always_inline]] uint16_t checked_channel(const V& v, const Element& e, uint64_t i, const Property& p, double d) const {
+    if (!(d >= 0 && d <= (p.type == Scalar::u8 ? 255.0 : 65535.0))) [[unlikely]]
+      fail_entry(v, e, i, ": colour " + p.name + " = " + std::to_string(d) + " is out of range");
+    return static_cast<uint16_t>(d);
+  }
+
+  // The 8-bit colours from the stored ones: ushort values keep their high byte unless every value fits 8 bits.
+  void finish_colours() {
+    if (!colour_roles) return;
+    bool narrow = true;
+    for (uint16_t c : rgb16) narrow = narrow && c < 256;
+    const int shift = colour_wide && !narrow ? 8 : 0;
+    colours.resize(rgb16.size() / 3);
+    for (size_t i = 0; i < colours.size(); ++i)
+      colours[i] = uint32_t(rgb16[3 * i] >> shift) | uint32_t(rgb16[3 * i + 1] >> shift) << 8 |
+                   uint32_t(rgb16[3 * i + 2] >> shift) << 16;
+    rgb16 = {};
   }
 
   // Binary fast path: fixed-size vertex records decoded straight from the buffer, many at a time.
   template <class V>
   void read_vertex_records(const V& v, const Element& e, size_t record) {
-    size_t offset[3] = {};
-    const Property* prop[3] = {};
+    size_t offset[6] = {};
+    const Property* prop[6] = {};
     for (size_t k = 0, at = 0; k < e.props.size(); at += scalar_size(e.props[k].type), ++k) {
       if (vertex_role[k] < 0) continue;
       offset[vertex_role[k]] = at;
       prop[vertex_role[k]] = &e.props[k];
     }
     float* out = pos.data();
+    uint16_t* rgb = rgb16.data();
     for (uint64_t i = 0; i < e.count;) {
       auto [begin, end] = src.window(record);
       uint64_t n = std::min<uint64_t>(e.count - i, static_cast<uint64_t>(end - begin) / record);
       if (n == 0) truncated(e, i);
-      for (const char* r = begin; r != begin + n * record; r += record, out += 3, ++i)
+      for (const char* r = begin; r != begin + n * record; r += record, out += 3, ++i) {
         for (int a = 0; a < 3; ++a) out[a] = checked_coordinate(v, e, i, *prop[a], decode<V::kSwap>(r + offset[a], prop[a]->type));
+        if (colour_roles) {
+          for (int a = 0; a < 3; ++a)
+            rgb[a] = checked_channel(v, e, i, *prop[3 + a], decode<V::kSwap>(r + offset[3 + a], prop[3 + a]->type));
+          rgb += 3;
+        }
+      }
       src.advance(n * record);
     }
   }

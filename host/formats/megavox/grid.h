@@ -60,8 +60,10 @@ GridTransform grid_for_bounds(const Bounds& bounds, uint32_t resolution, const G
 // units, 9 floats per triangle, to `out`. With `clip` false (the grid was placed around these triangles)
 // coordinates are clamped into [0, resolution], which only absorbs round-off. With `clip` true (an explicit
 // cube) coordinates are kept and triangles whose bounding box misses the grid are dropped; the voxelizer's
-// exact test cuts the rest at the grid's faces.
+// exact test cuts the rest at the grid's faces. `kept`, when given, receives the index (in `indices`) of each
+// triangle appended.
 void triangles_to_grid(const GridTransform& grid, std::span<const float> positions, const uint32_t* indices,
-                       size_t triangles, std::vector<float>& out, bool clip = false);
+                       size_t triangles, std::vector<float>& out, bool clip = false,
+                       std::vector<uint32_t>* kept = nullptr);
 
 }  // namespace mv

@@ -1,0 +1,33 @@
+// Voxel colours of a mesh on the device (kernels/common/mesh_colour.h, docs/colour.md): each voxel takes the
+// colour at the point nearest its centre on the triangles that overlap it (ties: the lowest triangle index),
+// interpolated from the triangle's vertex colours; then the depth-first attribute array, inner nodes as means.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "megavox/bricks.h"
+#include "megavox/device.h"
+#include "io/mesh_source.h"
+#include "megavox/voxelize.h"
+
+namespace mv {
+
+// What colours each triangle: its 3 vertex colours (0xBBGGRR; white where the mesh has none), its texture
+// (io::kNoTexture: none) and its vertices' texture coordinates (6 floats, u v per vertex).
+struct MeshTriangleColours {
+  std::vector<uint32_t> rgb, texture;
+  std::vector<float> uv;
+  std::vector<io::MeshTexture> textures;
+};
+
+// `tris`: every triangle the voxels came from, in grid units (9 floats each), in the order the voxelizer took them,
+// with its colours in `colours`; `bricks`: the voxel set (Voxelizer::take_bricks) on a grid of 2^levels voxels,
+// made with `rule`. A textured triangle's colour at a point is its texture sampled bilinearly (repeating) at the
+// interpolated coordinates; another's its vertex colours interpolated. Returns RGB24 per octree node in
+// pre-order. Throws mv::Error when the voxels or triangles pass what one device call indexes (2^32 - 1), the
+// textures one binding, or the sizes disagree.
+std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::span<const float> tris,
+                                        const MeshTriangleColours& colours, uint32_t levels, Voxelizer::Rule rule);
+
+}  // namespace mv

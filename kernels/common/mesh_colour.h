@@ -1,0 +1,207 @@
+/* Voxel colours of meshes (docs/colour.md), written once for the host, OpenCL C and GLSL. A voxel's colour is the
+ * colour at the point nearest its centre on any triangle that overlaps it (the voxelizer's own overlap test),
+ * ties to the lowest triangle index; the colour at a point is its triangle's vertex colours interpolated there.
+ *
+ * The voxelizer's walk (voxelize.h) runs again over the triangles, and each brick it would emit instead updates
+ * its voxels' best fragment: three passes of 32-bit atomic minima per voxel, over the squared distance's high
+ * word, then its low word among the fragments that hold the high one, then the triangle index among those that
+ * hold both. A positive double orders as its bits, so this is the exact (distance, index) minimum, the same on
+ * every device in any order, with no fragment stored. Then one work-item per voxel interpolates its colour.
+ * Distances are in grid units, from the triangles as the voxelizer takes them (floats), in double. */
+#ifndef MV_MESH_COLOUR_H
+#define MV_MESH_COLOUR_H
+/* Included by voxelize.h (its walk calls mv_mesh_colour_brick), after MvVoxelizeParams. */
+#include "morton.h"
+
+#define MV_MESH_ATTR_WORDS 12u /* per triangle: 3 vertex colours, 6 texture coordinates, the texture, 2 spare */
+#define MV_NO_TEXTURE 0xffffffffu
+
+/* The brick layout the passes read: `bmeta` holds per brick (sorted by key, as in `bkeys`) its 64-bit voxel mask
+ * and the index of its first voxel (an exclusive scan of the masks' counts); voxel i of the brick's mask (Morton
+ * order inside the brick) is voxel offset + the mask's bits below i. `best`: three planes of n words, the
+ * distance's high words, its low words, the triangles. */
+
+/* The point of a triangle nearest a point: its squared distance, and b's and c's barycentric weights (a's: 1 -
+ * both). */
+MV_STRUCT_BEGIN(MvClosest)
+  mv_f64 d2;
+  mv_f64 wb;
+  mv_f64 wc;
+MV_STRUCT_END(MvClosest)
+
+/* The point of triangle abc nearest p (Ericson, Real-Time Collision Detection 5.1.5, the same operations in the
+ * same order everywhere so every device gets the same bits); a triangle of no area falls to an edge or end. */
+MV_INLINE MvClosest mv_closest_on_triangle(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz,
+                                           mv_f64 cx, mv_f64 cy, mv_f64 cz, mv_f64 px, mv_f64 py, mv_f64 pz) {
+  MV_PRECISE mv_f64 abx = bx - ax, aby = by - ay, abz = bz - az;
+  MV_PRECISE mv_f64 acx = cx - ax, acy = cy - ay, acz = cz - az;
+  MV_PRECISE mv_f64 apx = px - ax, apy = py - ay, apz = pz - az;
+  MV_PRECISE mv_f64 d1 = abx * apx + aby * apy + abz * apz;
+  MV_PRECISE mv_f64 d2 = acx * apx + acy * apy + acz * apz;
+  MV_PRECISE mv_f64 bpx = px - bx, bpy = py - by, bpz = pz - bz;
+  MV_PRECISE mv_f64 d3 = abx * bpx + aby * bpy + abz * bpz;
+  MV_PRECISE mv_f64 d4 = acx * bpx + acy * bpy + acz * bpz;
+  MV_PRECISE mv_f64 cpx = px - cx, cpy = py - cy, cpz = pz - cz;
+  MV_PRECISE mv_f64 d5 = abx * cpx + aby * cpy + abz * cpz;
+  MV_PRECISE mv_f64 d6 = acx * cpx + acy * cpy + acz * cpz;
+  MV_PRECISE mv_f64 vc = d1 * d4 - d3 * d2;
+  MV_PRECISE mv_f64 vb = d5 * d2 - d1 * d6;
+  MV_PRECISE mv_f64 va = d3 * d6 - d5 * d4;
+  mv_f64 v = 0.0, w = 0.0;
+  if (d1 <= 0.0 && d2 <= 0.0) { /* vertex a */
+  } else if (d3 >= 0.0 && d4 <= d3) {
+    v = 1.0;
+  } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    v = d1 / (d1 - d3);
+  } else if (d6 >= 0.0 && d5 <= d6) {
+    w = 1.0;
+  } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    w = d2 / (d2 - d6);
+  } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    MV_PRECISE mv_f64 t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    v = 1.0 - t;
+    w = t;
+  } else if (va + vb + vc > 0.0) {
+    MV_PRECISE mv_f64 inv = 1.0 / (va + vb + vc);
+    v = vb * inv;
+    w = vc * inv;
+  } else { /* no area and p beside it: the nearer end of the longest edge, a or c (its middle is caught above) */
+    w = d2 > 0.0 ? 1.0 : 0.0;
+  }
+  MV_PRECISE mv_f64 qx = ax + abx * v + acx * w, qy = ay + aby * v + acy * w, qz = az + abz * v + acz * w;
+  MV_PRECISE mv_f64 dx = px - qx, dy = py - qy, dz = pz - qz;
+  MvClosest r;
+  r.d2 = dx * dx + dy * dy + dz * dz;
+  r.wb = v;
+  r.wc = w;
+  return r;
+}
+
+/* The brick with key `key` among the `n` sorted keys (it is there: the voxels came from the same walk). */
+MV_INLINE mv_u32 mv_find_brick(MvBufU64 bkeys, mv_u32 n, mv_u64 key) {
+  mv_u32 lo = 0u, hi = n;
+  while (hi - lo > 1u) {
+    mv_u32 mid = lo + (hi - lo) / 2u;
+    if (MV_LD(bkeys, mid) <= key) lo = mid;
+    else hi = mid;
+  }
+  return lo;
+}
+
+/* The index of voxel `bit` (Morton order inside the brick) of brick b. */
+MV_INLINE mv_u32 mv_brick_voxel(MvBufU64 bmeta, mv_u32 b, mv_u32 bit) {
+  mv_u64 mask = MV_LD(bmeta, 2u * b);
+  mv_u64 below = bit == 0u ? MV_U64(0u) : mask & (~MV_U64(0u) >> (64u - bit));
+  return MV_U32(MV_LD(bmeta, 2u * b + 1u)) + MV_POPCOUNT(MV_U32(below)) + MV_POPCOUNT(MV_U32(below >> 32));
+}
+
+/* One brick of triangle `tri`'s walk (voxels `mask` of the brick at (bx, by, bz)): colour pass `pass` (1: the
+ * squared distance's high word, 2: its low word, 3: the triangle) into `best`. */
+MV_INLINE void mv_mesh_colour_brick(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
+                                    mv_f64 cy, mv_f64 cz, mv_u32 tri, mv_u32 kx, mv_u32 ky, mv_u32 kz, mv_u64 mask,
+                                    MvBufU64 bkeys, MvBufU64 bmeta, MvBufU32 best, mv_u32 bricks, mv_u32 n,
+                                    mv_u32 pass) {
+  mv_u32 b = mv_find_brick(bkeys, bricks, mv_morton3_64(kx, ky, kz));
+  for (mv_u32 bit = 0u; bit < 64u; ++bit) {
+    if (((mask >> bit) & MV_U64(1u)) == MV_U64(0u)) continue;
+    mv_u32 x = 4u * kx + ((bit & 1u) | ((bit >> 2) & 2u));
+    mv_u32 y = 4u * ky + (((bit >> 1) & 1u) | ((bit >> 3) & 2u));
+    mv_u32 z = 4u * kz + (((bit >> 2) & 1u) | ((bit >> 4) & 2u));
+    MvClosest q = mv_closest_on_triangle(ax, ay, az, bx, by, bz, cx, cy, cz, MV_F64(x) + 0.5, MV_F64(y) + 0.5,
+                                         MV_F64(z) + 0.5);
+    mv_f64 d = q.d2;
+    mv_u32 at = mv_brick_voxel(bmeta, b, bit);
+    mv_u32 hi = MV_DBITS_HI(d), lo = MV_DBITS_LO(d);
+    if (pass == 1u) MV_ATOMIC_MIN(best, at, hi);
+    else if (pass == 2u && MV_LD(best, at) == hi) MV_ATOMIC_MIN(best, n + at, lo);
+    else if (pass == 3u && MV_LD(best, at) == hi && MV_LD(best, n + at) == lo) MV_ATOMIC_MIN(best, 2u * n + at, tri);
+  }
+}
+
+/* One channel of the colour at weights (1 - wb - wc, wb, wc) of packed vertex colours ca, cb, cc (0xBBGGRR),
+ * rounded half up. */
+MV_INLINE mv_u32 mv_mesh_channel(mv_u32 ca, mv_u32 cb, mv_u32 cc, mv_u32 shift, mv_f64 wb, mv_f64 wc) {
+  MV_PRECISE mv_f64 x = MV_F64((ca >> shift) & 255u) * (1.0 - wb - wc) + MV_F64((cb >> shift) & 255u) * wb +
+                        MV_F64((cc >> shift) & 255u) * wc;
+  mv_f64 r = floor(x + 0.5);
+  return r <= 0.0 ? 0u : r >= 255.0 ? 255u : MV_U32(r);
+}
+
+/* Texel (x, y) of texture `tex` (rows top first); x in [-1, w), y in [-1, h): -1 wraps to the last. `texels`: the
+ * count, then per texture its first texel's word, width and height, then the texels (0xBBGGRR). */
+MV_INLINE mv_u32 mv_texel(MvBufU32 texels, mv_u32 tex, mv_i32 x, mv_i32 y) {
+  mv_u32 w = MV_LD(texels, 2u + 3u * tex), h = MV_LD(texels, 3u + 3u * tex);
+  mv_u32 xx = x < 0 ? w - 1u : MV_U32(x) % w, yy = y < 0 ? h - 1u : MV_U32(y) % h;
+  return MV_LD(texels, MV_LD(texels, 1u + 3u * tex) + yy * w + xx);
+}
+
+/* One channel of texture `tex` sampled bilinearly at (u, v) (v = 0 at the bottom row; repeating), rounded half
+ * up: texel centres at half-integers, the four around the point weighted by their distances. */
+MV_INLINE mv_u32 mv_texture_channel(MvBufU32 texels, mv_u32 tex, mv_f64 u, mv_f64 v, mv_u32 shift) {
+  mv_f64 w = MV_F64(MV_LD(texels, 2u + 3u * tex)), h = MV_F64(MV_LD(texels, 3u + 3u * tex));
+  MV_PRECISE mv_f64 x = (u - floor(u)) * w - 0.5;
+  MV_PRECISE mv_f64 y = (1.0 - (v - floor(v))) * h - 0.5;
+  mv_f64 x0 = floor(x), y0 = floor(y);
+  MV_PRECISE mv_f64 fx = x - x0, fy = y - y0;
+  mv_i32 ix = MV_I32(x0), iy = MV_I32(y0);
+  mv_f64 c00 = MV_F64((mv_texel(texels, tex, ix, iy) >> shift) & 255u);
+  mv_f64 c10 = MV_F64((mv_texel(texels, tex, ix + 1, iy) >> shift) & 255u);
+  mv_f64 c01 = MV_F64((mv_texel(texels, tex, ix, iy + 1) >> shift) & 255u);
+  mv_f64 c11 = MV_F64((mv_texel(texels, tex, ix + 1, iy + 1) >> shift) & 255u);
+  MV_PRECISE mv_f64 c = (c00 * (1.0 - fx) + c10 * fx) * (1.0 - fy) + (c01 * (1.0 - fx) + c11 * fx) * fy;
+  mv_f64 r = floor(c + 0.5);
+  return r <= 0.0 ? 0u : r >= 255.0 ? 255u : MV_U32(r);
+}
+
+#if !defined(MV_CPP)
+/* Voxels [0, n) of `bricks` bricks (p.items, p.bricks): each voxel's key, and, where its best fragment's triangle
+ * is one of this batch's (`tris`, 9 floats each in grid units, and `attr`, MV_MESH_ATTR_WORDS each: 3 vertex
+ * colours, 6 texture coordinates as float bits, the texture; from triangle p.tri_base on, p.capacity of them),
+ * its colour at that triangle's point nearest its centre. `best`: the triangle plane. */
+MV_INLINE void mv_mesh_voxel_colours(MvBufF32 tris, MvBufU32 attr, MvBufU32 texels, MvBufU32 best, MvBufU64 bmeta,
+                                     MvBufU64 bkeys, MvBufU64 voxel_keys, MvBufU32 voxel_rgb, MvVoxelizeParams p,
+                                     mv_u32 gid, mv_u32 gsize) {
+  for (mv_u32 i = gid; i < p.items; i += gsize) {
+    mv_u32 t = MV_LD(best, i) - p.tri_base;
+    if (t >= p.capacity) continue;
+    mv_u32 lo = 0u, hi = p.bricks; /* the brick holding voxel i: the last whose first voxel is <= i */
+    while (hi - lo > 1u) {
+      mv_u32 mid = lo + (hi - lo) / 2u;
+      if (MV_U32(MV_LD(bmeta, 2u * mid + 1u)) <= i) lo = mid;
+      else hi = mid;
+    }
+    mv_u64 mask = MV_LD(bmeta, 2u * lo);
+    mv_u32 rank = i - MV_U32(MV_LD(bmeta, 2u * lo + 1u)), bit = 0u;
+    for (mv_u32 k = 0u; k < 64u; ++k) /* the rank-th set bit */
+      if (((mask >> k) & MV_U64(1u)) != MV_U64(0u)) {
+        if (rank == 0u) bit = k;
+        rank = rank - 1u;
+      }
+    mv_u64 key = (MV_LD(bkeys, lo) << 6) | MV_U64(bit);
+    mv_u32 kx = mv_morton3_64_axis(key, 0u), ky = mv_morton3_64_axis(key, 1u), kz = mv_morton3_64_axis(key, 2u);
+    mv_u32 r = 9u * t;
+    MvClosest q = mv_closest_on_triangle(
+        MV_F64(MV_LD(tris, r)), MV_F64(MV_LD(tris, r + 1u)), MV_F64(MV_LD(tris, r + 2u)), MV_F64(MV_LD(tris, r + 3u)),
+        MV_F64(MV_LD(tris, r + 4u)), MV_F64(MV_LD(tris, r + 5u)), MV_F64(MV_LD(tris, r + 6u)),
+        MV_F64(MV_LD(tris, r + 7u)), MV_F64(MV_LD(tris, r + 8u)), MV_F64(kx) + 0.5, MV_F64(ky) + 0.5, MV_F64(kz) + 0.5);
+    mv_u32 a = MV_MESH_ATTR_WORDS * t, tex = MV_LD(attr, a + 9u), rgb = 0u;
+    if (tex == MV_NO_TEXTURE) {
+      mv_u32 ca = MV_LD(attr, a), cb = MV_LD(attr, a + 1u), cc = MV_LD(attr, a + 2u);
+      rgb = mv_mesh_channel(ca, cb, cc, 0u, q.wb, q.wc) | (mv_mesh_channel(ca, cb, cc, 8u, q.wb, q.wc) << 8) |
+            (mv_mesh_channel(ca, cb, cc, 16u, q.wb, q.wc) << 16);
+    } else {
+      MV_PRECISE mv_f64 wa = 1.0 - q.wb - q.wc;
+      MV_PRECISE mv_f64 u = MV_F64(MV_BITSF(MV_LD(attr, a + 3u))) * wa + MV_F64(MV_BITSF(MV_LD(attr, a + 5u))) * q.wb +
+                            MV_F64(MV_BITSF(MV_LD(attr, a + 7u))) * q.wc;
+      MV_PRECISE mv_f64 v = MV_F64(MV_BITSF(MV_LD(attr, a + 4u))) * wa + MV_F64(MV_BITSF(MV_LD(attr, a + 6u))) * q.wb +
+                            MV_F64(MV_BITSF(MV_LD(attr, a + 8u))) * q.wc;
+      rgb = mv_texture_channel(texels, tex, u, v, 0u) | (mv_texture_channel(texels, tex, u, v, 8u) << 8) |
+            (mv_texture_channel(texels, tex, u, v, 16u) << 16);
+    }
+    MV_ST(voxel_keys, i, key);
+    MV_ST(voxel_rgb, i, rgb);
+  }
+}
+#endif
+
+#endif /* MV_MESH_COLOUR_H */

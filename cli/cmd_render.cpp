@@ -11,6 +11,7 @@
 #include "cli_common.h"
 #include "io/atomic_dir.h"
 #include "io/output_path.h"
+#include "trace/trace_engine.h"
 #include "megavox/error.h"
 #include "megavox/render.h"
 #include "megavox/trace.h"
@@ -211,7 +212,8 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
                             {"eye", {cam.eye[0], cam.eye[1], cam.eye[2]}},
                             {"target", {cam.target[0], cam.target[1], cam.target[2]}}, {"fov", cam.fov},
                             {"hits", r.hits}, {"seconds", seconds}, {"passes", passes},
-                            {"colours", tracer->has_colours()}};
+                            {"colours", tracer->has_colours()},
+                            {"colour_device_bytes", tracer->engine().colour_bytes()}};
         if (!a->path.empty()) j["frame"] = i;
         if (tracer->paged()) {
           j["cache"] = cache_json(r, seconds);

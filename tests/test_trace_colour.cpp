@@ -88,6 +88,18 @@ TEST_P(TraceColourTest, HitColoursAreTheDepthFirstEntriesOfTheHitCells) {
     EXPECT_GT(hit, rays.size() / 2);
     EXPECT_EQ(wrong, 0u);
 
+    // The same colours palette-compressed: the device holds and decodes the palette, with the same hit colours.
+    MvxFile pal = f;
+    pal.colour_storage = ColourStorage::palette;
+    const std::string pal_path = temp_path("shell_palette_" + encoding_name(e) + ".mvx");
+    write_mvx(pal_path, pal);
+    const MvxFile g = read_mvx(pal_path);
+    ASSERT_TRUE(g.colour_palette);
+    Tracer palette_tracer(dev, g);
+    std::vector<uint32_t> from_palette;
+    palette_tracer.trace(rays, {}, &from_palette);
+    EXPECT_TRUE(from_palette == got);
+
     // Coarser levels of detail: the flat colour picture equals the reference's, whose colours come from the map.
     for (double lod : {1.0, 6.0}) {
       RenderOptions ro;

@@ -17,6 +17,50 @@
 #define MV_COLOUR_SIZES_AT(L) ((L) + 1u)
 #define MV_COLOUR_ALPHA 0xff000000u /* a hit's colour word: R | G << 8 | B << 16 | 255 << 24; a miss: 0 */
 
+/* The colours buffer: a head of MV_COLOUR_HEAD words, word 0 the format. MV_COLOUR_RAW: from the head on, one
+ * R | G << 8 | B << 16 word per entry. MV_COLOUR_PALETTE (Kol's Algorithm 1 as the .mvx stores it, docs/colour.md):
+ * the head's words are the format, the blocks, the material bits and where five arrays start: the directory (each
+ * block's first entry), per block its palette, its first index bit and ω, per palette its first bit in the
+ * palette words, the materials (one colour word each), the palette words and the index words (each a run of
+ * 32-bit words, LSB first, with a spare word after it). */
+#define MV_COLOUR_HEAD 10u
+#define MV_COLOUR_RAW 0u
+#define MV_COLOUR_PALETTE 1u
+#define MV_COLOUR_AT_DIRECTORY 3u
+#define MV_COLOUR_AT_BLOCKS 4u
+#define MV_COLOUR_AT_PALETTES 5u
+#define MV_COLOUR_AT_MATERIALS 6u
+#define MV_COLOUR_AT_PALETTE_WORDS 7u
+#define MV_COLOUR_AT_INDEX_WORDS 8u
+
+/* `width` (< 32) bits from bit `at` of the words starting at word `base`. */
+MV_INLINE mv_u32 mv_colour_bits(MvBufU32 c, mv_u32 base, mv_u32 at, mv_u32 width) {
+  mv_u32 w = base + (at >> 5);
+  mv_u64 v = (MV_U64(MV_LD(c, w + 1u)) << 32) | MV_U64(MV_LD(c, w));
+  return MV_U32(v >> (at & 31u)) & ((1u << width) - 1u);
+}
+
+/* Entry e's colour word (R | G << 8 | B << 16): raw, or through the directory's binary search, the block's palette
+ * and the materials. */
+MV_INLINE mv_u32 mv_colour_entry(MvBufU32 c, mv_u32 e) {
+  if (MV_LD(c, 0u) == MV_COLOUR_RAW) return MV_LD(c, MV_COLOUR_HEAD + e);
+  mv_u32 dir = MV_LD(c, MV_COLOUR_AT_DIRECTORY);
+  mv_u32 lo = 0u, hi = MV_LD(c, 1u); /* the last block whose first entry is <= e */
+  while (hi - lo > 1u) {
+    mv_u32 mid = lo + (hi - lo) / 2u;
+    if (MV_LD(c, dir + mid) <= e) lo = mid;
+    else hi = mid;
+  }
+  mv_u32 blk = MV_LD(c, MV_COLOUR_AT_BLOCKS) + 3u * lo;
+  mv_u32 omega = MV_LD(c, blk + 2u);
+  mv_u32 slot = mv_colour_bits(c, MV_LD(c, MV_COLOUR_AT_INDEX_WORDS), MV_LD(c, blk + 1u) + (e - MV_LD(c, dir + lo)) * omega,
+                               omega);
+  mv_u32 mbits = MV_LD(c, 2u);
+  mv_u32 at = MV_LD(c, MV_LD(c, MV_COLOUR_AT_PALETTES) + MV_LD(c, blk)) + slot * mbits;
+  mv_u32 material = mv_colour_bits(c, MV_LD(c, MV_COLOUR_AT_PALETTE_WORDS), at, mbits);
+  return MV_LD(c, MV_LD(c, MV_COLOUR_AT_MATERIALS) + material);
+}
+
 /* The subtree size of an ssvdag brick (a level-2 node): itself, its full 2^3 sub-blocks and its voxels. */
 MV_INLINE mv_u32 mv_brick_size(mv_u32 lo, mv_u32 hi) {
   return 1u + MV_POPCOUNT(mv_brick_occupancy(lo, hi)) + MV_POPCOUNT(lo) + MV_POPCOUNT(hi);
@@ -108,7 +152,7 @@ MV_INLINE mv_u32 mv_hit_attribute(MvBufU32 words, MvBufU32 bricks, MvBufU32 meta
 
 #if !defined(MV_CPP)
 /* One work-item's share of hits [p.first, p.first + p.count): each hit's colour word (MV_COLOUR_ALPHA set) from
- * `colours` (one R | G << 8 | B << 16 word per depth-first entry), 0 for a miss. The levels come from p.mode. */
+ * `colours` (raw or palette, see MV_COLOUR_HEAD), 0 for a miss. The levels come from p.mode. */
 MV_INLINE void mv_hit_colours(MvBufU32 hits, MvBufU32 words, MvBufU32 bricks, MvBufU32 meta, MvBufU32 colours,
                               MvBufU32 colour_out, MvTraceParams p, mv_u32 gid, mv_u32 gsize, mv_u32 enc) {
   const mv_u32 L = MV_TRACE_LEVELS(p);
@@ -118,7 +162,7 @@ MV_INLINE void mv_hit_colours(MvBufU32 hits, MvBufU32 words, MvBufU32 bricks, Mv
     mv_u32 rgba = 0u;
     if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) {
       mv_u32 e = mv_hit_attribute(words, bricks, meta, enc, L, h.x, h.y, h.z, MV_INFO_LEVEL(h.info));
-      rgba = MV_LD(colours, e) | MV_COLOUR_ALPHA;
+      rgba = mv_colour_entry(colours, e) | MV_COLOUR_ALPHA;
     }
     MV_ST(colour_out, i, rgba);
   }

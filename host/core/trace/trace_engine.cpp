@@ -155,14 +155,14 @@ void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buff
   dev_.barrier();
 }
 
-void TraceEngine::attach_colours(const EncodedDag& dag, const std::vector<uint8_t>& rgb) {
+void TraceEngine::attach_colours(const EncodedDag& dag, const std::vector<uint8_t>& rgb, const ColourPalette* palette) {
   if (cache_) throw Error("trace: colours are traced on resident DAGs only");
   const std::vector<uint32_t> meta = trace_colour_meta(dag);
   const uint64_t root = meta.size() > MV_COLOUR_SIZES_AT(levels_) ? meta[MV_COLOUR_SIZES_AT(levels_)] : 0;
   if (rgb.size() % 3 != 0 || rgb.size() / 3 != root)
     throw Error("trace: " + std::to_string(rgb.size() / 3) + " colours for a DAG of " + std::to_string(root) +
                 " octree nodes");
-  const std::vector<uint32_t> words = trace_colour_words(rgb);
+  const std::vector<uint32_t> words = trace_colour_words(rgb, palette);
   colour_meta_ = dev_.alloc(meta.size() * 4, "hit colour sizes");
   dev_.upload(colour_meta_, meta.data(), meta.size() * 4);
   colours_ = dev_.alloc(std::max<size_t>(words.size(), 1) * 4, "voxel colours");
@@ -188,7 +188,7 @@ void TraceEngine::hit_colours(const Buffer& hits, uint32_t first_hit, uint32_t c
 
 Tracer::Tracer(Device& dev, const MvxFile& file, bool colours)
     : grid_(file.grid), engine_(std::make_unique<TraceEngine>(dev, file.dag)) {
-  if (colours && !file.colours.empty()) engine_->attach_colours(file.dag, file.colours);
+  if (colours && !file.colours.empty()) engine_->attach_colours(file.dag, file.colours, file.colour_palette.get());
 }
 
 bool Tracer::has_colours() const { return engine_->has_colours(); }

@@ -42,7 +42,9 @@ class TraceEngine {
   // Voxel colours (resident DAGs): `rgb`, RGB24 per octree node in depth-first order (docs/colour.md), uploaded
   // with the subtree sizes the hit colour walk reads. Throws mv::Error when the entries are not the DAG's octree
   // nodes, or when paged.
-  void attach_colours(const EncodedDag& dag, const std::vector<uint8_t>& rgb);
+  // `palette`, when given (the same colours as stored compressed), is what the device holds instead of raw words.
+  void attach_colours(const EncodedDag& dag, const std::vector<uint8_t>& rgb, const ColourPalette* palette = nullptr);
+  uint64_t colour_bytes() const { return colours_.bytes(); }  // on the device (0 without colours)
   bool has_colours() const { return !colours_.empty(); }
   // For hit records [first, first + count) of `hits`: each hit's colour, R | G << 8 | B << 16 | 255 << 24, a miss
   // 0, into `out` at the same positions (kernel hit_colours: kernels/common/trace_colour.h).

@@ -43,10 +43,39 @@ std::vector<uint32_t> trace_colour_meta(const EncodedDag& dag) {
   return meta;
 }
 
-std::vector<uint32_t> trace_colour_words(const std::vector<uint8_t>& rgb) {
-  std::vector<uint32_t> words(rgb.size() / 3);
-  for (size_t i = 0; i < words.size(); ++i)
-    words[i] = rgb[3 * i] | uint32_t{rgb[3 * i + 1]} << 8 | uint32_t{rgb[3 * i + 2]} << 16;
+std::vector<uint32_t> trace_colour_words(const std::vector<uint8_t>& rgb, const ColourPalette* palette) {
+  auto packed = [](const uint8_t* c) { return c[0] | uint32_t{c[1]} << 8 | uint32_t{c[2]} << 16; };
+  std::vector<uint32_t> words(MV_COLOUR_HEAD, 0);
+  if (!palette) {
+    words[0] = MV_COLOUR_RAW;
+    for (size_t i = 0; i + 2 < rgb.size(); i += 3) words.push_back(packed(&rgb[i]));
+    return words;
+  }
+  const ColourPalette& p = *palette;
+  if (p.index_bits() >= (uint64_t{1} << 32) || p.palette_entries() * p.material_bits >= (uint64_t{1} << 32))
+    throw Error("trace: the colour palette's bits pass 32-bit offsets");
+  words[0] = MV_COLOUR_PALETTE;
+  words[1] = static_cast<uint32_t>(p.blocks());
+  words[2] = p.material_bits;
+  auto start = [&](uint32_t slot) { words[slot] = static_cast<uint32_t>(words.size()); };
+  start(MV_COLOUR_AT_DIRECTORY);
+  words.insert(words.end(), p.block_start.begin(), p.block_start.end());
+  start(MV_COLOUR_AT_BLOCKS);
+  for (size_t g = 0; g < p.blocks(); ++g)
+    words.insert(words.end(), {p.block_palette[g], static_cast<uint32_t>(p.block_bit[g]),
+                               uint32_t{p.palette_omega[p.block_palette[g]]}});
+  start(MV_COLOUR_AT_PALETTES);
+  for (uint64_t b : p.palette_bit) words.push_back(static_cast<uint32_t>(b));
+  start(MV_COLOUR_AT_MATERIALS);
+  for (size_t m = 0; m < p.materials_count(); ++m) words.push_back(packed(&p.materials[3 * m]));
+  auto halves = [&](const std::vector<uint64_t>& w) {  // LSB first, then the spare word a two-word read may touch
+    for (uint64_t x : w) words.insert(words.end(), {static_cast<uint32_t>(x), static_cast<uint32_t>(x >> 32)});
+    words.push_back(0);
+  };
+  start(MV_COLOUR_AT_PALETTE_WORDS);
+  halves(p.palette_words);
+  start(MV_COLOUR_AT_INDEX_WORDS);
+  halves(p.index_words);
   return words;
 }
 

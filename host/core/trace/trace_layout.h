@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/trace_types.h"
+#include "megavox/colour_palette.h"
 #include "megavox/encode.h"
 
 namespace mv {
@@ -25,8 +26,10 @@ std::vector<uint32_t> trace_level_offsets(const EncodedDag& dag);
 // Throws mv::Error when the DAG has 2^32 octree nodes or more (the walk's indices are 32-bit).
 std::vector<uint32_t> trace_colour_meta(const EncodedDag& dag);
 
-// RGB24 depth-first colours as the walk reads them: one R | G << 8 | B << 16 word per entry.
-std::vector<uint32_t> trace_colour_words(const std::vector<uint8_t>& rgb);
+// Depth-first colours as the walk reads them (kernels/common/trace_colour.h, MV_COLOUR_HEAD): raw, one
+// R | G << 8 | B << 16 word per entry of `rgb`, or, given `palette` (the same colours compressed), the palette.
+// Throws mv::Error when a palette's bits pass 32-bit offsets.
+std::vector<uint32_t> trace_colour_words(const std::vector<uint8_t>& rgb, const ColourPalette* palette = nullptr);
 
 // Sets p.mode (the levels; rays from a buffer, hit records) and the ssvdag level starts the parameters carry.
 void set_trace_levels(MvTraceParams& p, const EncodedDag& dag);

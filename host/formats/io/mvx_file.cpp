@@ -378,6 +378,7 @@ void read_colours(const Opened& o, const std::string& path, MvxFile& out) {
     stats.palette_entries = p.palette_entries();
     stats.materials = p.materials_count();
     out.colours = p.decode();
+    out.colour_palette = std::make_shared<const ColourPalette>(std::move(p));
     return;
   }
   if (raw.size() - sizeof head != head.entries * 3)

@@ -27,9 +27,11 @@
 // the encoding itself before returning.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "megavox/colour_palette.h"
 #include "megavox/encode.h"
 #include "megavox/grid.h"
 #include "megavox/points.h"
@@ -68,6 +70,9 @@ struct MvxFile {
   // Voxel colours (version 4 on): RGB24 per octree node, voxels and inner nodes, in depth-first order
   // (docs/colour.md); empty for a colourless file.
   std::vector<uint8_t> colours;
+  // read_mvx, for a palette-compressed colour section: the palette as stored (the colours above are its decode), so
+  // a device can hold the colours compressed (kernels/common/trace_colour.h).
+  std::shared_ptr<const ColourPalette> colour_palette;
   // The colours' quantization: at most 2^colour_bits distinct colours (24: as measured, lossless). Stored in the
   // colour section's head; for a palette the reader checks the distinct colours against it.
   uint32_t colour_bits = 24;

@@ -154,30 +154,31 @@ MV_INLINE mv_u32 mv_texture_channel(MvBufU32 texels, mv_u32 tex, mv_f64 u, mv_f6
 }
 
 #if !defined(MV_CPP)
-/* Voxels [0, n) of `bricks` bricks (p.items, p.bricks): each voxel's key, and, where its best fragment's triangle
- * is one of this batch's (`tris`, 9 floats each in grid units, and `attr`, MV_MESH_ATTR_WORDS each: 3 vertex
- * colours, 6 texture coordinates as float bits, the texture; from triangle p.tri_base on, p.capacity of them),
- * its colour at that triangle's point nearest its centre. `best`: the triangle plane. */
-MV_INLINE void mv_mesh_voxel_colours(MvBufF32 tris, MvBufU32 attr, MvBufU32 texels, MvBufU32 best, MvBufU64 bmeta,
-                                     MvBufU64 bkeys, MvBufU64 voxel_keys, MvBufU32 voxel_rgb, MvVoxelizeParams p,
-                                     mv_u32 gid, mv_u32 gsize) {
+/* Each voxel's key, a work-item per brick (p.bricks of them): its at most 64 voxels, from its first voxel on. */
+MV_INLINE void mv_mesh_voxel_keys(MvBufU64 bkeys, MvBufU64 bmeta, MvBufU64 voxel_keys, MvVoxelizeParams p, mv_u32 gid,
+                                  mv_u32 gsize) {
+  for (mv_u32 b = gid; b < p.bricks; b += gsize) {
+    mv_u64 mask = MV_LD(bmeta, 2u * b), key = MV_LD(bkeys, b) << 6;
+    mv_u32 at = MV_U32(MV_LD(bmeta, 2u * b + 1u));
+    for (mv_u32 bit = 0u; bit < 64u; ++bit)
+      if (((mask >> bit) & MV_U64(1u)) != MV_U64(0u)) {
+        MV_ST(voxel_keys, at, key | MV_U64(bit));
+        at = at + 1u;
+      }
+  }
+}
+
+/* Voxels [0, p.items): where the voxel's best fragment's triangle is one of this batch's (`tris`, 9 floats each in
+ * grid units, and `attr`, MV_MESH_ATTR_WORDS each: 3 vertex colours, 6 texture coordinates as float bits, the
+ * texture; from triangle p.tri_base on, p.capacity of them), its colour at that triangle's point nearest its
+ * centre. `best`: the triangle plane; `voxel_keys`: each voxel's key (mv_mesh_voxel_keys). */
+MV_INLINE void mv_mesh_voxel_colours(MvBufF32 tris, MvBufU32 attr, MvBufU32 texels, MvBufU32 best,
+                                     MvBufU64 voxel_keys, MvBufU32 voxel_rgb, MvVoxelizeParams p, mv_u32 gid,
+                                     mv_u32 gsize) {
   for (mv_u32 i = gid; i < p.items; i += gsize) {
     mv_u32 t = MV_LD(best, i) - p.tri_base;
     if (t >= p.capacity) continue;
-    mv_u32 lo = 0u, hi = p.bricks; /* the brick holding voxel i: the last whose first voxel is <= i */
-    while (hi - lo > 1u) {
-      mv_u32 mid = lo + (hi - lo) / 2u;
-      if (MV_U32(MV_LD(bmeta, 2u * mid + 1u)) <= i) lo = mid;
-      else hi = mid;
-    }
-    mv_u64 mask = MV_LD(bmeta, 2u * lo);
-    mv_u32 rank = i - MV_U32(MV_LD(bmeta, 2u * lo + 1u)), bit = 0u;
-    for (mv_u32 k = 0u; k < 64u; ++k) /* the rank-th set bit */
-      if (((mask >> k) & MV_U64(1u)) != MV_U64(0u)) {
-        if (rank == 0u) bit = k;
-        rank = rank - 1u;
-      }
-    mv_u64 key = (MV_LD(bkeys, lo) << 6) | MV_U64(bit);
+    mv_u64 key = MV_LD(voxel_keys, i);
     mv_u32 kx = mv_morton3_64_axis(key, 0u), ky = mv_morton3_64_axis(key, 1u), kz = mv_morton3_64_axis(key, 2u);
     mv_u32 r = 9u * t;
     MvClosest q = mv_closest_on_triangle(
@@ -198,7 +199,6 @@ MV_INLINE void mv_mesh_voxel_colours(MvBufF32 tris, MvBufU32 attr, MvBufU32 texe
       rgb = mv_texture_channel(texels, tex, u, v, 0u) | (mv_texture_channel(texels, tex, u, v, 8u) << 8) |
             (mv_texture_channel(texels, tex, u, v, 16u) << 16);
     }
-    MV_ST(voxel_keys, i, key);
     MV_ST(voxel_rgb, i, rgb);
   }
 }

@@ -19,9 +19,13 @@ __kernel void mesh_colour_walk(__global float* tris, __global uint* item_tri, __
   }
 }
 
-// Each voxel's key and, where its best fragment's triangle is in this batch, its colour (common/mesh_colour.h).
+// Each voxel's key, a work-item per brick; then each voxel's colour where its best fragment's triangle is in this
+// batch (common/mesh_colour.h).
+__kernel void mesh_voxel_keys(__global ulong* bkeys, __global ulong* bmeta, __global ulong* voxel_keys, MvVoxelizeParams p) {
+  mv_mesh_voxel_keys(bkeys, bmeta, voxel_keys, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
 __kernel void mesh_voxel_colours(__global float* tris, __global uint* attr, __global uint* texels, __global uint* best,
-                                 __global ulong* bmeta, __global ulong* bkeys, __global ulong* voxel_keys,
-                                 __global uint* voxel_rgb, MvVoxelizeParams p) {
-  mv_mesh_voxel_colours(tris, attr, texels, best, bmeta, bkeys, voxel_keys, voxel_rgb, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+                                 __global ulong* voxel_keys, __global uint* voxel_rgb, MvVoxelizeParams p) {
+  mv_mesh_voxel_colours(tris, attr, texels, best, voxel_keys, voxel_rgb, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }

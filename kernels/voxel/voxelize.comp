@@ -4,15 +4,19 @@
 #include "common/mv_glsl_prelude.h"
 #include "common/voxelize.h"
 
-#if defined(MV_ENTRY_mesh_voxel_colours)
+#if defined(MV_ENTRY_mesh_voxel_keys)
+layout(push_constant) uniform Args { MvBufU64 bkeys; MvBufU64 bmeta; MvBufU64 voxel_keys; MvVoxelizeParams p; } args;
+
+void main() { mv_mesh_voxel_keys(args.bkeys, args.bmeta, args.voxel_keys, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_mesh_voxel_colours)
 layout(push_constant) uniform Args {
-  MvBufF32 tris; MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU64 bmeta; MvBufU64 bkeys; MvBufU64 voxel_keys;
-  MvBufU32 voxel_rgb; MvVoxelizeParams p;
+  MvBufF32 tris; MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU64 voxel_keys; MvBufU32 voxel_rgb;
+  MvVoxelizeParams p;
 } args;
 
 void main() {
-  mv_mesh_voxel_colours(args.tris, args.attr, args.texels, args.best, args.bmeta, args.bkeys, args.voxel_keys,
-                        args.voxel_rgb, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_mesh_voxel_colours(args.tris, args.attr, args.texels, args.best, args.voxel_keys, args.voxel_rgb, args.p,
+                        MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #else
 /* MV_COLOUR_WALK: 0 the voxelizer; 1 the mesh colour walk (counter, keys, masks: best, bkeys, bmeta; see

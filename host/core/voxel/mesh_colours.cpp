@@ -87,11 +87,16 @@ std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::
   Buffer voxel_rgb = dev.alloc(uint64_t{nv} * 4, "voxel colours");
   Buffer tri_plane;
   for (uint32_t pass = 1; pass <= 4; ++pass) {
-    if (pass == 4) {  // the triangle plane alone
+    if (pass == 4) {  // the triangle plane alone, and the voxels' keys
       tri_plane = dev.alloc(uint64_t{nv} * 4, "voxel triangles");
       dev.copy(best, tri_plane, uint64_t{nv} * 4, uint64_t{nv} * 8, 0);
       dev.barrier();
       best = Buffer();
+      MvVoxelizeParams p{};
+      p.bricks = nb;
+      dev.dispatch(dev.kernel(KernelId::mesh_voxel_keys), dev.groups_for(nb, kMeshColourLocal), kMeshColourLocal,
+                   {&bkeys, &bmeta, &voxel_keys}, p);
+      dev.barrier();
     }
     for (uint64_t first = 0; first < n_tris; first += batch) {
       const uint64_t count = std::min(batch, n_tris - first);
@@ -118,7 +123,7 @@ std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::
         p.items = nv;
         p.capacity = static_cast<uint32_t>(count);
         dev.dispatch(dev.kernel(KernelId::mesh_voxel_colours), dev.groups_for(nv, kMeshColourLocal), kMeshColourLocal,
-                     {&tb, &ab, &texels, &tri_plane, &bmeta, &bkeys, &voxel_keys, &voxel_rgb}, p);
+                     {&tb, &ab, &texels, &tri_plane, &voxel_keys, &voxel_rgb}, p);
         dev.barrier();
         continue;
       }

@@ -63,7 +63,9 @@ void add_bench_attributes_command(CLI::App& bench, const GlobalOptions& g) {
       "array), ΔE94 of the quantized colours, the build's stages (read and write excluded) and host peak memory\n"
       "against the colourless build, and the shaded render of the lossless file with its colours against grey.\n\n"
       "Example: megavox bench attributes --data ../shared/data --json");
-  cmd->add_option("clouds", a->clouds, "Coloured clouds (LAS, PLY); default: the coloured clouds under --data");
+  cmd->add_option("clouds", a->clouds,
+                  "Coloured clouds (LAS, PLY) or meshes (vertex colours, textures); default: the coloured clouds under "
+                  "--data");
   cmd->add_option("--data", a->data, "The shared test data folder")->capture_default_str();
   cmd->add_option("--resolution", a->resolution, "Voxels per axis (a power of two: 512, 1K, 2K, ...)")
       ->capture_default_str();
@@ -82,7 +84,8 @@ void add_bench_attributes_command(CLI::App& bench, const GlobalOptions& g) {
     for (const std::string& cloud : a->clouds) {
       if (!a->json) std::fprintf(stderr, "attributes: %s\n", cloud.c_str());
       const bench::AttributesBenchResult r = bench::bench_attributes(*dev, cloud, a->opt);
-      nlohmann::json j = {{"input", r.input}, {"points", r.points}, {"voxels", r.voxels}, {"entries", r.entries},
+      nlohmann::json j = {{"input", r.input}, {"points", r.points}, {"triangles", r.triangles}, {"voxels", r.voxels},
+                          {"entries", r.entries},
                           {"colourless", attribute_build_json(r.colourless, r.colourless)},
                           {"render_seconds", r.render_seconds}, {"grey_render_seconds", r.grey_render_seconds},
                           {"render_ratio", r.grey_render_seconds > 0 ? r.render_seconds / r.grey_render_seconds : 0.0},
@@ -92,7 +95,8 @@ void add_bench_attributes_command(CLI::App& bench, const GlobalOptions& g) {
       for (const auto& b : r.coloured) j["coloured"].push_back(attribute_build_json(b, r.colourless));
       all.push_back(j);
       if (a->json) continue;
-      std::printf("%s: %llu points, %llu voxels, %llu colour entries\n", cloud.c_str(), (unsigned long long)r.points,
+      std::printf("%s: %llu %s, %llu voxels, %llu colour entries\n", cloud.c_str(),
+                  (unsigned long long)(r.points ? r.points : r.triangles), r.points ? "points" : "triangles",
                   (unsigned long long)r.voxels, (unsigned long long)r.entries);
       std::printf("  colourless: stages %.3f s, peak RSS %.0f MiB\n", r.colourless.stage_seconds,
                   r.colourless.peak_rss_bytes / 1048576.0);

@@ -59,6 +59,7 @@ AttributesBenchResult bench_attributes(Device& dev, const std::string& cloud, co
   base.output = scratch.file("grey.mvx");
   out.colourless = best_build(dev, base, 0, opt.repeats, out.peak_rss_reset);
   out.points = out.colourless.report.points;
+  out.triangles = out.colourless.report.triangles;
   out.voxels = out.colourless.report.voxels;
   std::string lossless;
   for (uint32_t bits : opt.bits) {

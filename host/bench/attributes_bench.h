@@ -26,7 +26,7 @@ struct AttributeBuild {
 
 struct AttributesBenchResult {
   std::string input;
-  uint64_t points = 0, voxels = 0, entries = 0;
+  uint64_t points = 0, triangles = 0, voxels = 0, entries = 0;  // points: a cloud's; triangles: a mesh's
   AttributeBuild colourless;
   std::vector<AttributeBuild> coloured;  // one per --bits
   // The 24-bit file rendered shaded at the render size, best of `repeats`: with its colours and grey.

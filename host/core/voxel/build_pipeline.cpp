@@ -187,9 +187,10 @@ void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint6
     if (colours->wanted) colours->colours.textures = mesh->textures();
     if (colours->wanted && colours->out_of_core)
       throw CodedError(ErrorCode::invalid_argument,
-                       o.input + ": voxel colours of a mesh build in core, and a resolution above --cube builds out of "
-                                 "core: raise --cube to the resolution (or --cube 0), or build without colours "
-                                 "(--attributes none)",
+                       o.input + ": voxel colours of a mesh build in core, and this build runs out of core (a "
+                                 "resolution above --cube, or a grid that did not fit device memory whole): raise "
+                                 "--cube to the resolution (or --cube 0) and, if needed, --device-memory, or build "
+                                 "without colours (--attributes none)",
                        setting_cube | setting_none);
   }
   const bool keep = colours && colours->wanted;
@@ -433,7 +434,15 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
 
   std::vector<uint8_t> colours;
   if (mesh_colours.wanted) {
-    colours = mesh_voxel_colours(dev, voxels.bricks, mesh_colours.tris, mesh_colours.colours, levels, o.voxelize);
+    try {
+      colours = mesh_voxel_colours(dev, voxels.bricks, mesh_colours.tris, mesh_colours.colours, levels, o.voxelize);
+    } catch (const DeviceMemoryError& e) {  // not retried in cubes: those do not carry colours
+      throw CodedError(ErrorCode::out_of_memory,
+                       o.input + ": the voxel colours of " + std::to_string(voxels.bricks.voxels()) +
+                           " voxels do not fit device memory (" + e.what() +
+                           "): raise --device-memory, lower the resolution, or build without colours (--attributes none)",
+                       setting_device_memory | setting_none);
+    }
     mesh_colours = {};
     lap("colours");
   }

@@ -67,6 +67,22 @@ void check_case(Device& dev, const std::vector<uint64_t>& keys, uint32_t shift, 
   EXPECT_EQ(download_all<uint64_t>(dev, sums, seg.count), ref::segmented_sum(small, starts)) << "n = " << n;
   EXPECT_EQ(download_all<uint64_t>(dev, scan, n), ref::segmented_exclusive_scan(small, starts)) << "n = " << n;
   EXPECT_EQ(download_all<uint32_t>(dev, arg, seg.count), ref::segmented_argmin(wide, starts)) << "n = " << n;
+  if (n == 0) return;
+  // Three planes over the same runs: plane k holds the values times k + 1 (wide enough to carry past 32 bits).
+  std::vector<uint32_t> planes;
+  for (uint32_t k = 0; k < 3; ++k)
+    for (uint32_t v : small) planes.push_back(v * (k + 1));
+  Buffer pb = dev.alloc(planes.size() * 4, "planes");
+  dev.upload(pb, planes.data(), planes.size() * 4);
+  Buffer psums = dev.alloc(3 * seg.count * 8, "plane sums");
+  segmented_sum(dev, seg, pb, psums, 3);
+  std::vector<uint64_t> want;
+  for (uint32_t k = 0; k < 3; ++k) {
+    const std::vector<uint32_t> plane(planes.begin() + k * n, planes.begin() + (k + 1) * n);
+    const std::vector<uint64_t> one = ref::segmented_sum(plane, starts);
+    want.insert(want.end(), one.begin(), one.end());
+  }
+  EXPECT_EQ(download_all<uint64_t>(dev, psums, 3 * seg.count), want) << "n = " << n;
 }
 
 TEST_P(SegmentedTest, RandomRunsMatchTheReference) {

@@ -20,12 +20,12 @@ MV_STRUCT_BEGIN(MvSegParams)
   mv_u32 blocks;     /* seg_argmin_*: blocks of elements, one work-item each */
   mv_u32 block_size; /* seg_argmin_*: elements per block (the last may be short) */
   mv_u32 shift;      /* seg_heads: keys compare shifted right by this (64 or more: one segment) */
-  mv_u32 pad0;
+  mv_u32 planes;     /* seg_sum: planes of n values each, summed over the same segments (0 counts as 1) */
 MV_STRUCT_END(MvSegParams)
 #if defined(MV_CPP)
 MV_LAYOUT_SIZE(MvSegParams, 24);
 MV_LAYOUT_AT(MvSegParams, n, 0); MV_LAYOUT_AT(MvSegParams, count, 4); MV_LAYOUT_AT(MvSegParams, blocks, 8);
-MV_LAYOUT_AT(MvSegParams, block_size, 12); MV_LAYOUT_AT(MvSegParams, shift, 16); MV_LAYOUT_AT(MvSegParams, pad0, 20);
+MV_LAYOUT_AT(MvSegParams, block_size, 12); MV_LAYOUT_AT(MvSegParams, shift, 16); MV_LAYOUT_AT(MvSegParams, planes, 20);
 #endif
 
 /* Bit 63 of a carried index word: the block holds a segment head (reduce) / the carry is valid (small). */
@@ -47,9 +47,14 @@ MV_INLINE void mv_seg_starts(MvBufU32 e, MvBufU32 starts, MvSegParams p, mv_u32 
   if (gid == 0u) MV_ST(starts, MV_LD(e, p.n), p.n);
 }
 
+/* sums[k * count + s] = the sum of segment s of plane k: `prefix` is the exclusive scan of every plane in turn
+ * (plane k's values at k * n), so a segment's sum is the difference of two prefixes within its plane. */
 MV_INLINE void mv_seg_sum(MvBufU64 prefix, MvBufU32 starts, MvBufU64 sums, MvSegParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 s = gid; s < p.count; s += stride)
-    MV_ST(sums, s, MV_LD(prefix, MV_LD(starts, s + 1u)) - MV_LD(prefix, MV_LD(starts, s)));
+  mv_u32 planes = MV_MAX(p.planes, 1u);
+  for (mv_u32 j = gid; j < planes * p.count; j += stride) {
+    mv_u32 k = j / p.count, s = j - k * p.count;
+    MV_ST(sums, j, MV_LD(prefix, k * p.n + MV_LD(starts, s + 1u)) - MV_LD(prefix, k * p.n + MV_LD(starts, s)));
+  }
 }
 
 MV_INLINE void mv_seg_scan(MvBufU64 prefix, MvBufU32 e, MvBufU32 starts, MvBufU64 dst, MvSegParams p, mv_u32 gid,

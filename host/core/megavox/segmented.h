@@ -30,8 +30,9 @@ void segment_heads(Device& dev, const Buffer& keys, Buffer& heads, uint64_t n, u
 // The same from head flags (n 32-bit values, nonzero where a run starts; element 0 always starts one). Waits once.
 Segmentation segment_by_heads(Device& dev, const Buffer& heads, uint64_t n);
 
-// sums[s] = the exact 64-bit sum of run s's 32-bit values (sums holds count uint64_t values).
-void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& sums);
+// sums[s] = the exact 64-bit sum of run s's 32-bit values (sums holds count uint64_t values). With `planes`,
+// values holds that many planes of n values (plane k at k * n), each summed over the same runs: sums[k * count + s].
+void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& sums, uint32_t planes = 1);
 
 // out[i] = the sum of the 32-bit values before element i in its run, exact in 64 bits (out holds n uint64_t).
 void segmented_exclusive_scan(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& out);

@@ -20,10 +20,12 @@ MvSegParams seg_params(const Segmentation& seg) {
   return p;
 }
 
-// P: the exclusive 64-bit scan of n 32-bit values (n + 1 entries).
-Buffer segment_prefix(Device& dev, const Segmentation& seg, const Buffer& values) {
-  Buffer prefix = dev.alloc((seg.n + 1) * 8, "segmented prefix sums");
-  ScanPlan plan = plan_scan(dev, seg.n, true);
+// P: the exclusive 64-bit scan of n 32-bit values (n + 1 entries), or of `planes` planes of n in turn.
+Buffer segment_prefix(Device& dev, const Segmentation& seg, const Buffer& values, uint32_t planes = 1) {
+  const uint64_t n = seg.n * planes;
+  detail::check_device_items("segmented", n);
+  Buffer prefix = dev.alloc((n + 1) * 8, "segmented prefix sums");
+  ScanPlan plan = plan_scan(dev, n, true);
   record_scan(dev, plan, values, prefix);
   return prefix;
 }
@@ -71,11 +73,12 @@ Segmentation segment_by_key(Device& dev, const Buffer& keys, uint64_t n, uint32_
   return segment_by_heads(dev, heads, n);
 }
 
-void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& sums) {
-  if (seg.count == 0) return;
-  Buffer prefix = segment_prefix(dev, seg, values);
+void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& sums, uint32_t planes) {
+  if (seg.count == 0 || planes == 0) return;
+  Buffer prefix = segment_prefix(dev, seg, values, planes);
   MvSegParams p = seg_params(seg);
-  dev.dispatch(dev.kernel(KernelId::seg_sum), dev.groups_for(seg.count, kSegLocal), kSegLocal,
+  p.planes = planes;
+  dev.dispatch(dev.kernel(KernelId::seg_sum), dev.groups_for(seg.count * planes, kSegLocal), kSegLocal,
                {&prefix, &seg.starts, &sums}, p);
   dev.barrier();
 }

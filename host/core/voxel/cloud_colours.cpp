@@ -38,25 +38,13 @@ void colour_dispatch(Device& dev, KernelId id, uint64_t n, std::initializer_list
   dev.barrier();
 }
 
-// The runs `heads` flags over n elements, repeated once per plane for `used` planes (each plane-major run of n
-// elements starts a run at its first element anyway): run k * m + s is run s of plane k, so one segmented_sum
-// sums every plane and the sums come out plane-major. Waits once, for the count.
-Segmentation plane_runs(Device& dev, const Buffer& heads, uint64_t n, uint32_t used) {
-  Buffer all_heads = colour_alloc(dev, used * n * 4, "colour plane heads");
-  for (uint32_t k = 0; k < used; ++k) dev.copy(heads, all_heads, n * 4, 0, k * n * 4);
-  dev.barrier();
-  Segmentation runs = segment_by_heads(dev, all_heads, used * n);
-  if (runs.count % used) throw Error("voxel colours: the planes' runs disagree");
-  return runs;
-}
-
-// The 64-bit sums of `planes` (kColourPlanes x n) over `runs` (plane_runs of its first `used` planes): m runs
-// a plane, kColourPlanes x m sums; the planes not summed hold zeros, so their sums are zeros.
+// The 64-bit sums of the first `used` planes of `planes` (kColourPlanes x n) over `runs`: kColourPlanes x m sums,
+// the planes not summed zero (they can only sum to zero). One segmentation serves every plane.
 Buffer colour_plane_sums(Device& dev, const Segmentation& runs, uint32_t used, const Buffer& planes) {
-  const uint64_t m = runs.count / used;
+  const uint64_t m = runs.count;
   Buffer sums = colour_alloc(dev, kColourPlanes * m * 8, "colour sums");
   if (used < kColourPlanes) dev.fill(sums, 0, (kColourPlanes - used) * m * 8, used * m * 8);
-  segmented_sum(dev, runs, planes, sums);
+  segmented_sum(dev, runs, planes, sums, used);
   return sums;
 }
 
@@ -106,10 +94,9 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     MvColourParams p{};
     p.n = static_cast<uint32_t>(points);
     colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
-    const uint32_t used = MV_COLOUR_COUNT + 1;
-    const Segmentation runs = plane_runs(dev, heads, points, used);
-    if (runs.count != used * voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
-    Buffer sums = colour_plane_sums(dev, runs, used, planes);
+    const Segmentation runs = segment_by_heads(dev, heads, points);
+    if (runs.count != voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
+    Buffer sums = colour_plane_sums(dev, runs, MV_COLOUR_COUNT + 1, planes);
     lv[0].n = voxels;
     lv[0].keys = std::move(voxel_keys);
     finish_colour_level(dev, lv[0], sums, true);
@@ -127,7 +114,8 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     p.used = colour_planes_used(l - 1, voxels);
     colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
     Buffer sums = colour_alloc(dev, kColourPlanes * level.n * 8, "colour sums");
-    colour_dispatch(dev, KernelId::colour_child_sums, kColourPlanes * level.n, {&below.planes, &below.by_parent.starts, &sums},
+    if (p.used < kColourPlanes) dev.fill(sums, 0, (kColourPlanes - p.used) * level.n * 8, p.used * level.n * 8);
+    colour_dispatch(dev, KernelId::colour_child_sums, p.used * level.n, {&below.planes, &below.by_parent.starts, &sums},
                     p);
     finish_colour_level(dev, level, sums, false);
     below.keys = Buffer();

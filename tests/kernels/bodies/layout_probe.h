@@ -80,7 +80,7 @@
   X(MV_U32, eye_z) X(MV_U32, rot[0]) X(MV_U32, rot[1]) X(MV_U32, rot[2]) X(MV_U32, rot[3]) X(MV_U32, rot[4])           \
   X(MV_U32, rot[5]) X(MV_U32, rot[6]) X(MV_U32, rot[7]) X(MV_U32, rot[8])
 #define MV_FIELDS_SEG(X)                                                                                               \
-  X(MV_U32, n) X(MV_U32, count) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, pad0)
+  X(MV_U32, n) X(MV_U32, count) X(MV_U32, blocks) X(MV_U32, block_size) X(MV_U32, shift) X(MV_U32, planes)
 #define MV_FIELDS_REP(X)                                                                                               \
   X(MV_U32, n) X(MV_U32, cells) X(MV_U32, groups) X(MV_U32, cell_bits) X(MV_U32, cap) X(MV_U32, pad0)
 #define MV_FIELDS_GATHER(X)                                                                                            \

@@ -2,6 +2,7 @@
 // in bulk, on random arrays of several kinds and on edge cases (one entry, one colour, all distinct, block
 // boundaries); the same bytes every run; damaged bytes an error; and through .mvx files of every encoding on
 // every device, with the writer keeping the smaller of raw and palette.
+#include <cmath>
 #include <fstream>
 #include <random>
 
@@ -93,6 +94,33 @@ TEST(ColourPalette, CoherentCompressesNoiseDoesNot) {
   EXPECT_LT(palette_serialise(palette_encode(coherent)).size(), coherent.size() / 4);
   const std::vector<uint8_t> noise = palette_test_colours(50000, 0, 1, 4);
   EXPECT_GT(palette_serialise(palette_encode(noise)).size(), noise.size());
+}
+
+// The thesis's Table 2.1 accounting (notes A.9), which megavox's figures follow: the raw attribute array A is 3 bytes
+// an entry (MB = 2^20 bytes, M = 10^6), the fixed-width alternative Ã + M is ⌈log2 λ⌉ bits an entry plus 24 bits a
+// material, and the compression rate is PC / A. Then megavox's own palette of coherent colours: its material
+// indices are ⌈log2 λ⌉ bits wide, and it is smaller than that fixed-width alternative, as PC is in every scene.
+TEST(ColourPalette, ThesisAccountingIdentities) {
+  struct Scene {
+    double entries_m, materials_m, a_mb, fixed_mb, pc_mb, rate;
+  } scenes[] = {{4760, 1.66, 13619, 11922, 10124, 0.74},
+                {10487, 1.42, 30004, 26257, 24051, 0.80},
+                {14788, 3.15, 42309, 38792, 10877, 0.26},
+                {3263, 1.57, 9336, 8174, 2220, 0.24}};
+  for (const Scene& s : scenes) {
+    const double entries = s.entries_m * 1e6, materials = s.materials_m * 1e6, mb = 1024.0 * 1024.0;
+    // the table's Λ and λ have 3 to 5 digits: its sizes agree to about 1 MB
+    EXPECT_NEAR(entries * 3 / mb, s.a_mb, 1.5);
+    EXPECT_NEAR((entries * std::ceil(std::log2(materials)) + 24 * materials) / 8 / mb, s.fixed_mb, 1.5);
+    EXPECT_NEAR(s.pc_mb / s.a_mb, s.rate, 0.005);
+  }
+  const std::vector<uint8_t> rgb = palette_test_colours(60000, 300, 40, 11);
+  const ColourPalette p = palette_encode(rgb);
+  const double materials = double(p.materials_count()), entries = double(p.entries);
+  EXPECT_EQ(p.material_bits, uint32_t(std::ceil(std::log2(materials))));
+  const double fixed_bytes = (entries * p.material_bits + 24 * materials) / 8;
+  EXPECT_LT(double(palette_serialise(p).size()), fixed_bytes);
+  EXPECT_LT(double(palette_serialise(p).size()), 3 * entries);
 }
 
 // Every single damaged byte, and every truncation, is an mv::Error or a palette that still decodes in range.

@@ -43,9 +43,9 @@ void add_build_options(CLI::App& cmd, BuildArgs& a) {
   cmd.add_option("--attributes", a.attributes,
                  "Voxel colours, stored in depth-first order beside the DAG. rgb: a cloud's voxel takes the mean of its\n"
                  "points; a mesh's voxel the colour at the point nearest its centre on the triangles overlapping it\n"
-                 "(vertex colours interpolated; PLY red, green, blue as uchar or ushort, or vertex colours assimp\n"
-                 "reads; meshes build colours in core); inner nodes the mean of the voxels below. none: geometry\n"
-                 "only; auto: rgb when the input has colour")
+                 "(vertex colours interpolated, or a base-colour texture sampled bilinearly; PLY red, green, blue as\n"
+                 "uchar or ushort, or what assimp reads; meshes build colours in core); inner nodes the mean of the\n"
+                 "voxels below. none: geometry only; auto: rgb when the input has colour")
       ->check(CLI::IsMember({"auto", "none", "rgb"}))
       ->capture_default_str();
   cmd.add_option("--colour-bits", a.colour_bits,

@@ -1,6 +1,7 @@
-// Mesh voxel colours on every device: vertex colours (PLY uchar and ushort, OBJ through assimp) through the whole
-// build against ref::mesh_voxel_colours (every voxel of each triangle alone, the nearest point by plain loops) and
-// ref::preorder_colours for the depth-first array; geometry unchanged by colour; the refusals.
+// Mesh voxel colours on every device: vertex colours (PLY uchar and ushort, OBJ through assimp) and textures through
+// the whole build against ref::mesh_voxel_colours (every voxel of each triangle alone, the nearest point by plain
+// loops) and ref::preorder_colours for the depth-first array; geometry unchanged by colour; out of core equal to in
+// core; the refusals.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -267,13 +268,31 @@ TEST_P(MeshColourTest, RefusalsAreClearErrors) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no vertex colours or textures"), std::string::npos) << e.what();
   }
-  try {
-    build_mesh(dev, coloured, out, Encoding::svdag, Attributes::automatic, 32);
-    ADD_FAILURE() << "colours out of core";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("--cube"), std::string::npos) << e.what();
-  }
   EXPECT_EQ(build_mesh(dev, coloured, out, Encoding::svdag, Attributes::none, 32).attributes, "none");
+}
+
+// Out of core (cubes of 16 and 32 in a 64 grid) the colours and the DAG are the in-core build's, byte for byte.
+TEST_P(MeshColourTest, OutOfCoreEqualsInCore) {
+  Device& dev = shared_device(GetParam());
+  const ColourMesh m = colour_sphere();
+  const std::string in = write_colour_ply(m, "sphere_cubes.ply", false);
+  for (Encoding e : {Encoding::svdag, Encoding::ssvdag}) {
+    SCOPED_TRACE(encoding_name(e));
+    const std::string whole = temp_path("sphere_whole_" + encoding_name(e) + ".mvx");
+    build_mesh(dev, in, whole, e, Attributes::automatic, 1024);
+    const MvxFile want = read_mvx(whole);
+    ASSERT_FALSE(want.colours.empty());
+    for (uint32_t cube : {16u, 32u}) {
+      const std::string part = temp_path("sphere_cubes_" + encoding_name(e) + std::to_string(cube) + ".mvx");
+      const BuildReport r = build_mesh(dev, in, part, e, Attributes::automatic, cube);
+      EXPECT_EQ(r.cube, cube);
+      EXPECT_EQ(r.attributes, "rgb");
+      const MvxFile got = read_mvx(part);
+      EXPECT_TRUE(got.colours == want.colours) << "cube " << cube;
+      EXPECT_EQ(got.dag.words, want.dag.words);
+      EXPECT_EQ(got.dag.inner, want.dag.inner);
+    }
+  }
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(MeshColourTest);

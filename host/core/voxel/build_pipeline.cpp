@@ -3,8 +3,11 @@
 #include <chrono>
 #include <functional>
 #include <cmath>
+#include <cstring>
+#include <memory>
 #include <unistd.h>
 
+#include "common/voxelize.h"
 #include "io/cloud_input.h"
 #include "io/memory_mesh.h"
 #include "io/mesh_source.h"
@@ -14,6 +17,8 @@
 #include "voxel/build_steps.h"
 #include "voxel/mesh_colours.h"
 #include "megavox/build.h"
+#include "megavox/colour.h"
+#include "megavox/primitives.h"
 #include "voxel/triangle_buckets.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
@@ -164,10 +169,10 @@ GridTransform plan_mesh(const BuildOptions& o, uint32_t resolution, MeshSurvey& 
 
 // A mesh's triangles kept for its voxel colours: in grid units, with their vertex colours (3 each).
 struct MeshColourInput {
-  bool out_of_core = false;  // the build runs in cubes, which do not carry colours yet: refuse them
-  bool wanted = false;       // --attributes and the mesh's vertex colours or textures say so
+  bool keep_tris = true;  // in core; out of core the buckets carry the triangles with their colours
+  bool wanted = false;    // --attributes and the mesh's vertex colours or textures say so
   std::vector<float> tris;
-  MeshTriangleColours colours;
+  MeshTriangleColours colours;  // per triangle, from the first (out of core: the batch's, cleared by the caller)
 };
 
 // Streams a mesh's triangles in grid units, a batch at a time; with `colours`, decides from --attributes and the
@@ -185,13 +190,6 @@ void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint6
                        o.input + ": --attributes rgb, but the mesh has no vertex colours or textures", setting_none);
     colours->wanted = o.attributes != Attributes::none && has;
     if (colours->wanted) colours->colours.textures = mesh->textures();
-    if (colours->wanted && colours->out_of_core)
-      throw CodedError(ErrorCode::invalid_argument,
-                       o.input + ": voxel colours of a mesh build in core, and this build runs out of core (a "
-                                 "resolution above --cube, or a grid that did not fit device memory whole): raise "
-                                 "--cube to the resolution (or --cube 0) and, if needed, --device-memory, or build "
-                                 "without colours (--attributes none)",
-                       setting_cube | setting_none);
   }
   const bool keep = colours && colours->wanted;
   std::vector<uint32_t> idx, kept;
@@ -203,7 +201,7 @@ void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint6
     triangles_to_grid(grid, mesh->positions(), idx.data(), idx.size() / 3, tris, clips(o), keep ? &kept : nullptr);
     triangles += tris.size() / 9;
     if (keep) {
-      colours->tris.insert(colours->tris.end(), tris.begin(), tris.end());
+      if (colours->keep_tris) colours->tris.insert(colours->tris.end(), tris.begin(), tris.end());
       MeshTriangleColours& c = colours->colours;
       for (uint32_t t : kept) {
         const uint32_t* v = &idx[3 * size_t{t}];
@@ -261,6 +259,80 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
   r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
 }
 
+// Out of core, a coloured triangle travels in its bucket as one record: its 9 floats, its MV_MESH_ATTR_WORDS
+// colour words (vertex colours, texture coordinates, texture) with its index in the mesh in the first spare one.
+constexpr uint32_t kColourRecord = 9 + MV_MESH_ATTR_WORDS;
+
+// The records of a batch of triangles (grid units) whose colours `c` holds (then cleared), from mesh index `first`.
+void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, uint64_t first, std::vector<float>& out) {
+  const size_t n = tris.size() / 9;
+  out.assign(n * kColourRecord, 0.0f);
+  for (size_t t = 0; t < n; ++t) {
+    float* r = &out[t * kColourRecord];
+    std::copy_n(&tris[9 * t], 9, r);
+    uint32_t words[MV_MESH_ATTR_WORDS] = {};
+    std::copy_n(&c.rgb[3 * t], 3, words);
+    std::memcpy(words + 3, &c.uv[6 * t], 24);
+    words[9] = c.texture[t];
+    words[10] = static_cast<uint32_t>(first + t);
+    std::memcpy(r + 9, words, sizeof words);
+  }
+  c.rgb.clear();
+  c.uv.clear();
+  c.texture.clear();
+}
+
+// A cube's records back into triangles and their colours, in mesh order (the order that breaks ties).
+void split_records(std::vector<float>& records, MeshTriangleColours& c) {
+  const size_t n = records.size() / kColourRecord;
+  auto index_of = [&](size_t t) {
+    uint32_t i = 0;
+    std::memcpy(&i, &records[t * kColourRecord + 9 + 10], 4);
+    return i;
+  };
+  std::vector<uint32_t> order(n);
+  for (uint32_t t = 0; t < n; ++t) order[t] = t;
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return index_of(a) < index_of(b); });
+  std::vector<float> tris(9 * n);
+  for (size_t k = 0; k < n; ++k) {
+    const float* r = &records[size_t{order[k]} * kColourRecord];
+    std::copy_n(r, 9, &tris[9 * k]);
+    uint32_t words[MV_MESH_ATTR_WORDS];
+    std::memcpy(words, r + 9, sizeof words);
+    c.rgb.insert(c.rgb.end(), words, words + 3);
+    float uv[6];
+    std::memcpy(uv, words + 3, 24);
+    c.uv.insert(c.uv.end(), uv, uv + 6);
+    c.texture.push_back(words[9]);
+  }
+  records = std::move(tris);
+}
+
+// Every cube's voxels with their colours, sorted by code on the device, into the depth-first array.
+std::vector<uint8_t> cube_colours_depth_first(Device& dev, const BuildOptions& o, std::vector<uint64_t>& keys,
+                                              std::vector<uint32_t>& rgb, uint32_t levels) {
+  const uint64_t n = keys.size();
+  if (n == 0) return {};
+  try {
+    Buffer kb = dev.alloc(n * 8, "cube voxel codes");
+    Buffer vb = dev.alloc(n * 4, "cube voxel colours");
+    dev.upload(kb, keys.data(), n * 8);
+    dev.upload(vb, rgb.data(), n * 4);
+    std::vector<uint64_t>().swap(keys);
+    std::vector<uint32_t>().swap(rgb);
+    dev.barrier();
+    radix_sort(dev, kb, &vb, n, KeyBits::k64);
+    dev.barrier();
+    return depth_first_voxel_colours(dev, std::move(kb), vb, n, levels);
+  } catch (const DeviceMemoryError& e) {  // not retried in smaller cubes: this step holds every voxel at once
+    throw CodedError(ErrorCode::out_of_memory,
+                     o.input + ": the voxel colours of " + std::to_string(n) +
+                         " voxels do not fit device memory (" + e.what() +
+                         "): raise --device-memory, lower the resolution, or build without colours (--attributes none)",
+                     setting_device_memory | setting_none);
+  }
+}
+
 // A mesh at a resolution above the cube size: triangles are bucketed by the cubes their bounding boxes
 // meet (spilling to a temporary file past a quarter of --memory), then each non-empty cube is voxelized and
 // reduced alone and the partial DAGs merged (build_dag_by_cubes): device memory holds one cube's voxels at a
@@ -277,31 +349,58 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   r.resolution = resolution;
   r.cube = o.cube;
   const uint32_t per_axis = resolution / o.cube;
-  TriangleBuckets buckets(per_axis, o.cube, bucket_share(o));
-  MeshColourInput refuse_colours;
-  refuse_colours.out_of_core = true;
+  // With colours a bucket holds records: the triangle, then its colours and its index in the mesh (kColourRecord).
+  MeshColourInput colours;
+  colours.keep_tris = false;
+  std::unique_ptr<TriangleBuckets> buckets;
+  uint64_t tri_index = 0;
+  std::vector<float> records;
   for_each_grid_batch(
       o, grid, r.triangles,
       [&](const std::vector<float>& tris, double done) {
-        buckets.add(tris);
+        if (!buckets)
+          buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o), colours.wanted ? kColourRecord : 9);
+        if (!colours.wanted) {
+          buckets->add(tris);
+        } else {
+          coloured_records(tris, colours.colours, tri_index, records);
+          tri_index += tris.size() / 9;
+          buckets->add(records);
+        }
         report("read", done);
       },
-      &refuse_colours);
-  r.spilled_bytes = buckets.spilled_bytes();
+      &colours);
+  if (!buckets) buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o));
+  r.spilled_bytes = buckets->spilled_bytes();
   lap("read");
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
   const uint32_t cube_levels = static_cast<uint32_t>(std::lround(std::log2(double(o.cube))));
   uint64_t done = 0;
   const double cubes = double(per_axis) * per_axis * per_axis;
+  std::vector<uint64_t> colour_keys;  // every cube's voxels and their colours, gathered for the depth-first array
+  std::vector<uint32_t> colour_rgb;
   CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
     report("cubes", double(++done) / cubes);
-    std::vector<float> tris = buckets.take(x / size, y / size, z / size);
+    std::vector<float> tris = buckets->take(x / size, y / size, z / size);
+    MeshTriangleColours cube_colours;
+    if (colours.wanted) split_records(tris, cube_colours);
     if (tris.empty()) return Bricks();
     Voxelizer v(dev, resolution, rule(o));
     v.limit_host_memory(memory_budget(o) - vertex_share(o) - bucket_share(o));
     v.restrict_to(x, y, z, size);
     v.add(tris);
-    return v.take_bricks();
+    Bricks bricks = v.take_bricks();
+    if (colours.wanted && !bricks.empty()) {
+      const uint32_t box[3] = {x, y, z};
+      MeshVoxelValues values = mesh_voxel_values(dev, bricks, tris, cube_colours, colours.colours.textures, resolution,
+                                                 rule(o), box, size);
+      const size_t at = colour_keys.size();
+      colour_keys.resize(at + values.voxels);
+      colour_rgb.resize(at + values.voxels);
+      dev.download(values.keys, colour_keys.data() + at, values.voxels * 8);
+      dev.download(values.rgb, colour_rgb.data() + at, values.voxels * 4);
+    }
+    return bricks;
   };
   const bool symmetric = o.encoding == Encoding::ussvdag || o.encoding == Encoding::ssvdag;
   DagBuildTimes times;
@@ -312,7 +411,12 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
                        times.reduce_seconds});
   lap("total dag");
   r.seconds.pop_back();
-  encode_and_write(dag, o, grid, bounds, r, lap);
+  std::vector<uint8_t> depth_first;
+  if (colours.wanted) {
+    depth_first = cube_colours_depth_first(dev, o, colour_keys, colour_rgb, levels);
+    lap("colours");
+  }
+  encode_and_write(dag, o, grid, bounds, r, lap, std::move(depth_first));
   return r;
 }
 

@@ -50,15 +50,17 @@ Buffer upload_textures(Device& dev, const std::vector<io::MeshTexture>& textures
 
 }  // namespace
 
-std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::span<const float> tris,
-                                        const MeshTriangleColours& colours, uint32_t levels, Voxelizer::Rule rule) {
+MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, std::span<const float> tris,
+                                  const MeshTriangleColours& colours, const std::vector<io::MeshTexture>& textures,
+                                  uint32_t resolution, Voxelizer::Rule rule, const uint32_t box[3], uint32_t box_size) {
   const uint64_t n_tris = tris.size() / 9;
   if (colours.rgb.size() != 3 * n_tris || colours.texture.size() != n_tris || colours.uv.size() != 6 * n_tris)
     throw Error("mesh colours: " + std::to_string(colours.rgb.size()) + " vertex colours for " +
                 std::to_string(n_tris) + " triangles");
-  const Buffer texels = upload_textures(dev, colours.textures);
+  const Buffer texels = upload_textures(dev, textures);
   const uint64_t voxels = bricks.voxels();
-  if (voxels == 0) return {};
+  MeshVoxelValues out;
+  if (voxels == 0) return out;
   if (voxels >= UINT32_MAX / 3 || n_tris >= UINT32_MAX || bricks.size() >= UINT32_MAX)
     throw Error("mesh colours: " + std::to_string(voxels) + " voxels of " + std::to_string(n_tris) +
                 " triangles, past what one device call indexes");
@@ -81,7 +83,6 @@ std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::
 
   // The three passes, each over every batch of triangles (a pass must see them all before the next), then per
   // batch the colours of the voxels whose triangle it holds.
-  const uint32_t resolution = 1u << levels, box[3] = {0, 0, 0};
   const uint64_t batch = mesh_batch_triangles(dev);
   Buffer voxel_keys = dev.alloc(uint64_t{nv} * 8, "voxel codes");
   Buffer voxel_rgb = dev.alloc(uint64_t{nv} * 4, "voxel colours");
@@ -106,7 +107,10 @@ std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::
       MvVoxelizeParams p{};
       p.grid = resolution;
       p.columns_per_item = kVoxelizeColumnsPerItem;
-      p.box_size = resolution;
+      p.box_x = box[0];
+      p.box_y = box[1];
+      p.box_z = box[2];
+      p.box_size = box_size;
       p.thin = rule == Voxelizer::Rule::kThin ? 1u : 0u;
       p.bricks = nb;
       p.tri_base = static_cast<uint32_t>(first);
@@ -127,7 +131,7 @@ std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::
         dev.barrier();
         continue;
       }
-      const WalkItems w = walk_items(slice, resolution, box, resolution);
+      const WalkItems w = walk_items(slice, resolution, box, box_size);
       if (w.tri.empty()) continue;
       Buffer it = dev.alloc(w.tri.size() * 4, "colour work items");
       Buffer ic = dev.alloc(w.col.size() * 4, "colour work items");
@@ -141,8 +145,18 @@ std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::
       dev.barrier();
     }
   }
-  tri_plane = Buffer();
-  return depth_first_voxel_colours(dev, std::move(voxel_keys), voxel_rgb, nv, levels);
+  out.keys = std::move(voxel_keys);
+  out.rgb = std::move(voxel_rgb);
+  out.voxels = nv;
+  return out;
+}
+
+std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::span<const float> tris,
+                                        const MeshTriangleColours& colours, uint32_t levels, Voxelizer::Rule rule) {
+  const uint32_t resolution = 1u << levels, box[3] = {0, 0, 0};
+  MeshVoxelValues v = mesh_voxel_values(dev, bricks, tris, colours, colours.textures, resolution, rule, box, resolution);
+  if (v.voxels == 0) return {};
+  return depth_first_voxel_colours(dev, std::move(v.keys), v.rgb, v.voxels, levels);
 }
 
 }  // namespace mv

@@ -30,4 +30,16 @@ struct MeshTriangleColours {
 std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::span<const float> tris,
                                         const MeshTriangleColours& colours, uint32_t levels, Voxelizer::Rule rule);
 
+// The voxels' own colours before the depth-first array: their sorted codes and 0xBBGGRR each, on the device.
+struct MeshVoxelValues {
+  Buffer keys, rgb;
+  uint64_t voxels = 0;
+};
+// The same rule for the voxels `bricks` holds of the cube [box, box + box_size) of a grid of `resolution` voxels (an
+// out-of-core build's cube: `tris` are the triangles its bucket holds, in the order of their indices in the
+// mesh, which break ties). `colours.textures` is not read: `textures` are the mesh's.
+MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, std::span<const float> tris,
+                                  const MeshTriangleColours& colours, const std::vector<io::MeshTexture>& textures,
+                                  uint32_t resolution, Voxelizer::Rule rule, const uint32_t box[3], uint32_t box_size);
+
 }  // namespace mv

@@ -5,15 +5,15 @@
 
 namespace mv {
 
-TriangleBuckets::TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget)
-    : per_axis_(per_axis), cube_(cube), budget_(budget) {
+TriangleBuckets::TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget, uint32_t record_floats)
+    : per_axis_(per_axis), cube_(cube), record_(std::max<uint32_t>(record_floats, 9)), budget_(budget) {
   const size_t n = size_t{per_axis} * per_axis * per_axis;
   mem_.resize(n);
   chunks_.resize(n);
 }
 
 void TriangleBuckets::add(const std::vector<float>& tris) {
-  for (size_t t = 0; t + 9 <= tris.size(); t += 9) {
+  for (size_t t = 0; t + record_ <= tris.size(); t += record_) {
     uint32_t lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
       const double mn = std::min({double(tris[t + a]), double(tris[t + 3 + a]), double(tris[t + 6 + a])});
@@ -25,8 +25,8 @@ void TriangleBuckets::add(const std::vector<float>& tris) {
       for (uint32_t y = lo[1]; y <= hi[1]; ++y)
         for (uint32_t z = lo[2]; z <= hi[2]; ++z) {
           std::vector<float>& b = mem_[bucket(x, y, z)];
-          b.insert(b.end(), tris.begin() + t, tris.begin() + t + 9);
-          held_ += 9 * sizeof(float);
+          b.insert(b.end(), tris.begin() + t, tris.begin() + t + record_);
+          held_ += record_ * sizeof(float);
         }
     if (held_ > budget_) spill();
   }

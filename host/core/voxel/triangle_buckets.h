@@ -1,4 +1,5 @@
-// Triangles in grid units (9 floats each) bucketed by the out-of-core cubes their bounding boxes meet.
+// Triangles in grid units (9 floats each, or records that start with them) bucketed by the out-of-core cubes their
+// bounding boxes meet.
 // Buckets stay in host memory up to a budget; past it every bucket is appended to one temporary file
 // (created in $TMPDIR or /tmp and unlinked at once, so nothing is left behind) and read back one cube at a
 // time. A mesh whose triangles do not fit in RAM still builds; only its vertex positions must.
@@ -14,8 +15,9 @@ namespace mv {
 
 class TriangleBuckets {
  public:
-  // per_axis^3 cubes of `cube` voxels per side; `budget`: bytes of triangles held in memory before spilling.
-  TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget);
+  // per_axis^3 cubes of `cube` voxels per side; `budget`: bytes of triangles held in memory before spilling;
+  // `record_floats`: the floats of a record, its triangle first (more carry what the triangle brings along).
+  TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budget, uint32_t record_floats = 9);
   // Host bytes of the per-cube table alone (allocated up front, before any triangle).
   static uint64_t table_bytes(uint32_t per_axis) {
     return uint64_t{per_axis} * per_axis * per_axis * (sizeof(std::vector<float>) + sizeof(std::vector<Chunk>));
@@ -35,7 +37,7 @@ class TriangleBuckets {
   void spill();
   size_t bucket(uint32_t x, uint32_t y, uint32_t z) const { return (size_t{z} * per_axis_ + y) * per_axis_ + x; }
 
-  uint32_t per_axis_, cube_;
+  uint32_t per_axis_, cube_, record_;
   uint64_t budget_, held_ = 0;            // bytes of triangles in memory
   std::vector<std::vector<float>> mem_;   // per bucket, not yet spilled
   std::vector<std::vector<Chunk>> chunks_;  // per bucket, its chunks in the spill file

@@ -226,4 +226,15 @@ std::string read_error(const std::string& name, const std::string& bytes, size_t
   return "";
 }
 
+BuildOptions cloud_build_options(const std::string& input, const std::string& output, uint32_t resolution,
+                                 Encoding encoding) {
+  BuildOptions o;
+  o.input = input;
+  o.output = output;
+  o.resolution = resolution;
+  o.encoding = encoding;
+  o.placement = parse_grid_origin("min");
+  return o;
+}
+
 }  // namespace mv::test::points

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "io/point_source.h"
+#include "megavox/build.h"
 #include "megavox/points.h"
 #include "ply_fixture.h"
 
@@ -65,5 +66,9 @@ Cloud read_cloud(const std::string& path, size_t batch = 1000, const io::PointRe
 
 // The mv::Error message of reading `bytes` completely ("" when it reads fine); any other exception fails.
 std::string read_error(const std::string& name, const std::string& bytes, size_t batch = 1000);
+
+// Options building the cloud `input` into `output` at `resolution` voxels with --grid-origin min, in `encoding`.
+BuildOptions cloud_build_options(const std::string& input, const std::string& output, uint32_t resolution,
+                                 Encoding encoding);
 
 }  // namespace mv::test::points

@@ -65,12 +65,7 @@ std::string face_cloud_ply(const FaceCloud& c, const std::string& name) {
 }
 
 BuildReport build_cloud_file(Device& dev, const std::string& in, const std::string& out, Encoding e, Attributes a) {
-  BuildOptions o;
-  o.input = in;
-  o.output = out;
-  o.resolution = 8;
-  o.encoding = e;
-  o.placement = parse_grid_origin("min");
+  BuildOptions o = points::cloud_build_options(in, out, 8, e);
   o.attributes = a;
   return build_mvx(dev, o);
 }

@@ -241,12 +241,7 @@ TEST_P(ColourPaletteFilesTest, EveryEncodingRoundTrips) {
     const std::string in = palette_cloud_ply(colours, 11 + colours, "palette_" + std::to_string(colours) + ".ply");
     for (Encoding e : {Encoding::svdag, Encoding::ssvdag, Encoding::ussvdag, Encoding::svo}) {
       SCOPED_TRACE(encoding_name(e) + ", colours " + std::to_string(colours));
-      BuildOptions o;
-      o.input = in;
-      o.output = temp_path("palette_" + encoding_name(e) + ".mvx");
-      o.resolution = 32;
-      o.encoding = e;
-      o.placement = parse_grid_origin("min");
+      const BuildOptions o = points::cloud_build_options(in, temp_path("palette_" + encoding_name(e) + ".mvx"), 32, e);
       const BuildReport r = build_mvx(dev, o);
       {  // quantized to 3 bits: at most 8 colours, recorded in the file and checked when read
         BuildOptions q = o;

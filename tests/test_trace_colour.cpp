@@ -45,12 +45,7 @@ std::string shell_cloud(const std::string& name) {
 }
 
 MvxFile coloured_file(Device& dev, const std::string& cloud, Encoding e) {
-  BuildOptions o;
-  o.input = cloud;
-  o.output = temp_path("shell_" + encoding_name(e) + ".mvx");
-  o.resolution = 64;
-  o.encoding = e;
-  o.placement = parse_grid_origin("min");
+  const BuildOptions o = points::cloud_build_options(cloud, temp_path("shell_" + encoding_name(e) + ".mvx"), 64, e);
   build_mvx(dev, o);
   return read_mvx(o.output);
 }

@@ -5,14 +5,7 @@
 set -euo pipefail
 megavox=$1
 source "$(dirname "$0")/common.sh"
-{
-  echo ply; echo "format ascii 1.0"; echo "element vertex 4096"
-  echo "property float x"; echo "property float y"; echo "property float z"
-  echo "property uchar red"; echo "property uchar green"; echo "property uchar blue"; echo end_header
-  for x in $(seq 0 15); do for y in $(seq 0 15); do for z in $(seq 0 15); do
-    echo "$x $y $z $((x * 16)) $((y * 16)) $(((x + z) * 8))"
-  done; done; done
-} > "$dir/lattice.ply"
+write_lattice_ply "$dir/lattice.ply" 16 16
 json=$("$megavox" bench attributes "$dir/lattice.ply" --resolution 32 --bits 24,12 --repeats 1 --width 64 --height 48 --json)
 python3 - "$json" <<'PY' || fail "bad figures: $json"
 import json, sys

@@ -16,14 +16,7 @@ data=$dir/data
 mkdir -p "$data"
 write_tetra_ply "$data/tetra.ply"
 # a small point cloud: a 10 x 10 x 10 lattice with colours, ascii PLY
-{
-  echo ply; echo "format ascii 1.0"; echo "element vertex 1000"
-  echo "property float x"; echo "property float y"; echo "property float z"
-  echo "property uchar red"; echo "property uchar green"; echo "property uchar blue"; echo end_header
-  for x in $(seq 0 9); do for y in $(seq 0 9); do for z in $(seq 0 9); do
-    echo "$x.5 $y.25 $z $((x * 25)) $((y * 25)) $((z * 25))"
-  done; done; done
-} > "$data/lattice.ply"
+write_lattice_ply "$data/lattice.ply" 10 25
 files() { node "$src/tests/serve/serve_files.js" "$@"; }
 files png "$data/photo.png"   # 48 x 32: a bright 16 x 12 box at (16, 10) on a dark ground
 start_server "$data" --max-jobs 2 --max-body 1M --job-timeout 60 --device-memory 512M

@@ -3,11 +3,9 @@
 #include <chrono>
 #include <functional>
 #include <cmath>
-#include <cstring>
 #include <memory>
 #include <unistd.h>
 
-#include "common/voxelize.h"
 #include "io/cloud_input.h"
 #include "io/memory_mesh.h"
 #include "io/mesh_source.h"
@@ -17,8 +15,6 @@
 #include "voxel/build_steps.h"
 #include "voxel/mesh_colours.h"
 #include "megavox/build.h"
-#include "megavox/colour.h"
-#include "megavox/primitives.h"
 #include "voxel/triangle_buckets.h"
 #include "megavox/dag.h"
 #include "megavox/encode.h"
@@ -259,80 +255,6 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
   r.bits_per_voxel = r.voxels ? 8.0 * double(r.bytes) / double(r.voxels) : 0;
 }
 
-// Out of core, a coloured triangle travels in its bucket as one record: its 9 floats, its MV_MESH_ATTR_WORDS
-// colour words (vertex colours, texture coordinates, texture) with its index in the mesh in the first spare one.
-constexpr uint32_t kColourRecord = 9 + MV_MESH_ATTR_WORDS;
-
-// The records of a batch of triangles (grid units) whose colours `c` holds (then cleared), from mesh index `first`.
-void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, uint64_t first, std::vector<float>& out) {
-  const size_t n = tris.size() / 9;
-  out.assign(n * kColourRecord, 0.0f);
-  for (size_t t = 0; t < n; ++t) {
-    float* r = &out[t * kColourRecord];
-    std::copy_n(&tris[9 * t], 9, r);
-    uint32_t words[MV_MESH_ATTR_WORDS] = {};
-    std::copy_n(&c.rgb[3 * t], 3, words);
-    std::memcpy(words + 3, &c.uv[6 * t], 24);
-    words[9] = c.texture[t];
-    words[10] = static_cast<uint32_t>(first + t);
-    std::memcpy(r + 9, words, sizeof words);
-  }
-  c.rgb.clear();
-  c.uv.clear();
-  c.texture.clear();
-}
-
-// A cube's records back into triangles and their colours, in mesh order (the order that breaks ties).
-void split_records(std::vector<float>& records, MeshTriangleColours& c) {
-  const size_t n = records.size() / kColourRecord;
-  auto index_of = [&](size_t t) {
-    uint32_t i = 0;
-    std::memcpy(&i, &records[t * kColourRecord + 9 + 10], 4);
-    return i;
-  };
-  std::vector<uint32_t> order(n);
-  for (uint32_t t = 0; t < n; ++t) order[t] = t;
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return index_of(a) < index_of(b); });
-  std::vector<float> tris(9 * n);
-  for (size_t k = 0; k < n; ++k) {
-    const float* r = &records[size_t{order[k]} * kColourRecord];
-    std::copy_n(r, 9, &tris[9 * k]);
-    uint32_t words[MV_MESH_ATTR_WORDS];
-    std::memcpy(words, r + 9, sizeof words);
-    c.rgb.insert(c.rgb.end(), words, words + 3);
-    float uv[6];
-    std::memcpy(uv, words + 3, 24);
-    c.uv.insert(c.uv.end(), uv, uv + 6);
-    c.texture.push_back(words[9]);
-  }
-  records = std::move(tris);
-}
-
-// Every cube's voxels with their colours, sorted by code on the device, into the depth-first array.
-std::vector<uint8_t> cube_colours_depth_first(Device& dev, const BuildOptions& o, std::vector<uint64_t>& keys,
-                                              std::vector<uint32_t>& rgb, uint32_t levels) {
-  const uint64_t n = keys.size();
-  if (n == 0) return {};
-  try {
-    Buffer kb = dev.alloc(n * 8, "cube voxel codes");
-    Buffer vb = dev.alloc(n * 4, "cube voxel colours");
-    dev.upload(kb, keys.data(), n * 8);
-    dev.upload(vb, rgb.data(), n * 4);
-    std::vector<uint64_t>().swap(keys);
-    std::vector<uint32_t>().swap(rgb);
-    dev.barrier();
-    radix_sort(dev, kb, &vb, n, KeyBits::k64);
-    dev.barrier();
-    return depth_first_voxel_colours(dev, std::move(kb), vb, n, levels);
-  } catch (const DeviceMemoryError& e) {  // not retried in smaller cubes: this step holds every voxel at once
-    throw CodedError(ErrorCode::out_of_memory,
-                     o.input + ": the voxel colours of " + std::to_string(n) +
-                         " voxels do not fit device memory (" + e.what() +
-                         "): raise --device-memory, lower the resolution, or build without colours (--attributes none)",
-                     setting_device_memory | setting_none);
-  }
-}
-
 // A mesh at a resolution above the cube size: triangles are bucketed by the cubes their bounding boxes
 // meet (spilling to a temporary file past a quarter of --memory), then each non-empty cube is voxelized and
 // reduced alone and the partial DAGs merged (build_dag_by_cubes): device memory holds one cube's voxels at a
@@ -413,7 +335,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   r.seconds.pop_back();
   std::vector<uint8_t> depth_first;
   if (colours.wanted) {
-    depth_first = cube_colours_depth_first(dev, o, colour_keys, colour_rgb, levels);
+    depth_first = cube_colours_depth_first(dev, o.input, colour_keys, colour_rgb, levels);
     lap("colours");
   }
   encode_and_write(dag, o, grid, bounds, r, lap, std::move(depth_first));

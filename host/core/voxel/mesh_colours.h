@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "megavox/bricks.h"
@@ -41,5 +42,22 @@ struct MeshVoxelValues {
 MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, std::span<const float> tris,
                                   const MeshTriangleColours& colours, const std::vector<io::MeshTexture>& textures,
                                   uint32_t resolution, Voxelizer::Rule rule, const uint32_t box[3], uint32_t box_size);
+
+// Out of core (build_pipeline.cpp), a coloured triangle travels through its cubes' buckets as one record: its 9
+// floats, then its MV_MESH_ATTR_WORDS colour words (vertex colours, texture coordinates, texture) with its index in
+// the mesh in the first spare one.
+inline constexpr uint32_t kColourRecord = 21;
+
+// The records of a batch of triangles (grid units) whose colours `c` holds (then cleared), from mesh index `first`.
+void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, uint64_t first, std::vector<float>& out);
+
+// A cube's records back into its triangles (in `records`) and their colours (appended to `c`), in mesh order: the
+// order that breaks ties.
+void split_records(std::vector<float>& records, MeshTriangleColours& c);
+
+// Every cube's voxels with their colours (both emptied), sorted by code on the device, into the depth-first array.
+// Throws a CodedError naming `input` when they do not fit device memory (smaller cubes would not help).
+std::vector<uint8_t> cube_colours_depth_first(Device& dev, const std::string& input, std::vector<uint64_t>& keys,
+                                              std::vector<uint32_t>& rgb, uint32_t levels);
 
 }  // namespace mv

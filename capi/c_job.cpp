@@ -3,14 +3,18 @@
 
 #include <algorithm>
 #include <condition_variable>
+#include <memory>
 #include <thread>
 
 #include "scene_build.h"
 
-struct MvJobTy : mv::capi::RefCounted {
+namespace mv::capi {
+
+// What a job's thread and its handle share: the thread holds it to its end, so releasing the handle (even from
+// the job's own progress function, on that thread) never frees what the running work reads.
+struct JobState {
   MvDevice device = nullptr;  // retained
-  mv::capi::JobWork work;
-  std::thread thread;
+  JobWork work;
   std::atomic<bool> cancel{false};
   std::mutex lock;  // everything below
   std::condition_variable ended;
@@ -21,14 +25,26 @@ struct MvJobTy : mv::capi::RefCounted {
   MvError error = MV_ERROR_NONE;
   MvScene scene = nullptr;
 
-  ~MvJobTy() {
-    cancel = true;
-    if (thread.joinable()) {
-      if (thread.get_id() == std::this_thread::get_id()) thread.detach();  // released from its own progress function
-      else thread.join();
-    }
+  ~JobState() {
     mvReleaseScene(scene);
     mvReleaseDevice(device);
+  }
+};
+
+}  // namespace mv::capi
+
+struct MvJobTy : mv::capi::RefCounted {
+  std::shared_ptr<mv::capi::JobState> state;
+  std::thread thread;
+
+  // The last release cancels the work and waits for it to stop; from the job's own thread (its progress
+  // function) it cannot wait, so the thread goes on alone, holding the state, and stops at once.
+  ~MvJobTy() {
+    state->cancel = true;
+    if (thread.joinable()) {
+      if (thread.get_id() == std::this_thread::get_id()) thread.detach();
+      else thread.join();
+    }
   }
 };
 
@@ -46,7 +62,7 @@ double scene_overall(const std::string& stage, double f) {
   return 0;
 }
 
-void run(MvJobTy* job) {
+void run(const std::shared_ptr<JobState>& job) {
   Progress progress = [job](const std::string& stage, double f) {
     if (job->cancel) throw ApiError(MV_ERROR_CANCELLED, "the job was cancelled during '" + stage + "'");
     {
@@ -87,11 +103,11 @@ MvJob start_scene_build(MvDevice device, BuildInput input, const MvBuildArgument
 
 MvJob start_job(MvDevice device, JobWork work) {
   auto job = std::make_unique<MvJobTy>();
-  job->work = std::move(work);
+  job->state = std::make_shared<JobState>();
+  job->state->work = std::move(work);
   mvRetainDevice(device);
-  job->device = device;
-  MvJobTy* j = job.get();
-  job->thread = std::thread([j] { run(j); });
+  job->state->device = device;
+  job->thread = std::thread([state = job->state] { run(state); });
   return job.release();
 }
 
@@ -138,20 +154,22 @@ MvJobStatus mvGetJobStatus(MvJob job, double* fraction) {
     record_error(nullptr, MV_ERROR_INVALID_ARGUMENT, "mvGetJobStatus: no job");
     return MV_JOB_FAILED;
   }
-  std::lock_guard<std::mutex> g(job->lock);
-  if (fraction) *fraction = job->fraction;
-  return job->status;
+  JobState& s = *job->state;
+  std::lock_guard<std::mutex> g(s.lock);
+  if (fraction) *fraction = s.fraction;
+  return s.status;
 }
 
 const char* mvGetJobMessage(MvJob job) {
   if (!job) return "";
-  std::lock_guard<std::mutex> g(job->lock);
-  job->returned = job->message;
-  return job->returned.c_str();
+  JobState& s = *job->state;
+  std::lock_guard<std::mutex> g(s.lock);
+  s.returned = s.message;
+  return s.returned.c_str();
 }
 
 void mvCancelJob(MvJob job) {
-  if (job) job->cancel = true;
+  if (job) job->state->cancel = true;
 }
 
 MvError mvWaitJob(MvJob job) {
@@ -159,9 +177,14 @@ MvError mvWaitJob(MvJob job) {
     record_error(nullptr, MV_ERROR_INVALID_ARGUMENT, "mvWaitJob: no job");
     return MV_ERROR_INVALID_ARGUMENT;
   }
-  std::unique_lock<std::mutex> g(job->lock);
-  job->ended.wait(g, [job] { return job->status >= MV_JOB_DONE; });
-  return job->error;
+  JobState& s = *job->state;
+  if (job->thread.get_id() == std::this_thread::get_id()) {  // its own progress function: it would never end
+    record_error(s.device, MV_ERROR_INVALID_OPERATION, "mvWaitJob: called from the job's own progress function");
+    return MV_ERROR_INVALID_OPERATION;
+  }
+  std::unique_lock<std::mutex> g(s.lock);
+  s.ended.wait(g, [&s] { return s.status >= MV_JOB_DONE; });
+  return s.error;
 }
 
 MvScene mvGetJobScene(MvJob job) {
@@ -169,15 +192,19 @@ MvScene mvGetJobScene(MvJob job) {
     record_error(nullptr, MV_ERROR_INVALID_ARGUMENT, "mvGetJobScene: no job");
     return nullptr;
   }
-  std::lock_guard<std::mutex> g(job->lock);
-  if (job->status != MV_JOB_DONE || !job->scene) {
-    record_error(job->device, MV_ERROR_INVALID_OPERATION,
-                 job->status != MV_JOB_DONE ? "mvGetJobScene: the job has not built its scene"
-                                            : "mvGetJobScene: the job writes a file, not a scene");
-    return nullptr;
+  JobState& s = *job->state;
+  const char* refusal = nullptr;
+  {
+    std::lock_guard<std::mutex> g(s.lock);
+    if (s.status == MV_JOB_DONE && s.scene) {
+      mvRetainScene(s.scene);
+      return s.scene;
+    }
+    refusal = s.status != MV_JOB_DONE ? "mvGetJobScene: the job has not built its scene"
+                                      : "mvGetJobScene: the job writes a file, not a scene";
   }
-  mvRetainScene(job->scene);
-  return job->scene;
+  record_error(s.device, MV_ERROR_INVALID_OPERATION, refusal);  // outside the lock: the error function may call in
+  return nullptr;
 }
 
 }  // extern "C"

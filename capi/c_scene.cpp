@@ -1,5 +1,6 @@
 // The C API: scenes (build, open, save, describe), ray queries and pictures.
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -7,12 +8,18 @@
 #include "io/output_path.h"
 #include "megavox/render.h"
 
+const mv::MvxFile& MvSceneTy::file() {
+  std::call_once(read_, [this] { file_ = mv::read_mvx(path); });
+  return file_;
+}
+
 mv::Tracer& MvSceneTy::tracer_locked() {
-  if (!tracer) tracer = std::make_unique<mv::Tracer>(*device->device, file);
+  if (!tracer) tracer = std::make_unique<mv::Tracer>(*device->device, file());
   return *tracer;
 }
 
 MvSceneTy::~MvSceneTy() {
+  if (!scratch.empty()) std::remove(scratch.c_str());
   if (!device) return;
   {
     std::lock_guard<std::recursive_mutex> g(device->lock);
@@ -66,7 +73,8 @@ MvScene mvOpenScene(MvDevice device, const char* path) {
     require(device, "mvOpenScene: no device");
     require(path && *path, "mvOpenScene: no path");
     auto scene = std::make_unique<MvSceneTy>();
-    scene->file = mv::read_mvx(path);
+    scene->path = path;
+    scene->file();
     mvRetainDevice(device);
     scene->device = device;
     made = scene.release();
@@ -81,17 +89,19 @@ void mvReleaseScene(MvScene scene) { release(scene); }
 MvError mvSaveScene(MvScene scene, const char* path) {
   return guard(scene_device(scene), [&] {
     require(scene, "mvSaveScene: no scene");
+    const Hold<MvSceneTy> keep(scene);
     require(path && *path, "mvSaveScene: no path");
     // The scene is in memory, so its own file may be rewritten; a FIFO, a device or a folder may not.
-    mv::write_mvx(mv::io::resolve_output({path, mv::io::OutputKind::kFile, "mvx"}), scene->file);
+    mv::write_mvx(mv::io::resolve_output({path, mv::io::OutputKind::kFile, "mvx"}), scene->file());
   });
 }
 
 MvError mvGetSceneInfo(MvScene scene, MvSceneInfo* info) {
   return guard(scene_device(scene), [&] {
     require(scene, "mvGetSceneInfo: no scene");
+    const Hold<MvSceneTy> keep(scene);
     require(info, "mvGetSceneInfo: info is NULL");
-    const mv::MvxFile& f = scene->file;
+    const mv::MvxFile& f = scene->file();
     *info = MvSceneInfo{};
     copy_text(info->encoding, mv::encoding_name(f.dag.encoding));
     info->resolution = f.grid.resolution;
@@ -121,7 +131,8 @@ MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, siz
 MvError mvGetSceneColourEntries(MvScene scene, uint64_t* entries) {
   return guard(scene_device(scene), [&] {
     require(scene && entries, "mvGetSceneColourEntries: scene or entries is NULL");
-    *entries = scene->file.colours.size() / 3;
+    const Hold<MvSceneTy> keep(scene);
+    *entries = scene->file().colours.size() / 3;
   });
 }
 
@@ -129,6 +140,7 @@ MvError mvTraceRaysRgba(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits,
                         const MvTraceArguments* args) {
   return guard(scene_device(scene), [&] {
     require(scene, "mvTraceRays: no scene");
+    const Hold<MvSceneTy> keep(scene);
     require((rays && hits) || count == 0, "mvTraceRays: rays or hits is NULL");
     mv::TraceOptions options;
     if (args) {
@@ -184,11 +196,12 @@ void mvInitRenderArguments(MvRenderArguments* args) {
 MvError mvGetSceneViewCamera(MvScene scene, const char* view, double fov, MvCamera* camera) {
   return guard(scene_device(scene), [&] {
     require(scene, "mvGetSceneViewCamera: no scene");
+    const Hold<MvSceneTy> keep(scene);
     require(camera, "mvGetSceneViewCamera: camera is NULL");
     require(fov >= 0 && fov < 180, "mvGetSceneViewCamera: fov must be 0 (the default) or between 0 and 180 degrees");
     mv::Camera c;
     try {
-      c = mv::view_camera(scene->file.bounds, view ? view : "iso", fov > 0 ? fov : MV_DEFAULT_FOV);
+      c = mv::view_camera(scene->file().bounds, view ? view : "iso", fov > 0 ? fov : MV_DEFAULT_FOV);
     } catch (const mv::Error& e) {
       throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
     }
@@ -205,6 +218,7 @@ MvError mvRenderScene(MvScene scene, const MvCamera* camera, const MvRenderArgum
                       size_t rowStride) {
   return guard(scene_device(scene), [&] {
     require(scene, "mvRenderScene: no scene");
+    const Hold<MvSceneTy> keep(scene);
     require(args, "mvRenderScene: args is NULL (call mvInitRenderArguments)");
     require(args->byteSize == sizeof(MvRenderArguments), "mvRenderScene: MvRenderArguments.byteSize is wrong (call mvInitRenderArguments)");
     require(rgba, "mvRenderScene: rgba is NULL");
@@ -235,7 +249,7 @@ MvError mvRenderScene(MvScene scene, const MvCamera* camera, const MvRenderArgum
       require(cam.fov > 0 && cam.fov < 180, "mvRenderScene: fov must be between 0 and 180 degrees");
     } else {
       try {
-        cam = mv::view_camera(scene->file.bounds, args->view ? args->view : "iso");
+        cam = mv::view_camera(scene->file().bounds, args->view ? args->view : "iso");
       } catch (const mv::Error& e) {
         throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
       }

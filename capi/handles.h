@@ -44,21 +44,60 @@ struct MvDeviceTy : mv::capi::RefCounted {
 
 struct MvSceneTy : mv::capi::RefCounted {
   MvDevice device = nullptr;  // retained
-  mv::MvxFile file;
+  // The scene's .mvx. mvOpenScene reads it at once (it checks the file before it returns); a build's scene
+  // reads the file it wrote on first use, so a caller that wants only the file (a job, the service) never
+  // reads it back.
+  std::string path;
+  std::string scratch;  // a build's own file when its caller named none: removed with the scene
+  const mv::MvxFile& file();  // reads `path` the first time (throws mv::Error; a later call tries again)
   std::unique_ptr<mv::Tracer> tracer;  // made on first use, under the device lock
   mv::Tracer& tracer_locked();
   ~MvSceneTy();
+
+ private:
+  std::once_flag read_;
+  mv::MvxFile file_;
 };
 
 namespace mv::capi {
+
+// mvRetain* / mvRelease* of every handle kind: the last release deletes (destructors never throw out).
+template <class H>
+void retain(H* h) {
+  if (h) h->refs.fetch_add(1);
+}
+template <class H>
+void release(H* h) noexcept {
+  if (h && h->refs.fetch_sub(1) == 1) {
+    try {
+      delete h;
+    } catch (...) {
+    }
+  }
+}
+
+// One reference held for a scope: what a call works on stays alive when a callback (a progress or error
+// function) or another thread drops the caller's last reference meanwhile.
+template <class H>
+class Hold {
+ public:
+  explicit Hold(H* h) : h_(h) { retain(h_); }
+  ~Hold() { release(h_); }
+  Hold(const Hold&) = delete;
+  Hold& operator=(const Hold&) = delete;
+
+ private:
+  H* h_;
+};
 
 // Records an error on `device` (or this thread's record when null) and calls its error function.
 void record_error(MvDevice device, MvError code, const std::string& message);
 
 // Runs `body`, turning any exception into an error recorded on `device`; returns MV_ERROR_NONE or the code
-// (and the message through `message_out` when given).
+// (and the message through `message_out` when given). The device is held for the call.
 template <class F>
 MvError guard(MvDevice device, F&& body, std::string* message_out = nullptr) noexcept {
+  const Hold<MvDeviceTy> keep(device);
   MvError code = MV_ERROR_UNKNOWN;
   std::string message;
   try {
@@ -76,21 +115,6 @@ MvError guard(MvDevice device, F&& body, std::string* message_out = nullptr) noe
   } catch (...) {
   }
   return code;
-}
-
-// mvRetain* / mvRelease* of every handle kind: the last release deletes (destructors never throw out).
-template <class H>
-void retain(H* h) {
-  if (h) h->refs.fetch_add(1);
-}
-template <class H>
-void release(H* h) noexcept {
-  if (h && h->refs.fetch_sub(1) == 1) {
-    try {
-      delete h;
-    } catch (...) {
-    }
-  }
 }
 
 // Throws ApiError(MV_ERROR_INVALID_ARGUMENT) with `what` when `ok` is false.

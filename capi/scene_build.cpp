@@ -12,25 +12,17 @@ namespace mv::capi {
 
 namespace {
 
-// A fresh name for a build whose caller wants no file: reserved by mkstemp in $TMPDIR, removed when done.
-class ScratchMvx {
- public:
-  ScratchMvx() {
-    const char* dir = std::getenv("TMPDIR");
-    std::string pattern = std::string(dir && *dir ? dir : "/tmp") + "/megavox-scene-XXXXXX";
-    std::vector<char> name(pattern.begin(), pattern.end());
-    name.push_back('\0');
-    const int fd = mkstemp(name.data());
-    if (fd < 0) throw IoError("cannot make a scratch file in " + std::string(dir && *dir ? dir : "/tmp"));
-    close(fd);
-    path_ = name.data();
-  }
-  ~ScratchMvx() { std::remove(path_.c_str()); }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
+// A fresh name for a build whose caller wants no file: reserved by mkstemp in $TMPDIR; the scene removes it.
+std::string scratch_mvx() {
+  const char* dir = std::getenv("TMPDIR");
+  std::string pattern = std::string(dir && *dir ? dir : "/tmp") + "/megavox-scene-XXXXXX";
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  const int fd = mkstemp(name.data());
+  if (fd < 0) throw IoError("cannot make a scratch file in " + std::string(dir && *dir ? dir : "/tmp"));
+  close(fd);
+  return name.data();
+}
 
 std::string text_or(const char* s, const char* fallback) { return s ? s : fallback; }
 
@@ -85,26 +77,22 @@ Progress user_progress(const MvBuildArguments* args) {
 }
 
 MvScene build_scene(MvDevice device, const BuildInput& input, BuildOptions o, const Progress& progress) {
-  std::unique_ptr<ScratchMvx> scratch;
-  if (o.output.empty()) {
-    scratch = std::make_unique<ScratchMvx>();
-    o.output = scratch->path();
-  }
+  auto scene = std::make_unique<MvSceneTy>();  // its destructor removes the scratch file on any failure
+  if (o.output.empty()) o.output = scene->scratch = scratch_mvx();
+  scene->path = o.output;
   if (input.path.empty()) {
     o.input = "mesh in memory";
     o.mesh = &input.mesh;
   } else {
     o.input = input.path;
   }
-  auto scene = std::make_unique<MvSceneTy>();
   {
     std::lock_guard<std::recursive_mutex> g(device->lock);
     build_mvx(*device->device, o, progress);
   }
-  scene->file = read_mvx(o.output);
   mvRetainDevice(device);
   scene->device = device;
-  return scene.release();
+  return scene.release();  // the file it wrote is read on first use (MvSceneTy::file)
 }
 
 }  // namespace mv::capi

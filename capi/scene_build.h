@@ -1,5 +1,5 @@
 // Builds behind mvBuildScene* and the build jobs: the C arguments checked and copied into BuildOptions, then
-// build_mvx on the device and the written .mvx read back as the scene.
+// build_mvx on the device; the scene is the written .mvx, read on its first use.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -25,7 +25,8 @@ BuildInput memory_input(const float* vertices, size_t vertex_count, const uint32
 // The options of `args` (NULL: defaults), strings copied. Throws ApiError for an args struct of the wrong size.
 BuildOptions build_options(MvDevice device, const MvBuildArguments* args);
 
-// Runs the build under the device lock and returns the scene (one reference). `progress` may throw to stop.
+// Runs the build under the device lock and returns the scene (one reference) of the file it wrote, not read
+// back yet. `progress` may throw to stop.
 MvScene build_scene(MvDevice device, const BuildInput& input, BuildOptions options, const Progress& progress);
 
 // The caller's progress function as a Progress that throws ApiError(MV_ERROR_CANCELLED) when it returns false.

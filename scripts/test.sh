@@ -5,6 +5,9 @@
 #                                    run it niced). Faults inside third-party libraries (PoCL and its LLVM,
 #                                    Mesa, the ICD loaders) are suppressed by the narrow, commented lists in
 #                                    scripts/sanitize/; megavox's own code is never listed there.
+#        scripts/test.sh --sanitize=thread  the C API and service tests built with clang and TSan in build-tsan/
+#                                    (the handles' lifetimes and the service's threads); the drivers' own threads,
+#                                    which TSan cannot see into, are named in scripts/sanitize/tsan.supp.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 case "${1:-}" in
@@ -30,5 +33,16 @@ case "${1:-}" in
     cd build-sanitize
     ctest --output-on-failure --parallel "$(nproc)" --timeout 1800
     ;;
-  *) echo "usage: scripts/test.sh [--sanitize]" >&2; exit 2 ;;
+  --sanitize=thread)
+    scripts/setup.sh --fuzz
+    generator=()
+    [[ ! -f build-tsan/CMakeCache.txt ]] && command -v ninja >/dev/null && generator=(-G Ninja)
+    CC=clang CXX=clang++ cmake -S . -B build-tsan "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DMEGAVOX_BASELINES=OFF -DMEGAVOX_SANITIZE=thread >/dev/null
+    export TSAN_OPTIONS="suppressions=$PWD/scripts/sanitize/tsan.supp:halt_on_error=1:second_deadlock_stack=1:${TSAN_OPTIONS:-}"
+    cmake --build build-tsan --parallel "$(nproc)" --target megavox megavox_tests serve_load serve_request_tests
+    cd build-tsan
+    ctest --output-on-failure --parallel "$(nproc)" --timeout 1800 -R 'CApi|serve'
+    ;;
+  *) echo "usage: scripts/test.sh [--sanitize | --sanitize=thread]" >&2; exit 2 ;;
 esac

@@ -116,7 +116,10 @@ typedef struct MvBuildArguments {
   const char* voxelize;    /* "conservative" (default) or "thin" */
   const char* gridOrigin;  /* "center" (default) or "min" */
   const char* grid;        /* a .vdb input: the grid to read (NULL: the first) */
-  const char* output;      /* the .mvx to write (to a temporary name, renamed at the end); NULL: none */
+  const char* output;      /* the .mvx to write (to a temporary name, renamed at the end); NULL: a scratch
+                              file of the scene's own, removed with it. The built scene is this file, read on
+                              its first use (a caller that wants only the file never reads it back): leave it
+                              in place while the scene lives. */
   MvProgressMonitorFunction progress; /* NULL: none; called on the building thread */
   void* progressUserPtr;
 } MvBuildArguments;
@@ -236,7 +239,10 @@ MV_API MvJob mvBuildSceneFromMemoryAsync(MvDevice device, const float* vertices,
                                          const uint32_t* indices, size_t triangleCount,
                                          const MvBuildArguments* args);
 MV_API void mvRetainJob(MvJob job);
-/* The last release of a job still running cancels it and waits for it to stop. */
+/* The last release of a job still running cancels it and waits for it to stop; from the job's own progress
+ * function it cancels it and returns at once (the job stops when that function returns). Any handle may be
+ * released from any thread or callback: a call in flight keeps what it uses until it returns, and a scene or
+ * job keeps its device, so a device may be released before them. */
 MV_API void mvReleaseJob(MvJob job);
 /* The status now; fraction (may be NULL) gets the fraction done of the whole build (0..1). */
 MV_API MvJobStatus mvGetJobStatus(MvJob job, double* fraction);

@@ -251,7 +251,8 @@ void add_mask_apply(CLI::App& mask, const GlobalOptions& g) {
       o.min_cut_solver = min_cut_solver(a->solver);
       // The start's own errors (no start, a model for other images) name the image or its list line.
       const MaskResult r = at(j.where.empty() ? j.image : j.where, [&] { return mask_image(*dev, img, start, o); });
-      const auto& [out, overlay_path] = outputs[k];
+      const std::string& out = outputs[k].first;  // named apart: clang 14 lambdas cannot capture a structured binding
+      const std::string& overlay_path = outputs[k].second;
       timed_io([&] {
         io::write_png_grey(out, img.width, img.height, r.mask);
         if (!overlay_path.empty()) write_png(overlay_path, overlay(img, r.mask));

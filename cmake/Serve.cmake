@@ -20,6 +20,7 @@ add_library(megavox_serve STATIC
   serve/job_render.cpp
   serve/job_points.cpp
   serve/job_mask.cpp
+  serve/job_open.cpp
   serve/tiles_archive.cpp
   serve/http_api.cpp
   ${CMAKE_BINARY_DIR}/serve_gen/openapi.cpp)

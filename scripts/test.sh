@@ -40,9 +40,9 @@ case "${1:-}" in
     CC=clang CXX=clang++ cmake -S . -B build-tsan "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DMEGAVOX_BASELINES=OFF -DMEGAVOX_SANITIZE=thread >/dev/null
     export TSAN_OPTIONS="suppressions=$PWD/scripts/sanitize/tsan.supp:halt_on_error=1:second_deadlock_stack=1:${TSAN_OPTIONS:-}"
-    cmake --build build-tsan --parallel "$(nproc)" --target megavox megavox_tests serve_load serve_request_tests
+    cmake --build build-tsan --parallel "$(nproc)" --target megavox megavox_tests serve_load serve_request_tests serve_pool_tests
     cd build-tsan
-    ctest --output-on-failure --parallel "$(nproc)" --timeout 1800 -R 'CApi|serve'
+    ctest --output-on-failure --parallel "$(nproc)" --timeout 1800 -R 'CApi|Serve'
     ;;
   *) echo "usage: scripts/test.sh [--sanitize | --sanitize=thread]" >&2; exit 2 ;;
 esac

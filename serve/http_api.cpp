@@ -8,7 +8,6 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
-#include <thread>
 
 #include "serve_error.h"
 
@@ -166,13 +165,18 @@ void HttpApi::routes() {
     handle(res, [&] {
       const std::string id = req.matches[1];
       pool_.status(id);  // 404 now rather than inside the stream
-      const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.stream_seconds);
+      const auto end = std::chrono::steady_clock::now() +
+                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double>(options_.stream_seconds));
       auto last = std::make_shared<std::string>();
+      auto seen = std::make_shared<uint64_t>(0);  // the pool's change count when the stream last looked
       res.set_header("Cache-Control", "no-cache");
-      res.set_chunked_content_provider("text/event-stream", [this, id, end, last](size_t, httplib::DataSink& sink) {
+      res.set_chunked_content_provider("text/event-stream", [this, id, end, last, seen](size_t, httplib::DataSink& sink) {
         bool over = false;
         std::string event;
         try {
+          if (*seen) *seen = pool_.wait_change(*seen, end);  // asleep until some job changes (or time is up)
+          else *seen = pool_.wait_change(0, std::chrono::steady_clock::now());
           const std::string now = pool_.status(id).dump();
           over = pool_.ended(id);
           if (now != *last) event = "event: status\ndata: " + now + "\n\n";
@@ -186,7 +190,6 @@ void HttpApi::routes() {
           sink.done();
           return true;
         }
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
         return true;
       });
     });

@@ -31,6 +31,18 @@ struct JobPool::Job {
   std::atomic<bool> cancel{false};
   bool deleted = false;  // removed while running: its files go when it ends
   Clock::time_point created = Clock::now(), started{}, ended{};
+  // A render's scene: the build or open job it draws, held (files included) until the render is gone, so that
+  // dropping old finished jobs never takes a file a queued render still reads.
+  std::shared_ptr<Job> scene_job;
+  std::atomic<bool> discard{false};  // dropped from the pool: its folder goes with the last reference to it
+
+  // The .mvx its scene is: a build's result, an open job's input (a file of the user's, never removed).
+  const std::string& scene_file() const { return request.kind == JobKind::open ? input : result; }
+  bool has_scene() const { return request.kind == JobKind::build || request.kind == JobKind::open; }
+  ~Job() {
+    std::error_code ec;
+    if (discard) fs::remove_all(dir, ec);
+  }
 };
 
 namespace {
@@ -70,6 +82,7 @@ std::string input_name(const std::string& upload_name, JobKind kind) {
 std::string result_name(const JobRequest& r) {
   switch (r.kind) {
     case JobKind::build: return "result.mvx";
+    case JobKind::open: return "";  // its scene is the input
     case JobKind::points: return r.format == "3dtiles" ? "result.3tz" : "result.mvx";
     default: return "result.png";
   }
@@ -126,10 +139,11 @@ json JobPool::submit(const JobRequest& r, const std::string* upload, const std::
     if (!upload && r.input.empty() && r.scene.empty()) throw HttpError(400, "job: \"input\" is missing (a file under the data folder)");
     if (!r.scene.empty()) {
       auto it = jobs_.find(r.scene);
-      if (it == jobs_.end()) throw HttpError(404, "job: scene '" + r.scene.substr(0, 64) + "' is no job");
-      if (it->second->request.kind != JobKind::build || it->second->status != "done")
-        throw HttpError(409, "job: scene '" + r.scene + "' is not a finished build");
-      job->input = it->second->result;
+      if (it == jobs_.end() || it->second->deleted) throw HttpError(404, "job: scene '" + r.scene.substr(0, 64) + "' is no job");
+      if (!it->second->has_scene() || it->second->status != "done")
+        throw HttpError(409, "job: scene '" + r.scene + "' is not a finished build or open job");
+      job->scene_job = it->second;
+      job->input = it->second->scene_file();
     }
   }
   try {
@@ -143,7 +157,7 @@ json JobPool::submit(const JobRequest& r, const std::string* upload, const std::
   while (fs::exists(fs::path(options_.data_dir) / "jobs" / job->id));
   job->dir = (fs::path(options_.data_dir) / "jobs" / job->id).string();
   fs::create_directories(job->dir);
-  job->result = (fs::path(job->dir) / result_name(r)).string();
+  if (!result_name(r).empty()) job->result = (fs::path(job->dir) / result_name(r)).string();
   if (upload) {
     job->input = (fs::path(job->dir) / input_name(upload_name, r.kind)).string();
     std::ofstream out(job->input, std::ios::binary);
@@ -162,6 +176,7 @@ json JobPool::submit(const JobRequest& r, const std::string* upload, const std::
   jobs_[job->id] = job;
   queue_.push_back(job);
   wake_.notify_one();
+  changed_locked();
   return describe(*job);
 }
 
@@ -183,7 +198,8 @@ json JobPool::describe(const Job& j) const {
             {"secondsQueued", j.status == "queued" ? since(j.created)
                                                    : std::chrono::duration<double>(j.started - j.created).count()}};
   if (j.status == "running") d["secondsRunning"] = since(j.started);
-  if (j.status == "done") d["result"] = "/v1/jobs/" + j.id + "/result";
+  if (j.status == "done" && !j.result.empty()) d["result"] = "/v1/jobs/" + j.id + "/result";
+  if (j.status == "done" && j.has_scene()) d["rays"] = "/v1/jobs/" + j.id + "/rays";
   if (j.status == "failed") d["code"] = mvGetErrorString(j.code);
   return d;
 }
@@ -205,6 +221,7 @@ json JobPool::cancel(const std::string& id) {
   std::lock_guard<std::mutex> g(lock_);
   auto j = find(id);
   j->cancel = true;
+  changed_locked();
   return describe(*j);
 }
 
@@ -221,28 +238,42 @@ void JobPool::remove(const std::string& id) {
     j = find(id);
     j->cancel = true;
     j->deleted = true;
+    changed_locked();
     if (j->status == "running") return;  // the worker deletes it when it stops
+    j->discard = true;  // its folder goes with the last reference (a queued render may hold it)
     jobs_.erase(id);
     queue_.erase(std::remove(queue_.begin(), queue_.end(), j), queue_.end());
     finished_.erase(std::remove(finished_.begin(), finished_.end(), id), finished_.end());
   }
-  {
-    std::lock_guard<std::mutex> g(query_lock_);
-    for (auto it = scenes_.begin(); it != scenes_.end(); ++it)
-      if (it->first == id) {
-        mvReleaseScene(it->second);
-        scenes_.erase(it);
-        break;
-      }
-  }
-  std::error_code ec;
-  fs::remove_all(j->dir, ec);
+  forget_scene(id);
+}
+
+void JobPool::forget_scene(const std::string& id) {
+  std::lock_guard<std::mutex> g(query_lock_);
+  for (auto it = scenes_.begin(); it != scenes_.end(); ++it)
+    if (it->first == id) {
+      mvReleaseScene(it->second);
+      scenes_.erase(it);
+      return;
+    }
+}
+
+void JobPool::changed_locked() {
+  ++changes_;
+  changed_.notify_all();
+}
+
+uint64_t JobPool::wait_change(uint64_t seen, Clock::time_point deadline) {
+  std::unique_lock<std::mutex> g(lock_);
+  changed_.wait_until(g, deadline, [&] { return changes_ != seen || stopping_; });
+  return changes_;
 }
 
 JobPool::Result JobPool::result(const std::string& id) const {
   std::lock_guard<std::mutex> g(lock_);
   auto j = find(id);
   if (j->status != "done") throw HttpError(409, "job " + id + " is " + j->status + (j->message.empty() ? "" : ": " + j->message));
+  if (j->result.empty()) throw HttpError(409, "job " + id + " is an open job: its scene answers rays and renders, it has no result file");
   return {j->result, content_type(j->request)};
 }
 
@@ -262,27 +293,40 @@ MvScene JobPool::query_scene(const std::string& id, const std::string& path) {
   return s;
 }
 
+bool JobPool::evict_scene_besides(const std::string& id) {
+  for (auto it = scenes_.rbegin(); it != scenes_.rend(); ++it)
+    if (it->first != id) {
+      mvReleaseScene(it->second);
+      scenes_.erase(std::next(it).base());
+      return true;
+    }
+  return false;
+}
+
 std::vector<MvTraceHit> JobPool::trace(const std::string& id, const MvTraceRay* rays, size_t count,
                                        std::vector<uint8_t>* rgba) {
   std::string path;
   {
     std::lock_guard<std::mutex> g(lock_);
     auto j = find(id);
-    if (j->request.kind != JobKind::build)
-      throw HttpError(409, "job " + id + " is a " + kind_name(j->request.kind) + " job; rays go to a build");
+    if (!j->has_scene())
+      throw HttpError(409, "job " + id + " is a " + kind_name(j->request.kind) + " job; rays go to a build or an open job");
     if (j->status != "done") throw HttpError(409, "job " + id + " is " + j->status + ", not done");
-    path = j->result;
+    path = j->scene_file();
   }
   std::vector<MvTraceHit> hits(count);
   std::lock_guard<std::mutex> g(query_lock_);
-  MvScene s = query_scene(id, path);
-  if (rgba) rgba->assign(4 * count, 0);
-  if (mvTraceRaysRgba(s, rays, hits.data(), rgba ? rgba->data() : nullptr, count, nullptr) != MV_ERROR_NONE) {
+  for (;;) {
+    MvScene s = query_scene(id, path);
+    if (rgba) rgba->assign(4 * count, 0);
+    if (mvTraceRaysRgba(s, rays, hits.data(), rgba ? rgba->data() : nullptr, count, nullptr) == MV_ERROR_NONE)
+      return hits;
     const MvError e = mvGetDeviceError(query_device_);
     const std::string m = mvGetDeviceLastErrorMessage(query_device_);
+    // Out of device memory: the scenes used least recently make room, one by one, before the query is refused.
+    if (e == MV_ERROR_OUT_OF_MEMORY && evict_scene_besides(id)) continue;
     throw HttpError(e == MV_ERROR_OUT_OF_MEMORY ? 503 : e == MV_ERROR_INPUT ? 400 : 500, m, 1);
   }
-  return hits;
 }
 
 void JobPool::work(size_t worker) {
@@ -297,6 +341,7 @@ void JobPool::work(size_t worker) {
       queue_.pop_front();
       job->status = "running";
       job->started = Clock::now();
+      changed_locked();
     }
     if (job->cancel) {
       std::lock_guard<std::mutex> g(lock_);
@@ -318,6 +363,7 @@ void JobPool::run(MvDevice dev, Job& job) {
       std::lock_guard<std::mutex> g(lock_);
       job.stage = stage;
       job.fraction = std::max(job.fraction, std::min(fraction, 1.0));
+      changed_locked();
     }
     if (std::chrono::duration<double>(Clock::now() - job.started).count() > options_.job_timeout) timed_out = true;
     return !job.cancel && !timed_out;
@@ -332,6 +378,7 @@ void JobPool::run(MvDevice dev, Job& job) {
       case JobKind::render: run_render(dev, r); break;
       case JobKind::points: run_points(dev, r); break;
       case JobKind::mask: run_mask(dev, r); break;
+      case JobKind::open: run_open(dev, r); break;
     }
     ok = true;
   } catch (const std::exception& e) {
@@ -354,19 +401,22 @@ void JobPool::run(MvDevice dev, Job& job) {
     job.fraction = 1;
   }
   job.stage = job.status;
+  changed_locked();
 }
 
-// Ends a job: a deleted one goes with its files, the oldest finished ones past --keep too.
+// Ends a job: a deleted one goes with its files, the oldest finished ones past --keep too (each folder with the
+// last reference to its job: a queued render keeps its scene's).
 void JobPool::finish(const std::shared_ptr<Job>& job) {
-  std::vector<std::string> gone;
+  std::vector<std::shared_ptr<Job>> gone;  // released here, outside the lock: their folders go then
   {
     std::lock_guard<std::mutex> g(lock_);
     job->ended = Clock::now();
+    job->scene_job.reset();
     if (job->deleted) {
       jobs_.erase(job->id);
-      gone.push_back(job->dir);
+      gone.push_back(job);
     } else {
-      if (job->status != "done") {  // nothing of a failed or cancelled job stays but its record
+      if (job->status != "done" && !job->result.empty()) {  // nothing of a failed or cancelled job stays but its record
         std::error_code ec;
         fs::remove(job->result, ec);
       }
@@ -374,15 +424,16 @@ void JobPool::finish(const std::shared_ptr<Job>& job) {
       while (finished_.size() > options_.keep_finished) {
         auto it = jobs_.find(finished_.front());
         if (it != jobs_.end()) {
-          gone.push_back(it->second->dir);
+          gone.push_back(it->second);
           jobs_.erase(it);
         }
         finished_.pop_front();
       }
     }
+    for (auto& j : gone) j->discard = true;
+    changed_locked();
   }
-  std::error_code ec;
-  for (const auto& d : gone) fs::remove_all(d, ec);
+  for (auto& j : gone) forget_scene(j->id);
 }
 
 void JobPool::shutdown() {
@@ -395,6 +446,7 @@ void JobPool::shutdown() {
     for (auto& j : queue_) j->status = j->stage = "cancelled";
     queue_.clear();
     wake_.notify_all();
+    changed_locked();
   }
   for (auto& t : threads_) t.join();
   threads_.clear();

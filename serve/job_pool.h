@@ -1,7 +1,9 @@
 // The jobs of `megavox serve`: a bounded queue, a pool of workers each running one job at a time on its own
 // device context (the budget split evenly), per-job timeouts and cancels, results as files under
-// DATA/jobs/ID/, and ray queries against finished builds on one more device context of their own.
+// DATA/jobs/ID/, and ray queries against finished builds (or .mvx files opened as scenes) on one more device
+// context of their own, whose cached scenes make room for each other under memory pressure.
 #pragma once
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -61,10 +63,15 @@ class JobPool {
   };
   Result result(const std::string& id) const;  // 404, 409 (not done)
 
-  // Ray queries against a finished build (HttpError 404, 409; 400 for bad rays).
+  // Ray queries against a finished build or open job (HttpError 404, 409; 400 for bad rays; 503 when the
+  // query does not fit the device even with every other cached scene evicted).
   // rgba, when given, receives 4 bytes per ray: the hit's colour (mvTraceRaysRgba).
   std::vector<MvTraceHit> trace(const std::string& id, const MvTraceRay* rays, size_t count,
                                 std::vector<uint8_t>* rgba = nullptr);
+
+  // Waits until any job's record changes after `seen` (a count from an earlier call; 0 at first), the deadline
+  // passes or the pool stops; returns the count now. For progress streams: they wake on a change, never poll.
+  uint64_t wait_change(uint64_t seen, std::chrono::steady_clock::time_point deadline);
 
   // Stops taking jobs, cancels the queued and running ones, waits for the workers and deletes the files of
   // every job that did not finish. Idempotent.
@@ -82,6 +89,9 @@ class JobPool {
   std::shared_ptr<Job> find(const std::string& id) const;  // under lock_; 404
   nlohmann::json describe(const Job& job) const;            // under lock_
   MvScene query_scene(const std::string& id, const std::string& path);  // under query_lock_
+  bool evict_scene_besides(const std::string& id);  // under query_lock_: the least recently used other scene
+  void forget_scene(const std::string& id);          // takes query_lock_
+  void changed_locked();                              // under lock_: a job's record changed
 
   PoolOptions options_;
   uint64_t budget_ = 0;
@@ -91,6 +101,8 @@ class JobPool {
 
   mutable std::mutex lock_;
   std::condition_variable wake_;
+  std::condition_variable changed_;  // changes_ moved
+  uint64_t changes_ = 0;
   bool stopping_ = false;
   std::map<std::string, std::shared_ptr<Job>> jobs_;
   std::deque<std::shared_ptr<Job>> queue_;

@@ -20,7 +20,7 @@ struct KeyKinds {
   std::initializer_list<JobKind> kinds;
 };
 const KeyKinds kKeys[] = {
-    {"input", {JobKind::build, JobKind::render, JobKind::points, JobKind::mask}},
+    {"input", {JobKind::build, JobKind::render, JobKind::points, JobKind::mask, JobKind::open}},
     {"scene", {JobKind::render}},
     {"resolution", {JobKind::build}},
     {"cube", {JobKind::build}},
@@ -141,9 +141,13 @@ void check_camera(const JobRequest& r, const json& j) {
 }
 
 JobKind parse_kind(const json& j) {
-  if (!j.contains("kind")) throw ServeError("job: \"kind\" is missing (build, render, points or mask)");
-  const std::string k = choice(j.at("kind"), "kind", {"build", "render", "points", "mask"});
-  return k == "build" ? JobKind::build : k == "render" ? JobKind::render : k == "points" ? JobKind::points : JobKind::mask;
+  if (!j.contains("kind")) throw ServeError("job: \"kind\" is missing (build, render, points, mask or open)");
+  const std::string k = choice(j.at("kind"), "kind", {"build", "render", "points", "mask", "open"});
+  return k == "build"    ? JobKind::build
+         : k == "render" ? JobKind::render
+         : k == "points" ? JobKind::points
+         : k == "open"   ? JobKind::open
+                         : JobKind::mask;
 }
 
 JobRequest from_object(const json& j) {
@@ -155,7 +159,7 @@ JobRequest from_object(const json& j) {
     if (key == "kind") continue;
     bool known = false;
     if (!takes(key, r.kind, known))
-      throw ServeError("job: " + std::string(known ? "a " + kind_name(r.kind) + " job takes no " : "unknown key ") + quoted(key) +
+      throw ServeError("job: " + std::string(known ? (r.kind == JobKind::open ? "an " : "a ") + kind_name(r.kind) + " job takes no " : "unknown key ") + quoted(key) +
                   " (keys: " + key_list(r.kind) + ")");
     if (key == "input") r.input = text(v, "input");
     else if (key == "scene") r.scene = text(v, "scene");
@@ -193,6 +197,8 @@ JobRequest from_object(const json& j) {
   if (r.kind == JobKind::build && r.format == "ssvdag" && r.resolution < 8)
     throw ServeError("job: format ssvdag needs a resolution of at least 8");
   if (r.kind == JobKind::render) check_camera(r, j);
+  if (r.kind == JobKind::open && r.input.empty())
+    throw ServeError("job: an open job needs \"input\": a .mvx under the data folder");
   if (r.kind == JobKind::mask && !r.rect && r.seeds.empty() && r.model.empty())
     throw ServeError("job: a mask job needs a start: \"rect\" [x, y, w, h], \"seeds\" (a seed map) or \"model\" (a .mvm)");
   return r;
@@ -244,6 +250,7 @@ std::string kind_name(JobKind k) {
     case JobKind::render: return "render";
     case JobKind::points: return "points";
     case JobKind::mask: return "mask";
+    case JobKind::open: return "open";
   }
   return "build";
 }
@@ -265,6 +272,7 @@ JobRequest job_request_from_query(const std::multimap<std::string, std::string>&
     if (key == "name") continue;  // the uploaded file's name (kept for its extension), read by the server
     j[key] = query_value(key, value);
   }
+  if (j.value("kind", "") == "open") throw ServeError("job: an open job names a .mvx under the data folder in a JSON job");
   if (j.contains("input") || j.contains("scene")) throw ServeError("job: an upload is the input; \"input\" and \"scene\" go in a JSON job");
   return from_object(j);
 }

@@ -12,12 +12,13 @@
 
 namespace mv::serve {
 
-enum class JobKind { build, render, points, mask };
+// open: a .mvx already under --data-dir as a scene for rays and renders, without a build.
+enum class JobKind { build, render, points, mask, open };
 
 struct JobRequest {
   JobKind kind = JobKind::build;
   std::string input;  // a file under --data-dir (relative); empty for an upload or a render of `scene`
-  std::string scene;  // render: the id of a finished build job
+  std::string scene;  // render: the id of a finished build or open job
   // build: format is svo, svdag, ussvdag or ssvdag; points: mvx or 3dtiles
   uint32_t resolution = 256;
   // Above this resolution a build runs out of core in cubes of this side; 0: in core; unset: the C API's and

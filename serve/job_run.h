@@ -41,5 +41,6 @@ void run_build(MvDevice dev, const JobRun& run);   // serve/job_build.cpp
 void run_render(MvDevice dev, const JobRun& run);  // serve/job_render.cpp
 void run_points(MvDevice dev, const JobRun& run);  // serve/job_points.cpp
 void run_mask(MvDevice dev, const JobRun& run);    // serve/job_mask.cpp
+void run_open(MvDevice dev, const JobRun& run);    // serve/job_open.cpp
 
 }  // namespace mv::serve

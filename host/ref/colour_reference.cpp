@@ -214,7 +214,8 @@ MeshVoxelColours mesh_voxel_colours(const std::vector<float>& grid_tris, const s
       continue;
     }
     for (int ch = 0; ch < 3; ++ch) {
-      auto channel = [&](int k) { return double(tri_rgb[3 * b.tri + k] >> (8 * ch) & 255); };
+      const uint32_t tri = b.tri;  // a lambda may not capture a structured binding before C++20 in clang 14
+      auto channel = [&](int k) { return double(tri_rgb[3 * tri + k] >> (8 * ch) & 255); };
       const double x = channel(0) * (1 - b.wb - b.wc) + channel(1) * b.wb + channel(2) * b.wc;
       const double r = std::floor(x + 0.5);
       rgb |= uint32_t(r <= 0 ? 0 : r >= 255 ? 255 : r) << (8 * ch);

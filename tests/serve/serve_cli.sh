@@ -47,6 +47,15 @@ curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary 
 [[ $(stat -c %s "$dir/hits.bin") == 64 ]] || fail "hits: $(stat -c %s "$dir/hits.bin") bytes"
 hits=$(node -e 'const b=require("fs").readFileSync(process.argv[1]);const t0=b.readFloatLE(0),t1=b.readFloatLE(32);console.log((t0>4&&t0<5)+" "+(t1===Infinity)+" "+b.readInt32LE(28))' "$dir/hits.bin")
 [[ $hits == "true true 1" ]] || fail "hit records: $hits"
+# the fetched .mvx opened as a scene without a build answers the same bytes; the file stays the user's
+cp "$dir/tetra.mvx" "$data/fetched.mvx"
+open=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' -d '{"kind":"open","input":"fetched.mvx"}' "$url/v1/jobs")
+openid=$(jq -r .id <<< "$open")
+[[ $(jq -r .status <<< "$(wait_job "$openid")") == done ]] || fail "open: $(curl -s "${auth[@]}" "$url/v1/jobs/$openid")"
+curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$dir/rays.bin" "$url/v1/jobs/$openid/rays" -o "$dir/open_hits.bin"
+cmp -s "$dir/hits.bin" "$dir/open_hits.bin" || fail "an open job's hits differ from its build's"
+[[ $(code "${auth[@]}" "$url/v1/jobs/$openid/result") == 409 ]] || fail "an open job's result: not 409"
+[[ $(code "${auth[@]}" -X DELETE "$url/v1/jobs/$openid") == 204 && -f "$data/fetched.mvx" ]] || fail "deleting an open job took its file"
 printf 'abc' > "$dir/ragged.bin"
 [[ $(code "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$dir/ragged.bin" "$url/v1/jobs/$id/rays") == 400 ]] ||
   fail "ragged rays: not 400"

@@ -134,10 +134,21 @@ TEST(ServeJobRequest, BuildCube) {
 }
 
 TEST(ServeJobRequest, KindsAndKeys) {
-  EXPECT_REFUSED(R"({"input":"a.ply"})", "\"kind\" is missing (build, render, points or mask)");
+  EXPECT_REFUSED(R"({"input":"a.ply"})", "\"kind\" is missing (build, render, points, mask or open)");
   EXPECT_REFUSED(R"({"kind":"bake"})", "choose build, render, points, mask");
   EXPECT_REFUSED(R"({"kind":"mask","input":"p.png","rect":[0,0,1,1],"colour":1})", "unknown key \"colour\"");
   EXPECT_REFUSED(R"([1,2])", "the body must be a JSON object");
+}
+
+TEST(ServeJobRequest, OpenJob) {
+  const JobRequest r = mv::serve::parse_job_request(R"({"kind":"open","input":"scans/city.mvx"})");
+  EXPECT_EQ(r.kind, JobKind::open);
+  EXPECT_EQ(r.input, "scans/city.mvx");
+  EXPECT_REFUSED(R"({"kind":"open"})", "an open job needs \"input\"");
+  EXPECT_REFUSED(R"({"kind":"open","input":"a.mvx","resolution":64})", "an open job takes no \"resolution\"");
+  EXPECT_REFUSED(R"({"kind":"open","scene":"00ab"})", "an open job takes no \"scene\"");
+  EXPECT_THROW(mv::serve::job_request_from_query({{"kind", "open"}}), mv::serve::ServeError);
+  EXPECT_EQ(mv::serve::kind_name(JobKind::open), "open");
 }
 
 TEST(ServeJobRequest, UploadQuery) {

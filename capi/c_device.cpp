@@ -19,6 +19,7 @@ thread_local ThreadError t_error;
 struct Config {
   DeviceOptions device;
   uint64_t host_memory = 0;
+  uint64_t cache_memory = 0;
 };
 
 uint64_t config_size(const std::string& key, const std::string& value) {
@@ -39,7 +40,7 @@ Config parse_config(const char* text) {
     const size_t eq = item.find('=');
     if (eq == std::string::npos)
       throw ApiError(MV_ERROR_INVALID_ARGUMENT,
-                     "device config: '" + item + "' is not key=value (keys: device, memory, host_memory, kernel_shape)");
+                     "device config: '" + item + "' is not key=value (keys: device, memory, host_memory, cache_memory, kernel_shape)");
     std::string key = item.substr(0, eq), value = item.substr(eq + 1);
     key.erase(0, key.find_first_not_of(' '));
     key.erase(key.find_last_not_of(' ') + 1);
@@ -49,13 +50,16 @@ Config parse_config(const char* text) {
       c.device.memory_budget = config_size(key, value);
     } else if (key == "host_memory") {
       c.host_memory = config_size(key, value);
+    } else if (key == "cache_memory") {
+      c.cache_memory = config_size(key, value);
+      if (c.cache_memory == 0) throw ApiError(MV_ERROR_INVALID_ARGUMENT, "device config: cache_memory=0 holds no page");
     } else if (key == "kernel_shape") {
       if (value != "auto" && value != "gpu" && value != "cpu")
         throw ApiError(MV_ERROR_INVALID_ARGUMENT, "device config: kernel_shape=" + value + " is none of auto, gpu, cpu");
       c.device.kernel_shape = parse_kernel_shape(value);
     } else {
       throw ApiError(MV_ERROR_INVALID_ARGUMENT, "device config: unknown key '" + key +
-                                                    "' (keys: device, memory, host_memory, kernel_shape)");
+                                                    "' (keys: device, memory, host_memory, cache_memory, kernel_shape)");
     }
   }
   return c;
@@ -120,6 +124,7 @@ MvDevice mvNewDevice(const char* config) {
       throw ApiError(MV_ERROR_UNSUPPORTED_DEVICE, e.what());
     }
     d->host_memory = c.host_memory;
+    d->cache_memory = c.cache_memory;
     made = d.release();
   });
   return made;

@@ -8,26 +8,6 @@
 #include "io/output_path.h"
 #include "megavox/render.h"
 
-const mv::MvxFile& MvSceneTy::file() {
-  std::call_once(read_, [this] { file_ = mv::read_mvx(path); });
-  return file_;
-}
-
-mv::Tracer& MvSceneTy::tracer_locked() {
-  if (!tracer) tracer = std::make_unique<mv::Tracer>(*device->device, file());
-  return *tracer;
-}
-
-MvSceneTy::~MvSceneTy() {
-  if (!scratch.empty()) std::remove(scratch.c_str());
-  if (!device) return;
-  {
-    std::lock_guard<std::recursive_mutex> g(device->lock);
-    tracer.reset();  // its buffers go back to the device's pool
-  }
-  mvReleaseDevice(device);
-}
-
 using namespace mv::capi;
 
 namespace {
@@ -74,7 +54,7 @@ MvScene mvOpenScene(MvDevice device, const char* path) {
     require(path && *path, "mvOpenScene: no path");
     auto scene = std::make_unique<MvSceneTy>();
     scene->path = path;
-    scene->file();
+    scene->facts();  // opened and checked now
     mvRetainDevice(device);
     scene->device = device;
     made = scene.release();
@@ -101,13 +81,13 @@ MvError mvGetSceneInfo(MvScene scene, MvSceneInfo* info) {
     require(scene, "mvGetSceneInfo: no scene");
     const Hold<MvSceneTy> keep(scene);
     require(info, "mvGetSceneInfo: info is NULL");
-    const mv::MvxFile& f = scene->file();
+    const MvSceneTy::Facts f = scene->facts();
     *info = MvSceneInfo{};
-    copy_text(info->encoding, mv::encoding_name(f.dag.encoding));
+    copy_text(info->encoding, mv::encoding_name(f.encoding));
     info->resolution = f.grid.resolution;
-    info->levels = f.dag.levels;
+    info->levels = f.levels;
     info->voxels = f.voxels;
-    info->bytes = f.dag.bytes();
+    info->bytes = f.bytes;
     info->voxelSize = f.grid.voxel_size;
     for (int a = 0; a < 3; ++a) {
       info->origin[a] = f.grid.origin[a];
@@ -128,11 +108,23 @@ MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, siz
   return mvTraceRaysRgba(scene, rays, hits, nullptr, count, args);
 }
 
+MvError mvGetSceneStats(MvScene scene, MvSceneStats* stats) {
+  return guard(scene_device(scene), [&] {
+    require(scene && stats, "mvGetSceneStats: scene or stats is NULL");
+    require(stats->byteSize == sizeof(MvSceneStats), "mvGetSceneStats: stats->byteSize must be sizeof(MvSceneStats)");
+    const Hold<MvSceneTy> keep(scene);
+    std::lock_guard<std::recursive_mutex> g(scene->device->lock);
+    *stats = scene->stats_locked();
+  });
+}
+
 MvError mvGetSceneColourEntries(MvScene scene, uint64_t* entries) {
   return guard(scene_device(scene), [&] {
     require(scene && entries, "mvGetSceneColourEntries: scene or entries is NULL");
     const Hold<MvSceneTy> keep(scene);
-    *entries = scene->file().colours.size() / 3;
+    std::lock_guard<std::recursive_mutex> g(scene->device->lock);
+    // the colours its queries return: none where it streams through a page cache
+    *entries = scene->tracer_locked().has_colours() ? scene->file().colours.size() / 3 : 0;
   });
 }
 
@@ -148,10 +140,11 @@ MvError mvTraceRaysRgba(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits,
       options.max_steps = args->maxSteps;
     }
     std::lock_guard<std::recursive_mutex> g(scene->device->lock);
-    mv::Tracer& tracer = scene->tracer_locked();
+    scene->device->device->reset_memory_peak();
+    const size_t per_batch = count ? scene->ray_batch_locked(kRayBatch) : 1;
     std::vector<mv::Ray> batch;
-    for (size_t first = 0; first < count; first += kRayBatch) {
-      const size_t n = std::min(kRayBatch, count - first);
+    for (size_t first = 0; first < count; first += per_batch) {
+      const size_t n = std::min(per_batch, count - first);
       batch.resize(n);
       for (size_t i = 0; i < n; ++i) {
         const MvTraceRay& r = rays[first + i];
@@ -162,7 +155,8 @@ MvError mvTraceRaysRgba(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits,
         batch[i].tmax = r.tmax;
       }
       std::vector<uint32_t> colours;
-      const std::vector<mv::RayHit> got = tracer.trace(batch, options, rgba ? &colours : nullptr);
+      const std::vector<mv::RayHit> got = scene->trace_locked(batch, options, rgba ? &colours : nullptr);
+      scene->note_peak_locked();
       if (rgba)
         for (size_t i = 0; i < n; ++i)
           for (int k = 0; k < 4; ++k) rgba[4 * (first + i) + k] = colours.empty() ? 0 : colours[i] >> (8 * k) & 255;
@@ -201,7 +195,7 @@ MvError mvGetSceneViewCamera(MvScene scene, const char* view, double fov, MvCame
     require(fov >= 0 && fov < 180, "mvGetSceneViewCamera: fov must be 0 (the default) or between 0 and 180 degrees");
     mv::Camera c;
     try {
-      c = mv::view_camera(scene->file().bounds, view ? view : "iso", fov > 0 ? fov : MV_DEFAULT_FOV);
+      c = mv::view_camera(scene->facts().bounds, view ? view : "iso", fov > 0 ? fov : MV_DEFAULT_FOV);
     } catch (const mv::Error& e) {
       throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
     }
@@ -249,13 +243,15 @@ MvError mvRenderScene(MvScene scene, const MvCamera* camera, const MvRenderArgum
       require(cam.fov > 0 && cam.fov < 180, "mvRenderScene: fov must be between 0 and 180 degrees");
     } else {
       try {
-        cam = mv::view_camera(scene->file().bounds, args->view ? args->view : "iso");
+        cam = mv::view_camera(scene->facts().bounds, args->view ? args->view : "iso");
       } catch (const mv::Error& e) {
         throw ApiError(MV_ERROR_INVALID_ARGUMENT, e.what());
       }
     }
     std::lock_guard<std::recursive_mutex> g(scene->device->lock);
+    scene->device->device->reset_memory_peak();
     const mv::RenderResult r = mv::render(scene->tracer_locked(), cam, o);
+    scene->note_peak_locked();
     for (uint32_t y = 0; y < o.height; ++y) {
       uint8_t* row = rgba + y * stride;
       const uint8_t* src = r.image.rgb.data() + size_t{y} * o.width * 3;

@@ -31,7 +31,8 @@ struct RefCounted {
 
 struct MvDeviceTy : mv::capi::RefCounted {
   std::unique_ptr<mv::Device> device;
-  uint64_t host_memory = 0;  // builds' host RAM budget; 0 = the default
+  uint64_t host_memory = 0;   // builds' host RAM budget; 0 = the default
+  uint64_t cache_memory = 0;  // scenes' page cache when set (cache_memory=); 0: only where a scene does not fit
   // Serialises every call on the device (mv::Device has no locking); recursive so that a progress or error
   // function may call back into the API on the same thread.
   std::recursive_mutex lock;
@@ -44,19 +45,44 @@ struct MvDeviceTy : mv::capi::RefCounted {
 
 struct MvSceneTy : mv::capi::RefCounted {
   MvDevice device = nullptr;  // retained
-  // The scene's .mvx. mvOpenScene reads it at once (it checks the file before it returns); a build's scene
-  // reads the file it wrote on first use, so a caller that wants only the file (a job, the service) never
-  // reads it back.
+  // The scene's .mvx. mvOpenScene opens it at once; a build's scene opens the file it wrote on first use, so a
+  // caller that wants only the file (a job, the service) never reads it back.
   std::string path;
   std::string scratch;  // a build's own file when its caller named none: removed with the scene
-  const mv::MvxFile& file();  // reads `path` the first time (throws mv::Error; a later call tries again)
-  std::unique_ptr<mv::Tracer> tracer;  // made on first use, under the device lock
+
+  // What the scene is, from the file opened once (capi/scene_query.cpp): a paged .mvx is mapped and kept paged
+  // (its header and page index checked now, each page checked when read); any other is read whole and checked.
+  // Throws mv::Error; a later call tries again.
+  struct Facts {
+    mv::Encoding encoding = mv::Encoding::svdag;
+    mv::GridTransform grid;
+    mv::Bounds bounds;
+    uint32_t levels = 0;
+    uint64_t voxels = 0, bytes = 0, colour_entries = 0;
+  };
+  Facts facts();
+  const mv::MvxFile& file();  // the whole file, read on demand (a save; a resident trace of an unpaged file)
+
+  // Under the device lock. The tracer: resident when the nodes fit what is left of the device budget and the
+  // device sets no cache_memory, else streaming through a page cache.
   mv::Tracer& tracer_locked();
+  // Exact ray queries: every ray resolved (batches retried smaller where the cache cannot hold their pages).
+  std::vector<mv::RayHit> trace_locked(const std::vector<mv::Ray>& rays, const mv::TraceOptions& options,
+                                       std::vector<uint32_t>* colours);
+  // Rays per batch that fit the device beside the scene (at most `wanted`).
+  size_t ray_batch_locked(size_t wanted);
+  MvSceneStats stats_locked();
+  void note_peak_locked();  // after a call: the device's peak so far counts toward the scene's
   ~MvSceneTy();
 
  private:
-  std::once_flag read_;
-  mv::MvxFile file_;
+  void open();
+  std::mutex open_lock_;
+  bool opened_ = false;
+  std::shared_ptr<const mv::PagedDag> paged_;  // a paged file
+  std::unique_ptr<mv::MvxFile> file_;          // read whole
+  std::unique_ptr<mv::Tracer> tracer_;
+  uint64_t passes_ = 0, pages_streamed_ = 0, peak_ = 0;
 };
 
 namespace mv::capi {

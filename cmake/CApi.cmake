@@ -7,7 +7,8 @@ add_library(megavox_capi STATIC
   capi/scene_build.cpp
   capi/c_points.cpp
   capi/c_mask.cpp
-  capi/c_image.cpp)
+  capi/c_image.cpp
+  capi/scene_query.cpp)
 # Its users see the public headers alone (include/, and the generated version.h); the C++ library is private.
 target_include_directories(megavox_capi PUBLIC ${CMAKE_SOURCE_DIR}/include ${CMAKE_BINARY_DIR}/include
                            PRIVATE ${CMAKE_SOURCE_DIR}/capi)

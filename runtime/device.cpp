@@ -100,6 +100,8 @@ Device::~Device() {
 const DeviceInfo& Device::info() const { return impl_->info; }
 uint64_t Device::memory_budget() const { return impl_->pool->budget(); }
 uint64_t Device::memory_used() const { return impl_->pool->used(); }
+uint64_t Device::memory_peak() const { return impl_->pool->peak(); }
+void Device::reset_memory_peak() { impl_->pool->reset_peak(); }
 uint64_t Device::page_bytes() const { return impl_->pool->page_bytes(); }
 
 Buffer Device::alloc(uint64_t bytes, std::string_view what) {

@@ -74,6 +74,7 @@ bool MemoryPool::place(uint64_t pages, Range& out) {
     if (find_run(arenas_[i], pages, first)) {
       std::fill_n(arenas_[i].used.begin() + static_cast<std::ptrdiff_t>(first), pages, true);
       used_pages_ += pages;
+      peak_pages_ = std::max(peak_pages_, used_pages_);
       out = {i, first, pages};
       return true;
     }
@@ -87,6 +88,7 @@ bool MemoryPool::place(uint64_t pages, Range& out) {
   arenas_.push_back(std::move(arena));
   arena_bytes_total_ += arena_bytes;
   used_pages_ += pages;
+  peak_pages_ = std::max(peak_pages_, used_pages_);
   out = {static_cast<uint32_t>(arenas_.size() - 1), 0, pages};
   return true;
 }

@@ -38,6 +38,9 @@ class MemoryPool {
   BackendArena& arena(uint32_t index) { return *arenas_[index].memory; }
   uint64_t budget() const { return budget_; }
   uint64_t used() const { return used_pages_ * page_bytes_; }
+  // The most used() has been since the last reset_peak() (or since the pool was made).
+  uint64_t peak() const { return peak_pages_ * page_bytes_; }
+  void reset_peak() { peak_pages_ = used_pages_; }
   uint64_t page_bytes() const { return page_bytes_; }
   uint64_t max_arena_bytes() const { return max_arena_bytes_; }
 
@@ -59,6 +62,7 @@ class MemoryPool {
   uint64_t max_arena_bytes_;
   uint64_t arena_bytes_total_ = 0;
   uint64_t used_pages_ = 0;
+  uint64_t peak_pages_ = 0;
   std::vector<Arena> arenas_;
   std::vector<Range> retired_;
 };

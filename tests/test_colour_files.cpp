@@ -171,7 +171,7 @@ TEST_P(ColourFilesTest, PlyCloudBuildsRoundTripsAndExports) {
     auto nacc = nano->getAccessor();
     size_t wrong = 0;
     for (size_t i = 0; i < want_rgb.size() / 3; ++i) {
-      const openvdb::Coord c(int(want_centres[3 * i]), int(want_centres[3 * i + 1]), int(want_centres[3 * i + 2]));
+      const openvdb::Coord c{int(want_centres[3 * i]), int(want_centres[3 * i + 1]), int(want_centres[3 * i + 2])};
       const openvdb::Vec3s v = acc.getValue(c);
       const nanovdb::Vec3f nv = nacc.getValue(nanovdb::Coord(c.x(), c.y(), c.z()));
       for (int k = 0; k < 3; ++k)

@@ -68,6 +68,9 @@ typedef struct MvDeviceTy* MvDevice;
  *                     else the first GPU, else PoCL)
  *   memory=SIZE       device memory budget, e.g. 512M (default: 3/4 of what the device reports)
  *   host_memory=SIZE  host RAM budget of builds (default: half the physical RAM)
+ *   cache_memory=SIZE ray queries and renders of a paged .mvx stream it through a device page cache of SIZE
+ *                     (default: only when the scene does not fit what is left of the budget; then the
+ *                     cache takes part of what is left)
  *   kernel_shape=S    how kernels are launched: gpu, cpu or auto (by the device's type; default:
  *                     $MEGAVOX_KERNEL_SHAPE, else auto). Every shape gives the same bytes
  * Returns NULL on failure (mvGetDeviceError(NULL) says why). */
@@ -131,7 +134,9 @@ MV_API MvScene mvBuildSceneFromFile(MvDevice device, const char* path, const MvB
  * during the call). */
 MV_API MvScene mvBuildSceneFromMemory(MvDevice device, const float* vertices, size_t vertexCount,
                                       const uint32_t* indices, size_t triangleCount, const MvBuildArguments* args);
-/* Opens a voxel .mvx, checked (checksums, structure) before it returns. */
+/* Opens a voxel .mvx. A paged one (what builds write) is mapped and kept paged: its header and page index are
+ * checked now, each page when a query first reads it (a damaged page fails that query, named); any other is
+ * read whole and checked (checksums, structure) before it returns. */
 MV_API MvScene mvOpenScene(MvDevice device, const char* path);
 MV_API void mvRetainScene(MvScene scene);
 MV_API void mvReleaseScene(MvScene scene);
@@ -143,12 +148,27 @@ typedef struct MvSceneInfo {
   uint32_t resolution;   /* voxels per axis */
   uint32_t levels;
   uint64_t voxels;
-  uint64_t bytes;        /* the encoded DAG */
+  uint64_t bytes;        /* the encoded DAG as the file stores it (a paged file: its paged node stream) */
   double origin[3];      /* world position of the grid's min corner */
   double voxelSize;      /* world units per voxel */
   double lower[3], upper[3]; /* the model's bounds */
 } MvSceneInfo;
 MV_API MvError mvGetSceneInfo(MvScene scene, MvSceneInfo* info);
+
+/* How a scene's queries have used the device so far. A paged .mvx (what builds write) whose nodes do not fit
+ * what is left of the device budget, or any paged one on a device with cache_memory=, streams through a page
+ * cache: a ray that reaches a missing page asks for it, and the batch repeats (in smaller batches where the
+ * cache cannot hold a batch's pages) until every ray is resolved, so the hits are those of the resident scene.
+ * The budget covers everything: the cache, its update, the ray and hit buffers (batches split to fit). */
+typedef struct MvSceneStats {
+  size_t byteSize;           /* set to sizeof(MvSceneStats) before the call */
+  uint32_t paged;            /* 1: queries stream through a page cache; 0: the scene is resident */
+  uint64_t cacheBytes;       /* the page cache's slots on the device (0 when resident) */
+  uint64_t passes;           /* trace passes over ray batches, all queries so far */
+  uint64_t pagesStreamed;    /* pages loaded into the cache, all queries so far */
+  uint64_t peakDeviceBytes;  /* the most device memory in use while the scene's calls ran */
+} MvSceneStats;
+MV_API MvError mvGetSceneStats(MvScene scene, MvSceneStats* stats);
 
 /* ---- ray queries ---- */
 

@@ -12,6 +12,7 @@
 
 #include "job_pool.h"
 #include "megavox/megavox.h"
+#include "megavox/mvx.h"
 
 namespace fs = std::filesystem;
 using mv::serve::HttpError;
@@ -195,6 +196,8 @@ TEST(ServeJobPool, CachedScenesMakeRoomBeforeAQueryIsRefused) {
     const std::string data = data_dir("room", device);
     build_mvx(device, data + "/one.mvx", 512);
     fs::copy_file(data + "/one.mvx", data + "/two.mvx");
+    build_mvx(device, data + "/big.mvx", 1024);
+    mv::write_mvx(data + "/flat.mvx", mv::read_mvx(data + "/big.mvx"), mv::MvxPaging{0, mv::NodeOrder::level});
     // what one scene and a query hold on a device
     const std::vector<MvTraceRay> rays = down_rays(16);
     uint64_t used = 0;
@@ -228,15 +231,23 @@ TEST(ServeJobPool, CachedScenesMakeRoomBeforeAQueryIsRefused) {
       ASSERT_NO_THROW(got = pool.trace(one, rays.data(), rays.size()));
       EXPECT_EQ(std::memcmp(got.data(), first.data(), got.size() * sizeof(MvTraceHit)), 0);
     }
-    // a query that fits no share is refused with 503, and the next one that fits is answered
-    const std::vector<MvTraceRay> flood(o.device_memory / sizeof(MvTraceRay), rays[0]);
+    // a query larger than the share is answered in batches that fit
+    const std::vector<MvTraceRay> flood(o.device_memory / sizeof(MvTraceRay), rays[3]);
+    const std::vector<MvTraceHit> many = pool.trace(one, flood.data(), flood.size());
+    for (const MvTraceHit& h : many) ASSERT_EQ(std::memcmp(&h, &first[3], sizeof h), 0);
+    // a scene that fits the share neither resident nor streamed (an unpaged file larger than it) is refused
+    // with 503 once every other scene is evicted, and the next query that fits is answered
+    const std::string flat = submit(pool, open_request("flat.mvx"));
+    ASSERT_EQ(wait_end(pool, flat), "done");
     try {
-      pool.trace(one, flood.data(), flood.size());
-      ADD_FAILURE() << "a query past the device share was answered";
+      pool.trace(flat, rays.data(), rays.size());
+      ADD_FAILURE() << "a scene past the device share was answered";
     } catch (const HttpError& e) {
       EXPECT_EQ(e.status, 503) << e.what();
     }
-    EXPECT_NO_THROW(pool.trace(two, rays.data(), rays.size()));
+    std::vector<MvTraceHit> after;
+    ASSERT_NO_THROW(after = pool.trace(two, rays.data(), rays.size()));
+    EXPECT_EQ(std::memcmp(after.data(), first.data(), after.size() * sizeof(MvTraceHit)), 0);
   }
 }
 

@@ -37,6 +37,8 @@ struct PagedDag {
   // ssvdag: where its levels start in the paged stream (host/formats/paging/paged_ssvdag.h: levels + 1 entries)
   std::vector<uint64_t> level_starts;
   bool has_colours = false;  // the file has voxel colours; paged traversal does not show them (yet: docs/colour.md)
+  uint64_t voxels = 0;       // of the model
+  uint64_t words = 0;        // of the paged stream (pages * page_words, less the last page's padding)
   std::function<void(uint32_t page, std::span<uint32_t> words)> read;
 };
 
@@ -44,6 +46,8 @@ struct PagedDag {
 // A paged .mvx (version 3) opened by memory map, its pages read (and checked against the page index) on
 // demand. Throws mv::Error for a file that is not paged (versions 1 and 2, unpaged files: they render resident).
 PagedDag open_paged_mvx(const std::string& path);
+// Whether `path` is a paged voxel .mvx (what open_paged_mvx opens); throws mv::Error when it is no voxel .mvx.
+bool is_paged_mvx(const std::string& path);
 
 class Tracer {
  public:

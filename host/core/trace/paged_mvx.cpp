@@ -18,11 +18,15 @@ PagedDag open_paged_mvx(const std::string& path) {
   d.pages = file->pages();
   d.level_starts = file->level_starts();
   d.has_colours = file->has_colours();
+  d.voxels = file->voxels();
+  d.words = file->words();
   d.read = [file](uint32_t page, std::span<uint32_t> words) {
     std::string error;
     if (!file->read_page(page, words, &error)) throw Error(error);
   };
   return d;
 }
+
+bool is_paged_mvx(const std::string& path) { return MvxPages::is_paged(path); }
 
 }  // namespace mv

@@ -54,6 +54,12 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
   if (map_.size() < file_bytes) throw Error(path + ": truncated: it changed since its header was read");
 }
 
+bool MvxPages::is_paged(const std::string& path) {
+  const Opened o = open_file(path);
+  check_voxel_file(o, path);
+  return o.find[kPageIndex] != nullptr;
+}
+
 bool MvxPages::read_page(uint32_t page, std::span<uint32_t> out, std::string* error) const {
   auto fail = [&](const std::string& why) {
     if (error) *error = path_ + ": page " + std::to_string(page) + ": " + why;

@@ -19,6 +19,9 @@ class MvxPages {
   // Throws mv::Error for a file that is not a paged voxel .mvx: versions 1 and 2 and unpaged files say they
   // render resident; damage in the header, the page index or the paged level starts is named.
   explicit MvxPages(const std::string& path);
+  // Whether `path` is a voxel .mvx with a page index (its header checked; throws mv::Error for a file that is
+  // not a voxel .mvx or whose header is damaged).
+  static bool is_paged(const std::string& path);
   MvxPages(const MvxPages&) = delete;
   MvxPages& operator=(const MvxPages&) = delete;
 

@@ -192,6 +192,10 @@ class Device {
   const DeviceInfo& info() const;
   uint64_t memory_budget() const;
   uint64_t memory_used() const;  // bytes in pages handed out
+  // The most memory_used() has been since reset_memory_peak() (or since the device opened): what a sequence of
+  // calls held on the device at most, retired buffers not yet reclaimed included.
+  uint64_t memory_peak() const;
+  void reset_memory_peak();
   uint64_t page_bytes() const;
 
   // Throws mv::Error when the budget or the largest single allocation cannot hold `bytes`.

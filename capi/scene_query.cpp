@@ -118,13 +118,23 @@ std::vector<mv::RayHit> MvSceneTy::trace_locked(const std::vector<mv::Ray>& rays
   }
   account_passes(t, path, passes_, pages_streamed_);
   // Rays that stopped at a missing page (the batch's pages did not fit the cache together) go again, in
-  // batches half the size each round, down to single rays.
+  // batches half the size each round, down to single rays; in the Morton order of where they stopped, so a
+  // batch's rays continue through neighbouring nodes and share their pages.
   std::vector<size_t> todo;
   for (size_t i = 0; i < out.size(); ++i)
     if (out[i].hit && out[i].coarse) todo.push_back(i);
   size_t batch = todo.size();
   std::vector<mv::Ray> sub;
+  std::vector<uint64_t> key(out.size());
   while (!todo.empty()) {
+    for (size_t i : todo) {
+      const mv::RayHit& h = out[i];
+      uint64_t k = 0;
+      for (uint32_t b = 0; b < 21; ++b)
+        for (int a = 0; a < 3; ++a) k |= uint64_t{(uint64_t{h.cell[a]} << h.level) >> b & 1} << (3 * b + a);
+      key[i] = k;
+    }
+    std::stable_sort(todo.begin(), todo.end(), [&](size_t x, size_t y) { return key[x] < key[y]; });
     batch = std::max<size_t>(1, std::min(batch, todo.size()) / 2);
     std::vector<size_t> again;
     for (size_t first = 0; first < todo.size(); first += batch) {
@@ -134,8 +144,8 @@ std::vector<mv::RayHit> MvSceneTy::trace_locked(const std::vector<mv::Ray>& rays
       const std::vector<mv::RayHit> got = t.trace(sub, options);
       account_passes(t, path, passes_, pages_streamed_);
       for (size_t k = 0; k < n; ++k) {
+        out[todo[first + k]] = got[k];  // a coarse hit too: where it stopped orders the next round
         if (got[k].hit && got[k].coarse) again.push_back(todo[first + k]);
-        else out[todo[first + k]] = got[k];
       }
     }
     if (batch == 1 && again.size() == todo.size())

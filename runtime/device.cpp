@@ -12,6 +12,14 @@
 #include "megavox/error.h"
 #include "memory_pool.h"
 
+#if defined(MEGAVOX_TSAN)
+#include <tbb/global_control.h>
+// The TSan build (scripts/test.sh --sanitize=thread) checks megavox's own threads: the C API's jobs, the
+// service's workers and HTTP threads. libtbb is not instrumented, so TSan cannot see the synchronisation between
+// its workers and reports every parallel loop; there TBB runs its loops on the calling thread alone.
+static tbb::global_control tsan_tbb_on_calling_thread(tbb::global_control::max_allowed_parallelism, 1);
+#endif
+
 namespace mv {
 
 namespace {

@@ -6,7 +6,8 @@
 #                                    Mesa, the ICD loaders) are suppressed by the narrow, commented lists in
 #                                    scripts/sanitize/; megavox's own code is never listed there.
 #        scripts/test.sh --sanitize=thread  the C API and service tests built with clang and TSan in build-tsan/
-#                                    (the handles' lifetimes and the service's threads); the drivers' own threads,
+#                                    (the handles' lifetimes and the service's threads). TBB runs its loops on
+#                                    the calling thread there (runtime/device.cpp); the drivers' own threads,
 #                                    which TSan cannot see into, are named in scripts/sanitize/tsan.supp.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,7 +41,7 @@ case "${1:-}" in
     CC=clang CXX=clang++ cmake -S . -B build-tsan "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DMEGAVOX_BASELINES=OFF -DMEGAVOX_SANITIZE=thread >/dev/null
     export TSAN_OPTIONS="suppressions=$PWD/scripts/sanitize/tsan.supp:halt_on_error=1:second_deadlock_stack=1:${TSAN_OPTIONS:-}"
-    cmake --build build-tsan --parallel "$(nproc)" --target megavox megavox_tests serve_load serve_request_tests serve_pool_tests
+    cmake --build build-tsan --parallel "$(nproc)" --target megavox megavox_tests megavox_c99_consumer serve_load serve_request_tests serve_pool_tests
     cd build-tsan
     ctest --output-on-failure --parallel "$(nproc)" --timeout 1800 -R 'CApi|Serve'
     ;;

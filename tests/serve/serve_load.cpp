@@ -1,9 +1,11 @@
 // A bounded load test of `megavox serve` on loopback: CLIENTS threads each make REQUESTS requests, a mix of
-// status polls, submits (64^3 builds of an uploaded tetrahedron) and ray queries against a finished build.
+// status polls, submits (64^3 builds of an uploaded tetrahedron), ray queries against a finished build and,
+// given BIG (a .mvx under the server's data folder, larger than its query share), ray queries against it opened
+// as a scene: streamed through the page cache.
 // Every submit must be accepted (201) or refused with 429/503 and Retry-After; every accepted job must then
 // end done (none lost); every other answer must be 200. Prints p50/p99 latencies per kind. Exit 0 when all
 // of that holds within the time limit.
-// Usage: serve_load URL TOKEN [CLIENTS REQUESTS SECONDS]
+// Usage: serve_load URL TOKEN [CLIENTS REQUESTS SECONDS [BIG]]
 #include <httplib.h>
 
 #include <algorithm>
@@ -31,7 +33,7 @@ const char* kTetra =
 struct Shared {
   std::mutex lock;
   std::vector<std::string> accepted;
-  std::vector<double> ms[3];  // status, submit, rays
+  std::vector<double> ms[4];  // status, submit, rays, big rays
   int rejected = 0, errors = 0;
   std::string first_error;
   void error(const std::string& what) {
@@ -66,12 +68,13 @@ std::string wait_for(httplib::Client& c, const std::string& token, const std::st
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: serve_load URL TOKEN [CLIENTS REQUESTS SECONDS]\n");
+    std::fprintf(stderr, "usage: serve_load URL TOKEN [CLIENTS REQUESTS SECONDS [BIG]]\n");
     return 2;
   }
   const std::string url = argv[1], token = argv[2];
   const int clients = argc > 3 ? std::atoi(argv[3]) : 32, requests = argc > 4 ? std::atoi(argv[4]) : 50;
   const double seconds = argc > 5 ? std::atof(argv[5]) : 110;
+  const std::string big_file = argc > 6 ? argv[6] : "";
   const auto start = Clock::now();
   const auto deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 
@@ -87,6 +90,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "serve_load: the first build did not finish\n");
     return 1;
   }
+  std::string big;  // the open job of big_file
+  if (!big_file.empty()) {
+    const std::string body = json{{"kind", "open"}, {"input", big_file}}.dump();
+    auto r = setup.Post("/v1/jobs", auth(token), body, "application/json");
+    if (!r || r->status != 201) {
+      std::fprintf(stderr, "serve_load: opening %s failed (%d)\n", big_file.c_str(), r ? r->status : -1);
+      return 1;
+    }
+    big = json::parse(r->body)["id"];
+    if (wait_for(setup, token, big, deadline) != "done") {
+      std::fprintf(stderr, "serve_load: %s did not open\n", big_file.c_str());
+      return 1;
+    }
+  }
   std::vector<float> rays;
   for (int i = 0; i < 64; ++i) rays.insert(rays.end(), {0.05f + 0.9f * float(i % 8) / 8, 0.05f + 0.9f * float(i / 8) / 8, 5, 0, 0, -1, INFINITY});
   const std::string ray_body(reinterpret_cast<const char*>(rays.data()), rays.size() * 4);
@@ -100,11 +117,13 @@ int main(int argc, char** argv) {
       c.set_tcp_nodelay(true);
       c.set_read_timeout(60, 0);
       for (int i = 0; i < requests && Clock::now() < deadline; ++i) {
-        const int kind = (t + i) % 5 == 0 ? 1 : (t + i) % 5 < 3 ? 0 : 2;  // 20 % submits, 40 % status, 40 % rays
+        // 20 % submits, 40 % status, 40 % rays (half of them at the big scene when there is one)
+        const int kind = (t + i) % 5 == 0 ? 1 : (t + i) % 5 < 3 ? 0 : (t + i) % 5 == 4 && !big.empty() ? 3 : 2;
         const auto t0 = Clock::now();
         httplib::Result r = kind == 0 ? c.Get(("/v1/jobs/" + scene).c_str(), auth(token))
                             : kind == 1 ? c.Post(submit_path().c_str(), auth(token), kTetra, std::strlen(kTetra), "application/octet-stream")
-                                        : c.Post(("/v1/jobs/" + scene + "/rays").c_str(), auth(token), ray_body, "application/octet-stream");
+                                        : c.Post(("/v1/jobs/" + (kind == 3 ? big : scene) + "/rays").c_str(), auth(token), ray_body,
+                                                 "application/octet-stream");
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         if (!r) {
           shared.error("no answer (" + httplib::to_string(r.error()) + ") to request " + std::to_string(i) + " of client " +
@@ -118,7 +137,7 @@ int main(int argc, char** argv) {
         } else if (kind == 1 && (r->status == 429 || r->status == 503)) {
           ++shared.rejected;
           if (!r->has_header("Retry-After") && shared.errors++ == 0) shared.first_error = "a refusal without Retry-After";
-        } else if (r->status != 200 || (kind == 2 && r->body.size() != 64 * 32)) {
+        } else if (r->status != 200 || (kind >= 2 && r->body.size() != 64 * 32)) {
           if (shared.errors++ == 0) shared.first_error = "status " + std::to_string(r->status) + ": " + r->body.substr(0, 200);
         }
       }
@@ -133,9 +152,10 @@ int main(int argc, char** argv) {
     else if (++lost == 1) std::fprintf(stderr, "serve_load: job %s ended %s\n", id.c_str(), s.c_str());
   }
   const double total = std::chrono::duration<double>(Clock::now() - start).count();
-  const char* names[3] = {"status", "submit", "rays"};
+  const char* names[4] = {"status", "submit", "rays", "big"};
   size_t made = 0;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 4; ++k) {
+    if (k == 3 && big.empty()) continue;
     made += shared.ms[k].size();
     std::printf("%-6s %5zu requests  p50 %8.2f ms  p99 %8.2f ms\n", names[k], shared.ms[k].size(), pct(shared.ms[k], 0.5),
                 pct(shared.ms[k], 0.99));

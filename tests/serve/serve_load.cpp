@@ -103,6 +103,20 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "serve_load: %s did not open\n", big_file.c_str());
       return 1;
     }
+    // a picture of it on a worker, whose share it passes as well: streamed, it converges
+    const auto t0 = Clock::now();
+    const std::string job = json{{"kind", "render"}, {"scene", big}, {"width", 160}, {"height", 120}}.dump();
+    auto p = setup.Post("/v1/jobs", auth(token), job, "application/json");
+    const std::string render = p && p->status == 201 ? json::parse(p->body)["id"].get<std::string>() : "";
+    const std::string ended = render.empty() ? "refused" : wait_for(setup, token, render, deadline);
+    if (ended != "done") {
+      auto st = setup.Get(("/v1/jobs/" + render).c_str(), auth(token));
+      std::fprintf(stderr, "serve_load: the render of %s ended %s: %s\n", big_file.c_str(), ended.c_str(),
+                   st ? st->body.c_str() : "");
+      return 1;
+    }
+    std::printf("render of %s (160 x 120, streamed on a worker): %.2f s\n", big_file.c_str(),
+                std::chrono::duration<double>(Clock::now() - t0).count());
   }
   std::vector<float> rays;
   for (int i = 0; i < 64; ++i) rays.insert(rays.end(), {0.05f + 0.9f * float(i % 8) / 8, 0.05f + 0.9f * float(i / 8) / 8, 5, 0, 0, -1, INFINITY});

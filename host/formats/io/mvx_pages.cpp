@@ -2,6 +2,7 @@
 
 
 #include <algorithm>
+#include <cstdint>
 #include <cerrno>
 #include <cstring>
 
@@ -46,6 +47,10 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
     nodes_offset_ = o.find[kNodes]->offset;
     file_bytes = nodes_offset_ + o.find[kNodes]->bytes;
   }
+  // The traversal addresses the paged stream with 32-bit words and 32-bit page numbers.
+  if (pi.head.words > (uint64_t{1} << 32) || pi.hashes.size() > UINT32_MAX)
+    throw Error(path + ": its paged stream holds " + std::to_string(pi.head.words) + " words in " +
+                std::to_string(pi.hashes.size()) + " pages, past the 2^32 words this megavox streams");
   page_words_ = pi.head.page_words;
   order_ = static_cast<NodeOrder>(pi.head.order);
   words_ = pi.head.words;

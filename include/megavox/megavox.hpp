@@ -102,6 +102,13 @@ class Scene : public detail::Handle<MvScene, mvRetainScene, mvReleaseScene> {
     return i;
   }
   void save(const std::string& path) const { detail::check(device_, mvSaveScene(get(), path.c_str())); }
+  // Whether its queries stream through a page cache, and what they loaded and held (mvGetSceneStats).
+  MvSceneStats stats() const {
+    MvSceneStats s{};
+    s.byteSize = sizeof s;
+    detail::check(device_, mvGetSceneStats(get(), &s));
+    return s;
+  }
   std::vector<MvTraceHit> trace(const std::vector<MvTraceRay>& rays, const MvTraceArguments* args = nullptr) const {
     std::vector<MvTraceHit> hits(rays.size());
     detail::check(device_, mvTraceRays(get(), rays.data(), hits.data(), rays.size(), args));

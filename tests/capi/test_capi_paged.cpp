@@ -7,6 +7,7 @@
 
 #include "megavox/build.h"
 #include "megavox/megavox.h"
+#include "megavox/megavox.hpp"
 #include "megavox/mvx.h"
 #include "megavox/trace.h"
 #include "capi_fixture.h"
@@ -130,6 +131,14 @@ TEST_P(CApiPagedTest, CacheMemoryStreamsEveryEncodingExactly) {
   }
   MvSceneStats bad{};
   EXPECT_EQ(mvGetSceneStats(nullptr, &bad), MV_ERROR_INVALID_ARGUMENT);
+  // the C++ layer: the same figures
+  megavox::Device cpp("device=" + GetParam().selector() + ",cache_memory=64K");
+  const megavox::Scene scene = cpp.open(paged_mesh(GetParam(), triangle_soup(2000, 17), "svdag", 256, 64));
+  EXPECT_EQ(scene.stats().paged, 0u);  // nothing traced yet
+  const std::vector<MvTraceRay> rays = random_rays(scene.info(), 100, 2);
+  scene.trace(rays);
+  EXPECT_EQ(scene.stats().paged, 1u);
+  EXPECT_GT(scene.stats().pagesStreamed, 0u);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(CApiPagedTest);

@@ -99,6 +99,16 @@ std::string wait_end(JobPool& pool, const std::string& id) {
 
 std::string submit(JobPool& pool, JobRequest r) { return pool.submit(r, nullptr, "").at("id"); }
 
+// A small picture of the scene of job `scene`.
+JobRequest render_request(const std::string& scene) {
+  JobRequest r;
+  r.kind = JobKind::render;
+  r.scene = scene;
+  r.width = 32;
+  r.height = 24;
+  return r;
+}
+
 JobRequest open_request(const std::string& input) {
   JobRequest r;
   r.kind = JobKind::open;
@@ -136,12 +146,7 @@ TEST(ServeJobPool, OpenJobAnswersRaysAsItsFileDoes) {
     mvReleaseDevice(d);
 
     // a render of the opened scene
-    JobRequest render;
-    render.kind = JobKind::render;
-    render.scene = id;
-    render.width = 32;
-    render.height = 24;
-    const std::string rid = submit(pool, render);
+    const std::string rid = submit(pool, render_request(id));
     EXPECT_EQ(wait_end(pool, rid), "done") << pool.status(rid).dump();
 
     // a file that is no .mvx fails, named; neither it nor the opened file is ever removed
@@ -176,12 +181,7 @@ TEST(ServeJobPool, AQueuedRenderKeepsItsSceneWhenOldJobsAreDropped) {
     // b ends before the render starts and drops a from the pool: the render still reads a's file
     build.resolution = 16;
     const std::string b = submit(pool, build);
-    JobRequest render;
-    render.kind = JobKind::render;
-    render.scene = a;
-    render.width = 32;
-    render.height = 24;
-    const std::string r = submit(pool, render);
+    const std::string r = submit(pool, render_request(a));
     ASSERT_EQ(wait_end(pool, r), "done") << pool.status(r).dump();
     EXPECT_THROW(pool.status(a), HttpError);  // dropped from the pool
     // with the render finished nothing holds a: its folder goes

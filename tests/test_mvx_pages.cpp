@@ -16,6 +16,7 @@
 #include "io/mvx_format.h"
 #include "io/mvx_pages.h"
 #include "megavox/mvx.h"
+#include "megavox/trace.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -380,6 +381,31 @@ TEST(MvxPaged, SsvdagIsPagedInLevelOrder) {
   EXPECT_TRUE(read_mvx(p).dag.inner.empty());
   fs::remove(p);
 }
+
+// A damaged file whose checksums are right (made so): the root's pointers lead past the pages. Streamed, no ray
+// reads outside the cache (the walk never resolves such a pointer: it stops coarse there), with a cache of every
+// page (preloaded) and with a small one, on every device.
+class MvxPagedDamageTest : public ::testing::TestWithParam<DeviceInfo> {};
+
+TEST_P(MvxPagedDamageTest, PointersPastThePagesNeverResolve) {
+  const std::string p = temp_path("far.mvx"), q = temp_path("far_damaged.mvx");
+  const MvxFile f = sample_files()[1];
+  write_mvx(p, f, {16, NodeOrder::subtree});
+  Bytes b(p);
+  uint32_t* words = b.at<uint32_t>(fmt::kNodes);
+  for (int c = 0; c < __builtin_popcount(words[0] & 0xffu); ++c) words[1 + c] = 0x7ffffff0u - 16u * uint32_t(c);
+  b.rehash_pages();
+  b.write(q);
+  for (uint64_t cache : {uint64_t{1} << 20, uint64_t{4} * 64}) {
+    SCOPED_TRACE(cache);
+    Tracer t(shared_device(GetParam()), open_paged_mvx(q), cache);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 64; ++i) rays.push_back(Ray{{0.5f + 0.25f * float(i % 8) * 8, 2.5f + 0.25f * float(i / 8) * 8, -5}, {0, 0, 1}});
+    for (const RayHit& h : t.trace(rays)) EXPECT_TRUE(!h.hit || h.coarse);
+  }
+}
+
+MV_INSTANTIATE_ON_ALL_DEVICES(MvxPagedDamageTest);
 
 }  // namespace
 }  // namespace mv::test

@@ -70,6 +70,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? runs_at - (L + 1u) : 0u;
   const mv_u32 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD(bricks, levels_at + L) : 0u;
   const mv_u32 root_word = root_half >> 1;
+  const mv_u32 page_count = enc == MV_ENC_PAGED_SSVDAG ? levels_at : runs_at; /* pages before the table's tail */
   /* paged: the ray's run (see MV_PAGE_STEP; none at first) and the page it last stamped */
   const mv_u32 page_shift = mv_enc_paged(enc) ? MV_TRACE_PAGE_SHIFT(p) : 0u;
   const mv_u32 stamp_usage = mv_enc_paged(enc) ? variant & MV_TRACE_STAMPS : 0u;

@@ -39,8 +39,9 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
  *    as a miss would, and the walk repeats it once the page is resolved. Lavapipe runs both arms of a branch for
  *    every lane, so the table's arm inside the loop cost it ~9 % of the trace where no ray ever took it. */
 #define MV_PAGE_ENTER(word, at)                                                                                \
-  at = mv_page_resolve(bricks, usage, p, stamp_usage, word);                                                   \
-  last_page = (word) >> page_shift;                                                                            \
+  /* a pointer past the pages (a damaged file) never resolves: its ray stays coarse and its query fails */     \
+  at = ((word) >> page_shift) < page_count ? mv_page_resolve(bricks, usage, p, stamp_usage, word) : MV_CACHE_NONE; \
+  last_page = MV_MIN((word) >> page_shift, page_count - 1u);                                                   \
   if (at != MV_CACHE_NONE) {                                                                                   \
     mv_u32 run_word = MV_LD(bricks, runs_at + last_page);                                                      \
     run_lo = (last_page - MV_CACHE_RUN_BEFORE(run_word)) << page_shift;                                        \

@@ -72,10 +72,10 @@ class PageCache {
   uint32_t runs_at() const { return config_.pages + static_cast<uint32_t>(config_.table_tail.size()); }
   const Buffer& owners() const { return owner_; } // slots words: page in each slot, or MV_CACHE_NONE
   const Buffer& lru() const { return lru_; }      // slots words: every slot once, least recently used first
-  // slots * page_words words, slot s at word s * page_words, then kDataSpareWords zeros (a 64-bit read at a
-  // slot's last word stays inside the buffer)
+  // slots * page_words words, slot s at word s * page_words, then kDataSpareWords zeros (a node at a slot's last
+  // word, even one whose damaged header claims eight children, and its 64-bit reads stay inside the buffer)
   const Buffer& data() const { return data_; }
-  static constexpr uint32_t kDataSpareWords = 2;
+  static constexpr uint32_t kDataSpareWords = 16;
   // After update(): its `requested` missing pages in page order, each once (those given slots first).
   const Buffer& request_list() const { return list_; }
 

@@ -67,22 +67,23 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   const mv_u32 runs_at = p.level_base[MV_TRACE_PAGE_RUNS];
   const mv_u32 starts_in_params = variant & MV_TRACE_STARTS_IN_PARAMS;
   /* paged: the root's stream word (0; a paged ssvdag: its level's start, in 16-bit words, halved) */
-  const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? runs_at - (L + 1u) : 0u;
-  const mv_u32 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD(bricks, levels_at + L) : 0u;
-  const mv_u32 root_word = root_half >> 1;
+  const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? runs_at - 2u * (L + 1u) : 0u; /* 64-bit starts */
+  const mv_u64 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD_PAIR(bricks, levels_at + 2u * L) : MV_U64(0u);
+  const mv_u64 root_word = root_half >> 1;
   const mv_u32 page_count = enc == MV_ENC_PAGED_SSVDAG ? levels_at : runs_at; /* pages before the table's tail */
   /* paged: the ray's run (see MV_PAGE_STEP; none at first) and the page it last stamped */
   const mv_u32 page_shift = mv_enc_paged(enc) ? MV_TRACE_PAGE_SHIFT(p) : 0u;
   const mv_u32 stamp_usage = mv_enc_paged(enc) ? variant & MV_TRACE_STAMPS : 0u;
-  mv_u32 run_lo = 0u, run_span = 0u, run_move = 0u, last_page = MV_CACHE_NONE;
-  mv_u32 left_run = MV_CACHE_NONE; /* whole cache: the word whose step left the run, resolved after the loop */
+  mv_u64 run_lo = MV_U64(0u);
+  mv_u32 run_span = 0u, run_at = 0u, last_page = MV_CACHE_NONE;
+  mv_u64 left_run = MV_NO_WORD; /* whole cache: the word whose step left the run, resolved after the loop */
   mv_u32 root_at = 0u;
   if (mv_enc_paged(enc)) {
     MV_PAGE_ENTER(root_word, root_at)
   }
   mv_u32 coarse = root_at == MV_CACHE_NONE ? 1u : 0u; /* paged, root page missing: the root cube is the hit */
   root_at = coarse != 0u ? 0u : root_at;
-  if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | (root_half & 1u);
+  if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | MV_U32(root_half & MV_U64(1u));
   node_at[L] = root_at;
   mir_at[L] = 0u;
   mv_u64 root = mv_node_load(words, bricks, enc, L, root_at); /* ssvdag: L >= 3, inner */
@@ -122,7 +123,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           if (!mv_enc_compact(enc)) {
             mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
             if (enc == MV_ENC_PAGED) {
-              mv_u32 word = child;
+              mv_u64 word = MV_U64(child);
               MV_PAGE_STEP(word, child) /* a miss reads the first slot word, then leaves: no branch */
             }
             mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
@@ -142,13 +143,14 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
               if (enc == MV_ENC_PAGED_SSVDAG) {
                 /* the child's stream word (inner levels count 16-bit words, two per word; bricks two words each,
                  * from word 0) */
-                mv_u32 start = starts_in_params == 0u ? MV_LD(bricks, levels_at + (inner ? lv : 2u))
-                               : inner                  ? mv_params_level_base(p, lv, MV_TRACE_PAGED_PARAM_LEVELS)
-                                                        : 0u;
-                mv_u32 w16 = start + (inner ? off : 2u * off);
-                mv_u32 word = inner ? w16 >> 1 : w16, at = 0u;
+                mv_u64 start = starts_in_params == 0u ? MV_LD_PAIR(bricks, levels_at + 2u * (inner ? lv : 2u))
+                               : inner ? MV_U64(mv_params_level_base(p, lv, MV_TRACE_PAGED_PARAM_LEVELS))
+                                       : MV_U64(0u);
+                mv_u64 w16 = start + (inner ? MV_U64(off) : MV_U64(off) * MV_U64(2u));
+                mv_u64 word = inner ? w16 >> 1 : w16;
+                mv_u32 at = 0u;
                 MV_PAGE_STEP(word, at) /* as for the word encodings */
-                child = inner ? (at << 1) | (w16 & 1u) : at;
+                child = inner ? (at << 1) | MV_U32(w16 & MV_U64(1u)) : at;
               } else {
                 child = mv_level_base(p, lvl_off, lv, starts_in_params) + off;
               }
@@ -216,10 +218,10 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
     for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> 1;
     /* a whole cache's walk that left its run (MV_PAGE_STEP): resolve the page, then repeat the step from its cell
      * (the same step count), or keep the coarse hit where the page is missing */
-    if (left_run == MV_CACHE_NONE) break;
+    if (left_run == MV_NO_WORD) break;
     mv_u32 at = 0u;
     MV_PAGE_ENTER(left_run, at)
-    left_run = MV_CACHE_NONE;
+    left_run = MV_NO_WORD;
     if (at == MV_CACHE_NONE) break;
     coarse = 0u;
     status = MV_TRACE_MISS;

@@ -15,24 +15,27 @@
 MV_INLINE void mv_page_stamp(MvBufU32 usage, mv_u32 slot, mv_u32 stamp) {
   if (MV_LD(usage, slot) != stamp) MV_ST(usage, slot, stamp);
 }
-MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvTraceParams p, mv_u32 stamp_usage, mv_u32 addr) {
+MV_INLINE mv_u32 mv_page_resolve(MvBufU32 table, MvBufU32 usage, MvTraceParams p, mv_u32 stamp_usage, mv_u64 addr) {
   const mv_u32 shift = MV_TRACE_PAGE_SHIFT(p);
-  mv_u32 slot = MV_LD(table, addr >> shift);
+  mv_u32 slot = MV_LD(table, MV_U32(addr >> shift));
   if (slot == MV_CACHE_NONE) return MV_CACHE_NONE;
   if (stamp_usage != 0u) mv_page_stamp(usage, slot, p.level_base[MV_TRACE_PAGE_STAMP]);
-  return (slot << shift) | (addr & ((1u << shift) - 1u));
+  return (slot << shift) | (MV_U32(addr) & ((1u << shift) - 1u));
 }
+#define MV_NO_WORD (~MV_U64(0u)) /* no stream word (left_run: none left the run) */
 /* request[page] = stamp: every writer writes the same value, so duplicates collapse without atomics. */
 MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
   const mv_u32 stamp = p.level_base[MV_TRACE_PAGE_STAMP];
   if (MV_LD(request, page) != stamp) MV_ST(request, page, stamp);
 }
 
-/* Paged traversal, in mv_trace: stream word `word` into `at`, its word in the slots, and `coarse` set where its
- * page is missing (`at` is then 0, so the walk reads a harmless word by selects before it leaves). A word inside
- * the run the ray resolved last (consecutive resident pages in consecutive slots: page_cache.h) moves by that
- * run's offset: one compare and one add, no table and no dependent load on the way to the node. Any other goes
- * through the table (MV_PAGE_ENTER), and its page's run becomes the ray's:
+/* Paged traversal, in mv_trace: stream word `word` (a 64-bit virtual address) into `at`, its word in the slots
+ * (32-bit: the cache is smaller than 16 GiB), and `coarse` set where its page is missing (`at` is then 0, so the
+ * walk reads a harmless word by selects before it leaves). A word inside the run the ray resolved last
+ * (consecutive resident pages in consecutive slots: page_cache.h; the run starts at virtual word run_lo, in the
+ * slots at run_at) moves by its distance from run_lo: one subtract, one compare and one add, no table and no
+ * dependent load on the way to the node. Any other goes through the table (MV_PAGE_ENTER), and its page's run
+ * becomes the ray's:
  *  - where the cache stamps usage, at once; a page entered inside the run is stamped too, so the LRU sees every
  *    page read;
  *  - in a whole cache (no stamps: preloaded, one run), after the walk's loop (mv_trace): the step leaves the loop
@@ -40,14 +43,15 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
  *    every lane, so the table's arm inside the loop cost it ~9 % of the trace where no ray ever took it. */
 #define MV_PAGE_ENTER(word, at)                                                                                \
   /* a pointer past the pages (a damaged file) never resolves: its ray stays coarse and its query fails */     \
-  at = ((word) >> page_shift) < page_count ? mv_page_resolve(bricks, usage, p, stamp_usage, word) : MV_CACHE_NONE; \
-  last_page = MV_MIN((word) >> page_shift, page_count - 1u);                                                   \
+  at = ((word) >> page_shift) < MV_U64(page_count) ? mv_page_resolve(bricks, usage, p, stamp_usage, word)       \
+                                                   : MV_CACHE_NONE;                                            \
+  last_page = ((word) >> page_shift) < MV_U64(page_count) ? MV_U32((word) >> page_shift) : page_count - 1u;     \
   if (at != MV_CACHE_NONE) {                                                                                   \
     mv_u32 run_word = MV_LD(bricks, runs_at + last_page);                                                      \
-    run_lo = (last_page - MV_CACHE_RUN_BEFORE(run_word)) << page_shift;                                        \
+    run_lo = MV_U64(last_page - MV_CACHE_RUN_BEFORE(run_word)) << page_shift;                                  \
     /* at least the page itself: a whole cache's walk repeats its step inside this run (mv_trace) */           \
     run_span = (MV_CACHE_RUN_BEFORE(run_word) + MV_MAX(MV_CACHE_RUN_FROM(run_word), 1u)) << page_shift;         \
-    run_move = at - (word);                                                                                    \
+    run_at = at - MV_U32((word) - run_lo);                                                                     \
   }
 
 /* The whole cache's step (MV_PAGE_STEP). Leaving the run is rare (never in a cache preloaded in page order: one
@@ -59,7 +63,7 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
  *  - GLSL (lavapipe runs every branch for all lanes): selects, and the walk leaves at the next step (limit). */
 #if !defined(MV_GLSL)
 #define MV_PAGE_STEP_WHOLE(word, at)                                                                           \
-  if ((word) - run_lo >= run_span) {                                                                           \
+  if ((word) - run_lo >= MV_U64(run_span)) {                                                                   \
     left_run = (word);                                                                                         \
     coarse = 1u;                                                                                               \
     status = MV_TRACE_HIT;                                                                                     \
@@ -69,22 +73,22 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
     for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k];                                                     \
     break;                                                                                                     \
   }                                                                                                            \
-  at = (word) + run_move;
+  at = run_at + MV_U32((word) - run_lo);
 #else
 #define MV_PAGE_STEP_WHOLE(word, at)                                                                           \
-  coarse = (word) - run_lo < run_span ? 0u : 1u;                                                               \
+  coarse = (word) - run_lo < MV_U64(run_span) ? 0u : 1u;                                                       \
   left_run = (word);                                                                                           \
-  at = coarse != 0u ? 0u : (word) + run_move;
+  at = coarse != 0u ? 0u : run_at + MV_U32((word) - run_lo);
 #endif
 
 #define MV_PAGE_STEP(word, at)                                                                                 \
   if (stamp_usage == 0u) {                                                                                     \
     MV_PAGE_STEP_WHOLE(word, at)                                                                               \
   } else {                                                                                                     \
-    if ((word) - run_lo < run_span) {                                                                          \
-      at = (word) + run_move;                                                                                  \
-      if (((word) >> page_shift) != last_page) {                                                               \
-        last_page = (word) >> page_shift;                                                                      \
+    if ((word) - run_lo < MV_U64(run_span)) {                                                                  \
+      at = run_at + MV_U32((word) - run_lo);                                                                   \
+      if (MV_U32((word) >> page_shift) != last_page) {                                                         \
+        last_page = MV_U32((word) >> page_shift);                                                              \
         mv_page_stamp(usage, at >> page_shift, p.level_base[MV_TRACE_PAGE_STAMP]);                             \
       }                                                                                                        \
     } else {                                                                                                   \

@@ -52,21 +52,26 @@ TraceEngine::TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCa
     // the runs (the kernel finds them from the runs), and the parameters carry the first ones too
     if (uint64_t{c.slots} * c.page_words >= (uint64_t{1} << 31))
       throw Error("trace: a paged ssvdag addresses at most 2^31 words of cache slots (8 GiB)");
-    if (levels < 3 || c.table_tail.size() != levels + 1u)  // so the runs start at pages + levels + 1
+    // 64-bit starts, low word first, so the runs start at pages + 2 (levels + 1)
+    if (levels < 3 || c.table_tail.size() != 2u * (levels + 1u))
       throw Error("trace: a paged ssvdag needs its level starts after the page table");
-    if (c.table_tail[2] != 0) throw Error("trace: a paged ssvdag's bricks start at word 0");
-    for (uint32_t k = 0; k < MV_TRACE_PAGED_PARAM_LEVELS && 3 + k <= levels; ++k)
-      params_.level_base[k] = c.table_tail[3 + k];
+    if (c.table_tail[4] != 0 || c.table_tail[5] != 0) throw Error("trace: a paged ssvdag's bricks start at word 0");
+    // the parameters carry starts below 2^32 16-bit words only; past that the walk reads them from the table
+    for (uint32_t k = 0; k < MV_TRACE_PAGED_PARAM_LEVELS && 3 + k <= levels; ++k) {
+      params_.level_base[k] = c.table_tail[2 * (3 + k)];
+      starts_fit_params_ = starts_fit_params_ && c.table_tail[2 * (3 + k) + 1] == 0;
+    }
     set_level_starts(LevelStarts::automatic);
   }
 }
 
 void TraceEngine::set_level_starts(LevelStarts where) {
   const DeviceInfo& info = dev_.info();
-  const bool fits = mv_trace_params_hold_levels(levels_, cache_ != nullptr);
+  const bool fits = mv_trace_params_hold_levels(levels_, cache_ != nullptr) && starts_fit_params_;
   if (where == LevelStarts::parameters && !fits)
     throw Error("trace: the parameters hold level starts for at most " +
-                std::to_string(3 + (cache_ ? MV_TRACE_PAGED_PARAM_LEVELS : MV_TRACE_PARAM_LEVELS)) + " levels");
+                std::to_string(3 + (cache_ ? MV_TRACE_PAGED_PARAM_LEVELS : MV_TRACE_PARAM_LEVELS)) +
+                " levels, each starting below 2^32 16-bit words");
   starts_in_params_ = where == LevelStarts::parameters ||
                       (where == LevelStarts::automatic && fits && !info.cheap_parameter_loads);
 }
@@ -209,7 +214,8 @@ Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
     if (paged_.level_starts.size() != paged_.levels + 1u) throw Error("trace: the paged ssvdag has no level starts");
     for (uint64_t s : paged_.level_starts) {
       if (s >= uint64_t{paged_.pages} * paged_.page_words * 2) throw Error("trace: a paged ssvdag level starts past its pages");
-      c.table_tail.push_back(static_cast<uint32_t>(s));
+      c.table_tail.push_back(static_cast<uint32_t>(s));  // 64-bit: the walk adds offsets to a virtual address
+      c.table_tail.push_back(static_cast<uint32_t>(s >> 32));
     }
   }
   cache_ = std::make_unique<PageCache>(dev, c);

@@ -64,6 +64,7 @@ class TraceEngine {
   Buffer words_, bricks_, level_offsets_;
   Buffer colour_meta_, colours_;  // attach_colours
   bool starts_in_params_ = false;
+  bool starts_fit_params_ = true;  // paged ssvdag: every level start below 2^32 (the parameters' words)
   PageCache* cache_ = nullptr;
   uint32_t page_shift_ = 0;
   bool stamp_usage_ = true;

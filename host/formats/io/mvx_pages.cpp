@@ -47,10 +47,13 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
     nodes_offset_ = o.find[kNodes]->offset;
     file_bytes = nodes_offset_ + o.find[kNodes]->bytes;
   }
-  // The traversal addresses the paged stream with 32-bit words and 32-bit page numbers.
-  if (pi.head.words > (uint64_t{1} << 32) || pi.hashes.size() > UINT32_MAX)
+  // The traversal numbers pages with 32 bits; the word encodings' pointers are 32-bit stream words (an ssvdag's
+  // count from their level's 64-bit start).
+  const bool words_reach = encoding_ == Encoding::ssvdag || pi.head.words <= (uint64_t{1} << 32);
+  if (!words_reach || pi.hashes.size() >= UINT32_MAX)
     throw Error(path + ": its paged stream holds " + std::to_string(pi.head.words) + " words in " +
-                std::to_string(pi.hashes.size()) + " pages, past the 2^32 words this megavox streams");
+                std::to_string(pi.hashes.size()) + " pages, past what this megavox streams (" +
+                (words_reach ? "2^32 - 1 pages" : "2^32 words for " + encoding_name(encoding_)) + ")");
   page_words_ = pi.head.page_words;
   order_ = static_cast<NodeOrder>(pi.head.order);
   words_ = pi.head.words;

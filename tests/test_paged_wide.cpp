@@ -1,6 +1,12 @@
 // Paged addresses past 2^32 stream words: a built ssvdag's top levels moved 2^32 words up a sparse virtual
-// stream (the pages between are never read), traced through a small cache on every device. Its page ids pass
-// 2^20 at 16 KiB pages, the walk's child addresses cross 2^32 words, and the hits equal the resident DAG's.
+// stream (the pages between are never read), traced through a small cache on every device, from memory and from
+// a sparse .mvx whose page index says so (through the C API too). Its page ids pass 2^20 at 16 KiB pages, the
+// walk's child addresses cross 2^32 words, and the hits equal the resident DAG's.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
 #include <random>
 
 #include "megavox/build.h"
@@ -10,6 +16,9 @@
 #include "paging/paged_ssvdag.h"
 #include "trace/trace_engine.h"
 #include "cache/page_cache.h"
+#include "io/mvx_format.h"
+#include "io/mvx_pages.h"
+#include "megavox/megavox.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -103,6 +112,150 @@ TEST_P(PagedWideTest, AnSsvdagPast2To32WordsResolves) {
     for (int a = 0; a < 3; ++a) EXPECT_EQ(got[i].cell[a], want[i].cell[a]);
   }
   EXPECT_GT(hits, rays.size() / 4);
+}
+
+namespace fmt = mvx_format;
+
+// Where 16-bit word h of the moved stream comes from in the original one (levels from `moved` on went up by
+// kWideGap; `end` is the original's length): its index, or ~0 for the gap.
+uint64_t wide_source(uint64_t h, uint64_t moved, uint64_t end) {
+  if (h < moved) return h;
+  if (h >= moved + kWideGap && h < end + kWideGap) return h - kWideGap;
+  return ~uint64_t{0};
+}
+
+// `small` (a paged ssvdag .mvx from write_mvx) with its top two levels moved kWideGap 16-bit words up the stream,
+// written as `out`: the nodes section (last, sparse: only the pages that hold nodes are written) passes 2^32
+// words, the page index lists every page, the paged starts say where the levels went; every checksum right.
+void write_wide_mvx(const std::string& small, const std::string& out) {
+  const std::vector<char> b = file_bytes(small);
+  fmt::Header h;
+  std::memcpy(&h, b.data(), sizeof h);
+  auto find = [&](uint32_t kind) -> const fmt::Section& {
+    for (uint32_t i = 0; i < h.sections; ++i)
+      if (h.table[i].kind == kind) return h.table[i];
+    throw Error("no section " + std::to_string(kind));
+  };
+  fmt::PageIndexHead head;
+  std::memcpy(&head, b.data() + find(fmt::kPageIndex).offset, sizeof head);
+  const uint32_t P = head.page_words, L = h.levels;
+  std::vector<uint32_t> words(head.words);
+  std::memcpy(words.data(), b.data() + find(fmt::kNodes).offset, words.size() * 4);
+  std::vector<uint64_t> starts(find(fmt::kPagedStarts).bytes / 8);
+  std::memcpy(starts.data(), b.data() + find(fmt::kPagedStarts).offset, starts.size() * 8);
+  const uint64_t moved = starts[L - 1], end = 2 * head.words;
+  for (uint32_t l = L - 1; l <= L; ++l) starts[l] += kWideGap;
+  const uint64_t W = (end + kWideGap + 1) / 2, pages = (W + P - 1) / P;
+  auto page = [&](uint64_t vp) {
+    std::vector<uint32_t> out(P, 0);
+    for (uint32_t i = 0; i < P; ++i)
+      for (uint32_t k = 0; k < 2; ++k) {
+        const uint64_t from = wide_source(2 * (vp * P + i) + k, moved, end);
+        if (from != ~uint64_t{0}) out[i] |= ((words[from >> 1] >> (16 * (from & 1))) & 0xffffu) << (16 * k);
+      }
+    return out;
+  };
+  const uint64_t low = (moved / 2 + P - 1) / P, high = (moved + kWideGap) / 2 / P;  // pages [low, high): the gap
+  std::vector<uint64_t> index(3 + pages);
+  const fmt::PageIndexHead wide{P, head.order, pages, W};
+  std::memcpy(index.data(), &wide, sizeof wide);
+  const std::vector<uint32_t> zeros(P, 0);
+  const uint64_t zero_hash = fmt::page_hash(zeros.data(), P, P);
+  for (uint64_t vp = 0; vp < pages; ++vp)
+    index[3 + vp] = vp >= low && vp < high ? zero_hash : fmt::page_hash(page(vp).data(), std::min<uint64_t>(P, W - vp * P), P);
+  // the sections as they were, but the index and the starts new and the nodes last
+  fmt::Header w = h;
+  w.sections = 0;
+  std::vector<std::pair<const void*, uint64_t>> data;
+  uint64_t offset = fmt::kPage;
+  auto add = [&](uint32_t kind, const void* d, uint64_t bytes, bool checked) {
+    w.table[w.sections++] = {kind, 0, offset, bytes, checked ? fmt::hash(d, bytes) : 0};
+    data.push_back({d, bytes});
+    offset += (bytes + fmt::kPage - 1) / fmt::kPage * fmt::kPage;
+  };
+  for (uint32_t i = 0; i < h.sections; ++i) {
+    const fmt::Section& s = h.table[i];
+    if (s.kind == fmt::kPageIndex) add(s.kind, index.data(), index.size() * 8, true);
+    else if (s.kind == fmt::kPagedStarts) add(s.kind, starts.data(), starts.size() * 8, true);
+    else if (s.kind != fmt::kNodes) add(s.kind, b.data() + s.offset, s.bytes, true);
+  }
+  const uint64_t nodes_at = offset;
+  w.table[w.sections++] = {fmt::kNodes, 0, nodes_at, W * 4, 0};
+  w.checksum = fmt::hash(&w, offsetof(fmt::Header, checksum));
+  const int fd = ::open(out.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
+  ASSERT_GE(fd, 0);
+  std::vector<char> first(fmt::kPage, 0);
+  std::memcpy(first.data(), &w, sizeof w);
+  ASSERT_EQ(::pwrite(fd, first.data(), first.size(), 0), ssize_t(first.size()));
+  for (uint32_t i = 0; i + 1 < w.sections; ++i)
+    ASSERT_EQ(::pwrite(fd, data[i].first, data[i].second, off_t(w.table[i].offset)), ssize_t(data[i].second));
+  for (uint64_t vp = 0; vp < pages; ++vp) {
+    if (vp >= low && vp < high) continue;  // a hole: reads as zeros
+    const std::vector<uint32_t> words_of = page(vp);
+    const uint64_t n = std::min<uint64_t>(P, W - vp * P) * 4;
+    ASSERT_EQ(::pwrite(fd, words_of.data(), n, off_t(nodes_at + vp * P * 4)), ssize_t(n));
+  }
+  ASSERT_EQ(::ftruncate(fd, off_t(nodes_at + (W * 4 + fmt::kPage - 1) / fmt::kPage * fmt::kPage)), 0);
+  ::close(fd);
+}
+
+TEST_P(PagedWideTest, ASparseFilePast2To32WordsOpensAndTraces) {
+  Device& dev = shared_device(GetParam());
+  const MvxFile f = wide_sample(dev, 8);
+  const std::string small = temp_path("wide_small.mvx"), out = temp_path("wide_sparse.mvx");
+  write_mvx(small, f, MvxPaging{kWidePageWords, NodeOrder::level});
+  write_wide_mvx(small, out);
+  {
+    const MvxPages pages(out);
+    EXPECT_GT(pages.pages(), 1u << 20);
+    EXPECT_GT(pages.words(), uint64_t{1} << 32);
+  }
+  std::vector<Ray> rays(200);
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (Ray& r : rays)
+    for (int a = 0; a < 3; ++a) {
+      r.origin[a] = 3.0f * u(rng);
+      r.direction[a] = 0.8f * u(rng) - r.origin[a];
+    }
+  Tracer resident(dev, f);
+  const std::vector<RayHit> want = resident.trace(rays);
+  Tracer wide(dev, open_paged_mvx(out), 256 * uint64_t{kWidePageWords} * 4);
+  const std::vector<RayHit> got = wide.trace(rays);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(got[i].hit, want[i].hit) << "ray " << i;
+    ASSERT_FALSE(got[i].coarse);
+    EXPECT_EQ(got[i].t, want[i].t);
+    EXPECT_EQ(got[i].level, want[i].level);
+  }
+  // the C API opens it paged, streams it through a 64 MiB budget and answers the resident scene's bytes
+  const std::string config = "device=" + GetParam().selector() + ",memory=64M";
+  MvDevice d = mvNewDevice(config.c_str());
+  ASSERT_TRUE(d);
+  MvScene scene = mvOpenScene(d, out.c_str()), flat = mvOpenScene(d, small.c_str());
+  ASSERT_TRUE(scene && flat) << mvGetDeviceLastErrorMessage(d);
+  MvSceneInfo info;
+  ASSERT_EQ(mvGetSceneInfo(scene, &info), MV_ERROR_NONE);
+  EXPECT_GT(info.bytes, uint64_t{16} << 30);
+  std::vector<MvTraceRay> crays(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    std::memcpy(crays[i].org, rays[i].origin, 12);
+    std::memcpy(crays[i].dir, rays[i].direction, 12);
+    crays[i].tmax = INFINITY;
+  }
+  std::vector<MvTraceHit> a(rays.size()), c(rays.size());
+  ASSERT_EQ(mvTraceRays(flat, crays.data(), a.data(), a.size(), nullptr), MV_ERROR_NONE);
+  ASSERT_EQ(mvTraceRays(scene, crays.data(), c.data(), c.size(), nullptr), MV_ERROR_NONE) << mvGetDeviceLastErrorMessage(d);
+  EXPECT_EQ(std::memcmp(a.data(), c.data(), a.size() * sizeof(MvTraceHit)), 0);
+  MvSceneStats st{};
+  st.byteSize = sizeof st;
+  ASSERT_EQ(mvGetSceneStats(scene, &st), MV_ERROR_NONE);
+  EXPECT_EQ(st.paged, 1u);
+  EXPECT_LE(st.peakDeviceBytes, uint64_t{64} << 20);
+  mvReleaseScene(scene);
+  mvReleaseScene(flat);
+  mvReleaseDevice(d);
+  std::filesystem::remove(out);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PagedWideTest);

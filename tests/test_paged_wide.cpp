@@ -54,6 +54,41 @@ MvxFile wide_sample(Device& dev, uint32_t levels) {
   return read_mvx(out);
 }
 
+namespace fmt = mvx_format;
+
+// Where 16-bit word h of the moved stream comes from in the original one (levels from `moved` on went up by
+// kWideGap; `end` is the original's length): its index, or ~0 for the gap.
+uint64_t wide_source(uint64_t h, uint64_t moved, uint64_t end) {
+  if (h < moved) return h;
+  if (h >= moved + kWideGap && h < end + kWideGap) return h - kWideGap;
+  return ~uint64_t{0};
+}
+
+// Page vp (P words) of the moved stream, from the original stream's words.
+std::vector<uint32_t> wide_page(const std::vector<uint32_t>& words, uint64_t vp, uint32_t P, uint64_t moved,
+                                uint64_t end) {
+  std::vector<uint32_t> out(P, 0);
+  for (uint32_t i = 0; i < P; ++i)
+    for (uint32_t k = 0; k < 2; ++k) {
+      const uint64_t from = wide_source(2 * (vp * P + i) + k, moved, end);
+      if (from != ~uint64_t{0}) out[i] |= ((words[from >> 1] >> (16 * (from & 1))) & 0xffffu) << (16 * k);
+    }
+  return out;
+}
+
+// Rays from around the unit cube toward random points near its centre.
+std::vector<Ray> wide_rays(size_t n, uint64_t seed) {
+  std::vector<Ray> rays(n);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (Ray& r : rays)
+    for (int a = 0; a < 3; ++a) {
+      r.origin[a] = 3.0f * u(rng);
+      r.direction[a] = 0.8f * u(rng) - r.origin[a];
+    }
+  return rays;
+}
+
 TEST_P(PagedWideTest, AnSsvdagPast2To32WordsResolves) {
   Device& dev = shared_device(GetParam());
   const MvxFile f = wide_sample(dev, 8);
@@ -72,29 +107,14 @@ TEST_P(PagedWideTest, AnSsvdagPast2To32WordsResolves) {
   d.pages = static_cast<uint32_t>((end + kWideGap + 2 * kWidePageWords - 1) / (2 * kWidePageWords));
   d.level_starts = starts;
   const std::vector<uint32_t>* words = &s.words;
-  auto half = [words](uint64_t h) { return ((*words)[h >> 1] >> (16 * (h & 1))) & 0xffffu; };
   d.read = [=](uint32_t page, std::span<uint32_t> out) {
-    for (uint32_t i = 0; i < out.size(); ++i) {
-      uint32_t w = 0;
-      for (uint32_t k = 0; k < 2; ++k) {
-        const uint64_t h = 2 * (uint64_t{page} * out.size() + i) + k;  // this 16-bit word, virtual
-        const uint64_t from = h < moved ? h : h >= moved + kWideGap && h < end + kWideGap ? h - kWideGap : ~uint64_t{0};
-        if (from != ~uint64_t{0}) w |= half(from) << (16 * k);
-      }
-      out[i] = w;
-    }
+    const std::vector<uint32_t> w = wide_page(*words, page, kWidePageWords, moved, end);
+    std::copy(w.begin(), w.end(), out.begin());
   };
   ASSERT_GT(d.pages, 1u << 20);
   ASSERT_GT(starts[L] / 2, uint64_t{1} << 32);  // the root's word
 
-  std::vector<Ray> rays(300);
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  for (Ray& r : rays)
-    for (int a = 0; a < 3; ++a) {
-      r.origin[a] = 3.0f * u(rng);
-      r.direction[a] = 0.8f * u(rng) - r.origin[a];
-    }
+  const std::vector<Ray> rays = wide_rays(300, 3);
   Tracer resident(dev, f);
   const std::vector<RayHit> want = resident.trace(rays);
   Tracer wide(dev, d, 256 * uint64_t{kWidePageWords} * 4);  // 256 slots of the 2^20 and more pages
@@ -112,16 +132,6 @@ TEST_P(PagedWideTest, AnSsvdagPast2To32WordsResolves) {
     for (int a = 0; a < 3; ++a) EXPECT_EQ(got[i].cell[a], want[i].cell[a]);
   }
   EXPECT_GT(hits, rays.size() / 4);
-}
-
-namespace fmt = mvx_format;
-
-// Where 16-bit word h of the moved stream comes from in the original one (levels from `moved` on went up by
-// kWideGap; `end` is the original's length): its index, or ~0 for the gap.
-uint64_t wide_source(uint64_t h, uint64_t moved, uint64_t end) {
-  if (h < moved) return h;
-  if (h >= moved + kWideGap && h < end + kWideGap) return h - kWideGap;
-  return ~uint64_t{0};
 }
 
 // `small` (a paged ssvdag .mvx from write_mvx) with its top two levels moved kWideGap 16-bit words up the stream,
@@ -146,15 +156,7 @@ void write_wide_mvx(const std::string& small, const std::string& out) {
   const uint64_t moved = starts[L - 1], end = 2 * head.words;
   for (uint32_t l = L - 1; l <= L; ++l) starts[l] += kWideGap;
   const uint64_t W = (end + kWideGap + 1) / 2, pages = (W + P - 1) / P;
-  auto page = [&](uint64_t vp) {
-    std::vector<uint32_t> out(P, 0);
-    for (uint32_t i = 0; i < P; ++i)
-      for (uint32_t k = 0; k < 2; ++k) {
-        const uint64_t from = wide_source(2 * (vp * P + i) + k, moved, end);
-        if (from != ~uint64_t{0}) out[i] |= ((words[from >> 1] >> (16 * (from & 1))) & 0xffffu) << (16 * k);
-      }
-    return out;
-  };
+  auto page = [&](uint64_t vp) { return wide_page(words, vp, P, moved, end); };
   const uint64_t low = (moved / 2 + P - 1) / P, high = (moved + kWideGap) / 2 / P;  // pages [low, high): the gap
   std::vector<uint64_t> index(3 + pages);
   const fmt::PageIndexHead wide{P, head.order, pages, W};
@@ -210,14 +212,7 @@ TEST_P(PagedWideTest, ASparseFilePast2To32WordsOpensAndTraces) {
     EXPECT_GT(pages.pages(), 1u << 20);
     EXPECT_GT(pages.words(), uint64_t{1} << 32);
   }
-  std::vector<Ray> rays(200);
-  std::mt19937_64 rng(8);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  for (Ray& r : rays)
-    for (int a = 0; a < 3; ++a) {
-      r.origin[a] = 3.0f * u(rng);
-      r.direction[a] = 0.8f * u(rng) - r.origin[a];
-    }
+  const std::vector<Ray> rays = wide_rays(200, 8);
   Tracer resident(dev, f);
   const std::vector<RayHit> want = resident.trace(rays);
   Tracer wide(dev, open_paged_mvx(out), 256 * uint64_t{kWidePageWords} * 4);

@@ -8,6 +8,7 @@
 
 #include "file_ops.h"
 #include "megavox/error.h"
+#include "megavox/mvx.h"
 #include "mvx_format.h"
 
 namespace mv {

@@ -21,6 +21,11 @@ constexpr uint64_t kRayRoomBytes = uint64_t{64} << 20;
 // The cache's bookkeeping beside its slots (a dozen small buffers and the update's scans), in device pool pages.
 constexpr uint64_t kCacheBookkeepingPages = 32;
 
+// What the device budget has left.
+uint64_t budget_left(const mv::Device& dev) {
+  return dev.memory_budget() - std::min(dev.memory_budget(), dev.memory_used());
+}
+
 }  // namespace
 
 void MvSceneTy::open() {
@@ -70,7 +75,7 @@ mv::Tracer& MvSceneTy::tracer_locked() {
   const uint64_t page_bytes = uint64_t{paged_->page_words} * 4;
   const uint64_t stream = uint64_t{paged_->pages} * page_bytes;
   dev.finish();  // what released scenes held is free again once the device is idle
-  const uint64_t free = dev.memory_budget() - std::min(dev.memory_budget(), dev.memory_used());
+  const uint64_t free = budget_left(dev);
   const uint64_t ray_room = std::min(free / 4, kRayRoomBytes);
   if (!device->cache_memory && stream + ray_room <= free) {
     // it fits: resident, with its colours from the whole file, or as one preloaded run of pages without
@@ -120,39 +125,39 @@ std::vector<mv::RayHit> MvSceneTy::trace_locked(const std::vector<mv::Ray>& rays
   // Rays that stopped at a missing page (the batch's pages did not fit the cache together) go again, in
   // batches half the size each round, down to single rays; in the Morton order of where they stopped, so a
   // batch's rays continue through neighbouring nodes and share their pages.
-  std::vector<size_t> todo;
+  std::vector<size_t> waiting;
   for (size_t i = 0; i < out.size(); ++i)
-    if (out[i].hit && out[i].coarse) todo.push_back(i);
-  size_t batch = todo.size();
+    if (out[i].hit && out[i].coarse) waiting.push_back(i);
+  size_t batch = waiting.size();
   std::vector<mv::Ray> sub;
   std::vector<uint64_t> key(out.size());
-  while (!todo.empty()) {
-    for (size_t i : todo) {
+  while (!waiting.empty()) {
+    for (size_t i : waiting) {
       const mv::RayHit& h = out[i];
       uint64_t k = 0;
       for (uint32_t b = 0; b < 21; ++b)
         for (int a = 0; a < 3; ++a) k |= uint64_t{(uint64_t{h.cell[a]} << h.level) >> b & 1} << (3 * b + a);
       key[i] = k;
     }
-    std::stable_sort(todo.begin(), todo.end(), [&](size_t x, size_t y) { return key[x] < key[y]; });
-    batch = std::max<size_t>(1, std::min(batch, todo.size()) / 2);
+    std::stable_sort(waiting.begin(), waiting.end(), [&](size_t x, size_t y) { return key[x] < key[y]; });
+    batch = std::max<size_t>(1, std::min(batch, waiting.size()) / 2);
     std::vector<size_t> again;
-    for (size_t first = 0; first < todo.size(); first += batch) {
-      const size_t n = std::min(batch, todo.size() - first);
+    for (size_t first = 0; first < waiting.size(); first += batch) {
+      const size_t n = std::min(batch, waiting.size() - first);
       sub.resize(n);
-      for (size_t k = 0; k < n; ++k) sub[k] = rays[todo[first + k]];
+      for (size_t k = 0; k < n; ++k) sub[k] = rays[waiting[first + k]];
       const std::vector<mv::RayHit> got = t.trace(sub, options);
       account_passes(t, path, passes_, pages_streamed_);
       for (size_t k = 0; k < n; ++k) {
-        out[todo[first + k]] = got[k];  // a coarse hit too: where it stopped orders the next round
-        if (got[k].hit && got[k].coarse) again.push_back(todo[first + k]);
+        out[waiting[first + k]] = got[k];  // a coarse hit too: where it stopped orders the next round
+        if (got[k].hit && got[k].coarse) again.push_back(waiting[first + k]);
       }
     }
-    if (batch == 1 && again.size() == todo.size())
+    if (batch == 1 && again.size() == waiting.size())
       throw mv::capi::ApiError(MV_ERROR_OUT_OF_MEMORY, path + ": a single ray reads more pages than the cache's " +
                                                            std::to_string(t.cache()->config().slots) +
                                                            " slots (raise cache_memory= or memory=)");
-    todo = std::move(again);
+    waiting = std::move(again);
   }
   return out;
 }
@@ -160,7 +165,7 @@ std::vector<mv::RayHit> MvSceneTy::trace_locked(const std::vector<mv::Ray>& rays
 size_t MvSceneTy::ray_batch_locked(size_t wanted) {
   mv::Tracer& t = tracer_locked();
   const mv::Device& dev = *device->device;
-  const uint64_t free = dev.memory_budget() - std::min(dev.memory_budget(), dev.memory_used());
+  const uint64_t free = budget_left(dev);
   const uint64_t keep = 4 * dev.page_bytes() + (t.paged() ? t.cache()->update_scratch_bytes() : 0);
   const uint64_t fit = free > keep ? (free - keep) / kRayDeviceBytes : 0;
   return static_cast<size_t>(std::clamp<uint64_t>(fit, 1, wanted));

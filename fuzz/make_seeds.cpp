@@ -549,7 +549,8 @@ void dag_seeds() {
       require(mv::decode_encoded(*e) == voxels, "a CPU-built DAG decodes to its voxels (" + mv::encoding_name(e->encoding) + ")");
     require(sym.nodes(1) < plain.nodes(1), "the symmetric DAG merges reflections");
     if (levels == 3) {  // the .mvx seeds: 4 KiB pages make them 16-20 KiB whatever the grid
-      // Version 3: every encoding paged in 16-word pages (so several pages), one svdag and one ssvdag unpaged.
+      // Every encoding paged in 16-word pages (so several pages; the ussvdag in level order, its pointers
+      // relative), one svdag and one ssvdag unpaged.
       const mv::MvxPaging small{16, mv::NodeOrder::subtree}, unpaged{0, mv::NodeOrder::level};
       for (const auto& [name, dag, enc, paging] :
            {std::tuple{"svdag", &plain, &e_svdag, small}, {"svo", &svo, &e_svo, small},

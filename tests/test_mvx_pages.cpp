@@ -1,4 +1,4 @@
-// The paged .mvx (version 3): every 32-bit encoding written paged and read back in level order, the paging
+// The paged .mvx (version 3 on): every 32-bit encoding written paged and read back in level order, the paging
 // options, version 2 files still opening, MvxPages reading single pages from the mapped file (checked, thread
 // safe, failing cleanly on injected faults), and hand-made damage to the page index and the pages, with every
 // checksum made right so that the structure checks behind them are what answers.
@@ -403,6 +403,69 @@ TEST_P(MvxPagedDamageTest, PointersPastThePagesNeverResolve) {
     for (int i = 0; i < 64; ++i) rays.push_back(Ray{{0.5f + 0.25f * float(i % 8) * 8, 2.5f + 0.25f * float(i / 8) * 8, -5}, {0, 0, 1}});
     for (const RayHit& h : t.trace(rays)) EXPECT_TRUE(!h.hit || h.coarse);
   }
+}
+
+// A word stream paged in level order is written with relative pointers and its level starts (version 5); the
+// same stream with absolute pointers and no starts (how version 4 wrote it) still opens, reads back and
+// streams, tracing as the resident DAG does. Starts where the version or order has none, or none where they
+// are needed, are damage.
+TEST_P(MvxPagedDamageTest, VersionFourLevelOrderFilesKeepTheirAbsolutePointers) {
+  const std::string p = temp_path("relative.mvx"), q = temp_path("absolute.mvx");
+  const MvxFile f = sample_files()[1];
+  write_mvx(p, f, {16, NodeOrder::level});
+  Bytes b(p);
+  ASSERT_EQ(b.h.version, 5u);
+  const uint32_t L = f.dag.levels;
+  const std::vector<uint64_t> starts(b.at<uint64_t>(fmt::kPagedStarts), b.at<uint64_t>(fmt::kPagedStarts) + L + 1);
+  EXPECT_EQ(MvxPages(p).level_starts(), starts);
+  // Every pointer made absolute (the headers are non-zero, the padding zero), the starts section dropped.
+  std::vector<uint32_t> nodes(b.at<uint32_t>(fmt::kNodes), b.at<uint32_t>(fmt::kNodes) + b.section(fmt::kNodes).bytes / 4);
+  for (uint32_t l = L; l >= 2; --l)
+    for (uint64_t w = starts[l]; w < starts[l - 1];) {
+      if (nodes[w] == 0) {
+        ++w;
+        continue;
+      }
+      const uint32_t size = 1 + __builtin_popcount(nodes[w] & 0xffu);
+      for (uint32_t k = 1; k < size; ++k) nodes[w + k] += static_cast<uint32_t>(starts[l - 1]);
+      w += size;
+    }
+  std::vector<uint64_t> index(b.at<uint64_t>(fmt::kPageIndex), b.at<uint64_t>(fmt::kPageIndex) + b.section(fmt::kPageIndex).bytes / 8);
+  for (uint64_t pg = 0; pg + 3 < index.size(); ++pg)
+    index[3 + pg] = fmt::page_hash(nodes.data() + pg * 16, std::min<uint64_t>(16, nodes.size() - pg * 16), 16);
+  auto write_as = [&](uint32_t version, bool with_starts) {
+    fmt::Header h = b.h;
+    h.version = version;
+    std::vector<fmt::Blob> blobs = {{fmt::kCounts, b.at<char>(fmt::kCounts), b.section(fmt::kCounts).bytes},
+                                    {fmt::kLevels, b.at<char>(fmt::kLevels), b.section(fmt::kLevels).bytes},
+                                    {fmt::kNodes, nodes.data(), nodes.size() * 4, false},
+                                    {fmt::kPageIndex, index.data(), index.size() * 8}};
+    if (with_starts) blobs.push_back({fmt::kPagedStarts, starts.data(), starts.size() * 8});
+    fmt::write_file(q, h, blobs);
+  };
+  write_as(4, false);
+  EXPECT_TRUE(MvxPages(q).level_starts().empty());
+  EXPECT_TRUE(read_mvx(q).dag.words == f.dag.words);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 256; ++i)
+    rays.push_back(Ray{{0.3f + 0.25f * float(i % 16) * 1.2f, 2.2f + 0.25f * float(i / 16) * 1.2f, -5}, {0.05f, 0.02f, 1}});
+  Device& dev = shared_device(GetParam());
+  const std::vector<RayHit> want = Tracer(dev, f).trace(rays);
+  const uint64_t half = MvxPages(p).pages() / 2 * 64;  // the pages' bytes, halved: they stream
+  for (const std::string& file : {p, q})
+    for (uint64_t cache : {uint64_t{1} << 20, half}) {  // every page (preloaded), or half of them
+      SCOPED_TRACE(file + " " + std::to_string(cache));
+      Tracer t(dev, open_paged_mvx(file), cache);
+      EXPECT_GT(expect_same_hits(t.trace(rays), want), 0u);
+      EXPECT_EQ(t.last_passes().size() > 1, cache == half);
+    }
+  write_as(4, true);  // starts in a version 4 file
+  EXPECT_NE(error_message([&] { read_mvx(q); }).find("bad section table"), std::string::npos);
+  write_as(5, false);  // a version 5 level-order stream without them
+  EXPECT_NE(error_message([&] { MvxPages pages(q); }).find("paged level starts missing"), std::string::npos);
+  EXPECT_NE(error_message([&] { read_mvx(q); }).find("paged level starts missing"), std::string::npos);
+  fs::remove(p);
+  fs::remove(q);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(MvxPagedDamageTest);

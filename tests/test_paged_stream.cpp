@@ -50,7 +50,7 @@ EncodedDag round_trip(const EncodedDag& enc, NodeOrder order, uint32_t page_word
   const PageLayout lay = page_layout(enc, order, page_words);
   const EncodedDag paged = paged_stream(enc, lay);
   EXPECT_EQ(paged.words.size(), lay.words);
-  EXPECT_TRUE(paged.level_offset.empty());
+  EXPECT_EQ(paged.level_offset.empty(), order == NodeOrder::subtree);  // level order: relative pointers
   EXPECT_EQ(paged.encoding, enc.encoding);
   return level_order_stream(paged, page_words);
 }
@@ -205,6 +205,43 @@ TEST(PagedStream, DamageIsAClearError) {
     } catch (const Error&) {
     }
   }
+}
+
+// Level order: each pointer counts from its child level's start, which level_offset holds (64-bit), so the
+// pointers stay small however far down the stream a level starts.
+TEST(PagedStream, LevelOrderPointersCountFromTheirLevel) {
+  const EncodedDag enc = encode_svdag(host_dag(voxel_sets(6)[0].second, 6, true));
+  const PageLayout lay = page_layout(enc, NodeOrder::level, 64);
+  const EncodedDag good = paged_stream(enc, lay);
+  const uint32_t L = good.levels;
+  ASSERT_EQ(good.level_offset.size(), L + 1u);
+  EXPECT_EQ(good.level_offset[L], 0u);
+  for (uint32_t l = 2; l <= L; ++l) EXPECT_GT(good.level_offset[l - 1], good.level_offset[l]);
+  const uint32_t root_ptr = __builtin_popcount(good.words[0] & 0xffu);  // its first child in Morton order
+  EXPECT_EQ(good.level_offset[L - 1] + good.words[root_ptr], good.level_offset[L - 1]);  // the level's first node
+  auto expect_error = [&](const EncodedDag& bad, const std::string& words) {
+    const std::string why = error_message([&] { level_order_stream(bad, 64); });
+    EXPECT_NE(why.find(words), std::string::npos) << "'" << why << "' lacks '" << words << "'";
+  };
+  EncodedDag bad = good;
+  bad.words[root_ptr] = static_cast<uint32_t>(good.level_offset[L - 2] - good.level_offset[L - 1]);  // its level's end
+  expect_error(bad, "past the end of level");
+  bad = good;
+  bad.level_offset[L] = 1;  // the root not at word 0
+  expect_error(bad, "bad level starts");
+  bad = good;
+  std::swap(bad.level_offset[2], bad.level_offset[3]);  // out of order
+  expect_error(bad, "bad level starts");
+  bad = good;
+  bad.level_offset.pop_back();
+  expect_error(bad, "bad level starts");
+  bad = good;
+  bad.level_offset[1] = good.words.size();  // an empty last level
+  expect_error(bad, "bad level starts");
+  // The same stream read as absolute pointers goes astray: the starts are what makes it valid.
+  bad = good;
+  bad.level_offset.clear();
+  EXPECT_THROW(level_order_stream(bad, 64), Error);
 }
 
 }  // namespace

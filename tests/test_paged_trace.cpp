@@ -106,22 +106,6 @@ std::vector<Ray> rays_at(uint32_t n, uint64_t seed) {
   return rays;
 }
 
-void expect_same_hits(const std::vector<RayHit>& got, const std::vector<RayHit>& want) {
-  ASSERT_EQ(got.size(), want.size());
-  for (size_t i = 0; i < got.size(); ++i) {
-    SCOPED_TRACE("ray " + std::to_string(i));
-    ASSERT_EQ(got[i].hit, want[i].hit);
-    ASSERT_FALSE(got[i].coarse);
-    EXPECT_EQ(got[i].t, want[i].t);
-    EXPECT_EQ(got[i].level, want[i].level);
-    EXPECT_EQ(got[i].steps, want[i].steps);
-    for (int a = 0; a < 3; ++a) {
-      EXPECT_EQ(got[i].cell[a], want[i].cell[a]);
-      EXPECT_EQ(got[i].normal[a], want[i].normal[a]);
-    }
-  }
-}
-
 class PagedTraceTest : public ::testing::TestWithParam<DeviceInfo> {};
 
 // Each pass of the kernel against the host build of the same code, started from the cache state the pass

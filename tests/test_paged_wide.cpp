@@ -1,7 +1,7 @@
-// Paged addresses past 2^32 stream words: a built ssvdag's top levels moved 2^32 words up a sparse virtual
-// stream (the pages between are never read), traced through a small cache on every device, from memory and from
-// a sparse .mvx whose page index says so (through the C API too). Its page ids pass 2^20 at 16 KiB pages, the
-// walk's child addresses cross 2^32 words, and the hits equal the resident DAG's.
+// Paged addresses past 2^32 stream words: a built ssvdag's top levels (a built svdag's bottom ones) moved 2^32
+// words up a sparse virtual stream (the pages between are never read), traced through a small cache on every
+// device, from memory and from a sparse .mvx whose page index says so (through the C API too). Its page ids pass
+// 2^20 at 16 KiB pages, the walk's child addresses cross 2^32 words, and the hits equal the resident DAG's.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -30,7 +30,7 @@ constexpr uint32_t kWidePageWords = 4096;              // 16 KiB pages
 constexpr uint64_t kWideGap = uint64_t{1} << 33;        // 16-bit words: 2^32 stream words, whole pages
 
 // A closed mesh of a few thousand random triangles around the unit sphere, built as an ssvdag at 2^levels.
-MvxFile wide_sample(Device& dev, uint32_t levels) {
+MvxFile wide_sample(Device& dev, uint32_t levels, Encoding encoding = Encoding::ssvdag) {
   std::mt19937_64 rng(5);
   std::normal_distribution<float> n(0, 1);
   std::vector<float> pos;
@@ -49,7 +49,7 @@ MvxFile wide_sample(Device& dev, uint32_t levels) {
   o.input = ply;
   o.output = out;
   o.resolution = 1u << levels;
-  o.encoding = Encoding::ssvdag;
+  o.encoding = encoding;
   build_mvx(dev, o);
   return read_mvx(out);
 }
@@ -119,24 +119,13 @@ TEST_P(PagedWideTest, AnSsvdagPast2To32WordsResolves) {
   const std::vector<RayHit> want = resident.trace(rays);
   Tracer wide(dev, d, 256 * uint64_t{kWidePageWords} * 4);  // 256 slots of the 2^20 and more pages
   EXPECT_THROW(wide.engine().set_level_starts(TraceEngine::LevelStarts::parameters), Error);  // past 32 bits
-  const std::vector<RayHit> got = wide.trace(rays);
-  size_t hits = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    SCOPED_TRACE("ray " + std::to_string(i));
-    ASSERT_EQ(got[i].hit, want[i].hit);
-    ASSERT_FALSE(got[i].coarse);
-    hits += got[i].hit;
-    EXPECT_EQ(got[i].t, want[i].t);
-    EXPECT_EQ(got[i].level, want[i].level);
-    EXPECT_EQ(got[i].steps, want[i].steps);
-    for (int a = 0; a < 3; ++a) EXPECT_EQ(got[i].cell[a], want[i].cell[a]);
-  }
-  EXPECT_GT(hits, rays.size() / 4);
+  EXPECT_GT(expect_same_hits(wide.trace(rays), want), rays.size() / 4);
 }
 
-// `small` (a paged ssvdag .mvx from write_mvx) with its top two levels moved kWideGap 16-bit words up the stream,
-// written as `out`: the nodes section (last, sparse: only the pages that hold nodes are written) passes 2^32
-// words, the page index lists every page, the paged starts say where the levels went; every checksum right.
+// `small` (a paged .mvx from write_mvx in level order) with levels moved kWideGap 16-bit words (2^32 words) up
+// the stream, written as `out`: an ssvdag's top two levels, a word stream's bottom two (its root stays at word
+// 0). The nodes section (last, sparse: only the pages that hold nodes are written) passes 2^32 words, the page
+// index lists every page, the paged starts say where the levels went; every checksum right.
 void write_wide_mvx(const std::string& small, const std::string& out) {
   const std::vector<char> b = file_bytes(small);
   fmt::Header h;
@@ -153,8 +142,9 @@ void write_wide_mvx(const std::string& small, const std::string& out) {
   std::memcpy(words.data(), b.data() + find(fmt::kNodes).offset, words.size() * 4);
   std::vector<uint64_t> starts(find(fmt::kPagedStarts).bytes / 8);
   std::memcpy(starts.data(), b.data() + find(fmt::kPagedStarts).offset, starts.size() * 8);
-  const uint64_t moved = starts[L - 1], end = 2 * head.words;
-  for (uint32_t l = L - 1; l <= L; ++l) starts[l] += kWideGap;
+  const bool compact = h.encoding == static_cast<uint32_t>(Encoding::ssvdag);  // starts in 16-bit words
+  const uint64_t moved = compact ? starts[L - 1] : 2 * starts[2], end = 2 * head.words;
+  for (uint32_t l = compact ? L - 1 : 1; l <= (compact ? L : 2); ++l) starts[l] += compact ? kWideGap : kWideGap / 2;
   const uint64_t W = (end + kWideGap + 1) / 2, pages = (W + P - 1) / P;
   auto page = [&](uint64_t vp) { return wide_page(words, vp, P, moved, end); };
   const uint64_t low = (moved / 2 + P - 1) / P, high = (moved + kWideGap) / 2 / P;  // pages [low, high): the gap
@@ -201,9 +191,9 @@ void write_wide_mvx(const std::string& small, const std::string& out) {
   ::close(fd);
 }
 
-TEST_P(PagedWideTest, ASparseFilePast2To32WordsOpensAndTraces) {
-  Device& dev = shared_device(GetParam());
-  const MvxFile f = wide_sample(dev, 8);
+void sparse_file_opens_and_traces(const DeviceInfo& info, Encoding encoding) {
+  Device& dev = shared_device(info);
+  const MvxFile f = wide_sample(dev, 8, encoding);
   const std::string small = temp_path("wide_small.mvx"), out = temp_path("wide_sparse.mvx");
   write_mvx(small, f, MvxPaging{kWidePageWords, NodeOrder::level});
   write_wide_mvx(small, out);
@@ -216,15 +206,9 @@ TEST_P(PagedWideTest, ASparseFilePast2To32WordsOpensAndTraces) {
   Tracer resident(dev, f);
   const std::vector<RayHit> want = resident.trace(rays);
   Tracer wide(dev, open_paged_mvx(out), 256 * uint64_t{kWidePageWords} * 4);
-  const std::vector<RayHit> got = wide.trace(rays);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    ASSERT_EQ(got[i].hit, want[i].hit) << "ray " << i;
-    ASSERT_FALSE(got[i].coarse);
-    EXPECT_EQ(got[i].t, want[i].t);
-    EXPECT_EQ(got[i].level, want[i].level);
-  }
+  expect_same_hits(wide.trace(rays), want);
   // the C API opens it paged, streams it through a 64 MiB budget and answers the resident scene's bytes
-  const std::string config = "device=" + GetParam().selector() + ",memory=64M";
+  const std::string config = "device=" + info.selector() + ",memory=64M";
   MvDevice d = mvNewDevice(config.c_str());
   ASSERT_TRUE(d);
   MvScene scene = mvOpenScene(d, out.c_str()), flat = mvOpenScene(d, small.c_str());
@@ -251,6 +235,15 @@ TEST_P(PagedWideTest, ASparseFilePast2To32WordsOpensAndTraces) {
   mvReleaseScene(flat);
   mvReleaseDevice(d);
   std::filesystem::remove(out);
+}
+
+TEST_P(PagedWideTest, ASparseSsvdagFilePast2To32WordsOpensAndTraces) {
+  sparse_file_opens_and_traces(GetParam(), Encoding::ssvdag);
+}
+
+// A word stream's pointers count from their level's start: those of level 3 reach level 2 past 2^32 words.
+TEST_P(PagedWideTest, ASparseSvdagFilePast2To32WordsOpensAndTraces) {
+  sparse_file_opens_and_traces(GetParam(), Encoding::svdag);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PagedWideTest);

@@ -204,4 +204,24 @@ std::vector<uint64_t> random_u64(size_t n, uint64_t seed) {
   return v;
 }
 
+size_t expect_same_hits(const std::vector<RayHit>& got, const std::vector<RayHit>& want) {
+  EXPECT_EQ(got.size(), want.size());
+  size_t hits = 0;
+  for (size_t i = 0; i < std::min(got.size(), want.size()); ++i) {
+    SCOPED_TRACE("ray " + std::to_string(i));
+    EXPECT_EQ(got[i].hit, want[i].hit);
+    EXPECT_FALSE(got[i].coarse);
+    hits += got[i].hit;
+    EXPECT_EQ(got[i].t, want[i].t);
+    EXPECT_EQ(got[i].level, want[i].level);
+    EXPECT_EQ(got[i].steps, want[i].steps);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(got[i].cell[a], want[i].cell[a]);
+      EXPECT_EQ(got[i].normal[a], want[i].normal[a]);
+    }
+    if (::testing::Test::HasFailure()) break;  // one ray's difference, not thousands
+  }
+  return hits;
+}
+
 }  // namespace mv::test

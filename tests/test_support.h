@@ -12,6 +12,7 @@
 #include "megavox/dag_types.h"
 #include "megavox/device.h"
 #include "megavox/error.h"
+#include "megavox/ray.h"
 #include "megavox/voxelize.h"
 
 namespace mv::test {
@@ -62,6 +63,9 @@ void write_obj(const std::string& path, std::span<const float> pos, const std::v
 
 // Morton keys sorted, each once.
 std::vector<uint64_t> sorted_unique(std::vector<uint64_t> keys);
+
+// Asserts two traces' hits are the same in every field (none coarse); returns how many rays hit.
+size_t expect_same_hits(const std::vector<RayHit>& got, const std::vector<RayHit>& want);
 
 // The message of the mv::Error `f` throws ("" when it throws none).
 template <class F>

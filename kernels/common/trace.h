@@ -34,7 +34,8 @@
 /* One ray through the DAG of MV_TRACE_LEVELS(p) levels (p.proj, p.max_steps; `variant`: mv_trace_rays). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
  * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse.
- * MV_ENC_PAGED_SSVDAG: the same for an ssvdag, its level starts after the page table (MV_TRACE_PAGE_RUNS).
+ * Both find their levels' starts after the page table (before MV_TRACE_PAGE_RUNS); MV_ENC_PAGED_SSVDAG is the
+ * same for an ssvdag.
  * Other encodings ignore usage and request. */
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBufU32 usage, MvBufU32 request,
                          mv_u32 enc, mv_u32 variant, MvRay r, MvTraceParams p) {
@@ -66,11 +67,12 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   mv_u32 nl = L;
   const mv_u32 runs_at = p.level_base[MV_TRACE_PAGE_RUNS];
   const mv_u32 starts_in_params = variant & MV_TRACE_STARTS_IN_PARAMS;
-  /* paged: the root's stream word (0; a paged ssvdag: its level's start, in 16-bit words, halved) */
-  const mv_u32 levels_at = enc == MV_ENC_PAGED_SSVDAG ? runs_at - 2u * (L + 1u) : 0u; /* 64-bit starts */
-  const mv_u64 root_half = enc == MV_ENC_PAGED_SSVDAG ? MV_LD_PAIR(bricks, levels_at + 2u * L) : MV_U64(0u);
-  const mv_u64 root_word = root_half >> 1;
-  const mv_u32 page_count = enc == MV_ENC_PAGED_SSVDAG ? levels_at : runs_at; /* pages before the table's tail */
+  /* paged: the levels' 64-bit starts after the page table (a word stream's pointers count from them: 0 where
+   * they are absolute), and the root's stream word (its level's start; a paged ssvdag's counts 16-bit words) */
+  const mv_u32 levels_at = mv_enc_paged(enc) ? runs_at - 2u * (L + 1u) : 0u;
+  const mv_u64 root_start = mv_enc_paged(enc) ? MV_LD_PAIR(bricks, levels_at + 2u * L) : MV_U64(0u);
+  const mv_u64 root_word = enc == MV_ENC_PAGED_SSVDAG ? root_start >> 1 : root_start;
+  const mv_u32 page_count = levels_at; /* paged: the pages, before the table's tail */
   /* paged: the ray's run (see MV_PAGE_STEP; none at first) and the page it last stamped */
   const mv_u32 page_shift = mv_enc_paged(enc) ? MV_TRACE_PAGE_SHIFT(p) : 0u;
   const mv_u32 stamp_usage = mv_enc_paged(enc) ? variant & MV_TRACE_STAMPS : 0u;
@@ -83,7 +85,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   }
   mv_u32 coarse = root_at == MV_CACHE_NONE ? 1u : 0u; /* paged, root page missing: the root cube is the hit */
   root_at = coarse != 0u ? 0u : root_at;
-  if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | MV_U32(root_half & MV_U64(1u));
+  if (enc == MV_ENC_PAGED_SSVDAG && coarse == 0u) root_at = (root_at << 1) | MV_U32(root_start & MV_U64(1u));
   node_at[L] = root_at;
   mir_at[L] = 0u;
   mv_u64 root = mv_node_load(words, bricks, enc, L, root_at); /* ssvdag: L >= 3, inner */
@@ -123,7 +125,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           if (!mv_enc_compact(enc)) {
             mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
             if (enc == MV_ENC_PAGED) {
-              mv_u64 word = MV_U64(child);
+              mv_u64 word = MV_LD_PAIR(bricks, levels_at + 2u * lv) + MV_U64(child);
               MV_PAGE_STEP(word, child) /* a miss reads the first slot word, then leaves: no branch */
             }
             mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));

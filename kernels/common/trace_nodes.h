@@ -2,9 +2,10 @@
  * host, OpenCL C and GLSL.
  *
  * Encodings (include/megavox/encode.h): svo / svdag / ussvdag are one stream of 32-bit words (header word with
- * the child mask and, for ussvdag, per-child mirror bits; one 32-bit absolute pointer per child; one-word 2^3
- * leaves); ssvdag is the compact stream of 16-bit words (2-bit child codes, 16/32-bit pointers with mirror
- * tags, offsets relative to the child level) over 64-bit 4^3 bricks. */
+ * the child mask and, for ussvdag, per-child mirror bits; one 32-bit pointer per child, absolute or, paged in
+ * level order, counting from its child level's start; one-word 2^3 leaves); ssvdag is the compact stream of
+ * 16-bit words (2-bit child codes, 16/32-bit pointers with mirror tags, offsets relative to the child level)
+ * over 64-bit 4^3 bricks. */
 #ifndef MV_TRACE_NODES_H
 #define MV_TRACE_NODES_H
 #include "trace_types.h"

@@ -24,7 +24,7 @@ namespace mv {
 class TraceEngine;
 class PageCache;
 
-// A DAG in pages (a paged .mvx, version 3: svo, svdag or ussvdag): its shape and a reader of page `page` into
+// A DAG in pages (a paged .mvx, version 3 on: any encoding): its shape and a reader of page `page` into
 // `words` (page_words of them), called by the cache's producer. The reader throws mv::Error when it cannot;
 // the page stays missing and tracing goes on.
 struct PagedDag {
@@ -34,7 +34,8 @@ struct PagedDag {
   uint32_t levels = 0;
   uint32_t page_words = 0;  // a power of two
   uint32_t pages = 0;
-  // ssvdag: where its levels start in the paged stream (host/formats/paging/paged_ssvdag.h: levels + 1 entries)
+  // Where its levels start in the paged stream (levels + 1 entries): an ssvdag's (host/formats/paging/paged_ssvdag.h),
+  // a word stream's whose pointers count from them (paged_stream.h, level order); empty: absolute pointers.
   std::vector<uint64_t> level_starts;
   bool has_colours = false;  // the file has voxel colours; paged traversal does not show them (yet: docs/colour.md)
   uint64_t voxels = 0;       // of the model

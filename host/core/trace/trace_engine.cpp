@@ -47,14 +47,15 @@ TraceEngine::TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCa
     throw Error("trace: pages of " + std::to_string(c.page_words) + " words; paged tracing needs a power of two >= 16");
   page_shift_ = static_cast<uint32_t>(__builtin_ctz(c.page_words));
   params_.level_base[MV_TRACE_PAGE_RUNS] = cache.runs_at();
+  // the levels' 64-bit starts, low word first, between the page table and the runs (the kernel finds them from
+  // the runs); a word stream's pointers count from them (zeros: absolute pointers)
+  if (c.table_tail.size() != 2u * (levels + 1u)) throw Error("trace: a paged DAG needs its level starts after the page table");
   if (encoding == Encoding::ssvdag) {
     // inner nodes are addressed in 16-bit words of the slots; the level starts lie between the page table and
     // the runs (the kernel finds them from the runs), and the parameters carry the first ones too
     if (uint64_t{c.slots} * c.page_words >= (uint64_t{1} << 31))
       throw Error("trace: a paged ssvdag addresses at most 2^31 words of cache slots (8 GiB)");
-    // 64-bit starts, low word first, so the runs start at pages + 2 (levels + 1)
-    if (levels < 3 || c.table_tail.size() != 2u * (levels + 1u))
-      throw Error("trace: a paged ssvdag needs its level starts after the page table");
+    if (levels < 3) throw Error("trace: a paged ssvdag has at least 3 levels");
     if (c.table_tail[4] != 0 || c.table_tail[5] != 0) throw Error("trace: a paged ssvdag's bricks start at word 0");
     // the parameters carry starts below 2^32 16-bit words only; past that the walk reads them from the table
     for (uint32_t k = 0; k < MV_TRACE_PAGED_PARAM_LEVELS && 3 + k <= levels; ++k) {
@@ -210,13 +211,18 @@ Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
   c.pages = paged_.pages;
   // more slots than pages would never be used
   c.slots = static_cast<uint32_t>(std::min<uint64_t>(cache_bytes / page_bytes, paged_.pages));
-  if (paged_.encoding == Encoding::ssvdag) {
-    if (paged_.level_starts.size() != paged_.levels + 1u) throw Error("trace: the paged ssvdag has no level starts");
-    for (uint64_t s : paged_.level_starts) {
-      if (s >= uint64_t{paged_.pages} * paged_.page_words * 2) throw Error("trace: a paged ssvdag level starts past its pages");
-      c.table_tail.push_back(static_cast<uint32_t>(s));  // 64-bit: the walk adds offsets to a virtual address
-      c.table_tail.push_back(static_cast<uint32_t>(s >> 32));
-    }
+  // where each level starts (64-bit: the walk adds offsets to a virtual address); a word stream with absolute
+  // pointers has none, and its levels start at 0
+  const bool ssvdag = paged_.encoding == Encoding::ssvdag;
+  if (ssvdag && paged_.level_starts.size() != paged_.levels + 1u) throw Error("trace: the paged ssvdag has no level starts");
+  if (!ssvdag && !paged_.level_starts.empty() && paged_.level_starts.size() != paged_.levels + 1u)
+    throw Error("trace: " + std::to_string(paged_.level_starts.size()) + " level starts for " +
+                std::to_string(paged_.levels) + " levels");
+  for (uint32_t l = 0; l <= paged_.levels; ++l) {
+    const uint64_t s = paged_.level_starts.empty() ? 0 : paged_.level_starts[l];
+    if (s >= uint64_t{paged_.pages} * paged_.page_words * (ssvdag ? 2 : 1)) throw Error("trace: a paged level starts past its pages");
+    c.table_tail.push_back(static_cast<uint32_t>(s));
+    c.table_tail.push_back(static_cast<uint32_t>(s >> 32));
   }
   cache_ = std::make_unique<PageCache>(dev, c);
   engine_ = std::make_unique<TraceEngine>(dev, paged_.encoding, paged_.levels, *cache_);

@@ -50,7 +50,7 @@ bool is_power_of_two(uint32_t v) { return v && !(v & (v - 1)); }
 struct PagedNodes {
   std::vector<uint32_t> words;
   std::vector<uint64_t> index;   // PageIndexHead's 3 words, then the page hashes
-  std::vector<uint64_t> starts;  // ssvdag: PagedSsvdag::starts
+  std::vector<uint64_t> starts;  // ssvdag: PagedSsvdag::starts; a word stream in level order: its levels' starts
   std::vector<uint64_t> level_offset;  // of the level-order stream the way back gives
 };
 
@@ -68,7 +68,14 @@ PagedNodes paged_nodes(const EncodedDag& dag, const MvxPaging& paging) {
     p.level_offset = std::move(s.level_offset);
     order = NodeOrder::level;
   } else {
-    p.words = paged_stream(dag, page_layout(dag, order, paging.page_words)).words;
+    PageLayout layout = page_layout(dag, order, paging.page_words);
+    if (layout.words > UINT32_MAX) {  // subtree pointers are absolute 32-bit words; level order's count per level
+      order = NodeOrder::level;
+      layout = page_layout(dag, order, paging.page_words);
+    }
+    EncodedDag stream = paged_stream(dag, layout);
+    p.words = std::move(stream.words);
+    p.starts = std::move(stream.level_offset);
     p.level_offset = dag.level_offset;
   }
   const uint64_t words = p.words.size(), pw = paging.page_words;
@@ -130,7 +137,7 @@ MvxColourStats write_mvx(const std::string& path, const MvxFile& in, const MvxPa
   if (paging.page_words != 0) {
     blobs.push_back({kNodes, paged.words.data(), paged.words.size() * 4, false});
     blobs.push_back({kPageIndex, paged.index.data(), paged.index.size() * 8});
-    if (in.dag.encoding == Encoding::ssvdag) blobs.push_back({kPagedStarts, paged.starts.data(), paged.starts.size() * 8});
+    if (!paged.starts.empty()) blobs.push_back({kPagedStarts, paged.starts.data(), paged.starts.size() * 8});
   } else if (in.dag.encoding == Encoding::ssvdag) {
     blobs.push_back({kInner, in.dag.inner.data(), in.dag.inner.size() * 2});
     blobs.push_back({kBricks, in.dag.bricks.data(), in.dag.bricks.size() * 8});
@@ -240,14 +247,27 @@ void check_voxel_file(const Opened& o, const std::string& path) {
   const bool paged = o.find[kPageIndex] != nullptr;
   // counts, levels, then inner + bricks (an unpaged ssvdag), nodes (unpaged), or nodes + page index (paged)
   // + paged level starts (a paged ssvdag)
-  const uint32_t sections = (paged ? (compact ? 5 : 4) : (compact ? 4 : 3)) + (o.find[kColours] ? 1 : 0);
+  // paged level starts: a paged ssvdag's always, a paged word stream's in level order (version 5 on)
+  const bool starts = o.find[kPagedStarts] != nullptr;
+  const uint32_t sections = (paged ? 4 : (compact ? 4 : 3)) + (starts ? 1 : 0) + (o.find[kColours] ? 1 : 0);
   if (o.find[kColours] && h.version < 4)
     throw Error(path + ": bad section table (voxel colours in a version " + std::to_string(h.version) + " file)");
   if (!(h.voxel_size > 0) || h.sections != sections) throw Error(path + ": bad grid or section count");
   const bool kinds_ok = o.find[kCounts] && o.find[kLevels] &&
                         (compact && !paged ? o.find[kInner] && o.find[kBricks] : o.find[kNodes] != nullptr) &&
-                        (compact && paged) == (o.find[kPagedStarts] != nullptr);
+                        (compact && paged ? starts : !starts || (paged && h.version >= 5));
   if (!kinds_ok) throw Error(path + ": bad section table");
+}
+
+std::vector<uint64_t> paged_level_starts(const Opened& o, const PageIndex& pi, const std::string& path) {
+  const bool compact = o.header.encoding == static_cast<uint32_t>(Encoding::ssvdag);
+  const bool level = pi.head.order == static_cast<uint32_t>(NodeOrder::level);
+  if (compact && !level) throw Error(path + ": bad page index: a paged ssvdag is in level order");
+  // word streams: relative pointers in level order from version 5 on, absolute ones before and in subtree order
+  const bool relative = compact || (level && o.header.version >= 5);
+  if (relative != (o.find[kPagedStarts] != nullptr))
+    throw Error(path + ": bad section table (paged level starts " + (relative ? "missing" : "in a stream without them") + ")");
+  return relative ? read_paged_starts(o, path) : std::vector<uint64_t>();
 }
 
 std::vector<uint64_t> read_paged_starts(const Opened& o, const std::string& path) {
@@ -325,12 +345,15 @@ void read_paged_nodes(const Opened& o, const std::string& path, MvxFile& out) {
     if (page_hash(paged.words.data() + p * pw, std::min<uint64_t>(pw, paged.words.size() - p * pw), pw) != pi.hashes[p])
       throw Error(path + ": checksum mismatch in page " + std::to_string(p) + " of the nodes");
   const bool compact = out.dag.encoding == Encoding::ssvdag;
-  if (compact && pi.head.order != static_cast<uint32_t>(NodeOrder::level))
-    throw Error(path + ": bad page index: a paged ssvdag is in level order");
-  const std::vector<uint64_t> starts = compact ? read_paged_starts(o, path) : std::vector<uint64_t>();
+  std::vector<uint64_t> starts = paged_level_starts(o, pi, path);
   EncodedDag level_order;
   try {
-    level_order = compact ? ssvdag_from_pages(paged.words, starts, out.dag.levels, pw) : level_order_stream(paged, pw);
+    if (compact) {
+      level_order = ssvdag_from_pages(paged.words, starts, out.dag.levels, pw);
+    } else {
+      paged.level_offset = std::move(starts);
+      level_order = level_order_stream(paged, pw);
+    }
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }

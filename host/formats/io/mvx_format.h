@@ -18,8 +18,9 @@ namespace mv::mvx_format {
 constexpr char kMagic[8] = {'M', 'E', 'G', 'A', 'V', 'O', 'X', '\x1a'};
 constexpr uint64_t kPage = 4096;
 constexpr uint32_t kMaxSections = 16;
-// Voxel content (version 4 on: voxel colours, kind 16): counts, levels, nodes (or inner + bricks), the page index of paged nodes (version 3), and
-// for a paged ssvdag where its levels start in the paged stream (PagedSsvdag::starts).
+// Voxel content (version 4 on: voxel colours, kind 16): counts, levels, nodes (or inner + bricks), the page index
+// of paged nodes (version 3), and where the levels start in the paged stream: a paged ssvdag's
+// (PagedSsvdag::starts), and from version 5 on a word stream's in level order (its pointers count from them).
 // Point content (version 2 on): the rest. Kinds are shared by both contents: a new one takes the next number.
 enum SectionKind : uint32_t {
   kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5,
@@ -103,9 +104,13 @@ Opened open_file(const std::string& path);
 // The header and section table of a voxel file (encoding, levels, grid, which sections): mv::Error otherwise.
 void check_voxel_file(const Opened& o, const std::string& path);
 
-// The paged level starts of a paged ssvdag (levels + 1 of them), read and checksummed; their order and
-// the stream they describe are checked where they are used (ssvdag_from_pages, MvxPages).
+// The paged level starts (levels + 1 of them), read and checksummed; their order and the stream they describe
+// are checked where they are used (ssvdag_from_pages, level_order_stream, MvxPages).
 std::vector<uint64_t> read_paged_starts(const Opened& o, const std::string& path);
+// Those of a paged file, as its encoding, node order and version say it has them (a paged ssvdag: always; a
+// word stream in level order: from version 5 on, its pointers counting from them), or none (absolute word
+// pointers). mv::Error where the file holds starts it should not or lacks them.
+std::vector<uint64_t> paged_level_starts(const Opened& o, const PageIndex& pi, const std::string& path);
 
 // The page index of an opened file with both its nodes and page index sections, checked: its checksum,
 // page_words, the counts against the nodes section's size. mv::Error naming the fault.

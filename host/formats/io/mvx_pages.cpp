@@ -26,14 +26,24 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
       throw Error(path + ": not paged (.mvx version " + std::to_string(h.version) +
                   ", no page index): it renders resident, without a page cache (or rebuild it with this megavox)");
     pi = read_page_index(o, path);
+    starts_ = paged_level_starts(o, pi, path);
+    // What the traversal reads of them: in order, inside the stream (ssvdag_from_pages and level_order_stream
+    // check the rest). An ssvdag's count 16-bit words (bricks from 0); a word stream's words, root level first,
+    // each level under 2^32 words (its pointers' reach).
+    const uint32_t L = h.levels;
+    bool ok = true;
     if (h.encoding == static_cast<uint32_t>(Encoding::ssvdag)) {
-      starts_ = read_paged_starts(o, path);
-      // What the traversal reads of them: in order, inside the stream (ssvdag_from_pages checks the rest).
-      bool ok = starts_[0] == 0 && starts_[2] == 0 && starts_[1] * 4 <= starts_[3] &&
-                pi.head.order == static_cast<uint32_t>(NodeOrder::level);
-      for (uint32_t l = 4; l <= h.levels; ++l) ok = ok && starts_[l] > starts_[l - 1];
-      if (!ok || (pi.head.words > 0 && starts_[h.levels] >= 2 * pi.head.words)) throw Error(path + ": bad paged level starts");
+      ok = starts_[0] == 0 && starts_[2] == 0 && starts_[1] * 4 <= starts_[3];
+      for (uint32_t l = 4; l <= L; ++l) ok = ok && starts_[l] > starts_[l - 1];
+      ok = ok && (pi.head.words == 0 || starts_[L] < 2 * pi.head.words);
+    } else if (!starts_.empty()) {
+      ok = starts_[0] == 0 && starts_[L] == 0;
+      for (uint32_t l = L; ok && l >= 1; --l) {
+        const uint64_t end = l == 1 ? pi.head.words : starts_[l - 1];
+        ok = starts_[l] < end;
+      }
     }
+    if (!ok) throw Error(path + ": bad paged level starts");
     encoding_ = static_cast<Encoding>(h.encoding);
     levels_ = h.levels;
     grid_.resolution = h.resolution;
@@ -48,13 +58,13 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
     nodes_offset_ = o.find[kNodes]->offset;
     file_bytes = nodes_offset_ + o.find[kNodes]->bytes;
   }
-  // The traversal numbers pages with 32 bits; the word encodings' pointers are 32-bit stream words (an ssvdag's
+  // The traversal numbers pages with 32 bits; absolute word pointers are 32-bit stream words (relative ones
   // count from their level's 64-bit start).
-  const bool words_reach = encoding_ == Encoding::ssvdag || pi.head.words <= (uint64_t{1} << 32);
+  const bool words_reach = !starts_.empty() || pi.head.words <= (uint64_t{1} << 32);
   if (!words_reach || pi.hashes.size() >= UINT32_MAX)
     throw Error(path + ": its paged stream holds " + std::to_string(pi.head.words) + " words in " +
                 std::to_string(pi.hashes.size()) + " pages, past what this megavox streams (" +
-                (words_reach ? "2^32 - 1 pages" : "2^32 words for " + encoding_name(encoding_)) + ")");
+                (words_reach ? "2^32 - 1 pages" : "2^32 words for absolute pointers") + ")");
   page_words_ = pi.head.page_words;
   order_ = static_cast<NodeOrder>(pi.head.order);
   words_ = pi.head.words;

@@ -1,4 +1,4 @@
-// A paged .mvx (version 3: any encoding with a page index) opened for streaming: the file
+// A paged .mvx (version 3 on: any encoding with a page index) opened for streaming: the file
 // is memory-mapped, never read whole; opening checks the header and the page index, and each page is checked
 // against its hash when it is read. The page structure itself (pointers, nodes) is what `megavox info` and
 // read_mvx check over all pages (level_order_stream).
@@ -35,7 +35,8 @@ class MvxPages {
   uint32_t pages() const { return static_cast<uint32_t>(hashes_.size()); }
   uint64_t words() const { return words_; }  // of the paged stream (the last page's padding not counted)
   const std::string& path() const { return path_; }
-  // ssvdag: where its levels start in the paged stream (PagedSsvdag::starts); empty otherwise.
+  // Where the levels start in the paged stream: an ssvdag's (PagedSsvdag::starts), a word stream's in level
+  // order (version 5 on: its pointers count from them); empty where pointers are absolute words.
   const std::vector<uint64_t>& level_starts() const { return starts_; }
   // Whether the file has a voxel colour section (not streamed: paged traversal shows geometry only).
   bool has_colours() const { return has_colours_; }

@@ -20,8 +20,13 @@
 // Version 4 adds voxel colours (kind 16, only in a file that has them): a 32-byte head (format 0 = raw RGB24,
 // the quantization's bits, entries = every octree node, voxels and inner nodes) and the colours in depth-first order
 // (docs/colour.md). Format 1 stores them palette-compressed (megavox/colour_palette.h; the head's two reserved
-// words hold the blocks and palettes); the writer keeps raw where that is smaller. Versions 1 to 3 still open; a file without colours is written as version 3 would be, bar the
-// version number.
+// words hold the blocks and palettes); the writer keeps raw where that is smaller.
+// Version 5 makes a paged word stream (svo / svdag / ussvdag) in level order relative: each child pointer counts
+// words from its child level's start, which a paged level starts section (kind 15) holds, levels + 1 64-bit
+// words ([l] the first word of level l, [L] the root's 0, [0] 0), so each level reaches 2^32 words and the
+// stream past them. In subtree order (pages mix levels) pointers stay absolute: the stream stays under 2^32 words,
+// and the writer takes level order for a larger one. Versions 1 to 4 still open (their word pointers absolute);
+// a file without colours and relative pointers is written as version 3 would be, bar the version number.
 // Versions 1 and 2 (unpaged voxels; version 2 points, the same sections as version 3's) still open.
 // Written to a temporary name and renamed on success; the reader checks every field, every checksum and
 // the encoding itself before returning.
@@ -38,7 +43,7 @@
 
 namespace mv {
 
-inline constexpr uint32_t kMvxVersion = 4;
+inline constexpr uint32_t kMvxVersion = 5;
 inline constexpr uint32_t kMvxPageWords = 4096;  // 16 KiB pages: the default of write_mvx
 
 // How the nodes of a file are paged: pages of page_words words (a power of two, at least 16), nodes placed in

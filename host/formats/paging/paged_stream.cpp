@@ -29,19 +29,30 @@ EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& lay) {
   if (enc.words.empty()) return out;
   auto fail = [](const std::string& why) { return Error("paged stream: the layout does not fit the DAG: " + why); };
   if (lay.at.size() != lay.old_at.size() || lay.page_words < kMaxNodeWords) throw fail("bad layout");
-  if (lay.words > UINT32_MAX) throw Error("paged stream: " + std::to_string(lay.words) + " words exceed 32-bit pointers");
+  const bool relative = lay.order == NodeOrder::level;
+  if (!relative && lay.words > UINT32_MAX)
+    throw Error("paged stream: " + std::to_string(lay.words) + " words in subtree order exceed 32-bit pointers");
   if (enc.level_offset.size() != enc.levels + 1u) throw fail("bad level offsets");
-  // Each node's new word by its old one (4 bytes a word: a pointer is resolved in one load, not a search).
-  constexpr uint32_t kNone = UINT32_MAX;
-  std::vector<uint32_t> moved(enc.words.size(), kNone);
+  // Each node's new word by its old one (a pointer is resolved in one load, not a search).
+  constexpr uint64_t kNone = UINT64_MAX;
+  std::vector<uint64_t> moved(enc.words.size(), kNone);
   for (size_t j = 0; j < lay.old_at.size(); ++j)
-    if (lay.old_at[j] < moved.size()) moved[lay.old_at[j]] = static_cast<uint32_t>(lay.at[j]);
+    if (lay.old_at[j] < moved.size()) moved[lay.old_at[j]] = lay.at[j];
   out.words.assign(lay.words, 0);
+  if (relative) {  // each level's first node is where its level starts (level order keeps the stream's order)
+    out.level_offset.assign(enc.levels + 1u, 0);
+    for (uint32_t l = 1; l <= enc.levels; ++l) {
+      const uint64_t first = enc.level_offset[l];
+      if (first >= moved.size() || moved[first] == kNone) throw fail("level " + std::to_string(l) + " has no node");
+      out.level_offset[l] = moved[first];
+    }
+  }
   std::vector<bool> used(lay.words, false);  // so that overlapping nodes (one placed twice, one never) are caught
   size_t k = 0;
   for (uint32_t l = enc.levels; l >= 1; --l) {
     const uint64_t end = l == 1 ? enc.words.size() : enc.level_offset[l - 1];
     if (end > enc.words.size()) throw fail("bad level offsets");
+    const uint64_t base = relative && l > 1 ? out.level_offset[l - 1] : 0;  // where the children's level starts
     for (uint64_t w = enc.level_offset[l]; w < end; ++k) {
       if (k >= lay.old_at.size() || lay.old_at[k] != w) throw fail("node " + std::to_string(k) + " is elsewhere");
       const uint32_t size = node_words(enc.words[w], l);
@@ -56,8 +67,10 @@ EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& lay) {
       out.words[at] = enc.words[w];
       for (uint32_t q = 1; q < size; ++q) {  // the child at old word p moves to its node's new word
         const uint32_t p = enc.words[w + q];
-        if (p >= moved.size() || moved[p] == kNone) throw fail("a pointer to word " + std::to_string(p));
-        out.words[at + q] = moved[p];
+        if (p >= moved.size() || moved[p] == kNone || moved[p] < base) throw fail("a pointer to word " + std::to_string(p));
+        if (moved[p] - base > UINT32_MAX)
+          throw Error("paged stream: level " + std::to_string(l - 1) + " holds more than 2^32 words");
+        out.words[at + q] = static_cast<uint32_t>(moved[p] - base);
       }
       w += size;
     }
@@ -80,7 +93,16 @@ EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words) {
   out.level_offset.assign(L + 1, 0);
   if (n == 0) return out;
   if (L == 0) throw fail("nodes without levels");
-  if (n >= UINT32_MAX - 1) throw fail(std::to_string(n) + " words exceed 32-bit pointers");
+  if (n >= UINT32_MAX - 1) throw fail(std::to_string(n) + " words: more than this check holds (2^32 - 2)");
+  // Level order: the levels' starts, root first, each level a non-empty run of the stream. Subtree order: none.
+  const std::vector<uint64_t>& starts = paged.level_offset;
+  const bool relative = !starts.empty();
+  auto ends_at = [&](uint32_t l) { return l == 1 ? n : starts[l - 1]; };
+  if (relative) {
+    bool ok = starts.size() == L + 1u && starts[L] == 0;
+    for (uint32_t l = L; ok && l >= 1; --l) ok = starts[l] < ends_at(l);
+    if (!ok) throw fail("bad level starts");
+  }
 
   // placed[w]: for a node's first word, its word in the output; for its other words kInside; else kFree.
   // Every input word is claimed at most once, so the output is never longer than the input.
@@ -88,7 +110,7 @@ EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words) {
   std::vector<uint32_t> placed(n, kFree);
   uint64_t next_at = 0;  // output word of the next node discovered
   std::vector<uint32_t> level, below;  // input words of this level's and the next level's nodes, in output order
-  auto claim = [&](uint32_t w, uint32_t l, uint64_t from) {
+  auto claim = [&](uint64_t w, uint32_t l, uint64_t from) {
     const uint32_t header = in[w];
     const uint32_t mask = header & 0xffu;
     const uint32_t mirrors = paged.encoding == Encoding::ussvdag && l > 1 ? header >> 8 : 0;
@@ -96,7 +118,9 @@ EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words) {
       throw fail("word " + std::to_string(w) + " (reached from word " + std::to_string(from) +
                  ") is not a node header of level " + std::to_string(l));
     const uint32_t size = node_words(header, l);
-    if (w + uint64_t{size} > n) throw fail("the node at word " + std::to_string(w) + " runs past the end of the stream");
+    if (w + uint64_t{size} > (relative ? ends_at(l) : n))
+      throw fail("the node at word " + std::to_string(w) + " runs past the end of " +
+                 (relative ? "level " + std::to_string(l) : std::string("the stream")));
     if (w / page_words != (w + size - 1) / page_words)
       throw fail("the node at word " + std::to_string(w) + " crosses a page boundary");
     for (uint32_t q = 0; q < size; ++q)
@@ -104,7 +128,7 @@ EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words) {
     placed[w] = static_cast<uint32_t>(next_at);
     for (uint32_t q = 1; q < size; ++q) placed[w + q] = kInside;
     next_at += size;
-    below.push_back(w);
+    below.push_back(static_cast<uint32_t>(w));
   };
   claim(0, L, 0);
   level.swap(below);
@@ -122,8 +146,10 @@ EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words) {
       for (uint32_t c = 0; c < 8; ++c) {  // children by ascending Morton octant: their discovery order
         if (!(header >> mv_xmajor_octant(c) & 1)) continue;
         const uint32_t q = w + pointer_of(header, c);
-        const uint32_t child = in[q];
-        if (child >= n) throw fail("word " + std::to_string(q) + " points to " + std::to_string(child) + ", past the end");
+        const uint64_t child = relative ? starts[l - 1] + in[q] : in[q];
+        if (child >= (relative ? ends_at(l - 1) : n))
+          throw fail("word " + std::to_string(q) + " points to " + std::to_string(child) + ", past the end of " +
+                     (relative ? "level " + std::to_string(l - 1) : std::string("the stream")));
         if (placed[child] == kFree) {
           claim(child, l - 1, q);
         } else if (placed[child] == kInside || placed[child] < level_end) {

@@ -1,7 +1,11 @@
 // The paged node stream: a 32-bit word encoding (svo, svdag, ussvdag) with its nodes moved to a
 // PageLayout's words, as the paged .mvx stores it and the page cache uploads it page by page, and the way back
 // to a level-order stream, which every resident consumer (render, export, info, interop) reads unchanged.
-// The pointer word formats stay: a child pointer is still an absolute word index, now into the paged stream.
+// The header words stay; the pointers depend on the order:
+//   level:   a pointer counts words from the start of its child's level in the paged stream, and level_offset
+//            holds those starts (index = level, 64-bit), so only each level must stay under 2^32 words;
+//   subtree: a page mixes levels, so a pointer is the child's absolute word and the stream stays under 2^32
+//            words; level_offset is empty.
 #pragma once
 #include <cstdint>
 
@@ -10,9 +14,9 @@
 
 namespace mv {
 
-// The words of `enc` placed at layout.at, every child pointer rewritten to its child's new word, padding words
-// 0, the root at word 0. Same encoding and levels; level_offset is left empty (a level's nodes are
-// spread over pages). Throws mv::Error when `layout` was not made for `enc` (nodes overlapping or missing).
+// The words of `enc` placed at layout.at, every child pointer rewritten to its child's new place (as the order
+// says, above), padding words 0, the root at word 0. Same encoding and levels. Throws mv::Error when `layout` was
+// not made for `enc` (nodes overlapping or missing), or a pointer does not fit its 32 bits.
 EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& layout);
 
 // A valid level-order stream of the same DAG (passes validate_svdag, decodes to the same voxels; as many
@@ -22,7 +26,8 @@ EncodedDag paged_stream(const EncodedDag& enc, const PageLayout& layout);
 // every node header is one of its level, no node crosses a page boundary or overlaps another, every pointer
 // lands on a node start inside the stream reached at one level only, and every word no node holds is zero
 // padding. Throws mv::Error naming the word otherwise; reads nothing out of bounds, and its memory is bounded
-// by the input's size whatever the input holds.
+// by the input's size whatever the input holds. `paged.level_offset` non-empty: the pointers count from those
+// level starts (level order), and each child must lie inside its level.
 EncodedDag level_order_stream(const EncodedDag& paged, uint32_t page_words);
 
 }  // namespace mv

@@ -57,6 +57,13 @@ void add_build_options(CLI::App& cmd, BuildArgs& a) {
                  "Host RAM budget (e.g. 8G, 512M; default: half the RAM). PLY vertex positions past a quarter of it,\n"
                  "and out of core the triangles past another quarter, go to scratch files in $TMPDIR (or /tmp); a\n"
                  "build that would still pass it stops with an error naming what it needs");
+  cmd.add_option("--page-order", a.page_order,
+                 "How svo / svdag / ussvdag nodes share the file's 16 KiB pages (what a render through the page cache\n"
+                 "reads). subtree: each page around a subtree, so a descent reads about half the pages (pointers\n"
+                 "absolute: up to 2^32 words, 16 GiB, past which the writer takes level order); level: the levels one\n"
+                 "after another, pointers counting from their level's start (any size). An ssvdag is always in level order")
+      ->check(CLI::IsMember({"subtree", "level"}))
+      ->capture_default_str();
 }
 
 BuildOptions build_options(const BuildArgs& a) {
@@ -70,6 +77,7 @@ BuildOptions build_options(const BuildArgs& a) {
   o.voxelize = parse_voxelize_rule(a.voxelize);
   o.memory = a.memory.empty() ? 0 : parse_size(a.memory);
   o.colour_bits = a.colour_bits;
+  o.paging.order = a.page_order == "level" ? NodeOrder::level : NodeOrder::subtree;
   o.attributes = a.attributes == "rgb" ? Attributes::rgb : a.attributes == "none" ? Attributes::none : Attributes::automatic;
   return o;
 }

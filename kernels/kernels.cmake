@@ -72,6 +72,8 @@ mv_kernel(trace_rays_ssvdag        trace/trace.cl    trace/trace.comp     6  MvT
 mv_kernel(trace_rays_ssvdag_params trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays MV_TRACE_ENC=4u MV_TRACE_PARAMS=1u)
 mv_kernel(trace_rays_paged         trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays_paged MV_TRACE_ENC=8u MV_TRACE_LRU=1u MV_TRACE_PARAMS=0u)
 mv_kernel(trace_rays_paged_whole   trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays_paged MV_TRACE_ENC=8u MV_TRACE_LRU=0u MV_TRACE_PARAMS=0u)
+mv_kernel(trace_rays_paged_relative trace/trace.cl   trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays_paged MV_TRACE_ENC=8u MV_TRACE_LRU=1u MV_TRACE_PARAMS=0u MV_TRACE_REL=1u)
+mv_kernel(trace_rays_paged_whole_relative trace/trace.cl trace/trace.comp 6 MvTraceParams     MV_ENTRY_trace_rays_paged MV_TRACE_ENC=8u MV_TRACE_LRU=0u MV_TRACE_PARAMS=0u MV_TRACE_REL=1u)
 mv_kernel(trace_rays_paged_ssvdag  trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_trace_rays_paged MV_TRACE_ENC=12u MV_TRACE_LRU=1u MV_TRACE_PARAMS=0u)
 mv_kernel(trace_rays_paged_ssvdag_whole trace/trace.cl trace/trace.comp  6  MvTraceParams     MV_ENTRY_trace_rays_paged MV_TRACE_ENC=12u MV_TRACE_LRU=0u MV_TRACE_PARAMS=0u)
 mv_kernel(trace_rays_paged_ssvdag_params trace/trace.cl trace/trace.comp 6 MvTraceParams     MV_ENTRY_trace_rays_paged MV_TRACE_ENC=12u MV_TRACE_LRU=1u MV_TRACE_PARAMS=1u)

@@ -67,10 +67,12 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   mv_u32 nl = L;
   const mv_u32 runs_at = p.level_base[MV_TRACE_PAGE_RUNS];
   const mv_u32 starts_in_params = variant & MV_TRACE_STARTS_IN_PARAMS;
-  /* paged: the levels' 64-bit starts after the page table (a word stream's pointers count from them: 0 where
-   * they are absolute), and the root's stream word (its level's start; a paged ssvdag's counts 16-bit words) */
+  /* paged: the levels' 64-bit starts after the page table (a word stream's pointers count from them where the
+   * variant says MV_TRACE_RELATIVE, else they are absolute), and the root's stream word (its level's start; a
+   * paged ssvdag's counts 16-bit words) */
   const mv_u32 levels_at = mv_enc_paged(enc) ? runs_at - 2u * (L + 1u) : 0u;
-  const mv_u64 root_start = mv_enc_paged(enc) ? MV_LD_PAIR(bricks, levels_at + 2u * L) : MV_U64(0u);
+  const bool relative = enc == MV_ENC_PAGED_SSVDAG || (enc == MV_ENC_PAGED && (variant & MV_TRACE_RELATIVE) != 0u);
+  const mv_u64 root_start = relative ? MV_LD_PAIR(bricks, levels_at + 2u * L) : MV_U64(0u);
   const mv_u64 root_word = enc == MV_ENC_PAGED_SSVDAG ? root_start >> 1 : root_start;
   const mv_u32 page_count = levels_at; /* paged: the pages, before the table's tail */
   /* paged: the ray's run (see MV_PAGE_STEP; none at first) and the page it last stamped */
@@ -125,7 +127,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           if (!mv_enc_compact(enc)) {
             mv_u32 child = MV_U32(mv_node_load(words, bricks, enc, nl, mv_word_child_at(node, hdr, t8)));
             if (enc == MV_ENC_PAGED) {
-              mv_u64 word = MV_LD_PAIR(bricks, levels_at + 2u * lv) + MV_U64(child);
+              mv_u64 word = (relative ? MV_LD_PAIR(bricks, levels_at + 2u * lv) : MV_U64(0u)) + MV_U64(child);
               MV_PAGE_STEP(word, child) /* a miss reads the first slot word, then leaves: no branch */
             }
             mv_u32 child_hdr = MV_U32(mv_node_load(words, bricks, enc, lv, child));
@@ -248,7 +250,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
 /* One work-item's share of a trace dispatch. `enc` and `variant` are constants of the entry point, so each
  * kernel compiles only its own decode. enc: MV_ENC_SVDAG for every 32-bit word encoding, MV_ENC_PAGED for them
  * through the page cache, MV_ENC_SSVDAG, or MV_ENC_PAGED_SSVDAG. variant: MV_TRACE_STARTS_IN_PARAMS and
- * MV_TRACE_STAMPS (trace_types.h). */
+ * MV_TRACE_STAMPS and MV_TRACE_RELATIVE (trace_types.h). */
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
                              MvBufU32 usage, MvBufU32 request, MvBufU32 results, MvTraceParams p, mv_u32 gid,
                              mv_u32 gsize, mv_u32 enc, mv_u32 variant) {

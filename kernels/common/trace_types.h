@@ -58,9 +58,11 @@
 /* A walk's variant (mv_trace), a constant of each trace kernel: an ssvdag's level starts come with the
  * parameters (else from memory: mv_level_base); paged, the walk stamps the slots it reads for the LRU (else a
  * cache with a slot for every page, preloaded, that never evicts: the stamping code alone, never run, costs
- * PoCL ~8 % and lavapipe ~15 % of the trace). */
+ * PoCL ~8 % and lavapipe ~15 % of the trace); a paged word stream's pointers count from their level's start
+ * (else absolute: the start's load and add, never needed there, cost PoCL ~8 % of the preloaded trace). */
 #define MV_TRACE_STARTS_IN_PARAMS 1u
 #define MV_TRACE_STAMPS 2u
+#define MV_TRACE_RELATIVE 4u
 
 MV_STRUCT_BEGIN(MvTraceParams)
   mv_u32 first;     /* rays [first, first + count) in this dispatch */

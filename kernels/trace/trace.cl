@@ -36,6 +36,22 @@ __kernel void trace_rays_paged_whole(__global float* src, __global uint* slots, 
                 0u);
 }
 
+// The same for a stream whose pointers count from their level's start (level order: its starts follow the
+// page table).
+__kernel void trace_rays_paged_relative(__global float* src, __global uint* slots, __global uint* table,
+                                        __global uint* usage, __global uint* request, __global uint* out,
+                                        MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED,
+                MV_TRACE_STAMPS | MV_TRACE_RELATIVE);
+}
+
+__kernel void trace_rays_paged_whole_relative(__global float* src, __global uint* slots, __global uint* table,
+                                              __global uint* usage, __global uint* request, __global uint* out,
+                                              MvTraceParams p) {
+  mv_trace_rays(src, src, slots, table, table, usage, request, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED,
+                MV_TRACE_RELATIVE);
+}
+
 // The same for an ssvdag through the page cache (its level starts follow the page table), and the _params
 // kernels that take them from the parameters instead (mv_params_level_base).
 __kernel void trace_rays_paged_ssvdag(__global float* src, __global uint* slots, __global uint* table,

@@ -18,13 +18,18 @@ void main() {
 #elif defined(MV_ENTRY_trace_rays_paged)
 /* the page cache's buffers (see trace.cl); one source for rays or camera keeps the push constants at 128 bytes;
  * MV_TRACE_ENC: MV_ENC_PAGED or MV_ENC_PAGED_SSVDAG; MV_TRACE_LRU: stamp usage (1) or not (0, see trace.cl);
- * MV_TRACE_PARAMS: a paged ssvdag's level starts from the parameters (1) or the table (0) */
+ * MV_TRACE_PARAMS: a paged ssvdag's level starts from the parameters (1) or the table (0); MV_TRACE_REL (1, where
+ * defined): a word stream's pointers count from their level's start */
+#if !defined(MV_TRACE_REL)
+#define MV_TRACE_REL 0u
+#endif
 layout(push_constant) uniform Args {
   MvBufF32 src; MvBufU32 slots; MvBufU32 table; MvBufU32 usage; MvBufU32 request; MvBufU32 out_; MvTraceParams p;
 } a;
 void main() {
   mv_trace_rays(a.src, a.src, a.slots, a.table, a.table, a.usage, a.request, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC,
-                (MV_TRACE_LRU != 0u ? MV_TRACE_STAMPS : 0u) | (MV_TRACE_PARAMS != 0u ? MV_TRACE_STARTS_IN_PARAMS : 0u));
+                (MV_TRACE_LRU != 0u ? MV_TRACE_STAMPS : 0u) | (MV_TRACE_PARAMS != 0u ? MV_TRACE_STARTS_IN_PARAMS : 0u) |
+                (MV_TRACE_REL != 0u ? MV_TRACE_RELATIVE : 0u));
 }
 #elif defined(MV_ENTRY_secondary_rays)
 layout(push_constant) uniform Args {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `megavox render --cache-memory` and `--path` on a tetrahedron built here (a paged .mvx: the plain octree, 16 KiB pages):
 # a cache a third of the file renders the same PNG bytes as the resident render, a flight writes its
-# frames and one JSON line each with the cache's figures, a one-page cache warns and still writes a picture,
+# frames and one JSON line each with the cache's figures, the same octree paged in level order (--page-order)
+# renders the same PNG, a one-page cache warns and still writes a picture,
 # an ssvdag (paged level by level) renders the resident PNG through a quarter of its pages, and what cannot work
 # fails with a clear message and no output: a cache smaller
 # than a page, a cache over --device-memory, a row of pixels that does not fit beside the cache (a frame that
@@ -27,6 +28,13 @@ assert c["converged"] and c["passes"] >= 2 and c["pages_loaded"] >= 1 and c["coa
 for k in ("pages_requested", "pages_evicted", "hit_rate", "bytes_uploaded", "cache_seconds", "io_seconds"):
     assert k in c, k
 PY
+# --page-order level: the same octree with its levels one after another, pointers counting from their level's
+# start; the same PNG through the same share of its pages
+"$megavox" build "$dir/tetra.ply" --resolution 512 --format svo --page-order level -o "$dir/tl.mvx" >/dev/null
+linfo=$("$megavox" info "$dir/tl.mvx" --json)
+lpages=$(python3 -c 'import json,sys; p=json.loads(sys.argv[1])["paging"]; assert p["node_order"] == "level"; print(p["pages"])' "$linfo")
+"$megavox" render "$dir/tl.mvx" -o "$dir/level.png" "${view[@]}" --cache-memory $(( lpages * page_words * 4 / 3 )) --quiet
+cmp "$dir/resident.png" "$dir/level.png" || fail "the level-order paged render differs from the resident one"
 # the ssvdag, paged in its own layout: a cache a quarter of its pages renders the resident PNG too (a bumpy
 # sphere: a tetrahedron's ssvdag is one page, its symmetry folds it)
 python3 - "$dir/bumpy.ply" <<'PY'

@@ -50,6 +50,7 @@ TraceEngine::TraceEngine(Device& dev, Encoding encoding, uint32_t levels, PageCa
   // the levels' 64-bit starts, low word first, between the page table and the runs (the kernel finds them from
   // the runs); a word stream's pointers count from them (zeros: absolute pointers)
   if (c.table_tail.size() != 2u * (levels + 1u)) throw Error("trace: a paged DAG needs its level starts after the page table");
+  for (uint32_t w : c.table_tail) relative_ = relative_ || (encoding != Encoding::ssvdag && w != 0);
   if (encoding == Encoding::ssvdag) {
     // inner nodes are addressed in 16-bit words of the slots; the level starts lie between the page table and
     // the runs (the kernel finds them from the runs), and the parameters carry the first ones too
@@ -119,8 +120,10 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
       starts_in_params_ ? (stamp_usage_ ? KernelId::trace_rays_paged_ssvdag_params
                                         : KernelId::trace_rays_paged_ssvdag_whole_params)
                         : (stamp_usage_ ? KernelId::trace_rays_paged_ssvdag : KernelId::trace_rays_paged_ssvdag_whole);
-  const KernelId paged = ssvdag ? paged_ssvdag
-                                : (stamp_usage_ ? KernelId::trace_rays_paged : KernelId::trace_rays_paged_whole);
+  const KernelId paged_words = relative_ ? (stamp_usage_ ? KernelId::trace_rays_paged_relative
+                                                         : KernelId::trace_rays_paged_whole_relative)
+                                        : (stamp_usage_ ? KernelId::trace_rays_paged : KernelId::trace_rays_paged_whole);
+  const KernelId paged = ssvdag ? paged_ssvdag : paged_words;
   Kernel& k = dev_.kernel(cache_              ? paged
                           : !bricks           ? KernelId::trace_rays
                           : starts_in_params_ ? KernelId::trace_rays_ssvdag_params

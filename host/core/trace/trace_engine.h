@@ -68,6 +68,7 @@ class TraceEngine {
   PageCache* cache_ = nullptr;
   uint32_t page_shift_ = 0;
   bool stamp_usage_ = true;
+  bool relative_ = false;  // paged word stream: pointers count from their level's start (non-zero starts)
   MvTraceParams params_{};  // ssvdag level starts; paged, where the runs start
 };
 

@@ -123,8 +123,8 @@ MvError mvGetSceneColourEntries(MvScene scene, uint64_t* entries) {
     require(scene && entries, "mvGetSceneColourEntries: scene or entries is NULL");
     const Hold<MvSceneTy> keep(scene);
     std::lock_guard<std::recursive_mutex> g(scene->device->lock);
-    // the colours its queries return: none where it streams through a page cache
-    *entries = scene->tracer_locked().has_colours() ? scene->file().colours.size() / 3 : 0;
+    // the colours its queries return: none where it streams a file without a size plane (version 4 and before)
+    *entries = scene->tracer_locked().has_colours() ? scene->facts().colour_entries : 0;
   });
 }
 

@@ -46,6 +46,7 @@ MvSceneTy::Facts MvSceneTy::facts() {
     f.levels = paged_->levels;
     f.voxels = paged_->voxels;
     f.bytes = paged_->words * 4;
+    f.colour_entries = paged_->colour_entries;
   } else {
     f.encoding = file_->dag.encoding;
     f.grid = file_->grid;
@@ -53,6 +54,7 @@ MvSceneTy::Facts MvSceneTy::facts() {
     f.levels = file_->dag.levels;
     f.voxels = file_->voxels;
     f.bytes = file_->dag.bytes();
+    f.colour_entries = file_->colours.size() / 3;
   }
   return f;
 }
@@ -130,6 +132,8 @@ std::vector<mv::RayHit> MvSceneTy::trace_locked(const std::vector<mv::Ray>& rays
     if (out[i].hit && out[i].coarse) waiting.push_back(i);
   size_t batch = waiting.size();
   std::vector<mv::Ray> sub;
+  std::vector<uint32_t> sub_colours;
+  std::vector<uint32_t>* want_colours = colours && !colours->empty() ? &sub_colours : nullptr;
   std::vector<uint64_t> key(out.size());
   while (!waiting.empty()) {
     for (size_t i : waiting) {
@@ -146,10 +150,11 @@ std::vector<mv::RayHit> MvSceneTy::trace_locked(const std::vector<mv::Ray>& rays
       const size_t n = std::min(batch, waiting.size() - first);
       sub.resize(n);
       for (size_t k = 0; k < n; ++k) sub[k] = rays[waiting[first + k]];
-      const std::vector<mv::RayHit> got = t.trace(sub, options);
+      const std::vector<mv::RayHit> got = t.trace(sub, options, want_colours);
       account_passes(t, path, passes_, pages_streamed_);
       for (size_t k = 0; k < n; ++k) {
         out[waiting[first + k]] = got[k];  // a coarse hit too: where it stopped orders the next round
+        if (want_colours) (*colours)[waiting[first + k]] = sub_colours[k];
         if (got[k].hit && got[k].coarse) again.push_back(waiting[first + k]);
       }
     }

@@ -167,9 +167,11 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
       bounds = dag.bounds;
       format = encoding_name(dag.encoding);
       resolution = dag.grid.resolution;
-      if (dag.has_colours && frame_uses_colours(a->opt) && !a->camera.quiet)
-        std::fprintf(stderr, "megavox: %s has voxel colours, but streaming (--cache-memory) shows geometry only: "
-                             "render without --cache-memory to see them\n", a->input.c_str());
+      if (dag.has_colours && dag.plane_words == 0 && frame_uses_colours(a->opt) && !a->camera.quiet)
+        std::fprintf(stderr, "megavox: %s has voxel colours, but no size plane to find them through the cache (it "
+                             "was written before .mvx version 5): streaming shows geometry only; rebuild it, or "
+                             "render without --cache-memory\n", a->input.c_str());
+      if (!frame_uses_colours(a->opt)) dag.plane_words = 0;  // grey: the cache need not carry the plane
       tracer = std::make_unique<Tracer>(*dev, std::move(dag), parse_size(a->cache_memory));
     } else {
       MvxFile file = read_mvx(a->input);

@@ -1,5 +1,5 @@
-// The .mvx readers (include/megavox/mvx.h): read_mvx, read_mvx_points and MvxPages (a version 3 paged
-// file's pages read one by one) on the same bytes.
+// The .mvx readers (include/megavox/mvx.h): read_mvx, read_mvx_points and MvxPages (a paged file's pages, its
+// size plane's pages and its colour entries read one by one) on the same bytes.
 //
 // Every section, every page of paged nodes and the header carry an XXH3 checksum, which random mutations
 // almost never keep right; so each input is read twice: as it is (the checksum checks), and with its
@@ -47,6 +47,19 @@ void read_all(const std::string& path) {
       std::string error;
       for (uint32_t p = 0; p < std::min<uint32_t>(pages.pages(), 64); ++p) pages.read_page(p, page, &error);
       MV_FUZZ_CHECK(!pages.read_page(pages.pages(), page, &error));
+      if (pages.plane_words() != 0) {  // the size plane's pages, as the cache reads them beside the nodes
+        std::vector<uint32_t> plane(pages.plane_words());
+        for (uint32_t p = 0; p < std::min<uint32_t>(pages.pages(), 64); ++p) pages.read_sizes(p, plane, &error);
+        MV_FUZZ_CHECK(!pages.read_sizes(pages.pages(), plane, &error));
+      }
+    }
+    // colour entries (a palette parsed on the first): the first, the last, one past them
+    for (uint64_t e : {uint64_t{0}, pages.colour_entries() - 1, pages.colour_entries()}) {
+      try {
+        pages.colour(e);
+        MV_FUZZ_CHECK(e < pages.colour_entries());
+      } catch (const mv::Error&) {
+      }
     }
   } catch (const mv::Error&) {
   }
@@ -65,23 +78,36 @@ const fmt::Section* section(const fmt::Header& h, uint32_t kind, size_t size) {
   return nullptr;
 }
 
-// The page hashes of a page index made right for the nodes they index, where both sections lie in the file
-// and the index says where its pages are.
-void fix_page_hashes(const fmt::Header& h, std::vector<uint8_t>& bytes) {
-  const fmt::Section* index = section(h, fmt::kPageIndex, bytes.size());
-  const fmt::Section* nodes = section(h, fmt::kNodes, bytes.size());
-  if (!index || !nodes || index->bytes < sizeof(fmt::PageIndexHead)) return;
-  fmt::PageIndexHead head;
-  std::memcpy(&head, bytes.data() + index->offset, sizeof head);
-  if (head.page_words < fmt::kMinPageWords || head.page_words > fmt::kMaxPageWords) return;
-  const uint64_t words = nodes->bytes / 4, room = (index->bytes - sizeof head) / 8;
+// The page hashes of an index made right for the words they index (from byte `head_bytes` of the index, pages
+// of `page_words` words), where both sections lie in the file.
+void fix_hashes(std::vector<uint8_t>& bytes, const fmt::Section* index, const fmt::Section* data, uint64_t head_bytes,
+                uint64_t pages, uint64_t page_words) {
+  if (!index || !data || index->bytes < head_bytes) return;
+  if (page_words < fmt::kMinPageWords || page_words > 2 * uint64_t{fmt::kMaxPageWords}) return;
+  const uint64_t words = data->bytes / 4, room = (index->bytes - head_bytes) / 8;
   if (words == 0) return;  // no pages to hash (and memcpy from an empty vector's null data is UB)
   std::vector<uint32_t> stream(words);
-  std::memcpy(stream.data(), bytes.data() + nodes->offset, words * 4);
-  for (uint64_t p = 0; p < std::min(head.pages, room) && p * head.page_words < words; ++p) {
-    const uint64_t hash = fmt::page_hash(stream.data() + p * head.page_words,
-                                         std::min<uint64_t>(head.page_words, words - p * head.page_words), head.page_words);
-    std::memcpy(bytes.data() + index->offset + sizeof head + p * 8, &hash, 8);
+  std::memcpy(stream.data(), bytes.data() + data->offset, words * 4);
+  for (uint64_t p = 0; p < std::min(pages, room) && p * page_words < words; ++p) {
+    const uint64_t hash =
+        fmt::page_hash(stream.data() + p * page_words, std::min<uint64_t>(page_words, words - p * page_words), page_words);
+    std::memcpy(bytes.data() + index->offset + head_bytes + p * 8, &hash, 8);
+  }
+}
+
+// Those of the page index over the nodes, and of the size index over the size plane.
+void fix_page_hashes(const fmt::Header& h, std::vector<uint8_t>& bytes) {
+  const fmt::Section* index = section(h, fmt::kPageIndex, bytes.size());
+  if (index && index->bytes >= sizeof(fmt::PageIndexHead)) {
+    fmt::PageIndexHead head;
+    std::memcpy(&head, bytes.data() + index->offset, sizeof head);
+    fix_hashes(bytes, index, section(h, fmt::kNodes, bytes.size()), sizeof head, head.pages, head.page_words);
+  }
+  const fmt::Section* sizes = section(h, fmt::kSizeIndex, bytes.size());
+  if (sizes && sizes->bytes >= sizeof(fmt::SizeIndexHead)) {
+    fmt::SizeIndexHead head;
+    std::memcpy(&head, bytes.data() + sizes->offset, sizeof head);
+    fix_hashes(bytes, sizes, section(h, fmt::kSizes, bytes.size()), sizeof head, head.pages, head.plane_words);
   }
 }
 

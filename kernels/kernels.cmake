@@ -81,6 +81,8 @@ mv_kernel(trace_rays_paged_ssvdag_whole_params trace/trace.cl trace/trace.comp 6
 mv_kernel(secondary_rays           trace/trace.cl    trace/trace.comp     5  MvSecondaryParams MV_ENTRY_secondary_rays)
 mv_kernel(hit_colours              trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_hit_colours MV_TRACE_ENC=2u)
 mv_kernel(hit_colours_ssvdag       trace/trace.cl    trace/trace.comp     6  MvTraceParams     MV_ENTRY_hit_colours MV_TRACE_ENC=4u)
+mv_kernel(hit_entries_paged        trace/trace.cl    trace/trace.comp     5  MvTraceParams     MV_ENTRY_hit_entries_paged MV_TRACE_ENC=8u)
+mv_kernel(hit_entries_paged_ssvdag trace/trace.cl    trace/trace.comp     5  MvTraceParams     MV_ENTRY_hit_entries_paged MV_TRACE_ENC=12u)
 mv_kernel(min_cut_seed             mask/min_cut.cl   mask/min_cut.comp    2  MvMinCutParams    MV_ENTRY_seed)
 mv_kernel(min_cut_wave             mask/min_cut.cl   mask/min_cut.comp    5  MvMinCutParams    MV_ENTRY_wave)
 mv_kernel(min_cut_active           mask/min_cut.cl   mask/min_cut.comp    3  MvMinCutParams    MV_ENTRY_active)

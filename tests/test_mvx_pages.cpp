@@ -382,6 +382,57 @@ TEST(MvxPaged, SsvdagIsPagedInLevelOrder) {
   fs::remove(p);
 }
 
+// A paged file with colours carries its size plane (version 5): damage to the plane, to its index or to which
+// sections a version has is named; a page of the plane read alone is checked by its own hash.
+TEST(MvxPaged, TheSizePlaneIsCheckedPageByPageAndAgainstTheNodes) {
+  const std::string p = temp_path("sized.mvx"), q = temp_path("sized_damaged.mvx");
+  MvxFile f = sample_files()[1];
+  f.svo_nodes = encoded_octree_nodes(f.dag);
+  uint64_t entries = 0;
+  for (uint64_t n : f.svo_nodes) entries += n;
+  for (uint64_t e = 0; e < entries; ++e) f.colours.insert(f.colours.end(), {uint8_t(e), uint8_t(e >> 8), 7});
+  f.colour_storage = ColourStorage::raw;
+  write_mvx(p, f, {16, NodeOrder::subtree});
+  const MvxPages pages(p);
+  ASSERT_EQ(pages.plane_words(), 16u);
+  EXPECT_EQ(pages.colour_entries(), entries);
+  EXPECT_EQ(pages.colour(entries - 1), (uint32_t((entries - 1) & 255) | uint32_t(((entries - 1) >> 8) & 255) << 8 | 7u << 16));
+  EXPECT_THROW(pages.colour(entries), Error);
+  std::vector<uint32_t> plane(16);
+  std::string error;
+  ASSERT_TRUE(pages.read_sizes(0, plane, &error)) << error;
+  EXPECT_NE(plane[1], 0u);  // the root's first pointer holds its child's subtree size
+  auto damaged = [&](const std::function<void(Bytes&)>& hurt) {
+    Bytes b(p);
+    hurt(b);
+    b.write(q);
+    return error_message([&] { read_mvx(q); });
+  };
+  // a size off by one, its page hash made right: only the check against the nodes sees it
+  EXPECT_NE(damaged([](Bytes& b) {
+              uint32_t* sizes = b.at<uint32_t>(fmt::kSizes);
+              sizes[1] += 1;
+              auto* hashes = b.at<uint64_t>(fmt::kSizeIndex, sizeof(fmt::SizeIndexHead));
+              hashes[0] = fmt::page_hash(sizes, 16, 16);
+            }).find("size plane disagrees"), std::string::npos);
+  // the same without the hash made right: read whole or read alone, the page fails its hash
+  EXPECT_NE(damaged([](Bytes& b) { b.at<uint32_t>(fmt::kSizes)[1] += 1; }).find("page 0 of the size plane"),
+            std::string::npos);
+  EXPECT_FALSE(MvxPages(q).read_sizes(0, plane, &error));
+  EXPECT_NE(error.find("checksum"), std::string::npos) << error;
+  EXPECT_NE(damaged([](Bytes& b) { b.at<fmt::SizeIndexHead>(fmt::kSizeIndex)->plane_words = 32; }).find("bad size index"),
+            std::string::npos);
+  EXPECT_NE(damaged([](Bytes& b) { b.h.version = 4; }).find("bad section table"), std::string::npos);
+  // a version 4 file with colours (no plane) still opens; it streams without them
+  write_mvx(p, f, {0, NodeOrder::level});  // (unpaged: no plane) marked version 4 for the check
+  Bytes old(p);
+  old.h.version = 4;
+  old.write(q);
+  EXPECT_EQ(read_mvx(q).colours, f.colours);
+  fs::remove(p);
+  fs::remove(q);
+}
+
 // A damaged file whose checksums are right (made so): the root's pointers lead past the pages. Streamed, no ray
 // reads outside the cache (the walk never resolves such a pointer: it stops coarse there), with a cache of every
 // page (preloaded) and with a small one, on every device.

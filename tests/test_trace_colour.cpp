@@ -3,6 +3,7 @@
 // (host/ref/colour_reference.h), for every encoding (the ssvdag with mirrored clumps), voxels and coarser levels.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 #include "capi/capi_fixture.h"
@@ -137,6 +138,92 @@ TEST_P(TraceColourTest, ColourlessFilesAndOffLeaveHitsGrey) {
   MvxFile wrong = f;
   wrong.colours.resize(wrong.colours.size() - 3);
   EXPECT_THROW(Tracer(dev, wrong), Error);
+}
+
+// Streamed through a page cache that loads what the rays ask for, every encoding and page order, raw and palette
+// colours: the same hits and the same colours as the resident tracer; through the C API too, with a cache of a
+// third of the file's pages (evicting as it goes; a version 5 file's size plane).
+TEST_P(TraceColourTest, StreamedScenesFindTheirColoursThroughTheCache) {
+  Device& dev = shared_device(GetParam());
+  const std::string cloud = shell_cloud("shell_paged.ply"), path = temp_path("shell_paged.mvx");
+  std::vector<Ray> rays;
+  for (int i = 0; i < 1500; ++i) {
+    Ray r;
+    const float a = 0.0042f * float(i), o[3] = {32 + 60 * std::cos(a), 32 + 60 * std::sin(a), 20 + float(i % 25)};
+    for (int k = 0; k < 3; ++k) r.origin[k] = o[k], r.direction[k] = 32 + float((i * 7 + 3 * k) % 19) - 9 - o[k];
+    rays.push_back(r);
+  }
+  for (Encoding e : {Encoding::svdag, Encoding::ssvdag, Encoding::ussvdag, Encoding::svo}) {
+    const MvxFile f = coloured_file(dev, cloud, e);
+    Tracer resident(dev, f);
+    std::vector<uint32_t> want;
+    const std::vector<RayHit> hits = resident.trace(rays, {}, &want);
+    for (NodeOrder order : {NodeOrder::subtree, NodeOrder::level})
+      for (ColourStorage storage : {ColourStorage::raw, ColourStorage::palette}) {
+        if (e == Encoding::ssvdag && order == NodeOrder::subtree) continue;  // always level order
+        SCOPED_TRACE(encoding_name(e) + (order == NodeOrder::level ? " level " : " subtree ") +
+                     (storage == ColourStorage::raw ? "raw" : "palette"));
+        MvxFile g = f;
+        g.colour_storage = storage;
+        write_mvx(path, g, {64, order});
+        PagedDag d = open_paged_mvx(path);
+        ASSERT_EQ(d.plane_words, 64u * (e == Encoding::ssvdag ? 2u : 1u));
+        const uint64_t all = uint64_t{d.pages} * 64 * 4;
+        Tracer paged(dev, std::move(d), all, false);  // loaded as the rays ask, not preloaded
+        ASSERT_TRUE(paged.has_colours());
+        std::vector<uint32_t> got;
+        EXPECT_GT(expect_same_hits(paged.trace(rays, {}, &got), hits), rays.size() / 3);
+        EXPECT_GT(paged.last_passes().size(), 1u);
+        EXPECT_TRUE(got == want);
+        if (storage == ColourStorage::palette) continue;
+        // a picture through a cache of half the pages: the resident one, its colours included
+        RenderOptions ro;
+        ro.width = 96;
+        ro.height = 72;
+        ro.shading = Shading::colour;
+        const Camera cam = view_camera(f.bounds, "iso");
+        PagedDag h = open_paged_mvx(path);
+        const uint64_t half = std::max<uint64_t>(h.pages / 2, 24) * 64 * 4;  // (a small DAG's view needs 24)
+        Tracer streamed(dev, std::move(h), half);
+        const RenderResult r = render(streamed, cam, ro), w = render(resident, cam, ro);
+        EXPECT_GT(w.hits, ro.width * ro.height / 10);
+        EXPECT_TRUE(r.converged);
+        size_t differ = 0;
+        for (size_t k = 0; k < r.image.rgb.size() && k < w.image.rgb.size(); ++k) differ += r.image.rgb[k] != w.image.rgb[k];
+        EXPECT_EQ(differ, 0u);
+        EXPECT_TRUE(r.image.rgb == w.image.rgb);
+      }
+  }
+  // the C API: a coloured octree streamed through a cache of a third of its pages answers the resident bytes
+  const MvxFile f = coloured_file(dev, cloud, Encoding::svo);
+  write_mvx(path, f, {16, NodeOrder::level});
+  const PagedDag d = open_paged_mvx(path);
+  ASSERT_GT(d.pages, 3u * 64);  // a cache needs 64 pages at least
+  capi::CDevice flat(GetParam()), small(GetParam(), "cache_memory=" + std::to_string(d.pages / 3 * 64));
+  ASSERT_TRUE(flat.handle && small.handle);
+  MvScene a = mvOpenScene(flat.handle, path.c_str()), b = mvOpenScene(small.handle, path.c_str());
+  ASSERT_TRUE(a && b) << mvGetDeviceLastErrorMessage(small.handle);
+  MvSceneInfo info;
+  ASSERT_EQ(mvGetSceneInfo(a, &info), MV_ERROR_NONE);
+  const std::vector<MvTraceRay> crays = capi::random_rays(info, 2000, 9);
+  std::vector<MvTraceHit> ha(crays.size()), hb(crays.size());
+  std::vector<uint8_t> ca(4 * crays.size()), cb(4 * crays.size(), 7);
+  ASSERT_EQ(mvTraceRaysRgba(a, crays.data(), ha.data(), ca.data(), crays.size(), nullptr), MV_ERROR_NONE);
+  ASSERT_EQ(mvTraceRaysRgba(b, crays.data(), hb.data(), cb.data(), crays.size(), nullptr), MV_ERROR_NONE)
+      << mvGetDeviceLastErrorMessage(small.handle);
+  EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.size() * sizeof(MvTraceHit)), 0);
+  EXPECT_TRUE(ca == cb);
+  EXPECT_GT(std::count_if(cb.begin(), cb.end(), [](uint8_t v) { return v != 0; }), 1000);
+  MvSceneStats st{};
+  st.byteSize = sizeof st;
+  ASSERT_EQ(mvGetSceneStats(b, &st), MV_ERROR_NONE);
+  EXPECT_EQ(st.paged, 1u);
+  EXPECT_GT(st.pagesStreamed, 0u);
+  uint64_t entries = 0;
+  ASSERT_EQ(mvGetSceneColourEntries(b, &entries), MV_ERROR_NONE);
+  EXPECT_EQ(entries, f.colours.size() / 3);
+  mvReleaseScene(a);
+  mvReleaseScene(b);
 }
 
 // The C API's optional colour output equals the C++ tracer's; a scene without colours gives zeros.

@@ -197,13 +197,14 @@ MV_API MvError mvTraceRays(MvScene scene, const MvTraceRay* rays, MvTraceHit* hi
 
 /* As mvTraceRays, and each hit's colour into rgba[4 * i .. 4 * i + 3] (R, G, B, A) when rgba is not NULL: for a
  * scene with voxel colours (built from a coloured point cloud) the hit cell's colour, a voxel's own or, at a
- * coarser level, the mean of the voxels below it, with A = 255; all four 0 for a miss or a scene without colours,
- * and for now for a scene streamed through a page cache (MvSceneStats.paged: its colours are not paged yet). */
+ * coarser level, the mean of the voxels below it, with A = 255; all four 0 for a miss or a scene without colours.
+ * A scene streamed through a page cache (MvSceneStats.paged) finds them through the cache too, the same bytes,
+ * where its file carries the size plane (written since .mvx version 5); an older file streams without colours. */
 MV_API MvError mvTraceRaysRgba(MvScene scene, const MvTraceRay* rays, MvTraceHit* hits, uint8_t* rgba, size_t count,
                                const MvTraceArguments* args);
 
 /* The scene's stored colours (voxels and inner nodes, depth-first) into *entries: 0 when it has none, or when its
- * queries stream through a page cache (they return no colours yet). */
+ * queries stream an older file without a size plane through a page cache (they return no colours then). */
 MV_API MvError mvGetSceneColourEntries(MvScene scene, uint64_t* entries);
 
 /* ---- pictures ---- */

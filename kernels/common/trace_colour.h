@@ -66,6 +66,18 @@ MV_INLINE mv_u32 mv_brick_size(mv_u32 lo, mv_u32 hi) {
   return 1u + MV_POPCOUNT(mv_brick_occupancy(lo, hi)) + MV_POPCOUNT(lo) + MV_POPCOUNT(hi);
 }
 
+/* What a colour walk to level lc sees at level l: the octant of cell (x, y, z) below it, and its full slots (a
+ * node's; in an ssvdag brick, the brick's at level 2 and sub-block `node`'s at level 1). */
+MV_INLINE mv_u32 mv_colour_octant(mv_u32 x, mv_u32 y, mv_u32 z, mv_u32 l, mv_u32 lc) {
+  mv_u32 sh = l - 1u - lc;
+  return ((x >> sh) & 1u) | (((y >> sh) & 1u) << 1) | (((z >> sh) & 1u) << 2);
+}
+
+MV_INLINE mv_u32 mv_colour_occupancy(mv_u32 enc, mv_u32 l, mv_u32 hdr, mv_u32 lo, mv_u32 hi, mv_u32 node) {
+  if (!(mv_enc_compact(enc) && l <= 2u)) return mv_node_occupancy(enc, hdr);
+  return l == 2u ? mv_brick_occupancy(lo, hi) : mv_sub_block_occupancy(lo, hi, node);
+}
+
 /* One stored child of a node: where it is (a word; an ssvdag inner node: a 16-bit word of its level's start +
  * offset; a brick: its number), its mirror tag, and its subtree size. */
 MV_STRUCT_BEGIN(MvColourChild)
@@ -109,12 +121,9 @@ MV_INLINE mv_u32 mv_hit_attribute(MvBufU32 words, MvBufU32 bricks, MvBufU32 meta
   mv_u32 lo = 0u, hi = 0u; /* ssvdag: the brick, once the walk is in one */
   mv_u32 mir = 0u;
   for (mv_u32 l = L; l > lc; --l) {
-    mv_u32 sh = l - 1u - lc;
-    mv_u32 a = ((x >> sh) & 1u) | (((y >> sh) & 1u) << 1) | (((z >> sh) & 1u) << 2); /* the octant as seen */
+    mv_u32 a = mv_colour_octant(x, y, z, l, lc); /* the octant as seen */
     bool in_brick = mv_enc_compact(enc) && l <= 2u;
-    mv_u32 occ = !in_brick ? mv_node_occupancy(enc, hdr)
-                 : l == 2u ? mv_brick_occupancy(lo, hi)
-                           : mv_sub_block_occupancy(lo, hi, node);
+    mv_u32 occ = mv_colour_occupancy(enc, l, hdr, lo, hi, node);
     mv_u32 skip = 1u;
     mv_u32 next = 0u, next_tag = 0u;
     for (mv_u32 b = 0u; b < 8u; ++b) {

@@ -1,6 +1,6 @@
 // OpenCL entry points of ray traversal (bodies: common/trace.h, common/secondary.h).
 #include "common/secondary.h"
-#include "common/trace_colour.h"
+#include "common/trace_colour_paged.h"
 
 // One kernel per encoding family, the encoding a constant: svo / svdag / ussvdag (32-bit words) and ssvdag
 // (level starts read from memory, or taken from the parameters: mv_level_base).
@@ -95,4 +95,16 @@ __kernel void hit_colours(__global uint* hits, __global uint* words, __global ui
 __kernel void hit_colours_ssvdag(__global uint* hits, __global uint* words, __global uint* bricks, __global uint* meta,
                                  __global uint* colours, __global uint* out, MvTraceParams p) {
   mv_hit_colours(hits, words, bricks, meta, colours, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_SSVDAG);
+}
+
+// Each hit's depth-first colour entry through the page cache (common/trace_colour_paged.h): the slots, the page
+// table and the size plane; a word stream, and an ssvdag.
+__kernel void hit_entries_paged(__global uint* hits, __global uint* slots, __global uint* table, __global uint* plane,
+                                __global uint* out, MvTraceParams p) {
+  mv_paged_hit_entries(hits, slots, table, plane, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED);
+}
+
+__kernel void hit_entries_paged_ssvdag(__global uint* hits, __global uint* slots, __global uint* table,
+                                       __global uint* plane, __global uint* out, MvTraceParams p) {
+  mv_paged_hit_entries(hits, slots, table, plane, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_ENC_PAGED_SSVDAG);
 }

@@ -4,7 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/secondary.h"
-#include "common/trace_colour.h"
+#include "common/trace_colour_paged.h"
 
 #if defined(MV_ENTRY_trace_rays)
 /* MV_TRACE_ENC: the encoding family, MV_TRACE_PARAMS: level starts from the parameters; constants (see trace.cl) */
@@ -43,5 +43,13 @@ layout(push_constant) uniform Args {
 } a;
 void main() {
   mv_hit_colours(a.hits, a.words, a.bricks, a.meta, a.colours, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC);
+}
+#elif defined(MV_ENTRY_hit_entries_paged)
+/* MV_TRACE_ENC: MV_ENC_PAGED or MV_ENC_PAGED_SSVDAG (see trace.cl) */
+layout(push_constant) uniform Args {
+  MvBufU32 hits; MvBufU32 slots; MvBufU32 table; MvBufU32 plane; MvBufU32 out_; MvTraceParams p;
+} a;
+void main() {
+  mv_paged_hit_entries(a.hits, a.slots, a.table, a.plane, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE(), MV_TRACE_ENC);
 }
 #endif

@@ -32,6 +32,10 @@ PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), co
                 " words over " + std::to_string(c.pages) + " pages pass the " + std::to_string(kMaxDeviceItems) +
                 " words one device call indexes");
   data_ = dev.alloc((words + kDataSpareWords) * 4, "page cache slots");
+  const uint64_t plane_words = std::max<uint64_t>(uint64_t{c.slots} * c.plane_words, 1);
+  if (plane_words > kMaxDeviceItems) throw Error("page cache: the plane passes the words one device call indexes");
+  plane_ = dev.alloc(plane_words * 4, "page cache plane");
+  dev.fill(plane_, 0, plane_words * 4);
   usage_ = dev.alloc(uint64_t{c.slots} * 4, "page cache usage stamps");
   owner_ = dev.alloc(uint64_t{c.slots} * 4, "page cache slot owners");
   lru_ = dev.alloc(uint64_t{c.slots} * 4, "page cache LRU list");
@@ -64,7 +68,7 @@ PageCache::PageCache(Device& dev, const PageCacheConfig& config) : dev_(dev), co
 uint64_t PageCache::update_scratch_bytes() const {
   const uint64_t page = dev_.page_bytes(), n = config_.max_loads ? std::min(config_.max_loads, config_.slots) : config_.slots;
   auto pages = [&](uint64_t bytes) { return (bytes + page - 1) / page * page; };
-  return pages(n * config_.page_words * 4) + pages(n * 4);
+  return pages(n * config_.page_words * 4) + pages(n * config_.plane_words * 4) + pages(n * 4);
 }
 
 // The missing pages asked for in this pass, in page order, each once.
@@ -185,15 +189,23 @@ CacheUpdateStats PageCache::update(const PageProducer& produce) {
   // one batch from the producer: the pages read in parallel off the calling thread (TBB workers), then one
   // asynchronous upload of the batch and its flags, placed into the victims' slots
   const auto tp = Clock::now();
-  const uint64_t batch_words = uint64_t{n} * c.page_words;
-  std::vector<uint32_t> staging(batch_words, 0), ok(n, 0);
+  // (a page's plane words follow its own in the producer's span, and are staged after the whole batch's pages)
+  const uint64_t batch_words = uint64_t{n} * c.page_words, plane_batch = uint64_t{n} * c.plane_words;
+  std::vector<uint32_t> staging(batch_words + plane_batch, 0), ok(n, 0);
   std::vector<std::string> errors(n);
   tbb::parallel_for(uint32_t{0}, n, [&](uint32_t i) {
-    std::span<uint32_t> words(staging.data() + uint64_t{i} * c.page_words, c.page_words);
+    std::vector<uint32_t> own(c.plane_words ? c.page_words + c.plane_words : 0);
+    std::span<uint32_t> words = c.plane_words ? std::span<uint32_t>(own)
+                                              : std::span<uint32_t>(staging.data() + uint64_t{i} * c.page_words, c.page_words);
     try {
       ok[i] = produce(pages[i], words) ? 1u : 0u;
     } catch (const std::exception& e) {
       errors[i] = "page " + std::to_string(pages[i]) + ": " + e.what();
+    }
+    if (c.plane_words) {
+      std::copy_n(own.begin(), c.page_words, staging.begin() + static_cast<std::ptrdiff_t>(uint64_t{i} * c.page_words));
+      std::copy_n(own.begin() + c.page_words, c.plane_words,
+                  staging.begin() + static_cast<std::ptrdiff_t>(batch_words + uint64_t{i} * c.plane_words));
     }
   });
   for (uint32_t i = 0; i < n; ++i) {
@@ -203,13 +215,22 @@ CacheUpdateStats PageCache::update(const PageProducer& produce) {
   st.failed = n - st.loaded;
   Buffer staged = dev_.alloc(batch_words * 4, "page cache upload batch");
   Buffer ok_buf = dev_.alloc(uint64_t{n} * 4, "page cache produced flags");
+  Buffer plane_staged = plane_batch ? dev_.alloc(plane_batch * 4, "page cache plane batch") : Buffer();
   dev_.upload_async(staged, staging.data(), batch_words * 4);
+  if (plane_batch) dev_.upload_async(plane_staged, staging.data() + batch_words, plane_batch * 4);
   dev_.upload_async(ok_buf, ok.data(), uint64_t{n} * 4);
   dev_.barrier();
-  st.bytes_uploaded = batch_words * 4;
+  st.bytes_uploaded = (batch_words + plane_batch) * 4;
   p.n = static_cast<uint32_t>(batch_words);  // at most slots * page_words, checked at construction
   dev_.dispatch(dev_.kernel(KernelId::cache_place), dev_.groups_for(batch_words, kLocal), kLocal,
                 {&lru_, &ok_buf, &staged, &data_}, p);
+  if (plane_batch) {  // the plane: the same placement with its own stride, from the batch's second part
+    MvCacheParams q = p;
+    q.n = static_cast<uint32_t>(plane_batch);
+    q.page_words = c.plane_words;
+    dev_.dispatch(dev_.kernel(KernelId::cache_place), dev_.groups_for(plane_batch, kLocal), kLocal,
+                  {&lru_, &ok_buf, &plane_staged, &plane_}, q);
+  }
   dev_.finish();  // placing the batch is uploading, timed apart from management
   st.produce_seconds = seconds_since(tp);
 

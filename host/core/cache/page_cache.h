@@ -26,9 +26,12 @@ struct PageCacheConfig {
   // Words stored after the page table (at table()[pages] on) for the reader's own constants (a paged ssvdag's
   // level starts, read by the traversal with the table); the cache never touches them.
   std::vector<uint32_t> table_tail;
+  // Words a page carries in a second plane beside its own (0: none), held in plane() slot for slot: a paged
+  // DAG's subtree sizes (paging/paged_sizes.h), read by the walk that finds a hit's colour.
+  uint32_t plane_words = 0;
 };
 
-// Fills `words` (page_words of them) with page `page`. Returns false, or throws, when it cannot: the page
+// Fills `words` (page_words of them, then plane_words of the page's plane) with page `page`. Returns false, or throws, when it cannot: the page
 // stays missing and the update goes on. Called for several pages at once from worker threads (a batch is
 // read in parallel), so it must be thread-safe.
 using PageProducer = std::function<bool(uint32_t page, std::span<uint32_t> words)>;
@@ -76,6 +79,8 @@ class PageCache {
   // word, even one whose damaged header claims eight children, and its 64-bit reads stay inside the buffer)
   const Buffer& data() const { return data_; }
   static constexpr uint32_t kDataSpareWords = 16;
+  // slots * plane_words words, slot s's plane at word s * plane_words (a one-word buffer without a plane)
+  const Buffer& plane() const { return plane_; }
   // After update(): its `requested` missing pages in page order, each once (those given slots first).
   const Buffer& request_list() const { return list_; }
 
@@ -90,7 +95,7 @@ class PageCache {
   Device& dev_;
   PageCacheConfig config_;
   uint32_t stamp_ = 0;
-  Buffer data_, usage_, requests_, table_, owner_, lru_, lru_next_, lru_pos_, request_pos_, list_, evicted_,
+  Buffer data_, plane_, usage_, requests_, table_, owner_, lru_, lru_next_, lru_pos_, request_pos_, list_, evicted_,
       counts_, run_pos_, run_bounds_;
   ScanPlan lru_scan_, request_scan_, run_scan_;
 };

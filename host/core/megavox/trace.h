@@ -37,7 +37,13 @@ struct PagedDag {
   // Where its levels start in the paged stream (levels + 1 entries): an ssvdag's (host/formats/paging/paged_ssvdag.h),
   // a word stream's whose pointers count from them (paged_stream.h, level order); empty: absolute pointers.
   std::vector<uint64_t> level_starts;
-  bool has_colours = false;  // the file has voxel colours; paged traversal does not show them (yet: docs/colour.md)
+  bool has_colours = false;  // the file has voxel colours
+  // With colours (a version 5 file): the size plane's words a page (0: none), a reader of page `page` of it, and
+  // entry e's colour (R | G << 8 | B << 16; throws past the entries), so that hits through the cache find theirs.
+  uint32_t plane_words = 0;
+  uint64_t colour_entries = 0;  // with colours: every octree node's
+  std::function<void(uint32_t page, std::span<uint32_t> words)> read_sizes;
+  std::function<uint32_t(uint64_t entry)> colour;
   uint64_t voxels = 0;       // of the model
   uint64_t words = 0;        // of the paged stream (pages * page_words, less the last page's padding)
   std::function<void(uint32_t page, std::span<uint32_t> words)> read;
@@ -70,8 +76,13 @@ class Tracer {
   // with A = 255; 0 for a miss. Without colours in the file it is left empty.
   std::vector<RayHit> trace(const std::vector<Ray>& rays, const TraceOptions& options = {},
                             std::vector<uint32_t>* colours = nullptr);
-  // Whether hits carry colours: a resident tracer of a file with voxel colours.
+  // Whether hits carry colours: a resident tracer of a file with voxel colours, or a paged one of a file with its
+  // size plane too (a hit whose path left the cache, as after max_passes, gets 0).
   bool has_colours() const;
+  // The colours of hit records [0, count) of `hits` into out (as trace's), through `scratch` (count words on the
+  // device): resident, the colour kernel's; paged, each hit's entry found through the pages the last pass left
+  // resident (a coarse hit's cell too: the mean below it), its colour read from the file.
+  void hit_colours(const Buffer& hits, uint32_t count, Buffer& scratch, uint32_t* out);
 
   TraceEngine& engine() { return *engine_; }
   const GridTransform& grid() const { return grid_; }
@@ -97,6 +108,8 @@ class Tracer {
     std::vector<uint8_t> ok;
     double seconds = 0;
   };
+  // Page `page` into `words`: its nodes, then (with a plane) its size plane.
+  void read_page(uint32_t page, std::span<uint32_t> words) const;
   GridTransform grid_;
   PagedDag paged_;
   std::unique_ptr<PageCache> cache_;

@@ -37,7 +37,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   };
 
   const bool shaded = options.shading == Shading::shaded;
-  const bool coloured = frame_uses_colours(options) && engine.has_colours();
+  const bool coloured = frame_uses_colours(options) && tracer.has_colours();
   const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
   Buffer cam = dev.alloc(sizeof(s.camera), "camera");
   Buffer rays, counts, table;
@@ -101,8 +101,8 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
          [&] { engine.trace(nullptr, &cam, 0, t.count, s.width, s.proj, options.max_steps, false, hits); });
     dev.download(hits, res.hits.data() + uint64_t{t.first} * MV_HIT_WORDS, uint64_t{t.count} * MV_HIT_WORDS * 4);
     if (coloured) {
-      pass("colour", t.count, [&] { engine.hit_colours(hits, 0, t.count, colours); });
-      dev.download(colours, res.colours.data() + t.first, uint64_t{t.count} * 4);
+      // (paged: before the pass's update, while the pages the primary rays read are resident)
+      pass("colour", t.count, [&] { tracer.hit_colours(hits, t.count, colours, res.colours.data() + t.first); });
     }
     for (uint32_t i = t.first; i < t.first + t.count; ++i) {
       const uint32_t info = mv_load_hit(res.hits.data(), i).info;

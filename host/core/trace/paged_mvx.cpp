@@ -18,12 +18,21 @@ PagedDag open_paged_mvx(const std::string& path) {
   d.pages = file->pages();
   d.level_starts = file->level_starts();
   d.has_colours = file->has_colours();
+  d.colour_entries = file->colour_entries();
   d.voxels = file->voxels();
   d.words = file->words();
   d.read = [file](uint32_t page, std::span<uint32_t> words) {
     std::string error;
     if (!file->read_page(page, words, &error)) throw Error(error);
   };
+  if (file->has_colours() && file->plane_words() != 0) {
+    d.plane_words = file->plane_words();
+    d.read_sizes = [file](uint32_t page, std::span<uint32_t> words) {
+      std::string error;
+      if (!file->read_sizes(page, words, &error)) throw Error(error);
+    };
+    d.colour = [file](uint64_t e) { return file->colour(e); };
+  }
   return d;
 }
 

@@ -15,7 +15,7 @@
 #include "megavox/trace.h"
 #include "timing.h"
 #include "trace/trace_layout.h"
-#include "common/trace_colour.h"
+#include "common/trace_colour_paged.h"
 
 namespace mv {
 
@@ -193,6 +193,20 @@ void TraceEngine::hit_colours(const Buffer& hits, uint32_t first_hit, uint32_t c
   dev_.barrier();
 }
 
+void TraceEngine::hit_entries(const Buffer& hits, uint32_t first_hit, uint32_t count, Buffer& out) {
+  if (!cache_ || cache_->config().plane_words == 0) throw Error("trace: colour entries need a paged DAG with its size plane");
+  const bool ssvdag = encoding_ == static_cast<uint32_t>(Encoding::ssvdag);
+  Kernel& k = dev_.kernel(ssvdag ? KernelId::hit_entries_paged_ssvdag : KernelId::hit_entries_paged);
+  for_each_dispatch(first_hit, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t) {
+    MvTraceParams p = params_;
+    p.first = first;
+    p.count = n;
+    p.mode = MV_TRACE_MODE(levels_, 0u, 0u, page_shift_);
+    dev_.dispatch(k, groups, local, {&hits, &cache_->data(), &cache_->table(), &cache_->plane(), &out}, p);
+  });
+  dev_.barrier();
+}
+
 // ---- the public ray-query interface ----
 
 Tracer::Tracer(Device& dev, const MvxFile& file, bool colours)
@@ -200,7 +214,27 @@ Tracer::Tracer(Device& dev, const MvxFile& file, bool colours)
   if (colours && !file.colours.empty()) engine_->attach_colours(file.dag, file.colours, file.colour_palette.get());
 }
 
-bool Tracer::has_colours() const { return engine_->has_colours(); }
+bool Tracer::has_colours() const {
+  return cache_ ? cache_->config().plane_words != 0 : engine_->has_colours();
+}
+
+void Tracer::hit_colours(const Buffer& hits, uint32_t count, Buffer& scratch, uint32_t* out) {
+  if (count == 0) return;
+  if (!cache_) {
+    engine_->hit_colours(hits, 0, count, scratch);
+    engine_->device().download(scratch, out, uint64_t{count} * 4);
+    return;
+  }
+  engine_->hit_entries(hits, 0, count, scratch);
+  engine_->device().download(scratch, out, uint64_t{count} * 4);
+  for (uint32_t i = 0; i < count; ++i) out[i] = out[i] == MV_NO_ENTRY ? 0u : paged_.colour(out[i]) | MV_COLOUR_ALPHA;
+}
+
+void Tracer::read_page(uint32_t page, std::span<uint32_t> words) const {
+  const uint32_t pw = paged_.page_words;
+  paged_.read(page, words.first(pw));
+  if (words.size() > pw) paged_.read_sizes(page, words.subspan(pw));
+}
 
 Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
     : grid_(dag.grid), paged_(std::move(dag)) {
@@ -227,13 +261,15 @@ Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
     c.table_tail.push_back(static_cast<uint32_t>(s));
     c.table_tail.push_back(static_cast<uint32_t>(s >> 32));
   }
+  // the size plane, when the DAG's colours can be found through the cache (paging/paged_sizes.h)
+  if (paged_.plane_words != 0 && paged_.read_sizes && paged_.colour) c.plane_words = paged_.plane_words;
   cache_ = std::make_unique<PageCache>(dev, c);
   engine_ = std::make_unique<TraceEngine>(dev, paged_.encoding, paged_.levels, *cache_);
   if (preload && c.slots == c.pages) {
     // the whole DAG fits: load it now, in page order, so the table maps it as one run; nothing can be evicted
     // from here on, so the traversal stops stamping usage (a failed page is requested again like any other)
     preloaded_ = cache_->preload([&](uint32_t page, std::span<uint32_t> words) {
-      paged_.read(page, words);
+      read_page(page, words);
       return true;
     });
     engine_->set_usage_stamps(false);
@@ -253,14 +289,14 @@ void Tracer::read_ahead() {
   if (pages.empty()) return;
   ahead_ = std::async(std::launch::async, [this, pages = std::move(pages)]() mutable {
     const auto t0 = std::chrono::steady_clock::now();
-    const uint32_t words = paged_.page_words;
+    const uint32_t words = paged_.page_words + cache_->config().plane_words;
     PagesRead r;
     r.pages = std::move(pages);
     r.words.resize(uint64_t{words} * r.pages.size());
     r.ok.assign(r.pages.size(), 0);
     for (size_t i = 0; i < r.pages.size(); ++i) {
       try {
-        paged_.read(r.pages[i], std::span<uint32_t>(r.words.data() + i * words, words));
+        read_page(r.pages[i], std::span<uint32_t>(r.words.data() + i * words, words));
         r.ok[i] = 1;
       } catch (const std::exception&) {
         // left to the update, which reads the page again and reports why it fails
@@ -282,7 +318,7 @@ CacheUpdateStats Tracer::end_pass() {
       std::copy_n(ahead.words.begin() + static_cast<std::ptrdiff_t>(i * words.size()), words.size(), words.begin());
       from_ahead.fetch_add(1, std::memory_order_relaxed);
     } else {
-      paged_.read(page, words);
+      read_page(page, words);
     }
     return true;
   });
@@ -330,9 +366,8 @@ std::vector<RayHit> Tracer::trace(const std::vector<Ray>& rays, const TraceOptio
   dev.download(hit_buf, words.data(), words.size() * 4);
   if (colours && has_colours()) {
     Buffer colour_buf = dev.alloc(uint64_t{n} * 4, "hit colours");
-    engine_->hit_colours(hit_buf, 0, n, colour_buf);
     colours->resize(n);
-    dev.download(colour_buf, colours->data(), uint64_t{n} * 4);
+    hit_colours(hit_buf, n, colour_buf, colours->data());
   }
   for (uint32_t i = 0; i < n; ++i) {
     const MvHit w = mv_load_hit(words.data(), i);

@@ -49,6 +49,9 @@ class TraceEngine {
   // For hit records [first, first + count) of `hits`: each hit's colour, R | G << 8 | B << 16 | 255 << 24, a miss
   // 0, into `out` at the same positions (kernel hit_colours: kernels/common/trace_colour.h).
   void hit_colours(const Buffer& hits, uint32_t first, uint32_t count, Buffer& out);
+  // Paged, with the cache's size plane: each hit's depth-first colour entry (MV_NO_ENTRY for a miss, or where a
+  // page on its path is not resident), into `out` (kernel hit_entries_paged: kernels/common/trace_colour_paged.h).
+  void hit_entries(const Buffer& hits, uint32_t first, uint32_t count, Buffer& out);
 
   // Writes one secondary ray per primary ray of [first, first + count) (p.first / p.count are set here).
   void secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table, uint32_t first,

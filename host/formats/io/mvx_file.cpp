@@ -14,6 +14,7 @@
 
 #include "atomic_file.h"
 #include "paging/page_layout.h"
+#include "paging/paged_sizes.h"
 #include "paging/paged_ssvdag.h"
 #include "paging/paged_stream.h"
 #include "file_ops.h"
@@ -52,7 +53,21 @@ struct PagedNodes {
   std::vector<uint64_t> index;   // PageIndexHead's 3 words, then the page hashes
   std::vector<uint64_t> starts;  // ssvdag: PagedSsvdag::starts; a word stream in level order: its levels' starts
   std::vector<uint64_t> level_offset;  // of the level-order stream the way back gives
+  std::vector<uint32_t> sizes;         // with colours: the size plane (paged_sizes.h)
+  std::vector<uint64_t> size_index;    // its SizeIndexHead's 2 words, then the page hashes
 };
+
+// The size plane of `p` and its index, for a file with colours.
+void add_size_plane(PagedNodes& p, const EncodedDag& dag, uint32_t page_words) {
+  p.sizes = paged_size_plane(dag.encoding, dag.levels, p.words, p.starts);
+  const uint32_t k = size_plane_words(dag.encoding), plane_words = k * page_words;
+  const SizeIndexHead head{plane_words, 0, (p.words.size() + page_words - 1) / page_words};
+  p.size_index.resize(2 + head.pages);
+  std::memcpy(p.size_index.data(), &head, sizeof head);
+  for (uint64_t page = 0; page < head.pages; ++page)
+    p.size_index[2 + page] = page_hash(p.sizes.data() + page * plane_words,
+                                       std::min<uint64_t>(plane_words, p.sizes.size() - page * plane_words), plane_words);
+}
 
 // An ssvdag is always in level order (its offsets count from level starts; see paged_ssvdag.h).
 PagedNodes paged_nodes(const EncodedDag& dag, const MvxPaging& paging) {
@@ -131,13 +146,20 @@ MvxColourStats write_mvx(const std::string& path, const MvxFile& in, const MvxPa
   std::vector<uint64_t> counts = in.svo_nodes;
   counts.insert(counts.end(), in.dag_nodes.begin(), in.dag_nodes.end());
   PagedNodes paged;
-  if (paging.page_words != 0) paged = paged_nodes(in.dag, paging);
+  if (paging.page_words != 0) {
+    paged = paged_nodes(in.dag, paging);
+    if (!in.colours.empty()) add_size_plane(paged, in.dag, paging.page_words);
+  }
   const std::vector<uint64_t>& levels = paging.page_words != 0 ? paged.level_offset : in.dag.level_offset;
   std::vector<Blob> blobs = {{kCounts, counts.data(), counts.size() * 8}, {kLevels, levels.data(), levels.size() * 8}};
   if (paging.page_words != 0) {
     blobs.push_back({kNodes, paged.words.data(), paged.words.size() * 4, false});
     blobs.push_back({kPageIndex, paged.index.data(), paged.index.size() * 8});
     if (!paged.starts.empty()) blobs.push_back({kPagedStarts, paged.starts.data(), paged.starts.size() * 8});
+    if (!paged.sizes.empty()) {
+      blobs.push_back({kSizeIndex, paged.size_index.data(), paged.size_index.size() * 8});
+      blobs.push_back({kSizes, paged.sizes.data(), paged.sizes.size() * 4, false});
+    }
   } else if (in.dag.encoding == Encoding::ssvdag) {
     blobs.push_back({kInner, in.dag.inner.data(), in.dag.inner.size() * 2});
     blobs.push_back({kBricks, in.dag.bricks.data(), in.dag.bricks.size() * 8});
@@ -249,13 +271,18 @@ void check_voxel_file(const Opened& o, const std::string& path) {
   // + paged level starts (a paged ssvdag)
   // paged level starts: a paged ssvdag's always, a paged word stream's in level order (version 5 on)
   const bool starts = o.find[kPagedStarts] != nullptr;
-  const uint32_t sections = (paged ? 4 : (compact ? 4 : 3)) + (starts ? 1 : 0) + (o.find[kColours] ? 1 : 0);
+  // the size plane: a paged file's with colours (version 5 on), its index and its words
+  const bool sizes = o.find[kSizeIndex] != nullptr;
+  const uint32_t sections =
+      (paged ? 4 : (compact ? 4 : 3)) + (starts ? 1 : 0) + (o.find[kColours] ? 1 : 0) + (sizes ? 2 : 0);
   if (o.find[kColours] && h.version < 4)
     throw Error(path + ": bad section table (voxel colours in a version " + std::to_string(h.version) + " file)");
   if (!(h.voxel_size > 0) || h.sections != sections) throw Error(path + ": bad grid or section count");
   const bool kinds_ok = o.find[kCounts] && o.find[kLevels] &&
                         (compact && !paged ? o.find[kInner] && o.find[kBricks] : o.find[kNodes] != nullptr) &&
-                        (compact && paged ? starts : !starts || (paged && h.version >= 5));
+                        (compact && paged ? starts : !starts || (paged && h.version >= 5)) &&
+                        sizes == (o.find[kSizes] != nullptr) &&
+                        sizes == (paged && o.find[kColours] && h.version >= 5);
   if (!kinds_ok) throw Error(path + ": bad section table");
 }
 
@@ -324,6 +351,26 @@ PageIndex read_page_index(const Opened& o, const std::string& path) {
   return pi;
 }
 
+SizeIndex read_size_index(const Opened& o, const PageIndex& pi, const std::string& path) {
+  SizeIndex si;
+  if (!o.find[kSizeIndex]) return si;
+  auto fail = [&](const std::string& why) { return Error(path + ": bad size index: " + why); };
+  const std::vector<uint64_t> raw = section_data<uint64_t>(o.file.get(), *o.find[kSizeIndex], path, "size index");
+  if (raw.size() < 2) throw fail("truncated");
+  std::memcpy(&si.head, raw.data(), sizeof si.head);
+  const uint32_t k = size_plane_words(static_cast<Encoding>(o.header.encoding));
+  if (si.head.plane_words != uint64_t{k} * pi.head.page_words || si.head.reserved != 0)
+    throw fail(std::to_string(si.head.plane_words) + " plane words a page for pages of " +
+               std::to_string(pi.head.page_words) + " words");
+  if (si.head.pages != pi.head.pages || raw.size() != 2 + si.head.pages)
+    throw fail(std::to_string(raw.size() - 2) + " hashes for " + std::to_string(pi.head.pages) + " pages");
+  if (o.find[kSizes]->bytes != pi.head.words * k * 4)
+    throw fail("the plane holds " + std::to_string(o.find[kSizes]->bytes) + " bytes for " +
+               std::to_string(pi.head.words) + " stream words");
+  si.hashes.assign(raw.begin() + 2, raw.end());
+  return si;
+}
+
 }  // namespace mvx_format
 
 MvxContent mvx_content(const std::string& path) {
@@ -359,6 +406,21 @@ void read_paged_nodes(const Opened& o, const std::string& path, MvxFile& out) {
   }
   if (level_order.level_offset != out.dag.level_offset)
     throw Error(path + ": the paged nodes' levels disagree with the levels section");
+  // the size plane (a file with colours): page by page, then against what the stream it sizes says
+  const SizeIndex si = read_size_index(o, pi, path);
+  if (o.find[kSizes]) {
+    const uint32_t qw = si.head.plane_words;
+    const std::vector<uint32_t> plane = section_data<uint32_t>(o.file.get(), *o.find[kSizes], path, "size plane", false);
+    for (uint64_t p = 0; p < si.head.pages; ++p)
+      if (page_hash(plane.data() + p * qw, std::min<uint64_t>(qw, plane.size() - p * qw), qw) != si.hashes[p])
+        throw Error(path + ": checksum mismatch in page " + std::to_string(p) + " of the size plane");
+    try {
+      if (paged_size_plane(paged.encoding, paged.levels, paged.words, compact ? starts : paged.level_offset) != plane)
+        throw Error("the size plane disagrees with the nodes");
+    } catch (const Error& e) {
+      throw Error(path + ": " + e.what());
+    }
+  }
   out.dag.words = std::move(level_order.words);
   out.dag.inner = std::move(level_order.inner);
   out.dag.bricks = std::move(level_order.bricks);

@@ -26,9 +26,18 @@ enum SectionKind : uint32_t {
   kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5,
   kSecPointMeta = 6, kSecPointNodes = 7, kSecPointXyz = 8, kSecPointRgb = 9, kSecPointNormal = 10,
   kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13, kPageIndex = 14, kPagedStarts = 15,
-  kColours = 16,
+  kColours = 16, kSizeIndex = 17, kSizes = 18,
 };
-constexpr uint32_t kKinds = 17;
+constexpr uint32_t kKinds = 19;
+
+// The size plane of a paged file with colours (version 5 on; paging/paged_sizes.h): the size index (kind 17: this
+// head, then one XXH3-64 per page over its plane_words words, the last page zero-padded) and the plane itself
+// (kind 18, checked page by page), page for page beside the nodes.
+struct SizeIndexHead {
+  uint32_t plane_words, reserved;  // plane words per page: page_words times size_plane_words(encoding)
+  uint64_t pages;
+};
+static_assert(sizeof(SizeIndexHead) == 16);
 
 // The voxel colours section (version 4 on): this head, then `entries` colours of `bits` bits in depth-first
 // order; `bits`: the quantization (at most 2^bits distinct colours; 24 lossless), entries stay RGB24 either way.
@@ -111,6 +120,14 @@ std::vector<uint64_t> read_paged_starts(const Opened& o, const std::string& path
 // word stream in level order: from version 5 on, its pointers counting from them), or none (absolute word
 // pointers). mv::Error where the file holds starts it should not or lacks them.
 std::vector<uint64_t> paged_level_starts(const Opened& o, const PageIndex& pi, const std::string& path);
+
+// The size index of a paged file with colours (version 5 on), checked against its page index: the page count, the
+// plane's words per page, the plane section's size. An empty index when the file has none (older versions).
+struct SizeIndex {
+  SizeIndexHead head{};
+  std::vector<uint64_t> hashes;
+};
+SizeIndex read_size_index(const Opened& o, const PageIndex& pi, const std::string& path);
 
 // The page index of an opened file with both its nodes and page index sections, checked: its checksum,
 // page_words, the counts against the nodes section's size. mv::Error naming the fault.

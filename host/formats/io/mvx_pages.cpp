@@ -2,6 +2,7 @@
 
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cerrno>
 #include <cstring>
@@ -55,8 +56,26 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
     }
     voxels_ = h.voxels;
     has_colours_ = o.find[kColours] != nullptr;
+    const SizeIndex si = read_size_index(o, pi, path);
+    plane_words_ = si.head.plane_words;
+    size_hashes_ = si.hashes;
+    if (o.find[kSizes]) sizes_offset_ = o.find[kSizes]->offset;
+    if (has_colours_) {
+      ColourHead head{};
+      const Section& s = *o.find[kColours];
+      if (s.bytes < sizeof head || std::fseek(o.file.get(), static_cast<long>(s.offset), SEEK_SET) != 0 ||
+          std::fread(&head, sizeof head, 1, o.file.get()) != 1)
+        throw Error(path + ": the colours section is shorter than its head");
+      if ((head.format != kColourRaw24 && head.format != kColourPalette24) ||
+          (head.format == kColourRaw24 && s.bytes - sizeof head != head.entries * 3))
+        throw Error(path + ": colours of unknown format " + std::to_string(head.format) + " or size");
+      colour_entries_ = head.entries;
+      colours_offset_ = s.offset;
+      colour_bytes_ = s.bytes;
+    }
     nodes_offset_ = o.find[kNodes]->offset;
-    file_bytes = nodes_offset_ + o.find[kNodes]->bytes;
+    for (const Section* sec : {o.find[kNodes], o.find[kSizes], o.find[kColours]})
+      if (sec) file_bytes = std::max(file_bytes, sec->offset + sec->bytes);
   }
   // The traversal numbers pages with 32 bits; absolute word pointers are 32-bit stream words (relative ones
   // count from their level's 64-bit start).
@@ -73,6 +92,41 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
   if (map_.size() < file_bytes) throw Error(path + ": truncated: it changed since its header was read");
 }
 
+bool MvxPages::read_sizes(uint32_t page, std::span<uint32_t> out, std::string* error) const {
+  if (plane_words_ == 0) {
+    if (error) *error = path_ + ": no size plane (written before .mvx version 5)";
+    return false;
+  }
+  return read_mapped(page, out, error, sizes_offset_, words_ * (plane_words_ / page_words_), plane_words_,
+                     size_hashes_, "size plane page ");
+}
+
+uint32_t MvxPages::colour(uint64_t e) const {
+  if (e >= colour_entries_) throw Error(path_ + ": colour entry " + std::to_string(e) + " of " + std::to_string(colour_entries_));
+  auto copy = [&](void* to, uint64_t at, uint64_t bytes) {  // (the file may shrink while mapped)
+    if (!io::copy_mapped(to, map_.data() + colours_offset_ + at, bytes))
+      throw Error(path_ + ": the file is shorter than when it was opened (truncated while in use)");
+  };
+  ColourHead head{};
+  copy(&head, 0, sizeof head);
+  if (head.format == kColourRaw24) {
+    uint8_t c[3];
+    copy(c, sizeof head + 3 * e, 3);
+    return c[0] | uint32_t{c[1]} << 8 | uint32_t{c[2]} << 16;
+  }
+  std::call_once(palette_once_, [&] {
+    std::vector<uint8_t> body(colour_bytes_ - sizeof head);
+    copy(body.data(), sizeof head, body.size());
+    try {
+      palette_ = std::make_shared<const ColourPalette>(palette_parse(body, head.entries, head.counts[0], head.counts[1]));
+    } catch (const Error& err) {
+      throw Error(path_ + ": " + err.what());
+    }
+  });
+  const std::array<uint8_t, 3> c = palette_->colour(e);
+  return c[0] | uint32_t{c[1]} << 8 | uint32_t{c[2]} << 16;
+}
+
 bool MvxPages::is_paged(const std::string& path) {
   const Opened o = open_file(path);
   check_voxel_file(o, path);
@@ -80,20 +134,26 @@ bool MvxPages::is_paged(const std::string& path) {
 }
 
 bool MvxPages::read_page(uint32_t page, std::span<uint32_t> out, std::string* error) const {
+  return read_mapped(page, out, error, nodes_offset_, words_, page_words_, hashes_, "page ");
+}
+
+bool MvxPages::read_mapped(uint32_t page, std::span<uint32_t> out, std::string* error, uint64_t offset,
+                           uint64_t total, uint32_t per_page, const std::vector<uint64_t>& hashes,
+                           const char* what) const {
   auto fail = [&](const std::string& why) {
-    if (error) *error = path_ + ": page " + std::to_string(page) + ": " + why;
+    if (error) *error = path_ + ": " + what + std::to_string(page) + ": " + why;
     return false;
   };
   if (page >= pages()) return fail("past the end (" + std::to_string(pages()) + " pages)");
-  if (out.size() != page_words_)
-    return fail("a buffer of " + std::to_string(out.size()) + " words for pages of " + std::to_string(page_words_));
-  const uint64_t first = uint64_t{page} * page_words_;
-  const uint64_t count = std::min<uint64_t>(page_words_, words_ - first);
-  if (!io::copy_mapped(out.data(), map_.data() + nodes_offset_ + first * 4, count * 4))
+  if (out.size() != per_page)
+    return fail("a buffer of " + std::to_string(out.size()) + " words for pages of " + std::to_string(per_page));
+  const uint64_t first = uint64_t{page} * per_page;
+  const uint64_t count = std::min<uint64_t>(per_page, total - first);
+  if (!io::copy_mapped(out.data(), map_.data() + offset + first * 4, count * 4))
     return fail(errno == EFAULT ? std::string("the file is shorter than when it was opened (truncated while in use)")
                                 : std::string("read error: ") + std::strerror(errno));
   std::fill(out.begin() + count, out.end(), 0u);
-  if (hash(out.data(), out.size_bytes()) != hashes_[page]) return fail("checksum mismatch (the file is damaged)");
+  if (hash(out.data(), out.size_bytes()) != hashes[page]) return fail("checksum mismatch (the file is damaged)");
   return true;
 }
 

@@ -74,14 +74,16 @@ mv::Tracer& MvSceneTy::tracer_locked() {
     tracer_ = std::make_unique<mv::Tracer>(dev, *file_);
     return *tracer_;
   }
-  const uint64_t page_bytes = uint64_t{paged_->page_words} * 4;
+  // a cache slot: a page, and its size plane where the file's colours stream with it
+  const uint64_t page_bytes = uint64_t{paged_->page_words + (paged_->colour ? paged_->plane_words : 0)} * 4;
   const uint64_t stream = uint64_t{paged_->pages} * page_bytes;
   dev.finish();  // what released scenes held is free again once the device is idle
   const uint64_t free = budget_left(dev);
   const uint64_t ray_room = std::min(free / 4, kRayRoomBytes);
   if (!device->cache_memory && stream + ray_room <= free) {
-    // it fits: resident, with its colours from the whole file, or as one preloaded run of pages without
-    if (paged_->has_colours) tracer_ = std::make_unique<mv::Tracer>(dev, file());
+    // it fits: one preloaded run of pages (with their size plane: colours through the pages), or resident with
+    // its colours from the whole file where it has no plane (written before .mvx version 5)
+    if (paged_->has_colours && !paged_->colour) tracer_ = std::make_unique<mv::Tracer>(dev, file());
     else tracer_ = std::make_unique<mv::Tracer>(dev, mv::PagedDag(*paged_), stream);
   } else {
     // the update's upload batch can take as much again as the slots it fills: half of what is left each

@@ -64,6 +64,11 @@ void add_build_options(CLI::App& cmd, BuildArgs& a) {
                  "after another, pointers counting from their level's start (any size). An ssvdag is always in level order")
       ->check(CLI::IsMember({"subtree", "level"}))
       ->capture_default_str();
+  cmd.add_option("--page-words", a.page_words,
+                 "32-bit words a page of the file holds, what a page cache loads at once: a power of two from 16 to\n"
+                 "2^24 (default 16 KiB pages; smaller pages let a smaller cache stream the file, at more passes)")
+      ->check(CLI::Range(16u, 1u << 24))
+      ->capture_default_str();
 }
 
 BuildOptions build_options(const BuildArgs& a) {
@@ -78,6 +83,9 @@ BuildOptions build_options(const BuildArgs& a) {
   o.memory = a.memory.empty() ? 0 : parse_size(a.memory);
   o.colour_bits = a.colour_bits;
   o.paging.order = a.page_order == "level" ? NodeOrder::level : NodeOrder::subtree;
+  if (a.page_words & (a.page_words - 1))
+    throw Error("--page-words " + std::to_string(a.page_words) + ": a power of two from 16 to 2^24 is needed");
+  o.paging.page_words = a.page_words;
   o.attributes = a.attributes == "rgb" ? Attributes::rgb : a.attributes == "none" ? Attributes::none : Attributes::automatic;
   return o;
 }

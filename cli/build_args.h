@@ -13,11 +13,12 @@ struct BuildArgs {
   std::string input, resolution, format = "svdag", grid, grid_origin = "center", bounds, voxelize = "conservative";
   std::string memory, attributes = "auto", page_order = "subtree";
   uint32_t colour_bits = 24;
+  uint32_t page_words = kMvxPageWords;
   uint32_t cube = kDefaultCube;
 };
 
 // The input and every build option but the output: --resolution, --grid, --cube, --format, --grid-origin,
-// --bounds, --voxelize, --attributes, --colour-bits, --memory, --page-order (--device-memory is global).
+// --bounds, --voxelize, --attributes, --colour-bits, --memory, --page-order, --page-words (--device-memory is global).
 void add_build_options(CLI::App& cmd, BuildArgs& a);
 
 // The build those options ask for (throws mv::Error on a bad resolution, bounds or size).

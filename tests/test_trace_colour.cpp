@@ -168,7 +168,8 @@ TEST_P(TraceColourTest, StreamedScenesFindTheirColoursThroughTheCache) {
         write_mvx(path, g, {64, order});
         PagedDag d = open_paged_mvx(path);
         ASSERT_EQ(d.plane_words, 64u * (e == Encoding::ssvdag ? 2u : 1u));
-        const uint64_t all = uint64_t{d.pages} * 64 * 4;
+        const uint64_t slot = (64 + d.plane_words) * 4;  // a page and its size plane
+        const uint64_t all = d.pages * slot;
         Tracer paged(dev, std::move(d), all, false);  // loaded as the rays ask, not preloaded
         ASSERT_TRUE(paged.has_colours());
         std::vector<uint32_t> got;
@@ -183,7 +184,7 @@ TEST_P(TraceColourTest, StreamedScenesFindTheirColoursThroughTheCache) {
         ro.shading = Shading::colour;
         const Camera cam = view_camera(f.bounds, "iso");
         PagedDag h = open_paged_mvx(path);
-        const uint64_t half = std::max<uint64_t>(h.pages / 2, 24) * 64 * 4;  // (a small DAG's view needs 24)
+        const uint64_t half = std::max<uint64_t>(h.pages / 2, 24) * slot;  // (a small DAG's view needs 24)
         Tracer streamed(dev, std::move(h), half);
         const RenderResult r = render(streamed, cam, ro), w = render(resident, cam, ro);
         EXPECT_GT(w.hits, ro.width * ro.height / 10);
@@ -198,8 +199,8 @@ TEST_P(TraceColourTest, StreamedScenesFindTheirColoursThroughTheCache) {
   const MvxFile f = coloured_file(dev, cloud, Encoding::svo);
   write_mvx(path, f, {16, NodeOrder::level});
   const PagedDag d = open_paged_mvx(path);
-  ASSERT_GT(d.pages, 3u * 64);  // a cache needs 64 pages at least
-  capi::CDevice flat(GetParam()), small(GetParam(), "cache_memory=" + std::to_string(d.pages / 3 * 64));
+  ASSERT_GT(d.pages, 3u * 64);  // a cache needs 64 pages at least (16 words each, and as many plane words)
+  capi::CDevice flat(GetParam()), small(GetParam(), "cache_memory=" + std::to_string(d.pages / 3 * 128));
   ASSERT_TRUE(flat.handle && small.handle);
   MvScene a = mvOpenScene(flat.handle, path.c_str()), b = mvOpenScene(small.handle, path.c_str());
   ASSERT_TRUE(a && b) << mvGetDeviceLastErrorMessage(small.handle);

@@ -246,8 +246,15 @@ Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
   PageCacheConfig c;
   c.page_words = paged_.page_words;
   c.pages = paged_.pages;
+  // the size plane, when the DAG's colours can be found through the cache (paging/paged_sizes.h): a slot holds a
+  // page and its plane, both inside cache_bytes
+  const bool plane = paged_.plane_words != 0 && paged_.read_sizes && paged_.colour;
+  const uint64_t slot_bytes = page_bytes + (plane ? uint64_t{paged_.plane_words} * 4 : 0);
+  if (cache_bytes < slot_bytes)
+    throw Error("trace: a page cache of " + std::to_string(cache_bytes) + " bytes holds no page of " +
+                std::to_string(slot_bytes) + " bytes with its size plane");
   // more slots than pages would never be used
-  c.slots = static_cast<uint32_t>(std::min<uint64_t>(cache_bytes / page_bytes, paged_.pages));
+  c.slots = static_cast<uint32_t>(std::min<uint64_t>(cache_bytes / slot_bytes, paged_.pages));
   // where each level starts (64-bit: the walk adds offsets to a virtual address); a word stream with absolute
   // pointers has none, and its levels start at 0
   const bool ssvdag = paged_.encoding == Encoding::ssvdag;
@@ -261,8 +268,7 @@ Tracer::Tracer(Device& dev, PagedDag dag, uint64_t cache_bytes, bool preload)
     c.table_tail.push_back(static_cast<uint32_t>(s));
     c.table_tail.push_back(static_cast<uint32_t>(s >> 32));
   }
-  // the size plane, when the DAG's colours can be found through the cache (paging/paged_sizes.h)
-  if (paged_.plane_words != 0 && paged_.read_sizes && paged_.colour) c.plane_words = paged_.plane_words;
+  if (plane) c.plane_words = paged_.plane_words;
   cache_ = std::make_unique<PageCache>(dev, c);
   engine_ = std::make_unique<TraceEngine>(dev, paged_.encoding, paged_.levels, *cache_);
   if (preload && c.slots == c.pages) {

@@ -158,6 +158,9 @@ TEST_P(TraceColourTest, StreamedScenesFindTheirColoursThroughTheCache) {
     Tracer resident(dev, f);
     std::vector<uint32_t> want;
     const std::vector<RayHit> hits = resident.trace(rays, {}, &want);
+    const ref::NodeColours reference(decode_encoded(f.dag), f.dag.levels, f.colours);
+    for (size_t i = 0; i < rays.size(); ++i)  // the resident walk's colours, as the reference has them
+      ASSERT_EQ(want[i], hits[i].hit ? reference.at(hits[i].level, hits[i].cell[0], hits[i].cell[1], hits[i].cell[2]) : 0);
     for (NodeOrder order : {NodeOrder::subtree, NodeOrder::level})
       for (ColourStorage storage : {ColourStorage::raw, ColourStorage::palette}) {
         if (e == Encoding::ssvdag && order == NodeOrder::subtree) continue;  // always level order

@@ -15,7 +15,7 @@
 #include "io/image_reader.h"
 #include "io/mvm_file.h"
 #include "io/png_grey.h"
-#include "megavox/render.h"
+#include "megavox/image.h"
 
 namespace mask_seeds {
 

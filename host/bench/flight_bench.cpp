@@ -38,6 +38,8 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
   PagedDag dag = open_paged_mvx(paged_mvx);
   out.pages = dag.pages;
   out.page_words = dag.page_words;
+  // a slot: a page, and its size plane when the file's colours stream with it
+  const uint64_t slot_bytes = uint64_t{dag.page_words + (dag.colour ? dag.plane_words : 0)} * 4;
   Tracer paged(dev, std::move(dag), cache_bytes);
   out.slots = paged.cache()->config().slots;
   // The address layer's cost is measured through a second cache, as large as one allocation allows (all of the
@@ -46,11 +48,10 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
   // reads only resident pages.
   std::unique_ptr<Tracer> warm;
   {
-    const uint64_t page_bytes = uint64_t{out.page_words} * 4;
     const uint64_t most = dev.info().max_allocation_bytes ? dev.info().max_allocation_bytes : ~uint64_t{0};
-    const uint64_t slots = std::min<uint64_t>(out.pages, (most - PageCache::kDataSpareWords * 4) / page_bytes);
+    const uint64_t slots = std::min<uint64_t>(out.pages, (most - PageCache::kDataSpareWords * 4) / slot_bytes);
     try {
-      warm = std::make_unique<Tracer>(dev, open_paged_mvx(paged_mvx), slots * page_bytes);
+      warm = std::make_unique<Tracer>(dev, open_paged_mvx(paged_mvx), slots * slot_bytes);
       out.warm_slots = static_cast<uint32_t>(slots);
     } catch (const Error&) {  // no room beside the resident DAG: no address figure
     }
@@ -60,7 +61,7 @@ FlightBenchResult run_flight_bench(Device& dev, const std::string& paged_mvx, co
     tiny.width = 8, tiny.height = 8, tiny.cache_passes = 1;
     render(resident, flight.front(), tiny);
     PagedDag cold = open_paged_mvx(paged_mvx);
-    Tracer warmup(dev, std::move(cold), uint64_t{out.page_words} * 4);
+    Tracer warmup(dev, std::move(cold), slot_bytes);
     render(warmup, flight.front(), tiny);
   }
   uint64_t used = 0, requested = 0;

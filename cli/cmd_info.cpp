@@ -58,7 +58,8 @@ void add_info_command(CLI::App& app) {
       if (pw)
         j["paging"] = {{"page_words", pw}, {"page_bytes", uint64_t{pw} * 4}, {"pages", pages},
                        {"node_order", node_order_name(f.paging.order)}, {"paged_words", f.paged_words},
-                       {"size_ratio", bytes == 0 ? 1.0 : 4.0 * double(f.paged_words) / double(bytes)}};
+                       {"size_ratio", bytes == 0 ? 1.0 : 4.0 * double(f.paged_words) / double(bytes)},
+                       {"size_plane", f.size_plane}};
       else
         j["paging"] = nullptr;
       std::cout << j.dump(2) << "\n";
@@ -91,6 +92,9 @@ void add_info_command(CLI::App& app) {
                   "page checked\n", pw, pw / 256, (unsigned long long)pages, node_order_name(f.paging.order).c_str(),
                   (unsigned long long)f.paged_words,
                   bytes == 0 ? 1.0 : 4.0 * double(f.paged_words) / double(bytes));
+      if (!f.colours.empty())
+        std::printf(f.size_plane ? "  colours stream with the pages (their size plane, checked)\n"
+                                 : "  colours render resident only (no size plane: written before .mvx version 5)\n");
     else
       std::printf("  not paged: renders resident only\n");
   });

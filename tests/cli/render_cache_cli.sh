@@ -2,7 +2,7 @@
 # `megavox render --cache-memory` and `--path` on a tetrahedron built here (a paged .mvx: the plain octree, 16 KiB pages):
 # a cache a third of the file renders the same PNG bytes as the resident render, a flight writes its
 # frames and one JSON line each with the cache's figures, the same octree paged in level order (--page-order)
-# renders the same PNG, a one-page cache warns and still writes a picture,
+# renders the same PNG, a coloured cloud's colours stream with its pages (the same colour PNG), a one-page cache warns and still writes a picture,
 # an ssvdag (paged level by level) renders the resident PNG through a quarter of its pages, and what cannot work
 # fails with a clear message and no output: a cache smaller
 # than a page, a cache over --device-memory, a row of pixels that does not fit beside the cache (a frame that
@@ -35,6 +35,16 @@ linfo=$("$megavox" info "$dir/tl.mvx" --json)
 lpages=$(python3 -c 'import json,sys; p=json.loads(sys.argv[1])["paging"]; assert p["node_order"] == "level"; print(p["pages"])' "$linfo")
 "$megavox" render "$dir/tl.mvx" -o "$dir/level.png" "${view[@]}" --cache-memory $(( lpages * page_words * 4 / 3 )) --quiet
 cmp "$dir/resident.png" "$dir/level.png" || fail "the level-order paged render differs from the resident one"
+# a coloured cloud: its colours stream with the pages (info says so), the same colour picture through a third
+write_lattice_ply "$dir/lattice.ply" 24 2
+"$megavox" build "$dir/lattice.ply" --resolution 64 --format svo --page-words 64 -o "$dir/c.mvx" >/dev/null
+cinfo=$("$megavox" info "$dir/c.mvx" --json)
+cpages=$(python3 -c 'import json,sys; p=json.loads(sys.argv[1])["paging"]; assert p["size_plane"]; print(p["pages"])' "$cinfo")
+"$megavox" info "$dir/c.mvx" | grep -q "colours stream with the pages" || fail "info does not say the colours stream"
+cview=(--view iso --width 96 --height 72 --shading colour --quiet)
+"$megavox" render "$dir/c.mvx" -o "$dir/c_resident.png" "${cview[@]}"
+"$megavox" render "$dir/c.mvx" -o "$dir/c_paged.png" "${cview[@]}" --cache-memory $(( (cpages / 3 + 16) * 512 ))
+cmp "$dir/c_resident.png" "$dir/c_paged.png" || fail "the streamed colour render differs from the resident one"
 # the ssvdag, paged in its own layout: a cache a quarter of its pages renders the resident PNG too (a bumpy
 # sphere: a tetrahedron's ssvdag is one page, its symmetry folds it)
 python3 - "$dir/bumpy.ply" <<'PY'

@@ -426,6 +426,7 @@ void read_paged_nodes(const Opened& o, const std::string& path, MvxFile& out) {
   out.dag.bricks = std::move(level_order.bricks);
   out.paging = {pw, static_cast<NodeOrder>(pi.head.order)};
   out.paged_words = pi.head.words;
+  out.size_plane = o.find[kSizes] != nullptr;
 }
 
 // The colour section, checked: its head, and one RGB24 entry per octree node the counts name, raw or in a

@@ -87,6 +87,7 @@ struct MvxFile {
   // As read (write_mvx ignores these): the file's paging ({0} when not paged) and its paged stream's words.
   MvxPaging paging{0, NodeOrder::level};
   uint64_t paged_words = 0;
+  bool size_plane = false;  // read_mvx: the paged file carries its colours' size plane (they stream with its pages)
 };
 
 enum class MvxContent { voxels, points };

@@ -70,6 +70,9 @@ MvxPages::MvxPages(const std::string& path) : path_(path) {
           (head.format == kColourRaw24 && s.bytes - sizeof head != head.entries * 3))
         throw Error(path + ": colours of unknown format " + std::to_string(head.format) + " or size");
       colour_entries_ = head.entries;
+      colour_format_ = head.format;
+      palette_counts_[0] = head.counts[0];
+      palette_counts_[1] = head.counts[1];
       colours_offset_ = s.offset;
       colour_bytes_ = s.bytes;
     }
@@ -107,18 +110,18 @@ uint32_t MvxPages::colour(uint64_t e) const {
     if (!io::copy_mapped(to, map_.data() + colours_offset_ + at, bytes))
       throw Error(path_ + ": the file is shorter than when it was opened (truncated while in use)");
   };
-  ColourHead head{};
-  copy(&head, 0, sizeof head);
-  if (head.format == kColourRaw24) {
+  // (the head was read and checked at open: one copy of the entry's bytes per call)
+  if (colour_format_ == kColourRaw24) {
     uint8_t c[3];
-    copy(c, sizeof head + 3 * e, 3);
+    copy(c, sizeof(ColourHead) + 3 * e, 3);
     return c[0] | uint32_t{c[1]} << 8 | uint32_t{c[2]} << 16;
   }
   std::call_once(palette_once_, [&] {
-    std::vector<uint8_t> body(colour_bytes_ - sizeof head);
-    copy(body.data(), sizeof head, body.size());
+    std::vector<uint8_t> body(colour_bytes_ - sizeof(ColourHead));
+    copy(body.data(), sizeof(ColourHead), body.size());
     try {
-      palette_ = std::make_shared<const ColourPalette>(palette_parse(body, head.entries, head.counts[0], head.counts[1]));
+      palette_ = std::make_shared<const ColourPalette>(
+          palette_parse(body, colour_entries_, palette_counts_[0], palette_counts_[1]));
     } catch (const Error& err) {
       throw Error(path_ + ": " + err.what());
     }

@@ -75,6 +75,8 @@ class MvxPages {
   uint32_t plane_words_ = 0;
   uint64_t sizes_offset_ = 0;    // of the size plane in the file
   uint64_t colour_entries_ = 0, colours_offset_ = 0, colour_bytes_ = 0;  // the colour section (its head first)
+  uint32_t colour_format_ = 0;      // its head's format (raw or palette), and the palette's counts
+  uint64_t palette_counts_[2] = {0, 0};
   mutable std::once_flag palette_once_;
   mutable std::shared_ptr<const ColourPalette> palette_;  // a palette-compressed section, parsed
   std::vector<uint64_t> starts_;

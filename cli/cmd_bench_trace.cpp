@@ -59,7 +59,9 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
                         {"primary_mrays", e.primary_mrays}, {"shadow_mrays", e.shadow_mrays},
                         {"ao_mrays", e.ao_mrays}, {"primary_seconds", e.primary_seconds},
                         {"host_core_mrays", e.host_core_mrays}, {"reference_mrays", e.reference_mrays},
-                        {"over_embree", e.over_embree}, {"silhouette_agreement", e.silhouette_agreement}});
+                        {"over_embree", e.over_embree}, {"silhouette_agreement", e.silhouette_agreement},
+                        {"steps_per_ray", {{"primary", e.steps.primary}, {"primary_hit", e.steps.primary_hit},
+                                           {"shadow", e.steps.shadow}, {"ao", e.steps.ao}}}});
       nlohmann::json j = {{"benchmark", "trace"}, {"device", r.device}, {"mesh", r.mesh}, {"width", r.width},
                           {"height", r.height}, {"lod_pixels", r.lod_pixels}, {"encodings", encs},
                           {"embree", r.have_embree}, {"triangles", r.triangles},
@@ -76,7 +78,10 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
       std::printf("  %-8s %6u %10.2f %10.2f %10.2f %12.2f %12.3f %9.2f %9.2f%%\n", e.format.c_str(), e.resolution,
                   e.primary_mrays, e.shadow_mrays, e.ao_mrays, e.host_core_mrays, e.reference_mrays, e.over_embree,
                   100 * e.silhouette_agreement);
-    std::printf("  (Mrays/s)\n");
+    std::printf("  (Mrays/s)\n  steps per ray (cells visited):\n");
+    for (const auto& e : r.encodings)
+      std::printf("  %-8s %6u primary %.1f (hits %.1f), shadow %.1f, ao %.1f\n", e.format.c_str(), e.resolution,
+                  e.steps.primary, e.steps.primary_hit, e.steps.shadow, e.steps.ao);
     if (r.have_embree)
       std::printf("  Embree 3: %llu triangles, scene %.3f s, %.2f Mrays/s primary (rtcIntersect1), %llu hits\n",
                   (unsigned long long)r.triangles, r.embree_build_seconds, r.embree_mrays,

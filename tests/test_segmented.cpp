@@ -1,5 +1,5 @@
 // The segmented operations on every device vs plain loops: run boundaries, sums, scans within runs and arg-mins,
-// on random runs, one run longer than a loop may run on lavapipe, single-element runs and ties.
+// on random runs, one run longer than a loop may run on lavapipe, single-element runs and ties; stream compaction.
 #include <random>
 
 #include "megavox/segmented.h"
@@ -106,6 +106,27 @@ TEST_P(SegmentedTest, LongRunsAndShiftedKeys) {
   std::vector<uint64_t> keys = run_keys(150001, 2, 11);
   check_case(dev, keys, 9, 0, 12);
   check_case(dev, keys, 64, 50, 13);
+}
+
+// Stream compaction: the flagged positions in order, then n, against a plain loop; none, all, sparse and dense.
+TEST_P(SegmentedTest, SelectFlaggedListsTheFlaggedPositionsInOrder) {
+  Device& dev = shared_device(GetParam());
+  std::mt19937_64 rng(21);
+  for (size_t n : {size_t{0}, size_t{1}, size_t{7}, size_t{4097}, size_t{300007}})
+    for (uint32_t every : {0u, 1u, 2u, 97u}) {  // 0: no flag; k: about one in k (1: all)
+      std::vector<uint32_t> flags(n);
+      for (uint32_t& f : flags) f = every && rng() % every == 0 ? 1u : 0u;
+      std::vector<uint32_t> want;
+      for (size_t i = 0; i < n; ++i)
+        if (flags[i]) want.push_back(static_cast<uint32_t>(i));
+      want.push_back(static_cast<uint32_t>(n));
+      Buffer fb = dev.alloc(std::max<size_t>(n, 1) * 4, "flags");
+      Buffer pb = dev.alloc((n + 1) * 4, "positions");
+      if (n) dev.upload(fb, flags.data(), n * 4);
+      const uint64_t count = select_flagged(dev, fb, pb, n);
+      ASSERT_EQ(count, want.size() - 1) << "n = " << n << ", one in " << every;
+      EXPECT_EQ(download_all<uint32_t>(dev, pb, want.size()), want) << "n = " << n << ", one in " << every;
+    }
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(SegmentedTest);

@@ -79,6 +79,49 @@ std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, co
   return std::move(e.hit);
 }
 
+// Steps (cells visited: descents and moves) per ray of the kernel's host build over the whole frame: primary
+// rays, and for each primary hit its shadow ray and its AO rays, made as the renderer makes them.
+StepsPerRay steps_per_ray(const FrameSetup& s, HostTracer& host, uint32_t max_steps) {
+  const uint32_t n = s.width * s.height;
+  struct Sums {
+    uint64_t primary = 0, hits = 0, shadow = 0, ao = 0, ao_rays = 0, hit_steps = 0;
+  };
+  Sums z = tbb::parallel_reduce(
+      tbb::blocked_range<uint32_t>(0, n, 4096), Sums{},
+      [&](const tbb::blocked_range<uint32_t>& r, Sums acc) {
+        for (uint32_t i = r.begin(); i < r.end(); ++i) {
+          const MvRay pr = mv_camera_ray(s.camera, i, s.width);
+          const MvHit h = host.trace(pr, s.proj, max_steps);
+          acc.primary += h.steps;
+          if (MV_INFO_STATUS(h.info) != MV_TRACE_HIT) continue;
+          ++acc.hits;
+          acc.hit_steps += h.steps;
+          MvSecondaryParams sp = s.shadow;
+          sp.levels = s.levels;
+          acc.shadow += host.trace(mv_make_secondary(pr, h, nullptr, i, sp), s.proj, max_steps).steps;
+          for (uint32_t k = 0; k < s.ao_samples; ++k) {
+            MvSecondaryParams p = s.ao;
+            p.levels = s.levels;
+            p.sample_k = k;
+            acc.ao += host.trace(mv_make_secondary(pr, h, s.ao_table.data(), i, p), s.proj, max_steps).steps;
+            ++acc.ao_rays;
+          }
+        }
+        return acc;
+      },
+      [](Sums a, const Sums& b) {
+        a.primary += b.primary, a.hits += b.hits, a.shadow += b.shadow, a.ao += b.ao, a.ao_rays += b.ao_rays;
+        a.hit_steps += b.hit_steps;
+        return a;
+      });
+  StepsPerRay out;
+  out.primary = n ? double(z.primary) / n : 0;
+  out.primary_hit = z.hits ? double(z.hit_steps) / double(z.hits) : 0;
+  out.shadow = z.hits ? double(z.shadow) / double(z.hits) : 0;
+  out.ao = z.ao_rays ? double(z.ao) / double(z.ao_rays) : 0;
+  return out;
+}
+
 }  // namespace
 
 constexpr uint64_t kReferenceVoxels = uint64_t{64} << 20;
@@ -137,6 +180,7 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
     const FrameSetup s = frame_setup(file.grid, file.dag.levels, cam, ro);
     HostTracer host(file.dag);
     e.host_core_mrays = cpu_rate(s, 1, [&](const MvRay& r) { return host.trace(r, s.proj, ro.max_steps); });
+    e.steps = steps_per_ray(s, host, ro.max_steps);
     // The flat reference holds every voxel in host maps: only for files it fits (0 = skipped).
     if (file.voxels <= kReferenceVoxels) {
       ref::Occupancy occ(decode_encoded(file.dag), file.dag.levels);

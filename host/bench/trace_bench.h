@@ -21,6 +21,12 @@ struct TraceBenchOptions {
   uint32_t repeats = 7;  // best of, alternating between the files
 };
 
+// Mean steps per ray (each a cell visited: a descent into it or a move to it), the kernel's walk on the host.
+struct StepsPerRay {
+  double primary = 0, primary_hit = 0;  // every primary ray; those that hit
+  double shadow = 0, ao = 0;            // the rays cast from the hits
+};
+
 struct TraceBenchEncoding {
   std::string file, format;
   uint32_t resolution = 0;
@@ -31,6 +37,7 @@ struct TraceBenchEncoding {
   double reference_mrays = 0;   // the flat voxel DDA (a sample of the rays); 0 = skipped (over 64 Mi voxels)
   double silhouette_agreement = 0;  // pixels where the voxels and Embree's triangles agree on hit / miss
   double over_embree = 0;           // primary Mrays/s / Embree's
+  StepsPerRay steps;
 };
 
 struct TraceBenchResult {

@@ -1,5 +1,7 @@
 /* Secondary rays from primary hits (shadow rays toward a directional light, ambient-occlusion rays), written
- * once for the host, OpenCL C and GLSL. They start on the face the primary ray hit, moved off it by 1/256 of
+ * once for the host, OpenCL C and GLSL. Only hits on a face cast them: secondary_flags marks those, the shared
+ * stream compaction lists them, and secondary_rays makes one ray per listed hit, so the trace that follows has
+ * no idle work-items or lanes. They start on the face the primary ray hit, moved off it by 1/256 of
  * the hit cell and then `lead` hit cells along their direction (a voxelized surface is a staircase: without
  * the lead a ray toward a light at a shallow angle meets the next step of its own surface), and keep the
  * primary's LOD (lod_t = primary lod_t + t). AO directions come from a table of
@@ -13,7 +15,7 @@
 #define MV_SECONDARY_AO 1u
 
 MV_STRUCT_BEGIN(MvSecondaryParams)
-  mv_u32 first; /* primary rays [first, first + count) in this dispatch */
+  mv_u32 first; /* listed hits [first, first + count) in this dispatch (secondary_flags: primary rays) */
   mv_u32 count;
   mv_u32 levels;
   mv_u32 camera; /* primaries are camera rays (1) or come from the ray buffer (0) */
@@ -25,7 +27,8 @@ MV_STRUCT_BEGIN(MvSecondaryParams)
   mv_f32 lx; mv_f32 ly; mv_f32 lz; /* shadow: unit direction toward the light (root-cube axes) */
   mv_f32 tmax;   /* shadow: how far to look; AO: the occlusion radius (root cube = 1) */
   mv_f32 lead;   /* start this many hit cells along the ray: steps past the voxel staircase of the surface */
-  mv_u32 pad1; mv_u32 pad2;
+  mv_u32 block;  /* nonzero: each work-item takes this many consecutive items (CPU devices), else grid-stride */
+  mv_u32 pad2;
 MV_STRUCT_END(MvSecondaryParams)
 #if defined(MV_CPP)
 MV_LAYOUT_SIZE(MvSecondaryParams, 64);
@@ -36,7 +39,7 @@ MV_LAYOUT_AT(MvSecondaryParams, sample_k, 24); MV_LAYOUT_AT(MvSecondaryParams, s
 MV_LAYOUT_AT(MvSecondaryParams, mask, 32); MV_LAYOUT_AT(MvSecondaryParams, lx, 36);
 MV_LAYOUT_AT(MvSecondaryParams, ly, 40); MV_LAYOUT_AT(MvSecondaryParams, lz, 44);
 MV_LAYOUT_AT(MvSecondaryParams, tmax, 48); MV_LAYOUT_AT(MvSecondaryParams, lead, 52);
-MV_LAYOUT_AT(MvSecondaryParams, pad1, 56); MV_LAYOUT_AT(MvSecondaryParams, pad2, 60);
+MV_LAYOUT_AT(MvSecondaryParams, block, 56); MV_LAYOUT_AT(MvSecondaryParams, pad2, 60);
 #endif
 
 MV_INLINE mv_u32 mv_hash32(mv_u32 x) {
@@ -58,12 +61,18 @@ MV_INLINE MvRay mv_inactive_ray() {
   return r;
 }
 
+/* Does a hit with this info word cast secondary rays (a hit on a face; a ray that starts inside a voxel has
+ * none)? */
+MV_INLINE bool mv_secondary_active(mv_u32 info) {
+  return MV_INFO_STATUS(info) == MV_TRACE_HIT && MV_INFO_AXIS(info) != MV_AXIS_NONE;
+}
+
 /* The secondary ray of primary ray `pr` with hit `h` in direction (u, v, w) given in the hit face's frame
  * (w along the normal, u and v along the next two axes) when `in_face_frame` is 1, or (u, v, w) = (x, y, z) when 0. */
 MV_INLINE MvRay mv_secondary_ray(MvRay pr, MvHit h, mv_u32 L, mv_u32 in_face_frame, mv_f32 u, mv_f32 v, mv_f32 w,
                                  mv_f32 tmax, mv_f32 lead) {
   mv_u32 axis = MV_INFO_AXIS(h.info);
-  if (MV_INFO_STATUS(h.info) != MV_TRACE_HIT || axis == MV_AXIS_NONE) return mv_inactive_ray();
+  if (!mv_secondary_active(h.info)) return mv_inactive_ray();
   mv_f32 s = mv_cell_side(MV_INFO_LEVEL(h.info), L);
   bool negative = MV_INFO_NEGATIVE(h.info) != 0u;
   MV_PRECISE mv_f32 p[3];
@@ -103,14 +112,28 @@ MV_INLINE MvRay mv_make_secondary(MvRay pr, MvHit h, MvBufF32 table, mv_u32 i, M
 }
 
 #if !defined(MV_CPP)
-MV_INLINE void mv_secondary_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 hits, MvBufF32 table, MvBufU32 rays_out,
-                                 MvSecondaryParams p, mv_u32 gid, mv_u32 gsize) {
-  for (mv_u32 j = gid; j < p.count; j += gsize) {
+/* flags[i] = 1 where primary hit i casts secondary rays, for i in [first, first + count). */
+MV_INLINE void mv_secondary_flags(MvBufU32 hits, MvBufU32 flags, MvSecondaryParams p, mv_u32 gid, mv_u32 gsize) {
+  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
+  mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
+  for (mv_u32 j = begin; j < end; j += p.block != 0u ? 1u : gsize) {
     mv_u32 i = p.first + j;
+    MV_ST(flags, i, mv_secondary_active(MV_LD(hits, MV_HIT_WORDS * i + 4u)) ? 1u : 0u); /* the info word */
+  }
+}
+
+/* rays_out[j] = the secondary ray of listed hit j (primary ray listed[j]), for j in [first, first + count). */
+MV_INLINE void mv_secondary_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 hits, MvBufU32 listed, MvBufF32 table,
+                                 MvBufU32 rays_out, MvSecondaryParams p, mv_u32 gid, mv_u32 gsize) {
+  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
+  mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
+  for (mv_u32 k = begin; k < end; k += p.block != 0u ? 1u : gsize) {
+    mv_u32 j = p.first + k;
+    mv_u32 i = MV_LD(listed, j);
     MvRay pr = p.camera == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);
     /* AO samples hash the frame's pixel, so a frame rendered in tiles gets the same rays */
     mv_u32 pixel = p.camera == 1u ? mv_camera_pixel(cam, i) : i;
-    mv_store_ray(rays_out, i, mv_make_secondary(pr, mv_load_hit(hits, i), table, pixel, p));
+    mv_store_ray(rays_out, j, mv_make_secondary(pr, mv_load_hit(hits, i), table, pixel, p));
   }
 }
 #endif

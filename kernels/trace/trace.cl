@@ -81,9 +81,13 @@ __kernel void trace_rays_paged_ssvdag_whole_params(__global float* src, __global
                 MV_ENC_PAGED_SSVDAG, MV_TRACE_STARTS_IN_PARAMS);
 }
 
-__kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global float* table,
-                             __global uint* out, MvSecondaryParams p) {
-  mv_secondary_rays(rays, cam, hits, table, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+__kernel void secondary_flags(__global uint* hits, __global uint* flags, MvSecondaryParams p) {
+  mv_secondary_flags(hits, flags, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global uint* listed,
+                             __global float* table, __global uint* out, MvSecondaryParams p) {
+  mv_secondary_rays(rays, cam, hits, listed, table, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
 // Each hit's colour from the depth-first colours (common/trace_colour.h): the 32-bit word encodings, and ssvdag.

@@ -31,11 +31,16 @@ void main() {
                 (MV_TRACE_LRU != 0u ? MV_TRACE_STAMPS : 0u) | (MV_TRACE_PARAMS != 0u ? MV_TRACE_STARTS_IN_PARAMS : 0u) |
                 (MV_TRACE_REL != 0u ? MV_TRACE_RELATIVE : 0u));
 }
+#elif defined(MV_ENTRY_secondary_flags)
+layout(push_constant) uniform Args {
+  MvBufU32 hits; MvBufU32 flags; MvSecondaryParams p;
+} a;
+void main() { mv_secondary_flags(a.hits, a.flags, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_secondary_rays)
 layout(push_constant) uniform Args {
-  MvBufF32 rays; MvBufF32 cam; MvBufU32 hits; MvBufF32 table; MvBufU32 out_; MvSecondaryParams p;
+  MvBufF32 rays; MvBufF32 cam; MvBufU32 hits; MvBufU32 listed; MvBufF32 table; MvBufU32 out_; MvSecondaryParams p;
 } a;
-void main() { mv_secondary_rays(a.rays, a.cam, a.hits, a.table, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+void main() { mv_secondary_rays(a.rays, a.cam, a.hits, a.listed, a.table, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_hit_colours)
 /* MV_TRACE_ENC: the encoding family, a constant (see trace.cl) */
 layout(push_constant) uniform Args {

@@ -30,6 +30,10 @@ void segment_heads(Device& dev, const Buffer& keys, Buffer& heads, uint64_t n, u
 // The same from head flags (n 32-bit values, nonzero where a run starts; element 0 always starts one). Waits once.
 Segmentation segment_by_heads(Device& dev, const Buffer& heads, uint64_t n);
 
+// Stream compaction: positions (n + 1 uint32_t at least) receives, in order, the indices i < n where flags[i]
+// (n 32-bit values, each 0 or 1) is 1, then n. Returns how many there are (waits once, to read the count).
+uint64_t select_flagged(Device& dev, const Buffer& flags, Buffer& positions, uint64_t n);
+
 // sums[s] = the exact 64-bit sum of run s's 32-bit values (sums holds count uint64_t values). With `planes`,
 // values holds that many planes of n values (plane k at k * n), each summed over the same runs: sums[k * count + s].
 void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& sums, uint32_t planes = 1);

@@ -1,5 +1,7 @@
 #include "megavox/segmented.h"
 
+#include <algorithm>
+
 #include "common/segmented.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
@@ -71,6 +73,28 @@ Segmentation segment_by_key(Device& dev, const Buffer& keys, uint64_t n, uint32_
   Buffer heads = dev.alloc(std::max<uint64_t>(n, 1) * 4, "segment heads");
   segment_heads(dev, keys, heads, n, shift);
   return segment_by_heads(dev, heads, n);
+}
+
+uint64_t select_flagged(Device& dev, const Buffer& flags, Buffer& positions, uint64_t n) {
+  detail::check_device_items("select_flagged", n);
+  Buffer e = dev.alloc((n + 1) * 4, "flag positions");
+  uint32_t count = 0;
+  if (n) {
+    ScanPlan plan = plan_scan(dev, n);
+    record_scan(dev, plan, flags, e);
+    dev.download(e, &count, 4, n * 4);
+  } else {
+    dev.fill(e, 0, 4);
+  }
+  // a flagged element starts a one-element run, so the runs' starts are the flagged positions
+  Segmentation seg;
+  seg.n = n;
+  seg.count = count;
+  MvSegParams p = seg_params(seg);
+  dev.dispatch(dev.kernel(KernelId::seg_starts), dev.groups_for(std::max<uint64_t>(n, 1), kSegLocal), kSegLocal,
+               {&e, &positions}, p);
+  dev.barrier();
+  return count;
 }
 
 void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, Buffer& sums, uint32_t planes) {

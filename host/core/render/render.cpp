@@ -40,16 +40,19 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   const bool coloured = frame_uses_colours(options) && tracer.has_colours();
   const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
   Buffer cam = dev.alloc(sizeof(s.camera), "camera");
-  Buffer rays, counts, table;
+  Buffer rays, counts, listed, table;
   if (shaded && s.ao_samples) {
     table = dev.alloc(s.ao_table.size() * 4, "AO directions");
     dev.upload(table, s.ao_table.data(), s.ao_table.size() * 4);
   }
   // The per-pixel buffers hold one tile: the whole frame when the device budget left beside the page cache (and
   // the rest) holds it, else bands of whole rows that do, each traced with its own first pixel (MV_CAMERA_FIRST).
-  const uint64_t per_pixel = 4 * (MV_HIT_WORDS + (shaded ? MV_RAY_FLOATS + 1 : 0) + (coloured ? 1 : 0));
-  // each buffer rounds up to whole pages; a paged tracer's cache update needs its batch beside them
-  const uint64_t keep = 4 * dev.page_bytes() + (tracer.paged() ? tracer.cache()->update_scratch_bytes() : 0);
+  // (shaded: a secondary ray, an occlusion count and a place in the list of hits that cast them, and the
+  // compaction's scratch: flags and positions)
+  const uint64_t per_pixel = 4 * (MV_HIT_WORDS + (shaded ? MV_RAY_FLOATS + 4 : 0) + (coloured ? 1 : 0));
+  // each buffer rounds up to whole pages (the listing's flags, positions and scan sums are three more); a paged
+  // tracer's cache update needs its batch beside them
+  const uint64_t keep = 10 * dev.page_bytes() + (tracer.paged() ? tracer.cache()->update_scratch_bytes() : 0);
   const uint64_t budget = dev.memory_budget(), used = dev.memory_used();
   const uint64_t left = budget > used + keep ? budget - used - keep : 0;
   uint32_t rows = static_cast<uint32_t>(std::clamp<uint64_t>(left / (per_pixel * s.width), 1, s.height));
@@ -60,11 +63,12 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
       if (shaded) {
         rays = dev.alloc(uint64_t{rows} * s.width * MV_RAY_FLOATS * 4, "secondary rays");
         counts = dev.alloc(uint64_t{rows} * s.width * 4, "occlusion counts");
+        listed = dev.alloc((uint64_t{rows} * s.width + 1) * 4, "hits casting secondary rays");
       }
       if (coloured) colours = dev.alloc(uint64_t{rows} * s.width * 4, "hit colours");
       break;
     } catch (const DeviceMemoryError&) {
-      hits = Buffer(), rays = Buffer(), counts = Buffer(), colours = Buffer();
+      hits = Buffer(), rays = Buffer(), counts = Buffer(), listed = Buffer(), colours = Buffer();
       if (rows == 1)
         throw DeviceMemoryError("render: one row of " + std::to_string(s.width) + " pixels needs " +
                                 format_bytes(per_pixel * s.width) + " of device memory, and " + format_bytes(left) +
@@ -110,26 +114,44 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
       h.hits += hit;
       h.coarse += hit && MV_INFO_COARSE(info);
     }
-    if (!shaded || !h.hits) return h;
+    if (!shaded) return h;
+    // A tile traced again through the cache may list other pixels: the counts of the pass before go first.
+    std::fill_n(res.shadow.begin() + t.first, t.count, 0u);
+    if (s.ao_samples) std::fill_n(res.ao.begin() + t.first, t.count, 0u);
+    if (!h.hits) return h;
     if (read_ahead) tracer.read_ahead();  // the primary rays' missing pages read while shadow and AO trace
-    auto occlusion = [&](const std::string& name, uint64_t rays_traced, uint32_t* into, auto&& make_rays) {
-      dev.fill(counts, 0, uint64_t{t.count} * 4);
-      pass(name, rays_traced, make_rays);
-      dev.download(counts, into + t.first, uint64_t{t.count} * 4);
-    };
-    occlusion("shadow", h.hits, res.shadow.data(), [&] {
-      engine.secondary(nullptr, &cam, hits, nullptr, 0, t.count, s.shadow, rays);
-      engine.trace(&rays, nullptr, 0, t.count, 0, s.proj, options.max_steps, true, counts);
+    // Only hits on a face cast rays: they are listed (compacted) on the device, and each pass traces just those,
+    // counting into the list's order; the counts go back to their pixels here. The listing is timed with the
+    // shadow pass, the first that needs it.
+    uint32_t cast = 0;
+    pass("shadow", 0, [&] {
+      cast = engine.list_secondary(hits, t.count, listed);
+      if (cast == 0) return;
+      dev.fill(counts, 0, uint64_t{cast} * 4);
+      engine.secondary(nullptr, &cam, hits, listed, nullptr, 0, cast, s.shadow, rays);
+      engine.trace(&rays, nullptr, 0, cast, 0, s.proj, options.max_steps, true, counts);
     });
-    if (s.ao_samples)
-      occlusion("ao", h.hits * s.ao_samples, res.ao.data(), [&] {
+    passes.back().rays = cast;
+    if (cast == 0) return h;
+    std::vector<uint32_t> at(cast), got(cast);
+    dev.download(listed, at.data(), uint64_t{cast} * 4);
+    auto scatter = [&](uint32_t* into) {
+      dev.download(counts, got.data(), uint64_t{cast} * 4);
+      for (uint32_t j = 0; j < cast; ++j) into[t.first + at[j]] = got[j];
+    };
+    scatter(res.shadow.data());
+    if (s.ao_samples) {
+      dev.fill(counts, 0, uint64_t{cast} * 4);
+      pass("ao", uint64_t{cast} * s.ao_samples, [&] {
         for (uint32_t k = 0; k < s.ao_samples; ++k) {
           MvSecondaryParams p = s.ao;
           p.sample_k = k;
-          engine.secondary(nullptr, &cam, hits, &table, 0, t.count, p, rays);
-          engine.trace(&rays, nullptr, 0, t.count, 0, s.proj, options.max_steps, true, counts);
+          engine.secondary(nullptr, &cam, hits, listed, &table, 0, cast, p, rays);
+          engine.trace(&rays, nullptr, 0, cast, 0, s.proj, options.max_steps, true, counts);
         }
       });
+      scatter(res.ao.data());
+    }
     return h;
   };
 

@@ -12,6 +12,7 @@
 
 #include "cache/page_cache.h"
 #include "megavox/error.h"
+#include "megavox/segmented.h"
 #include "megavox/trace.h"
 #include "timing.h"
 #include "trace/trace_layout.h"
@@ -151,15 +152,30 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
   dev_.barrier();
 }
 
-void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table,
-                            uint32_t first_ray, uint32_t count, MvSecondaryParams p, Buffer& out) {
+uint32_t TraceEngine::list_secondary(const Buffer& hits, uint32_t count, Buffer& listed) {
+  Buffer flags = dev_.alloc(uint64_t{std::max(count, 1u)} * 4, "secondary ray flags");
+  Kernel& k = dev_.kernel(KernelId::secondary_flags);
+  MvSecondaryParams p{};
+  for_each_dispatch(0, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
+    p.first = first;
+    p.count = n;
+    p.block = block;
+    dev_.dispatch(k, groups, local, {&hits, &flags}, p);
+  });
+  dev_.barrier();
+  return static_cast<uint32_t>(select_flagged(dev_, flags, listed, count));
+}
+
+void TraceEngine::secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer& listed,
+                            const Buffer* table, uint32_t first_ray, uint32_t count, MvSecondaryParams p, Buffer& out) {
   Kernel& k = dev_.kernel(KernelId::secondary_rays);
   p.levels = levels_;
   p.camera = camera ? 1u : 0u;
-  for_each_dispatch(first_ray, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t) {
+  for_each_dispatch(first_ray, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
     p.first = first;
     p.count = n;
-    dev_.dispatch(k, groups, local, {rays, camera, &hits, table, &out}, p);
+    p.block = block;
+    dev_.dispatch(k, groups, local, {rays, camera, &hits, &listed, table, &out}, p);
   });
   dev_.barrier();
 }

@@ -53,9 +53,13 @@ class TraceEngine {
   // page on its path is not resident), into `out` (kernel hit_entries_paged: kernels/common/trace_colour_paged.h).
   void hit_entries(const Buffer& hits, uint32_t first, uint32_t count, Buffer& out);
 
-  // Writes one secondary ray per primary ray of [first, first + count) (p.first / p.count are set here).
-  void secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer* table, uint32_t first,
-                 uint32_t count, MvSecondaryParams p, Buffer& out);
+  // The primary hits of rays [0, count) that cast secondary rays, listed in order into `listed` (count + 1
+  // uint32_t at least); returns how many. Waits, to read the count.
+  uint32_t list_secondary(const Buffer& hits, uint32_t count, Buffer& listed);
+  // Writes the secondary ray of each listed hit of [first, first + count) of `listed` into `out` at its place in
+  // the list (p.first / p.count are set here).
+  void secondary(const Buffer* rays, const Buffer* camera, const Buffer& hits, const Buffer& listed,
+                 const Buffer* table, uint32_t first, uint32_t count, MvSecondaryParams p, Buffer& out);
 
  private:
   template <class F>

@@ -67,7 +67,7 @@
 #define MV_FIELDS_SECONDARY(X)                                                                                         \
   X(MV_U32, first) X(MV_U32, count) X(MV_U32, levels) X(MV_U32, camera) X(MV_U32, width) X(MV_U32, kind)               \
   X(MV_U32, sample_k) X(MV_U32, stride) X(MV_U32, mask) X(MV_FBITS, lx) X(MV_FBITS, ly) X(MV_FBITS, lz)                \
-  X(MV_FBITS, tmax) X(MV_FBITS, lead) X(MV_U32, pad1) X(MV_U32, pad2)
+  X(MV_FBITS, tmax) X(MV_FBITS, lead) X(MV_U32, block) X(MV_U32, pad2)
 #define MV_FIELDS_RAY(X)                                                                                               \
   X(MV_FBITS, ox) X(MV_FBITS, oy) X(MV_FBITS, oz) X(MV_FBITS, dx) X(MV_FBITS, dy) X(MV_FBITS, dz)                      \
   X(MV_FBITS, tmax) X(MV_FBITS, lod_t)

@@ -65,7 +65,9 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
       nlohmann::json j = {{"benchmark", "trace"}, {"device", r.device}, {"mesh", r.mesh}, {"width", r.width},
                           {"height", r.height}, {"lod_pixels", r.lod_pixels}, {"encodings", encs},
                           {"embree", r.have_embree}, {"triangles", r.triangles},
-                          {"embree_mrays", r.embree_mrays}, {"embree_build_seconds", r.embree_build_seconds},
+                          {"embree_mrays", r.embree_mrays}, {"embree16_mrays", r.embree16_mrays},
+                          {"embree16_mismatches", r.embree16_mismatches},
+                          {"embree_build_seconds", r.embree_build_seconds},
                           {"embree_hits", r.embree_hits}, {"ssvdag_over_svdag", r.ssvdag_over_svdag},
                           {"ssvdag_over_svdag_primary", r.ssvdag_over_svdag_primary}};
       std::cout << j.dump(2) << "\n";
@@ -83,8 +85,9 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
       std::printf("  %-8s %6u primary %.1f (hits %.1f), shadow %.1f, ao %.1f\n", e.format.c_str(), e.resolution,
                   e.steps.primary, e.steps.primary_hit, e.steps.shadow, e.steps.ao);
     if (r.have_embree)
-      std::printf("  Embree 3: %llu triangles, scene %.3f s, %.2f Mrays/s primary (rtcIntersect1), %llu hits\n",
-                  (unsigned long long)r.triangles, r.embree_build_seconds, r.embree_mrays,
+      std::printf("  Embree 3: %llu triangles, scene %.3f s, %.2f Mrays/s primary (rtcIntersect1), %.2f (rtcIntersect16, "
+                  "4 x 4 packets), %llu hits\n",
+                  (unsigned long long)r.triangles, r.embree_build_seconds, r.embree_mrays, r.embree16_mrays,
                   (unsigned long long)r.embree_hits);
     else if (!a->mesh.empty())
       std::printf("  %s\n", mv::baseline::missing_note(mv::baseline::embree()).c_str());

@@ -56,7 +56,8 @@ bool vqsort(std::span<uint64_t> keys);
 bool vqsort(std::span<U128> keys);
 
 // Embree 3 over triangles (xyz float positions, 3 indices each): builds the scene, then traces one primary
-// ray per pixel (origin `eye`, direction dir0 + x * dx + y * dy), rows over all threads, best of `repeats`.
+// ray per pixel (origin `eye`, direction dir0 + x * dx + y * dy), rows over all threads, best of `repeats`:
+// single rays (rtcIntersect1), then packets of 16 rays over 4 x 4 pixels (rtcIntersect16).
 struct EmbreeFrame {
   uint32_t width = 0, height = 0;
   float eye[3] = {0, 0, 0};
@@ -64,7 +65,9 @@ struct EmbreeFrame {
 };
 struct EmbreeResult {
   double build_seconds = 0, trace_seconds = 0;  // scene build; best pass over all pixels
-  std::vector<uint8_t> hit;                     // per pixel, rows top to bottom
+  double packet_seconds = 0;                    // the same with rtcIntersect16
+  std::vector<uint8_t> hit;                     // per pixel, rows top to bottom (single rays)
+  uint64_t packet_mismatches = 0;               // pixels where the packets' hit flag differs from the single ray's
 };
 // Throws mv::Error when Embree is not built in (check embree().built_in first) or cannot start.
 EmbreeResult embree_primary_hits(std::span<const float> positions, std::span<const uint32_t> indices,

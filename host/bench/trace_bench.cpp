@@ -75,6 +75,8 @@ std::vector<uint8_t> embree_trace(const std::string& mesh, const Camera& cam, co
   out.embree_build_seconds = e.build_seconds;
   out.embree_seconds = e.trace_seconds;
   out.embree_mrays = double(f.width) * f.height / e.trace_seconds / 1e6;
+  out.embree16_mrays = double(f.width) * f.height / e.packet_seconds / 1e6;
+  out.embree16_mismatches = e.packet_mismatches;
   for (uint8_t h : e.hit) out.embree_hits += h;
   return std::move(e.hit);
 }

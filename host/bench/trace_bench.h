@@ -48,6 +48,8 @@ struct TraceBenchResult {
   bool have_embree = false;
   uint64_t triangles = 0;
   double embree_build_seconds = 0, embree_seconds = 0, embree_mrays = 0;  // rtcIntersect1, all threads
+  double embree16_mrays = 0;         // rtcIntersect16, packets of 4 x 4 camera rays, all threads
+  uint64_t embree16_mismatches = 0;  // pixels where the packets' hit flag differs from the single rays'
   uint64_t embree_hits = 0;
   // When both encodings were given: SSVDAG / SVDAG trace time of whole renders (primary + shadow + AO rays),
   // the median over the repeats of each back-to-back pair (steadier than ratios of best times on a noisy

@@ -149,7 +149,10 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
   std::vector<std::unique_ptr<Tracer>> tracers;
   for (const std::string& f : files) {
     mvx.push_back(read_mvx(f));
-    tracers.push_back(std::make_unique<Tracer>(dev, mvx.back()));
+    if (o.cache_bytes)
+      tracers.push_back(std::make_unique<Tracer>(dev, open_paged_mvx(f), o.cache_bytes));
+    else
+      tracers.push_back(std::make_unique<Tracer>(dev, mvx.back()));
   }
   const Camera cam = o.use_camera ? o.camera : view_camera(mvx.front().bounds, o.view);
   out.encodings.resize(files.size());
@@ -166,13 +169,23 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
       TraceBenchEncoding& e = out.encodings[f];
       RenderResult r = render(*tracers[f], cam, ro);
       e.hits = r.hits;
+      e.paged = tracers[f]->paged();
+      e.converged = e.converged && r.converged;
       double total = 0;
       for (const RenderPass& p : r.passes) total += p.seconds;
       render_seconds[f].push_back(total);
-      for (const RenderPass& p : r.passes) {
-        double& best = p.name == "primary" ? e.primary_seconds : p.name == "shadow" ? e.shadow_seconds : e.ao_seconds;
-        best = std::min(best, p.seconds);
-        (p.name == "primary" ? e.primary_mrays : p.name == "shadow" ? e.shadow_mrays : e.ao_mrays) = p.rays / best / 1e6;
+      // per kind of ray, this render's rays and seconds over its tiles (a paged render may trace in bands)
+      for (const char* kind : {"primary", "shadow", "ao"}) {
+        uint64_t rays = 0;
+        double seconds = 0;
+        for (const RenderPass& p : r.passes)
+          if (p.name == kind) rays += p.rays, seconds += p.seconds;
+        if (seconds <= 0) continue;
+        const std::string k = kind;
+        double& best = k == "primary" ? e.primary_seconds : k == "shadow" ? e.shadow_seconds : e.ao_seconds;
+        if (seconds >= best) continue;
+        best = seconds;
+        (k == "primary" ? e.primary_mrays : k == "shadow" ? e.shadow_mrays : e.ao_mrays) = double(rays) / seconds / 1e6;
       }
     }
   std::vector<uint8_t> embree_hit;

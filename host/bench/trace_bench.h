@@ -19,6 +19,7 @@ struct TraceBenchOptions {
   double lod_pixels = 1;
   uint32_t ao_samples = 4;
   uint32_t repeats = 7;  // best of, alternating between the files
+  uint64_t cache_bytes = 0;  // nonzero: paged files traced through a page cache of this size
 };
 
 // Mean steps per ray (each a cell visited: a descent into it or a move to it), the kernel's walk on the host.
@@ -37,6 +38,8 @@ struct TraceBenchEncoding {
   double reference_mrays = 0;   // the flat voxel DDA (a sample of the rays); 0 = skipped (over 64 Mi voxels)
   double silhouette_agreement = 0;  // pixels where the voxels and Embree's triangles agree on hit / miss
   double over_embree = 0;           // primary Mrays/s / Embree's
+  bool paged = false;               // traced through the page cache
+  bool converged = true;            // paged: every render of the repeats ended with the resident picture
   StepsPerRay steps;
 };
 

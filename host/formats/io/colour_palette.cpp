@@ -2,6 +2,10 @@
 // form and its checked parse.
 #include "megavox/colour_palette.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cstring>
 #include <map>
@@ -229,14 +233,23 @@ ColourPalette palette_encode(std::span<const uint8_t> rgb) {
   ColourPalette p;
   p.entries = n;
   if (n == 0) return p;
+  // The steps before the block search are independent per entry (or a sort), so they run on every core; the
+  // result does not depend on how the work is split.
+  auto each = [n](auto&& f) {
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n, 1 << 16), [&](const tbb::blocked_range<uint64_t>& r) {
+      for (uint64_t i = r.begin(); i < r.end(); ++i) f(i);
+    });
+  };
   std::vector<uint32_t> packed(n);
-  for (uint64_t i = 0; i < n; ++i) packed[i] = uint32_t{rgb[3 * i]} << 16 | uint32_t{rgb[3 * i + 1]} << 8 | rgb[3 * i + 2];
+  each([&](uint64_t i) { packed[i] = uint32_t{rgb[3 * i]} << 16 | uint32_t{rgb[3 * i + 1]} << 8 | rgb[3 * i + 2]; });
   std::vector<uint32_t> mats = packed;
-  std::sort(mats.begin(), mats.end());
+  tbb::parallel_sort(mats.begin(), mats.end());
   mats.erase(std::unique(mats.begin(), mats.end()), mats.end());
   const uint32_t lambda = static_cast<uint32_t>(mats.size());
   std::vector<uint32_t> m(n);
-  for (uint64_t i = 0; i < n; ++i) m[i] = static_cast<uint32_t>(std::lower_bound(mats.begin(), mats.end(), packed[i]) - mats.begin());
+  each([&](uint64_t i) {
+    m[i] = static_cast<uint32_t>(std::lower_bound(mats.begin(), mats.end(), packed[i]) - mats.begin());
+  });
   packed = {};
   p.material_bits = palette_ceil_log2(lambda);
   p.materials.resize(3 * uint64_t{lambda});
@@ -246,9 +259,13 @@ ColourPalette palette_encode(std::span<const uint8_t> rgb) {
   std::vector<std::pair<uint32_t, uint32_t>> found;
   {  // the search tables live only here
     PaletteSelection s{m, p.material_bits, {}, {}, {}};
+    // the windows of each ω are independent scans of the same indices
+    std::vector<std::vector<uint32_t>> ends(kPalettePhase2Omegas);
+    tbb::parallel_for(uint32_t{0}, kPalettePhase2Omegas,
+                      [&](uint32_t omega) { ends[omega] = palette_window_ends(m, lambda, 1u << omega); });
     for (uint32_t omega = 0; omega < kPalettePhase2Omegas; ++omega) {
-      if (omega < kPalettePhase1Omegas) s.large.emplace_back(palette_window_ends(m, lambda, 1u << omega));
-      else s.ends.push_back(palette_window_ends(m, lambda, 1u << omega));
+      if (omega < kPalettePhase1Omegas) s.large.emplace_back(std::move(ends[omega]));
+      else s.ends.push_back(std::move(ends[omega]));
     }
     s.large_blocks(static_cast<uint32_t>(n));
     found = std::move(s.blocks);

@@ -10,9 +10,11 @@
  * 64-bit planes for the level above; the host sums only the leading planes that can be nonzero.
  *   colour_unpack:      points' packed 0xBBGGRR -> planes (r, g, b, 1, 0, 0, 0, 0): a point is one sample;
  *                       `leaf` 1: they are voxels of one sample each, subtree size 1 (their own level's planes);
+ *                       `used` nonzero: only the first `used` planes are written (all the sums need of points);
  *   colour_level:       64-bit plane sums of n nodes -> rgb[i] (each channel sum / count rounded half up) and the
  *                       planes the level above sums; `leaf` 1: the nodes are voxels made of points, so a voxel
- *                       counts as one sample of its mean colour, with subtree size 1;
+ *                       counts as one sample of its mean colour, with subtree size 1; `used` nonzero: the sums
+ *                       hold only their first `used` planes, the others being zero;
  *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> 3, the codes of the level above;
  *   colour_child_sums:  the 64-bit sums of the first `used` planes of each node over its children (at most 8,
  *                       consecutive from starts[s]): a work-item per plane and node, a bounded loop (the
@@ -34,7 +36,7 @@ MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 leaf;  /* colour_level: 1 for voxels made of points; colour_unpack: 1 for voxels of one colour each */
   mv_u32 shift; /* colour_parent_keys: bits the keys shift right */
   mv_u32 below; /* colour_child_sums: elements of the level below (its planes' stride) */
-  mv_u32 used;  /* colour_child_sums: the leading planes summed (the rest can only sum to zero) */
+  mv_u32 used;  /* the leading planes summed (the rest can only sum to zero; see each kernel; 0: all) */
   mv_u32 pad0;
 MV_STRUCT_END(MvColourParams)
 #if defined(MV_CPP)
@@ -46,12 +48,13 @@ MV_LAYOUT_AT(MvColourParams, below, 12); MV_LAYOUT_AT(MvColourParams, used, 16);
 MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 c = MV_LD(rgb, i);
+    mv_u32 all = p.used == 0u ? 1u : 0u;
     for (mv_u32 k = 0u; k < 3u; ++k) {
       MV_ST(planes, k * p.n + i, (c >> (8u * k)) & 255u);
-      MV_ST(planes, (MV_COLOUR_HIGH + k) * p.n + i, 0u);
+      if (all != 0u) MV_ST(planes, (MV_COLOUR_HIGH + k) * p.n + i, 0u);
     }
     MV_ST(planes, MV_COLOUR_COUNT * p.n + i, 1u);
-    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, p.leaf != 0u ? 1u : 0u);
+    if (all != 0u) MV_ST(planes, MV_COLOUR_SIZE * p.n + i, p.leaf != 0u ? 1u : 0u);
   }
 }
 
@@ -66,9 +69,11 @@ MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvBufU32 planes, MvC
                                mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u64 count = MV_LD(sums, MV_COLOUR_COUNT * p.n + i);
+    mv_u32 held = p.used == 0u ? MV_COLOUR_PLANES : p.used; /* planes past these are zero */
     mv_u32 packed = 0u;
     for (mv_u32 c = 0u; c < 3u; ++c) {
-      mv_u64 s = MV_LD(sums, c * p.n + i) + (MV_LD(sums, (MV_COLOUR_HIGH + c) * p.n + i) << 32);
+      mv_u64 high = MV_COLOUR_HIGH + c < held ? MV_LD(sums, (MV_COLOUR_HIGH + c) * p.n + i) : MV_U64(0u);
+      mv_u64 s = MV_LD(sums, c * p.n + i) + (high << 32);
       mv_u32 mean = mv_colour_mean(s, count);
       packed |= mean << (8u * c);
       MV_ST(planes, c * p.n + i, p.leaf != 0u ? mean : MV_U32(s));
@@ -76,7 +81,8 @@ MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvBufU32 planes, MvC
     }
     MV_ST(rgb, i, packed);
     MV_ST(planes, MV_COLOUR_COUNT * p.n + i, p.leaf != 0u ? 1u : MV_U32(count));
-    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, p.leaf != 0u ? 1u : 1u + MV_U32(MV_LD(sums, MV_COLOUR_SIZE * p.n + i)));
+    mv_u32 below = p.leaf == 0u && MV_COLOUR_SIZE < held ? MV_U32(MV_LD(sums, MV_COLOUR_SIZE * p.n + i)) : 0u;
+    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, 1u + below);
   }
 }
 

@@ -38,12 +38,11 @@ void colour_dispatch(Device& dev, KernelId id, uint64_t n, std::initializer_list
   dev.barrier();
 }
 
-// The 64-bit sums of the first `used` planes of `planes` (kColourPlanes x n) over `runs`: kColourPlanes x m sums,
-// the planes not summed zero (they can only sum to zero). One segmentation serves every plane.
+// The 64-bit sums of the first `used` planes of `planes` over `runs`: used x m sums (the planes not summed can only
+// sum to zero, and colour_level reads them as zero). One segmentation serves every plane.
 Buffer colour_plane_sums(Device& dev, const Segmentation& runs, uint32_t used, const Buffer& planes) {
   const uint64_t m = runs.count;
-  Buffer sums = colour_alloc(dev, kColourPlanes * m * 8, "colour sums");
-  if (used < kColourPlanes) dev.fill(sums, 0, (kColourPlanes - used) * m * 8, used * m * 8);
+  Buffer sums = colour_alloc(dev, used * m * 8, "colour sums");
   segmented_sum(dev, runs, planes, sums, used);
   return sums;
 }
@@ -56,14 +55,15 @@ uint32_t colour_planes_used(uint32_t level, uint64_t voxels) {
   return most * 255 < (uint64_t{1} << 32) ? MV_COLOUR_HIGH : kColourPlanes;
 }
 
-// Divides the sums of m nodes into their colours and the planes the level above sums.
-void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, bool leaf) {
+// Divides the sums of m nodes (their first `used` planes) into their colours and the planes the level above sums.
+void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, uint32_t used, bool leaf) {
   const uint64_t m = level.n;
   level.rgb = colour_alloc(dev, m * 4, "node colours");
   level.planes = colour_alloc(dev, kColourPlanes * m * 4, "colour planes");
   MvColourParams p{};
   p.n = static_cast<uint32_t>(m);
   p.leaf = leaf ? 1u : 0u;
+  p.used = used;
   colour_dispatch(dev, KernelId::colour_level, m, {&sums, &level.rgb, &level.planes}, p);
   level.sizes = colour_alloc(dev, m * 4, "subtree sizes");
   dev.copy(level.planes, level.sizes, m * 4, MV_COLOUR_SIZE * m * 4, 0);
@@ -72,6 +72,9 @@ void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, bo
 
 std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys, const Buffer& sorted_rgb,
                                          uint64_t points, Buffer voxel_keys, uint64_t voxels, uint32_t levels) {
+  // The sort's scratch is retired, not yet free: reused once the device is idle (one wait), the sums below land
+  // in storage already touched instead of fresh memory (a CPU device faults on each fresh page).
+  dev.finish();
   std::vector<ColourLevel> lv(levels + 1);
   if (points == voxels) {  // one point a voxel (a mesh's voxels, or a sparse cloud): its colour is the voxel's
     ColourLevel& leaf = lv[0];
@@ -90,16 +93,19 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
   } else {  // voxels from their points
     Buffer heads = colour_alloc(dev, points * 4, "point run heads");
     segment_heads(dev, sorted_keys, heads, points, 0);
-    Buffer planes = colour_alloc(dev, kColourPlanes * points * 4, "point colour planes");
+    // a point's sample: its channels and a count of one, the only planes its voxel sums
+    const uint32_t used = MV_COLOUR_COUNT + 1;
+    Buffer planes = colour_alloc(dev, used * points * 4, "point colour planes");
     MvColourParams p{};
     p.n = static_cast<uint32_t>(points);
+    p.used = used;
     colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
     const Segmentation runs = segment_by_heads(dev, heads, points);
     if (runs.count != voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
-    Buffer sums = colour_plane_sums(dev, runs, MV_COLOUR_COUNT + 1, planes);
+    Buffer sums = colour_plane_sums(dev, runs, used, planes);
     lv[0].n = voxels;
     lv[0].keys = std::move(voxel_keys);
-    finish_colour_level(dev, lv[0], sums, true);
+    finish_colour_level(dev, lv[0], sums, used, true);
   }
   for (uint32_t l = 1; l <= levels; ++l) {
     ColourLevel& below = lv[l - 1];
@@ -113,11 +119,10 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     p.below = static_cast<uint32_t>(below.n);
     p.used = colour_planes_used(l - 1, voxels);
     colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
-    Buffer sums = colour_alloc(dev, kColourPlanes * level.n * 8, "colour sums");
-    if (p.used < kColourPlanes) dev.fill(sums, 0, (kColourPlanes - p.used) * level.n * 8, p.used * level.n * 8);
+    Buffer sums = colour_alloc(dev, p.used * level.n * 8, "colour sums");
     colour_dispatch(dev, KernelId::colour_child_sums, p.used * level.n, {&below.planes, &below.by_parent.starts, &sums},
                     p);
-    finish_colour_level(dev, level, sums, false);
+    finish_colour_level(dev, level, sums, p.used, false);
     below.keys = Buffer();
     below.planes = Buffer();
   }

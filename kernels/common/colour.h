@@ -17,8 +17,8 @@
  *                       hold only their first `used` planes, the others being zero;
  *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> 3, the codes of the level above;
  *   colour_child_sums:  the 64-bit sums of the first `used` planes of each node over its children (at most 8,
- *                       consecutive from starts[s]): a work-item per plane and node, a bounded loop (the
- *                       segmented_sum of the points' runs into voxels has no bound, these do);
+ *                       consecutive from starts[s]): a work-item per node, bounded loops over its planes and
+ *                       children (the segmented_sum of the points' runs into voxels has no bound, these do);
  *   colour_place:       index[i] = parent_index[parent of i] + 1 + the subtree sizes of its earlier siblings (at
  *                       most 7), attributes[index[i]] = rgb[i].
  * Integer arithmetic only: the same bits on every device. */
@@ -93,12 +93,13 @@ MV_INLINE void mv_colour_parent_keys(MvBufU64 keys, MvBufU32 starts, MvBufU64 up
 
 MV_INLINE void mv_colour_child_sums(MvBufU32 planes, MvBufU32 starts, MvBufU64 sums, MvColourParams p, mv_u32 gid,
                                     mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.used * p.n; i += stride) { /* the planes past `used` are the host's zeros */
-    mv_u32 k = i / p.n;
-    mv_u32 s = i - k * p.n;
-    mv_u64 sum = MV_U64(0u);
-    for (mv_u32 c = MV_LD(starts, s); c < MV_LD(starts, s + 1u); ++c) sum += MV_U64(MV_LD(planes, k * p.below + c));
-    MV_ST(sums, i, sum);
+  for (mv_u32 s = gid; s < p.n; s += stride) { /* a node's planes in turn: its children's range read once */
+    mv_u32 first = MV_LD(starts, s), end = MV_LD(starts, s + 1u);
+    for (mv_u32 k = 0u; k < p.used; ++k) {
+      mv_u64 sum = MV_U64(0u);
+      for (mv_u32 c = first; c < end; ++c) sum += MV_U64(MV_LD(planes, k * p.below + c));
+      MV_ST(sums, k * p.n + s, sum);
+    }
   }
 }
 

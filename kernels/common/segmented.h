@@ -51,9 +51,10 @@ MV_INLINE void mv_seg_starts(MvBufU32 e, MvBufU32 starts, MvSegParams p, mv_u32 
  * (plane k's values at k * n), so a segment's sum is the difference of two prefixes within its plane. */
 MV_INLINE void mv_seg_sum(MvBufU64 prefix, MvBufU32 starts, MvBufU64 sums, MvSegParams p, mv_u32 gid, mv_u32 stride) {
   mv_u32 planes = MV_MAX(p.planes, 1u);
-  for (mv_u32 j = gid; j < planes * p.count; j += stride) {
-    mv_u32 k = j / p.count, s = j - k * p.count;
-    MV_ST(sums, j, MV_LD(prefix, k * p.n + MV_LD(starts, s + 1u)) - MV_LD(prefix, k * p.n + MV_LD(starts, s)));
+  for (mv_u32 s = gid; s < p.count; s += stride) { /* a work-item per segment, its planes in turn */
+    mv_u32 first = MV_LD(starts, s), end = MV_LD(starts, s + 1u);
+    for (mv_u32 k = 0u; k < planes; ++k)
+      MV_ST(sums, k * p.count + s, MV_LD(prefix, k * p.n + end) - MV_LD(prefix, k * p.n + first));
   }
 }
 

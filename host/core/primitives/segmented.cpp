@@ -102,7 +102,7 @@ void segmented_sum(Device& dev, const Segmentation& seg, const Buffer& values, B
   Buffer prefix = segment_prefix(dev, seg, values, planes);
   MvSegParams p = seg_params(seg);
   p.planes = planes;
-  dev.dispatch(dev.kernel(KernelId::seg_sum), dev.groups_for(seg.count * planes, kSegLocal), kSegLocal,
+  dev.dispatch(dev.kernel(KernelId::seg_sum), dev.groups_for(seg.count, kSegLocal), kSegLocal,
                {&prefix, &seg.starts, &sums}, p);
   dev.barrier();
 }

@@ -109,6 +109,8 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
   }
   for (uint32_t l = 1; l <= levels; ++l) {
     ColourLevel& below = lv[l - 1];
+    // (each level waits for its count anyway: waiting for the device here also frees what the level below retired)
+    dev.finish();
     below.by_parent = segment_by_key(dev, below.keys, below.n, 3);  // siblings: at most 8 a run
     ColourLevel& level = lv[l];
     level.n = below.by_parent.count;
@@ -120,8 +122,7 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     p.used = colour_planes_used(l - 1, voxels);
     colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
     Buffer sums = colour_alloc(dev, p.used * level.n * 8, "colour sums");
-    colour_dispatch(dev, KernelId::colour_child_sums, p.used * level.n, {&below.planes, &below.by_parent.starts, &sums},
-                    p);
+    colour_dispatch(dev, KernelId::colour_child_sums, level.n, {&below.planes, &below.by_parent.starts, &sums}, p);
     finish_colour_level(dev, level, sums, p.used, false);
     below.keys = Buffer();
     below.planes = Buffer();

@@ -6,6 +6,7 @@
 #include "colour_reference.h"
 #include "megavox/colour.h"
 #include "megavox/dag.h"
+#include "common/colour.h"
 #include "test_support.h"
 
 namespace mv::test {
@@ -59,6 +60,22 @@ TEST_P(ColourTest, RandomCloudsMatchTheReference) {
         check_colour_cloud(dev, random_colour_cloud(n, levels, spread, ++seed), levels,
                            "levels " + std::to_string(levels) + ", points " + std::to_string(n) + ", spread " +
                                std::to_string(spread));
+}
+
+// The mean's two paths (32-bit where sum and count fit, else 64-bit) against sum / count rounded half up in
+// 128 bits, on both sides of the 2^32 seam.
+TEST(ColourMean, BothWidthsRoundHalfUp) {
+  std::mt19937_64 rng(5);
+  auto want = [](uint64_t sum, uint64_t count) {
+    return static_cast<uint32_t>((2 * static_cast<unsigned __int128>(sum) + count) / (2 * static_cast<unsigned __int128>(count)));
+  };
+  for (int i = 0; i < 200000; ++i) {
+    const int shape = i % 4;
+    uint64_t count = shape == 0 ? 1 + rng() % 1000 : shape == 1 ? 1 + (rng() >> 33) : 1 + (rng() >> 8) % (uint64_t{1} << 40);
+    if (shape == 3) count = (uint64_t{1} << 32) - 1 + rng() % 3;  // at the seam
+    const uint64_t sum = count * (rng() % 256) + rng() % count;      // a mean of 8-bit values
+    ASSERT_EQ(mv_colour_mean(sum, count), want(sum, count)) << sum << " / " << count;
+  }
 }
 
 TEST_P(ColourTest, EdgeCases) {

@@ -70,7 +70,8 @@ void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, ui
   dev.barrier();
 }
 
-std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys, const Buffer& sorted_rgb,
+// `runs`: the points' runs of equal codes (one a voxel), when points > voxels.
+std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, const Segmentation* runs,
                                          uint64_t points, Buffer voxel_keys, uint64_t voxels, uint32_t levels) {
   // The sort's scratch is retired, not yet free: reused once the device is idle (one wait), the sums below land
   // in storage already touched instead of fresh memory (a CPU device faults on each fresh page).
@@ -91,8 +92,7 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     dev.copy(leaf.planes, leaf.sizes, voxels * 4, MV_COLOUR_SIZE * voxels * 4, 0);
     dev.barrier();
   } else {  // voxels from their points
-    Buffer heads = colour_alloc(dev, points * 4, "point run heads");
-    segment_heads(dev, sorted_keys, heads, points, 0);
+    if (!runs || runs->count != voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
     // a point's sample: its channels and a count of one, the only planes its voxel sums
     const uint32_t used = MV_COLOUR_COUNT + 1;
     Buffer planes = colour_alloc(dev, used * points * 4, "point colour planes");
@@ -100,9 +100,7 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_keys,
     p.n = static_cast<uint32_t>(points);
     p.used = used;
     colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
-    const Segmentation runs = segment_by_heads(dev, heads, points);
-    if (runs.count != voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
-    Buffer sums = colour_plane_sums(dev, runs, used, planes);
+    Buffer sums = colour_plane_sums(dev, *runs, used, planes);
     lv[0].n = voxels;
     lv[0].keys = std::move(voxel_keys);
     finish_colour_level(dev, lv[0], sums, used, true);
@@ -169,7 +167,7 @@ std::vector<uint8_t> depth_first_voxel_colours(Device& dev, Buffer voxel_keys, c
                                                uint32_t levels) {
   if (voxels == 0) return {};
   // one colour a voxel: no runs of points to find, so no point codes
-  return depth_first_colours(dev, Buffer(), voxel_rgb, voxels, std::move(voxel_keys), voxels, levels);
+  return depth_first_colours(dev, voxel_rgb, nullptr, voxels, std::move(voxel_keys), voxels, levels);
 }
 
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
@@ -201,13 +199,27 @@ CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::sp
   }
   radix_sort(dev, keys, colour ? &values : nullptr, points, KeyBits::k64);
   dev.barrier();
-  Buffer unique = dev.alloc(points * 8, "voxel codes");
-  const uint64_t voxels = unique_sorted(dev, keys, unique, points);
+  if (!colour) {
+    Buffer unique = dev.alloc(points * 8, "voxel codes");
+    const uint64_t voxels = unique_sorted(dev, keys, unique, points);
+    out.keys.resize(voxels);
+    dev.download(unique, out.keys.data(), voxels * 8);
+    return out;
+  }
+  // With colour the points' runs are needed anyway: the voxels are their first codes (one segmentation serves
+  // both, instead of unique_sorted and a second pass over the same keys).
+  const Segmentation runs = segment_by_key(dev, keys, points, 0);
+  const uint64_t voxels = runs.count;
+  Buffer unique = dev.alloc(voxels * 8, "voxel codes");
+  MvColourParams first{};
+  first.n = static_cast<uint32_t>(voxels);
+  colour_dispatch(dev, KernelId::colour_parent_keys, voxels, {&keys, &runs.starts, &unique}, first);
   out.keys.resize(voxels);
   dev.download(unique, out.keys.data(), voxels * 8);
-  if (colour) {
+  keys = Buffer();  // the points' codes are done with: their runs and the voxels' codes stay
+  {
     const auto start = std::chrono::steady_clock::now();
-    out.colours = depth_first_colours(dev, keys, values, points, std::move(unique), voxels, levels);
+    out.colours = depth_first_colours(dev, values, &runs, points, std::move(unique), voxels, levels);
     if (colour_seconds) *colour_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return out;

@@ -31,8 +31,12 @@ MV_LAYOUT_AT(MvSegParams, block_size, 12); MV_LAYOUT_AT(MvSegParams, shift, 16);
 /* Bit 63 of a carried index word: the block holds a segment head (reduce) / the carry is valid (small). */
 #define MV_SEG_FLAG (MV_U64(1u) << 63)
 
+/* seg_heads and seg_starts: block_size nonzero gives each work-item that many consecutive elements (CPU devices,
+ * which run a work-item's loop alone), else grid-stride. */
 MV_INLINE void mv_seg_heads(MvBufU64 keys, MvBufU32 heads, MvSegParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
+  mv_u32 begin = p.block_size != 0u ? gid * p.block_size : gid;
+  mv_u32 end = p.block_size != 0u ? MV_MIN(p.n, begin + p.block_size) : p.n;
+  for (mv_u32 i = begin; i < end; i += p.block_size != 0u ? 1u : stride) {
     bool head = i == 0u;
     if (!head && p.shift < 64u) head = (MV_LD(keys, i) >> p.shift) != (MV_LD(keys, i - 1u) >> p.shift);
     MV_ST(heads, i, head ? 1u : 0u);
@@ -40,7 +44,9 @@ MV_INLINE void mv_seg_heads(MvBufU64 keys, MvBufU32 heads, MvSegParams p, mv_u32
 }
 
 MV_INLINE void mv_seg_starts(MvBufU32 e, MvBufU32 starts, MvSegParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
+  mv_u32 begin = p.block_size != 0u ? gid * p.block_size : gid;
+  mv_u32 end = p.block_size != 0u ? MV_MIN(p.n, begin + p.block_size) : p.n;
+  for (mv_u32 i = begin; i < end; i += p.block_size != 0u ? 1u : stride) {
     mv_u32 s = MV_LD(e, i);
     if (MV_LD(e, i + 1u) > s) MV_ST(starts, s, i);
   }

@@ -15,6 +15,21 @@ namespace {
 
 constexpr uint32_t kSegLocal = 64;
 
+// A pass over n elements: contiguous blocks per work-item on CPU devices without a loop cap (PoCL runs a
+// work-item's loop alone, and one element per work-item costs it a work-item's overhead per element), else
+// grid-stride over work-groups of kSegLocal.
+void seg_pass(Device& dev, KernelId id, uint64_t n, std::initializer_list<const Buffer*> buffers, MvSegParams p) {
+  const DeviceInfo& info = dev.info();
+  if (!info.massively_parallel && !info.max_loop_iterations) {
+    const BlockShape s = block_shape(info, std::max<uint64_t>(n, 1));
+    p.block_size = s.block_size;
+    dev.dispatch(dev.kernel(id), s.groups, s.local_size, buffers, p);
+  } else {
+    p.block_size = 0;
+    dev.dispatch(dev.kernel(id), dev.groups_for(std::max<uint64_t>(n, 1), kSegLocal), kSegLocal, buffers, p);
+  }
+}
+
 MvSegParams seg_params(const Segmentation& seg) {
   MvSegParams p{};
   p.n = static_cast<uint32_t>(seg.n);
@@ -55,7 +70,7 @@ Segmentation segment_by_heads(Device& dev, const Buffer& heads, uint64_t n) {
   seg.count = total;
   seg.starts = dev.alloc((seg.count + 1) * 4, "segment starts");
   MvSegParams p = seg_params(seg);
-  dev.dispatch(dev.kernel(KernelId::seg_starts), dev.groups_for(n, kSegLocal), kSegLocal, {&seg.e, &seg.starts}, p);
+  seg_pass(dev, KernelId::seg_starts, n, {&seg.e, &seg.starts}, p);
   dev.barrier();
   return seg;
 }
@@ -65,7 +80,7 @@ void segment_heads(Device& dev, const Buffer& keys, Buffer& heads, uint64_t n, u
   MvSegParams p{};
   p.n = static_cast<uint32_t>(n);
   p.shift = shift;
-  if (n) dev.dispatch(dev.kernel(KernelId::seg_heads), dev.groups_for(n, kSegLocal), kSegLocal, {&keys, &heads}, p);
+  if (n) seg_pass(dev, KernelId::seg_heads, n, {&keys, &heads}, p);
   dev.barrier();
 }
 
@@ -91,8 +106,7 @@ uint64_t select_flagged(Device& dev, const Buffer& flags, Buffer& positions, uin
   seg.n = n;
   seg.count = count;
   MvSegParams p = seg_params(seg);
-  dev.dispatch(dev.kernel(KernelId::seg_starts), dev.groups_for(std::max<uint64_t>(n, 1), kSegLocal), kSegLocal,
-               {&e, &positions}, p);
+  seg_pass(dev, KernelId::seg_starts, n, {&e, &positions}, p);
   dev.barrier();
   return count;
 }

@@ -34,9 +34,8 @@ MV_INLINE void mv_gather_records(MvBufConstU32 src, MvBufConstU32 index, MvBufU3
   if (p.unit_shift == 2u) {
     /* Records of whole words: a work-item per record, whose words no other record shares. */
     mv_u32 records = p.units / p.per_record;
-    mv_u32 r = p.block != 0u ? gid * p.block : gid;
-    mv_u32 end = p.block != 0u ? MV_MIN(records, r + p.block) : records;
-    mv_u32 step = p.block != 0u ? 1u : stride;
+    MvItems items = mv_items(p.block, gid, stride, records);
+    mv_u32 r = items.begin, end = items.end, step = items.step;
     for (; r < end; r += step) {
       /* A CPU runs a block one record at a time: ask for a record a few dozen ahead while this one is copied. */
       if (p.block != 0u && r + MV_GATHER_AHEAD < end)
@@ -57,9 +56,8 @@ MV_INLINE void mv_gather_records(MvBufConstU32 src, MvBufConstU32 index, MvBufU3
   }
   if (p.unit_shift == 1u) {
     /* Records of 2-byte units: a work-item per word, its two units straight-line (one division). */
-    mv_u32 w = p.block != 0u ? gid * p.block : gid;
-    mv_u32 end = p.block != 0u ? MV_MIN(p.words, w + p.block) : p.words;
-    mv_u32 step = p.block != 0u ? 1u : stride;
+    MvItems items = mv_items(p.block, gid, stride, p.words);
+    mv_u32 w = items.begin, end = items.end, step = items.step;
     for (; w < end; w += step) {
       mv_u32 a = 2u * w;
       if (p.block != 0u && w + MV_GATHER_AHEAD < end) {

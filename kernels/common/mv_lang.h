@@ -258,6 +258,22 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer MvBufU32Pair
 #define MV_GROUP_ID() MV_GROUP_ID_D(0)
 #define MV_NUM_GROUPS() MV_NUM_GROUPS_D(0)
 
+/* The items of [0, n) a work-item takes, step apart: `block` consecutive ones from gid * block (CPU devices, which
+ * run each work-item's loop alone, so its neighbouring items share its cache), or with block 0 every gsize-th from
+ * gid (grid-stride, GPUs and lavapipe). Loop: for (i = r.begin; i < r.end; i += r.step). */
+MV_STRUCT_BEGIN(MvItems)
+  mv_u32 begin;
+  mv_u32 end;
+  mv_u32 step;
+MV_STRUCT_END(MvItems)
+MV_INLINE MvItems mv_items(mv_u32 block, mv_u32 gid, mv_u32 gsize, mv_u32 n) {
+  MvItems r;
+  r.begin = block != 0u ? gid * block : gid;
+  r.end = block != 0u ? MV_MIN(n, r.begin + block) : n;
+  r.step = block != 0u ? 1u : gsize;
+  return r;
+}
+
 #include "mv_lang_sync.h"
 
 #endif /* MV_LANG_H */

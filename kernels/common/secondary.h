@@ -114,9 +114,8 @@ MV_INLINE MvRay mv_make_secondary(MvRay pr, MvHit h, MvBufF32 table, mv_u32 i, M
 #if !defined(MV_CPP)
 /* flags[i] = 1 where primary hit i casts secondary rays, for i in [first, first + count). */
 MV_INLINE void mv_secondary_flags(MvBufU32 hits, MvBufU32 flags, MvSecondaryParams p, mv_u32 gid, mv_u32 gsize) {
-  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
-  mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
-  for (mv_u32 j = begin; j < end; j += p.block != 0u ? 1u : gsize) {
+  MvItems r = mv_items(p.block, gid, gsize, p.count);
+  for (mv_u32 j = r.begin; j < r.end; j += r.step) {
     mv_u32 i = p.first + j;
     MV_ST(flags, i, mv_secondary_active(MV_LD(hits, MV_HIT_WORDS * i + 4u)) ? 1u : 0u); /* the info word */
   }
@@ -125,9 +124,8 @@ MV_INLINE void mv_secondary_flags(MvBufU32 hits, MvBufU32 flags, MvSecondaryPara
 /* rays_out[j] = the secondary ray of listed hit j (primary ray listed[j]), for j in [first, first + count). */
 MV_INLINE void mv_secondary_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 hits, MvBufU32 listed, MvBufF32 table,
                                  MvBufU32 rays_out, MvSecondaryParams p, mv_u32 gid, mv_u32 gsize) {
-  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
-  mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
-  for (mv_u32 k = begin; k < end; k += p.block != 0u ? 1u : gsize) {
+  MvItems r = mv_items(p.block, gid, gsize, p.count);
+  for (mv_u32 k = r.begin; k < r.end; k += r.step) {
     mv_u32 j = p.first + k;
     mv_u32 i = MV_LD(listed, j);
     MvRay pr = p.camera == 1u ? mv_camera_ray(cam, i, p.width) : mv_load_ray(rays, i);

@@ -34,9 +34,8 @@ MV_LAYOUT_AT(MvSegParams, block_size, 12); MV_LAYOUT_AT(MvSegParams, shift, 16);
 /* seg_heads and seg_starts: block_size nonzero gives each work-item that many consecutive elements (CPU devices,
  * which run a work-item's loop alone), else grid-stride. */
 MV_INLINE void mv_seg_heads(MvBufU64 keys, MvBufU32 heads, MvSegParams p, mv_u32 gid, mv_u32 stride) {
-  mv_u32 begin = p.block_size != 0u ? gid * p.block_size : gid;
-  mv_u32 end = p.block_size != 0u ? MV_MIN(p.n, begin + p.block_size) : p.n;
-  for (mv_u32 i = begin; i < end; i += p.block_size != 0u ? 1u : stride) {
+  MvItems r = mv_items(p.block_size, gid, stride, p.n);
+  for (mv_u32 i = r.begin; i < r.end; i += r.step) {
     bool head = i == 0u;
     if (!head && p.shift < 64u) head = (MV_LD(keys, i) >> p.shift) != (MV_LD(keys, i - 1u) >> p.shift);
     MV_ST(heads, i, head ? 1u : 0u);
@@ -44,9 +43,8 @@ MV_INLINE void mv_seg_heads(MvBufU64 keys, MvBufU32 heads, MvSegParams p, mv_u32
 }
 
 MV_INLINE void mv_seg_starts(MvBufU32 e, MvBufU32 starts, MvSegParams p, mv_u32 gid, mv_u32 stride) {
-  mv_u32 begin = p.block_size != 0u ? gid * p.block_size : gid;
-  mv_u32 end = p.block_size != 0u ? MV_MIN(p.n, begin + p.block_size) : p.n;
-  for (mv_u32 i = begin; i < end; i += p.block_size != 0u ? 1u : stride) {
+  MvItems r = mv_items(p.block_size, gid, stride, p.n);
+  for (mv_u32 i = r.begin; i < r.end; i += r.step) {
     mv_u32 s = MV_LD(e, i);
     if (MV_LD(e, i + 1u) > s) MV_ST(starts, s, i);
   }

@@ -29,9 +29,8 @@
 MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvBufU32 cid, MvBufU32 crow,
                                MvBufU32 row_out, MvBufU64 hashes, MvBufU32 order, MvDagParams p,
                                mv_u32 gid, mv_u32 stride) {
-  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
-  mv_u32 end = p.block != 0u ? MV_MIN(p.n, begin + p.block) : p.n;
-  mv_u32 step = p.block != 0u ? 1u : stride;
+  MvItems items = mv_items(p.block, gid, stride, p.n);
+  mv_u32 begin = items.begin, end = items.end, step = items.step;
   mv_u32 pm = 0u, pid[8], prow[8], orient = 0u; /* the previous node (pm = 0: none) and its results */
   mv_u64 h = MV_U64(0);
   for (mv_u32 c = 0u; c < 8u; ++c) {

@@ -254,10 +254,8 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
 MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off,
                              MvBufU32 usage, MvBufU32 request, MvBufU32 results, MvTraceParams p, mv_u32 gid,
                              mv_u32 gsize, mv_u32 enc, mv_u32 variant) {
-  mv_u32 begin = p.block != 0u ? gid * p.block : gid;
-  mv_u32 end = p.block != 0u ? MV_MIN(p.count, begin + p.block) : p.count;
-  mv_u32 stride = p.block != 0u ? 1u : gsize;
-  for (mv_u32 j = begin; j < end; j += stride) {
+  MvItems r = mv_items(p.block, gid, gsize, p.count);
+  for (mv_u32 j = r.begin; j < r.end; j += r.step) {
     mv_u32 i = p.first + j;
     MvHit h = mv_trace(words, bricks, lvl_off, usage, request, enc, variant, mv_trace_source_ray(rays, cam, i, p), p);
     if (MV_TRACE_OCCLUSION(p) == 1u) {

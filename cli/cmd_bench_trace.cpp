@@ -64,7 +64,8 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
       nlohmann::json encs = nlohmann::json::array();
       for (const auto& e : r.encodings)
         encs.push_back({{"file", e.file}, {"format", e.format}, {"resolution", e.resolution}, {"hits", e.hits},
-                        {"primary_mrays", e.primary_mrays}, {"shadow_mrays", e.shadow_mrays},
+                        {"primary_mrays", e.primary_mrays}, {"primary_mrays_no_beam", e.primary_mrays_no_beam},
+                        {"shadow_mrays", e.shadow_mrays},
                         {"ao_mrays", e.ao_mrays}, {"primary_seconds", e.primary_seconds},
                         {"host_core_mrays", e.host_core_mrays}, {"reference_mrays", e.reference_mrays},
                         {"over_embree", e.over_embree}, {"silhouette_agreement", e.silhouette_agreement},
@@ -90,7 +91,12 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
       std::printf("  %-8s %6u %10.2f %10.2f %10.2f %12.2f %12.3f %9.2f %9.2f%%\n", e.format.c_str(), e.resolution,
                   e.primary_mrays, e.shadow_mrays, e.ao_mrays, e.host_core_mrays, e.reference_mrays, e.over_embree,
                   100 * e.silhouette_agreement);
-    std::printf("  (Mrays/s)\n  steps per ray (cells visited):\n");
+    std::printf("  (Mrays/s)\n");
+    for (const auto& e : r.encodings)
+      if (e.primary_mrays_no_beam > 0)
+        std::printf("  %-8s %6u primary without the beam pre-pass %.2f (the beam: %.2fx)\n", e.format.c_str(),
+                    e.resolution, e.primary_mrays_no_beam, e.primary_mrays / e.primary_mrays_no_beam);
+    std::printf("  steps per ray (cells visited):\n");
     for (const auto& e : r.encodings)
       std::printf("  %-8s %6u primary %.1f (hits %.1f), shadow %.1f, ao %.1f\n", e.format.c_str(), e.resolution,
                   e.steps.primary, e.steps.primary_hit, e.steps.shadow, e.steps.ao);

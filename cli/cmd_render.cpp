@@ -98,7 +98,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
     std::string input, output, shading = "shaded", cache_memory, path;
     CameraArgs camera;
     RenderOptions opt;
-    bool no_clobber = false, no_colour = false;
+    bool no_clobber = false, no_colour = false, no_beam = false;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("render", "Render a .mvx file to a PNG picture through the ray traversal kernel");
@@ -137,6 +137,9 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_option("--path", a->path, "A camera flight (JSON): render its frames into the folder -o");
   cmd->add_option("--shading", a->shading, "shaded, normal, depth, level, heat or colour")->capture_default_str();
   cmd->add_flag("--no-colour", a->no_colour, "Shade grey even where the file has voxel colours");
+  cmd->add_flag("--no-beam", a->no_beam,
+                "Start every camera ray at the model's cube instead of where the beam pre-pass proves it may (the "
+                "same picture, slower)");
   cmd->add_option("--lod-pixels", a->opt.lod_pixels, "Stop at cells smaller than this many pixels; 0 = voxels")
       ->capture_default_str();
   cmd->add_option("--ao-samples", a->opt.ao_samples, "Ambient-occlusion rays per hit (shaded)")->capture_default_str();
@@ -149,6 +152,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& g) {
     const CameraVectors v = camera_vectors(a->camera);
     a->opt.shading = with_code(ErrorCode::invalid_argument, [&] { return parse_shading(a->shading); });
     a->opt.colours = !a->no_colour;
+    a->opt.beam = !a->no_beam;
     a->opt.width = a->camera.width;
     a->opt.height = a->camera.height;
     // Before the device opens or the file is read: a PNG or JPEG takes about a byte a pixel.

@@ -85,7 +85,7 @@ TEST_P(GatherTest, PointBoundsMatchTheReference) {
       xyz[3 * (n / 3) + 2] = INT32_MAX;
     }
     int64_t lo[3], hi[3];
-    points::point_bounds(dev, xyz, lo, hi);
+    mv::points::point_bounds(dev, xyz, lo, hi);
     const std::array<int64_t, 6> want = ref::point_bounds(xyz);
     for (int a = 0; a < 3; ++a) {
       EXPECT_EQ(lo[a], want[a]) << n << " points, axis " << a;
@@ -99,7 +99,7 @@ TEST_P(GatherTest, PointBoundsMatchTheReference) {
 struct NodeCase {
   PointColumns points;
   std::vector<uint32_t> index;
-  std::vector<points::NodePoints> sources;
+  std::vector<mv::points::NodePoints> sources;
   std::vector<uint64_t> reps;
 };
 
@@ -132,10 +132,10 @@ NodeCase node_case(size_t n, uint64_t seed) {
 
 void check_node_gather(Device& dev, const NodeCase& c, uint64_t chunk, uint64_t slice = 0) {
   std::vector<uint32_t> order;  // input position of every node-order point
-  for (const points::NodePoints& s : c.sources)
+  for (const mv::points::NodePoints& s : c.sources)
     for (uint32_t i = 0; i < s.count; ++i) order.push_back(c.index[s.reps ? c.reps[s.first + i] : s.first + i]);
   PointColumns copy = c.points;
-  const PointColumns got = points::gather_node_points(dev, std::move(copy), c.index, c.sources, c.reps, 3, chunk, slice);
+  const PointColumns got = mv::points::gather_node_points(dev, std::move(copy), c.index, c.sources, c.reps, 3, chunk, slice);
   auto bytes = [](const auto& v) {
     return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(v.data()), v.size() * sizeof(v[0]));
   };

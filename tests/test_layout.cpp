@@ -53,6 +53,7 @@ TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   expect_same_layout(dev, offsets, TestKernelId::probe_dag_params, mv_probe_dag_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_trace_params, mv_probe_trace_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_secondary_params, mv_probe_secondary_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_beam_params, mv_probe_beam_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_ray, mv_probe_ray);
   expect_same_layout(dev, offsets, TestKernelId::probe_hit, mv_probe_hit);
   expect_same_layout(dev, offsets, TestKernelId::probe_point_params, mv_probe_point_params);

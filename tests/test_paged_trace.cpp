@@ -189,7 +189,7 @@ void each_pass_matches_the_host(Device& dev, const MvxFile& f, bool preload, boo
     uint32_t coarse = 0;
     for (uint32_t i = 0; i < n; ++i) {
       const MvHit want = mv_trace(data.data(), table.data(), nullptr, usage.data(), request.data(), enc, variant,
-                                  mv_load_ray(reinterpret_cast<const float*>(rays.data()), i), tp);
+                                  mv_load_ray(reinterpret_cast<const float*>(rays.data()), i), 0.0f, tp);
       const MvHit got = mv_load_hit(hits.data(), i);
       ASSERT_EQ(got.info, want.info) << "ray " << i;
       ASSERT_EQ(MV_FBITS(got.t), MV_FBITS(want.t)) << "ray " << i;

@@ -16,6 +16,7 @@
 #include "io/mesh_source.h"
 #include "reference.h"
 #include "megavox/voxelize.h"
+#include "voxel/build_steps.h"
 
 namespace mv::test {
 
@@ -227,6 +228,12 @@ size_t expect_same_hits(const std::vector<RayHit>& got, const std::vector<RayHit
     }
   }
   return hits;
+}
+
+MvxFile unit_grid_file(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, Encoding e) {
+  GridTransform grid;
+  grid.resolution = 1u << levels;
+  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, e), e, grid, Bounds{});
 }
 
 }  // namespace mv::test

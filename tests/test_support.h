@@ -11,6 +11,8 @@
 
 #include "megavox/dag_types.h"
 #include "megavox/device.h"
+#include "megavox/encode.h"
+#include "megavox/mvx.h"
 #include "megavox/error.h"
 #include "megavox/ray.h"
 #include "megavox/voxelize.h"
@@ -47,6 +49,12 @@ std::vector<float> mesh_grid_triangles(const std::string& path, uint32_t resolut
 // An octahedron (8 triangles; its bottom vertex at y = `bottom`) placed on a grid of `resolution` voxels
 // per axis and given in grid units (9 floats per triangle), ready for a Voxelizer.
 std::vector<float> octahedron_grid_triangles(uint32_t resolution, float bottom = -1.0f);
+
+// Every encoding of a voxel DAG.
+inline constexpr Encoding kEncodings[] = {Encoding::svo, Encoding::svdag, Encoding::ussvdag, Encoding::ssvdag};
+
+// The voxels in one encoding, on a grid of unit voxels at the origin (world = grid units).
+MvxFile unit_grid_file(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, Encoding e);
 
 // Voxel sets (sorted unique 64-bit Morton keys of a 2^levels grid) with little, some and much sharing:
 // "random" (3000 random voxels), "shell" (a sphere's shell), "tiled" (a repeating pattern), "one voxel".

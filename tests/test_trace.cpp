@@ -18,15 +18,6 @@
 namespace mv::test {
 namespace {
 
-constexpr Encoding kEncodings[] = {Encoding::svo, Encoding::svdag, Encoding::ussvdag, Encoding::ssvdag};
-
-// The voxels in one encoding, on a grid of unit voxels at the origin (world = grid units).
-MvxFile encoded_file(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels, Encoding e) {
-  GridTransform grid;
-  grid.resolution = 1u << levels;
-  return mvx_for_dag(build_dag_for_format(dev, voxels, levels, e), e, grid, Bounds{});
-}
-
 // Rays of every kind the issue names, in grid units of an n^3 grid: from outside toward the grid, from
 // inside, axis-parallel (on and off voxel boundaries), grazing along boundary planes, diagonal through
 // voxel corners (simultaneous crossings), away from the grid, from inside full voxels, with short tmax.
@@ -130,7 +121,7 @@ TEST_P(TraceTest, EveryEncodingHitsWhatTheReferenceDdaHits) {
       for (Encoding e : kEncodings) {
         SCOPED_TRACE(name + ", levels " + std::to_string(levels) + ", " + encoding_name(e));
         if (e == Encoding::ssvdag && levels < 3) continue;
-        MvxFile file = encoded_file(dev, voxels, levels, e);
+        MvxFile file = unit_grid_file(dev, voxels, levels, e);
         Tracer tracer(dev, file);
         // ssvdag twice: level starts from memory, then from the parameters (both kernels on every device)
         for (int pass = 0; pass < (e == Encoding::ssvdag ? 2 : 1); ++pass) {
@@ -160,7 +151,7 @@ TEST_P(TraceTest, DistanceIsTheFaceCrossingWithinTolerance) {
   Device& dev = shared_device(GetParam());
   const uint32_t levels = 6, n = 64;
   auto voxels = voxel_sets(levels)[1].second;  // the shell
-  MvxFile file = encoded_file(dev, voxels, levels, Encoding::ssvdag);
+  MvxFile file = unit_grid_file(dev, voxels, levels, Encoding::ssvdag);
   Tracer tracer(dev, file);
   std::vector<Ray> rays = test_rays(voxels, n, 7);
   std::vector<RayHit> got = tracer.trace(rays);
@@ -199,7 +190,7 @@ TEST_P(TraceTest, LevelOfDetailStopsWhereTheReferenceStops) {
     }
     for (Encoding e : kEncodings) {
       SCOPED_TRACE(name + ", " + encoding_name(e));
-      MvxFile file = encoded_file(dev, voxels, levels, e);
+      MvxFile file = unit_grid_file(dev, voxels, levels, e);
       TraceEngine engine(dev, file.dag);
       Buffer rb = dev.alloc(cube.size() * 4, "rays"), hb = dev.alloc(want.size() * MV_HIT_WORDS * 4, "hits");
       dev.upload(rb, cube.data(), cube.size() * 4);
@@ -250,8 +241,8 @@ TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
     }
     rays.push_back(r);
   }
-  MvxFile sv = encoded_file(dev, voxels, levels, Encoding::svdag);
-  MvxFile ss = encoded_file(dev, voxels, levels, Encoding::ssvdag);
+  MvxFile sv = unit_grid_file(dev, voxels, levels, Encoding::svdag);
+  MvxFile ss = unit_grid_file(dev, voxels, levels, Encoding::ssvdag);
   std::vector<RayHit> want = Tracer(dev, sv).trace(rays), got = Tracer(dev, ss).trace(rays);
   EXPECT_THROW(Tracer(dev, ss).engine().set_level_starts(TraceEngine::LevelStarts::parameters), Error);
   size_t hits = 0;
@@ -273,7 +264,7 @@ TEST_P(TraceTest, DeepTreesWalkLikeTheSvdag) {
 
 TEST_P(TraceTest, BadRaysAreRefused) {
   Device& dev = shared_device(GetParam());
-  MvxFile file = encoded_file(dev, voxel_sets(3)[0].second, 3, Encoding::svdag);
+  MvxFile file = unit_grid_file(dev, voxel_sets(3)[0].second, 3, Encoding::svdag);
   Tracer tracer(dev, file);
   Ray r;
   r.origin[1] = NAN;

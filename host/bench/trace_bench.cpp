@@ -167,6 +167,15 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
   for (uint32_t rep = 0; rep < o.repeats; ++rep)
     for (size_t f = 0; f < files.size(); ++f) {
       TraceBenchEncoding& e = out.encodings[f];
+      if (!tracers[f]->paged()) {  // the beam pre-pass's lever, measured in the same run
+        RenderOptions off = ro;
+        off.beam = false;
+        off.shading = Shading::depth;
+        RenderResult r = render(*tracers[f], cam, off);
+        for (const RenderPass& p : r.passes)
+          if (p.name == "primary")
+            e.primary_mrays_no_beam = std::max(e.primary_mrays_no_beam, double(p.rays) / p.seconds / 1e6);
+      }
       RenderResult r = render(*tracers[f], cam, ro);
       e.hits = r.hits;
       e.paged = tracers[f]->paged();

@@ -31,6 +31,7 @@
 #if defined(MV_CPP)
 #include <cmath>
 #include <cstdint>
+using std::ceil;
 using std::floor;
 typedef uint32_t mv_u32;
 typedef uint64_t mv_u64;

@@ -31,14 +31,15 @@
 #include "trace_paging.h"
 #include "trace_ray.h"
 
-/* One ray through the DAG of MV_TRACE_LEVELS(p) levels (p.proj, p.max_steps; `variant`: mv_trace_rays). enc =
+/* One ray through the DAG of MV_TRACE_LEVELS(p) levels (p.proj, p.max_steps; `variant`: mv_trace_rays), from
+ * t = `start` where that is > 0 (no event at t <= start may be a hit: mv_restart; the same hit, fewer steps). enc =
  * MV_ENC_PAGED: `words` are the cache's slots, `bricks` its page table, usage / request its stamps
  * (mv_page_resolve), and the walk stops at the finest resident cell on its way: a hit marked coarse.
  * Both find their levels' starts after the page table (before MV_TRACE_PAGE_RUNS); MV_ENC_PAGED_SSVDAG is the
  * same for an ssvdag.
  * Other encodings ignore usage and request. */
 MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBufU32 usage, MvBufU32 request,
-                         mv_u32 enc, mv_u32 variant, MvRay r, MvTraceParams p) {
+                         mv_u32 enc, mv_u32 variant, MvRay r, mv_f32 start, MvTraceParams p) {
   const mv_u32 L = MV_TRACE_LEVELS(p);
   const mv_f32 proj = p.proj;
   const mv_u32 max_steps = p.max_steps;
@@ -57,6 +58,17 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   if (L == 0u || e.enters == 0u) return h;
   mv_f32 te = e.t;
   mv_u32 ae = e.axis;
+  mv_u32 top = 31u; /* the levels whose cells have ae's plane inside: above top (mv_restart) */
+  if (start > 0.0f) {
+    /* the finest level m whose parents' cells cannot stop the ray for its LOD by `start` */
+    mv_u32 m = 0u;
+    while (m + 1u < L && proj > 0.0f && mv_cell_side(m + 1u, L) * proj < start + r.lod_t) ++m;
+    MvRestart rs = mv_restart(r, inv[0], inv[1], inv[2], e, start, m, L);
+    if (rs.state == MV_RESTART_MISS) return h;
+    te = rs.t;
+    ae = rs.axis;
+    top = rs.top;
+  }
 
   /* Per node level: the node (word index; an ssvdag brick: its low half), its header (a brick: its high
    * half), its mirror mask and its full slots (see mv_node_occupancy). */
@@ -96,7 +108,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
   mv_f32 s = mv_cell_side(lc, L);
   mv_u32 idx[3];
-  for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = mv_child_half(0u, s, o[k], inv[k], k, te, ae);
+  for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = mv_child_half(0u, s, o[k], inv[k], k, te, ae, L <= top);
 
   mv_u32 status = MV_TRACE_MISS;
   mv_u32 steps = 0u;
@@ -178,7 +190,8 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           nl -= 1u;
           lc -= 1u;
           s = s * 0.5f;
-          for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k] + mv_child_half(idx[k], s, o[k], inv[k], k, te, ae);
+          for (mv_u32 k = 0u; k < 3u; ++k)
+            idx[k] = 2u * idx[k] + mv_child_half(idx[k], s, o[k], inv[k], k, te, ae, lc < top);
           continue;
         }
         status = MV_TRACE_HIT;
@@ -197,6 +210,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
       if (ta > r.tmax) break;
       te = ta;
       ae = a;
+      top = 31u;
       /* idx[a] and inv[a] by selects: one index not known at compile time keeps a whole array in memory, where
        * the loop's narrow stores and wider vector loads of idx stall store forwarding (PoCL: ~13 % of the paged
        * trace's samples on one load) */
@@ -257,7 +271,18 @@ MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU
   MvItems r = mv_items(p.block, gid, gsize, p.count);
   for (mv_u32 j = r.begin; j < r.end; j += r.step) {
     mv_u32 i = p.first + j;
-    MvHit h = mv_trace(words, bricks, lvl_off, usage, request, enc, variant, mv_trace_source_ray(rays, cam, i, p), p);
+    /* camera rays with the beam pre-pass: the start of the ray's tile, after the camera record (trace_beam.h) */
+    mv_f32 start =
+        MV_TRACE_BEAM(p) == 1u ? MV_LD(cam, MV_CAMERA_FLOATS + mv_beam_tile(mv_camera_pixel(cam, i), p.width)) : 0.0f;
+    MvHit h;
+    if (start >= MV_BEAM_NOTHING) { /* the walk's miss, without the ray */
+      h.t = 0.0f;
+      h.x = 0u; h.y = 0u; h.z = 0u;
+      h.info = MV_TRACE_MISS | (MV_AXIS_NONE << 2);
+      h.steps = 0u;
+    } else {
+      h = mv_trace(words, bricks, lvl_off, usage, request, enc, variant, mv_trace_source_ray(rays, cam, i, p), start, p);
+    }
     if (MV_TRACE_OCCLUSION(p) == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {

@@ -44,12 +44,16 @@ MV_INLINE bool mv_crossed(mv_f32 t, mv_u32 k, mv_f32 te, mv_u32 ae) {
 }
 
 /* The half (0 lower, 1 upper) along axis k of the cell of side s the ray is in, inside parent cell `parent`
- * (side 2s), given the event (te, ae) that brought it into the parent. */
-MV_INLINE mv_u32 mv_child_half(mv_u32 parent, mv_f32 s, mv_f32 o, mv_f32 inv, mv_u32 k, mv_f32 te, mv_u32 ae) {
+ * (side 2s), given the event (te, ae): the crossing that brought it into the parent (`face`: ae's plane is the
+ * parent's face, so the ray is in the half beside it), or one inside the parent (a restarted walk, mv_restart:
+ * the ray has crossed ae's plane itself, so the half is the one after it). */
+MV_INLINE mv_u32 mv_child_half(mv_u32 parent, mv_f32 s, mv_f32 o, mv_f32 inv, mv_u32 k, mv_f32 te, mv_u32 ae,
+                               bool face) {
   MV_PRECISE mv_f32 mid = MV_F32(2u * parent + 1u) * s;
   bool pos = inv > 0.0f;
-  if (k == ae) return pos ? 0u : 1u;
-  bool crossed = mv_crossed(mv_cross(mid, o, inv), k, te, ae);
+  if (k == ae && face) return pos ? 0u : 1u;
+  mv_f32 t = mv_cross(mid, o, inv);
+  bool crossed = k == ae ? t <= te : mv_crossed(t, k, te, ae);
   return pos == crossed ? 1u : 0u;
 }
 
@@ -88,6 +92,83 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
     if (mv_before(mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]), k, e.t, e.axis)) e.enters = 0u;
   if (e.t > tmax) e.enters = 0u;
   return e;
+}
+
+/* A walk restarted inside the cube at t = `start`, where no event at t <= start is a hit (the beam pre-pass
+ * proves it for camera rays: trace_beam.h). It starts at a real event of the ray's walk: the latest (by (t,
+ * axis)) crossing at or before `start` of a plane between cells of level m, where cells above level m cannot
+ * stop the ray for its level of detail by then (see mv_trace). Descending from the root at that event gives the
+ * cell the full walk is in after it: above `top` (the coarsest level whose cells the plane bounds) the plane
+ * lies inside the cells, below it is their face (mv_child_half's `face`). */
+#define MV_RESTART_NONE 0u /* walk from the entry */
+#define MV_RESTART_AT 1u   /* descend from the root at (t, axis) */
+#define MV_RESTART_MISS 2u /* the ray leaves the cube by `start`: nothing to walk */
+MV_STRUCT_BEGIN(MvRestart)
+  mv_f32 t;
+  mv_u32 axis;
+  mv_u32 top;
+  mv_u32 state;
+MV_STRUCT_END(MvRestart)
+
+MV_INLINE MvRestart mv_restart(MvRay r, mv_f32 i0, mv_f32 i1, mv_f32 i2, MvEntry e, mv_f32 start, mv_u32 m,
+                               mv_u32 L) {
+  MvRestart x;
+  x.t = e.t;
+  x.axis = e.axis;
+  x.top = 31u;
+  x.state = MV_RESTART_NONE;
+  mv_f32 o[3];
+  mv_f32 d[3];
+  mv_f32 inv[3];
+  o[0] = r.ox; o[1] = r.oy; o[2] = r.oz;
+  d[0] = r.dx; d[1] = r.dy; d[2] = r.dz;
+  inv[0] = i0; inv[1] = i1; inv[2] = i2;
+  /* the exit: the first far-face crossing */
+  mv_f32 tx = 0.0f;
+  mv_u32 ax = MV_AXIS_NONE;
+  for (mv_u32 k = 0u; k < 3u; ++k) {
+    mv_f32 t = mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]);
+    if (ax == MV_AXIS_NONE || mv_before(t, k, tx, ax)) {
+      tx = t;
+      ax = k;
+    }
+  }
+  if (tx <= start) {
+    x.state = MV_RESTART_MISS;
+    return x;
+  }
+  const mv_f32 planes = MV_F32(1u << (L - m)); /* level m's planes per axis: 0 .. planes */
+  const mv_f32 side = mv_cell_side(m, L);
+  mv_f32 best_q = 0.0f;
+  bool found = false;
+  for (mv_u32 k = 0u; k < 3u; ++k) {
+    /* the plane behind the ray's position at `start` (any rounding there is caught by the check on t) */
+    bool pos = inv[k] > 0.0f;
+    MV_PRECISE mv_f32 at = (o[k] + start * d[k]) * planes;
+    mv_f32 q = pos ? floor(at) : ceil(at);
+    q = q < 0.0f ? 0.0f : (q > planes ? planes : q);
+    mv_f32 t = mv_cross(q * side, o[k], inv[k]);
+    if (t > start) {
+      q = pos ? q - 1.0f : q + 1.0f;
+      t = mv_cross(q * side, o[k], inv[k]);
+    }
+    if (t > start || q < 0.0f || q > planes) continue;
+    if (!found || mv_before(x.t, x.axis, t, k)) {
+      x.t = t;
+      x.axis = k;
+      best_q = q;
+      found = true;
+    }
+  }
+  /* only an event after the entry (a near face's crossing is not one) */
+  if (!found || best_q <= 0.0f || best_q >= planes || !mv_before(e.t, e.axis, x.t, x.axis)) {
+    x.t = e.t;
+    x.axis = e.axis;
+    return x;
+  }
+  x.top = m + MV_FIND_LSB(MV_U32(best_q));
+  x.state = MV_RESTART_AT;
+  return x;
 }
 
 #endif /* MV_TRACE_RAY_H */

@@ -45,6 +45,16 @@
 #define MV_TRACE_CAMERA(p) (((p).mode >> 5) & 1u)
 #define MV_TRACE_OCCLUSION(p) (((p).mode >> 6) & 1u)
 #define MV_TRACE_PAGE_SHIFT(p) (((p).mode >> 8) & 31u)
+/* With camera rays: each ray starts where the beam pre-pass says its tile's rays may (trace_beam.h), read after
+ * the camera record, one float per MV_BEAM_TILE x MV_BEAM_TILE pixels of the frame in row order. */
+#define MV_TRACE_MODE_BEAM (1u << 7)
+#define MV_TRACE_BEAM(p) (((p).mode >> 7) & 1u)
+#define MV_BEAM_TILE 4u
+#define MV_BEAM_NOTHING 1e30f /* a tile start: none of its rays meets the cube */
+
+MV_INLINE mv_u32 mv_beam_tile(mv_u32 pixel, mv_u32 width) {
+  return (pixel / width / MV_BEAM_TILE) * ((width + MV_BEAM_TILE - 1u) / MV_BEAM_TILE) + (pixel % width) / MV_BEAM_TILE;
+}
 
 /* Paged traversal (MV_ENC_PAGED, MV_ENC_PAGED_SSVDAG): level_base's last two words carry the pass's stamp and
  * where the pages' runs start in the table's buffer (page_cache.h: runs). A paged ssvdag's level starts lie

@@ -1,5 +1,6 @@
 // OpenCL entry points of ray traversal (bodies: common/trace.h, common/secondary.h).
 #include "common/secondary.h"
+#include "common/trace_beam.h"
 #include "common/trace_colour_paged.h"
 
 // One kernel per encoding family, the encoding a constant: svo / svdag / ussvdag (32-bit words) and ssvdag
@@ -88,6 +89,20 @@ __kernel void secondary_flags(__global uint* hits, __global uint* flags, MvSecon
 __kernel void secondary_rays(__global float* rays, __global float* cam, __global uint* hits, __global uint* listed,
                              __global float* table, __global uint* out, MvSecondaryParams p) {
   mv_secondary_rays(rays, cam, hits, listed, table, out, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+// The beam pre-pass (common/trace_beam.h): the coarse grid's full cells from one trace count each, the grid
+// dilated, and each tile's start after the camera record.
+__kernel void beam_pack(__global uint* counts, __global uint* full, MvBeamParams p) {
+  mv_beam_pack(counts, full, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void beam_dilate(__global uint* full, __global uint* marked, MvBeamParams p) {
+  mv_beam_dilate(full, marked, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void beam_starts(__global uint* marked, __global uint* cam, MvBeamParams p) {
+  mv_beam_starts(marked, cam, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
 // Each hit's colour from the depth-first colours (common/trace_colour.h): the 32-bit word encodings, and ssvdag.

@@ -4,6 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/secondary.h"
+#include "common/trace_beam.h"
 #include "common/trace_colour_paged.h"
 
 #if defined(MV_ENTRY_trace_rays)
@@ -41,6 +42,15 @@ layout(push_constant) uniform Args {
   MvBufF32 rays; MvBufF32 cam; MvBufU32 hits; MvBufU32 listed; MvBufF32 table; MvBufU32 out_; MvSecondaryParams p;
 } a;
 void main() { mv_secondary_rays(a.rays, a.cam, a.hits, a.listed, a.table, a.out_, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_beam_pack)
+layout(push_constant) uniform Args { MvBufU32 counts; MvBufU32 full; MvBeamParams p; } a;
+void main() { mv_beam_pack(a.counts, a.full, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_beam_dilate)
+layout(push_constant) uniform Args { MvBufU32 full; MvBufU32 marked; MvBeamParams p; } a;
+void main() { mv_beam_dilate(a.full, a.marked, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_beam_starts)
+layout(push_constant) uniform Args { MvBufU32 marked; MvBufU32 cam; MvBeamParams p; } a;
+void main() { mv_beam_starts(a.marked, a.cam, a.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_hit_colours)
 /* MV_TRACE_ENC: the encoding family, a constant (see trace.cl) */
 layout(push_constant) uniform Args {

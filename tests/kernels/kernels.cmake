@@ -20,6 +20,7 @@ mv_kernel(probe_voxelize_params    probe/layout.cl   probe/layout.comp    1  MvV
 mv_kernel(probe_dag_params         probe/layout.cl   probe/layout.comp    1  MvDagParams       MV_ENTRY_probe_dag_params)
 mv_kernel(probe_trace_params       probe/layout.cl   probe/layout.comp    1  MvTraceParams     MV_ENTRY_probe_trace_params)
 mv_kernel(probe_secondary_params   probe/layout.cl   probe/layout.comp    1  MvSecondaryParams MV_ENTRY_probe_secondary_params)
+mv_kernel(probe_beam_params        probe/layout.cl   probe/layout.comp    1  MvBeamParams      MV_ENTRY_probe_beam_params)
 mv_kernel(probe_ray                probe/layout.cl   probe/layout.comp    1  MvRay             MV_ENTRY_probe_ray)
 mv_kernel(probe_hit                probe/layout.cl   probe/layout.comp    1  MvHit             MV_ENTRY_probe_hit)
 mv_kernel(probe_point_params       probe/layout.cl   probe/layout.comp    1  MvPointParams     MV_ENTRY_probe_point_params)

@@ -21,6 +21,15 @@ struct FrameSetup {
 
 FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera& camera, const RenderOptions& options);
 
+// The beam pre-pass's grid for a frame (kernels/common/trace_beam.h, TraceEngine::beam): `reach`, how far a
+// tile's rays stray from its centre ray per unit t, and the finest grid (cells per axis) whose proof still holds
+// at the depth of the root cube's centre; cells = 0 where even 4 cells per axis are too fine.
+struct BeamSetup {
+  uint32_t cells = 0;
+  float reach = 0;
+};
+BeamSetup beam_setup(const FrameSetup& setup, uint32_t max_cells);
+
 // Per-pixel trace results: hit records (MV_HIT_WORDS each), occlusion counts and the hits' colours (R | G << 8 |
 // B << 16 | A << 24, kernels/common/trace_colour.h), each empty when not traced.
 struct FrameResults {

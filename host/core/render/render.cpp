@@ -39,7 +39,16 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   const bool shaded = options.shading == Shading::shaded;
   const bool coloured = frame_uses_colours(options) && tracer.has_colours();
   const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
-  Buffer cam = dev.alloc(sizeof(s.camera), "camera");
+  // The camera record, then the beam pre-pass's start per tile of the frame (resident tracers).
+  // (not for heat maps: they show the cost of the whole walk, as the reference renderer does)
+  BeamSetup beam = options.beam && !tracer.paged() && options.shading != Shading::heat
+                       ? beam_setup(s, TraceEngine::kBeamMaxCells)
+                       : BeamSetup{};
+  const uint64_t beam_tiles = beam.cells ? uint64_t{(s.width + MV_BEAM_TILE - 1) / MV_BEAM_TILE} *
+                                               ((s.height + MV_BEAM_TILE - 1) / MV_BEAM_TILE)
+                                         : 0;
+  bool beam_pending = beam.cells != 0;
+  Buffer cam = dev.alloc(sizeof(s.camera) + beam_tiles * 4, "camera");
   Buffer rays, counts, listed, table;
   if (shaded && s.ao_samples) {
     table = dev.alloc(s.ao_table.size() * 4, "AO directions");
@@ -101,8 +110,15 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     std::copy(std::begin(s.camera), std::end(s.camera), tile_cam);
     tile_cam[MV_CAMERA_FIRST] = MV_BITSF(t.first);
     dev.upload(cam, tile_cam, sizeof tile_cam);
-    pass("primary", t.count,
-         [&] { engine.trace(nullptr, &cam, 0, t.count, s.width, s.proj, options.max_steps, false, hits); });
+    pass("primary", t.count, [&] {
+      try {  // an optimization: where its grid's one-off scratch does not fit the budget, rays start at the cube
+        if (beam_pending) engine.beam(cam, s.width, s.height, beam.cells, beam.reach, s.proj);
+      } catch (const DeviceMemoryError&) {
+        beam = BeamSetup{};
+      }
+      beam_pending = false;
+      engine.trace(nullptr, &cam, 0, t.count, s.width, s.proj, options.max_steps, false, hits, beam.cells != 0);
+    });
     dev.download(hits, res.hits.data() + uint64_t{t.first} * MV_HIT_WORDS, uint64_t{t.count} * MV_HIT_WORDS * 4);
     if (coloured) {
       // (paged: before the pass's update, while the pages the primary rays read are resident)

@@ -19,11 +19,13 @@ class HostTracer {
         offsets_(trace_level_offsets(dag)) {
     set_trace_levels(params_, dag);
   }
-  MvHit trace(const MvRay& r, float proj, uint32_t max_steps) {
+  // From t = `start` where > 0 (mv_restart: no event at t <= start may be a hit).
+  MvHit trace(const MvRay& r, float proj, uint32_t max_steps, float start = 0) {
     MvTraceParams p = params_;
     p.proj = proj;
     p.max_steps = max_steps;
-    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), nullptr, nullptr, enc_, 0u, r, p);  // level starts from memory
+    return mv_trace(words_.data(), bricks_.data(), offsets_.data(), nullptr, nullptr, enc_, 0u, r, start,
+                    p);  // level starts from memory
   }
 
  private:

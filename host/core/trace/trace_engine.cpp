@@ -16,6 +16,7 @@
 #include "megavox/trace.h"
 #include "timing.h"
 #include "trace/trace_layout.h"
+#include "common/trace_beam.h"
 #include "common/trace_colour_paged.h"
 
 namespace mv {
@@ -114,7 +115,7 @@ void TraceEngine::for_each_dispatch(uint32_t begin, uint32_t count, F&& dispatch
 
 void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first_ray, uint32_t count, uint32_t width,
                         float proj,
-                        uint32_t max_steps, bool occlusion, Buffer& results) {
+                        uint32_t max_steps, bool occlusion, Buffer& results, bool beam) {
   const bool ssvdag = encoding_ == static_cast<uint32_t>(Encoding::ssvdag);
   const Buffer* bricks = ssvdag ? &bricks_ : nullptr;
   const KernelId paged_ssvdag =
@@ -135,7 +136,8 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
     p.block = block;
     p.first = first;
     p.count = n;
-    p.mode = MV_TRACE_MODE(levels_, camera ? 1u : 0u, occlusion ? 1u : 0u, page_shift_);
+    p.mode = MV_TRACE_MODE(levels_, camera ? 1u : 0u, occlusion ? 1u : 0u, page_shift_) |
+             (camera && beam ? MV_TRACE_MODE_BEAM : 0u);
     p.width = width;
     p.max_steps = step_limit(max_steps);
     p.proj = proj;
@@ -152,17 +154,67 @@ void TraceEngine::trace(const Buffer* rays, const Buffer* camera, uint32_t first
   dev_.barrier();
 }
 
-uint32_t TraceEngine::list_secondary(const Buffer& hits, uint32_t count, Buffer& listed) {
-  Buffer flags = dev_.alloc(uint64_t{std::max(count, 1u)} * 4, "secondary ray flags");
-  Kernel& k = dev_.kernel(KernelId::secondary_flags);
-  MvSecondaryParams p{};
-  for_each_dispatch(0, count, [&](uint32_t first, uint32_t n, uint32_t groups, uint32_t local, uint32_t block) {
+template <class P>
+void TraceEngine::dispatch_pair(KernelId id, uint32_t items, const Buffer& a, const Buffer& b, P p) {
+  Kernel& k = dev_.kernel(id);
+  for_each_dispatch(0, items, [&](uint32_t first, uint32_t count, uint32_t groups, uint32_t local, uint32_t block) {
     p.first = first;
-    p.count = n;
+    p.count = count;
     p.block = block;
-    dev_.dispatch(k, groups, local, {&hits, &flags}, p);
+    dev_.dispatch(k, groups, local, {&a, &b}, p);
   });
   dev_.barrier();
+}
+
+// The coarse grid's full cells come from the trace itself: one ray per cell from its centre, with tmax 0 (it
+// never leaves the cell it starts in) and a level of detail that stops it at the first full cell of the grid's
+// side on its way down (te = 0, so s * 1 < 1.5 S holds from side S down), then packed into bits and dilated.
+const Buffer& TraceEngine::beam_grid(uint32_t g) {
+  auto found = beam_grids_.find(g);
+  if (found != beam_grids_.end()) return found->second;
+  const uint32_t n = g * g * g;
+  const float side = 1.0f / static_cast<float>(g);
+  std::vector<float> rays(uint64_t{n} * MV_RAY_FLOATS);
+  for (uint32_t i = 0; i < n; ++i) {
+    const MvRay r{(static_cast<float>(i % g) + 0.5f) * side, (static_cast<float>(i / g % g) + 0.5f) * side,
+                  (static_cast<float>(i / g / g) + 0.5f) * side, 1.0f, 0.5f, 0.25f, 0.0f, 1.5f * side};
+    std::copy_n(&r.ox, MV_RAY_FLOATS, rays.data() + uint64_t{i} * MV_RAY_FLOATS);
+  }
+  Buffer ray_buf = dev_.alloc(rays.size() * 4, "beam grid rays");
+  dev_.upload(ray_buf, rays.data(), rays.size() * 4);
+  Buffer counts = dev_.alloc(uint64_t{n} * 4, "beam grid cells");
+  dev_.fill(counts, 0, uint64_t{n} * 4);
+  trace(&ray_buf, nullptr, 0, n, 0, 1.0f, step_limit(4 * levels_ + 16), true, counts);
+  const uint32_t full_words = g * g * mv_beam_row_words(g);
+  const uint32_t marked_words = (g + 2) * (g + 2) * mv_beam_row_words(g + 2);
+  Buffer full = dev_.alloc(uint64_t{full_words} * 4, "beam grid");
+  Buffer marked = dev_.alloc(uint64_t{marked_words} * 4, "beam grid, dilated");
+  MvBeamParams p{};
+  p.cells = g;
+  dispatch_pair(KernelId::beam_pack, full_words, counts, full, p);
+  dispatch_pair(KernelId::beam_dilate, marked_words, full, marked, p);
+  return beam_grids_.emplace(g, std::move(marked)).first->second;
+}
+
+void TraceEngine::beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach, float proj) {
+  if (cache_) throw Error("trace: the beam pre-pass runs on resident DAGs only");
+  if (cells < 4 || cells > kBeamMaxCells || (cells & (cells - 1)) != 0 || levels_ < 2 ||
+      cells > (uint32_t{1} << levels_) || !(reach > 0))
+    throw Error("trace: a beam grid of " + std::to_string(cells) + " cells per axis");
+  const Buffer& marked = beam_grid(cells);
+  const uint32_t tiles = ((width + MV_BEAM_TILE - 1) / MV_BEAM_TILE) * ((height + MV_BEAM_TILE - 1) / MV_BEAM_TILE);
+  MvBeamParams p{};
+  p.cells = cells;
+  p.width = width;
+  p.height = height;
+  p.reach = reach;
+  p.lod_limit = proj > 0 ? 2 * proj / static_cast<float>(cells) : 1e30f;
+  dispatch_pair(KernelId::beam_starts, tiles, marked, camera, p);
+}
+
+uint32_t TraceEngine::list_secondary(const Buffer& hits, uint32_t count, Buffer& listed) {
+  Buffer flags = dev_.alloc(uint64_t{std::max(count, 1u)} * 4, "secondary ray flags");
+  dispatch_pair(KernelId::secondary_flags, count, hits, flags, MvSecondaryParams{});
   return static_cast<uint32_t>(select_flagged(dev_, flags, listed, count));
 }
 

@@ -2,8 +2,10 @@
 // secondary-ray kernels (kernels/common/trace.h, secondary.h) over rays in root-cube coordinates.
 #pragma once
 #include <cstdint>
+#include <map>
 
 #include "common/secondary.h"
+#include "common/trace_beam.h"
 #include "megavox/device.h"
 #include "megavox/encode.h"
 
@@ -36,8 +38,19 @@ class TraceEngine {
 
   // Traces rays [first, first + count): from `rays` (MV_RAY_FLOATS each) or, with `camera`, the camera's pixel
   // rays. Writes MV_HIT_WORDS per ray into `results`, or with `occlusion` adds 1 to results[i] when ray i hits.
+  // With `beam` (camera rays), each ray starts where beam() found its tile's rays may: the same hits.
   void trace(const Buffer* rays, const Buffer* camera, uint32_t first, uint32_t count, uint32_t width, float proj,
-             uint32_t max_steps, bool occlusion, Buffer& results);
+             uint32_t max_steps, bool occlusion, Buffer& results, bool beam = false);
+
+  // The beam pre-pass (kernels/common/trace_beam.h) over a frame of `width` x `height` camera rays: where each
+  // MV_BEAM_TILE^2 tile's rays may start, written after the camera record in `camera` (which holds
+  // MV_CAMERA_FLOATS + one float per tile). `cells`: the coarse grid's cells per axis (a power of two, 4 ..
+  // min(2^levels, kBeamMaxCells)), built on first use and kept; `reach`: how far a tile's rays stray from its
+  // centre ray per unit t, on each axis; `proj`: the frame's LOD factor. Resident DAGs only.
+  static constexpr uint32_t kBeamMaxCells = 64;
+  void beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach, float proj);
+  // The dilated grid of `cells` per axis the pre-pass reads (trace_beam.h's layout), built on first use.
+  const Buffer& beam_grid(uint32_t cells);
 
   // Voxel colours (resident DAGs): `rgb`, RGB24 per octree node in depth-first order (docs/colour.md), uploaded
   // with the subtree sizes the hit colour walk reads. Throws mv::Error when the entries are not the DAG's octree
@@ -64,6 +77,9 @@ class TraceEngine {
  private:
   template <class F>
   void for_each_dispatch(uint32_t first, uint32_t count, F&& dispatch);
+  // Items [0, items) of a two-buffer kernel over the work-items, each dispatch's share in p.first / count / block.
+  template <class P>
+  void dispatch_pair(KernelId id, uint32_t items, const Buffer& a, const Buffer& b, P p);
 
   Device& dev_;
   uint32_t levels_ = 0;
@@ -77,6 +93,7 @@ class TraceEngine {
   bool stamp_usage_ = true;
   bool relative_ = false;  // paged word stream: pointers count from their level's start (non-zero starts)
   MvTraceParams params_{};  // ssvdag level starts; paged, where the runs start
+  std::map<uint32_t, Buffer> beam_grids_;  // the beam pre-pass's dilated grids, by cells per axis
 };
 
 }  // namespace mv

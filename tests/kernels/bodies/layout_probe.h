@@ -16,6 +16,7 @@
 #include "common/scan.h"
 #include "lang_probe.h"
 #include "common/secondary.h"
+#include "common/trace_beam.h"
 #include "common/unique.h"
 #include "common/page_cache.h"
 #include "common/points.h"
@@ -68,6 +69,9 @@
   X(MV_U32, first) X(MV_U32, count) X(MV_U32, levels) X(MV_U32, camera) X(MV_U32, width) X(MV_U32, kind)               \
   X(MV_U32, sample_k) X(MV_U32, stride) X(MV_U32, mask) X(MV_FBITS, lx) X(MV_FBITS, ly) X(MV_FBITS, lz)                \
   X(MV_FBITS, tmax) X(MV_FBITS, lead) X(MV_U32, block) X(MV_U32, pad2)
+#define MV_FIELDS_BEAM(X)                                                                                              \
+  X(MV_U32, first) X(MV_U32, count) X(MV_U32, cells) X(MV_U32, width) X(MV_U32, height) X(MV_FBITS, reach)             \
+  X(MV_FBITS, lod_limit) X(MV_U32, block)
 #define MV_FIELDS_RAY(X)                                                                                               \
   X(MV_FBITS, ox) X(MV_FBITS, oy) X(MV_FBITS, oz) X(MV_FBITS, dx) X(MV_FBITS, dy) X(MV_FBITS, dz)                      \
   X(MV_FBITS, tmax) X(MV_FBITS, lod_t)
@@ -128,6 +132,7 @@ MV_PROBE(voxelize_params, MvVoxelizeParams, MV_FIELDS_VOXELIZE)
 MV_PROBE(dag_params, MvDagParams, MV_FIELDS_DAG)
 MV_PROBE(trace_params, MvTraceParams, MV_FIELDS_TRACE)
 MV_PROBE(secondary_params, MvSecondaryParams, MV_FIELDS_SECONDARY)
+MV_PROBE(beam_params, MvBeamParams, MV_FIELDS_BEAM)
 MV_PROBE(ray, MvRay, MV_FIELDS_RAY)
 MV_PROBE(hit, MvHit, MV_FIELDS_HIT)
 MV_PROBE(point_params, MvPointParams, MV_FIELDS_POINT)

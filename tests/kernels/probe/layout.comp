@@ -35,6 +35,9 @@
 #elif defined(MV_ENTRY_probe_secondary_params)
 #define MV_PROBE_T MvSecondaryParams
 #define MV_PROBE_FN mv_probe_secondary_params
+#elif defined(MV_ENTRY_probe_beam_params)
+#define MV_PROBE_T MvBeamParams
+#define MV_PROBE_FN mv_probe_beam_params
 #elif defined(MV_ENTRY_probe_ray)
 #define MV_PROBE_T MvRay
 #define MV_PROBE_FN mv_probe_ray

@@ -71,7 +71,9 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
                         {"over_embree", e.over_embree}, {"silhouette_agreement", e.silhouette_agreement},
                         {"paged", e.paged}, {"converged", e.converged},
                         {"steps_per_ray", {{"primary", e.steps.primary}, {"primary_hit", e.steps.primary_hit},
-                                           {"shadow", e.steps.shadow}, {"ao", e.steps.ao}}}});
+                                           {"shadow", e.steps.shadow}, {"ao", e.steps.ao},
+                                           {"primary_rendered", e.beam_steps},
+                                           {"primary_hit_rendered", e.beam_hit_steps}}}});
       nlohmann::json j = {{"benchmark", "trace"}, {"device", r.device}, {"mesh", r.mesh}, {"width", r.width},
                           {"height", r.height}, {"lod_pixels", r.lod_pixels}, {"encodings", encs},
                           {"cache_memory", a->o.cache_bytes},
@@ -94,8 +96,9 @@ void add_bench_trace_command(CLI::App& bench, const GlobalOptions& g) {
     std::printf("  (Mrays/s)\n");
     for (const auto& e : r.encodings)
       if (e.primary_mrays_no_beam > 0)
-        std::printf("  %-8s %6u primary without the beam pre-pass %.2f (the beam: %.2fx)\n", e.format.c_str(),
-                    e.resolution, e.primary_mrays_no_beam, e.primary_mrays / e.primary_mrays_no_beam);
+        std::printf("  %-8s %6u primary without the beam pre-pass %.2f (the beam: %.2fx; steps with it %.1f, hits %.1f)\n",
+                    e.format.c_str(), e.resolution, e.primary_mrays_no_beam, e.primary_mrays / e.primary_mrays_no_beam,
+                    e.beam_steps, e.beam_hit_steps);
     std::printf("  steps per ray (cells visited):\n");
     for (const auto& e : r.encodings)
       std::printf("  %-8s %6u primary %.1f (hits %.1f), shadow %.1f, ao %.1f\n", e.format.c_str(), e.resolution,

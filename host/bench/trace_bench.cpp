@@ -178,6 +178,8 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
       }
       RenderResult r = render(*tracers[f], cam, ro);
       e.hits = r.hits;
+      e.beam_steps = double(r.primary_steps) / (double(ro.width) * ro.height);
+      e.beam_hit_steps = r.hits ? double(r.hit_steps) / double(r.hits) : 0;
       e.paged = tracers[f]->paged();
       e.converged = e.converged && r.converged;
       double total = 0;

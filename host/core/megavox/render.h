@@ -74,6 +74,9 @@ struct RenderResult {
   Image image;
   std::vector<RenderPass> passes;  // of each tile's last pass
   uint64_t hits = 0;  // pixels whose primary ray hit
+  // Cells the primary rays visited (descents and moves), all of them and those of the rays that hit: what a
+  // primary ray costs, and what the beam pre-pass saves (RenderOptions::beam).
+  uint64_t primary_steps = 0, hit_steps = 0;
   // Paged tracers: one update per pass; converged when every tile's last pass met no missing page, so the
   // picture equals the resident render's. A frame is one tile unless its per-pixel device buffers (60 bytes a
   // pixel shaded, 24 otherwise, 4 more with colours) exceed the device budget left beside the cache and the DAG, or its pages

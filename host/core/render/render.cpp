@@ -102,7 +102,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     uint32_t first, count;
   };
   struct TileHits {
-    uint64_t hits = 0, coarse = 0;
+    uint64_t hits = 0, coarse = 0, steps = 0, hit_steps = 0;
   };
   auto trace_tile = [&](const Tile& t) {
     TileHits h;
@@ -125,10 +125,12 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
       pass("colour", t.count, [&] { tracer.hit_colours(hits, t.count, colours, res.colours.data() + t.first); });
     }
     for (uint32_t i = t.first; i < t.first + t.count; ++i) {
-      const uint32_t info = mv_load_hit(res.hits.data(), i).info;
-      const bool hit = MV_INFO_STATUS(info) == MV_TRACE_HIT;
+      const MvHit r = mv_load_hit(res.hits.data(), i);
+      const bool hit = MV_INFO_STATUS(r.info) == MV_TRACE_HIT;
       h.hits += hit;
-      h.coarse += hit && MV_INFO_COARSE(info);
+      h.coarse += hit && MV_INFO_COARSE(r.info);
+      h.steps += r.steps;
+      h.hit_steps += hit ? r.steps : 0;
     }
     if (!shaded) return h;
     // A tile traced again through the cache may list other pixels: the counts of the pass before go first.
@@ -209,6 +211,8 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     ++out.tiles;
     out.converged = out.converged && done;
     out.hits += h.hits;
+    out.primary_steps += h.steps;
+    out.hit_steps += h.hit_steps;
     out.coarse_pixels += h.coarse;
     out.passes.insert(out.passes.end(), passes.begin(), passes.end());
   }

@@ -41,6 +41,7 @@ typedef float mv_f32;
 typedef double mv_f64;
 #define MV_INLINE static inline
 #define MV_ALWAYS_INLINE static inline __attribute__((always_inline))
+#define MV_UNROLL _Pragma("GCC unroll 4")
 #define MV_U32(x) ((mv_u32)(x))
 #define MV_U64(x) ((mv_u64)(x))
 #define MV_I32(x) ((mv_i32)(x))
@@ -63,6 +64,8 @@ typedef double mv_f64;
 #define MV_INLINE static inline
 /* for hot helpers PoCL would otherwise call (a call per voxel test costs more than the test) */
 #define MV_ALWAYS_INLINE static inline __attribute__((always_inline))
+/* a short loop over the axes unrolled, so its arrays live in registers (PoCL keeps a rolled one's on the stack) */
+#define MV_UNROLL _Pragma("unroll")
 #define MV_U32(x) ((uint)(x))
 #define MV_U64(x) ((ulong)(x))
 #define MV_I32(x) ((int)(x))
@@ -86,6 +89,7 @@ typedef double mv_f64;
 #define mv_f64 double
 #define MV_INLINE
 #define MV_ALWAYS_INLINE
+#define MV_UNROLL
 #define MV_U32(x) uint(x)
 #define MV_U64(x) uint64_t(x)
 #define MV_I32(x) int(x)

@@ -108,14 +108,14 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   mv_u32 lc = L - 1u; /* level of the cells being walked: the children of the node */
   mv_f32 s = mv_cell_side(lc, L);
   mv_u32 idx[3];
-  for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = mv_child_half(0u, s, o[k], inv[k], k, te, ae, L <= top);
+  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = mv_child_half(0u, s, o[k], inv[k], k, te, ae, L <= top);
 
   mv_u32 status = MV_TRACE_MISS;
   mv_u32 steps = 0u;
   /* the step limit, or (paged) the step whose descent met a missing page: the walk leaves before the next */
   mv_u32 limit = coarse != 0u ? 0u : max_steps;
   if (coarse != 0u) /* the root's cell (a level up, after the loop) */
-    for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 0u;
+    MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 0u;
   for (;;) {
     for (;;) {
       /* a descent into a missing page (coarse) leaves at the next step: its one exit shared with the step limit
@@ -190,7 +190,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
           nl -= 1u;
           lc -= 1u;
           s = s * 0.5f;
-          for (mv_u32 k = 0u; k < 3u; ++k)
+          MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k)
             idx[k] = 2u * idx[k] + mv_child_half(idx[k], s, o[k], inv[k], k, te, ae, lc < top);
           continue;
         }
@@ -200,7 +200,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
       /* empty: step to the next cell of this level (lowest axis first on equal times) */
       mv_u32 a = 0u;
       mv_f32 ta = 0.0f;
-      for (mv_u32 k = 0u; k < 3u; ++k) {
+      MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) {
         mv_f32 t = mv_cross(MV_F32(idx[k] + (inv[k] > 0.0f ? 1u : 0u)) * s, o[k], inv[k]);
         if (k == 0u || t < ta) {
           ta = t;
@@ -219,10 +219,10 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
       mv_u32 nw = inv_a > 0.0f ? old + 1u : old - 1u;
       mv_u32 j = MV_FIND_MSB(old ^ nw) + 1u; /* the node of level lc + j is the first to hold the new cell */
       if (lc + j > L) break;                 /* left the root */
-      for (mv_u32 k = 0u; k < 3u; ++k)
+      MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k)
         if (k == a) idx[k] = nw;
       if (j > 1u) {
-        for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> (j - 1u);
+        MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> (j - 1u);
         nl = lc + j;
         lc = nl - 1u;
         s = mv_cell_side(lc, L);
@@ -233,7 +233,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
     nl += 1u;
     lc += 1u;
     s = s * 2.0f;
-    for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> 1;
+    MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = idx[k] >> 1;
     /* a whole cache's walk that left its run (MV_PAGE_STEP): resolve the page, then repeat the step from its cell
      * (the same step count), or keep the coarse hit where the page is missing */
     if (left_run == MV_NO_WORD) break;

@@ -78,7 +78,7 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
   o[0] = o0; o[1] = o1; o[2] = o2;
   inv[0] = i0; inv[1] = i1; inv[2] = i2;
   if (mv_inside_unit(o0, i0) && mv_inside_unit(o1, i1) && mv_inside_unit(o2, i2)) return e;
-  for (mv_u32 k = 0u; k < 3u; ++k) {
+  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) {
     if (mv_inside_unit(o[k], inv[k])) continue;
     bool pos = inv[k] > 0.0f;
     if (pos ? o[k] > 1.0f : o[k] < 0.0f) e.enters = 0u; /* outside on k and moving away */
@@ -88,7 +88,7 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
       e.axis = k;
     }
   }
-  for (mv_u32 k = 0u; k < 3u; ++k)
+  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k)
     if (mv_before(mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]), k, e.t, e.axis)) e.enters = 0u;
   if (e.t > tmax) e.enters = 0u;
   return e;
@@ -126,7 +126,7 @@ MV_INLINE MvRestart mv_restart(MvRay r, mv_f32 i0, mv_f32 i1, mv_f32 i2, MvEntry
   /* the exit: the first far-face crossing */
   mv_f32 tx = 0.0f;
   mv_u32 ax = MV_AXIS_NONE;
-  for (mv_u32 k = 0u; k < 3u; ++k) {
+  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) {
     mv_f32 t = mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]);
     if (ax == MV_AXIS_NONE || mv_before(t, k, tx, ax)) {
       tx = t;
@@ -141,7 +141,7 @@ MV_INLINE MvRestart mv_restart(MvRay r, mv_f32 i0, mv_f32 i1, mv_f32 i2, MvEntry
   const mv_f32 side = mv_cell_side(m, L);
   mv_f32 best_q = 0.0f;
   bool found = false;
-  for (mv_u32 k = 0u; k < 3u; ++k) {
+  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) {
     /* the plane behind the ray's position at `start` (any rounding there is caught by the check on t) */
     bool pos = inv[k] > 0.0f;
     MV_PRECISE mv_f32 at = (o[k] + start * d[k]) * planes;

@@ -70,7 +70,7 @@ MV_INLINE void mv_page_request(MvBufU32 request, MvTraceParams p, mv_u32 page) {
     nl -= 1u;                                                                                                  \
     lc -= 1u;                                                                                                  \
     s = s * 0.5f;                                                                                              \
-    for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k];                                                     \
+    MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) idx[k] = 2u * idx[k];                                           \
     break;                                                                                                     \
   }                                                                                                            \
   at = run_at + MV_U32((word) - run_lo);

@@ -319,6 +319,9 @@ TEST_P(PagedTraceTest, PreloadedCacheRendersTheResidentPictureInOnePass) {
       EXPECT_EQ(got.cache[0].loaded, 0u);
       EXPECT_EQ(got.coarse_pixels, 0u);
       EXPECT_TRUE(got.image.rgb == want.image.rgb) << "the preloaded picture differs from the resident one";
+      // the beam pre-pass's grid, built through the cache, is the resident one: the rays start at the same places
+      EXPECT_EQ(got.primary_steps, want.primary_steps);
+      EXPECT_EQ(got.hit_steps, want.hit_steps);
     }
   }
 }
@@ -375,6 +378,7 @@ void one_page_cache_renders_the_roots_lod(Device& dev, const MvxFile& f) {
   o.height = 32;
   o.shading = Shading::level;
   o.lod_pixels = 0;  // voxels: more than the root's page
+  o.beam = false;     // (the beam's grid would load the root's page in a pass of its own, before the frame's)
   const RenderResult r = render(tracer, view_camera(f.bounds, "iso"), o);
   EXPECT_FALSE(r.converged);
   EXPECT_GT(r.hits, 0u);

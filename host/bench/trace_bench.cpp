@@ -167,7 +167,7 @@ TraceBenchResult run_trace_bench(Device& dev, const std::vector<std::string>& fi
   for (uint32_t rep = 0; rep < o.repeats; ++rep)
     for (size_t f = 0; f < files.size(); ++f) {
       TraceBenchEncoding& e = out.encodings[f];
-      if (!tracers[f]->paged()) {  // the beam pre-pass's lever, measured in the same run
+      {  // the beam pre-pass's lever, measured in the same run
         RenderOptions off = ro;
         off.beam = false;
         off.shading = Shading::depth;

@@ -34,7 +34,7 @@ struct TraceBenchEncoding {
   uint64_t hits = 0;
   double primary_seconds = 0, shadow_seconds = 0, ao_seconds = 0;  // best of `repeats`
   double primary_mrays = 0, shadow_mrays = 0, ao_mrays = 0;
-  double primary_mrays_no_beam = 0;  // the same primary rays without the beam pre-pass (resident), same run
+  double primary_mrays_no_beam = 0;  // the same primary rays without the beam pre-pass, same run
   double beam_steps = 0, beam_hit_steps = 0;  // the device's steps per primary ray with it (all; the hits)
   double host_core_mrays = 0;   // the same primary rays, kernel code built for the host (TBB threads)
   double reference_mrays = 0;   // the flat voxel DDA (a sample of the rays); 0 = skipped (over 64 Mi voxels)

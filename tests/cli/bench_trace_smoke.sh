@@ -22,10 +22,9 @@ for j, paged in ((r, False), (p, True)):
         assert e["hits"] > 0 and e["primary_mrays"] > 0 and e["shadow_mrays"] > 0 and e["ao_mrays"] > 0
         s = e["steps_per_ray"]
         assert 0 < s["primary"] <= s["primary_hit"] and s["shadow"] > 0 and s["ao"] > 0
-        # the renders' own steps: with the beam pre-pass (resident) fewer than the whole walk's, else the same
-        assert 0 < s["primary_rendered"] <= s["primary"] and 0 < s["primary_hit_rendered"] <= s["primary_hit"]
-        assert (e["primary_mrays_no_beam"] > 0) == (not paged)
-        if paged: assert abs(s["primary_rendered"] - s["primary"]) < 1e-9
+        # the renders' own steps: with the beam pre-pass, fewer than the whole walk's
+        assert 0 < s["primary_rendered"] < s["primary"] and 0 < s["primary_hit_rendered"] <= s["primary_hit"]
+        assert e["primary_mrays_no_beam"] > 0
 assert [e["hits"] for e in r["encodings"]] == [e["hits"] for e in p["encodings"]]
 assert r["encodings"][0]["steps_per_ray"] == r["encodings"][1]["steps_per_ray"]  # one walk for every encoding
 assert r["encodings"][0]["steps_per_ray"]["primary_rendered"] < r["encodings"][0]["steps_per_ray"]["primary"]

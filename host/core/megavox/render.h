@@ -82,6 +82,7 @@ struct RenderResult {
   // pixel shaded, 24 otherwise, 4 more with colours) exceed the device budget left beside the cache and the DAG, or its pages
   // exceed the cache: then bands of rows that fit, halved until their pages fit too (render.cpp).
   std::vector<CacheUpdateStats> cache;
+  uint32_t beam_grid_passes = 0;  // paged: passes that built the beam pre-pass's grid (once per scene and size)
   bool converged = true;
   uint32_t tiles = 0;
   uint64_t coarse_pixels = 0;  // primary hits of the tiles' last passes that stopped at a missing page

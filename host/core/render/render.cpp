@@ -41,9 +41,24 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
   // The camera record, then the beam pre-pass's start per tile of the frame (resident tracers).
   // (not for heat maps: they show the cost of the whole walk, as the reference renderer does)
-  BeamSetup beam = options.beam && !tracer.paged() && options.shading != Shading::heat
-                       ? beam_setup(s, TraceEngine::kBeamMaxCells)
-                       : BeamSetup{};
+  BeamSetup beam =
+      options.beam && options.shading != Shading::heat ? beam_setup(s, TraceEngine::kBeamMaxCells) : BeamSetup{};
+  // Paged: the grid's coarse trace runs in passes of its own until it met no missing page (its pages are the
+  // DAG's top levels); where the cache cannot hold them, rays start at the cube.
+  for (uint32_t grid_pass = 0; tracer.paged() && beam.cells && !engine.has_beam_grid(beam.cells); ++grid_pass) {
+    if (grid_pass == 4) {
+      beam = BeamSetup{};
+      break;
+    }
+    tracer.begin_pass();
+    try {
+      engine.beam_grid(beam.cells);
+    } catch (const DeviceMemoryError&) {
+      beam = BeamSetup{};
+    }
+    ++out.beam_grid_passes;
+    if (tracer.end_pass().requested != 0) engine.forget_beam_grid(beam.cells);
+  }
   const uint64_t beam_tiles = beam.cells ? uint64_t{(s.width + MV_BEAM_TILE - 1) / MV_BEAM_TILE} *
                                                ((s.height + MV_BEAM_TILE - 1) / MV_BEAM_TILE)
                                          : 0;

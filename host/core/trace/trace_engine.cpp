@@ -197,7 +197,6 @@ const Buffer& TraceEngine::beam_grid(uint32_t g) {
 }
 
 void TraceEngine::beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach, float proj) {
-  if (cache_) throw Error("trace: the beam pre-pass runs on resident DAGs only");
   if (cells < 4 || cells > kBeamMaxCells || (cells & (cells - 1)) != 0 || levels_ < 2 ||
       cells > (uint32_t{1} << levels_) || !(reach > 0))
     throw Error("trace: a beam grid of " + std::to_string(cells) + " cells per axis");

@@ -46,11 +46,15 @@ class TraceEngine {
   // MV_BEAM_TILE^2 tile's rays may start, written after the camera record in `camera` (which holds
   // MV_CAMERA_FLOATS + one float per tile). `cells`: the coarse grid's cells per axis (a power of two, 4 ..
   // min(2^levels, kBeamMaxCells)), built on first use and kept; `reach`: how far a tile's rays stray from its
-  // centre ray per unit t, on each axis; `proj`: the frame's LOD factor. Resident DAGs only.
+  // centre ray per unit t, on each axis; `proj`: the frame's LOD factor.
   static constexpr uint32_t kBeamMaxCells = 64;
   void beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach, float proj);
-  // The dilated grid of `cells` per axis the pre-pass reads (trace_beam.h's layout), built on first use.
+  // The dilated grid of `cells` per axis the pre-pass reads (trace_beam.h's layout), built on first use. Paged,
+  // its trace is one of the cache's passes: where a page was missing the cells below count as full (still a
+  // proof, a weaker one), and forget_beam_grid() lets the next pass build it again with the pages it loaded.
   const Buffer& beam_grid(uint32_t cells);
+  bool has_beam_grid(uint32_t cells) const { return beam_grids_.count(cells) != 0; }
+  void forget_beam_grid(uint32_t cells) { beam_grids_.erase(cells); }
 
   // Voxel colours (resident DAGs): `rgb`, RGB24 per octree node in depth-first order (docs/colour.md), uploaded
   // with the subtree sizes the hit colour walk reads. Throws mv::Error when the entries are not the DAG's octree

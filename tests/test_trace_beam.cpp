@@ -161,6 +161,7 @@ TEST_P(BeamTest, CameraRaysHitWhatTheyHitWithoutIt) {
   const uint32_t levels = 6, n = 1u << levels;
   GridTransform grid;
   grid.resolution = n;
+  uint32_t with_parent = 0;
   for (auto& [name, voxels] : voxel_sets(levels)) {
     ref::Occupancy occ(voxels, levels);
     for (Encoding e : kEncodings) {
@@ -172,12 +173,15 @@ TEST_P(BeamTest, CameraRaysHitWhatTheyHitWithoutIt) {
         const FrameSetup s = frame_setup(grid, levels, v.camera, v.options);
         const BeamSetup beam = beam_setup(s, TraceEngine::kBeamMaxCells);
         ASSERT_GE(beam.cells, 4u);
-        const uint32_t px = s.width * s.height, tiles_x = (s.width + MV_BEAM_TILE - 1) / MV_BEAM_TILE;
-        const uint32_t tiles = tiles_x * ((s.height + MV_BEAM_TILE - 1) / MV_BEAM_TILE);
-        Buffer cam = dev.alloc((MV_CAMERA_FLOATS + tiles) * 4, "camera");
+        const uint32_t px = s.width * s.height;
+        const uint64_t floats = TraceEngine::beam_camera_floats(s.width, s.height);
+        Buffer cam = dev.alloc(floats * 4, "camera");
         dev.upload(cam, s.camera, sizeof s.camera);
-        engine.beam(cam, s.width, s.height, beam.cells, beam.reach, s.proj);
-        std::vector<float> starts(MV_CAMERA_FLOATS + tiles);
+        // with and without the parent pass over tiles twice as wide: each start a proof
+        engine.beam(cam, s.width, s.height, beam.cells, beam.reach, view_no % 2 ? 0 : beam.parent_cells,
+                    beam.parent_reach, s.proj);
+        with_parent += view_no % 2 == 0 && beam.parent_cells;
+        std::vector<float> starts(floats);
         dev.download(cam, starts.data(), starts.size() * 4);
         std::vector<uint32_t> with(px * MV_HIT_WORDS), without(px * MV_HIT_WORDS);
         Buffer hits = dev.alloc(with.size() * 4, "hits");
@@ -205,6 +209,7 @@ TEST_P(BeamTest, CameraRaysHitWhatTheyHitWithoutIt) {
       }
     }
   }
+  EXPECT_GT(with_parent, 0u);
 }
 
 TEST_P(BeamTest, BadGridsAreRefused) {
@@ -212,9 +217,10 @@ TEST_P(BeamTest, BadGridsAreRefused) {
   const MvxFile file = unit_grid_file(dev, voxel_sets(6).front().second, 6, Encoding::svdag);
   TraceEngine engine(dev, file.dag);
   Buffer cam = dev.alloc(4096, "camera");
-  EXPECT_THROW(engine.beam(cam, 16, 16, 3, 0.01f, 0), Error);
-  EXPECT_THROW(engine.beam(cam, 16, 16, 128, 0.01f, 0), Error);
-  EXPECT_THROW(engine.beam(cam, 16, 16, 8, 0.0f, 0), Error);
+  EXPECT_THROW(engine.beam(cam, 16, 16, 3, 0.01f, 0, 0, 0), Error);
+  EXPECT_THROW(engine.beam(cam, 16, 16, 128, 0.01f, 0, 0, 0), Error);
+  EXPECT_THROW(engine.beam(cam, 16, 16, 8, 0.0f, 0, 0, 0), Error);
+  EXPECT_THROW(engine.beam(cam, 16, 16, 8, 0.01f, 6, 0.02f, 0), Error);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(BeamTest);

@@ -2,6 +2,8 @@
  * and GLSL. A frame's pixels are taken in tiles of MV_BEAM_TILE^2; for each tile a coarse pass finds a t before
  * which none of its rays can meet a full cell, and each ray then starts its walk there (mv_restart) instead of
  * at the root cube's face: the same hit in fewer steps, and a tile that sees only empty space does no walk.
+ * The tiles' pass starts from a first pass over tiles twice as wide (on a coarser grid, as their rays stray
+ * further): a parent's start holds for its four tiles, so theirs walk only on from there.
  *
  * The proof uses a coarse grid of G^3 cells (cell side S = 1/G of the root cube): a cell is full when the DAG
  * has anything in it (the trace kernel itself answers, one ray per cell: see TraceEngine::beam), and the grid is
@@ -25,12 +27,18 @@ MV_STRUCT_BEGIN(MvBeamParams)
   mv_f32 reach;       /* a tile's rays stray at most t * reach from its centre ray, on each axis */
   mv_f32 lod_limit;   /* a start is held below this t (see above) */
   mv_u32 block;       /* nonzero: each work-item takes this many consecutive items (CPU devices) */
+  mv_u32 tile;        /* beam_starts: pixels per tile side */
+  mv_u32 at;          /* beam_starts: tile j's start goes to cam[MV_CAMERA_FLOATS + at + j] */
+  mv_u32 parent_at;   /* beam_starts: where the starts of tiles twice as wide are, or MV_BEAM_NO_PARENT */
+  mv_u32 pad;
 MV_STRUCT_END(MvBeamParams)
+#define MV_BEAM_NO_PARENT 0xffffffffu
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvBeamParams, 32);
+MV_LAYOUT_SIZE(MvBeamParams, 48);
 MV_LAYOUT_AT(MvBeamParams, first, 0); MV_LAYOUT_AT(MvBeamParams, count, 4); MV_LAYOUT_AT(MvBeamParams, cells, 8);
 MV_LAYOUT_AT(MvBeamParams, width, 12); MV_LAYOUT_AT(MvBeamParams, height, 16); MV_LAYOUT_AT(MvBeamParams, reach, 20);
-MV_LAYOUT_AT(MvBeamParams, lod_limit, 24); MV_LAYOUT_AT(MvBeamParams, block, 28);
+MV_LAYOUT_AT(MvBeamParams, lod_limit, 24); MV_LAYOUT_AT(MvBeamParams, block, 28); MV_LAYOUT_AT(MvBeamParams, tile, 32);
+MV_LAYOUT_AT(MvBeamParams, at, 36); MV_LAYOUT_AT(MvBeamParams, parent_at, 40); MV_LAYOUT_AT(MvBeamParams, pad, 44);
 #endif
 
 /* The grids' layout: rows of bits along x, a row per (y, z) (row z * n + y for n cells per axis), each row
@@ -99,19 +107,31 @@ MV_INLINE bool mv_beam_marked(MvBufU32 marked, mv_u32 n, mv_u32 x, mv_u32 y, mv_
   return ((MV_LD(marked, (z * n + y) * mv_beam_row_words(n) + (x >> 5)) >> (x & 31u)) & 1u) != 0u;
 }
 
-/* Tile j's start: written after the camera record, at cam[MV_CAMERA_FLOATS + j] (mv_trace_rays reads it there). */
+/* Tile j's start: written after the camera record, at cam[MV_CAMERA_FLOATS + p.at + j] (mv_trace_rays reads the
+ * final pass's, p.at = 0, there). With a parent pass, the walk goes on from the parent tile's start. */
 MV_INLINE void mv_beam_starts(MvBufU32 marked, MvBufU32 cam, MvBeamParams p, mv_u32 gid, mv_u32 gsize) {
   const mv_u32 g = p.cells;
   const mv_u32 n = g + 2u;
   const mv_f32 fg = MV_F32(g);
   const mv_f32 fn = MV_F32(n);
-  const mv_u32 tiles_x = (p.width + MV_BEAM_TILE - 1u) / MV_BEAM_TILE;
+  const mv_u32 tile = p.tile;
+  const mv_u32 tiles_x = (p.width + tile - 1u) / tile;
   MvItems r = mv_items(p.block, gid, gsize, p.count);
   for (mv_u32 i = r.begin; i < r.end; i += r.step) {
     mv_u32 j = p.first + i;
-    mv_u32 x0 = (j % tiles_x) * MV_BEAM_TILE, y0 = (j / tiles_x) * MV_BEAM_TILE;
-    mv_f32 cx = 0.5f * MV_F32(x0 + MV_MIN(x0 + MV_BEAM_TILE, p.width) - 1u);
-    mv_f32 cy = 0.5f * MV_F32(y0 + MV_MIN(y0 + MV_BEAM_TILE, p.height) - 1u);
+    mv_u32 x0 = (j % tiles_x) * tile, y0 = (j / tiles_x) * tile;
+    /* no ray of the parent tile, a superset of this one's, meets a full cell before t0 */
+    mv_f32 t0 = 0.0f;
+    if (p.parent_at != MV_BEAM_NO_PARENT) {
+      mv_u32 pt = 2u * tile;
+      t0 = MV_BITSF(MV_LD(cam, MV_CAMERA_FLOATS + p.parent_at + (y0 / pt) * ((p.width + pt - 1u) / pt) + x0 / pt));
+    }
+    if (t0 >= MV_BEAM_NOTHING) {
+      MV_ST(cam, MV_CAMERA_FLOATS + p.at + j, MV_FBITS(MV_BEAM_NOTHING));
+      continue;
+    }
+    mv_f32 cx = 0.5f * MV_F32(x0 + MV_MIN(x0 + tile, p.width) - 1u);
+    mv_f32 cy = 0.5f * MV_F32(y0 + MV_MIN(y0 + tile, p.height) - 1u);
     /* the centre ray in dilated-grid units: q(t) = (eye + t d) G + 1 */
     mv_f32 q[3];
     mv_f32 v[3];
@@ -129,7 +149,8 @@ MV_INLINE void mv_beam_starts(MvBufU32 marked, MvBufU32 cam, MvBeamParams p, mv_
       v_out = MV_MAX(ta, tb) < t_out ? v[k] : v_out;
       t_out = MV_MIN(t_out, MV_MAX(ta, tb));
     }
-    mv_f32 hit = 1e30f; /* where the centre ray enters its first marked cell */
+    t_in = MV_MAX(t_in, t0);
+    mv_f32 hit = 1e30f; /* where the centre ray enters its first marked cell from t0 on */
     bool left = t_in >= t_out; /* it left the dilated grid (or never met it) without meeting one */
     if (t_in < t_out) {
       mv_u32 c[3];
@@ -164,12 +185,12 @@ MV_INLINE void mv_beam_starts(MvBufU32 marked, MvBufU32 cam, MvBeamParams p, mv_
       }
     }
     mv_f32 reach = 0.5f / (p.reach * fg);
-    mv_f32 start = MV_MIN(MV_MIN(hit, reach), p.lod_limit) * (1.0f - 1.0f / 1024.0f);
+    mv_f32 start = MV_MAX(t0, MV_MIN(MV_MIN(hit, reach), p.lod_limit) * (1.0f - 1.0f / 1024.0f));
     /* Left the dilated grid within reach, faster than the tile's rays stray: until then every ray of the tile
      * was outside the cube or in empty cells, and from then on each is outside the cube by S / 2 or more on
      * that axis, moving away. */
     if (left && t_out <= reach && (v_out < 0.0f ? -v_out : v_out) > 2.0f * p.reach * fg) start = MV_BEAM_NOTHING;
-    MV_ST(cam, MV_CAMERA_FLOATS + j, MV_FBITS(start));
+    MV_ST(cam, MV_CAMERA_FLOATS + p.at + j, MV_FBITS(start));
   }
 }
 

@@ -52,6 +52,11 @@
 #define MV_BEAM_TILE 4u
 #define MV_BEAM_NOTHING 1e30f /* a tile start: none of its rays meets the cube */
 
+/* How many tiles of `tile` pixels a side cover a frame. */
+MV_INLINE mv_u32 mv_beam_tile_count(mv_u32 width, mv_u32 height, mv_u32 tile) {
+  return ((width + tile - 1u) / tile) * ((height + tile - 1u) / tile);
+}
+
 MV_INLINE mv_u32 mv_beam_tile(mv_u32 pixel, mv_u32 width) {
   return (pixel / width / MV_BEAM_TILE) * ((width + MV_BEAM_TILE - 1u) / MV_BEAM_TILE) + (pixel % width) / MV_BEAM_TILE;
 }

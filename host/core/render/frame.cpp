@@ -222,23 +222,27 @@ bool frame_uses_colours(const RenderOptions& o) {
 
 BeamSetup beam_setup(const FrameSetup& s, uint32_t max_cells) {
   const float* c = s.camera;
-  const double half = (MV_BEAM_TILE - 1) / 2.0;  // pixels from a tile's centre to its farthest ray, per axis
-  double reach = 0, depth = 0, fwd2 = 0;
+  double step = 0, depth = 0, fwd2 = 0;  // step: a pixel's stray per unit t, on the worst axis
   for (int a = 0; a < 3; ++a) {
-    reach = std::max(reach, half * (std::abs(c[MV_CAMERA_DU + a]) + std::abs(c[MV_CAMERA_DV + a])));
+    step = std::max<double>(step, std::abs(c[MV_CAMERA_DU + a]) + std::abs(c[MV_CAMERA_DV + a]));
     const double fwd =
         c[MV_CAMERA_BASE + a] + 0.5 * (s.width - 1.0) * c[MV_CAMERA_DU + a] + 0.5 * (s.height - 1.0) * c[MV_CAMERA_DV + a];
     depth += (0.5 - c[MV_CAMERA_EYE + a]) * fwd;
     fwd2 += fwd * fwd;
   }
-  BeamSetup b;
-  b.reach = static_cast<float>(reach * 1.01 + 1e-9);  // above the float rounding of the rays' directions
   depth = std::max(depth / fwd2, 1e-3);
-  // the proof holds while t * reach <= S / 2 = 1 / (2 cells)
-  const double most = 1 / (2 * b.reach * depth);
-  uint32_t cells = std::min<uint32_t>(max_cells, s.levels >= 31 ? max_cells : uint32_t{1} << s.levels);
-  while (cells >= 4 && cells > most) cells /= 2;
-  b.cells = cells >= 4 ? cells : 0;
+  // tiles of `tile` pixels: their farthest ray (tile - 1) / 2 pixels from the centre; the proof holds while
+  // t * reach <= S / 2 = 1 / (2 cells), so the finest grid that keeps it to the cube's centre
+  auto level = [&](uint32_t tile, float& reach) {
+    reach = static_cast<float>((tile - 1) / 2.0 * step * 1.01 + 1e-9);  // above the rays' float rounding
+    const double most = 1 / (2 * reach * depth);
+    uint32_t cells = std::min<uint32_t>(max_cells, s.levels >= 31 ? max_cells : uint32_t{1} << s.levels);
+    while (cells >= 4 && cells > most) cells /= 2;
+    return cells >= 4 ? cells : 0u;
+  };
+  BeamSetup b;
+  b.cells = level(MV_BEAM_TILE, b.reach);
+  b.parent_cells = b.cells ? level(2 * MV_BEAM_TILE, b.parent_reach) : 0;
   return b;
 }
 

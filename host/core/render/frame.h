@@ -21,12 +21,13 @@ struct FrameSetup {
 
 FrameSetup frame_setup(const GridTransform& grid, uint32_t levels, const Camera& camera, const RenderOptions& options);
 
-// The beam pre-pass's grid for a frame (kernels/common/trace_beam.h, TraceEngine::beam): `reach`, how far a
-// tile's rays stray from its centre ray per unit t, and the finest grid (cells per axis) whose proof still holds
-// at the depth of the root cube's centre; cells = 0 where even 4 cells per axis are too fine.
+// The beam pre-pass's grids for a frame (kernels/common/trace_beam.h, TraceEngine::beam), for its tiles and for
+// the parent pass's tiles twice as wide: `reach`, how far a tile's rays stray from its centre ray per unit t, and
+// the finest grid (cells per axis) whose proof still holds at the depth of the root cube's centre; cells = 0
+// where even 4 cells per axis are too fine (no parent pass, or no beam).
 struct BeamSetup {
-  uint32_t cells = 0;
-  float reach = 0;
+  uint32_t cells = 0, parent_cells = 0;
+  float reach = 0, parent_reach = 0;
 };
 BeamSetup beam_setup(const FrameSetup& setup, uint32_t max_cells);
 

@@ -45,7 +45,10 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
       options.beam && options.shading != Shading::heat ? beam_setup(s, TraceEngine::kBeamMaxCells) : BeamSetup{};
   // Paged: the grid's coarse trace runs in passes of its own until it met no missing page (its pages are the
   // DAG's top levels); where the cache cannot hold them, rays start at the cube.
-  for (uint32_t grid_pass = 0; tracer.paged() && beam.cells && !engine.has_beam_grid(beam.cells); ++grid_pass) {
+  auto grids_built = [&] {
+    return engine.has_beam_grid(beam.cells) && (!beam.parent_cells || engine.has_beam_grid(beam.parent_cells));
+  };
+  for (uint32_t grid_pass = 0; tracer.paged() && beam.cells && !grids_built(); ++grid_pass) {
     if (grid_pass == 4) {
       beam = BeamSetup{};
       break;
@@ -53,17 +56,19 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     tracer.begin_pass();
     try {
       engine.beam_grid(beam.cells);
+      if (beam.parent_cells) engine.beam_grid(beam.parent_cells);
     } catch (const DeviceMemoryError&) {
       beam = BeamSetup{};
     }
     ++out.beam_grid_passes;
-    if (tracer.end_pass().requested != 0) engine.forget_beam_grid(beam.cells);
+    if (tracer.end_pass().requested != 0) {
+      engine.forget_beam_grid(beam.cells);
+      engine.forget_beam_grid(beam.parent_cells);
+    }
   }
-  const uint64_t beam_tiles = beam.cells ? uint64_t{(s.width + MV_BEAM_TILE - 1) / MV_BEAM_TILE} *
-                                               ((s.height + MV_BEAM_TILE - 1) / MV_BEAM_TILE)
-                                         : 0;
   bool beam_pending = beam.cells != 0;
-  Buffer cam = dev.alloc(sizeof(s.camera) + beam_tiles * 4, "camera");
+  Buffer cam = dev.alloc((beam.cells ? TraceEngine::beam_camera_floats(s.width, s.height) : MV_CAMERA_FLOATS) * 4,
+                         "camera");
   Buffer rays, counts, listed, table;
   if (shaded && s.ao_samples) {
     table = dev.alloc(s.ao_table.size() * 4, "AO directions");
@@ -127,7 +132,8 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
     dev.upload(cam, tile_cam, sizeof tile_cam);
     pass("primary", t.count, [&] {
       try {  // an optimization: where its grid's one-off scratch does not fit the budget, rays start at the cube
-        if (beam_pending) engine.beam(cam, s.width, s.height, beam.cells, beam.reach, s.proj);
+        if (beam_pending)
+          engine.beam(cam, s.width, s.height, beam.cells, beam.reach, beam.parent_cells, beam.parent_reach, s.proj);
       } catch (const DeviceMemoryError&) {
         beam = BeamSetup{};
       }

@@ -196,19 +196,31 @@ const Buffer& TraceEngine::beam_grid(uint32_t g) {
   return beam_grids_.emplace(g, std::move(marked)).first->second;
 }
 
-void TraceEngine::beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach, float proj) {
-  if (cells < 4 || cells > kBeamMaxCells || (cells & (cells - 1)) != 0 || levels_ < 2 ||
-      cells > (uint32_t{1} << levels_) || !(reach > 0))
-    throw Error("trace: a beam grid of " + std::to_string(cells) + " cells per axis");
-  const Buffer& marked = beam_grid(cells);
-  const uint32_t tiles = ((width + MV_BEAM_TILE - 1) / MV_BEAM_TILE) * ((height + MV_BEAM_TILE - 1) / MV_BEAM_TILE);
-  MvBeamParams p{};
-  p.cells = cells;
-  p.width = width;
-  p.height = height;
-  p.reach = reach;
-  p.lod_limit = proj > 0 ? 2 * proj / static_cast<float>(cells) : 1e30f;
-  dispatch_pair(KernelId::beam_starts, tiles, marked, camera, p);
+void TraceEngine::beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach,
+                       uint32_t parent_cells, float parent_reach, float proj) {
+  auto check = [&](uint32_t g, float r) {
+    if (g < 4 || g > kBeamMaxCells || (g & (g - 1)) != 0 || levels_ < 2 || g > (uint32_t{1} << levels_) || !(r > 0))
+      throw Error("trace: a beam grid of " + std::to_string(g) + " cells per axis");
+  };
+  check(cells, reach);
+  if (parent_cells) check(parent_cells, parent_reach);
+  const uint32_t tiles = mv_beam_tile_count(width, height, MV_BEAM_TILE);
+  // each pass over its tiles: the parent's starts after the tiles' (beam_camera_floats)
+  auto pass = [&](uint32_t g, float r, uint32_t tile, uint32_t at, uint32_t parent_at) {
+    const Buffer& marked = beam_grid(g);
+    MvBeamParams p{};
+    p.cells = g;
+    p.width = width;
+    p.height = height;
+    p.reach = r;
+    p.lod_limit = proj > 0 ? 2 * proj / static_cast<float>(g) : 1e30f;
+    p.tile = tile;
+    p.at = at;
+    p.parent_at = parent_at;
+    dispatch_pair(KernelId::beam_starts, mv_beam_tile_count(width, height, tile), marked, camera, p);
+  };
+  if (parent_cells) pass(parent_cells, parent_reach, 2 * MV_BEAM_TILE, tiles, MV_BEAM_NO_PARENT);
+  pass(cells, reach, MV_BEAM_TILE, 0, parent_cells ? tiles : MV_BEAM_NO_PARENT);
 }
 
 uint32_t TraceEngine::list_secondary(const Buffer& hits, uint32_t count, Buffer& listed) {

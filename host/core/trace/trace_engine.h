@@ -43,12 +43,18 @@ class TraceEngine {
              uint32_t max_steps, bool occlusion, Buffer& results, bool beam = false);
 
   // The beam pre-pass (kernels/common/trace_beam.h) over a frame of `width` x `height` camera rays: where each
-  // MV_BEAM_TILE^2 tile's rays may start, written after the camera record in `camera` (which holds
-  // MV_CAMERA_FLOATS + one float per tile). `cells`: the coarse grid's cells per axis (a power of two, 4 ..
-  // min(2^levels, kBeamMaxCells)), built on first use and kept; `reach`: how far a tile's rays stray from its
-  // centre ray per unit t, on each axis; `proj`: the frame's LOD factor.
+  // MV_BEAM_TILE^2 tile's rays may start, written after the camera record in `camera` (beam_camera_floats).
+  // `cells`: the coarse grid's cells per axis (a power of two, 4 .. min(2^levels, kBeamMaxCells)), built on first
+  // use and kept; `reach`: how far a tile's rays stray from its centre ray per unit t, on each axis; the parent
+  // pass over tiles twice as wide likewise (parent_cells = 0: none); `proj`: the frame's LOD factor.
   static constexpr uint32_t kBeamMaxCells = 64;
-  void beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach, float proj);
+  void beam(Buffer& camera, uint32_t width, uint32_t height, uint32_t cells, float reach, uint32_t parent_cells,
+            float parent_reach, float proj);
+  // The camera buffer's floats with the pre-pass: the record, the tiles' starts, the parent tiles'.
+  static uint64_t beam_camera_floats(uint32_t width, uint32_t height) {
+    return MV_CAMERA_FLOATS + uint64_t{mv_beam_tile_count(width, height, MV_BEAM_TILE)} +
+           mv_beam_tile_count(width, height, 2 * MV_BEAM_TILE);
+  }
   // The dilated grid of `cells` per axis the pre-pass reads (trace_beam.h's layout), built on first use. Paged,
   // its trace is one of the cache's passes: where a page was missing the cells below count as full (still a
   // proof, a weaker one), and forget_beam_grid() lets the next pass build it again with the pages it loaded.

@@ -71,7 +71,7 @@
   X(MV_FBITS, tmax) X(MV_FBITS, lead) X(MV_U32, block) X(MV_U32, pad2)
 #define MV_FIELDS_BEAM(X)                                                                                              \
   X(MV_U32, first) X(MV_U32, count) X(MV_U32, cells) X(MV_U32, width) X(MV_U32, height) X(MV_FBITS, reach)             \
-  X(MV_FBITS, lod_limit) X(MV_U32, block)
+  X(MV_FBITS, lod_limit) X(MV_U32, block) X(MV_U32, tile) X(MV_U32, at) X(MV_U32, parent_at) X(MV_U32, pad)
 #define MV_FIELDS_RAY(X)                                                                                               \
   X(MV_FBITS, ox) X(MV_FBITS, oy) X(MV_FBITS, oz) X(MV_FBITS, dx) X(MV_FBITS, dy) X(MV_FBITS, dz)                      \
   X(MV_FBITS, tmax) X(MV_FBITS, lod_t)

@@ -43,11 +43,7 @@ MV_INLINE MvHit mv_trace(MvBufU32 words, MvBufU32 bricks, MvBufU32 lvl_off, MvBu
   const mv_u32 L = MV_TRACE_LEVELS(p);
   const mv_f32 proj = p.proj;
   const mv_u32 max_steps = p.max_steps;
-  MvHit h;
-  h.t = 0.0f;
-  h.x = 0u; h.y = 0u; h.z = 0u;
-  h.info = MV_TRACE_MISS | (MV_AXIS_NONE << 2);
-  h.steps = 0u;
+  MvHit h = mv_miss_hit();
   mv_f32 o[3];
   mv_f32 inv[3];
   o[0] = r.ox; o[1] = r.oy; o[2] = r.oz;
@@ -274,15 +270,9 @@ MV_INLINE void mv_trace_rays(MvBufF32 rays, MvBufF32 cam, MvBufU32 words, MvBufU
     /* camera rays with the beam pre-pass: the start of the ray's tile, after the camera record (trace_beam.h) */
     mv_f32 start =
         MV_TRACE_BEAM(p) == 1u ? MV_LD(cam, MV_CAMERA_FLOATS + mv_beam_tile(mv_camera_pixel(cam, i), p.width)) : 0.0f;
-    MvHit h;
-    if (start >= MV_BEAM_NOTHING) { /* the walk's miss, without the ray */
-      h.t = 0.0f;
-      h.x = 0u; h.y = 0u; h.z = 0u;
-      h.info = MV_TRACE_MISS | (MV_AXIS_NONE << 2);
-      h.steps = 0u;
-    } else {
+    MvHit h = mv_miss_hit(); /* a tile that sees nothing: the walk's miss, without making the ray */
+    if (start < MV_BEAM_NOTHING)
       h = mv_trace(words, bricks, lvl_off, usage, request, enc, variant, mv_trace_source_ray(rays, cam, i, p), start, p);
-    }
     if (MV_TRACE_OCCLUSION(p) == 1u) {
       if (MV_INFO_STATUS(h.info) == MV_TRACE_HIT) MV_ST(results, i, MV_LD(results, i) + 1u);
     } else {

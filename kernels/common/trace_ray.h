@@ -58,11 +58,12 @@ MV_INLINE mv_u32 mv_child_half(mv_u32 parent, mv_f32 s, mv_f32 o, mv_f32 inv, mv
 }
 
 /* Where a ray enters the root cube: the event (t, axis), axis MV_AXIS_NONE when it starts inside (t = 0).
- * enters = 0 when it misses the cube or enters after tmax. */
+ * enters = 0 when it misses the cube or enters after tmax. exit: the t of its first far-face crossing. */
 MV_STRUCT_BEGIN(MvEntry)
   mv_f32 t;
   mv_u32 axis;
   mv_u32 enters;
+  mv_f32 exit;
 MV_STRUCT_END(MvEntry)
 
 /* Is the ray inside [0, 1) on this axis just before t = 0 (see mv_crossed)? */
@@ -77,6 +78,15 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
   mv_f32 inv[3];
   o[0] = o0; o[1] = o1; o[2] = o2;
   inv[0] = i0; inv[1] = i1; inv[2] = i2;
+  mv_u32 exit_axis = MV_AXIS_NONE; /* the first far-face crossing, by (t, axis) */
+  e.exit = 0.0f;
+  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) {
+    mv_f32 t = mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]);
+    if (exit_axis == MV_AXIS_NONE || mv_before(t, k, e.exit, exit_axis)) {
+      e.exit = t;
+      exit_axis = k;
+    }
+  }
   if (mv_inside_unit(o0, i0) && mv_inside_unit(o1, i1) && mv_inside_unit(o2, i2)) return e;
   MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) {
     if (mv_inside_unit(o[k], inv[k])) continue;
@@ -88,8 +98,7 @@ MV_INLINE MvEntry mv_ray_entry(mv_f32 o0, mv_f32 o1, mv_f32 o2, mv_f32 i0, mv_f3
       e.axis = k;
     }
   }
-  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k)
-    if (mv_before(mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]), k, e.t, e.axis)) e.enters = 0u;
+  if (mv_before(e.exit, exit_axis, e.t, e.axis)) e.enters = 0u; /* it leaves on one axis before it enters */
   if (e.t > tmax) e.enters = 0u;
   return e;
 }
@@ -123,17 +132,7 @@ MV_INLINE MvRestart mv_restart(MvRay r, mv_f32 i0, mv_f32 i1, mv_f32 i2, MvEntry
   o[0] = r.ox; o[1] = r.oy; o[2] = r.oz;
   d[0] = r.dx; d[1] = r.dy; d[2] = r.dz;
   inv[0] = i0; inv[1] = i1; inv[2] = i2;
-  /* the exit: the first far-face crossing */
-  mv_f32 tx = 0.0f;
-  mv_u32 ax = MV_AXIS_NONE;
-  MV_UNROLL for (mv_u32 k = 0u; k < 3u; ++k) {
-    mv_f32 t = mv_cross(inv[k] > 0.0f ? 1.0f : 0.0f, o[k], inv[k]);
-    if (ax == MV_AXIS_NONE || mv_before(t, k, tx, ax)) {
-      tx = t;
-      ax = k;
-    }
-  }
-  if (tx <= start) {
+  if (e.exit <= start) {
     x.state = MV_RESTART_MISS;
     return x;
   }

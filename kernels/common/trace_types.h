@@ -123,6 +123,16 @@ MV_LAYOUT_AT(MvHit, t, 0); MV_LAYOUT_AT(MvHit, x, 4); MV_LAYOUT_AT(MvHit, y, 8);
 MV_LAYOUT_AT(MvHit, info, 16); MV_LAYOUT_AT(MvHit, steps, 20);
 #endif
 
+/* The hit record of a ray that meets nothing. */
+MV_INLINE MvHit mv_miss_hit() {
+  MvHit h;
+  h.t = 0.0f;
+  h.x = 0u; h.y = 0u; h.z = 0u;
+  h.info = MV_TRACE_MISS | (MV_AXIS_NONE << 2);
+  h.steps = 0u;
+  return h;
+}
+
 /* Ray i of a ray buffer (MV_RAY_FLOATS per ray, MvRay's fields in order), read and written. */
 MV_INLINE MvRay mv_load_ray(MvBufF32 rays, mv_u32 i) {
   MvRay r;

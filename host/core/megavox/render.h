@@ -56,8 +56,8 @@ struct RenderOptions {
   // Shade with the file's voxel colours (shaded and colour shadings) where the tracer has them: a voxel's own, or
   // at a coarser level of detail the mean of the voxels below (docs/colour.md). Off: grey.
   bool colours = true;
-  // Resident tracers: camera rays start where a coarse pass over tiles of pixels proves nothing is hit before
-  // (the beam pre-pass, kernels/common/trace_beam.h): the same picture in fewer steps.
+  // Camera rays start where a coarse pass over tiles of pixels proves nothing is hit before (the beam pre-pass,
+  // kernels/common/trace_beam.h): the same picture in fewer steps. Paged tracers build its grid through the cache.
   bool beam = true;
 };
 

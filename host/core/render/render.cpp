@@ -39,7 +39,7 @@ RenderResult render(Tracer& tracer, const Camera& camera, const RenderOptions& o
   const bool shaded = options.shading == Shading::shaded;
   const bool coloured = frame_uses_colours(options) && tracer.has_colours();
   const bool read_ahead = options.read_ahead.value_or(dev.info().massively_parallel);
-  // The camera record, then the beam pre-pass's start per tile of the frame (resident tracers).
+  // The camera record, then the beam pre-pass's start per tile of the frame
   // (not for heat maps: they show the cost of the whole walk, as the reference renderer does)
   BeamSetup beam =
       options.beam && options.shading != Shading::heat ? beam_setup(s, TraceEngine::kBeamMaxCells) : BeamSetup{};

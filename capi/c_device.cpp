@@ -153,6 +153,33 @@ void mvSetDeviceErrorFunction(MvDevice device, MvErrorFunction function, void* u
   device->error_user = userPtr;
 }
 
+size_t mvListDevices(MvDeviceDescription* devices, size_t capacity) {
+  size_t count = 0;
+  guard(nullptr, [&] {
+    require(devices || capacity == 0, "mvListDevices: devices is NULL");
+    const std::vector<mv::DeviceInfo> all = mv::list_devices();
+    std::string chosen;
+    try {
+      chosen = mv::select_device("").selector();
+    } catch (const mv::Error&) {  // no device at all, or $MEGAVOX_DEVICE matches none: no default to mark
+    }
+    for (size_t i = 0; i < all.size() && i < capacity; ++i) {
+      const mv::DeviceInfo& d = all[i];
+      MvDeviceDescription& out = devices[i];
+      out = MvDeviceDescription{};
+      copy_text(out.selector, d.selector());
+      copy_text(out.name, d.name);
+      copy_text(out.backend, d.backend);
+      copy_text(out.type, d.type);
+      copy_text(out.platform, d.platform);
+      out.memoryBytes = d.global_memory_bytes;
+      out.isDefault = d.selector() == chosen;
+    }
+    count = all.size();
+  });
+  return count;
+}
+
 uint64_t mvGetHostMemoryBudget(MvDevice device) {
   return device && device->host_memory ? device->host_memory : mv::default_host_memory();
 }

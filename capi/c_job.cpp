@@ -53,12 +53,13 @@ namespace mv::capi {
 namespace {
 
 // A scene build's fraction from its stage's: voxelizing is most of an in-core build, the cubes most of an
-// out-of-core one; what follows the last progress report (octree, reduction, encoding, writing) is the rest.
+// out-of-core one; the octree, reduction and encoding follow the last of those reports, then the file is written.
 double scene_overall(const std::string& stage, double f) {
   f = std::clamp(f, 0.0, 1.0);
   if (stage == "read") return 0.2 * f;  // only out of core reports more than 0 here
   if (stage == "voxelize") return 0.2 + 0.5 * f;
   if (stage == "cubes") return 0.2 + 0.7 * f;
+  if (stage == "write") return 0.95 + 0.05 * f;
   return 0;
 }
 

@@ -67,6 +67,36 @@ MvError mvBuildPointsFile(MvDevice device, const char* input, const char* output
   });
 }
 
+void mvInitPointArrays(MvPointArrays* points) {
+  if (!points) return;
+  *points = MvPointArrays{};
+  points->byteSize = sizeof(MvPointArrays);
+}
+
+MvError mvBuildPointsFromMemory(MvDevice device, const MvPointArrays* points, const char* output,
+                                const MvPointBuildArguments* args) {
+  return guard(device, [&] {
+    require(points, "points build: points is NULL (call mvInitPointArrays)");
+    require(points->byteSize == sizeof(MvPointArrays), "points build: MvPointArrays.byteSize is wrong (call mvInitPointArrays)");
+    require(!points->xyz32 != !points->xyz64, "points build: give exactly one of xyz32 and xyz64");
+    require(points->count <= SIZE_MAX / 3, "points build: the point count overflows");
+    const size_t n = points->count;
+    mv::PointArrays arrays;
+    if (points->xyz32) arrays.xyz32 = {points->xyz32, 3 * n};
+    else arrays.xyz64 = {points->xyz64, 3 * n};
+    if (points->rgb) arrays.rgb = {points->rgb, 3 * n};
+    if (points->intensity) arrays.intensity = {points->intensity, n};
+    if (points->extra) {
+      require(points->extraBytes > 0 && points->extraBytes <= 65535, "points build: extraBytes is not 1 to 65535");
+      arrays.extra = {points->extra, size_t{points->extraBytes} * n};
+      arrays.extra_bytes = points->extraBytes;
+    }
+    PointBuild b = point_build(device, "points in memory", output, args);
+    b.options.arrays = &arrays;
+    run_point_build(device, b.options, b.user);
+  });
+}
+
 MvJob mvBuildPointsFileAsync(MvDevice device, const char* input, const char* output,
                              const MvPointBuildArguments* args) {
   MvJob job = nullptr;

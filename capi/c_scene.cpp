@@ -47,6 +47,17 @@ MvScene mvBuildSceneFromMemory(MvDevice device, const float* vertices, size_t ve
   return scene;
 }
 
+MvScene mvBuildSceneFromMemoryRgb(MvDevice device, const float* vertices, size_t vertexCount, const uint32_t* indices,
+                                  size_t triangleCount, const uint8_t* rgb, const MvBuildArguments* args) {
+  MvScene scene = nullptr;
+  guard(device, [&] {
+    require(device, "mvBuildSceneFromMemoryRgb: no device");
+    scene = build_scene(device, memory_input(vertices, vertexCount, indices, triangleCount, false, rgb),
+                        build_options(device, args), user_progress(args));
+  });
+  return scene;
+}
+
 MvScene mvOpenScene(MvDevice device, const char* path) {
   MvScene made = nullptr;
   guard(device, [&] {

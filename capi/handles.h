@@ -22,7 +22,7 @@ struct ApiError : CodedError {
   ApiError(MvError c, const std::string& m) : CodedError(static_cast<ErrorCode>(c), m) {}
 };
 
-// A reference count shared by the three handle kinds.
+// A reference count shared by the handle kinds.
 struct RefCounted {
   std::atomic<int> refs{1};
 };
@@ -83,6 +83,13 @@ struct MvSceneTy : mv::capi::RefCounted {
   std::unique_ptr<mv::MvxFile> file_;          // read whole
   std::unique_ptr<mv::Tracer> tracer_;
   uint64_t passes_ = 0, pages_streamed_ = 0, peak_ = 0;
+};
+
+// A .mvx point hierarchy read whole (capi/c_points_read.cpp).
+struct MvPointsTy : mv::capi::RefCounted {
+  MvDevice device = nullptr;  // retained: the error record of calls on it
+  mv::PointHierarchy hierarchy;
+  ~MvPointsTy();
 };
 
 namespace mv::capi {

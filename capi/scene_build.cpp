@@ -36,7 +36,8 @@ BuildInput file_input(const char* path) {
   return in;
 }
 
-BuildInput memory_input(const float* vertices, size_t vertex_count, const uint32_t* indices, size_t triangles, bool copy) {
+BuildInput memory_input(const float* vertices, size_t vertex_count, const uint32_t* indices, size_t triangles, bool copy,
+                        const uint8_t* rgb) {
   require(vertices || vertex_count == 0, "build: vertices is NULL");
   require(indices || triangles == 0, "build: indices is NULL");
   require(vertex_count <= SIZE_MAX / 3 && triangles <= SIZE_MAX / 3, "build: array sizes overflow");
@@ -49,7 +50,12 @@ BuildInput memory_input(const float* vertices, size_t vertex_count, const uint32
     p = in.positions;
     i = in.indices;
   }
-  in.mesh = {p, i};
+  if (rgb) {
+    in.colours.resize(vertex_count);
+    for (size_t v = 0; v < vertex_count; ++v)
+      in.colours[v] = uint32_t{rgb[3 * v]} | uint32_t{rgb[3 * v + 1]} << 8 | uint32_t{rgb[3 * v + 2]} << 16;
+  }
+  in.mesh = {p, i, in.colours};
   return in;
 }
 

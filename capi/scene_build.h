@@ -15,12 +15,14 @@ struct BuildInput {
   std::string path;  // empty: the arrays
   std::vector<float> positions;
   std::vector<uint32_t> indices;
+  std::vector<uint32_t> colours;  // per vertex 0xBBGGRR, always owned (packed from the caller's R, G, B)
   MeshArrays mesh;  // what the build reads: views of the vectors above or of the caller's arrays
 };
 
 BuildInput file_input(const char* path);
-// `copy`: own the arrays (a job outlives the call).
-BuildInput memory_input(const float* vertices, size_t vertex_count, const uint32_t* indices, size_t triangles, bool copy);
+// `copy`: own the arrays (a job outlives the call). `rgb`: NULL, or 3 bytes per vertex.
+BuildInput memory_input(const float* vertices, size_t vertex_count, const uint32_t* indices, size_t triangles, bool copy,
+                        const uint8_t* rgb = nullptr);
 
 // The options of `args` (NULL: defaults), strings copied. Throws ApiError for an args struct of the wrong size.
 BuildOptions build_options(MvDevice device, const MvBuildArguments* args);

@@ -87,7 +87,7 @@ void add_info_command(CLI::App& app) {
       std::printf("  colours: raw RGB24 (%u-bit colours), %llu entries (voxels and inner nodes, depth-first), %llu "
                   "bytes, %.3f bits per voxel; checked\n", f.colour_bits, (unsigned long long)colour_entries, (unsigned long long)colour_bytes,
                   colour_bpv);
-    if (pw)
+    if (pw) {
       std::printf("  paged: %u-word pages (%u KiB), %llu pages, %s order, %llu words with padding (x%.4f); every "
                   "page checked\n", pw, pw / 256, (unsigned long long)pages, node_order_name(f.paging.order).c_str(),
                   (unsigned long long)f.paged_words,
@@ -95,8 +95,9 @@ void add_info_command(CLI::App& app) {
       if (!f.colours.empty())
         std::printf(f.size_plane ? "  colours stream with the pages (their size plane, checked)\n"
                                  : "  colours render resident only (no size plane: written before .mvx version 5)\n");
-    else
+    } else {
       std::printf("  not paged: renders resident only\n");
+    }
   });
 }
 

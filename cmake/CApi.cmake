@@ -6,6 +6,7 @@ add_library(megavox_capi STATIC
   capi/c_job.cpp
   capi/scene_build.cpp
   capi/c_points.cpp
+  capi/c_points_read.cpp
   capi/c_mask.cpp
   capi/c_image.cpp
   capi/scene_query.cpp)

@@ -33,6 +33,7 @@ packages=(
   libcpp-httplib-dev                                            # megavox serve: the HTTP server (and the load test's client)
   libminizip-dev libssl-dev                                     # megavox serve: 3D Tiles archives (.3tz: ZIP, MD5 index)
   curl jq                                                       # tests: the serve session as the README runs it
+  python3-dev pybind11-dev python3-numpy python3-pytest         # the Python module (python/) and its tests
 )
 # Node runs the independent 3D Tiles reader (tests/js). A machine that has node and npm already (another
 # distribution's build) keeps them: Debian's npm would conflict with it.

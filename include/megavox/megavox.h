@@ -94,6 +94,20 @@ typedef struct MvDeviceInfo {
   uint64_t memoryBudget, memoryUsed; /* bytes */
 } MvDeviceInfo;
 MV_API MvError mvGetDeviceInfo(MvDevice device, MvDeviceInfo* info);
+/* One compute device as listing finds it, before any is opened. */
+typedef struct MvDeviceDescription {
+  char selector[16];   /* "ocl:N" / "vk:N": the device= of mvNewDevice */
+  char name[128];      /* as the driver reports it */
+  char backend[16];    /* "opencl" or "vulkan" */
+  char type[16];       /* "cpu", "gpu" or "other" */
+  char platform[128];  /* OpenCL: the platform's name; Vulkan: the driver's */
+  uint64_t memoryBytes; /* global memory the device reports */
+  bool isDefault;      /* the device mvNewDevice picks without device= (and $MEGAVOX_DEVICE as it is now) */
+} MvDeviceDescription;
+/* Every OpenCL and Vulkan device (OpenCL first): writes the first min(count, capacity) into devices (NULL when
+ * capacity is 0) and returns count. Errors go to this thread's record (mvGetDeviceError(NULL)); 0 then. */
+MV_API size_t mvListDevices(MvDeviceDescription* devices, size_t capacity);
+
 /* The host RAM budget of the device's builds, in bytes: its host_memory, else the default (half the physical
  * RAM). NULL: the default. */
 MV_API uint64_t mvGetHostMemoryBudget(MvDevice device);
@@ -134,6 +148,11 @@ MV_API MvScene mvBuildSceneFromFile(MvDevice device, const char* path, const MvB
  * during the call). */
 MV_API MvScene mvBuildSceneFromMemory(MvDevice device, const float* vertices, size_t vertexCount,
                                       const uint32_t* indices, size_t triangleCount, const MvBuildArguments* args);
+/* As mvBuildSceneFromMemory, with a colour per vertex: rgb[3 * v .. 3 * v + 2] (8-bit R, G, B) for vertex v,
+ * or NULL for none. A voxel takes the colour of the surface it covers, as from a PLY with vertex colours. */
+MV_API MvScene mvBuildSceneFromMemoryRgb(MvDevice device, const float* vertices, size_t vertexCount,
+                                         const uint32_t* indices, size_t triangleCount, const uint8_t* rgb,
+                                         const MvBuildArguments* args);
 /* Opens a voxel .mvx. A paged one (what builds write) is mapped and kept paged: its header and page index are
  * checked now, each page when a query first reads it (a damaged page fails that query, named); any other is
  * read whole and checked (checksums, structure) before it returns. */
@@ -299,6 +318,70 @@ MV_API MvError mvBuildPointsFile(MvDevice device, const char* input, const char*
 MV_API MvJob mvBuildPointsFileAsync(MvDevice device, const char* input, const char* output,
                                     const MvPointBuildArguments* args);
 
+/* A cloud in caller memory (read only during the call). Positions become integers on a grid as a PLY's do
+ * (docs/points.md): xyz32 as float x, y, z, xyz64 as double; so a cloud gives the same hierarchy from these
+ * arrays as from a PLY holding the same values. */
+typedef struct MvPointArrays {
+  size_t byteSize;            /* sizeof(MvPointArrays), set by mvInitPointArrays */
+  size_t count;               /* points */
+  const float* xyz32;         /* 3 per point: exactly one of xyz32 and xyz64 is not NULL */
+  const double* xyz64;
+  const uint16_t* rgb;        /* 3 per point as stored (a PLY's uchar colours stay 0-255), or NULL */
+  const uint16_t* intensity;  /* 1 per point, or NULL */
+  const uint8_t* extra;       /* extraBytes raw bytes per point (carried as a LAS file's extra bytes), or NULL */
+  uint32_t extraBytes;
+} MvPointArrays;
+MV_API void mvInitPointArrays(MvPointArrays* points);
+
+/* As mvBuildPointsFile, from arrays instead of a file (in memory whole: the host memory budget does not apply). */
+MV_API MvError mvBuildPointsFromMemory(MvDevice device, const MvPointArrays* points, const char* output,
+                                       const MvPointBuildArguments* args);
+
+/* ---- point hierarchies read back ---- */
+
+typedef struct MvPointsTy* MvPoints;
+
+/* Reads a .mvx point hierarchy whole (checked) into memory. */
+MV_API MvPoints mvOpenPoints(MvDevice device, const char* path);
+MV_API void mvRetainPoints(MvPoints points);
+MV_API void mvReleasePoints(MvPoints points);
+
+typedef struct MvPointsInfo {
+  uint64_t nodes, points;       /* points stored: every leaf's and the inner nodes' representatives */
+  uint64_t pointsIn, pointsKept, pointsDropped;
+  uint32_t depth;               /* the deepest level that holds a node */
+  uint32_t attributes;          /* MV_POINT_* bits of the columns it carries */
+  uint32_t extraBytes;          /* per point, with MV_POINT_EXTRA */
+  double scale[3], offset[3];   /* the input's grid: world = offset + scale * X */
+  char format[64];              /* what the build read: "LAS 1.2, point format 3", "float32 arrays", ... */
+} MvPointsInfo;
+#define MV_POINT_RGB 1u
+#define MV_POINT_NORMAL 2u
+#define MV_POINT_INTENSITY 4u
+#define MV_POINT_EXTRA 8u
+MV_API MvError mvGetPointsInfo(MvPoints points, MvPointsInfo* info);
+/* The CRS the input declared (a LAS file's WKT) into text, cut to capacity bytes with its NUL (text may be NULL
+ * when capacity is 0); returns its whole length in bytes, without the NUL (0: none). */
+MV_API size_t mvGetPointsCrs(MvPoints points, char* text, size_t capacity);
+
+/* 40 bytes, as .mvx stores it. Nodes are breadth-first, root first, each node's children contiguous in octant
+ * order; node i's points are [firstPoint, firstPoint + pointCount). code: the Morton code with a sentinel bit
+ * (the root is 1, child o of c is (c << 3) | o). */
+typedef struct MvPointNode {
+  uint64_t code, firstPoint, subtreePoints;
+  uint32_t pointCount, firstChild;
+  uint8_t childMask, level;
+  uint16_t pad;
+  uint32_t reserved;
+} MvPointNode;
+/* Copies nodes [first, first + count) into nodes. */
+MV_API MvError mvGetPointNodes(MvPoints points, uint64_t first, uint64_t count, MvPointNode* nodes);
+/* Copies points [first, first + count): positions in world units (3 doubles each), and where not NULL the
+ * colours (3 x uint16), intensities and extra bytes (extraBytes each) of a hierarchy that carries them
+ * (MV_ERROR_INVALID_ARGUMENT when it does not). */
+MV_API MvError mvGetPointData(MvPoints points, uint64_t first, uint64_t count, double* xyz, uint16_t* rgb,
+                              uint16_t* intensity, uint8_t* extra);
+
 /* ---- masks: GrabCut of a photograph or range map ---- */
 
 typedef struct MvMaskArguments {
@@ -320,6 +403,26 @@ MV_API MvError mvMaskImageFile(MvDevice device, const char* input, const char* o
 /* The same as a job (mvGetJobScene does not apply: the result is the output). */
 MV_API MvJob mvMaskImageFileAsync(MvDevice device, const char* input, const char* output,
                                   const MvMaskArguments* args);
+
+/* An image in caller memory: height rows of width pixels, channels samples each (1: grey or a range map; 3:
+ * R, G, B), bytesPerSample 1 (uint8) or 2 (uint16, host order), rows rowStride bytes apart (0: packed). */
+typedef struct MvImageView {
+  const void* pixels;
+  uint32_t width, height, channels, bytesPerSample;
+  size_t rowStride;
+} MvImageView;
+
+/* As mvMaskImageFile on pixels in memory: the mask (0 / 255, width * height bytes, rows packed) into mask.
+ * seeds: NULL, or a seed map in memory (width * height bytes, 0 / 64 / 128 / 192 / 255), used instead of
+ * args->seeds. */
+MV_API MvError mvMaskImage(MvDevice device, const MvImageView* image, const uint8_t* seeds,
+                           const MvMaskArguments* args, uint8_t* mask);
+
+/* Trains a mask model (`megavox mask train`) on count images with their masks (width * height bytes each: 255
+ * foreground, 0 background, anything else skipped) and writes it to output as a .mvm (a temporary name, then
+ * renamed). Every image has the same channel count. */
+MV_API MvError mvTrainMaskModel(MvDevice device, const MvImageView* images, const uint8_t* const* masks, size_t count,
+                                const char* output);
 
 #ifdef __cplusplus
 }

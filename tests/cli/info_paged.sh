@@ -9,6 +9,7 @@ write_tetra_ply "$dir/tetra.ply"
 "$megavox" build "$dir/tetra.ply" --resolution 256 --format svdag -o "$dir/t.mvx" >/dev/null
 text=$("$megavox" info "$dir/t.mvx")
 grep -q "paged: 4096-word pages (16 KiB), [0-9]* pages, subtree order" <<<"$text" || fail "no paging line: $text"
+grep -q "not paged" <<<"$text" && fail "a paged file also said to be not paged: $text"
 json=$("$megavox" info "$dir/t.mvx" --json)
 python3 - "$json" <<'PY' || fail "bad paging in --json: $json"
 import json, sys

@@ -52,4 +52,17 @@ flags=$(PKG_CONFIG_PATH=$pcdir pkg-config --cflags --libs megavox)
   "${sanitize_link[@]}"
 out2=$(LD_LIBRARY_PATH=$(dirname "$lib") "$dir/trace_pc" "$dir/tetra.mvx") || fail "pkg-config build: $out2"
 [[ $(echo "$out2" | awk '/^hits/ {print $2}') == "$hits" ]] || fail "pkg-config build: $out2"
+# The Python module, where the build made one: installed beside the library, it imports from a clean
+# environment and traces the same hits as the C program (the same 256 rays: tests/install/consumer/trace_mvx.c).
+if compgen -G "$build/python/megavox/_megavox*.so" > /dev/null; then
+  module=$(ls "$prefix"/lib/python3*/dist-packages/megavox/_megavox*.so 2>/dev/null | head -1)
+  [[ -n "$module" ]] || fail "the Python module is not installed under $prefix/lib/python3*/dist-packages"
+  site=$(dirname "$(dirname "$module")")
+  for f in __init__.py __init__.pyi points.py mask.py py.typed; do
+    [[ -e "$site/megavox/$f" ]] || fail "megavox/$f not installed in $site"
+  done
+  py=$(env -i PATH=/usr/bin:/bin PYTHONPATH="$site" /usr/bin/python3 -c "$(cat "$src/tests/install/trace_mvx.py")" \
+    "$dir/tetra.mvx" 2>&1) || fail "python: $py"
+  [[ $(echo "$py" | awk '/^hits/ {print $2}') == "$hits" ]] || fail "python: $py (the C program: $hits hits)"
+fi
 echo "installed, found by CMake and pkg-config, $hits of 256 rays hit"

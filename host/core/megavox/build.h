@@ -22,6 +22,7 @@ inline constexpr uint32_t kDefaultCube = 1024;
 struct MeshArrays {
   std::span<const float> positions;
   std::span<const uint32_t> indices;
+  std::span<const uint32_t> colours;  // per vertex 0xBBGGRR (8-bit), or empty
 };
 
 // Voxel colours: automatic = rgb when the input has colour; rgb on an input without colour is an error.

@@ -74,6 +74,8 @@ struct PointFileOptions {
   bool carry_extra_bytes = true;
   uint64_t run_points = 0;     // > 0: sort out of core in runs of this many points, whatever the budget (tests)
   bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
+  // Set: the cloud is these arrays (the C API's build from memory), named `input` in messages; never out of core.
+  const PointArrays* arrays = nullptr;
 };
 
 struct PointFileReport {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "io/memory_points.h"
 #include "io/output_path.h"
 #include "io/point_source.h"
 #include "io/temp_file.h"
@@ -170,7 +171,7 @@ std::string check_output(const PointFileOptions& o) {
   const uint64_t input_bytes = std::filesystem::file_size(o.input, size_error);
   const bool file = o.format != PointOutput::tiles3d;
   return io::resolve_output({o.output, file ? io::OutputKind::kFile : io::OutputKind::kFolder, file ? "mvx" : "",
-                             {o.input}, size_error ? 0 : input_bytes / 2, o.no_clobber});
+                             {o.arrays ? std::string() : o.input}, size_error ? 0 : input_bytes / 2, o.no_clobber});
 }
 
 PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const Progress& progress) {
@@ -186,11 +187,11 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   auto t0 = std::chrono::steady_clock::now();
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
-  std::unique_ptr<io::PointSource> src = io::open_points(o.input, ro);
+  std::unique_ptr<io::PointSource> src = o.arrays ? io::memory_points(*o.arrays, o.input) : io::open_points(o.input, ro);
   const PointCloudInfo info = src->info();
   r.input_format = info.format;
   const uint64_t need = info.points * host_bytes_per_point(info);
-  if (need > memory || o.run_points) {
+  if (!o.arrays && (need > memory || o.run_points)) {
     const uint64_t ooc = info.points * out_of_core_bytes_per_point(info);
     if (ooc > memory)
       throw CodedError(ErrorCode::out_of_memory,

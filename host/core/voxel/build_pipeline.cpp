@@ -74,7 +74,7 @@ uint64_t vertex_share(const BuildOptions& o) { return memory_budget(o) / 4; }
 uint64_t bucket_share(const BuildOptions& o) { return memory_budget(o) / 4; }
 
 std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o) {
-  if (o.mesh) return io::memory_mesh(o.mesh->positions, o.mesh->indices, o.input);
+  if (o.mesh) return io::memory_mesh(o.mesh->positions, o.mesh->indices, o.input, o.mesh->colours);
   return io::open_mesh(o.input, vertex_share(o));
 }
 
@@ -239,12 +239,14 @@ using Lap = std::function<void(const std::string&)>;
 using Report = std::function<void(const std::string&, double)>;
 
 void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
-                      BuildReport& r, const Lap& lap, std::vector<uint8_t> colours = {}) {
+                      BuildReport& r, const Lap& lap, const Report& report, std::vector<uint8_t> colours = {}) {
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
   attach_colours(file, std::move(colours), o, r);
   lap("encode");
+  report("write", 0);
   const MvxColourStats stats = write_mvx(o.output, file, o.paging);
   lap("write");
+  report("write", 1);
   report_colours(file, stats, r);
   r.grid = grid;
   r.voxels = dag.voxels;
@@ -338,7 +340,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     depth_first = cube_colours_depth_first(dev, o.input, colour_keys, colour_rgb, levels);
     lap("colours");
   }
-  encode_and_write(dag, o, grid, bounds, r, lap, std::move(depth_first));
+  encode_and_write(dag, o, grid, bounds, r, lap, report, std::move(depth_first));
   return r;
 }
 
@@ -480,7 +482,7 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   r.seconds.push_back(
       {o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
-  encode_and_write(dag, o, grid, bounds, r, lap, std::move(colours));
+  encode_and_write(dag, o, grid, bounds, r, lap, report, std::move(colours));
   return r;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "file_ops.h"
+#include "io/header_numbers.h"
 #include "megavox/error.h"
 
 namespace mv::io::detail {
@@ -30,13 +31,6 @@ constexpr uint64_t kVlrHeader = 54, kEvlrHeader = 60;
 constexpr uint64_t kMaxCrsBytes = 1 << 20;  // real WKT is a few KiB
 constexpr uint16_t kWktRecord = 2112, kGeoKeyRecord = 34735;
 constexpr uint16_t kProjectedCsKey = 3072, kGeographicKey = 2048, kUserDefined = 32767;
-
-std::string num(uint64_t v) { return std::to_string(v); }
-
-uint64_t sat_mul(uint64_t a, uint64_t b) {
-  uint64_t r;
-  return __builtin_mul_overflow(a, b, &r) ? UINT64_MAX : r;
-}
 
 bool has_laz_name(const std::string& path) {
   if (path.size() < 4) return false;

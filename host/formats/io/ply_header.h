@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "io/header_numbers.h"
+
 namespace mv::io::detail {
 
 // ---------------------------------------------------------------------------------------------------
@@ -46,18 +48,6 @@ struct Header {
   std::vector<std::string> comments;
 };
 
-inline std::string num(uint64_t v) { return std::to_string(v); }
-
-// Saturating arithmetic for sizes computed from header counts.
-inline uint64_t sat_mul(uint64_t a, uint64_t b) {
-  uint64_t r;
-  return __builtin_mul_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
-}
-
-inline uint64_t sat_add(uint64_t a, uint64_t b) {
-  uint64_t r;
-  return __builtin_add_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
-}
 
 // ---------------------------------------------------------------------------------------------------
 // Parser

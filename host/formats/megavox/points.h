@@ -6,6 +6,7 @@
 // No device types: readers and reference code use these alone.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,16 @@ struct PointCloudInfo {
   double offset[3] = {0, 0, 0};
   bool z_up = false;          // LAS: +Z up; PLY: +Y up (the render's camera presets)
   std::string crs;            // the CRS the input declared (LAS WKT), or empty
+};
+
+// A cloud in the caller's memory (the C API's build from arrays): world positions as float or double (exactly
+// one of xyz32 and xyz64, 3 per point), and optional columns as PointColumns holds them.
+struct PointArrays {
+  std::span<const float> xyz32;
+  std::span<const double> xyz64;
+  std::span<const uint16_t> rgb, intensity;
+  std::span<const uint8_t> extra;
+  uint32_t extra_bytes = 0;
 };
 
 // One node of the LOD octree. Codes carry a sentinel bit above 3 * level Morton bits (OMiCroN's convention):

@@ -1,0 +1,52 @@
+"""Point clouds: LOD point hierarchies (OMiCroN's bottom-up build) from a file or from numpy arrays, and read back."""
+import os
+
+from . import _default
+from ._megavox import _points_build, _points_open
+
+
+def build(source, out, *, format="mvx", depth=0, max_node_points=16384, rgb=None, intensity=None,
+          classification=None, device=None, progress=None):
+    """Builds a point hierarchy at `out` (a .mvx file, or with format="3dtiles" a 3D Tiles folder).
+
+    source: a PLY or LAS path, or positions as a float32 or float64 (n, 3) array in world units. Arrays go onto
+    the grid a PLY of the same values gets (float32 as float, float64 as double), so they build what that PLY
+    builds. With arrays: rgb uint8 or uint16 (n, 3), intensity uint16 (n,), classification uint8 (n,) (kept as one
+    extra byte per point). progress(stage, fraction) may return False to cancel.
+    """
+    _points_build(_default.device(device), source, out, format, depth, max_node_points, rgb, intensity,
+                  classification, progress)
+
+
+class PointHierarchy:
+    """A .mvx point hierarchy read whole: nodes breadth-first (root first, each node's children contiguous in
+    octant order) and the points of every node in node order."""
+
+    def __init__(self, info, nodes, xyz, rgb, intensity, extra):
+        self.info = info            #: dict: points_in, points_kept, points_dropped, depth, scale, offset, crs, format
+        self.nodes = nodes          #: structured array of megavox.NODE_DTYPE
+        self.xyz = xyz              #: float64 (p, 3), world units
+        self.rgb = rgb              #: uint16 (p, 3), or None
+        self.intensity = intensity  #: uint16 (p,), or None
+        self.extra = extra          #: uint8 (p, extra bytes), or None (a classification given to build is extra[:, 0])
+
+    def __len__(self):
+        return len(self.nodes)
+
+    def node_points(self, i):
+        """The slice of node i's points in xyz and the other columns."""
+        n = self.nodes[i]
+        first = int(n["first_point"])
+        return slice(first, first + int(n["point_count"]))
+
+    def leaves(self):
+        """Indices of the leaf nodes (they hold every point kept, once)."""
+        return (self.nodes["child_mask"] == 0).nonzero()[0]
+
+    def __repr__(self):
+        return f"<megavox.points.PointHierarchy {len(self.nodes)} nodes, {len(self.xyz)} points>"
+
+
+def open(path, device=None):
+    """Reads the .mvx point hierarchy at `path`."""
+    return PointHierarchy(*_points_open(_default.device(device), os.fspath(path)))

@@ -1,0 +1,81 @@
+#include "binding.h"
+
+#include <cstdint>
+
+namespace megavox_py {
+
+void raise(MvError code, const std::string& message) {
+  py::object exc = py::module_::import("megavox._errors").attr("error_class")(mvGetErrorString(code));
+  PyErr_SetObject(exc.ptr(), py::make_tuple(message, mvGetErrorString(code)).ptr());
+  throw py::error_already_set();
+}
+
+void check(MvDevice device, MvError code) {
+  if (code == MV_ERROR_NONE) return;
+  const std::string message = mvGetDeviceLastErrorMessage(device);
+  mvGetDeviceError(device);  // clears the record
+  raise(code, message);
+}
+
+MvError failure_code(MvDevice device) {
+  const MvError code = mvGetDeviceError(device);
+  return code == MV_ERROR_NONE ? MV_ERROR_UNKNOWN : code;
+}
+
+void bad_argument(const std::string& message) { raise(MV_ERROR_INVALID_ARGUMENT, message); }
+
+bool Progress::call(void* user, const char* stage, double fraction) {
+  auto* self = static_cast<Progress*>(user);
+  py::gil_scoped_acquire gil;
+  if (self->failure_) return false;
+  try {
+    py::object answer = self->callable_(stage, fraction);
+    return answer.is_none() || PyObject_IsTrue(answer.ptr()) != 0;
+  } catch (py::error_already_set& e) {
+    self->failure_.emplace(std::move(e));
+    return false;
+  }
+}
+
+void Progress::check(MvDevice device, MvError code) {
+  if (failure_) {
+    mvGetDeviceError(device);  // the C API's "cancelled" record, replaced by what the callable raised
+    py::error_already_set e = std::move(*failure_);
+    failure_.reset();
+    throw e;
+  }
+  megavox_py::check(device, code);
+}
+
+std::string fspath(const py::handle& path) {
+  return py::module_::import("os").attr("fsdecode")(path).cast<std::string>();
+}
+
+std::string dtype_name(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+
+template <class T>
+py::array_t<T, py::array::c_style> rows(const py::handle& obj, const char* name, size_t columns) {
+  if (!py::isinstance<py::array>(obj))
+    bad_argument(std::string(name) + ": a numpy array is expected, not " + py::str(py::type::of(obj)).cast<std::string>());
+  const py::array a = py::reinterpret_borrow<py::array>(obj);
+  if (!a.dtype().equal(py::dtype::of<T>()))
+    bad_argument(std::string(name) + ": dtype " + dtype_name(a) + " where " +
+                 py::str(py::dtype::of<T>()).cast<std::string>() + " is expected");
+  const size_t want_ndim = columns ? 2 : 1;
+  if (size_t(a.ndim()) != want_ndim || (columns && size_t(a.shape(1)) != columns)) {
+    std::string shape = "(";
+    for (py::ssize_t d = 0; d < a.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(a.shape(d));
+    shape += a.ndim() == 1 ? ",)" : ")";
+    bad_argument(std::string(name) + ": shape " + shape + " where " +
+                 (columns ? "(n, " + std::to_string(columns) + ")" : std::string("(n,)")) + " is expected");
+  }
+  return py::array_t<T, py::array::c_style>::ensure(a);
+}
+
+template py::array_t<float, py::array::c_style> rows<float>(const py::handle&, const char*, size_t);
+template py::array_t<double, py::array::c_style> rows<double>(const py::handle&, const char*, size_t);
+template py::array_t<uint8_t, py::array::c_style> rows<uint8_t>(const py::handle&, const char*, size_t);
+template py::array_t<uint16_t, py::array::c_style> rows<uint16_t>(const py::handle&, const char*, size_t);
+template py::array_t<uint32_t, py::array::c_style> rows<uint32_t>(const py::handle&, const char*, size_t);
+
+}  // namespace megavox_py

@@ -10,14 +10,41 @@ void raise(MvError code, const std::string& message) {
   throw py::error_already_set();
 }
 
+namespace {
+
+// The last error of a call on this thread. A device's record is shared by every thread that calls it, so the
+// binding reads the error its error function saw on the failing thread, not the record another thread may
+// have overwritten since.
+struct ThreadError {
+  MvError code = MV_ERROR_NONE;
+  std::string message;
+};
+thread_local ThreadError t_error;
+
+void on_error(void*, MvError code, const char* message) {
+  t_error.code = code;
+  t_error.message = message;
+}
+
+}  // namespace
+
+void watch_errors(MvDevice device) { mvSetDeviceErrorFunction(device, &on_error, nullptr); }
+
 void check(MvDevice device, MvError code) {
   if (code == MV_ERROR_NONE) return;
-  const std::string message = mvGetDeviceLastErrorMessage(device);
-  mvGetDeviceError(device);  // clears the record
+  std::string message;
+  if (device && t_error.code != MV_ERROR_NONE) {
+    message = std::move(t_error.message);
+  } else {
+    message = mvGetDeviceLastErrorMessage(device);  // NULL: the C API's own per-thread record
+    mvGetDeviceError(device);
+  }
+  t_error = {};
   raise(code, message);
 }
 
 MvError failure_code(MvDevice device) {
+  if (device && t_error.code != MV_ERROR_NONE) return t_error.code;
   const MvError code = mvGetDeviceError(device);
   return code == MV_ERROR_NONE ? MV_ERROR_UNKNOWN : code;
 }
@@ -40,6 +67,7 @@ bool Progress::call(void* user, const char* stage, double fraction) {
 void Progress::check(MvDevice device, MvError code) {
   if (failure_) {
     mvGetDeviceError(device);  // the C API's "cancelled" record, replaced by what the callable raised
+    t_error = {};
     py::error_already_set e = std::move(*failure_);
     failure_.reset();
     throw e;

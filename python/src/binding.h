@@ -15,8 +15,12 @@ namespace py = pybind11;
 
 // Raises the Python exception of `code` (megavox._errors maps each MvError to a class) with `message`.
 [[noreturn]] void raise(MvError code, const std::string& message);
-// Raises the error `device` recorded (NULL: this thread's), when `code` is not MV_ERROR_NONE.
+// Raises the error a call on `device` just recorded on this thread (NULL: the C API's per-thread record), when
+// `code` is not MV_ERROR_NONE.
 void check(MvDevice device, MvError code);
+// Sends the errors of calls on `device` to a per-thread record that check() and failure_code() read (every
+// Device of the module is watched so).
+void watch_errors(MvDevice device);
 // The code of the error `device` recorded (clearing it; its message stays), for a call that returned NULL.
 MvError failure_code(MvDevice device);
 // Raises megavox.InvalidArgumentError (a ValueError) with `message`.

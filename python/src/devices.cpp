@@ -40,6 +40,7 @@ std::unique_ptr<Device> open_device(const py::object& selector, const py::object
     d = mvNewDevice(config.c_str());
   }
   if (!d) check(nullptr, failure_code(nullptr));
+  watch_errors(d);
   return std::make_unique<Device>(d);
 }
 

@@ -100,6 +100,8 @@ RasterImage raster_of(const MvImageView* v, const char* what) {
     throw ApiError(MV_ERROR_INVALID_ARGUMENT, std::string(what) + ": image.bytesPerSample is " +
                                                   std::to_string(v->bytesPerSample) + ", not 1 or 2");
   require(v->width > 0 && v->height > 0, (std::string(what) + ": the image is empty").c_str());
+  if (uint64_t{v->width} * v->height > SIZE_MAX / 8)
+    throw ApiError(MV_ERROR_INVALID_ARGUMENT, std::string(what) + ": the image's size overflows");
   const size_t row = size_t{v->width} * v->channels * v->bytesPerSample;
   const size_t stride = v->rowStride ? v->rowStride : row;
   require(stride >= row, (std::string(what) + ": image.rowStride is shorter than a row").c_str());
@@ -142,7 +144,6 @@ void mask_memory(MvDevice device, const MvImageView* image, const uint8_t* seeds
   if (m.user) m.user("read", 0);
   const MaskResult r = mask_raster(device, m, raster, std::move(seed_map), m.user);
   std::memcpy(mask, r.mask.data(), r.mask.size());
-  if (m.user) m.user("write", 1);
 }
 
 void train_model(MvDevice device, const MvImageView* images, const uint8_t* const* masks, size_t count,

@@ -88,6 +88,7 @@ MvError mvBuildPointsFromMemory(MvDevice device, const MvPointArrays* points, co
     if (points->intensity) arrays.intensity = {points->intensity, n};
     if (points->extra) {
       require(points->extraBytes > 0 && points->extraBytes <= 65535, "points build: extraBytes is not 1 to 65535");
+      require(n <= SIZE_MAX / points->extraBytes, "points build: the extra bytes' size overflows");
       arrays.extra = {points->extra, size_t{points->extraBytes} * n};
       arrays.extra_bytes = points->extraBytes;
     }

@@ -111,7 +111,7 @@ MvError mvGetPointNodes(MvPoints points, uint64_t first, uint64_t count, MvPoint
 }
 
 MvError mvGetPointData(MvPoints points, uint64_t first, uint64_t count, double* xyz, uint16_t* rgb, uint16_t* intensity,
-                       uint8_t* extra) {
+                       uint8_t* extra, float* normal) {
   const MvDevice device = points ? points->device : nullptr;
   return guard(device, [&] {
     require(points, "mvGetPointData: no point hierarchy");
@@ -123,6 +123,7 @@ MvError mvGetPointData(MvPoints points, uint64_t first, uint64_t count, double* 
     require(!intensity || (a & mv::kPointIntensity),
             "mvGetPointData: the hierarchy carries no intensities (intensity must be NULL)");
     require(!extra || (a & mv::kPointExtra), "mvGetPointData: the hierarchy carries no extra bytes (extra must be NULL)");
+    require(!normal || (a & mv::kPointNormal), "mvGetPointData: the hierarchy carries no normals (normal must be NULL)");
     if (xyz)
       for (uint64_t i = 0; i < count; ++i)
         for (int k = 0; k < 3; ++k)
@@ -131,6 +132,7 @@ MvError mvGetPointData(MvPoints points, uint64_t first, uint64_t count, double* 
     if (intensity && count) std::memcpy(intensity, c.intensity.data() + first, count * 2);
     const uint64_t e = h.source.extra_bytes;
     if (extra && count) std::memcpy(extra, c.extra.data() + e * first, count * e);
+    if (normal && count) std::memcpy(normal, c.normal.data() + 3 * first, count * 12);
   });
 }
 

@@ -377,10 +377,10 @@ typedef struct MvPointNode {
 /* Copies nodes [first, first + count) into nodes. */
 MV_API MvError mvGetPointNodes(MvPoints points, uint64_t first, uint64_t count, MvPointNode* nodes);
 /* Copies points [first, first + count): positions in world units (3 doubles each), and where not NULL the
- * colours (3 x uint16), intensities and extra bytes (extraBytes each) of a hierarchy that carries them
- * (MV_ERROR_INVALID_ARGUMENT when it does not). */
+ * colours (3 x uint16), intensities, extra bytes (extraBytes each) and normals (3 floats) of a hierarchy that
+ * carries them (MV_ERROR_INVALID_ARGUMENT when it does not). */
 MV_API MvError mvGetPointData(MvPoints points, uint64_t first, uint64_t count, double* xyz, uint16_t* rgb,
-                              uint16_t* intensity, uint8_t* extra);
+                              uint16_t* intensity, uint8_t* extra, float* normal);
 
 /* ---- masks: GrabCut of a photograph or range map ---- */
 

@@ -22,13 +22,14 @@ class PointHierarchy:
     """A .mvx point hierarchy read whole: nodes breadth-first (root first, each node's children contiguous in
     octant order) and the points of every node in node order."""
 
-    def __init__(self, info, nodes, xyz, rgb, intensity, extra):
+    def __init__(self, info, nodes, xyz, rgb, intensity, extra, normal):
         self.info = info            #: dict: points_in, points_kept, points_dropped, depth, scale, offset, crs, format
         self.nodes = nodes          #: structured array of megavox.NODE_DTYPE
         self.xyz = xyz              #: float64 (p, 3), world units
         self.rgb = rgb              #: uint16 (p, 3), or None
         self.intensity = intensity  #: uint16 (p,), or None
         self.extra = extra          #: uint8 (p, extra bytes), or None (a classification given to build is extra[:, 0])
+        self.normal = normal        #: float32 (p, 3), or None
 
     def __len__(self):
         return len(self.nodes)

@@ -6,7 +6,11 @@ namespace megavox_py {
 
 void raise(MvError code, const std::string& message) {
   py::object exc = py::module_::import("megavox._errors").attr("error_class")(mvGetErrorString(code));
-  PyErr_SetObject(exc.ptr(), py::make_tuple(message, mvGetErrorString(code)).ptr());
+  // A message may quote bytes of a file that are not UTF-8: those become U+FFFD, never a decoding error.
+  py::object text = py::reinterpret_steal<py::object>(
+      PyUnicode_DecodeUTF8(message.data(), static_cast<Py_ssize_t>(message.size()), "replace"));
+  if (!text) throw py::error_already_set();
+  PyErr_SetObject(exc.ptr(), py::make_tuple(text, mvGetErrorString(code)).ptr());
   throw py::error_already_set();
 }
 
@@ -57,7 +61,10 @@ bool Progress::call(void* user, const char* stage, double fraction) {
   if (self->failure_) return false;
   try {
     py::object answer = self->callable_(stage, fraction);
-    return answer.is_none() || PyObject_IsTrue(answer.ptr()) != 0;
+    if (answer.is_none()) return true;
+    const int yes = PyObject_IsTrue(answer.ptr());  // -1: the answer has no truth value (an error is set)
+    if (yes < 0) throw py::error_already_set();
+    return yes != 0;
   } catch (py::error_already_set& e) {
     self->failure_.emplace(std::move(e));
     return false;
@@ -76,10 +83,19 @@ void Progress::check(MvDevice device, MvError code) {
 }
 
 std::string fspath(const py::handle& path) {
-  return py::module_::import("os").attr("fsdecode")(path).cast<std::string>();
+  // The file system's bytes (os.fsencode), so any name that exists opens, UTF-8 or not.
+  const py::bytes b = py::module_::import("os").attr("fsencode")(path);
+  return std::string(b);
 }
 
 std::string dtype_name(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+
+template <class T>
+py::array_t<T, py::array::c_style> contiguous(const py::handle& a) {
+  // numpy.require copies an array that is not C-contiguous or not aligned (both lossless); it raises on failure.
+  py::object out = py::module_::import("numpy").attr("require")(a, py::dtype::of<T>(), py::make_tuple("C", "A"));
+  return py::reinterpret_borrow<py::array_t<T, py::array::c_style>>(out);
+}
 
 template <class T>
 py::array_t<T, py::array::c_style> rows(const py::handle& obj, const char* name, size_t columns) {
@@ -97,9 +113,11 @@ py::array_t<T, py::array::c_style> rows(const py::handle& obj, const char* name,
     bad_argument(std::string(name) + ": shape " + shape + " where " +
                  (columns ? "(n, " + std::to_string(columns) + ")" : std::string("(n,)")) + " is expected");
   }
-  return py::array_t<T, py::array::c_style>::ensure(a);
+  return contiguous<T>(a);
 }
 
+template py::array_t<uint8_t, py::array::c_style> contiguous<uint8_t>(const py::handle&);
+template py::array_t<uint16_t, py::array::c_style> contiguous<uint16_t>(const py::handle&);
 template py::array_t<float, py::array::c_style> rows<float>(const py::handle&, const char*, size_t);
 template py::array_t<double, py::array::c_style> rows<double>(const py::handle&, const char*, size_t);
 template py::array_t<uint8_t, py::array::c_style> rows<uint8_t>(const py::handle&, const char*, size_t);

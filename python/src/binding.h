@@ -13,6 +13,14 @@ namespace megavox_py {
 
 namespace py = pybind11;
 
+// Runs `f` (a C API call) with the GIL released: every call that may wait for a device does, since a build
+// on another thread holds the device while its progress callback waits for the GIL.
+template <class F>
+auto nogil(F&& f) {
+  py::gil_scoped_release release;
+  return f();
+}
+
 // Raises the Python exception of `code` (megavox._errors maps each MvError to a class) with `message`.
 [[noreturn]] void raise(MvError code, const std::string& message);
 // Raises the error a call on `device` just recorded on this thread (NULL: the C API's per-thread record), when
@@ -50,6 +58,10 @@ py::array_t<T, py::array::c_style> rows(const py::handle& obj, const char* name,
 
 // A path argument (str, bytes or os.PathLike) as the C API takes it.
 std::string fspath(const py::handle& path);
+
+// `a` (of dtype T already) as a C-contiguous, aligned array: itself, or a copy.
+template <class T>
+py::array_t<T, py::array::c_style> contiguous(const py::handle& a);
 
 // The dtype's name as numpy says it ("float64").
 std::string dtype_name(const py::array& a);

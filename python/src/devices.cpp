@@ -12,9 +12,9 @@ namespace {
 std::string size_text(const py::handle& v, const char* key) {
   if (py::isinstance<py::bool_>(v)) bad_argument(std::string(key) + ": a size in bytes or text such as \"512M\"");
   if (py::isinstance<py::int_>(v)) {
-    const long long n = v.cast<long long>();
-    if (n <= 0) bad_argument(std::string(key) + ": " + std::to_string(n) + " is not a positive size");
-    return std::to_string(n);
+    const std::string n = py::str(v).cast<std::string>();  // any size: the C API refuses what is too large
+    if (v.attr("__le__")(0).cast<bool>()) bad_argument(std::string(key) + ": " + n + " is not a positive size");
+    return n;
   }
   if (py::isinstance<py::str>(v)) return v.cast<std::string>();
   bad_argument(std::string(key) + ": a size in bytes or text such as \"512M\", not " +
@@ -24,11 +24,16 @@ std::string size_text(const py::handle& v, const char* key) {
 std::unique_ptr<Device> open_device(const py::object& selector, const py::object& memory, const py::object& host_memory,
                                     const py::object& cache_memory, const py::object& kernel_shape) {
   std::vector<std::pair<std::string, std::string>> items;
-  if (!selector.is_none()) items.emplace_back("device", selector.cast<std::string>());
+  auto text = [](const py::object& v, const char* key) {
+    if (!py::isinstance<py::str>(v))
+      bad_argument(std::string(key) + ": text is expected (" + (std::string(key) == "selector" ? "\"ocl:0\", \"vk:0\" or part of a name" : "auto, gpu or cpu") + ")");
+    return v.cast<std::string>();
+  };
+  if (!selector.is_none()) items.emplace_back("device", text(selector, "selector"));
   if (!memory.is_none()) items.emplace_back("memory", size_text(memory, "memory"));
   if (!host_memory.is_none()) items.emplace_back("host_memory", size_text(host_memory, "host_memory"));
   if (!cache_memory.is_none()) items.emplace_back("cache_memory", size_text(cache_memory, "cache_memory"));
-  if (!kernel_shape.is_none()) items.emplace_back("kernel_shape", kernel_shape.cast<std::string>());
+  if (!kernel_shape.is_none()) items.emplace_back("kernel_shape", text(kernel_shape, "kernel_shape"));
   std::string config;
   for (const auto& [k, v] : items) {
     if (v.find(',') != std::string::npos) bad_argument(k + ": '" + v + "' holds a comma");
@@ -46,14 +51,15 @@ std::unique_ptr<Device> open_device(const py::object& selector, const py::object
 
 py::dict device_info(const Device& self) {
   MvDeviceInfo i;
-  check(self.get(), mvGetDeviceInfo(self.get(), &i));
+  check(self.get(), nogil([&] { return mvGetDeviceInfo(self.get(), &i); }));
+  const uint64_t host = nogil([&] { return mvGetHostMemoryBudget(self.get()); });
   py::dict out;
   out["name"] = std::string(i.name);
   out["backend"] = std::string(i.backend);
   out["selector"] = std::string(i.selector);
   out["memory_budget"] = i.memoryBudget;
   out["memory_used"] = i.memoryUsed;
-  out["host_memory_budget"] = mvGetHostMemoryBudget(self.get());
+  out["host_memory_budget"] = host;
   return out;
 }
 
@@ -61,6 +67,7 @@ py::list devices() {
   std::vector<MvDeviceDescription> all;
   {
     py::gil_scoped_release nogil;
+    mvGetDeviceError(nullptr);  // an older error of this thread is not this call's
     const size_t n = mvListDevices(nullptr, 0);
     all.resize(n);
     if (n) all.resize(mvListDevices(all.data(), n));
@@ -89,8 +96,9 @@ void write_image(const py::object& path_obj, const py::handle& rgba) {
   if (a.ndim() != 3 || (a.shape(2) != 4 && a.shape(2) != 3) || !a.dtype().equal(py::dtype::of<uint8_t>()))
     bad_argument("rgba: a uint8 array of shape (height, width, 4) or (height, width, 3) is expected, not " +
                  dtype_name(a) + " of " + std::to_string(a.ndim()) + " dimensions");
+  if (a.shape(0) > 0xffffffffLL || a.shape(1) > 0xffffffffLL) bad_argument("rgba: over 2^32 - 1 rows or columns");
   const auto h = static_cast<uint32_t>(a.shape(0)), w = static_cast<uint32_t>(a.shape(1));
-  auto pixels = py::array_t<uint8_t, py::array::c_style>::ensure(a);
+  auto pixels = contiguous<uint8_t>(a);
   std::vector<uint8_t> four;
   const uint8_t* data = pixels.data();
   if (a.shape(2) == 3) {  // alpha is dropped by the writer anyway
@@ -121,7 +129,7 @@ void bind_devices(py::module_& m) {
       .def_property_readonly("info", &device_info)
       .def("__repr__", [](const Device& self) {
         MvDeviceInfo i;
-        if (mvGetDeviceInfo(self.get(), &i) != MV_ERROR_NONE) return std::string("<megavox.Device>");
+        if (nogil([&] { return mvGetDeviceInfo(self.get(), &i); }) != MV_ERROR_NONE) return std::string("<megavox.Device>");
         return "<megavox.Device " + std::string(i.selector) + ": " + i.name + ">";
       });
 }

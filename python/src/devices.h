@@ -9,7 +9,10 @@ class Device {
   explicit Device(MvDevice d) : d_(d) {}
   Device(const Device&) = delete;
   Device& operator=(const Device&) = delete;
-  ~Device() { mvReleaseDevice(d_); }
+  ~Device() {
+    py::gil_scoped_release release;
+    mvReleaseDevice(d_);
+  }
   MvDevice get() const { return d_; }
 
  private:

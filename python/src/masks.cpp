@@ -21,9 +21,10 @@ ImageArg image_arg(const py::handle& obj, const std::string& name) {
   const bool shaped = a.ndim() == 2 || (a.ndim() == 3 && (a.shape(2) == 1 || a.shape(2) == 3));
   if (!shaped || a.shape(0) == 0 || a.shape(1) == 0)
     bad_argument(name + ": shape (h, w), (h, w, 1) or (h, w, 3) with h, w > 0 is expected");
+  if (a.shape(0) > 0xffffffffLL || a.shape(1) > 0xffffffffLL) bad_argument(name + ": over 2^32 - 1 rows or columns");
   ImageArg out;
-  out.pixels = u8 ? py::array(py::array_t<uint8_t, py::array::c_style>::ensure(a))
-                  : py::array(py::array_t<uint16_t, py::array::c_style>::ensure(a));
+  out.pixels = u8 ? py::array(contiguous<uint8_t>(a))
+                  : py::array(contiguous<uint16_t>(a));
   out.view.pixels = out.pixels.data();
   out.view.height = static_cast<uint32_t>(a.shape(0));
   out.view.width = static_cast<uint32_t>(a.shape(1));
@@ -40,7 +41,7 @@ py::array_t<uint8_t, py::array::c_style> plane_arg(const py::handle& obj, const 
   if (a.ndim() != 2 || size_t(a.shape(0)) != image.height || size_t(a.shape(1)) != image.width)
     bad_argument(name + ": shape (" + std::to_string(image.height) + ", " + std::to_string(image.width) +
                  ") (the image's) is expected");
-  return py::array_t<uint8_t, py::array::c_style>::ensure(a);
+  return contiguous<uint8_t>(a);
 }
 
 py::array_t<uint8_t> apply(const Device& device, const py::object& image_obj, const py::object& rect,
@@ -56,13 +57,17 @@ py::array_t<uint8_t> apply(const Device& device, const py::object& image_obj, co
   args.progress = progress.function();
   args.progressUserPtr = progress.user();
   if (!rect.is_none()) {
+    if (!py::isinstance<py::sequence>(rect)) bad_argument("rect: (x, y, width, height) is expected");
     const py::sequence r = rect.cast<py::sequence>();
     if (r.size() != 4) bad_argument("rect: (x, y, width, height) is expected");
     args.hasRect = true;
     for (int k = 0; k < 4; ++k) {
-      const long long v = r[k].cast<long long>();
-      if (v < 0 || v > 0xffffffffLL) bad_argument("rect: " + std::to_string(v) + " is not a pixel count");
-      args.rect[k] = static_cast<uint32_t>(v);
+      if (!PyIndex_Check(r[k].ptr()))
+        bad_argument("rect: " + py::repr(r[k]).cast<std::string>() + " is not a whole number of pixels");
+      const py::object v = py::module_::import("operator").attr("index")(r[k]);
+      if (v.attr("__lt__")(0).cast<bool>() || v.attr("__gt__")(py::int_(0xffffffffu)).cast<bool>())
+        bad_argument("rect: " + py::str(v).cast<std::string>() + " is not a pixel count");
+      args.rect[k] = v.cast<uint32_t>();
     }
   }
   std::optional<py::array_t<uint8_t, py::array::c_style>> seed_map;

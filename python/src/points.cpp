@@ -82,7 +82,7 @@ void build(const Device& device, const py::object& source, const py::object& out
   progress.check(d, e);
 }
 
-// The hierarchy at `path`, read whole: (info, nodes, xyz, rgb, intensity, extra), columns it lacks as None.
+// The hierarchy at `path`, read whole: (info, nodes, xyz, rgb, intensity, extra, normal), columns it lacks as None.
 py::tuple open_points(const Device& device, const py::object& path_obj) {
   const MvDevice d = device.get();
   const std::string path = fspath(path_obj);
@@ -113,7 +113,13 @@ py::tuple open_points(const Device& device, const py::object& path_obj) {
   static_assert(sizeof(MvPointNode) == 40);
   const auto n = py::ssize_t(i.points);
   py::array_t<double> xyz({n, py::ssize_t(3)});
-  py::object rgb = py::none(), intensity = py::none(), extra = py::none();
+  py::object rgb = py::none(), intensity = py::none(), extra = py::none(), normal = py::none();
+  float* normal_out = nullptr;
+  if (i.attributes & MV_POINT_NORMAL) {
+    py::array_t<float> a({n, py::ssize_t(3)});
+    normal_out = a.mutable_data();
+    normal = a;
+  }
   uint16_t* rgb_out = nullptr;
   uint16_t* intensity_out = nullptr;
   uint8_t* extra_out = nullptr;
@@ -138,10 +144,10 @@ py::tuple open_points(const Device& device, const py::object& path_obj) {
   {
     py::gil_scoped_release nogil;
     e = mvGetPointNodes(p, 0, i.nodes, node_out);
-    if (e == MV_ERROR_NONE) e = mvGetPointData(p, 0, i.points, xyz_out, rgb_out, intensity_out, extra_out);
+    if (e == MV_ERROR_NONE) e = mvGetPointData(p, 0, i.points, xyz_out, rgb_out, intensity_out, extra_out, normal_out);
   }
   check(d, e);
-  return py::make_tuple(info, nodes, xyz, rgb, intensity, extra);
+  return py::make_tuple(info, nodes, xyz, rgb, intensity, extra, normal);
 }
 
 }  // namespace

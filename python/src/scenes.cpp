@@ -15,7 +15,7 @@ class Scene {
   Scene(MvScene s, py::object device) : s_(s), device_(std::move(device)) {}
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
-  ~Scene() { mvReleaseScene(s_); }
+  ~Scene() { nogil([&] { mvReleaseScene(s_); }); }
   MvScene get() const { return s_; }
   MvDevice device() const { return device_.cast<const Device&>().get(); }
   const py::object& device_object() const { return device_; }
@@ -24,6 +24,13 @@ class Scene {
   MvScene s_;
   py::object device_;  // the megavox.Device (the scene also holds the MvDevice itself)
 };
+
+// A number argument (int, float, a numpy scalar) as double; anything else is refused naming `name`.
+double number(const py::handle& v, const char* name) {
+  if (py::isinstance<py::bool_>(v) || !PyNumber_Check(v.ptr()))
+    bad_argument(std::string(name) + ": a number is expected, not " + py::str(py::type::of(v)).cast<std::string>());
+  return py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>();
+}
 
 std::string text_arg(const py::object& v, const char* name) {
   if (!py::isinstance<py::str>(v)) bad_argument(std::string(name) + ": text is expected");
@@ -39,8 +46,8 @@ py::array_t<uint32_t, py::array::c_style> triangle_array(const py::handle& obj) 
     bad_argument("triangles: dtype " + dtype_name(a) + " where an integer dtype (uint32 or int32) is expected");
   if (a.ndim() != 2 || a.shape(1) != 3) rows<uint32_t>(a.attr("astype")("uint32"), "triangles", 3);  // names the shape
   if (a.size() > 0) {
-    const py::object lo = a.attr("min")(), hi = a.attr("max")();
-    if (lo.cast<long long>() < 0) bad_argument("triangles: a negative index (" + py::str(lo).cast<std::string>() + ")");
+    const py::object lo = a.attr("min")(), hi = a.attr("max")();  // compared as Python ints: any width
+    if (lo.attr("__lt__")(0).cast<bool>()) bad_argument("triangles: a negative index (" + py::str(lo).cast<std::string>() + ")");
     if (hi.attr("__gt__")(py::int_(0xffffffffu)).cast<bool>())
       bad_argument("triangles: index " + py::str(hi).cast<std::string>() + " does not fit 32 bits");
   }
@@ -85,6 +92,7 @@ std::unique_ptr<Scene> build(const py::object& self_obj, const py::object& sourc
   Progress progress(progress_fn);
   const MvBuildArguments args = build_arguments(resolution, format, cube, voxelize, grid_origin, grid_name, out, progress);
   MvScene s = nullptr;
+  const auto keep = [&] { return std::make_unique<Scene>(s, self_obj); };  // owns the scene before any raise
   if (py::isinstance<py::tuple>(source) || py::isinstance<py::list>(source)) {
     const py::sequence parts = source.cast<py::sequence>();
     if (parts.size() != 2 && parts.size() != 3)
@@ -100,8 +108,10 @@ std::unique_ptr<Scene> build(const py::object& self_obj, const py::object& sourc
     py::gil_scoped_release nogil;
     s = mvBuildSceneFromFile(d, path.c_str(), &args);
   }
-  progress.check(d, s ? MV_ERROR_NONE : failure_code(d));
-  return std::make_unique<Scene>(s, self_obj);
+  if (!s) progress.check(d, failure_code(d));
+  auto scene = keep();
+  progress.check(d, MV_ERROR_NONE);  // what the callback raised, though the build finished
+  return scene;
 }
 
 std::unique_ptr<Scene> open_scene(const py::object& self_obj, const py::object& path_obj) {
@@ -120,7 +130,7 @@ py::tuple triple(const double* v) { return py::make_tuple(v[0], v[1], v[2]); }
 
 py::dict scene_info(const Scene& self) {
   MvSceneInfo i;
-  check(self.device(), mvGetSceneInfo(self.get(), &i));
+  check(self.device(), nogil([&] { return mvGetSceneInfo(self.get(), &i); }));  // the first call opens the file
   py::dict out;
   out["encoding"] = std::string(i.encoding);
   out["resolution"] = i.resolution;
@@ -137,7 +147,7 @@ py::dict scene_info(const Scene& self) {
 py::dict scene_stats(const Scene& self) {
   MvSceneStats st{};
   st.byteSize = sizeof st;
-  check(self.device(), mvGetSceneStats(self.get(), &st));
+  check(self.device(), nogil([&] { return mvGetSceneStats(self.get(), &st); }));
   py::dict out;
   out["paged"] = st.paged != 0;
   out["cache_bytes"] = st.cacheBytes;
@@ -168,12 +178,17 @@ py::object trace(const Scene& self, const py::object& origins_obj, const py::obj
       bad_argument("tmax: " + std::to_string(t.shape(0)) + " values for " + std::to_string(n) + " rays");
     for (size_t i = 0; i < n; ++i) rays[i].tmax = t.data()[i];
   } else {
-    const float t = tmax.cast<float>();
+    const auto t = static_cast<float>(number(tmax, "tmax"));
     for (auto& r : rays) r.tmax = t;
   }
   MvTraceArguments args;
   mvInitTraceArguments(&args);
-  if (!max_steps.is_none()) args.maxSteps = max_steps.cast<uint32_t>();
+  if (!max_steps.is_none()) {
+    const py::object n = py::module_::import("operator").attr("index")(max_steps);
+    if (n.attr("__lt__")(1).cast<bool>() || n.attr("__gt__")(py::int_(0xffffffffu)).cast<bool>())
+      bad_argument("max_steps: " + py::str(n).cast<std::string>() + " is not from 1 to 2^32 - 1");
+    args.maxSteps = n.cast<uint32_t>();
+  }
   py::array hits(py::reinterpret_borrow<py::dtype>(py::module_::import("megavox._types").attr("HIT_DTYPE")),
                  std::vector<py::ssize_t>{py::ssize_t(n)});
   static_assert(sizeof(MvTraceHit) == 32);
@@ -210,12 +225,12 @@ MvCamera camera_of(const py::dict& d) {
     }
     const py::sequence s = d[key].cast<py::sequence>();
     if (s.size() != 3) bad_argument(std::string("camera: '") + key + "' is not 3 numbers");
-    for (int k = 0; k < 3; ++k) out[k] = s[k].cast<double>();
+    for (int k = 0; k < 3; ++k) out[k] = number(s[k], key);
   };
   vec("eye", c.eye, true, {});
   vec("target", c.target, true, {});
   vec("up", c.up, false, {0, 1, 0});
-  c.fov = d.contains("fov") ? d["fov"].cast<double>() : MV_DEFAULT_FOV;
+  c.fov = d.contains("fov") ? number(d["fov"], "fov") : MV_DEFAULT_FOV;
   for (const auto& item : d) {
     const std::string k = item.first.cast<std::string>();
     if (k != "eye" && k != "target" && k != "up" && k != "fov")
@@ -226,7 +241,8 @@ MvCamera camera_of(const py::dict& d) {
 
 py::dict view_camera(const Scene& self, const std::string& view, const py::object& fov) {
   MvCamera c;
-  check(self.device(), mvGetSceneViewCamera(self.get(), view.c_str(), fov.is_none() ? 0.0 : fov.cast<double>(), &c));
+  const double degrees = fov.is_none() ? 0.0 : number(fov, "fov");
+  check(self.device(), nogil([&] { return mvGetSceneViewCamera(self.get(), view.c_str(), degrees, &c); }));
   return camera_dict(c);
 }
 
@@ -269,7 +285,7 @@ void save(const Scene& self, const py::object& path_obj) {
 
 uint64_t colour_entries(const Scene& self) {
   uint64_t n = 0;
-  check(self.device(), mvGetSceneColourEntries(self.get(), &n));
+  check(self.device(), nogil([&] { return mvGetSceneColourEntries(self.get(), &n); }));
   return n;
 }
 

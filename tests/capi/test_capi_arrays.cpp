@@ -154,7 +154,7 @@ TEST_P(CApiArraysTest, PointArraysBuildWhatAPlyOfTheSameValuesBuilds) {
   std::vector<double> xyz(3 * np);
   std::vector<uint16_t> rgb(3 * np), intensity(np);
   std::vector<uint8_t> extra(np);
-  ASSERT_EQ(mvGetPointData(r, 0, np, xyz.data(), rgb.data(), intensity.data(), extra.data()), MV_ERROR_NONE);
+  ASSERT_EQ(mvGetPointData(r, 0, np, xyz.data(), rgb.data(), intensity.data(), extra.data(), nullptr), MV_ERROR_NONE);
   EXPECT_EQ(rgb, z.points.rgb);
   EXPECT_EQ(intensity, z.points.intensity);
   EXPECT_EQ(extra, z.points.extra);
@@ -168,7 +168,7 @@ TEST_P(CApiArraysTest, PointArraysBuildWhatAPlyOfTheSameValuesBuilds) {
 
   // refusals: a range past the end, a column the hierarchy lacks
   EXPECT_EQ(mvGetPointNodes(r, info.nodes, 1, nodes.data()), MV_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(mvGetPointData(r, np - 1, 2, xyz.data(), nullptr, nullptr, nullptr), MV_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mvGetPointData(r, np - 1, 2, xyz.data(), nullptr, nullptr, nullptr, nullptr), MV_ERROR_INVALID_ARGUMENT);
   mvReleasePoints(r);
   p.rgb = nullptr;
   p.intensity = nullptr;
@@ -176,7 +176,7 @@ TEST_P(CApiArraysTest, PointArraysBuildWhatAPlyOfTheSameValuesBuilds) {
   ASSERT_EQ(mvBuildPointsFromMemory(dev.handle, &p, a.c_str(), nullptr), MV_ERROR_NONE);
   r = mvOpenPoints(dev.handle, a.c_str());
   ASSERT_TRUE(r);
-  EXPECT_EQ(mvGetPointData(r, 0, 1, xyz.data(), rgb.data(), nullptr, nullptr), MV_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(mvGetPointData(r, 0, 1, xyz.data(), rgb.data(), nullptr, nullptr, nullptr), MV_ERROR_INVALID_ARGUMENT);
   EXPECT_NE(std::string(mvGetDeviceLastErrorMessage(dev.handle)).find("no colours"), std::string::npos);
   mvReleasePoints(r);
 }

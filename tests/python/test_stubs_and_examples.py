@@ -49,7 +49,7 @@ def test_the_points_and_mask_stubs_name_their_functions():
     top, classes = stub_names("points.pyi")
     assert {"build", "open", "PointHierarchy"} <= top
     assert public(megavox.points.PointHierarchy) <= classes["PointHierarchy"] | {"info", "nodes", "xyz", "rgb",
-                                                                               "intensity", "extra"}
+                                                                               "intensity", "extra", "normal"}
     top, _ = stub_names("mask.pyi")
     assert {"apply", "train"} <= top
 

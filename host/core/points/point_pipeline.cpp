@@ -219,8 +219,7 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   if (progress) progress("write", 0);
   if (o.format == PointOutput::mvx) write_mvx_points(output, h);
   else io::write_3dtiles(output, h);
-  r.write_seconds = seconds_since(t0);
-  if (progress) progress("write", 1);
+  r.write_seconds = seconds_since(t0);  // no report after the write: a cancel there would come too late
 
   r.points_in = h.points_in;
   r.points_kept = h.points_kept;

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "megavox/ranks.h"
 #include "megavox/build.h"
 #include "megavox/device.h"
 #include "megavox/error.h"
@@ -56,6 +57,7 @@ inline std::unique_ptr<Device> open_device(const GlobalOptions& g, bool quiet = 
     return parse_size(g.device_memory);
   });
   o.profile = g.profile || profile;
+  o.budget_share = static_cast<uint32_t>(dist::world().local_size);  // ranks on this node share the device
   o.kernel_shape = kernel_shape(g);
   o.on_compile = compile_notice(!quiet && isatty(STDERR_FILENO));
   return with_code(ErrorCode::unsupported_device, [&] { return Device::open(o); });

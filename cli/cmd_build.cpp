@@ -2,8 +2,11 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "build_args.h"
 #include "build_plan_text.h"
@@ -11,6 +14,7 @@
 #include "profile_report.h"
 #include "megavox/build.h"
 #include "megavox/error.h"
+#include "megavox/ranks.h"
 
 namespace mv::cli {
 
@@ -20,6 +24,26 @@ struct BuildCommandArgs : BuildArgs {
   std::string output;
   bool json = false, quiet = false, no_clobber = false;
 };
+
+// A distributed build's ranks: what each made, read and exchanged, and the merge's share of the wall time.
+nlohmann::json ranks_json(const BuildReport& r, const std::vector<dist::RankReport>& ranks) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& rr : ranks)
+    list.push_back({{"seconds", rr.seconds}, {"voxels", rr.voxels}, {"cubes", rr.cubes}, {"triangles", rr.triangles},
+                    {"bytes_read", rr.bytes_read}, {"bytes_exchanged", rr.bytes_exchanged},
+                    {"peak_memory_bytes", rr.peak_memory_bytes}});
+  double merge = 0;
+  for (const auto& s : r.seconds)
+    if (s.name.rfind("merge", 0) == 0) merge += s.seconds;
+  return {{"ranks", list}, {"merge_share", ranks.empty() || ranks[0].seconds <= 0 ? 0 : merge / ranks[0].seconds}};
+}
+
+void print_ranks(const std::vector<dist::RankReport>& ranks) {
+  for (size_t i = 0; i < ranks.size(); ++i)
+    std::printf("  rank %zu: %llu cubes, %llu triangles, %llu voxels, %s exchanged, %.2f s\n", i,
+                (unsigned long long)ranks[i].cubes, (unsigned long long)ranks[i].triangles,
+                (unsigned long long)ranks[i].voxels, format_bytes(ranks[i].bytes_exchanged).c_str(), ranks[i].seconds);
+}
 
 void print_table(const BuildReport& r) {
   std::string cubes = r.cube ? ", out of core in cubes of " + std::to_string(r.cube) + "^3" : "";
@@ -83,9 +107,18 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     BuildOptions o = build_options(*a);
     o.output = a->output;
     o.no_clobber = a->no_clobber;
-    check_output(o);  // before the device opens
-    auto dev = open_device(g, a->quiet);
-    const bool bar = !a->quiet && isatty(STDERR_FILENO);
+    // Under mpirun: every rank takes part in an out-of-core build; rank 0 writes the output and reports.
+    const dist::World& world = dist::world();
+    const bool lead = world.rank == 0;
+    std::optional<dist::CubeRanks> ranks;
+    if (world.size > 1) {
+      ranks.emplace(world);
+      o.ranks = &ranks->build_ranks();
+    }
+    const auto start = std::chrono::steady_clock::now();
+    if (lead) check_output(o);  // before the device opens
+    auto dev = open_device(g, a->quiet || !lead);
+    const bool bar = !a->quiet && lead && isatty(STDERR_FILENO);
     // The plan goes to stderr (stdout keeps the table or the one JSON object), on its own line below the bar.
     const PlanListener plan = [&](const BuildPlan& p) {
       if (bar) std::fprintf(stderr, "\r\033[2K");
@@ -93,9 +126,23 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     };
     ParallelismMeter meter(*dev);
     if (g.profile) meter.start();
-    BuildReport r = build_mvx(*dev, o, progress_bar(bar), a->quiet ? PlanListener{} : plan);
+    BuildReport r = build_mvx(*dev, o, progress_bar(bar), a->quiet || !lead ? PlanListener{} : plan);
     if (bar) std::fprintf(stderr, "\n");
+    std::vector<dist::RankReport> rank_reports;
+    if (ranks) {
+      ranks->finish();
+      ranks->report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      ranks->report.voxels = lead ? 0 : r.voxels;  // rank 0's own: the total less the others' (below)
+      std::error_code ec;
+      ranks->report.bytes_read = std::filesystem::file_size(o.input, ec);  // each rank reads the whole input
+      rank_reports = dist::gather_reports(ranks->report);
+      if (!lead) return;
+      uint64_t others = 0;
+      for (const auto& rr : rank_reports) others += rr.voxels;
+      rank_reports[0].voxels = r.voxels - others;
+    }
     nlohmann::json j = a->json ? report_json(r) : nlohmann::json();
+    if (a->json && ranks) j.update(ranks_json(r, rank_reports));
     if (g.profile) {
       double io = 0;  // the stages that read the input and write the .mvx
       for (const auto& s : r.seconds)
@@ -106,6 +153,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     }
     if (a->json) std::cout << j.dump(2) << "\n";
     else print_table(r);
+    if (!a->json && ranks) print_ranks(rank_reports);
   });
 }
 

@@ -46,9 +46,20 @@ void print_kernel_totals(Device& dev) {
     std::fprintf(stderr, "kernel %-24s %10.4f s %8llu dispatches\n", name.c_str(), v.first * 1e-9,
                  (unsigned long long)v.second);
 }
+// The command line, in one process or as one rank of an MPI run; the exit status.
+int run(int argc, char** argv, const dist::World& world);
+
 }  // namespace mv::cli
 
 int main(int argc, char** argv) {
+  const mv::dist::World& world = mv::dist::start(&argc, &argv);  // MPI only under mpirun
+  const int code = mv::cli::run(argc, argv, world);
+  if (code != 0 && world.size > 1) mv::dist::abort_all(code);  // mpirun ends every rank, with this one's message
+  mv::dist::stop();
+  return code;
+}
+
+int mv::cli::run(int argc, char** argv, const mv::dist::World& world) {
   CLI::App app{
       "megavox: a compute backend for massive 3D models (sparse voxel octrees and DAGs, point hierarchies)\n"
       "on any OpenCL or Vulkan compute device, CPU or GPU.\n\n"
@@ -63,7 +74,7 @@ int main(int argc, char** argv) {
       "  megavox serve --listen 127.0.0.1:0    an HTTP compute service (jobs, progress, ray queries)\n"
       "  MEGAVOX_DEVICE=pocl megavox devices   pick a device by (part of) its name\n",
       "megavox"};
-  app.set_version_flag("--version", std::string("megavox ") + MEGAVOX_VERSION);
+  app.set_version_flag("--version", std::string("megavox ") + MEGAVOX_VERSION + "\nMPI: " + mv::dist::mpi_summary());
   app.require_subcommand(1);
   app.fallthrough();
 
@@ -115,11 +126,25 @@ int main(int argc, char** argv) {
   // With --json anywhere on the line, a failure is one JSON object on stdout, like the verb's output would be.
   bool json = false;
   for (int i = 1; i < argc; ++i) json = json || std::string(argv[i]) == "--json";
-  auto fail = [json](mv::ErrorCode code, const std::string& message) {
-    if (json) std::cout << nlohmann::json{{"error", message}, {"code", mv::error_code_name(code)}}.dump() << std::endl;
-    else std::fprintf(stderr, "megavox: %s: %s\n", code == mv::ErrorCode::unknown ? "internal error" : "error",
+  // Under mpirun every rank's message names the rank.
+  const std::string who = world.size > 1 ? "rank " + std::to_string(world.rank) + " of " + std::to_string(world.size) + ": " : "";
+  auto fail = [json, &who](mv::ErrorCode code, const std::string& message) {
+    if (json) std::cout << nlohmann::json{{"error", who + message}, {"code", mv::error_code_name(code)}}.dump() << std::endl;
+    else std::fprintf(stderr, "megavox: %s%s: %s\n", who.c_str(), code == mv::ErrorCode::unknown ? "internal error" : "error",
                       message.c_str());
   };
+  if (world.size > 1) {  // only a build is spread over ranks: any other verb would run N times over
+    std::string verb;
+    for (int i = 1; i < argc && verb.empty(); ++i)
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        if (sub->get_name() == argv[i]) verb = argv[i];
+    if (verb != "build") {
+      fail(mv::ErrorCode::invalid_argument, "`megavox " + (verb.empty() ? std::string("...") : verb) +
+                                                "` runs in one process; under mpirun only `megavox build` runs, "
+                                                "spread over the ranks");
+      return 1;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -84,7 +84,7 @@ std::unique_ptr<Device> Device::open(const DeviceOptions& options) {
   const DeviceInfo& info = impl.info;
   uint64_t budget = options.memory_budget;
   if (budget == 0) {
-    budget = info.global_memory_bytes / 4 * 3;  // leave room for the driver and other users
+    budget = info.global_memory_bytes / 4 * 3 / std::max(1u, options.budget_share);  // room for the driver and others
   } else if (budget > info.global_memory_bytes) {
     throw CodedError(ErrorCode::invalid_argument,
                      "the device memory budget " + format_bytes(budget) + " is more than " + info.name + " has (" +

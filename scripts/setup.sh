@@ -34,6 +34,7 @@ packages=(
   libminizip-dev libssl-dev                                     # megavox serve: 3D Tiles archives (.3tz: ZIP, MD5 index)
   curl jq                                                       # tests: the serve session as the README runs it
   python3-dev pybind11-dev python3-numpy python3-pytest         # the Python module (python/) and its tests
+  libopenmpi-dev openmpi-bin                                    # builds over MPI ranks (mpirun -np N megavox build)
 )
 # Node runs the independent 3D Tiles reader (tests/js). A machine that has node and npm already (another
 # distribution's build) keeps them: Debian's npm would conflict with it.

@@ -66,7 +66,7 @@ SvoLevel upload_level(Device& dev, const UnionLevel& u) {
 
 // Out of core, reduced (plain or symmetric) or not (the octree: every level is kept whole, in key order).
 Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, bool reduce,
-                   const CubeVoxels& voxels_of, DagBuildTimes* times) {
+                   const CubeVoxels& voxels_of, DagBuildTimes* times, const CubeExchange* exchange) {
   if (cube_levels < 2 || cube_levels >= levels)
     throw Error("out-of-core build: cubes of 2^" + std::to_string(cube_levels) +
                 " voxels must hold a 4^3 brick and be smaller than the 2^" + std::to_string(levels) + " grid");
@@ -93,9 +93,17 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
       z |= uint32_t(c >> (3 * b + 2) & 1) << b;
     }
     Dag part;
-    try {
+    if (exchange && !exchange->mine(c)) {  // another process's cube
+      if (!exchange->merges) continue;
+      std::optional<Dag> made = exchange->receive(c);
+      if (!made) continue;
+      part = std::move(*made);
+    } else try {
       Bricks bricks = voxels_of(x * side, y * side, z * side, side);
-      if (bricks.empty()) continue;
+      if (bricks.empty()) {
+        if (exchange && !exchange->merges) exchange->send(c, nullptr);
+        continue;
+      }
       for (uint64_t& k : bricks.keys) {
         if ((k >> (3 * (cube_levels - 2))) != c) throw Error("out-of-core build: a voxel lies outside its cube");
         k &= local_mask;
@@ -103,6 +111,11 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
       part = build_dag(dev, bricks, cube_levels, symmetric, nullptr, reduce, &red);
     } catch (const DeviceMemoryError& e) {
       throw CubeMemoryError(std::string(e.what()) + " (in a cube of " + std::to_string(side) + "^3)");
+    }
+    if (exchange && !exchange->merges) {
+      dag.voxels += part.voxels;  // what this process made, for its report
+      exchange->send(c, &part);
+      continue;
     }
     dag.voxels += part.voxels;
     for (uint32_t l = 0; l <= cube_levels; ++l) dag.svo_nodes[l] += part.svo_nodes[l];
@@ -131,7 +144,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     root_keys.push_back(c);
     root_node.push_back(remap[0]);  // the cube's root
   }
-  if (root_keys.empty()) return dag;
+  if (root_keys.empty() || (exchange && !exchange->merges)) return dag;
   auto t1 = Clock::now();
 
   // 2. Reduce the union again, bottom-up, exactly as an in-core build reduces its octree levels: the same
@@ -171,13 +184,13 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
 }  // namespace
 
 Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
-                       DagBuildTimes* times) {
-  return build_by_cubes(dev, levels, cube_levels, symmetric, true, voxels_of, times);
+                       DagBuildTimes* times, const CubeExchange* exchange) {
+  return build_by_cubes(dev, levels, cube_levels, symmetric, true, voxels_of, times, exchange);
 }
 
 Dag build_svo_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, const CubeVoxels& voxels_of,
-                       DagBuildTimes* times) {
-  return build_by_cubes(dev, levels, cube_levels, false, false, voxels_of, times);
+                       DagBuildTimes* times, const CubeExchange* exchange) {
+  return build_by_cubes(dev, levels, cube_levels, false, false, voxels_of, times, exchange);
 }
 
 }  // namespace mv

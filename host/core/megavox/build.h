@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "megavox/colour_quantize.h"
+#include "megavox/dag.h"
 #include "megavox/device.h"
 #include "megavox/mvx.h"
 #include "megavox/voxelize.h"
@@ -23,6 +24,15 @@ struct MeshArrays {
   std::span<const float> positions;
   std::span<const uint32_t> indices;
   std::span<const uint32_t> colours;  // per vertex 0xBBGGRR (8-bit), or empty
+};
+
+// A build spread over processes (host/dist, under mpirun). Out of core, every process buckets the triangles;
+// `exchange` then gets each cube's triangle count, in Morton order, and says which cubes this process makes and
+// how their partial DAGs travel. The process that `writes` merges them and writes the output; in core it alone
+// builds.
+struct BuildRanks {
+  std::function<CubeExchange(const std::vector<uint64_t>& cube_triangles)> exchange;
+  bool writes = true;
 };
 
 // Voxel colours: automatic = rgb when the input has colour; rgb on an input without colour is an error.
@@ -48,6 +58,7 @@ struct BuildOptions {
   uint32_t colour_bits = 24;  // below 24: quantized to at most 2^bits colours (megavox/colour_quantize.h)
   // Instead of reading `input`: this mesh (then `input` only names it in messages).
   const MeshArrays* mesh = nullptr;
+  const BuildRanks* ranks = nullptr;  // set: one of the processes of a distributed build
   // How the file is paged (megavox/mvx.h; an ssvdag always in level order).
   MvxPaging paging;
 };
@@ -124,8 +135,10 @@ BuildPlan plan_build(const BuildOptions& options);
 // first (the CLI) makes it before, so a wrong -o costs nothing. Throws mv::Error.
 std::string check_output(const BuildOptions& options);
 
-// Half the machine's physical RAM: the default --memory.
+// Half the machine's physical RAM, divided among the processes set_host_memory_share names: the default --memory.
 uint64_t default_host_memory();
+// The processes of one run on this machine (the ranks of an MPI run on one node) that share its default budget.
+void set_host_memory_share(uint32_t processes);
 
 // "16K" -> 16384, "2048" -> 2048; throws mv::Error unless a power of two in [2, 2^21].
 uint32_t parse_resolution(const std::string& text);

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "megavox/error.h"
@@ -44,12 +45,24 @@ class CubeMemoryError : public DeviceMemoryError {
   using DeviceMemoryError::DeviceMemoryError;
 };
 
+// An out-of-core build spread over processes (host/dist): the process that makes each cube's partial DAG, and
+// how the parts reach the one process that merges them. Cubes go in Morton order; each is made by its owner.
+struct CubeExchange {
+  std::function<bool(uint64_t cube)> mine;  // this process voxelizes and reduces the cube
+  bool merges = true;  // this process merges every part (the others stop once theirs are sent)
+  // A process that does not merge: the part it made of its cube (null: the cube is empty).
+  std::function<void(uint64_t cube, const Dag* part)> send;
+  // The merging process, a cube another made: its part (nullopt: empty), in Morton order.
+  std::function<std::optional<Dag>(uint64_t cube)> receive;
+};
+
 // Out-of-core: the grid is split into cubes of 2^cube_levels voxels per side, taken one at a time in Morton
 // order (only one cube's voxels are ever in memory), each reduced on its own; the partial DAGs are then
 // merged and reduced again bottom-up. The result is identical, byte for byte once encoded, to the in-core
 // build of all the voxels. `times` counts the cubes as the octree stage and the merge as the reduction.
+// With `exchange`, only the cubes it says are made here; a process that does not merge returns an empty Dag.
 Dag build_dag_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symmetric, const CubeVoxels& voxels_of,
-                       DagBuildTimes* times = nullptr);
+                       DagBuildTimes* times = nullptr, const CubeExchange* exchange = nullptr);
 
 // The octree itself, unreduced, in the same form (each level's nodes in key order).
 Dag build_svo(Device& dev, const Bricks& bricks, uint32_t levels, DagBuildTimes* times = nullptr);
@@ -58,7 +71,7 @@ Dag build_svo(Device& dev, const std::vector<uint64_t>& voxels, uint32_t levels,
 // The octree out of core, cube by cube: the same as build_svo of all the voxels (host memory holds the whole
 // octree; the device one cube and one merged level at a time).
 Dag build_svo_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, const CubeVoxels& voxels_of,
-                       DagBuildTimes* times = nullptr);
+                       DagBuildTimes* times = nullptr, const CubeExchange* exchange = nullptr);
 
 
 }  // namespace mv

@@ -1,6 +1,8 @@
 // The main job, stage by stage: read -> voxelize -> octree -> DAG -> encode -> write.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <optional>
 #include <functional>
 #include <cmath>
 #include <memory>
@@ -30,9 +32,16 @@ using Clock = std::chrono::steady_clock;
 constexpr size_t kBatchTriangles = 1u << 20;
 }  // namespace
 
+namespace {
+std::atomic<uint32_t> g_host_memory_share{1};
+}  // namespace
+
+void set_host_memory_share(uint32_t processes) { g_host_memory_share = std::max(1u, processes); }
+
 uint64_t default_host_memory() {
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) / 2 : uint64_t{4} << 30;
+  const uint64_t half = pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) / 2 : uint64_t{4} << 30;
+  return half / g_host_memory_share;
 }
 
 uint32_t parse_resolution(const std::string& text) {
@@ -245,8 +254,7 @@ void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform
   lap("encode");
   report("write", 0);
   const MvxColourStats stats = write_mvx(o.output, file, o.paging);
-  lap("write");
-  report("write", 1);
+  lap("write");  // no report after the write: a cancel there would come too late
   report_colours(file, stats, r);
   r.grid = grid;
   r.voxels = dag.voxels;
@@ -297,6 +305,21 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   if (!buckets) buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o));
   r.spilled_bytes = buckets->spilled_bytes();
   lap("read");
+  std::optional<CubeExchange> exchange;
+  if (o.ranks) {
+    if (colours.wanted)
+      throw CodedError(ErrorCode::invalid_argument,
+                       o.input + ": a coloured mesh builds in one process for now; run it without mpirun");
+    std::vector<uint64_t> triangles(uint64_t{per_axis} * per_axis * per_axis);
+    for (uint64_t c = 0; c < triangles.size(); ++c) {
+      uint32_t xyz[3] = {0, 0, 0};
+      for (uint32_t b = 0; (uint64_t{1} << (3 * b)) < triangles.size(); ++b)
+        for (int a = 0; a < 3; ++a) xyz[a] |= uint32_t(c >> (3 * b + a) & 1) << b;
+      triangles[c] = buckets->records(xyz[0], xyz[1], xyz[2]);
+    }
+    exchange = o.ranks->exchange(triangles);
+  }
+  const CubeExchange* ex = exchange ? &*exchange : nullptr;
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
   const uint32_t cube_levels = static_cast<uint32_t>(std::lround(std::log2(double(o.cube))));
   uint64_t done = 0;
@@ -328,13 +351,18 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   };
   const bool symmetric = o.encoding == Encoding::ussvdag || o.encoding == Encoding::ssvdag;
   DagBuildTimes times;
-  Dag dag = o.encoding == Encoding::svo ? build_svo_by_cubes(dev, levels, cube_levels, voxels_of, &times)
-                               : build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times);
+  Dag dag = o.encoding == Encoding::svo ? build_svo_by_cubes(dev, levels, cube_levels, voxels_of, &times, ex)
+                               : build_dag_by_cubes(dev, levels, cube_levels, symmetric, voxels_of, &times, ex);
   r.seconds.push_back({"voxelize+cubes", times.svo_seconds});
   r.seconds.push_back({o.encoding == Encoding::svo ? "merge octree" : symmetric ? "merge ssvdag" : "merge svdag",
                        times.reduce_seconds});
   lap("total dag");
   r.seconds.pop_back();
+  if (o.ranks && !o.ranks->writes) {  // this process's cubes are with the merging one
+    r.grid = grid;
+    r.voxels = dag.voxels;
+    return r;
+  }
   std::vector<uint8_t> depth_first;
   if (colours.wanted) {
     depth_first = cube_colours_depth_first(dev, o.input, colour_keys, colour_rgb, levels);
@@ -426,7 +454,10 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     r.grid_origin = to_string(o.placement.origin);
     r.voxelize = voxelize_rule_name(o.voxelize);
   }
-  if (!vdb && !o.mesh && io::is_point_cloud(o.input)) {
+  const bool cloud = !vdb && !o.mesh && io::is_point_cloud(o.input);
+  // Spread over processes, only a mesh built in cubes is shared out; anything else the writing one builds alone.
+  if (o.ranks && !o.ranks->writes && (vdb || cloud || !o.cube || mesh_resolution <= o.cube)) return r;
+  if (cloud) {
     if (o.resolution) check_ssvdag_resolution(o.encoding, o.resolution);
     r.grid_origin = to_string(o.placement.origin);
     r.voxelize = "points";
@@ -517,7 +548,8 @@ BuildReport build_mvx(Device& dev, const BuildOptions& o, const Progress& progre
       const bool cube_failed = in_core || dynamic_cast<const CubeMemoryError*>(&e) != nullptr;
       const uint32_t cube = in_core ? resolution : attempt.cube;
       const bool voxels_read = !o.mesh && (io::is_vdb(o.input) || io::is_point_cloud(o.input));
-      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || voxels_read) throw;
+      // spread over processes, the cubes are dealt once: a smaller cube is the user's to ask for
+      if (!cube_failed || o.cube == 0 || cube / 2 < kSmallestCube || voxels_read || o.ranks) throw;
       attempt.cube = cube / 2;
       if (progress) progress("cubes of " + std::to_string(attempt.cube) + "^3 (device memory)", 0);
     }

@@ -45,6 +45,13 @@ void TriangleBuckets::spill() {
   held_ = 0;
 }
 
+uint64_t TriangleBuckets::records(uint32_t x, uint32_t y, uint32_t z) const {
+  const size_t b = bucket(x, y, z);
+  uint64_t floats = mem_[b].size();
+  for (const Chunk& c : chunks_[b]) floats += c.floats;
+  return floats / record_;
+}
+
 std::vector<float> TriangleBuckets::take(uint32_t x, uint32_t y, uint32_t z) {
   const size_t b = bucket(x, y, z);
   std::vector<float> out;

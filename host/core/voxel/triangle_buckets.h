@@ -29,6 +29,8 @@ class TriangleBuckets {
   // The triangles of cube (x, y, z) (in cubes), in no particular order; the bucket is emptied.
   std::vector<float> take(uint32_t x, uint32_t y, uint32_t z);
   uint64_t spilled_bytes() const { return file_bytes_; }
+  // Records (triangles) in cube (x, y, z)'s bucket.
+  uint64_t records(uint32_t x, uint32_t y, uint32_t z) const;
 
  private:
   struct Chunk {

@@ -180,6 +180,8 @@ struct DeviceOptions {
   // as they are needed, so how many a command makes is not known up front: compiling every program at once to
   // know it took 100 s instead of 26 s for a 64^3 build on PoCL.
   CompileListener on_compile;
+  // The default memory budget divided among this many processes (the ranks of an MPI run on one node).
+  uint32_t budget_share = 1;
 };
 
 class Device {

@@ -1,0 +1,74 @@
+// megavox — one run over several processes (MPI ranks, `mpirun -np N megavox build ...`): who this process is,
+// the node's share of budgets and threads, and the out-of-core build's cube exchange (docs/distributed.md).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "megavox/build.h"
+
+namespace mv::dist {
+
+struct World {
+  int rank = 0, size = 1;              // MPI_COMM_WORLD
+  int local_rank = 0, local_size = 1;  // the ranks on this node (MPI_COMM_TYPE_SHARED)
+};
+
+// Starts MPI when mpirun launched this process (OMPI_COMM_WORLD_SIZE is set) and megavox was built with it;
+// otherwise the world of one process, MPI untouched: Open MPI's singleton start would spawn a daemon that
+// listens on every interface. Idle waits yield the core (mpi_yield_when_idle) unless the user set it. With
+// more than one rank on the node, the default host memory budget, device memory budget and worker threads
+// (TBB, PoCL, lavapipe) are divided among them.
+const World& start(int* argc, char*** argv);
+const World& world();
+// MPI_Finalize, after a run that started MPI.
+void stop();
+// Ends every rank (MPI_Abort) with `code`, after this rank printed why; returns only without MPI.
+void abort_all(int code);
+// "Open MPI v4.1.4" (what --version says), or "not built in".
+std::string mpi_summary();
+
+// What one rank did in a distributed build, gathered on rank 0 for --json.
+struct RankReport {
+  double seconds = 0;
+  uint64_t voxels = 0;           // in the cubes it made
+  uint64_t cubes = 0;            // cubes it owned
+  uint64_t triangles = 0;        // in those cubes
+  uint64_t bytes_read = 0;       // of the input
+  uint64_t bytes_exchanged = 0;  // sent and received
+  uint64_t peak_memory_bytes = 0;
+};
+
+// The build's side of the exchange (BuildOptions::ranks): cubes dealt to ranks in contiguous Morton ranges of
+// equal triangle counts, partial DAGs sent to rank 0 as they are made (non-blocking), received there in Morton
+// order. `report` collects this rank's counts. Lives as long as the build.
+class CubeRanks {
+ public:
+  explicit CubeRanks(const World& w);
+  ~CubeRanks();
+  CubeRanks(const CubeRanks&) = delete;
+  CubeRanks& operator=(const CubeRanks&) = delete;
+  const BuildRanks& build_ranks() const { return ranks_; }
+  // Waits for every send to complete (before the process may end).
+  void finish();
+  RankReport report;
+
+ private:
+  struct Pending;
+  World world_;
+  BuildRanks ranks_;
+  std::vector<int> owner_;
+  std::vector<Pending*> pending_;
+};
+
+// Every rank's report at rank 0 (the others get an empty list); a collective call.
+std::vector<RankReport> gather_reports(const RankReport& mine);
+
+// Which rank owns each cube: contiguous Morton ranges, each about total / ranks triangles (pure, for tests).
+std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_triangles, int ranks);
+
+// A partial DAG as bytes and back (what the exchange sends).
+std::vector<uint8_t> pack_dag(const Dag& dag);
+Dag unpack_dag(const std::vector<uint8_t>& bytes);
+
+}  // namespace mv::dist

@@ -93,7 +93,7 @@ std::vector<uint8_t> pack_dag(const Dag& dag) {
   return out;
 }
 
-Dag unpack_dag(const std::vector<uint8_t>& bytes) {
+Dag unpack_dag(const std::vector<uint8_t>& bytes, size_t* used) {
   Reader in{bytes};
   Dag dag;
   dag.levels = in.get<uint32_t>();
@@ -110,7 +110,8 @@ Dag unpack_dag(const std::vector<uint8_t>& bytes) {
     l.children = in.get_vector<uint32_t>();
     l.tags = in.get_vector<uint32_t>();
   }
-  if (in.at != bytes.size()) throw Error("a partial DAG from another rank has bytes past its end");
+  if (used) *used = in.at;
+  else if (in.at != bytes.size()) throw Error("a partial DAG from another rank has bytes past its end");
   return dag;
 }
 
@@ -130,16 +131,19 @@ CubeRanks::CubeRanks(const World& w) : world_(w) {
     CubeExchange ex;
     ex.merges = world_.rank == 0;
     ex.mine = [this](uint64_t c) { return owner_.at(c) == world_.rank; };
-    ex.send = [this](uint64_t, const Dag* part) {
+    ex.send = [this](uint64_t, const Dag* part, std::vector<uint8_t> payload) {
       auto* p = new Pending;
       pending_.push_back(p);
-      if (part) p->bytes = pack_dag(*part);
+      if (part) {  // the part, then the payload after it
+        p->bytes = pack_dag(*part);
+        p->bytes.insert(p->bytes.end(), payload.begin(), payload.end());
+      }
       if (p->bytes.size() > size_t{INT_MAX})
         throw Error("a cube's partial DAG is over 2 GiB: use a smaller --cube");
       report.bytes_exchanged += p->bytes.size();
       MPI_Isend(p->bytes.data(), static_cast<int>(p->bytes.size()), MPI_BYTE, 0, kPartTag, MPI_COMM_WORLD, &p->request);
     };
-    ex.receive = [this](uint64_t c) -> std::optional<Dag> {
+    ex.receive = [this](uint64_t c, std::vector<uint8_t>& payload) -> std::optional<Dag> {
       MPI_Status status;
       MPI_Probe(owner_.at(c), kPartTag, MPI_COMM_WORLD, &status);
       int n = 0;
@@ -148,7 +152,10 @@ CubeRanks::CubeRanks(const World& w) : world_(w) {
       MPI_Recv(bytes.data(), n, MPI_BYTE, owner_.at(c), kPartTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       report.bytes_exchanged += bytes.size();
       if (bytes.empty()) return std::nullopt;
-      return unpack_dag(bytes);
+      size_t used = 0;
+      Dag part = unpack_dag(bytes, &used);
+      payload.assign(bytes.begin() + static_cast<std::ptrdiff_t>(used), bytes.end());
+      return part;
     };
     return ex;
   };

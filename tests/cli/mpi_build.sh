@@ -14,8 +14,9 @@ export OMPI_MCA_btl=self,vader OMPI_MCA_oob_tcp_if_include=lo OMPI_MCA_btl_tcp_i
 export OMPI_MCA_rmaps_base_oversubscribe=1
 [[ $(id -u) -eq 0 ]] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
-# A bumpy sphere of 3,200 triangles: enough cubes (4^3 at 128^3 in cubes of 32^3) for every rank.
-python3 - "$dir/sphere.ply" <<'PY'
+# A bumpy sphere of 3,200 triangles, with and without vertex colours: enough cubes (4^3 at 128^3 in cubes of
+# 32^3) for every rank.
+python3 - "$dir/sphere.ply" "$dir/coloured.ply" <<'PY'
 import math, sys
 rows, cols = 40, 40
 v = []
@@ -31,11 +32,15 @@ for i in range(rows):
         a, b = i * cols + j, i * cols + (j + 1) % cols
         c, d = a + cols, b + cols
         f += [(a, c, b), (b, c, d)]
-with open(sys.argv[1], "w") as out:
-    out.write(f"ply\nformat ascii 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\nproperty float z\n"
-              f"element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n")
-    out.writelines(f"{x:.6f} {y:.6f} {z:.6f}\n" for x, y, z in v)
-    out.writelines(f"3 {a} {b} {c}\n" for a, b, c in f)
+for path, colour in ((sys.argv[1], False), (sys.argv[2], True)):
+    rgb = "property uchar red\nproperty uchar green\nproperty uchar blue\n" if colour else ""
+    with open(path, "w") as out:
+        out.write(f"ply\nformat ascii 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\n"
+                  f"property float z\n{rgb}element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n")
+        for x, y, z in v:  # colour by position: every cube's voxels get colours of their own
+            tail = "".join(f" {min(255, int(110 * (c + 1.2)))}" for c in (x, y, z)) if colour else ""
+            out.write(f"{x:.6f} {y:.6f} {z:.6f}{tail}\n")
+        out.writelines(f"3 {a} {b} {c}\n" for a, b, c in f)
 PY
 args=(build "$dir/sphere.ply" --resolution 128 --cube 32 -q)
 
@@ -47,7 +52,16 @@ for format in svdag ssvdag svo; do
     cmp -s "$dir/one.mvx" "$dir/n$n.mvx" || fail "np $n $format: not the bytes of one process"
   done
 done
-echo "mpi build: the same bytes over 1, 2, 3 and 5 ranks (svdag, ssvdag, svo)"
+# Colours travel with their cube's part.
+coloured=(build "$dir/coloured.ply" --resolution 128 --cube 32 -q --format ssvdag)
+"$megavox" "${coloured[@]}" -o "$dir/c_one.mvx" > /dev/null
+"$megavox" info "$dir/c_one.mvx" | grep -q "colours:" || fail "the coloured sphere built without colours"
+for n in 2 3; do
+  mpirun -np "$n" "$megavox" "${coloured[@]}" -o "$dir/c$n.mvx" > "$dir/out.txt" 2>&1 ||
+    fail "coloured np $n: $(cat "$dir/out.txt")"
+  cmp -s "$dir/c_one.mvx" "$dir/c$n.mvx" || fail "coloured np $n: not the bytes of one process"
+done
+echo "mpi build: the same bytes over 1, 2, 3 and 5 ranks (svdag, ssvdag, svo; coloured over 2 and 3)"
 
 # The other device kind, and --json: one entry per rank, each with cubes and voxels of its own.
 mpirun -np 3 "$megavox" --device vk:0 "${args[@]}" --format ssvdag -o "$dir/vk.mvx" --json > "$dir/ranks.json" ||
@@ -72,7 +86,25 @@ fi
 grep -q "rank 1 of 2: error: no device" "$dir/fail.txt" || fail "the failing rank is not named: $(cat "$dir/fail.txt")"
 [[ -z $(ls "$dir" | grep failed) ]] || fail "output left after a failed run: $(ls "$dir")"
 
+# A rank killed mid-build: mpirun ends the others, the status is non-zero within 30 s, and nothing is left.
+mpirun -np 3 "$megavox" build "$dir/sphere.ply" --resolution 1024 --cube 64 -q -o "$dir/killed.mvx" \
+  > "$dir/kill.txt" 2>&1 &
+run=$!
+ranks() { pgrep -f -- "^$megavox build .*-o $dir/killed.mvx" || true; }
+for _ in $(seq 200); do  # until the three ranks run
+  (($(ranks | wc -l) >= 3)) && break
+  sleep 0.05
+done
+victim=$(ranks | tail -1)
+[[ -n "$victim" ]] || fail "no rank to kill: $(cat "$dir/kill.txt")"
+kill -9 "$victim"
+start=$SECONDS
+if wait "$run"; then fail "mpirun succeeded with a rank killed"; fi
+((SECONDS - start <= 30)) || fail "the run took $((SECONDS - start)) s to end after a rank was killed"
+[[ -z $(ranks) ]] || fail "ranks left running: $(ranks)"
+[[ -z $(ls "$dir" | grep killed) ]] || fail "output left after a killed rank: $(ls "$dir")"
+
 # Verbs other than build would run once per rank: refused.
 if mpirun -np 2 "$megavox" info "$dir/one.mvx" > "$dir/info.txt" 2>&1; then fail "info ran under mpirun"; fi
 grep -q "only \`megavox build\` runs" "$dir/info.txt" || fail "no refusal: $(cat "$dir/info.txt")"
-echo "mpi build: ranks reported, a failed rank ends the run, other verbs refused"
+echo "mpi build: ranks reported, a failed or killed rank ends the run with nothing left, other verbs refused"

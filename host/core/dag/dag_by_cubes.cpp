@@ -95,13 +95,15 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     Dag part;
     if (exchange && !exchange->mine(c)) {  // another process's cube
       if (!exchange->merges) continue;
-      std::optional<Dag> made = exchange->receive(c);
+      std::vector<uint8_t> payload;
+      std::optional<Dag> made = exchange->receive(c, payload);
       if (!made) continue;
+      if (exchange->put_payload) exchange->put_payload(payload);
       part = std::move(*made);
     } else try {
       Bricks bricks = voxels_of(x * side, y * side, z * side, side);
       if (bricks.empty()) {
-        if (exchange && !exchange->merges) exchange->send(c, nullptr);
+        if (exchange && !exchange->merges) exchange->send(c, nullptr, {});
         continue;
       }
       for (uint64_t& k : bricks.keys) {
@@ -114,7 +116,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     }
     if (exchange && !exchange->merges) {
       dag.voxels += part.voxels;  // what this process made, for its report
-      exchange->send(c, &part);
+      exchange->send(c, &part, exchange->take_payload ? exchange->take_payload() : std::vector<uint8_t>());
       continue;
     }
     dag.voxels += part.voxels;

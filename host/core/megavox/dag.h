@@ -50,10 +50,15 @@ class CubeMemoryError : public DeviceMemoryError {
 struct CubeExchange {
   std::function<bool(uint64_t cube)> mine;  // this process voxelizes and reduces the cube
   bool merges = true;  // this process merges every part (the others stop once theirs are sent)
-  // A process that does not merge: the part it made of its cube (null: the cube is empty).
-  std::function<void(uint64_t cube, const Dag* part)> send;
-  // The merging process, a cube another made: its part (nullopt: empty), in Morton order.
-  std::function<std::optional<Dag>(uint64_t cube)> receive;
+  // A process that does not merge: the part it made of its cube (null: the cube is empty), with the builder's
+  // payload for it.
+  std::function<void(uint64_t cube, const Dag* part, std::vector<uint8_t> payload)> send;
+  // The merging process, a cube another made: its part (nullopt: empty), in Morton order, and its payload.
+  std::function<std::optional<Dag>(uint64_t cube, std::vector<uint8_t>& payload)> receive;
+  // Set by the builder when a cube brings more than its part (its voxels' colours): taken after a cube made
+  // here that another process merges, and handed back, in Morton order, where it is merged.
+  std::function<std::vector<uint8_t>()> take_payload;
+  std::function<void(std::vector<uint8_t>& payload)> put_payload;
 };
 
 // Out-of-core: the grid is split into cubes of 2^cube_levels voxels per side, taken one at a time in Morton

@@ -5,6 +5,7 @@
 #include <optional>
 #include <functional>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <unistd.h>
 
@@ -306,10 +307,9 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   r.spilled_bytes = buckets->spilled_bytes();
   lap("read");
   std::optional<CubeExchange> exchange;
+  std::vector<uint64_t> colour_keys;  // every cube's voxels and their colours, gathered for the depth-first array
+  std::vector<uint32_t> colour_rgb;
   if (o.ranks) {
-    if (colours.wanted)
-      throw CodedError(ErrorCode::invalid_argument,
-                       o.input + ": a coloured mesh builds in one process for now; run it without mpirun");
     std::vector<uint64_t> triangles(uint64_t{per_axis} * per_axis * per_axis);
     for (uint64_t c = 0; c < triangles.size(); ++c) {
       uint32_t xyz[3] = {0, 0, 0};
@@ -318,14 +318,30 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
       triangles[c] = buckets->records(xyz[0], xyz[1], xyz[2]);
     }
     exchange = o.ranks->exchange(triangles);
+    if (colours.wanted) {  // a cube's voxel colours travel with its part, and join rank 0's in Morton order
+      exchange->take_payload = [&] {
+        std::vector<uint8_t> bytes(colour_keys.size() * 12);
+        std::memcpy(bytes.data(), colour_keys.data(), colour_keys.size() * 8);
+        std::memcpy(bytes.data() + colour_keys.size() * 8, colour_rgb.data(), colour_rgb.size() * 4);
+        colour_keys.clear();
+        colour_rgb.clear();
+        return bytes;
+      };
+      exchange->put_payload = [&](std::vector<uint8_t>& bytes) {
+        if (bytes.size() % 12) throw Error("a cube's colours from another rank are cut short");
+        const size_t n = bytes.size() / 12, at = colour_keys.size();
+        colour_keys.resize(at + n);
+        colour_rgb.resize(at + n);
+        std::memcpy(colour_keys.data() + at, bytes.data(), n * 8);
+        std::memcpy(colour_rgb.data() + at, bytes.data() + n * 8, n * 4);
+      };
+    }
   }
   const CubeExchange* ex = exchange ? &*exchange : nullptr;
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
   const uint32_t cube_levels = static_cast<uint32_t>(std::lround(std::log2(double(o.cube))));
   uint64_t done = 0;
   const double cubes = double(per_axis) * per_axis * per_axis;
-  std::vector<uint64_t> colour_keys;  // every cube's voxels and their colours, gathered for the depth-first array
-  std::vector<uint32_t> colour_rgb;
   CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
     report("cubes", double(++done) / cubes);
     std::vector<float> tris = buckets->take(x / size, y / size, z / size);

@@ -6,6 +6,17 @@
 
 namespace mv::cli {
 
+std::vector<std::string> build_argv(const BuildArgs& a) {
+  std::vector<std::string> v = {a.input, "--cube", std::to_string(a.cube), "--format", a.format, "--grid-origin",
+                                a.grid_origin, "--voxelize", a.voxelize, "--attributes", a.attributes,
+                                "--colour-bits", std::to_string(a.colour_bits), "--page-order", a.page_order,
+                                "--page-words", std::to_string(a.page_words)};
+  for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"--resolution", &a.resolution},
+                                    {"--grid", &a.grid}, {"--bounds", &a.bounds}, {"--memory", &a.memory}})
+    if (!value->empty()) v.insert(v.end(), {flag, *value});
+  return v;
+}
+
 void add_build_options(CLI::App& cmd, BuildArgs& a) {
   cmd.add_option("input", a.input,
                  "Mesh file (.ply, .obj, .gltf, .fbx, .stl, ...), or a point cloud (.las, or a .ply with vertices and\n"

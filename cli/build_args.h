@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 #include "megavox/build.h"
 
@@ -20,6 +21,9 @@ struct BuildArgs {
 // The input and every build option but the output: --resolution, --grid, --cube, --format, --grid-origin,
 // --bounds, --voxelize, --attributes, --colour-bits, --memory, --page-order, --page-words (--device-memory is global).
 void add_build_options(CLI::App& cmd, BuildArgs& a);
+
+// Those options as `megavox build` arguments (the input first), for a build run as another process.
+std::vector<std::string> build_argv(const BuildArgs& a);
 
 // The build those options ask for (throws mv::Error on a bad resolution, bounds or size).
 BuildOptions build_options(const BuildArgs& a);

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <optional>
 
+#include "bench_ranks.h"
 #include "build_bench.h"
 #include "stopwatch.h"
 #include "voxcom_peer.h"
@@ -20,7 +21,7 @@ namespace {
 
 struct BenchBuildArgs : BuildArgs {
   std::string output, peer = bench::default_voxcom_path();
-  int repeats = 1;
+  int repeats = 1, ranks = 0;
   bool json = false, no_peer = false;
 };
 
@@ -156,6 +157,10 @@ void add_bench_build_command(CLI::App& bench, const GlobalOptions& g) {
   cmd->add_option("--peer", a->peer, "voxcom's voxelizer (built by ../shared/peers/voxcom/build.sh)")
       ->capture_default_str();
   cmd->add_flag("--no-peer", a->no_peer, "Do not run the peer");
+  cmd->add_option("--ranks", a->ranks,
+                  "Also run the build under `mpirun -np 1` and `mpirun -np N` (this machine only: shared memory and\n"
+                  "loopback), and report the speed-up of N ranks over one and whether the bytes are the same")
+      ->check(CLI::Range(2, 256));
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->callback([&g, a] {
     BuildOptions o = build_options(*a);
@@ -172,10 +177,16 @@ void add_bench_build_command(CLI::App& bench, const GlobalOptions& g) {
     std::optional<bench::PeerComparison> c;
     if (!peer.runs.empty()) c = bench::compare_with_peer(r, peer.runs, open_seconds);
     const std::string device = dev->info().name;
-    if (a->json)
-      std::cout << result_json(r, device, open_seconds, *a, peer, c ? &*c : nullptr).dump(2) << "\n";
-    else
+    std::optional<RanksBench> ranks;
+    if (a->ranks > 1) ranks = bench_ranks(build_argv(*a), g, a->ranks, a->repeats);
+    if (a->json) {
+      nlohmann::json j = result_json(r, device, open_seconds, *a, peer, c ? &*c : nullptr);
+      if (ranks) j["ranks"] = ranks_json(*ranks);
+      std::cout << j.dump(2) << "\n";
+    } else {
       print_table(r, device, open_seconds, peer, c ? &*c : nullptr);
+      if (ranks) print_ranks_bench(*ranks);
+    }
   });
 }
 

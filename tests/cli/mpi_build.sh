@@ -107,4 +107,12 @@ if wait "$run"; then fail "mpirun succeeded with a rank killed"; fi
 # Verbs other than build would run once per rank: refused.
 if mpirun -np 2 "$megavox" info "$dir/one.mvx" > "$dir/info.txt" 2>&1; then fail "info ran under mpirun"; fi
 grep -q "only \`megavox build\` runs" "$dir/info.txt" || fail "no refusal: $(cat "$dir/info.txt")"
-echo "mpi build: ranks reported, a failed or killed rank ends the run with nothing left, other verbs refused"
+# bench build --ranks: one rank and three, timed from outside, the same bytes.
+"$megavox" bench build "$dir/sphere.ply" --resolution 128 --cube 32 --no-peer --ranks 3 --json > "$dir/bench.json" ||
+  fail "bench build --ranks: $(cat "$dir/bench.json")"
+python3 - "$dir/bench.json" <<'PY' || fail "bench build --ranks: $(cat "$dir/bench.json")"
+import json, sys
+r = json.load(open(sys.argv[1]))["ranks"]
+assert r["ranks"] == 3 and r["same_bytes"] and r["speedup"] > 0 and len(r["per_rank"]) == 3, r
+PY
+echo "mpi build: ranks reported, a failed or killed rank ends the run with nothing left, other verbs refused, bench --ranks"

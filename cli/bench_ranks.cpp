@@ -52,9 +52,10 @@ RanksBench bench_ranks(const std::vector<std::string>& build, const GlobalOption
     return {"ranks: not run: no mpirun (scripts/setup.sh installs openmpi-bin)"};
   if (dist::mpi_summary().rfind("not built in", 0) == 0) return {"ranks: not run: megavox is built without MPI"};
   bench::ScratchDir scratch;
-  // This machine only: shared memory and loopback, never another interface; ranks may outnumber cores.
+  // This machine only: shared memory and loopback, never another interface; ranks may outnumber cores, and are
+  // not bound to one core each (Open MPI binds 1 or 2 ranks to a core each, leaving a lone rank one core).
   std::string env = "OMPI_MCA_btl=self,vader OMPI_MCA_oob_tcp_if_include=lo OMPI_MCA_btl_tcp_if_include=lo "
-                    "OMPI_MCA_rmaps_base_oversubscribe=1 ";
+                    "OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_hwloc_base_binding_policy=none ";
   if (geteuid() == 0) env += "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";
   std::string global = quoted(self_path());
   if (!g.device.empty()) global += " --device " + quoted(g.device);

@@ -116,7 +116,7 @@ nlohmann::json report_json(const BuildReport& r) {
                                {"iterations", r.colour_quantize.iterations}, {"seconds", r.colour_quantize.seconds}}}, {"colour_bits_per_voxel", r.colour_bits_per_voxel},
           {"colour_format", r.colour_format}, {"colour_palette_bytes", r.colour_palette_bytes},
           {"colour_palette_seconds", r.colour_palette_seconds},
-          {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube},
+          {"vdb_grid", r.vdb_grid},   {"vdb_class", r.vdb_class},   {"cube", r.cube}, {"cubes_resumed", r.cubes_resumed},
           {"spilled_bytes", r.spilled_bytes}, {"vertex_scratch_bytes", r.vertex_scratch_bytes},
           {"cube_retries", r.cube_retries},
           {"voxelize", r.voxelize},   {"grid_origin", r.grid_origin},

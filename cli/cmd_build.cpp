@@ -22,8 +22,19 @@ namespace {
 
 struct BuildCommandArgs : BuildArgs {
   std::string output;
-  bool json = false, quiet = false, no_clobber = false;
+  bool json = false, quiet = false, no_clobber = false, resume = false;
 };
+
+// What makes a kept cube this build's: the options, the input's size and time, megavox's version.
+uint64_t resume_fingerprint(const BuildCommandArgs& a) {
+  std::string key = MEGAVOX_VERSION;
+  for (const std::string& s : build_argv(a)) key += '\0' + s;
+  std::error_code ec;
+  key += '\0' + std::to_string(std::filesystem::file_size(a.input, ec));
+  const auto time = std::filesystem::last_write_time(a.input, ec);
+  key += '\0' + std::to_string(time.time_since_epoch().count());
+  return std::hash<std::string>{}(key);
+}
 
 // A distributed build's ranks: what each made, read and exchanged, and the merge's share of the wall time.
 nlohmann::json ranks_json(const BuildReport& r, const std::vector<dist::RankReport>& ranks) {
@@ -48,6 +59,7 @@ void print_ranks(const std::vector<dist::RankReport>& ranks) {
 void print_table(const BuildReport& r) {
   std::string cubes = r.cube ? ", out of core in cubes of " + std::to_string(r.cube) + "^3" : "";
   if (r.cube_retries) cubes += " (halved " + std::to_string(r.cube_retries) + "x to fit device memory)";
+  if (r.cubes_resumed) cubes += ", " + std::to_string(r.cubes_resumed) + " cubes kept by an earlier run";
   std::printf("%s -> %s (%s, %u^3%s)\n", r.input.c_str(), r.output.c_str(), r.format.c_str(), r.resolution,
               cubes.c_str());
   if (!r.vdb_grid.empty())
@@ -103,10 +115,18 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the table");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
   add_no_clobber_flag(*cmd, a->no_clobber);
+  cmd->add_flag("--resume", a->resume,
+                "Keep each finished cube in OUTPUT.cubes/ and reuse the cubes a run of this same build kept there\n"
+                "(each checked): a build in cubes that failed or was stopped goes on where it was. The folder goes\n"
+                "once the output is written");
   cmd->callback([&g, a] {
     BuildOptions o = build_options(*a);
     o.output = a->output;
     o.no_clobber = a->no_clobber;
+    if (a->resume) {
+      o.resume_dir = a->output + ".cubes";
+      o.resume_fingerprint = resume_fingerprint(*a);
+    }
     // Under mpirun: every rank takes part in an out-of-core build; rank 0 writes the output and reports.
     const dist::World& world = dist::world();
     const bool lead = world.rank == 0;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "io/cube_parts.h"
 #include "megavox/error.h"
 #include "megavox/ranks.h"
 
@@ -18,41 +19,6 @@ namespace mv::dist {
 namespace {
 
 constexpr int kPartTag = 1;
-
-template <class T>
-void put(std::vector<uint8_t>& out, const T& v) {
-  const auto* p = reinterpret_cast<const uint8_t*>(&v);
-  out.insert(out.end(), p, p + sizeof v);
-}
-
-template <class T>
-void put_vector(std::vector<uint8_t>& out, const std::vector<T>& v) {
-  put(out, uint64_t{v.size()});
-  const auto* p = reinterpret_cast<const uint8_t*>(v.data());
-  out.insert(out.end(), p, p + v.size() * sizeof(T));
-}
-
-struct Reader {
-  const std::vector<uint8_t>& bytes;
-  size_t at = 0;
-  template <class T>
-  T get() {
-    if (bytes.size() - at < sizeof(T)) throw Error("a partial DAG from another rank is cut short");
-    T v;
-    std::memcpy(&v, bytes.data() + at, sizeof v);
-    at += sizeof v;
-    return v;
-  }
-  template <class T>
-  std::vector<T> get_vector() {
-    const auto n = get<uint64_t>();
-    if (n > (bytes.size() - at) / sizeof(T)) throw Error("a partial DAG from another rank is cut short");
-    std::vector<T> v(n);
-    std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
-    at += n * sizeof(T);
-    return v;
-  }
-};
 
 uint64_t peak_rss() {
   rusage u{};
@@ -76,45 +42,6 @@ std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_triangles, int ran
   return owner;
 }
 
-std::vector<uint8_t> pack_dag(const Dag& dag) {
-  std::vector<uint8_t> out;
-  put(out, dag.levels);
-  put(out, uint8_t{dag.symmetric});
-  put(out, uint8_t{dag.reduced});
-  put(out, dag.voxels);
-  put_vector(out, dag.svo_nodes);
-  put(out, uint64_t{dag.level.size()});
-  for (const DagLevel& l : dag.level) {
-    put_vector(out, l.mask);
-    put_vector(out, l.first);
-    put_vector(out, l.children);
-    put_vector(out, l.tags);
-  }
-  return out;
-}
-
-Dag unpack_dag(const std::vector<uint8_t>& bytes, size_t* used) {
-  Reader in{bytes};
-  Dag dag;
-  dag.levels = in.get<uint32_t>();
-  dag.symmetric = in.get<uint8_t>() != 0;
-  dag.reduced = in.get<uint8_t>() != 0;
-  dag.voxels = in.get<uint64_t>();
-  dag.svo_nodes = in.get_vector<uint64_t>();
-  const auto levels = in.get<uint64_t>();
-  if (levels != uint64_t{dag.levels} + 1) throw Error("a partial DAG from another rank has a wrong level count");
-  dag.level.resize(levels);
-  for (DagLevel& l : dag.level) {
-    l.mask = in.get_vector<uint32_t>();
-    l.first = in.get_vector<uint32_t>();
-    l.children = in.get_vector<uint32_t>();
-    l.tags = in.get_vector<uint32_t>();
-  }
-  if (used) *used = in.at;
-  else if (in.at != bytes.size()) throw Error("a partial DAG from another rank has bytes past its end");
-  return dag;
-}
-
 #if MEGAVOX_HAVE_MPI
 
 struct CubeRanks::Pending {
@@ -135,7 +62,7 @@ CubeRanks::CubeRanks(const World& w) : world_(w) {
       auto* p = new Pending;
       pending_.push_back(p);
       if (part) {  // the part, then the payload after it
-        p->bytes = pack_dag(*part);
+        p->bytes = io::pack_dag(*part);
         p->bytes.insert(p->bytes.end(), payload.begin(), payload.end());
       }
       if (p->bytes.size() > size_t{INT_MAX})
@@ -153,7 +80,7 @@ CubeRanks::CubeRanks(const World& w) : world_(w) {
       report.bytes_exchanged += bytes.size();
       if (bytes.empty()) return std::nullopt;
       size_t used = 0;
-      Dag part = unpack_dag(bytes, &used);
+      Dag part = io::unpack_dag(bytes, &used);
       payload.assign(bytes.begin() + static_cast<std::ptrdiff_t>(used), bytes.end());
       return part;
     };

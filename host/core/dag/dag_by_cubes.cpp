@@ -85,6 +85,30 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   const uint32_t side = 1u << cube_levels;
   const uint64_t cubes = uint64_t{1} << (3 * (levels - cube_levels));
   const uint64_t local_mask = (uint64_t{1} << (3 * (cube_levels - 2))) - 1;  // brick keys in the cube
+  // A cube of this process: kept by an earlier run of the same build, else made now (nullopt: empty).
+  auto own_part = [&](uint64_t c, uint32_t x, uint32_t y, uint32_t z) -> std::optional<Dag> {
+    if (exchange && exchange->load) {
+      std::vector<uint8_t> payload;
+      if (std::optional<Dag> kept = exchange->load(c, payload)) {
+        if (exchange->put_payload) exchange->put_payload(payload);
+        return kept;
+      }
+    }
+    Dag part;
+    try {
+      Bricks bricks = voxels_of(x * side, y * side, z * side, side);
+      if (bricks.empty()) return std::nullopt;
+      for (uint64_t& k : bricks.keys) {
+        if ((k >> (3 * (cube_levels - 2))) != c) throw Error("out-of-core build: a voxel lies outside its cube");
+        k &= local_mask;
+      }
+      part = build_dag(dev, bricks, cube_levels, symmetric, nullptr, reduce, &red);
+    } catch (const DeviceMemoryError& e) {
+      throw CubeMemoryError(std::string(e.what()) + " (in a cube of " + std::to_string(side) + "^3)");
+    }
+    if (exchange && exchange->keep) exchange->keep(c, part, exchange->peek_payload ? exchange->peek_payload() : std::vector<uint8_t>());
+    return part;
+  };
   for (uint64_t c = 0; c < cubes; ++c) {
     uint32_t x = 0, y = 0, z = 0;
     for (uint32_t b = 0; b < levels - cube_levels; ++b) {
@@ -93,26 +117,20 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
       z |= uint32_t(c >> (3 * b + 2) & 1) << b;
     }
     Dag part;
-    if (exchange && !exchange->mine(c)) {  // another process's cube
+    if (exchange && exchange->mine && !exchange->mine(c)) {  // another process's cube
       if (!exchange->merges) continue;
       std::vector<uint8_t> payload;
       std::optional<Dag> made = exchange->receive(c, payload);
       if (!made) continue;
       if (exchange->put_payload) exchange->put_payload(payload);
       part = std::move(*made);
-    } else try {
-      Bricks bricks = voxels_of(x * side, y * side, z * side, side);
-      if (bricks.empty()) {
+    } else {
+      std::optional<Dag> own = own_part(c, x, y, z);
+      if (!own) {
         if (exchange && !exchange->merges) exchange->send(c, nullptr, {});
         continue;
       }
-      for (uint64_t& k : bricks.keys) {
-        if ((k >> (3 * (cube_levels - 2))) != c) throw Error("out-of-core build: a voxel lies outside its cube");
-        k &= local_mask;
-      }
-      part = build_dag(dev, bricks, cube_levels, symmetric, nullptr, reduce, &red);
-    } catch (const DeviceMemoryError& e) {
-      throw CubeMemoryError(std::string(e.what()) + " (in a cube of " + std::to_string(side) + "^3)");
+      part = std::move(*own);
     }
     if (exchange && !exchange->merges) {
       dag.voxels += part.voxels;  // what this process made, for its report

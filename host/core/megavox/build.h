@@ -59,6 +59,10 @@ struct BuildOptions {
   // Instead of reading `input`: this mesh (then `input` only names it in messages).
   const MeshArrays* mesh = nullptr;
   const BuildRanks* ranks = nullptr;  // set: one of the processes of a distributed build
+  // Set (build --resume): a build in cubes keeps each finished cube in this folder and reuses those a run of
+  // the same build (the same fingerprint) kept there; the folder goes once the output is written.
+  std::string resume_dir;
+  uint64_t resume_fingerprint = 0;
   // How the file is paged (megavox/mvx.h; an ssvdag always in level order).
   MvxPaging paging;
 };
@@ -86,6 +90,7 @@ struct BuildPlan {
 
 struct BuildReport {
   std::string input, output, format;
+  uint64_t cubes_resumed = 0;  // cubes an earlier run kept (build --resume), not made again
   uint32_t resolution = 0;
   uint64_t triangles = 0;  // 0 for a .vdb input
   uint64_t points = 0;     // a point cloud input: its points read (and inside the grid)

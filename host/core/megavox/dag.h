@@ -47,8 +47,9 @@ class CubeMemoryError : public DeviceMemoryError {
 
 // An out-of-core build spread over processes (host/dist): the process that makes each cube's partial DAG, and
 // how the parts reach the one process that merges them. Cubes go in Morton order; each is made by its owner.
+// Also how a build keeps its cubes to resume (below).
 struct CubeExchange {
-  std::function<bool(uint64_t cube)> mine;  // this process voxelizes and reduces the cube
+  std::function<bool(uint64_t cube)> mine;  // this process voxelizes and reduces the cube (null: every cube)
   bool merges = true;  // this process merges every part (the others stop once theirs are sent)
   // A process that does not merge: the part it made of its cube (null: the cube is empty), with the builder's
   // payload for it.
@@ -59,6 +60,12 @@ struct CubeExchange {
   // here that another process merges, and handed back, in Morton order, where it is merged.
   std::function<std::vector<uint8_t>()> take_payload;
   std::function<void(std::vector<uint8_t>& payload)> put_payload;
+  // Set for a build that keeps its cubes (build --resume): a cube an earlier run of the same build kept comes
+  // back from `load` (its payload through put_payload) instead of being made; a cube made here goes to `keep`
+  // with the payload peek_payload gives (the cube just made's, left in place).
+  std::function<std::optional<Dag>(uint64_t cube, std::vector<uint8_t>& payload)> load;
+  std::function<void(uint64_t cube, const Dag& part, std::vector<uint8_t> payload)> keep;
+  std::function<std::vector<uint8_t>()> peek_payload;
 };
 
 // Out-of-core: the grid is split into cubes of 2^cube_levels voxels per side, taken one at a time in Morton

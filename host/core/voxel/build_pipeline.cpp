@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <optional>
+#include <filesystem>
 #include <functional>
 #include <cmath>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include "io/cloud_input.h"
+#include "io/cube_parts.h"
 #include "io/memory_mesh.h"
 #include "io/mesh_source.h"
 #include "io/output_path.h"
@@ -309,6 +311,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   std::optional<CubeExchange> exchange;
   std::vector<uint64_t> colour_keys;  // every cube's voxels and their colours, gathered for the depth-first array
   std::vector<uint32_t> colour_rgb;
+  size_t cube_colours_at = 0;         // where the cube being made starts in them
   if (o.ranks) {
     std::vector<uint64_t> triangles(uint64_t{per_axis} * per_axis * per_axis);
     for (uint64_t c = 0; c < triangles.size(); ++c) {
@@ -318,24 +321,53 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
       triangles[c] = buckets->records(xyz[0], xyz[1], xyz[2]);
     }
     exchange = o.ranks->exchange(triangles);
-    if (colours.wanted) {  // a cube's voxel colours travel with its part, and join rank 0's in Morton order
-      exchange->take_payload = [&] {
-        std::vector<uint8_t> bytes(colour_keys.size() * 12);
-        std::memcpy(bytes.data(), colour_keys.data(), colour_keys.size() * 8);
-        std::memcpy(bytes.data() + colour_keys.size() * 8, colour_rgb.data(), colour_rgb.size() * 4);
-        colour_keys.clear();
-        colour_rgb.clear();
-        return bytes;
-      };
-      exchange->put_payload = [&](std::vector<uint8_t>& bytes) {
-        if (bytes.size() % 12) throw Error("a cube's colours from another rank are cut short");
-        const size_t n = bytes.size() / 12, at = colour_keys.size();
-        colour_keys.resize(at + n);
-        colour_rgb.resize(at + n);
-        std::memcpy(colour_keys.data() + at, bytes.data(), n * 8);
-        std::memcpy(colour_rgb.data() + at, bytes.data() + n * 8, n * 4);
-      };
-    }
+  }
+  if (!o.resume_dir.empty()) {
+    if (!exchange) exchange.emplace();
+    std::filesystem::create_directories(o.resume_dir);
+    exchange->load = [&](uint64_t c, std::vector<uint8_t>& payload) -> std::optional<Dag> {
+      std::optional<std::vector<uint8_t>> bytes = io::read_cube_part(o.resume_dir, c, o.resume_fingerprint);
+      if (!bytes) return std::nullopt;
+      size_t used = 0;
+      Dag part;
+      try {
+        part = io::unpack_dag(*bytes, &used);
+      } catch (const Error&) {  // damaged past its checksum's reach: made again
+        return std::nullopt;
+      }
+      payload.assign(bytes->begin() + static_cast<std::ptrdiff_t>(used), bytes->end());
+      ++r.cubes_resumed;
+      return part;
+    };
+    exchange->keep = [&](uint64_t c, const Dag& part, std::vector<uint8_t> payload) {
+      std::vector<uint8_t> bytes = io::pack_dag(part);
+      bytes.insert(bytes.end(), payload.begin(), payload.end());
+      io::write_cube_part(o.resume_dir, c, o.resume_fingerprint, bytes);
+    };
+  }
+  if (exchange && colours.wanted) {  // a cube's voxel colours travel and are kept with its part
+    auto colour_bytes = [&](size_t from) {
+      const size_t n = colour_keys.size() - from;
+      std::vector<uint8_t> bytes(n * 12);
+      std::memcpy(bytes.data(), colour_keys.data() + from, n * 8);
+      std::memcpy(bytes.data() + n * 8, colour_rgb.data() + from, n * 4);
+      return bytes;
+    };
+    exchange->take_payload = [&, colour_bytes] {
+      std::vector<uint8_t> bytes = colour_bytes(0);
+      colour_keys.clear();
+      colour_rgb.clear();
+      return bytes;
+    };
+    exchange->peek_payload = [&, colour_bytes] { return colour_bytes(cube_colours_at); };
+    exchange->put_payload = [&](std::vector<uint8_t>& bytes) {
+      if (bytes.size() % 12) throw Error("a cube's colours from another rank or a kept cube are cut short");
+      const size_t n = bytes.size() / 12, at = colour_keys.size();
+      colour_keys.resize(at + n);
+      colour_rgb.resize(at + n);
+      std::memcpy(colour_keys.data() + at, bytes.data(), n * 8);
+      std::memcpy(colour_rgb.data() + at, bytes.data() + n * 8, n * 4);
+    };
   }
   const CubeExchange* ex = exchange ? &*exchange : nullptr;
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
@@ -344,6 +376,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   const double cubes = double(per_axis) * per_axis * per_axis;
   CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
     report("cubes", double(++done) / cubes);
+    cube_colours_at = colour_keys.size();
     std::vector<float> tris = buckets->take(x / size, y / size, z / size);
     MeshTriangleColours cube_colours;
     if (colours.wanted) split_records(tris, cube_colours);
@@ -385,6 +418,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     lap("colours");
   }
   encode_and_write(dag, o, grid, bounds, r, lap, report, std::move(depth_first));
+  if (!o.resume_dir.empty()) std::filesystem::remove_all(o.resume_dir);  // the output holds every cube now
   return r;
 }
 
@@ -471,8 +505,14 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     r.voxelize = voxelize_rule_name(o.voxelize);
   }
   const bool cloud = !vdb && !o.mesh && io::is_point_cloud(o.input);
+  const bool by_cubes = !vdb && !cloud && o.cube && mesh_resolution > o.cube;
+  if (!o.resume_dir.empty() && !by_cubes)
+    throw CodedError(ErrorCode::invalid_argument,
+                     "--resume keeps the cubes of a build in cubes (a mesh at a resolution above --cube); this build "
+                     "is in one piece",
+                     setting_cube);
   // Spread over processes, only a mesh built in cubes is shared out; anything else the writing one builds alone.
-  if (o.ranks && !o.ranks->writes && (vdb || cloud || !o.cube || mesh_resolution <= o.cube)) return r;
+  if (o.ranks && !o.ranks->writes && !by_cubes) return r;
   if (cloud) {
     if (o.resolution) check_ssvdag_resolution(o.encoding, o.resolution);
     r.grid_origin = to_string(o.placement.origin);

@@ -67,9 +67,5 @@ std::vector<RankReport> gather_reports(const RankReport& mine);
 // Which rank owns each cube: contiguous Morton ranges, each about total / ranks triangles (pure, for tests).
 std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_triangles, int ranks);
 
-// A partial DAG as bytes and back (what the exchange sends, its payload after it). `used`: the bytes the DAG
-// took (others may follow); null: the DAG must fill `bytes`.
-std::vector<uint8_t> pack_dag(const Dag& dag);
-Dag unpack_dag(const std::vector<uint8_t>& bytes, size_t* used = nullptr);
 
 }  // namespace mv::dist

@@ -16,32 +16,8 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 
 # A bumpy sphere of 3,200 triangles, with and without vertex colours: enough cubes (4^3 at 128^3 in cubes of
 # 32^3) for every rank.
-python3 - "$dir/sphere.ply" "$dir/coloured.ply" <<'PY'
-import math, sys
-rows, cols = 40, 40
-v = []
-for i in range(rows + 1):
-    t = math.pi * i / rows
-    for j in range(cols):
-        p = 2 * math.pi * j / cols
-        r = 1 + 0.15 * math.sin(5 * t) * math.cos(3 * p)
-        v.append((r * math.sin(t) * math.cos(p), r * math.cos(t), r * math.sin(t) * math.sin(p)))
-f = []
-for i in range(rows):
-    for j in range(cols):
-        a, b = i * cols + j, i * cols + (j + 1) % cols
-        c, d = a + cols, b + cols
-        f += [(a, c, b), (b, c, d)]
-for path, colour in ((sys.argv[1], False), (sys.argv[2], True)):
-    rgb = "property uchar red\nproperty uchar green\nproperty uchar blue\n" if colour else ""
-    with open(path, "w") as out:
-        out.write(f"ply\nformat ascii 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\n"
-                  f"property float z\n{rgb}element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n")
-        for x, y, z in v:  # colour by position: every cube's voxels get colours of their own
-            tail = "".join(f" {min(255, int(110 * (c + 1.2)))}" for c in (x, y, z)) if colour else ""
-            out.write(f"{x:.6f} {y:.6f} {z:.6f}{tail}\n")
-        out.writelines(f"3 {a} {b} {c}\n" for a, b, c in f)
-PY
+write_sphere_ply "$dir/sphere.ply" 40
+write_sphere_ply "$dir/coloured.ply" 40 rgb
 args=(build "$dir/sphere.ply" --resolution 128 --cube 32 -q)
 
 for format in svdag ssvdag svo; do

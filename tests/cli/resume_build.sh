@@ -8,28 +8,7 @@ set -euo pipefail
 megavox=$1
 source "$(dirname "$0")/common.sh"
 
-python3 - "$dir/ball.ply" <<'PY'
-import math, sys
-rows, cols = 60, 60
-v, f = [], []
-for i in range(rows + 1):
-    t = math.pi * i / rows
-    for j in range(cols):
-        p = 2 * math.pi * j / cols
-        r = 1 + 0.1 * math.sin(4 * t) * math.cos(5 * p)
-        v.append((r * math.sin(t) * math.cos(p), r * math.cos(t), r * math.sin(t) * math.sin(p)))
-for i in range(rows):
-    for j in range(cols):
-        a, b = i * cols + j, i * cols + (j + 1) % cols
-        f += [(a, a + cols, b), (b, a + cols, b + cols)]
-with open(sys.argv[1], "w") as out:
-    out.write(f"ply\nformat ascii 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\nproperty float z\n"
-              "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-              f"element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n")
-    for x, y, z in v:
-        out.write(f"{x:.6f} {y:.6f} {z:.6f} " + " ".join(str(min(255, int(110 * (c + 1.2)))) for c in (x, y, z)) + "\n")
-    out.writelines(f"3 {a} {b} {c}\n" for a, b, c in f)
-PY
+write_sphere_ply "$dir/ball.ply" 60 rgb
 args=(build "$dir/ball.ply" --resolution 512 --cube 64 --format ssvdag -q)
 "$megavox" "${args[@]}" -o "$dir/ref.mvx" > /dev/null
 out=$dir/out.mvx

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 
@@ -132,6 +133,14 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     const bool lead = world.rank == 0;
     std::optional<dist::CubeRanks> ranks;
     if (world.size > 1) {
+      // Every rank reads the input: one that cannot is found before any work, and named.
+      const std::vector<int> blind = dist::ranks_failing(std::ifstream(o.input, std::ios::binary).good());
+      if (!blind.empty()) {
+        std::string names;
+        for (int r : blind) names += (names.empty() ? "" : ", ") + std::to_string(r);
+        throw IoError(o.input + ": rank" + (blind.size() > 1 ? "s " : " ") + names +
+                      " cannot read it, and every rank reads the input; nothing was built");
+      }
       ranks.emplace(world);
       o.ranks = &ranks->build_ranks();
     }

@@ -98,6 +98,17 @@ CubeRanks::~CubeRanks() {
   for (Pending* p : pending_) delete p;  // after an error: the run is being aborted
 }
 
+std::vector<int> ranks_failing(bool ok) {
+  const World& w = world();
+  std::vector<int> all(static_cast<size_t>(w.size));
+  int mine = ok ? 1 : 0;
+  MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::vector<int> failing;
+  for (int r = 0; r < w.size; ++r)
+    if (!all[static_cast<size_t>(r)]) failing.push_back(r);
+  return failing;
+}
+
 std::vector<RankReport> gather_reports(const RankReport& mine) {
   RankReport me = mine;
   me.peak_memory_bytes = peak_rss();
@@ -111,6 +122,7 @@ std::vector<RankReport> gather_reports(const RankReport& mine) {
 
 struct CubeRanks::Pending {};
 CubeRanks::CubeRanks(const World& w) : world_(w) {}
+std::vector<int> ranks_failing(bool) { return {}; }
 void CubeRanks::finish() {}
 CubeRanks::~CubeRanks() = default;
 std::vector<RankReport> gather_reports(const RankReport& mine) {

@@ -80,6 +80,14 @@ if wait "$run"; then fail "mpirun succeeded with a rank killed"; fi
 [[ -z $(ranks) ]] || fail "ranks left running: $(ranks)"
 [[ -z $(ls "$dir" | grep killed) ]] || fail "output left after a killed rank: $(ls "$dir")"
 
+# An input one rank cannot read: refused on every rank before any work, naming the rank.
+if mpirun -np 1 "$megavox" "${args[@]}" -o "$dir/blind.mvx" : -np 1 "$megavox" build "$dir/nowhere.ply" \
+  --resolution 128 --cube 32 -q -o "$dir/blind.mvx" > "$dir/blind.txt" 2>&1; then
+  fail "a rank could not read its input, yet mpirun succeeded"
+fi
+grep -q "rank 1 cannot read it" "$dir/blind.txt" || fail "the blind rank is not named: $(cat "$dir/blind.txt")"
+[[ ! -e "$dir/blind.mvx" ]] || fail "output left after an unreadable input"
+
 # Verbs other than build would run once per rank: refused.
 if mpirun -np 2 "$megavox" info "$dir/one.mvx" > "$dir/info.txt" 2>&1; then fail "info ran under mpirun"; fi
 grep -q "only \`megavox build\` runs" "$dir/info.txt" || fail "no refusal: $(cat "$dir/info.txt")"

@@ -61,6 +61,9 @@ class CubeRanks {
   std::vector<Pending*> pending_;
 };
 
+// Collective: the ranks whose `ok` is false, in rank order, on every rank (empty without MPI).
+std::vector<int> ranks_failing(bool ok);
+
 // Every rank's report at rank 0 (the others get an empty list); a collective call.
 std::vector<RankReport> gather_reports(const RankReport& mine);
 

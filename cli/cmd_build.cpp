@@ -41,7 +41,7 @@ uint64_t resume_fingerprint(const BuildCommandArgs& a) {
 nlohmann::json ranks_json(const BuildReport& r, const std::vector<dist::RankReport>& ranks) {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& rr : ranks)
-    list.push_back({{"seconds", rr.seconds}, {"voxels", rr.voxels}, {"cubes", rr.cubes}, {"triangles", rr.triangles},
+    list.push_back({{"seconds", rr.seconds}, {"voxels", rr.voxels}, {"cubes", rr.cubes}, {"voxel_estimate", rr.voxel_estimate},
                     {"bytes_read", rr.bytes_read}, {"bytes_exchanged", rr.bytes_exchanged},
                     {"peak_memory_bytes", rr.peak_memory_bytes}});
   double merge = 0;
@@ -52,8 +52,8 @@ nlohmann::json ranks_json(const BuildReport& r, const std::vector<dist::RankRepo
 
 void print_ranks(const std::vector<dist::RankReport>& ranks) {
   for (size_t i = 0; i < ranks.size(); ++i)
-    std::printf("  rank %zu: %llu cubes, %llu triangles, %llu voxels, %s exchanged, %.2f s\n", i,
-                (unsigned long long)ranks[i].cubes, (unsigned long long)ranks[i].triangles,
+    std::printf("  rank %zu: %llu cubes (about %llu voxels), %llu voxels, %s exchanged, %.2f s\n", i,
+                (unsigned long long)ranks[i].cubes, (unsigned long long)ranks[i].voxel_estimate,
                 (unsigned long long)ranks[i].voxels, format_bytes(ranks[i].bytes_exchanged).c_str(), ranks[i].seconds);
 }
 

@@ -28,16 +28,16 @@ uint64_t peak_rss() {
 
 }  // namespace
 
-std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_triangles, int ranks) {
+std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_voxels, int ranks) {
   uint64_t total = 0;
-  for (uint64_t t : cube_triangles) total += t;
-  std::vector<int> owner(cube_triangles.size(), 0);
-  uint64_t before = 0;  // triangles of the cubes before this one
-  for (size_t c = 0; c < cube_triangles.size(); ++c) {
-    // the rank whose equal share holds this cube's first triangle: contiguous ranges in Morton order
+  for (uint64_t t : cube_voxels) total += t;
+  std::vector<int> owner(cube_voxels.size(), 0);
+  uint64_t before = 0;  // estimated voxels of the cubes before this one
+  for (size_t c = 0; c < cube_voxels.size(); ++c) {
+    // the rank whose equal share holds this cube's first voxel: contiguous ranges in Morton order
     const uint64_t r = total == 0 ? 0 : static_cast<uint64_t>((unsigned __int128)before * ranks / total);
     owner[c] = static_cast<int>(std::min<uint64_t>(r, ranks - 1));
-    before += cube_triangles[c];
+    before += cube_voxels[c];
   }
   return owner;
 }
@@ -51,10 +51,10 @@ struct CubeRanks::Pending {
 
 CubeRanks::CubeRanks(const World& w) : world_(w) {
   ranks_.writes = w.rank == 0;
-  ranks_.exchange = [this](const std::vector<uint64_t>& cube_triangles) {
-    owner_ = deal_cubes(cube_triangles, world_.size);
+  ranks_.exchange = [this](const std::vector<uint64_t>& cube_voxels) {
+    owner_ = deal_cubes(cube_voxels, world_.size);
     for (size_t c = 0; c < owner_.size(); ++c)
-      if (owner_[c] == world_.rank) report.cubes += 1, report.triangles += cube_triangles[c];
+      if (owner_[c] == world_.rank) report.cubes += 1, report.voxel_estimate += cube_voxels[c];
     CubeExchange ex;
     ex.merges = world_.rank == 0;
     ex.mine = [this](uint64_t c) { return owner_.at(c) == world_.rank; };

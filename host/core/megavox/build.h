@@ -27,11 +27,11 @@ struct MeshArrays {
 };
 
 // A build spread over processes (host/dist, under mpirun). Out of core, every process buckets the triangles;
-// `exchange` then gets each cube's triangle count, in Morton order, and says which cubes this process makes and
-// how their partial DAGs travel. The process that `writes` merges them and writes the output; in core it alone
+// `exchange` then gets each cube's voxel estimate (TriangleBuckets::voxel_estimate), in Morton order, and says
+// which cubes this process makes and how their partial DAGs travel. The process that `writes` merges them and writes the output; in core it alone
 // builds.
 struct BuildRanks {
-  std::function<CubeExchange(const std::vector<uint64_t>& cube_triangles)> exchange;
+  std::function<CubeExchange(const std::vector<uint64_t>& cube_voxels)> exchange;
   bool writes = true;
 };
 

@@ -313,14 +313,14 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   std::vector<uint32_t> colour_rgb;
   size_t cube_colours_at = 0;         // where the cube being made starts in them
   if (o.ranks) {
-    std::vector<uint64_t> triangles(uint64_t{per_axis} * per_axis * per_axis);
-    for (uint64_t c = 0; c < triangles.size(); ++c) {
+    std::vector<uint64_t> voxels(uint64_t{per_axis} * per_axis * per_axis);  // estimated, per cube in Morton order
+    for (uint64_t c = 0; c < voxels.size(); ++c) {
       uint32_t xyz[3] = {0, 0, 0};
-      for (uint32_t b = 0; (uint64_t{1} << (3 * b)) < triangles.size(); ++b)
+      for (uint32_t b = 0; (uint64_t{1} << (3 * b)) < voxels.size(); ++b)
         for (int a = 0; a < 3; ++a) xyz[a] |= uint32_t(c >> (3 * b + a) & 1) << b;
-      triangles[c] = buckets->records(xyz[0], xyz[1], xyz[2]);
+      voxels[c] = static_cast<uint64_t>(std::llround(buckets->voxel_estimate(xyz[0], xyz[1], xyz[2])));
     }
-    exchange = o.ranks->exchange(triangles);
+    exchange = o.ranks->exchange(voxels);
   }
   if (!o.resume_dir.empty()) {
     if (!exchange) exchange.emplace();

@@ -10,6 +10,7 @@ TriangleBuckets::TriangleBuckets(uint32_t per_axis, uint32_t cube, uint64_t budg
   const size_t n = size_t{per_axis} * per_axis * per_axis;
   mem_.resize(n);
   chunks_.resize(n);
+  estimate_.assign(n, 0.0);
 }
 
 void TriangleBuckets::add(const std::vector<float>& tris) {
@@ -21,12 +22,20 @@ void TriangleBuckets::add(const std::vector<float>& tris) {
       lo[a] = std::min<uint32_t>(per_axis_ - 1, static_cast<uint32_t>(std::max(0.0, std::floor(mn)) / cube_));
       hi[a] = std::min<uint32_t>(per_axis_ - 1, static_cast<uint32_t>(std::max(0.0, std::floor(mx)) / cube_));
     }
+    double e[2][3];  // the edges from the first corner, and the normal's largest component: twice the area seen
+    for (int k = 0; k < 2; ++k)
+      for (int a = 0; a < 3; ++a) e[k][a] = double(tris[t + 3 * (k + 1) + a]) - double(tris[t + a]);
+    const double seen = std::max({std::fabs(e[0][1] * e[1][2] - e[0][2] * e[1][1]),
+                                  std::fabs(e[0][2] * e[1][0] - e[0][0] * e[1][2]),
+                                  std::fabs(e[0][0] * e[1][1] - e[0][1] * e[1][0])}) / 2;
+    const double share = (seen + 1) / (double(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1));
     for (uint32_t x = lo[0]; x <= hi[0]; ++x)
       for (uint32_t y = lo[1]; y <= hi[1]; ++y)
         for (uint32_t z = lo[2]; z <= hi[2]; ++z) {
           std::vector<float>& b = mem_[bucket(x, y, z)];
           b.insert(b.end(), tris.begin() + t, tris.begin() + t + record_);
           held_ += record_ * sizeof(float);
+          estimate_[bucket(x, y, z)] += share;
         }
     if (held_ > budget_) spill();
   }
@@ -43,13 +52,6 @@ void TriangleBuckets::spill() {
     std::vector<float>().swap(v);  // give the memory back
   }
   held_ = 0;
-}
-
-uint64_t TriangleBuckets::records(uint32_t x, uint32_t y, uint32_t z) const {
-  const size_t b = bucket(x, y, z);
-  uint64_t floats = mem_[b].size();
-  for (const Chunk& c : chunks_[b]) floats += c.floats;
-  return floats / record_;
 }
 
 std::vector<float> TriangleBuckets::take(uint32_t x, uint32_t y, uint32_t z) {

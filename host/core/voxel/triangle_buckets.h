@@ -29,8 +29,9 @@ class TriangleBuckets {
   // The triangles of cube (x, y, z) (in cubes), in no particular order; the bucket is emptied.
   std::vector<float> take(uint32_t x, uint32_t y, uint32_t z);
   uint64_t spilled_bytes() const { return file_bytes_; }
-  // Records (triangles) in cube (x, y, z)'s bucket.
-  uint64_t records(uint32_t x, uint32_t y, uint32_t z) const;
+  // About how many voxels the triangles put in cube (x, y, z)'s bucket will make there: each triangle's area
+  // projected on its dominant axis, plus one, shared evenly among the buckets its box meets.
+  double voxel_estimate(uint32_t x, uint32_t y, uint32_t z) const { return estimate_[bucket(x, y, z)]; }
 
  private:
   struct Chunk {
@@ -43,6 +44,7 @@ class TriangleBuckets {
   uint64_t budget_, held_ = 0;            // bytes of triangles in memory
   std::vector<std::vector<float>> mem_;   // per bucket, not yet spilled
   std::vector<std::vector<Chunk>> chunks_;  // per bucket, its chunks in the spill file
+  std::vector<double> estimate_;            // per bucket, voxel_estimate()
   std::unique_ptr<io::TempFile> spill_;
   uint64_t file_bytes_ = 0;
 };

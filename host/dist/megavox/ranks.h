@@ -33,14 +33,14 @@ struct RankReport {
   double seconds = 0;
   uint64_t voxels = 0;           // in the cubes it made
   uint64_t cubes = 0;            // cubes it owned
-  uint64_t triangles = 0;        // in those cubes
+  uint64_t voxel_estimate = 0;   // of those cubes, as they were dealt
   uint64_t bytes_read = 0;       // of the input
   uint64_t bytes_exchanged = 0;  // sent and received
   uint64_t peak_memory_bytes = 0;
 };
 
 // The build's side of the exchange (BuildOptions::ranks): cubes dealt to ranks in contiguous Morton ranges of
-// equal triangle counts, partial DAGs sent to rank 0 as they are made (non-blocking), received there in Morton
+// equal voxel estimates, partial DAGs sent to rank 0 as they are made (non-blocking), received there in Morton
 // order. `report` collects this rank's counts. Lives as long as the build.
 class CubeRanks {
  public:
@@ -67,8 +67,8 @@ std::vector<int> ranks_failing(bool ok);
 // Every rank's report at rank 0 (the others get an empty list); a collective call.
 std::vector<RankReport> gather_reports(const RankReport& mine);
 
-// Which rank owns each cube: contiguous Morton ranges, each about total / ranks triangles (pure, for tests).
-std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_triangles, int ranks);
+// Which rank owns each cube: contiguous Morton ranges, each about total / ranks estimated voxels (pure).
+std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_voxels, int ranks);
 
 
 }  // namespace mv::dist

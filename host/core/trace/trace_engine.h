@@ -6,6 +6,7 @@
 
 #include "common/secondary.h"
 #include "common/trace_beam.h"
+#include "megavox/colour_palette.h"
 #include "megavox/device.h"
 #include "megavox/encode.h"
 

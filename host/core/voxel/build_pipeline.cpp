@@ -6,13 +6,12 @@
 #include <filesystem>
 #include <functional>
 #include <cmath>
-#include <cstring>
 #include <memory>
 #include <unistd.h>
 
 #include "io/cloud_input.h"
-#include "io/cube_parts.h"
 #include "io/memory_mesh.h"
+#include "voxel/cube_hooks.h"
 #include "io/mesh_source.h"
 #include "io/output_path.h"
 #include "io/vdb_source.h"
@@ -308,67 +307,11 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   if (!buckets) buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o));
   r.spilled_bytes = buckets->spilled_bytes();
   lap("read");
-  std::optional<CubeExchange> exchange;
-  std::vector<uint64_t> colour_keys;  // every cube's voxels and their colours, gathered for the depth-first array
-  std::vector<uint32_t> colour_rgb;
-  size_t cube_colours_at = 0;         // where the cube being made starts in them
-  if (o.ranks) {
-    std::vector<uint64_t> voxels(uint64_t{per_axis} * per_axis * per_axis);  // estimated, per cube in Morton order
-    for (uint64_t c = 0; c < voxels.size(); ++c) {
-      uint32_t xyz[3] = {0, 0, 0};
-      for (uint32_t b = 0; (uint64_t{1} << (3 * b)) < voxels.size(); ++b)
-        for (int a = 0; a < 3; ++a) xyz[a] |= uint32_t(c >> (3 * b + a) & 1) << b;
-      voxels[c] = static_cast<uint64_t>(std::llround(buckets->voxel_estimate(xyz[0], xyz[1], xyz[2])));
-    }
-    exchange = o.ranks->exchange(voxels);
-  }
-  if (!o.resume_dir.empty()) {
-    if (!exchange) exchange.emplace();
-    std::filesystem::create_directories(o.resume_dir);
-    exchange->load = [&](uint64_t c, std::vector<uint8_t>& payload) -> std::optional<Dag> {
-      std::optional<std::vector<uint8_t>> bytes = io::read_cube_part(o.resume_dir, c, o.resume_fingerprint);
-      if (!bytes) return std::nullopt;
-      size_t used = 0;
-      Dag part;
-      try {
-        part = io::unpack_dag(*bytes, &used);
-      } catch (const Error&) {  // damaged past its checksum's reach: made again
-        return std::nullopt;
-      }
-      payload.assign(bytes->begin() + static_cast<std::ptrdiff_t>(used), bytes->end());
-      ++r.cubes_resumed;
-      return part;
-    };
-    exchange->keep = [&](uint64_t c, const Dag& part, std::vector<uint8_t> payload) {
-      std::vector<uint8_t> bytes = io::pack_dag(part);
-      bytes.insert(bytes.end(), payload.begin(), payload.end());
-      io::write_cube_part(o.resume_dir, c, o.resume_fingerprint, bytes);
-    };
-  }
-  if (exchange && colours.wanted) {  // a cube's voxel colours travel and are kept with its part
-    auto colour_bytes = [&](size_t from) {
-      const size_t n = colour_keys.size() - from;
-      std::vector<uint8_t> bytes(n * 12);
-      std::memcpy(bytes.data(), colour_keys.data() + from, n * 8);
-      std::memcpy(bytes.data() + n * 8, colour_rgb.data() + from, n * 4);
-      return bytes;
-    };
-    exchange->take_payload = [&, colour_bytes] {
-      std::vector<uint8_t> bytes = colour_bytes(0);
-      colour_keys.clear();
-      colour_rgb.clear();
-      return bytes;
-    };
-    exchange->peek_payload = [&, colour_bytes] { return colour_bytes(cube_colours_at); };
-    exchange->put_payload = [&](std::vector<uint8_t>& bytes) {
-      if (bytes.size() % 12) throw Error("a cube's colours from another rank or a kept cube are cut short");
-      const size_t n = bytes.size() / 12, at = colour_keys.size();
-      colour_keys.resize(at + n);
-      colour_rgb.resize(at + n);
-      std::memcpy(colour_keys.data() + at, bytes.data(), n * 8);
-      std::memcpy(colour_rgb.data() + at, bytes.data() + n * 8, n * 4);
-    };
-  }
+  CubeColours gathered;  // every cube's voxels and their colours, for the depth-first array
+  const std::optional<CubeExchange> exchange =
+      cube_hooks(o, *buckets, per_axis, colours.wanted ? &gathered : nullptr, r.cubes_resumed);
+  std::vector<uint64_t>& colour_keys = gathered.keys;
+  std::vector<uint32_t>& colour_rgb = gathered.rgb;
   const CubeExchange* ex = exchange ? &*exchange : nullptr;
   const uint32_t levels = static_cast<uint32_t>(std::lround(std::log2(double(resolution))));
   const uint32_t cube_levels = static_cast<uint32_t>(std::lround(std::log2(double(o.cube))));
@@ -376,7 +319,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   const double cubes = double(per_axis) * per_axis * per_axis;
   CubeVoxels voxels_of = [&](uint32_t x, uint32_t y, uint32_t z, uint32_t size) {
     report("cubes", double(++done) / cubes);
-    cube_colours_at = colour_keys.size();
+    gathered.cube_at = colour_keys.size();
     std::vector<float> tris = buckets->take(x / size, y / size, z / size);
     MeshTriangleColours cube_colours;
     if (colours.wanted) split_records(tris, cube_colours);

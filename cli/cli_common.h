@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <memory>
+#include <array>
 #include <string>
 
 #include "megavox/ranks.h"
@@ -66,6 +67,9 @@ inline std::unique_ptr<Device> open_device(const GlobalOptions& g, bool quiet = 
 // "X,Y,Z" -> three numbers; throws mv::Error naming the option (`what`) otherwise.
 void parse_vec3(const std::string& text, const char* what, double out[3]);
 
+// --bounds "MINX,MINY,MINZ,MAXX,MAXY,MAXZ" (world units) -> the box; throws mv::Error saying the form otherwise.
+std::array<double, 6> parse_bounds(const std::string& text);
+
 // --no-clobber: refuse to replace an existing output (inputs, devices and FIFOs are always refused).
 inline CLI::Option* add_no_clobber_flag(CLI::App& cmd, bool& flag) {
   return cmd.add_flag("--no-clobber", flag, "Refuse to replace an output that exists already");
@@ -97,6 +101,8 @@ void add_bench_cache_update_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_cache_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_attributes_command(CLI::App& bench, const GlobalOptions& g);
 void add_bench_mask_command(CLI::App& bench, const GlobalOptions& g);
+void add_bench_laz_command(CLI::App& bench);
+void add_points_convert(CLI::App& points);
 void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app, const GlobalOptions& g);
 void add_import_command(CLI::App& app, const GlobalOptions& g);

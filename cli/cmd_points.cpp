@@ -1,4 +1,4 @@
-// `megavox points build | info`: point clouds to LOD hierarchies (.mvx or 3D Tiles), and what a file holds.
+// `megavox points build | info | render` (and convert, cmd_points_convert.cpp): point clouds to LOD hierarchies (.mvx or 3D Tiles), and what a file holds.
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
@@ -22,7 +22,7 @@ namespace mv::cli {
 namespace {
 
 struct PointsBuildArgs {
-  std::string input, output, format = "mvx", memory;
+  std::string input, output, format = "mvx", memory, bounds;
   uint32_t depth = 0, max_node_points = 16384, sort_ranges = PointBuildOptions().sort_ranges;
   bool skip_extra = false, json = false, quiet = false, no_clobber = false;
 };
@@ -91,6 +91,9 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
                   "Parts of the in-memory sort the builder takes while the rest sorts (1: after the whole sort)")
       ->capture_default_str();
   cmd->add_flag("--skip-extra-bytes", a->skip_extra, "Do not carry a LAS file's extra bytes per point");
+  cmd->add_option("--bounds", a->bounds,
+                  "LAS and LAZ: only the points in MINX,MINY,MINZ,MAXX,MAXY,MAXZ (world units); a COPC file "
+                  "decodes only the chunks whose octree node meets the box");
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the summary");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar");
   add_no_clobber_flag(*cmd, a->no_clobber);
@@ -105,6 +108,7 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     o.build.sort_ranges = std::max(1u, a->sort_ranges);
     o.memory = a->memory.empty() ? 0 : parse_size(a->memory);
     o.carry_extra_bytes = !a->skip_extra;
+    if (!a->bounds.empty()) o.bounds = parse_bounds(a->bounds);
     check_output(o);  // before the device opens
     auto dev = open_device(g);
     const bool bar = !a->quiet && isatty(STDERR_FILENO);
@@ -252,6 +256,7 @@ void add_points_command(CLI::App& app, const GlobalOptions& g) {
   add_points_build(*points, g);
   add_points_info(*points);
   add_points_render(*points, g);
+  add_points_convert(*points);
 }
 
 }  // namespace mv::cli

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <cmath>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -19,6 +20,24 @@ void parse_vec3(const std::string& text, const char* what, double out[3]) {
   if (!(in >> out[0] >> c1 >> out[1] >> c2 >> out[2]) || c1 != ',' || c2 != ',' || !in.eof())
     throw CodedError(ErrorCode::invalid_argument,
                      std::string(what) + " wants X,Y,Z (three numbers separated by commas), got '" + text + "'");
+}
+
+std::array<double, 6> parse_bounds(const std::string& text) {
+  std::istringstream in(text);
+  std::array<double, 6> b{};
+  bool ok = true;
+  for (int i = 0; i < 6 && ok; ++i) {
+    char comma = ',';
+    ok = static_cast<bool>(in >> b[i]) && std::isfinite(b[i]);
+    if (ok && i < 5) ok = static_cast<bool>(in >> comma) && comma == ',';
+  }
+  ok = ok && in.eof();
+  for (int a = 0; a < 3 && ok; ++a) ok = b[a] <= b[3 + a];
+  if (!ok)
+    throw CodedError(ErrorCode::invalid_argument,
+                     "--bounds wants MINX,MINY,MINZ,MAXX,MAXY,MAXZ (six numbers, each min at most its max), got '" +
+                         text + "'");
+  return b;
 }
 
 // One line on stderr, redrawn in place; only on a terminal.
@@ -122,6 +141,7 @@ int mv::cli::run(int argc, char** argv, const mv::dist::World& world) {
   mv::cli::add_bench_cache_command(*bench, g);
   mv::cli::add_bench_attributes_command(*bench, g);
   mv::cli::add_bench_mask_command(*bench, g);
+  mv::cli::add_bench_laz_command(*bench);
 
   // With --json anywhere on the line, a failure is one JSON object on stdout, like the verb's output would be.
   bool json = false;

@@ -1,4 +1,4 @@
-// The body of fuzz_ply_points and fuzz_las: open_points (host/formats/io/point_source.h) and every point. Both take
+// The body of fuzz_ply_points, fuzz_las and fuzz_laz: open_points (host/formats/io/point_source.h) and every point. Both take
 // any content (the reader is chosen by the first bytes); they differ in their seeds and the file's name.
 #pragma once
 #include <vector>
@@ -16,6 +16,7 @@ inline int read_points(const uint8_t* data, size_t size, const char* suffix) {
   io::PointReadOptions options;
   options.ram_bytes = size % 2 ? 64 : UINT64_MAX;
   options.carry_extra_bytes = size / 2 % 2 == 0;
+  options.threads = 1 + size / 4 % 2;  // LAZ: chunks decoded on one thread or two
   const size_t batch = 1 + size % 97;
   try {
     auto source = io::open_points(path, options);

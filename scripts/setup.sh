@@ -35,6 +35,8 @@ packages=(
   curl jq                                                       # tests: the serve session as the README runs it
   python3-dev pybind11-dev python3-numpy python3-pytest         # the Python module (python/) and its tests
   libopenmpi-dev openmpi-bin                                    # builds over MPI ranks (mpirun -np N megavox build)
+  libproj-dev proj-data                                         # 3D Tiles placed on the globe (EPSG:4978; proj.db at run time)
+  libmeshoptimizer-dev                                          # 3D Tiles 1.1: EXT_meshopt_compression of glTF point tiles
 )
 # Node runs the independent 3D Tiles reader (tests/js). A machine that has node and npm already (another
 # distribution's build) keeps them: Debian's npm would conflict with it.

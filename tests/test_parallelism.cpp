@@ -1,6 +1,7 @@
 // The parallelism profile: its arithmetic on made-up timings, and the counters it reads on every device.
 #include <gtest/gtest.h>
 
+#include "common/morton.h"
 #include "megavox/parallelism.h"
 #include "test_support.h"
 

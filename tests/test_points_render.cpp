@@ -46,12 +46,12 @@ TEST_P(PointsRenderTest, KernelsMatchTheReference) {
       o.point_size = size;
       o.lod_pixels = size == 6 ? 4 : 1;
       PointRenderResult r = render_points(dev, h, o);
-      const points::SplatFrame f = points::splat_frame(h, o);
+      const ::mv::points::SplatFrame f = ::mv::points::splat_frame(h, o);
       std::vector<uint32_t> depth, index;
       ref::splat_reference(f, depth, index);
       ASSERT_EQ(r.depth, depth);
       ASSERT_EQ(r.winner, index);
-      EXPECT_EQ(r.image.rgb, points::resolve_frame(f, depth, index).rgb);
+      EXPECT_EQ(r.image.rgb, ::mv::points::resolve_frame(f, depth, index).rgb);
       EXPECT_GT(r.pixels_covered, 300u * 180u / 50);
     }
 }
@@ -72,18 +72,18 @@ TEST(PointsRender, BadOptionsAreClearErrors) {
   const PointHierarchy h = sample(true, 100, 1);
   PointRenderOptions o;
   o.view = "sideways";
-  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("unknown view"), std::string::npos);
+  EXPECT_NE(error_message([&] { ::mv::points::splat_frame(h, o); }).find("unknown view"), std::string::npos);
   o = {};
   o.width = 0;
-  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("pixels"), std::string::npos);
+  EXPECT_NE(error_message([&] { ::mv::points::splat_frame(h, o); }).find("pixels"), std::string::npos);
   o = {};
   o.up = std::array<double, 3>{0, 0, 0};
-  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("the up direction"), std::string::npos);
+  EXPECT_NE(error_message([&] { ::mv::points::splat_frame(h, o); }).find("the up direction"), std::string::npos);
   o = {};
   o.fov = 0;
-  EXPECT_NE(error_message([&] { points::splat_frame(h, o); }).find("the field of view"), std::string::npos);
+  EXPECT_NE(error_message([&] { ::mv::points::splat_frame(h, o); }).find("the field of view"), std::string::npos);
   try {
-    points::splat_frame(h, o);
+    ::mv::points::splat_frame(h, o);
   } catch (const Error& e) {
     EXPECT_EQ(e.settings, setting_fov);  // the CLI names it --fov
   }
@@ -94,7 +94,7 @@ TEST(PointsRender, BadOptionsAreClearErrors) {
 TEST(PointsRender, UpVectorsAndEyes) {
   const PointHierarchy h = sample(true, 3000, 2);
   auto params = [&](const PointRenderOptions& o) {
-    const MvSplatParams p = points::splat_frame(h, o).params;
+    const MvSplatParams p = ::mv::points::splat_frame(h, o).params;
     return std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(&p), reinterpret_cast<const uint8_t*>(&p + 1));
   };
   PointRenderOptions o;
@@ -106,7 +106,7 @@ TEST(PointsRender, UpVectorsAndEyes) {
   EXPECT_EQ(params(o), params(axis));
   EXPECT_NE(params(o), params(tilted));
   // The cloud's centre in its own units (world = offset + scale * xyz); front with +Z up looks along +Y.
-  const points::FrameBox box = points::points_box(h.points);
+  const ::mv::points::FrameBox box = ::mv::points::points_box(h.points);
   std::array<double, 3> centre{};
   for (int a = 0; a < 3; ++a) centre[a] = h.source.offset[a] + h.source.scale[a] * 0.5 * double(box.lo[a] + box.hi[a]);
   PointRenderOptions front = o, eye = o;
@@ -114,11 +114,11 @@ TEST(PointsRender, UpVectorsAndEyes) {
   eye.eye = centre;
   (*eye.eye)[1] -= 1e6;
   eye.target = centre;
-  const points::SplatFrame f = points::splat_frame(h, front), e = points::splat_frame(h, eye);
+  const ::mv::points::SplatFrame f = ::mv::points::splat_frame(h, front), e = ::mv::points::splat_frame(h, eye);
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(f.params.rot[i], e.params.rot[i], 2) << i;
   EXPECT_LT(e.params.eye_y, f.params.eye_y);
   eye.up = std::array<double, 3>{0, 1, 0};  // along the view
-  EXPECT_NE(error_message([&] { points::splat_frame(h, eye); }).find("the up direction"), std::string::npos);
+  EXPECT_NE(error_message([&] { ::mv::points::splat_frame(h, eye); }).find("the up direction"), std::string::npos);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(PointsRenderTest);

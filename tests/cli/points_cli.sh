@@ -76,10 +76,10 @@ printf 'LASF' > "$dir/short.las"
 expect_error "truncated\|too short\|header" points build "$dir/short.las" -o "$dir/bad.mvx"
 head -c 300 "$dir/lattice.ply" > "$dir/cut.ply"
 expect_error "truncated\|complete" points build "$dir/cut.ply" -o "$dir/bad.mvx"
-# A LAS 1.2 header whose point format has the LAZ compression bit (0x80) set.
+# A LAS 1.2 header whose point format has the LAZ compression bit (0x80) set, and nothing else right.
 { printf 'LASF'; head -c 20 /dev/zero; printf '\001\002'; head -c 68 /dev/zero; printf '\343\000\343\000\000\000'
   head -c 4 /dev/zero; printf '\203\042\000'; head -c 120 /dev/zero; } > "$dir/scan.laz"
-expect_error "LAZ" points build "$dir/scan.laz" -o "$dir/bad.mvx"
+expect_error "LAZ\|scale factor" points build "$dir/scan.laz" -o "$dir/bad.mvx"
 expect_error "no such\|cannot open" points build "$dir/none.ply" -o "$dir/bad.mvx"
 printf 'ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n' \
   > "$dir/empty.ply"

@@ -3,6 +3,8 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,6 +74,9 @@ struct PointFileOptions {
   PointBuildOptions build;
   uint64_t memory = 0;         // host budget in bytes; 0 = default_host_memory()
   bool carry_extra_bytes = true;
+  // LAS and LAZ: only the points in this box (world min x, y, z, max x, y, z); a COPC file decodes only the
+  // chunks whose node meets it.
+  std::optional<std::array<double, 6>> bounds;
   uint64_t run_points = 0;     // > 0: sort out of core in runs of this many points, whatever the budget (tests)
   bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
   // Set: the cloud is these arrays (the C API's build from memory), named `input` in messages; never out of core.

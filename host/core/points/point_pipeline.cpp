@@ -75,6 +75,7 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
   auto t0 = std::chrono::steady_clock::now();
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
+  ro.bounds = o.bounds;
   int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
   uint64_t n = 0;
   PointCloudInfo info;
@@ -187,6 +188,7 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   auto t0 = std::chrono::steady_clock::now();
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
+  ro.bounds = o.bounds;
   std::unique_ptr<io::PointSource> src = o.arrays ? io::memory_points(*o.arrays, o.input) : io::open_points(o.input, ro);
   const PointCloudInfo info = src->info();
   r.input_format = info.format;

@@ -29,15 +29,8 @@ constexpr uint32_t kHeader13 = 235;      // + start of waveform data
 constexpr uint32_t kHeader14 = 375;      // + EVLRs and the 64-bit counts
 constexpr uint64_t kVlrHeader = 54, kEvlrHeader = 60;
 constexpr uint64_t kMaxCrsBytes = 1 << 20;  // real WKT is a few KiB
-constexpr uint16_t kWktRecord = 2112, kGeoKeyRecord = 34735;
+constexpr uint16_t kWktRecord = 2112, kGeoKeyRecord = 34735, kLaszipRecord = 22204;
 constexpr uint16_t kProjectedCsKey = 3072, kGeographicKey = 2048, kUserDefined = 32767;
-
-bool has_laz_name(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string ext = path.substr(path.size() - 4);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".laz";
-}
 
 // "GeoTIFF keys (EPSG:2992)": the projected (else geographic) CRS code of a GeoKeyDirectory, whose entries
 // are (key id, tag location, count, value) with the value inline when the location is 0.
@@ -69,6 +62,8 @@ class HeaderReader {
     read_vlrs();
     check_points();
     read_evlrs();
+    if (h_.compressed && h_.laszip.empty())
+      fail("the point format says LAZ (compressed), but the file has no LASzip record (\"laszip encoded\" 22204)");
     h_.crs = !wkt_.empty() ? wkt_ : geokeys_;
     return h_;
   }
@@ -102,7 +97,6 @@ class HeaderReader {
     h_.header_size = le<uint16_t>(&b[94]);
     h_.point_offset = le<uint32_t>(&b[96]);
     h_.vlr_count = le<uint32_t>(&b[100]);
-    const uint8_t format = b[104];
     h_.record_length = le<uint16_t>(&b[105]);
     h_.legacy_points = le<uint32_t>(&b[107]);
     for (int a = 0; a < 3; ++a) {
@@ -124,7 +118,8 @@ class HeaderReader {
     if (h_.header_size > size_)
       fail("truncated LAS header: the header has " + num(h_.header_size) + " bytes, the file " + num(size_));
     // LASzip marks a compressed file by setting bit 7 (bit 6 in early versions) of the point format.
-    if ((format & 0xC0) != 0 || has_laz_name(path_)) throw Error(laz_message(path_));
+    h_.compressed = (b[104] & 0xC0) != 0;
+    const uint8_t format = b[104] & 0x3F;
     h_.point_format = format;
     h_.standard_length = las_standard_record_length(format);
     if (h_.standard_length == 0) {
@@ -177,8 +172,10 @@ class HeaderReader {
     }
   }
 
-  // Refused before anything is allocated: a truncated file or a garbage count.
+  // Refused before anything is allocated: a truncated file or a garbage count. A LAZ file's count is checked
+  // against its chunk table instead.
   void check_points() const {
+    if (h_.compressed) return;
     const uint64_t available = size_ - h_.point_offset;
     if (sat_mul(h_.points, h_.record_length) > available)
       fail("truncated point data: the header declares " + num(h_.points) + " points of " + num(h_.record_length) +
@@ -189,7 +186,8 @@ class HeaderReader {
   // LAS 1.4's extended records follow the point data.
   void read_evlrs() {
     if (h_.evlr_count == 0) return;
-    const uint64_t points_end = h_.point_offset + h_.points * h_.record_length;  // bounded by check_points
+    const uint64_t points_end =  // bounded by check_points
+        h_.compressed ? h_.point_offset : h_.point_offset + h_.points * h_.record_length;
     if (h_.evlr_start < points_end || h_.evlr_start > size_)
       fail("bad LAS header: the extended variable-length records start at byte " + num(h_.evlr_start) +
            ", not between the end of the point data (byte " + num(points_end) + ") and the end of the file (byte " +
@@ -215,6 +213,17 @@ class HeaderReader {
   void consider(const unsigned char* user_id, uint16_t record_id, uint64_t at, uint64_t length) {
     const std::string_view user(reinterpret_cast<const char*>(user_id),
                                 strnlen(reinterpret_cast<const char*>(user_id), 16));
+    if (user == "laszip encoded" && record_id == kLaszipRecord && h_.laszip.empty()) {
+      const std::vector<unsigned char> bytes = bytes_at(at, std::min<uint64_t>(length, 1 << 16));
+      h_.laszip.assign(bytes.begin(), bytes.end());
+      if (h_.laszip.empty()) fail("the LASzip record is empty");
+      return;
+    }
+    if (user == "copc" && record_id == 1 && h_.copc.empty() && length == 160) {
+      const std::vector<unsigned char> bytes = bytes_at(at, length);
+      h_.copc.assign(bytes.begin(), bytes.end());
+      return;
+    }
     if (user != "LASF_Projection") return;
     if (record_id == kWktRecord && wkt_.empty()) {
       if (length > kMaxCrsBytes)
@@ -245,10 +254,5 @@ LasHeader read_las_header(std::FILE* file, const std::string& path, uint64_t fil
   return HeaderReader(file, path, file_size).read();
 }
 
-std::string laz_message(const std::string& path) {
-  return path +
-         ": LAZ (compressed LAS) is not supported; decompress it first, e.g. `pdal translate in.laz out.las` or "
-         "`las2las`";
-}
 
 }  // namespace mv::io::detail

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 namespace mv::io::detail {
 
@@ -51,14 +52,15 @@ struct LasHeader {
   uint32_t evlr_count = 0;       // LAS 1.4
   uint32_t standard_length = 0;  // of point_format's fields; record_length - standard_length are extra bytes
   std::string crs;               // OGC WKT, or a summary of the GeoTIFF keys, or empty
+  bool compressed = false;       // LAZ: the point format's compression bit is set
+  std::vector<uint8_t> laszip;   // the LASzip record's bytes (VLR "laszip encoded" 22204); LAZ only
+  std::vector<uint8_t> copc;     // COPC's info record (VLR "copc" 1), where the file is COPC
 };
 
 // Reads and checks the header and its records from `file` (of `file_size` bytes). Throws mv::Error naming
-// `path` and the fault: not LAS, LAZ, a truncated or inconsistent header, an unsupported version or point
-// format, records that overrun, a point count larger than the file holds.
+// `path` and the fault: not LAS, a truncated or inconsistent header, an unsupported version or point format,
+// records that overrun, a point count larger than the file holds (uncompressed), a compressed file without
+// its LASzip record.
 LasHeader read_las_header(std::FILE* file, const std::string& path, uint64_t file_size);
-
-// The message for a compressed LAS file, naming the limitation and the way around it.
-std::string laz_message(const std::string& path);
 
 }  // namespace mv::io::detail

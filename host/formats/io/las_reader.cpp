@@ -8,8 +8,9 @@
 #include <cstring>
 #include <vector>
 
-#include "las_header.h"
 #include "file_ops.h"
+#include "las_header.h"
+#include "laz_records.h"
 #include "megavox/error.h"
 
 namespace mv::io {
@@ -26,8 +27,8 @@ class LasSource final : public PointSource {
       : path_(path), file_(io::open_regular(path, &size_)) {
     h_ = detail::read_las_header(file_.get(), path, size_);
 
-    info_.format = "LAS " + std::to_string(h_.version_major) + "." + std::to_string(h_.version_minor) +
-                   ", point format " + std::to_string(h_.point_format);
+    info_.format = std::string(h_.compressed ? "LAZ " : "LAS ") + std::to_string(h_.version_major) + "." +
+                   std::to_string(h_.version_minor) + ", point format " + std::to_string(h_.point_format);
     info_.points = h_.points;
     info_.attributes = kPointIntensity;
     rgb_offset_ = detail::las_rgb_offset(h_.point_format);
@@ -46,6 +47,13 @@ class LasSource final : public PointSource {
 
     const uint64_t buffer = std::min(kBufferBytes, options.ram_bytes);
     batch_ = std::max<uint64_t>(1, buffer / h_.record_length);
+    bounds_ = options.bounds;
+    if (h_.compressed) {
+      laz_ = std::make_unique<LazRecords>(file_.get(), path, size_, h_, options.threads, options.ram_bytes, bounds_);
+      info_.points = laz_->points();
+      if (laz_->copc()) info_.format += " (COPC)";
+      return;
+    }
     if (fseeko(file_.get(), static_cast<off_t>(h_.point_offset), SEEK_SET) != 0)
       throw Error(path + ": cannot seek to the point data at byte " + std::to_string(h_.point_offset) + ": " +
                   std::strerror(errno));
@@ -55,13 +63,15 @@ class LasSource final : public PointSource {
 
   bool next(PointColumns& out, size_t max_points) override {
     if (max_points == 0) throw Error(path_ + ": next: max_points must be at least 1");
-    if (read_ == h_.points) return false;
-    const uint64_t n = std::min<uint64_t>(max_points, h_.points - read_);
+    if (read_ == info_.points) return false;
+    const uint64_t n = std::min<uint64_t>(max_points, info_.points - read_);
     reserve(out, n);
     buffer_.resize(std::min(n, batch_) * h_.record_length);
     for (uint64_t done = 0; done < n;) {
       const uint64_t chunk = std::min(n - done, batch_);
-      const size_t got = io::read_some(file_.get(), buffer_.data(), chunk * h_.record_length, path_) / h_.record_length;
+      const size_t got = laz_ ? laz_->read(buffer_.data(), chunk)
+                              : io::read_some(file_.get(), buffer_.data(), chunk * h_.record_length, path_) /
+                                    h_.record_length;
       decode(out, got);
       read_ += got;
       done += got;
@@ -77,6 +87,7 @@ class LasSource final : public PointSource {
     const bool rgb = info_.attributes & kPointRgb;
     const unsigned char* r = buffer_.data();
     for (size_t i = 0; i < count; ++i, r += h_.record_length) {
+      if (bounds_ && !inside(r)) continue;
       out.xyz.insert(out.xyz.end(), {le<int32_t>(r), le<int32_t>(r + 4), le<int32_t>(r + 8)});
       out.intensity.push_back(le<uint16_t>(r + 12));
       if (rgb) {
@@ -85,6 +96,15 @@ class LasSource final : public PointSource {
       }
       if (info_.extra_bytes) out.extra.insert(out.extra.end(), r + h_.standard_length, r + h_.record_length);
     }
+  }
+
+  // The record's world position lies in bounds_ (both ends included).
+  bool inside(const unsigned char* r) const {
+    for (int a = 0; a < 3; ++a) {
+      const double w = h_.offset[a] + h_.scale[a] * static_cast<double>(le<int32_t>(r + 4 * a));
+      if (w < (*bounds_)[a] || w > (*bounds_)[3 + a]) return false;
+    }
+    return true;
   }
 
   [[noreturn]] void truncated() const {
@@ -98,7 +118,9 @@ class LasSource final : public PointSource {
   detail::LasHeader h_;
   PointCloudInfo info_;
   uint32_t rgb_offset_ = 0;
-  uint64_t batch_ = 1;  // records per read
+  std::optional<std::array<double, 6>> bounds_;
+  std::unique_ptr<LazRecords> laz_;  // a LAZ file's records, decompressed
+  uint64_t batch_ = 1;               // records per read
   std::vector<unsigned char> buffer_;
   uint64_t read_ = 0;
 };

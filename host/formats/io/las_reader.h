@@ -1,4 +1,5 @@
-// LAS point reader: LAS 1.0-1.4 uncompressed, point data record formats 0, 1, 2, 3, 6, 7, 8.
+// LAS point reader: LAS 1.0-1.4, uncompressed or LAZ (io/laz_records.h), point data record formats 0, 1, 2,
+// 3, 6, 7, 8.
 //
 // Positions are the records' raw int32 X, Y, Z; info().scale and offset are the header's (world = offset +
 // scale * X, in double). Intensity is always delivered (kPointIntensity); formats 2, 3, 7 and 8 add RGB

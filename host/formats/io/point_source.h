@@ -2,10 +2,10 @@
 // larger than RAM passes through a bounded buffer.
 //
 // Formats, chosen by content:
-// - LAS 1.0 to 1.4, uncompressed, point data record formats 0, 1, 2, 3, 6, 7, 8 (io/las_reader.h): the raw
+// - LAS and LAZ 1.0 to 1.4, point data record formats 0, 1, 2, 3, 6, 7, 8 (io/las_reader.h): the raw
 //   int32 X, Y, Z with the header's scale and offset; intensity, RGB (formats 2, 3, 7, 8) and the record's
-//   extra bytes; the CRS from the WKT or GeoTIFF-key records. LAZ is refused with a message saying how to
-//   decompress it.
+//   extra bytes; the CRS from the WKT or GeoTIFF-key records. LAZ is decompressed by megavox's own decoder
+//   (host/formats/laz), its chunks in parallel.
 // - PLY 1.0, ascii or binary (io/ply_points.h): the `vertex` element's x, y, z on a grid chosen from the data's
 //   precision (the rule is in ply_points.h), with optional RGB, normals and intensity.
 //
@@ -15,7 +15,9 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "megavox/points.h"
@@ -36,10 +38,16 @@ struct PointReadOptions {
   // LAS: the most its read buffer holds (and at most 1 MiB, at least one record); PLY reads through a fixed
   // 1 MiB block buffer. No reader holds a whole cloud.
   uint64_t ram_bytes = UINT64_MAX;
+  // LAZ: threads decoding chunks at once (0: one per hardware thread).
+  unsigned threads = 0;
+  // LAS and LAZ: only the points inside this box (world units: min x, y, z, then max x, y, z; both ends kept);
+  // a COPC file decodes only the chunks whose octree node meets it. Unset: every point. info().points is then
+  // the count of the points read before the test (the chunks decoded), which next() may deliver fewer of.
+  std::optional<std::array<double, 6>> bounds;
 };
 
-// Opens `path` by its content: "ply\n" is PLY, "LASF" is LAS (a compressed LAS, LAZ, or a file named .laz is
-// refused). Anything else throws mv::Error naming the file and the formats accepted.
+// Opens `path` by its content: "ply\n" is PLY, "LASF" is LAS or LAZ. Anything else throws mv::Error naming
+// the file and the formats accepted.
 std::unique_ptr<PointSource> open_points(const std::string& path, const PointReadOptions& options = {});
 
 }  // namespace mv::io

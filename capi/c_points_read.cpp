@@ -99,6 +99,28 @@ size_t mvGetPointsCrs(MvPoints points, char* text, size_t capacity) {
   return length;
 }
 
+size_t mvGetPointFields(MvPoints points, MvPointField* fields, size_t capacity) {
+  size_t n = 0;
+  guard(points ? points->device : nullptr, [&] {
+    require(points, "mvGetPointFields: no point hierarchy");
+    require(fields || capacity == 0, "mvGetPointFields: fields is NULL");
+    const std::vector<mv::PointField>& all = points->hierarchy.source.fields;
+    for (size_t i = 0; i < std::min(capacity, all.size()); ++i) {
+      MvPointField& f = fields[i];
+      f = MvPointField{};
+      const size_t len = std::min(all[i].name.size(), sizeof f.name - 1);
+      all[i].name.copy(f.name, len);
+      f.type = static_cast<uint32_t>(all[i].type);
+      f.offset = all[i].offset;
+      f.count = all[i].count;
+      f.scale = all[i].scale;
+      f.add = all[i].add;
+    }
+    n = all.size();
+  });
+  return n;
+}
+
 MvError mvGetPointNodes(MvPoints points, uint64_t first, uint64_t count, MvPointNode* nodes) {
   const MvDevice device = points ? points->device : nullptr;
   return guard(device, [&] {

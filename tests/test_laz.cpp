@@ -137,7 +137,14 @@ TEST(Laz, ColumnsDoNotDependOnThreadsOrBatches) {
   EXPECT_EQ(a.points.rgb, b.points.rgb);
   EXPECT_EQ(a.points.intensity, b.points.intensity);
   EXPECT_EQ(a.points.extra, b.points.extra);
-  EXPECT_EQ(a.info.extra_bytes, 3u);
+  // The LAS fields (with format 8's GPS time and NIR), then the extra bytes two Extra Bytes records type.
+  EXPECT_EQ(a.info.extra_bytes, 24u + 3u);
+  ASSERT_EQ(a.info.fields.size(), 14u);
+  EXPECT_EQ(a.info.fields[12].name, "Deviation");
+  EXPECT_EQ(a.info.fields[12].type, mv::PointFieldType::u16);
+  EXPECT_EQ(a.info.fields[12].offset, 24u);
+  EXPECT_EQ(a.info.fields[13].name, "confidence");
+  EXPECT_EQ(a.info.fields[13].offset, 26u);
   EXPECT_NE(a.info.format.find("LAZ 1.4, point format 8"), std::string::npos) << a.info.format;
 }
 

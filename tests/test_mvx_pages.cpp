@@ -465,7 +465,7 @@ TEST_P(MvxPagedDamageTest, VersionFourLevelOrderFilesKeepTheirAbsolutePointers) 
   const MvxFile f = sample_files()[1];
   write_mvx(p, f, {16, NodeOrder::level});
   Bytes b(p);
-  ASSERT_EQ(b.h.version, 5u);
+  ASSERT_EQ(b.h.version, kMvxVersion);
   const uint32_t L = f.dag.levels;
   const std::vector<uint64_t> starts(b.at<uint64_t>(fmt::kPagedStarts), b.at<uint64_t>(fmt::kPagedStarts) + L + 1);
   EXPECT_EQ(MvxPages(p).level_starts(), starts);

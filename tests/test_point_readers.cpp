@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -79,10 +80,34 @@ TEST(LasPoints, EveryVersionFormatAndExtraBytes) {
           EXPECT_EQ(c.batches, 8u);
           EXPECT_TRUE(info.z_up);
           EXPECT_EQ(info.crs, spec.wkt);
-          const bool extra_carried = carry && extra > 0;
           EXPECT_EQ(info.attributes, mv::kPointIntensity | (has_rgb(format) ? mv::kPointRgb : 0u) |
-                                         (extra_carried ? mv::kPointExtra : 0u));
-          EXPECT_EQ(info.extra_bytes, extra_carried ? extra : 0u);
+                                         (carry ? mv::kPointExtra : 0u));
+          // The attribute record: the decoded LAS fields, then the extra bytes (unnamed: no Extra Bytes record).
+          const bool gps = format == 1 || format == 3 || format >= 6;
+          const uint32_t standard = 14 + (gps ? 8 : 0) + (format == 8 ? 2 : 0);
+          EXPECT_EQ(info.extra_bytes, carry ? standard + extra : 0u);
+          const mv::PointField* cls = nullptr;
+          const mv::PointField* gps_time = nullptr;
+          const mv::PointField* nir = nullptr;
+          const mv::PointField* unnamed = nullptr;
+          for (const mv::PointField& f : info.fields) {
+            if (f.name == "classification") cls = &f;
+            if (f.name == "gps_time") gps_time = &f;
+            if (f.name == "nir") nir = &f;
+            if (f.name == "extra_bytes") unnamed = &f;
+          }
+          if (carry) {
+            ASSERT_TRUE(cls);
+            EXPECT_EQ(gps_time != nullptr, gps);
+            EXPECT_EQ(nir != nullptr, format == 8);
+            ASSERT_EQ(unnamed != nullptr, extra > 0);
+            if (unnamed) {
+              EXPECT_EQ(unnamed->offset, standard);
+              EXPECT_EQ(unnamed->count, extra);
+            }
+          } else {
+            EXPECT_TRUE(info.fields.empty());
+          }
           for (int a = 0; a < 3; ++a) {
             EXPECT_EQ(info.scale[a], spec.scale[a]);
             EXPECT_EQ(info.offset[a], spec.offset[a]);
@@ -91,15 +116,23 @@ TEST(LasPoints, EveryVersionFormatAndExtraBytes) {
           ASSERT_EQ(p.size(), pts.size());
           EXPECT_TRUE(p.normal.empty());
           EXPECT_EQ(p.rgb.size(), has_rgb(format) ? 3 * pts.size() : 0u);
-          EXPECT_EQ(p.extra.size(), extra_carried ? extra * pts.size() : 0u);
+          EXPECT_EQ(p.extra.size(), carry ? info.extra_bytes * pts.size() : 0u);
           for (size_t i = 0; i < pts.size(); ++i) {
             for (int a = 0; a < 3; ++a) ASSERT_EQ(p.xyz[3 * i + a], pts[i].xyz[a]) << "point " << i;
             ASSERT_EQ(p.intensity[i], pts[i].intensity) << "point " << i;
             if (has_rgb(format)) {
               for (int k = 0; k < 3; ++k) ASSERT_EQ(p.rgb[3 * i + k], pts[i].rgb[k]) << "point " << i;
             }
-            if (extra_carried) {
-              for (int k = 0; k < extra; ++k) ASSERT_EQ(p.extra[extra * i + k], pts[i].extra[k]) << "point " << i;
+            if (carry) {
+              const uint8_t* rec = &p.extra[info.extra_bytes * i];
+              ASSERT_EQ(rec[cls->offset], format >= 6 ? pts[i].classification : pts[i].classification & 31);
+              if (gps) {
+                double t;
+                std::memcpy(&t, rec + gps_time->offset, 8);
+                ASSERT_EQ(t, pts[i].gps_time) << "point " << i;
+              }
+              if (nir) ASSERT_EQ(rec[nir->offset] | rec[nir->offset + 1] << 8, pts[i].nir);
+              for (int k = 0; k < extra; ++k) ASSERT_EQ(rec[standard + k], pts[i].extra[k]) << "point " << i;
             }
           }
         }
@@ -152,7 +185,7 @@ TEST(LasPoints, GapBeforePointsTinyBufferAndEmptyCloud) {
   const Cloud c = read_cloud(path, 1000, one_record);
   ASSERT_EQ(c.points.size(), 50u);
   for (size_t i = 0; i < pts.size(); ++i) ASSERT_EQ(c.points.xyz[3 * i + 2], pts[i].xyz[2]);
-  EXPECT_EQ(c.points.extra[49], pts[49].extra[0]);
+  EXPECT_EQ(c.points.extra[c.info.extra_bytes * 50 - 1], pts[49].extra[0]);  // the record's last byte
 
   const Cloud empty = read_cloud(write_file("empty.las", make_las(spec, {})));
   EXPECT_EQ(empty.info.points, 0u);
@@ -384,7 +417,7 @@ TEST(PointReaders, AutzenLasMatchesItsPly) {
   const Cloud a = read_cloud(las, 8191);
   const Cloud b = read_cloud(ply, 10000);
   EXPECT_EQ(a.info.format, "LAS 1.2, point format 3");
-  EXPECT_EQ(a.info.attributes, mv::kPointRgb | mv::kPointIntensity);
+  EXPECT_EQ(a.info.attributes, mv::kPointRgb | mv::kPointIntensity | mv::kPointExtra);
   EXPECT_NE(a.info.crs.find("NAD83"), std::string::npos) << a.info.crs;
   EXPECT_EQ(b.info.attributes, mv::kPointRgb);
   ASSERT_EQ(a.points.size(), 110000u);

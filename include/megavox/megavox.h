@@ -364,6 +364,30 @@ MV_API MvError mvGetPointsInfo(MvPoints points, MvPointsInfo* info);
  * when capacity is 0); returns its whole length in bytes, without the NUL (0: none). */
 MV_API size_t mvGetPointsCrs(MvPoints points, char* text, size_t capacity);
 
+/* A named field of each point's extra bytes: a LAS file's return numbers, classification, scan angle, GPS time,
+ * NIR, ... and its typed extra bytes (docs/points.md). */
+typedef struct MvPointField {
+  char name[64];    /* NUL-terminated (longer names are cut) */
+  uint32_t type;    /* MV_FIELD_U8 ... MV_FIELD_F64 */
+  uint32_t offset;  /* bytes into the point's extraBytes */
+  uint32_t count;   /* values (little-endian, unaligned) */
+  uint32_t reserved;
+  double scale, add; /* the quantity is value * scale + add */
+} MvPointField;
+#define MV_FIELD_U8 0u
+#define MV_FIELD_I8 1u
+#define MV_FIELD_U16 2u
+#define MV_FIELD_I16 3u
+#define MV_FIELD_U32 4u
+#define MV_FIELD_I32 5u
+#define MV_FIELD_U64 6u
+#define MV_FIELD_I64 7u
+#define MV_FIELD_F32 8u
+#define MV_FIELD_F64 9u
+/* Copies up to capacity fields into fields (NULL when capacity is 0); returns how many there are (0: the extra
+ * bytes are unnamed, or there are none). */
+MV_API size_t mvGetPointFields(MvPoints points, MvPointField* fields, size_t capacity);
+
 /* 40 bytes, as .mvx stores it. Nodes are breadth-first, root first, each node's children contiguous in octant
  * order; node i's points are [firstPoint, firstPoint + pointCount). code: the Morton code with a sentinel bit
  * (the root is 1, child o of c is (c << 3) | o). */

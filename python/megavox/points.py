@@ -1,6 +1,8 @@
 """Point clouds: LOD point hierarchies (OMiCroN's bottom-up build) from a file or from numpy arrays, and read back."""
 import os
 
+import numpy as np
+
 from . import _default
 from ._megavox import _points_build, _points_open
 
@@ -23,12 +25,12 @@ class PointHierarchy:
     octant order) and the points of every node in node order."""
 
     def __init__(self, info, nodes, xyz, rgb, intensity, extra, normal):
-        self.info = info            #: dict: points_in, points_kept, points_dropped, depth, scale, offset, crs, format
+        self.info = info            #: dict: points_in, points_kept, points_dropped, depth, scale, offset, crs, format, fields
         self.nodes = nodes          #: structured array of megavox.NODE_DTYPE
         self.xyz = xyz              #: float64 (p, 3), world units
         self.rgb = rgb              #: uint16 (p, 3), or None
         self.intensity = intensity  #: uint16 (p,), or None
-        self.extra = extra          #: uint8 (p, extra bytes), or None (a classification given to build is extra[:, 0])
+        self.extra = extra          #: uint8 (p, extra bytes): the record info["fields"] lays out, or None (arrays: unnamed)
         self.normal = normal        #: float32 (p, 3), or None
 
     def __len__(self):
@@ -39,6 +41,19 @@ class PointHierarchy:
         n = self.nodes[i]
         first = int(n["first_point"])
         return slice(first, first + int(n["point_count"]))
+
+    def field(self, name):
+        """One named field of every point (a LAS file's "classification", "gps_time", "return_number", its typed
+        extra bytes, ...) as an array of its own type: (p,) or (p, count). Scale and add are not applied."""
+        for f in self.info.get("fields", []):
+            if f["name"] == name:
+                dtype = np.dtype(f["dtype"])
+                start = f["offset"]
+                raw = np.ascontiguousarray(self.extra[:, start:start + dtype.itemsize * f["count"]])
+                values = raw.view(dtype)
+                return values[:, 0] if f["count"] == 1 else values
+        names = ", ".join(f["name"] for f in self.info.get("fields", [])) or "none"
+        raise KeyError(f"no field {name!r} (fields: {names})")
 
     def leaves(self):
         """Indices of the leaf nodes (they hold every point kept, once)."""

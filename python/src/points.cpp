@@ -108,6 +108,21 @@ py::tuple open_points(const Device& device, const py::object& path_obj) {
   std::string crs(mvGetPointsCrs(p, nullptr, 0), '\0');
   if (!crs.empty()) mvGetPointsCrs(p, crs.data(), crs.size() + 1);
   info["crs"] = crs;
+  std::vector<MvPointField> fields(mvGetPointFields(p, nullptr, 0));
+  if (!fields.empty()) mvGetPointFields(p, fields.data(), fields.size());
+  static const char* const kTypes[] = {"u1", "i1", "<u2", "<i2", "<u4", "<i4", "<u8", "<i8", "<f4", "<f8"};
+  py::list field_list;
+  for (const MvPointField& f : fields) {
+    py::dict d;
+    d["name"] = std::string(f.name);
+    d["dtype"] = f.type < 10 ? kTypes[f.type] : "u1";
+    d["offset"] = f.offset;
+    d["count"] = f.count;
+    d["scale"] = f.scale;
+    d["add"] = f.add;
+    field_list.append(d);
+  }
+  info["fields"] = field_list;
   py::array nodes(py::reinterpret_borrow<py::dtype>(py::module_::import("megavox._types").attr("NODE_DTYPE")),
                   std::vector<py::ssize_t>{py::ssize_t(i.nodes)});
   static_assert(sizeof(MvPointNode) == 40);

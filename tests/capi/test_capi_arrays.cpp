@@ -226,6 +226,20 @@ TEST_P(CApiArraysTest, AHierarchyGivesBackItsWholeCrs) {
   MvPointsInfo info;
   ASSERT_EQ(mvGetPointsInfo(h, &info), MV_ERROR_NONE);
   EXPECT_EQ(std::string(info.format).rfind("LAS 1.2", 0), 0u) << info.format;
+
+  // The LAS fields by name, each inside the extra bytes, and each point's classification where it says.
+  const size_t nf = mvGetPointFields(h, nullptr, 0);
+  ASSERT_EQ(nf, 11u);  // format 3: ten fields and the GPS time
+  std::vector<MvPointField> fields(nf);
+  EXPECT_EQ(mvGetPointFields(h, fields.data(), nf), nf);
+  EXPECT_STREQ(fields[2].name, "classification");
+  EXPECT_EQ(fields[2].type, MV_FIELD_U8);
+  EXPECT_STREQ(fields[10].name, "gps_time");
+  EXPECT_EQ(fields[10].type, MV_FIELD_F64);
+  EXPECT_EQ(fields[10].offset + 8, info.extraBytes);
+  MvPointField one;
+  EXPECT_EQ(mvGetPointFields(h, &one, 1), nf);
+  EXPECT_STREQ(one.name, "return_number");
   mvReleasePoints(h);
 }
 

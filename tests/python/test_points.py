@@ -206,3 +206,34 @@ def test_default_device(tmp_path):
     h = points.open(str(out))
     assert h.info["points_kept"] == 1000
     assert h.rgb is None
+
+
+def _shared_data(relative):
+    root = os.environ.get("MEGAVOX_TEST_DATA") or os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data")
+    path = os.path.join(root, relative)
+    if not os.path.exists(path):
+        pytest.skip(f"shared data not found: {path} (stage ../shared/data or set MEGAVOX_TEST_DATA)")
+    return path
+
+
+def test_las_fields_travel_by_name(tmp_path, device):
+    laz = _shared_data("pointcloud_laz/autzen_trim.laz")
+    las = _shared_data("pointcloud_autzen/autzen_trim.las")
+    out = tmp_path / "autzen.mvx"
+    points.build(laz, str(out), device=device)
+    h = points.open(out, device=device)
+    names = [f["name"] for f in h.info["fields"]]
+    assert names[:3] == ["return_number", "number_of_returns", "classification"] and "gps_time" in names
+    leaves = np.concatenate([np.arange(len(h.xyz))[h.node_points(i)] for i in h.leaves()])
+    classes = h.field("classification")[leaves]
+    gps = h.field("gps_time")[leaves]
+    assert classes.dtype == np.uint8 and gps.dtype == np.float64
+    # The uncompressed twin's records, read with numpy: classification (low 5 bits of byte 15), GPS time at 20.
+    raw = np.fromfile(las, dtype=np.uint8)
+    offset = int(raw[96:100].view("<u4")[0])
+    count = int(raw[107:111].view("<u4")[0])
+    records = raw[offset:offset + 34 * count].reshape(count, 34)
+    assert np.array_equal(np.sort(classes), np.sort(records[:, 15] & 31))
+    assert np.array_equal(np.sort(gps), np.sort(np.ascontiguousarray(records[:, 20:28]).view("<f8")[:, 0]))
+    with pytest.raises(KeyError, match="no field 'colour'"):
+        h.field("colour")

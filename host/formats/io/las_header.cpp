@@ -29,7 +29,8 @@ constexpr uint32_t kHeader13 = 235;      // + start of waveform data
 constexpr uint32_t kHeader14 = 375;      // + EVLRs and the 64-bit counts
 constexpr uint64_t kVlrHeader = 54, kEvlrHeader = 60;
 constexpr uint64_t kMaxCrsBytes = 1 << 20;  // real WKT is a few KiB
-constexpr uint16_t kWktRecord = 2112, kGeoKeyRecord = 34735, kLaszipRecord = 22204;
+constexpr uint16_t kWktRecord = 2112, kGeoKeyRecord = 34735, kLaszipRecord = 22204, kExtraBytesRecord = 4;
+constexpr uint64_t kMaxDescriptorBytes = 192 * 1024;  // a record has at most 65535 extra bytes
 constexpr uint16_t kProjectedCsKey = 3072, kGeographicKey = 2048, kUserDefined = 32767;
 
 // "GeoTIFF keys (EPSG:2992)": the projected (else geographic) CRS code of a GeoKeyDirectory, whose entries
@@ -222,6 +223,13 @@ class HeaderReader {
     if (user == "copc" && record_id == 1 && h_.copc.empty() && length == 160) {
       const std::vector<unsigned char> bytes = bytes_at(at, length);
       h_.copc.assign(bytes.begin(), bytes.end());
+      return;
+    }
+    if (user == "LASF_Spec" && record_id == kExtraBytesRecord) {
+      if (h_.extra_bytes_descriptors.size() + length > kMaxDescriptorBytes)
+        fail("the Extra Bytes records describe more than " + num(kMaxDescriptorBytes / 192) + " fields");
+      const std::vector<unsigned char> bytes = bytes_at(at, length - length % 192);
+      h_.extra_bytes_descriptors.insert(h_.extra_bytes_descriptors.end(), bytes.begin(), bytes.end());
       return;
     }
     if (user != "LASF_Projection") return;

@@ -55,6 +55,7 @@ struct LasHeader {
   bool compressed = false;       // LAZ: the point format's compression bit is set
   std::vector<uint8_t> laszip;   // the LASzip record's bytes (VLR "laszip encoded" 22204); LAZ only
   std::vector<uint8_t> copc;     // COPC's info record (VLR "copc" 1), where the file is COPC
+  std::vector<uint8_t> extra_bytes_descriptors;  // every Extra Bytes record's (LASF_Spec 4) 192-byte entries
 };
 
 // Reads and checks the header and its records from `file` (of `file_size` bytes). Throws mv::Error naming

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "file_ops.h"
+#include "las_fields.h"
 #include "las_header.h"
 #include "laz_records.h"
 #include "megavox/error.h"
@@ -33,10 +34,12 @@ class LasSource final : public PointSource {
     info_.attributes = kPointIntensity;
     rgb_offset_ = detail::las_rgb_offset(h_.point_format);
     if (rgb_offset_ != 0) info_.attributes |= kPointRgb;
-    const uint32_t surplus = h_.record_length - h_.standard_length;
-    if (options.carry_extra_bytes && surplus > 0) {
+    if (options.carry_extra_bytes) {
+      layout_ = detail::las_record_layout(h_.point_format, h_.record_length - h_.standard_length,
+                                          h_.extra_bytes_descriptors);
       info_.attributes |= kPointExtra;
-      info_.extra_bytes = surplus;
+      info_.extra_bytes = layout_.bytes;
+      info_.fields = layout_.fields;
     }
     for (int a = 0; a < 3; ++a) {
       info_.scale[a] = h_.scale[a];
@@ -94,7 +97,10 @@ class LasSource final : public PointSource {
         const unsigned char* c = r + rgb_offset_;
         out.rgb.insert(out.rgb.end(), {le<uint16_t>(c), le<uint16_t>(c + 2), le<uint16_t>(c + 4)});
       }
-      if (info_.extra_bytes) out.extra.insert(out.extra.end(), r + h_.standard_length, r + h_.record_length);
+      if (info_.extra_bytes) {
+        out.extra.resize(out.extra.size() + layout_.bytes);
+        detail::las_attributes(h_.point_format, h_.standard_length, layout_, r, out.extra.data() + out.extra.size() - layout_.bytes);
+      }
     }
   }
 
@@ -118,6 +124,7 @@ class LasSource final : public PointSource {
   detail::LasHeader h_;
   PointCloudInfo info_;
   uint32_t rgb_offset_ = 0;
+  detail::LasRecordLayout layout_;  // the attribute record (with carry_extra_bytes)
   std::optional<std::array<double, 6>> bounds_;
   std::unique_ptr<LazRecords> laz_;  // a LAZ file's records, decompressed
   uint64_t batch_ = 1;               // records per read

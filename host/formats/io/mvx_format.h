@@ -26,9 +26,9 @@ enum SectionKind : uint32_t {
   kCounts = 1, kLevels = 2, kNodes = 3, kInner = 4, kBricks = 5,
   kSecPointMeta = 6, kSecPointNodes = 7, kSecPointXyz = 8, kSecPointRgb = 9, kSecPointNormal = 10,
   kSecPointIntensity = 11, kSecPointExtra = 12, kSecPointLevels = 13, kPageIndex = 14, kPagedStarts = 15,
-  kColours = 16, kSizeIndex = 17, kSizes = 18,
+  kColours = 16, kSizeIndex = 17, kSizes = 18, kSecPointFields = 19,
 };
-constexpr uint32_t kKinds = 19;
+constexpr uint32_t kKinds = 20;
 
 // The size plane of a paged file with colours (version 5 on; paging/paged_sizes.h): the size index (kind 17: this
 // head, then one XXH3-64 per page over its plane_words words, the last page zero-padded) and the plane itself

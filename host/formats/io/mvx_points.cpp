@@ -5,6 +5,8 @@
 #include <tuple>
 #include <cstring>
 
+#include <nlohmann/json.hpp>
+
 #include "megavox/error.h"
 #include "megavox/mvx.h"
 #include "mvx_format.h"
@@ -28,6 +30,48 @@ struct PointMeta {
 static_assert(sizeof(PointMeta) == 32 + 48 + 24 + 40);
 
 uint64_t stored_points(const PointHierarchy& h) { return h.points.size(); }
+
+std::string fields_json(const PointCloudInfo& info) {
+  if (info.fields.empty() || !(info.attributes & kPointExtra)) return {};
+  nlohmann::json a = nlohmann::json::array();
+  for (const PointField& f : info.fields)
+    a.push_back({{"name", f.name}, {"type", point_field_type_name(f.type)}, {"offset", f.offset}, {"count", f.count},
+                 {"scale", f.scale}, {"add", f.add}, {"description", f.description}});
+  return a.dump();
+}
+
+// The fields section, every field checked to lie inside the `record`-byte extra record.
+std::vector<PointField> parse_fields(const std::string& text, uint32_t record, const std::string& path) {
+  auto fail = [&](const std::string& what) -> std::vector<PointField> {
+    throw Error(path + ": bad point fields section: " + what);
+  };
+  const nlohmann::json a = nlohmann::json::parse(text, nullptr, false);
+  if (!a.is_array()) return fail("not a JSON array");
+  std::vector<PointField> out;
+  try {
+    for (const nlohmann::json& j : a) {
+      PointField f;
+      f.name = j.at("name").get<std::string>();
+      const std::string type = j.at("type").get<std::string>();
+      int t = 0;
+      while (t < 10 && type != point_field_type_name(static_cast<PointFieldType>(t))) ++t;
+      if (t == 10) return fail("unknown type '" + type.substr(0, 16) + "'");
+      f.type = static_cast<PointFieldType>(t);
+      f.offset = j.at("offset").get<uint32_t>();
+      f.count = j.at("count").get<uint32_t>();
+      f.scale = j.at("scale").get<double>();
+      f.add = j.at("add").get<double>();
+      f.description = j.at("description").get<std::string>();
+      if (f.name.empty() || f.name.size() > 64) return fail("a name of " + std::to_string(f.name.size()) + " characters");
+      if (f.count == 0 || uint64_t{f.offset} + uint64_t{point_field_size(f.type)} * f.count > record)
+        return fail("'" + f.name + "' lies outside the " + std::to_string(record) + "-byte record");
+      out.push_back(std::move(f));
+    }
+  } catch (const nlohmann::json::exception&) {
+    return fail("a field lacks a name, type, offset, count, scale, add or description of the right kind");
+  }
+  return out;
+}
 
 // The hierarchy's structure: what a reader relies on to walk it without further checks.
 void validate(const PointHierarchy& h, const std::string& path) {
@@ -108,6 +152,8 @@ void write_mvx_points(const std::string& path, const PointHierarchy& h) {
   if (info.attributes & kPointNormal) blobs.push_back({kSecPointNormal, p.normal.data(), p.normal.size() * 4});
   if (info.attributes & kPointIntensity) blobs.push_back({kSecPointIntensity, p.intensity.data(), p.intensity.size() * 2});
   if (info.attributes & kPointExtra) blobs.push_back({kSecPointExtra, p.extra.data(), p.extra.size()});
+  const std::string fields = fields_json(info);
+  if (!fields.empty()) blobs.push_back({kSecPointFields, fields.data(), fields.size()});
 
   Header hd{};
   hd.version = kMvxVersion;
@@ -196,6 +242,11 @@ PointHierarchy read_mvx_points(const std::string& path) {
   if (o.find[kSecPointIntensity])
     h.points.intensity = section_data<uint16_t>(f, *o.find[kSecPointIntensity], path, "intensity");
   if (o.find[kSecPointExtra]) h.points.extra = section_data<uint8_t>(f, *o.find[kSecPointExtra], path, "extra bytes");
+  if (o.find[kSecPointFields]) {
+    if (!o.find[kSecPointExtra]) throw Error(path + ": point fields without extra bytes");
+    const std::vector<char> text = section_data<char>(f, *o.find[kSecPointFields], path, "point fields");
+    info.fields = parse_fields(std::string(text.begin(), text.end()), info.extra_bytes, path);
+  }
   validate(h, path);
   return h;
 }

@@ -27,6 +27,8 @@
 // stream past them. In subtree order (pages mix levels) pointers stay absolute: the stream stays under 2^32 words,
 // and the writer takes level order for a larger one. Versions 1 to 4 still open (their word pointers absolute);
 // a file without colours and relative pointers is written as version 3 would be, bar the version number.
+// Version 6 adds a point file's fields (kind 19, only where the cloud names them): a JSON array of {name, type,
+// offset, count, scale, add, description}, what each point's extra bytes hold (megavox/points.h PointField).
 // Versions 1 and 2 (unpaged voxels; version 2 points, the same sections as version 3's) still open.
 // Written to a temporary name and renamed on success; the reader checks every field, every checksum and
 // the encoding itself before returning.
@@ -43,7 +45,7 @@
 
 namespace mv {
 
-inline constexpr uint32_t kMvxVersion = 5;
+inline constexpr uint32_t kMvxVersion = 6;
 inline constexpr uint32_t kMvxPageWords = 4096;  // 16 KiB pages: the default of write_mvx
 
 // How the nodes of a file are paged: pages of page_words words (a power of two, at least 16), nodes placed in

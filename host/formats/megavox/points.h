@@ -17,7 +17,32 @@ enum PointAttribute : uint32_t {
   kPointRgb = 1,        // 3 x uint16 per point, as stored (LAS: 16-bit fields, PLY: uchar or ushort)
   kPointNormal = 2,     // 3 x float per point
   kPointIntensity = 4,  // 1 x uint16 per point
-  kPointExtra = 8,      // PointCloudInfo::extra_bytes raw bytes per point (LAS extra bytes, carried)
+  kPointExtra = 8,      // PointCloudInfo::extra_bytes bytes per point: the attribute record PointCloudInfo::fields lays out
+};
+
+// The type of one value of a PointField.
+enum class PointFieldType : uint8_t { u8, i8, u16, i16, u32, i32, u64, i64, f32, f64 };
+
+// Bytes of one value of `t`.
+inline uint32_t point_field_size(PointFieldType t) {
+  constexpr uint8_t kSize[] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+  return kSize[static_cast<int>(t)];
+}
+// "u8", "f64", ...: the name .mvx and the docs use.
+const char* point_field_type_name(PointFieldType t);
+
+// A named per-point value inside the attribute record (PointColumns::extra): LAS's fields beyond position,
+// intensity and colour (return_number, number_of_returns, classification, classification_flags,
+// scanner_channel, scan_direction_flag, edge_of_flight_line, user_data, scan_angle, point_source_id, gps_time,
+// nir) and the extra bytes its Extra Bytes records describe. Values are little-endian, unaligned.
+struct PointField {
+  std::string name;
+  PointFieldType type = PointFieldType::u8;
+  uint32_t offset = 0;  // bytes into the point's record
+  uint32_t count = 1;   // values (an untyped run of extra bytes: count bytes)
+  double scale = 1, add = 0;  // the quantity is value * scale + add (LAS extra bytes' scale and offset)
+  std::string description;
+  bool operator==(const PointField&) const = default;
 };
 
 // Points as columns (struct of arrays). A column an info's attributes do not name is empty.
@@ -26,7 +51,7 @@ struct PointColumns {
   std::vector<uint16_t> rgb;        // 3 per point
   std::vector<float> normal;        // 3 per point
   std::vector<uint16_t> intensity;  // 1 per point
-  std::vector<uint8_t> extra;       // extra_bytes per point
+  std::vector<uint8_t> extra;       // extra_bytes per point: the attribute record (PointCloudInfo::fields)
 
   uint64_t size() const { return xyz.size() / 3; }
   void clear();
@@ -43,6 +68,7 @@ struct PointCloudInfo {
   uint64_t points = 0;        // declared by the header
   uint32_t attributes = 0;    // PointAttribute bits
   uint32_t extra_bytes = 0;   // per point, with kPointExtra
+  std::vector<PointField> fields;  // what the extra bytes hold, in offset order (may be empty: bytes unnamed)
   double scale[3] = {1, 1, 1};
   double offset[3] = {0, 0, 0};
   bool z_up = false;          // LAS: +Z up; PLY: +Y up (the render's camera presets)

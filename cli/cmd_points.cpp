@@ -22,7 +22,7 @@ namespace mv::cli {
 namespace {
 
 struct PointsBuildArgs {
-  std::string input, output, format = "mvx", memory, bounds;
+  std::string input, output, format = "mvx", memory, bounds, tiles_version = "1.1", crs;
   uint32_t depth = 0, max_node_points = 16384, sort_ranges = PointBuildOptions().sort_ranges;
   bool skip_extra = false, json = false, quiet = false, no_clobber = false;
 };
@@ -77,12 +77,17 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
       "keeps copies of its children's points, one per cell of a 64^3 grid over its cube, nearest the cell centre.\n"
       "Examples:\n"
       "  megavox points build scan.las -o scan.mvx\n"
-      "  megavox points build scan.ply --format 3dtiles -o scan_tiles   (DIR/tileset.json + DIR/tiles/*.pnts)");
+      "  megavox points build scan.las --format 3dtiles -o scan_tiles   (DIR/tileset.json + DIR/tiles/*.glb)");
   cmd->add_option("input", a->input, "The point cloud (.ply, .las)")->required();
   cmd->add_option("-o,--output", a->output, "The .mvx file or, with --format 3dtiles, the folder to write "
                                             "(written under a temporary name, renamed on success)")
       ->required();
   cmd->add_option("--format", a->format, "mvx (default) or 3dtiles");
+  cmd->add_option("--tiles-version", a->tiles_version,
+                  "3dtiles: 1.1 (default: glTF tiles, placed on the globe when the cloud has a CRS) or 1.0 (.pnts "
+                  "tiles in the input's coordinates)");
+  cmd->add_option("--crs", a->crs,
+                  "3dtiles: the CRS to place the tileset with (EPSG:N or WKT), over the one the input declares");
   cmd->add_option("--depth", a->depth, "Leaf level, 1-21 (default: from the point count, see docs/ARCHITECTURE.md)");
   cmd->add_option("--max-node-points", a->max_node_points,
                   "Most points in a leaf subtree and representatives per inner node (default 16384)");
@@ -103,6 +108,14 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     o.input = a->input;
     o.output = a->output;
     o.format = parse_point_output(a->format);
+    if (a->tiles_version != "1.1" && a->tiles_version != "1.0")
+      throw CodedError(ErrorCode::invalid_argument, "--tiles-version '" + a->tiles_version + "': choose 1.1 or 1.0");
+    const bool tiles_option = a->tiles_version != "1.1" || !a->crs.empty();
+    if (tiles_option && o.format != PointOutput::tiles3d)
+      throw CodedError(ErrorCode::invalid_argument, "--tiles-version and --crs apply to --format 3dtiles only",
+                       setting_encoding);
+    o.tiles_minor_version = a->tiles_version == "1.0" ? 0 : 1;
+    o.crs = a->crs;
     o.build.depth = a->depth;
     o.build.max_node_points = a->max_node_points;
     o.build.sort_ranges = std::max(1u, a->sort_ranges);

@@ -1,9 +1,12 @@
 // `megavox points convert IN -o OUT`: LAS or LAZ rewritten as plain LAS (io/las_convert.h), every attribute and
-// record kept, the points in file order: the plain way to decompress LAZ.
+// record kept, the points in file order: the plain way to decompress LAZ. Any cloud (LAS, LAZ, PLY) to PLY, and
+// PLY to LAS, through the point readers (io/point_file_writers.h).
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -11,6 +14,8 @@
 #include "io/file_ops.h"
 #include "io/las_convert.h"
 #include "io/output_path.h"
+#include "io/point_file_writers.h"
+#include "io/point_source.h"
 #include "megavox/error.h"
 
 namespace mv::cli {
@@ -28,10 +33,16 @@ struct ConvertArgs {
 void add_points_convert(CLI::App& points) {
   auto a = std::make_shared<ConvertArgs>();
   auto* cmd = points.add_subcommand(
-      "convert", "Rewrite a LAS or LAZ file (COPC included) as plain LAS: every point in file order, every "
-                 "attribute and record kept (the way to decompress LAZ)");
-  cmd->add_option("input", a->input, "A .las or .laz file")->required();
-  cmd->add_option("-o,--output", a->output, "The .las file to write (written whole or not at all)")->required();
+      "convert",
+      "Rewrite a point cloud in file order, keeping every attribute the output holds:\n"
+      "  LAS or LAZ (COPC included) -> .las: every record and attribute byte for byte, decompressed (the way to\n"
+      "    decompress LAZ); the point format, scale, offset and records kept;\n"
+      "  LAS, LAZ or PLY -> .ply: binary, world x y z as double, colour, intensity, normals and every LAS field by\n"
+      "    name (classification, gps_time, ...);\n"
+      "  PLY -> .las: LAS 1.4 format 6 (7 with colour) on the grid the PLY reader chose, normals as extra bytes.\n"
+      "Example: megavox points convert scan.laz -o scan.las");
+  cmd->add_option("input", a->input, "A .las, .laz or .ply file")->required();
+  cmd->add_option("-o,--output", a->output, "The .las or .ply file to write (written whole or not at all)")->required();
   cmd->add_option("--bounds", a->bounds,
                   "Only the points in this box, MINX,MINY,MINZ,MAXX,MAXY,MAXZ in the file's world units (both ends "
                   "kept); a COPC file decodes only the chunks whose octree node meets it");
@@ -40,17 +51,34 @@ void add_points_convert(CLI::App& points) {
   cmd->add_flag("--json", a->json, "Print one JSON object instead of the summary");
   cmd->add_flag("-q,--quiet", a->quiet, "Print nothing on success");
   cmd->callback([a] {
-    if (io::first_bytes(a->input, 4) != "LASF")
-      throw Error(a->input + ": not a LAS or LAZ file (it does not start with 'LASF'); points convert reads LAS and LAZ");
     std::optional<std::array<double, 6>> bounds;
     if (!a->bounds.empty()) bounds = parse_bounds(a->bounds);
-    const std::string output = io::resolve_output({a->output, io::OutputKind::kFile, "las", {a->input}, 0, a->no_clobber});
-    if (io::format_of_extension(a->output) != "las")
-      throw Error(a->output + ": points convert writes plain LAS: name the output .las");
+    const std::string kind = io::format_of_extension(a->output);
+    const std::string output = io::resolve_output({a->output, io::OutputKind::kFile, kind, {a->input}, 0, a->no_clobber});
+    if (kind != "las" && kind != "ply")
+      throw Error(a->output + ": points convert writes LAS or PLY: name the output .las or .ply");
+    const bool las_in = io::first_bytes(a->input, 4) == "LASF";
+    if (bounds && !(las_in && kind == "las"))
+      throw Error("--bounds keeps the points of a LAS or LAZ file in a box, written as .las");
     const bool tty = !a->quiet && !a->json && isatty(STDERR_FILENO);
-    const io::LasConvertReport r = io::write_plain_las(a->input, output, a->threads, [&](uint64_t done) {
+    auto progress = [&](uint64_t done) {
       if (tty) std::fprintf(stderr, "\r%llu points", (unsigned long long)done);
-    }, bounds);
+    };
+    io::LasConvertReport r;
+    if (las_in && kind == "las") {
+      r = io::write_plain_las(a->input, output, a->threads, progress, bounds);
+    } else {
+      io::PointReadOptions o;
+      o.threads = a->threads;
+      auto source = io::open_points(a->input, o);
+      const auto start = std::chrono::steady_clock::now();
+      r.points_written = kind == "ply" ? io::write_ply_points(*source, output, progress)
+                                       : io::write_las_points(*source, output, progress);
+      r.decode_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      r.input_format = source->info().format;
+      r.points = r.points_written;
+      r.bytes_written = std::filesystem::file_size(output);
+    }
     if (tty) std::fprintf(stderr, "\n");
     if (a->quiet) return;
     if (a->json) {
@@ -68,9 +96,14 @@ void add_points_convert(CLI::App& points) {
       std::cout << j.dump(2) << "\n";
       return;
     }
-    std::printf("%s (%s) -> %s: %llu points of %u bytes, %.3f s to decode (%.1f M points/s)\n", a->input.c_str(),
-                r.input_format.c_str(), a->output.c_str(), (unsigned long long)r.points_written, r.record_length,
-                r.decode_seconds, r.decode_seconds > 0 ? r.points / r.decode_seconds / 1e6 : 0.0);
+    if (r.record_length)
+      std::printf("%s (%s) -> %s: %llu points of %u bytes, %.3f s to decode (%.1f M points/s)\n", a->input.c_str(),
+                  r.input_format.c_str(), a->output.c_str(), (unsigned long long)r.points_written, r.record_length,
+                  r.decode_seconds, r.decode_seconds > 0 ? r.points / r.decode_seconds / 1e6 : 0.0);
+    else
+      std::printf("%s (%s) -> %s: %llu points, %llu bytes, %.3f s\n", a->input.c_str(), r.input_format.c_str(),
+                  a->output.c_str(), (unsigned long long)r.points_written, (unsigned long long)r.bytes_written,
+                  r.decode_seconds);
     if (bounds)
       std::printf("  in the bounds: %llu of the %llu points read; %llu of %llu chunks decoded\n",
                   (unsigned long long)r.points_written, (unsigned long long)r.points, (unsigned long long)r.chunks_read,

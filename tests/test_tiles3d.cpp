@@ -1,5 +1,6 @@
-// 3D Tiles output of point hierarchies: every tile read back by hand (tiles3d_read.h) against the hierarchy
-// it came from; failures leave the target as it was.
+// 3D Tiles 1.0 output of point hierarchies: every .pnts tile read back by hand (tiles3d_read.h) against the
+// hierarchy it came from, batch tables included; failures leave the target as it was (for either version).
+// 3D Tiles 1.1 (glb tiles, placement on the globe): test_tiles3d_v11.cpp.
 #include <signal.h>
 #include <sys/resource.h>
 
@@ -19,6 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+const io::Tiles3dOptions kTiles10{0, "", true};  // 3D Tiles 1.0, the input's own CRS
 
 std::string octant_path(uint64_t code, uint32_t level) {
   std::string s = "r";
@@ -82,11 +85,25 @@ void check_tile(const PointHierarchy& h, const std::string& dir, int colour_shif
     EXPECT_TRUE(p.magic_ok);
     EXPECT_EQ(p.version, 1u);
     EXPECT_EQ(p.byte_length, p.file_size);
-    EXPECT_EQ(p.byte_length, 28u + p.ft_json + p.ft_bin);
+    EXPECT_EQ(p.byte_length, 28u + p.ft_json + p.ft_bin + p.bt_json + p.bt_bin);
     EXPECT_EQ((28 + p.ft_json) % 8, 0u) << "the binary body starts on 8 bytes";
+    EXPECT_EQ(p.ft_bin % 8, 0u) << "the batch table starts on 8 bytes";
+    EXPECT_EQ(p.bt_json % 8, 0u) << "the batch table's binary body starts on 8 bytes";
     EXPECT_EQ(p.byte_length % 8, 0u) << "the tile ends on 8 bytes";
-    EXPECT_EQ(p.bt_json, 0u);
-    EXPECT_EQ(p.bt_bin, 0u);
+    const std::vector<SyntheticProperty> props = synthetic_properties(h);
+    if (props.empty()) {
+      EXPECT_EQ(p.bt_json, 0u);
+      EXPECT_EQ(p.bt_bin, 0u);
+    }
+    EXPECT_EQ(p.properties.size(), props.size());
+    EXPECT_FALSE(p.feature_table.contains("BATCH_ID")) << "per-point properties: the batch table is POINTS_LENGTH long";
+    for (const SyntheticProperty& sp : props) {
+      ASSERT_TRUE(p.properties.count(sp.name)) << sp.name;
+      const std::vector<double>& v = p.properties.at(sp.name);
+      ASSERT_EQ(v.size(), n.point_count) << sp.name;
+      for (uint64_t k = 0; k < n.point_count; ++k)
+        ASSERT_EQ(v[k], synthetic_value(h, sp, n.first_point + k)) << sp.name << " point " << k;
+    }
     const json& ft = p.feature_table;
     EXPECT_EQ(ft.at("POINTS_LENGTH").get<uint64_t>(), n.point_count);
     EXPECT_EQ(ft.at("POSITION").at("byteOffset").get<uint64_t>(), 0u);
@@ -129,7 +146,7 @@ void check_tile(const PointHierarchy& h, const std::string& dir, int colour_shif
 // Writes `h` to a fresh folder and checks all of it; returns what the walk saw.
 Seen write_and_check(const PointHierarchy& h, const std::string& name, int colour_shift) {
   const std::string dir = temp_path(name);
-  io::write_3dtiles(dir, h);
+  io::write_3dtiles(dir, h, kTiles10);
   const json ts = read_json(dir + "/tileset.json");
   EXPECT_EQ(ts.at("asset").at("version"), "1.0");
   const json& extras = ts["asset"].at("extras");
@@ -139,6 +156,15 @@ Seen write_and_check(const PointHierarchy& h, const std::string& name, int colou
     EXPECT_EQ(extras.at("crs"), h.source.crs);
   }
   EXPECT_EQ(extras.at("upAxis"), h.source.z_up ? "Z" : "Y");
+  std::vector<std::string> names;
+  for (const SyntheticProperty& p : synthetic_properties(h)) names.push_back(p.name);
+  EXPECT_EQ(extras.at("properties"), json(names));
+  std::vector<std::string> skipped;
+  for (const json& s : extras.value("skippedProperties", json::array())) {
+    skipped.push_back(s.at("name"));
+    EXPECT_FALSE(s.at("reason").get<std::string>().empty());
+  }
+  EXPECT_EQ(skipped, synthetic_skipped(h));
   const json& root = ts.at("root");
   EXPECT_EQ(root.at("refine"), "REPLACE");
   Seen seen;
@@ -162,6 +188,13 @@ TEST(Tiles3d, EightBitColourYUpNoCrs) {
   SyntheticCloud c;
   c.colour = Colour::bits8, c.z_up = false, c.crs = "", c.shift = 0, c.seed = 3;
   write_and_check(synthetic_hierarchy(c), "rgb8", 0);
+}
+
+TEST(Tiles3d, FieldsGoInTheBatchTable) {
+  SyntheticCloud c;
+  c.fields = true, c.points = 3000, c.seed = 5;
+  const PointHierarchy h = synthetic_hierarchy(c);
+  write_and_check(h, "fields10", 8);
 }
 
 TEST(Tiles3d, NoColour) {
@@ -194,8 +227,9 @@ TEST(Tiles3d, ReplacesAnEarlierTileset) {
   c.points = 50;
   io::write_3dtiles(dir, synthetic_hierarchy(c));
   expect_only(parent, {"tiles3d"});
+  expect_only(dir + "/tiles", {"r.glb"});
+  io::write_3dtiles(dir + "/", synthetic_hierarchy(c), kTiles10);  // a trailing slash: the same folder
   expect_only(dir + "/tiles", {"r.pnts"});
-  io::write_3dtiles(dir + "/", synthetic_hierarchy(c));  // a trailing slash names the same folder
   expect_only(parent, {"tiles3d"});
 }
 

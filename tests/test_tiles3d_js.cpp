@@ -1,6 +1,7 @@
-// Readers that share no code with megavox, where they are installed: loaders.gl under Node reads every tile
-// (tests/js, `npm ci` by scripts/setup.sh), and headless Chromium renders the tileset with three.js and
-// 3d-tiles-renderer (scripts/setup.sh --viewer). Without them each test says so in one line and passes.
+// Readers that share no code with megavox, where they are installed: loaders.gl under Node reads every tile of
+// 3D Tiles 1.1 and 1.0 tilesets (tests/js, `npm ci` by scripts/setup.sh), and headless Chromium renders them
+// with three.js and 3d-tiles-renderer (scripts/setup.sh --viewer). Without them each test says so in one line
+// and passes.
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -52,47 +53,75 @@ bool have_node_modules(const char* test, const std::vector<std::string>& package
   return true;
 }
 
+// check_tileset.mjs on DIR: it must load every tile, count `tiles` of them and `leaf_points` at the leaves.
+Ran check_tileset(const std::string& dir, uint64_t leaf_points, uint64_t tiles, const char* version) {
+  const Ran r = run("node " + quoted(kJs + "/check_tileset.mjs") + " " + quoted(dir) + " " +
+                    std::to_string(leaf_points) + " " + version);
+  std::printf("%s", r.output.c_str());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\"ok\":true"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"tiles\":" + std::to_string(tiles) + ","), std::string::npos) << r.output;
+  return r;
+}
+
+// Every synthetic cloud as 3D Tiles 1.1 (glb, meshopt, placed or local) and 1.0 (.pnts, batch tables).
 TEST(Tiles3dJs, LoadersGlReadsEveryTile) {
   if (!have_node_modules("Tiles3dJs.LoadersGlReadsEveryTile", {"@loaders.gl/core", "@loaders.gl/3d-tiles"})) return;
   SyntheticCloud eight;
   eight.colour = Colour::bits8, eight.z_up = false, eight.crs = "", eight.seed = 11;
   SyntheticCloud plain;
   plain.colour = Colour::none, plain.points = 800, plain.capacity = 50;
+  SyntheticCloud fields;
+  fields.fields = true, fields.points = 3000;
   int k = 0;
-  for (const SyntheticCloud& c : {SyntheticCloud{}, eight, plain}) {
+  for (const SyntheticCloud& c : {SyntheticCloud{}, eight, plain, fields}) {
     const PointHierarchy h = synthetic_hierarchy(c);
-    const std::string dir = temp_path("js" + std::to_string(k++));
-    io::write_3dtiles(dir, h);
-    const Ran r = run("node " + quoted(kJs + "/check_tileset.mjs") + " " + quoted(dir) + " " +
-                      std::to_string(h.points_kept));
-    std::printf("%s", r.output.c_str());
-    EXPECT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find("\"ok\":true"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("\"tiles\":" + std::to_string(h.nodes.size()) + ","), std::string::npos) << r.output;
+    for (int minor : {1, 0}) {
+      const std::string dir = temp_path("js" + std::to_string(k++));
+      io::write_3dtiles(dir, h, io::Tiles3dOptions{minor, "", true});
+      const Ran r = check_tileset(dir, h.points_kept, h.nodes.size(), minor ? "1.1" : "1.0");
+      if (c.fields) {
+        EXPECT_NE(r.output.find("\"classification\""), std::string::npos) << "a property loaders.gl read: " << r.output;
+        EXPECT_NE(r.output.find("\"gps_time\""), std::string::npos) << r.output;
+      }
+      if (c.fields && minor) {
+        EXPECT_NE(r.output.find("\"featureIdTiles\":" + std::to_string(h.nodes.size())), std::string::npos)
+            << "every tile's classification is its feature IDs: " << r.output;
+      }
+    }
   }
 }
 
-// A real cloud through `points build --format 3dtiles`, read by loaders.gl: every leaf point is there.
+// Real clouds through `points build --format 3dtiles` (1.1, and lion as 1.0 too), read by loaders.gl: every leaf
+// point is there; Autzen's LAS fields arrive as properties, placed on the globe.
 TEST(Tiles3dJs, LoadersGlReadsARealBuild) {
   if (!have_node_modules("Tiles3dJs.LoadersGlReadsARealBuild", {"@loaders.gl/core", "@loaders.gl/3d-tiles"})) return;
-  const std::string path = shared_data_file("pointcloud_lion_takanawa/lion_takanawa.ply");
-  if (path.empty()) {
-    std::printf("Tiles3dJs.LoadersGlReadsARealBuild: not run: no %s\n", shared_data_path("pointcloud_lion_takanawa").c_str());
-    return;
-  }
   if (all_devices().empty()) return;
-  PointFileOptions o;
-  o.input = path;
-  o.output = temp_path("lion_tiles");
-  o.format = PointOutput::tiles3d;
-  const PointFileReport rep = build_points_file(shared_device(all_devices()[0]), o);
-  const std::string dir = o.output;
-  const Ran r = run("node " + quoted(kJs + "/check_tileset.mjs") + " " + quoted(dir) + " " +
-                    std::to_string(rep.points_kept));
-  std::printf("%s", r.output.c_str());
-  EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("\"ok\":true"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("\"tiles\":" + std::to_string(rep.nodes) + ","), std::string::npos) << r.output;
+  struct Real {
+    const char* file;
+    int minor;
+  };
+  int k = 0;
+  for (const Real c : {Real{"pointcloud_lion_takanawa/lion_takanawa.ply", 1},
+                       Real{"pointcloud_lion_takanawa/lion_takanawa.ply", 0},
+                       Real{"pointcloud_autzen/autzen_trim.las", 1}}) {
+    const std::string path = shared_data_file(c.file);
+    if (path.empty()) {
+      std::printf("Tiles3dJs.LoadersGlReadsARealBuild: not run: no %s\n", shared_data_path(c.file).c_str());
+      continue;
+    }
+    PointFileOptions o;
+    o.input = path;
+    o.output = temp_path("real_tiles" + std::to_string(k++));
+    o.format = PointOutput::tiles3d;
+    o.tiles_minor_version = c.minor;
+    const PointFileReport rep = build_points_file(shared_device(all_devices()[0]), o);
+    const Ran r = check_tileset(o.output, rep.points_kept, rep.nodes, c.minor ? "1.1" : "1.0");
+    if (std::string(c.file).ends_with(".las")) {
+      EXPECT_NE(r.output.find("\"placement\":\"EPSG:4978\""), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find("\"classification\""), std::string::npos) << r.output;
+    }
+  }
 }
 
 // The screenshot stays in the test's working folder (build/tests/tiles3d_render.png) for a person to look at.
@@ -103,30 +132,38 @@ TEST(Tiles3dJs, ChromiumRendersTileset) {
     return;
   }
   if (!have_node_modules("Tiles3dJs.ChromiumRendersTileset", {"puppeteer-core", "three", "3d-tiles-renderer"})) return;
+  // A synthetic cloud placed on the globe as 1.1 (glb through three's MeshoptDecoder), and as 1.0.
   const PointHierarchy h = synthetic_hierarchy({});
-  const std::string dir = temp_path("render");
-  io::write_3dtiles(dir, h);
-  const Ran r = run("node " + quoted(kJs + "/render_tileset.mjs") + " " + quoted(dir) + " tiles3d_render.png");
-  std::printf("%s", r.output.c_str());
-  EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("\"ok\":true"), std::string::npos) << r.output;
-  // And a real cloud through `points build --format 3dtiles`, where the shared data has one.
-  const std::string lion = shared_data_file("pointcloud_lion_takanawa/lion_takanawa.ply");
-  if (lion.empty() || all_devices().empty()) {
-    std::printf("Tiles3dJs.ChromiumRendersTileset: the real cloud not run: no %s\n",
-                shared_data_path("pointcloud_lion_takanawa").c_str());
-    return;
+  for (int minor : {1, 0}) {
+    const std::string dir = temp_path("render" + std::to_string(minor));
+    io::write_3dtiles(dir, h, io::Tiles3dOptions{minor, "", true});
+    const std::string png = minor ? "tiles3d_render.png" : "tiles3d_render_10.png";
+    const Ran r = run("node " + quoted(kJs + "/render_tileset.mjs") + " " + quoted(dir) + " " + png);
+    std::printf("%s", r.output.c_str());
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("\"ok\":true"), std::string::npos) << r.output;
   }
-  PointFileOptions o;
-  o.input = lion;
-  o.output = temp_path("lion_render");
-  o.format = PointOutput::tiles3d;
-  build_points_file(shared_device(all_devices()[0]), o);
-  const std::string real_dir = o.output;
-  const Ran real = run("node " + quoted(kJs + "/render_tileset.mjs") + " " + quoted(real_dir) + " tiles3d_render_lion.png");
-  std::printf("%s", real.output.c_str());
-  EXPECT_EQ(real.status, 0) << real.output;
-  EXPECT_NE(real.output.find("\"ok\":true"), std::string::npos) << real.output;
+  // And real clouds through `points build --format 3dtiles` (1.1): lion (local) and Autzen (placed on the globe).
+  for (const char* file : {"pointcloud_lion_takanawa/lion_takanawa.ply", "pointcloud_autzen/autzen_trim.las"}) {
+    const std::string path = shared_data_file(file);
+    if (path.empty() || all_devices().empty()) {
+      std::printf("Tiles3dJs.ChromiumRendersTileset: the real cloud not run: no %s or no device\n",
+                  shared_data_path(file).c_str());
+      continue;
+    }
+    const std::string name = std::string(file).ends_with(".las") ? "autzen" : "lion";
+    PointFileOptions o;
+    o.input = path;
+    o.output = temp_path("render_" + name);
+    o.format = PointOutput::tiles3d;
+    build_points_file(shared_device(all_devices()[0]), o);
+    const std::string dir = o.output;  // const: std::quoted's non-const overload would win the call below
+    const Ran real = run("node " + quoted(kJs + "/render_tileset.mjs") + " " + quoted(dir) + " tiles3d_render_" + name +
+                         ".png");
+    std::printf("%s", real.output.c_str());
+    EXPECT_EQ(real.status, 0) << real.output;
+    EXPECT_NE(real.output.find("\"ok\":true"), std::string::npos) << real.output;
+  }
 }
 
 }  // namespace

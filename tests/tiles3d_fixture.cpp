@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <memory>
 #include <random>
@@ -15,7 +16,30 @@ namespace {
 struct Point {
   std::array<int32_t, 3> xyz;
   std::array<uint16_t, 3> rgb;
+  uint16_t intensity = 0;
+  std::array<uint8_t, kSyntheticRecordBytes> record{};
 };
+
+template <class T>
+void t3f_put(std::array<uint8_t, kSyntheticRecordBytes>& r, uint32_t at, T v) {
+  std::memcpy(r.data() + at, &v, sizeof v);
+}
+
+// The record of point i (synthetic_fields' layout): values that vary with the point and its position.
+void t3f_fill_record(Point& p, uint32_t i, std::mt19937_64& rng) {
+  auto& r = p.record;
+  t3f_put<uint8_t>(r, 0, static_cast<uint8_t>(p.xyz[2] & 1 ? 2 : (i % 7 == 0 ? 6 : 5)));  // classification
+  t3f_put<uint8_t>(r, 1, static_cast<uint8_t>(1 + i % 3));                              // return_number
+  t3f_put<float>(r, 2, static_cast<float>(int(i % 61) - 30) * 0.5f);                    // scan_angle
+  t3f_put<double>(r, 6, 271828.0 + 0.001 * i + 1e-6 * (i % 13));                        // gps_time
+  t3f_put<uint16_t>(r, 14, static_cast<uint16_t>(100 + i % 4));                         // point_source_id
+  t3f_put<uint64_t>(r, 16, (uint64_t{1} << 60) + i);                                    // serial (u64)
+  t3f_put<int16_t>(r, 24, static_cast<int16_t>(int(rng() % 2001) - 1000));              // Pulse width (scaled)
+  for (uint32_t k = 0; k < 3; ++k) t3f_put<uint16_t>(r, 26 + 2 * k, static_cast<uint16_t>(rng() & 0xffff));  // vec
+  for (uint32_t k = 0; k < 5; ++k) t3f_put<uint8_t>(r, 32 + k, static_cast<uint8_t>(rng()));  // extra_bytes
+  t3f_put<uint8_t>(r, 37, static_cast<uint8_t>(i & 0xff));                              // Intensity (a second one)
+  p.intensity = static_cast<uint16_t>(rng() & 0xffff);
+}
 
 struct Node {
   uint64_t code = 1;
@@ -72,6 +96,7 @@ std::vector<Point> cloud(const SyntheticCloud& c, const int64_t* cube_min) {
       p.xyz[a] = static_cast<int32_t>(cube_min[a] + static_cast<int64_t>(g));
       p.rgb[a] = c.colour == Colour::none ? 0 : static_cast<uint16_t>(std::clamp(u[a], 0.0, 1.0) * top);
     }
+    if (c.fields) t3f_fill_record(p, i, rng);
     pts.push_back(p);
   }
   return pts;
@@ -79,10 +104,28 @@ std::vector<Point> cloud(const SyntheticCloud& c, const int64_t* cube_min) {
 
 }  // namespace
 
+std::vector<PointField> synthetic_fields() {
+  using T = PointFieldType;
+  auto field = [](const char* name, T type, uint32_t offset, uint32_t count = 1, double scale = 1, double add = 0) {
+    PointField f;
+    f.name = name, f.type = type, f.offset = offset, f.count = count, f.scale = scale, f.add = add;
+    return f;
+  };
+  return {field("classification", T::u8, 0), field("return_number", T::u8, 1), field("scan_angle", T::f32, 2),
+          field("gps_time", T::f64, 6),      field("point_source_id", T::u16, 14), field("serial", T::u64, 16),
+          field("Pulse width", T::i16, 24, 1, 0.1, 5), field("vec", T::u16, 26, 3),
+          field("extra_bytes", T::u8, 32, 5), field("Intensity", T::u8, 37)};
+}
+
 PointHierarchy synthetic_hierarchy(const SyntheticCloud& c) {
   PointHierarchy h;
   h.source.format = "synthetic";
   h.source.attributes = c.colour == Colour::none ? 0u : uint32_t{kPointRgb};
+  if (c.fields) {
+    h.source.attributes |= kPointIntensity | kPointExtra;
+    h.source.extra_bytes = kSyntheticRecordBytes;
+    h.source.fields = synthetic_fields();
+  }
   h.source.scale[0] = 0.001, h.source.scale[1] = 0.002, h.source.scale[2] = 0.0005;
   h.source.offset[0] = 500000.25, h.source.offset[1] = 5400000.5, h.source.offset[2] = -12.75;
   h.source.z_up = c.z_up;
@@ -119,6 +162,10 @@ PointHierarchy synthetic_hierarchy(const SyntheticCloud& c) {
     for (const Point& p : n->points) {
       h.points.xyz.insert(h.points.xyz.end(), p.xyz.begin(), p.xyz.end());
       if (c.colour != Colour::none) h.points.rgb.insert(h.points.rgb.end(), p.rgb.begin(), p.rgb.end());
+      if (c.fields) {
+        h.points.intensity.push_back(p.intensity);
+        h.points.extra.insert(h.points.extra.end(), p.record.begin(), p.record.end());
+      }
     }
     if (pn.leaf()) h.points_kept += pn.point_count;
     h.depth = std::max<uint32_t>(h.depth, n->level);
@@ -137,6 +184,43 @@ PointHierarchy synthetic_hierarchy(const SyntheticCloud& c) {
   }
   h.points_in = h.points_kept;
   return h;
+}
+
+std::vector<SyntheticProperty> synthetic_properties(const PointHierarchy& h) {
+  if (!(h.source.attributes & kPointExtra)) return {};
+  return {{"intensity", -1},        {"classification", 0},  {"return_number", 1}, {"scan_angle", 2},
+          {"gps_time", 3, 0, false}, {"point_source_id", 4}, {"Pulse_width", 6, 0, false},
+          {"vec_0", 7, 0},           {"vec_1", 7, 1},        {"vec_2", 7, 2},       {"Intensity_2", 9}};
+}
+
+std::vector<std::string> synthetic_skipped(const PointHierarchy& h) {
+  if (!(h.source.attributes & kPointExtra)) return {};
+  return {"serial", "extra_bytes"};
+}
+
+double synthetic_value(const PointHierarchy& h, const SyntheticProperty& p, uint64_t point) {
+  if (p.field < 0) return h.points.intensity.at(point);
+  const PointField& f = h.source.fields.at(p.field);
+  const uint8_t* at =
+      h.points.extra.data() + point * h.source.extra_bytes + f.offset + p.component * point_field_size(f.type);
+  double v = 0;
+  auto load = [&](auto x) {
+    std::memcpy(&x, at, sizeof x);
+    v = static_cast<double>(x);
+  };
+  switch (f.type) {
+    case PointFieldType::u8: load(uint8_t{}); break;
+    case PointFieldType::i8: load(int8_t{}); break;
+    case PointFieldType::u16: load(uint16_t{}); break;
+    case PointFieldType::i16: load(int16_t{}); break;
+    case PointFieldType::u32: load(uint32_t{}); break;
+    case PointFieldType::i32: load(int32_t{}); break;
+    case PointFieldType::u64: load(uint64_t{}); break;
+    case PointFieldType::i64: load(int64_t{}); break;
+    case PointFieldType::f32: load(float{}); break;
+    case PointFieldType::f64: load(double{}); break;
+  }
+  return v * f.scale + f.add;
 }
 
 }  // namespace mv::test

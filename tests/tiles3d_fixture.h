@@ -1,9 +1,13 @@
 // Small point hierarchies made by hand for the 3D Tiles tests: a plain octree over clustered points (split
 // where a node holds more than `capacity`, every k-th point of an inner node's subtree as its
 // representatives), laid out as points.h says. Not the project's LOD builder: only its output's shape.
+// With `fields`, every point carries intensity and an attribute record of kSyntheticRecordBytes that
+// synthetic_fields() lays out: LAS-like fields (classification, gps_time, ...) and the cases a tile writer must
+// decide on (a 64-bit integer, a scaled value, a 3-vector, an untyped run of bytes, names to be made identifiers).
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "megavox/points.h"
 
@@ -20,8 +24,25 @@ struct SyntheticCloud {
   bool z_up = true;
   std::string crs = "EPSG:32633";
   uint64_t seed = 7;
+  bool fields = false;
 };
 
+inline constexpr uint32_t kSyntheticRecordBytes = 38;
+std::vector<PointField> synthetic_fields();
+
 PointHierarchy synthetic_hierarchy(const SyntheticCloud& c);
+
+// What a tile writer should make of a synthetic cloud's columns (tiles3d_properties.h's rules, spelled out by
+// hand): the properties in order, each read from the hierarchy by the test's own decoding; and the fields skipped.
+struct SyntheticProperty {
+  std::string name;
+  int field = -1;          // index into h.source.fields; -1: intensity
+  uint32_t component = 0;  // the value within the field
+  bool exact_in_glb = true;  // false: glb carries it as float relative to the tile's minimum
+};
+std::vector<SyntheticProperty> synthetic_properties(const PointHierarchy& h);
+std::vector<std::string> synthetic_skipped(const PointHierarchy& h);
+// Stored point `point`'s value of `p` (value * scale + add for a scaled field).
+double synthetic_value(const PointHierarchy& h, const SyntheticProperty& p, uint64_t point);
 
 }  // namespace mv::test

@@ -49,12 +49,45 @@ expect_error "bounds wants" points build "$laz/simple.laz" -o "$dir/b.mvx" --bou
 cp "$laz/simple.laz" "$dir/mine.laz"
 expect_error "is one of the inputs\|is the input" points convert "$dir/mine.laz" -o "$dir/mine.laz"
 cmp -s "$dir/mine.laz" "$laz/simple.laz" || fail "the input was changed"
-expect_error "name the output .las\|ply" points convert "$dir/mine.laz" -o "$dir/out.ply"
-expect_error "name the output .las" points convert "$dir/mine.laz" -o "$dir/out"
-expect_error "not a LAS or LAZ file" points convert "$dir/out.txt" -o "$dir/x.las"
+expect_error "name the output .las or .ply" points convert "$dir/mine.laz" -o "$dir/out"
+expect_error "not a point cloud megavox reads" points convert "$dir/out.txt" -o "$dir/x.las"
 head -c 9000 "$laz/simple.laz" > "$dir/cut.laz"
 expect_error "cut.laz: corrupt LAZ" points convert "$dir/cut.laz" -o "$dir/cut.las"
 [[ ! -e $dir/cut.las ]] || fail "a damaged input left an output"
 expect_error "cut.laz: corrupt LAZ" points build "$dir/cut.laz" -o "$dir/cut.mvx"
 [[ ! -e $dir/cut.mvx ]] || fail "a damaged input left a build"
+# To PLY and back: LAZ -> PLY keeps every field by name; PLY -> LAS -> PLY keeps colours exactly and positions
+# on the grid the PLY reader chose (within half its step: float32's ulp at the largest coordinate).
+"$mv" points convert "$laz/simple.laz" -o "$dir/simple.ply" > /dev/null
+for p in "element vertex 1065" "property double x" "property ushort red" "property uchar classification" \
+         "property double gps_time" "comment megavox points convert from LAZ 1.2"; do
+  head -c 2000 "$dir/simple.ply" | grep -qa "$p" || fail "simple.ply lacks '$p'"
+done
+lion=$data/pointcloud_lion_takanawa/lion_takanawa.ply
+if [[ -f $lion ]]; then
+  "$mv" points convert "$lion" -o "$dir/lion.las" > /dev/null
+  "$mv" points convert "$dir/lion.las" -o "$dir/lion2.ply" --json > "$dir/l.json"
+  grep -q '"input_format": "LAS 1.4, point format 7"' "$dir/l.json" || fail "lion.las: $(cat "$dir/l.json")"
+  /usr/bin/python3 - "$lion" "$dir/lion2.ply" <<'PY' || fail "lion.ply -> LAS -> PLY changed positions or colours"
+import sys
+import numpy as np
+def vertices(path):
+    data = open(path, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    props, count = [], 0
+    for line in data[:end].decode().splitlines():
+        w = line.split()
+        if w[:2] == ["element", "vertex"]: count = int(w[2])
+        if w[:1] == ["property"]: props.append((w[2], {"float": "<f4", "double": "<f8", "uchar": "u1", "ushort": "<u2"}[w[1]]))
+    return np.frombuffer(data, dtype=np.dtype(props), count=count, offset=end)
+a, b = vertices(sys.argv[1]), vertices(sys.argv[2])
+big = max(float(np.abs(a[k]).max()) for k in "xyz")
+step = 2.0 ** (np.ceil(np.log2(big)) - 24)
+ok = len(a) == len(b) and all(np.abs(a[k].astype("f8") - b[k]).max() <= step / 2 for k in "xyz")
+ok = ok and all(np.array_equal(a[c].astype("u2"), b[c]) for c in ("red", "green", "blue"))
+sys.exit(0 if ok else 1)
+PY
+fi
+expect_error "writes LAS or PLY" points convert "$laz/simple.laz" -o "$dir/x.obj"
+expect_error "bounds keeps the points of a LAS or LAZ file" points convert "$laz/simple.laz" -o "$dir/x.ply" --bounds 0,0,0,1,1,1
 echo "points_convert: ok"

@@ -1,9 +1,11 @@
 #!/usr/bin/env node
-// Renders a 3D Tiles tileset in headless Chromium (software GL: SwiftShader through ANGLE) with three.js and
-// 3d-tiles-renderer, saves a screenshot and checks that at least 1 % of its pixels differ from the clear
-// colour. Everything is served from a local HTTP server on a free port: DIR under /tileset/, the page from
-// viewer/, the modules from node_modules/ (no CDN). Prints one JSON line; exits 1 when the picture is empty
-// or loading fails, 2 on bad arguments or when no Chromium is found (set CHROMIUM to its path).
+// Renders a 3D Tiles tileset (1.0 .pnts or 1.1 .glb) in headless Chromium (software GL: SwiftShader through ANGLE)
+// with three.js and 3d-tiles-renderer (viewer/viewer.js: glTF tiles through its GLTFExtensionsPlugin with three's
+// MeshoptDecoder; a tileset placed on the globe framed in its local frame), saves a screenshot and checks that at
+// least 1 % of its pixels differ from the clear colour. Everything is served from a local HTTP server on a free
+// port: DIR under /tileset/, the page from viewer/, the modules from node_modules/ (no CDN). Prints one JSON
+// line; exits 1 when the picture is empty or loading fails, 2 on bad arguments or when no Chromium is found (set
+// CHROMIUM to its path).
 //   node render_tileset.mjs DIR OUT.png
 import { existsSync } from 'node:fs';
 import { writeFile } from 'node:fs/promises';

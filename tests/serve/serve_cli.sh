@@ -106,7 +106,7 @@ tzid=$(jq -r .id <<< "$tz")
 [[ $(curl -sf "${auth[@]}" -o "$dir/lattice.3tz" -w '%{content_type}' "$url/v1/jobs/$tzid/result") == application/vnd.maxar.archive.3tz+zip ]] ||
   fail "the .3tz's content type"
 files 3tz "$dir/lattice.3tz" > "$dir/3tz.txt" || fail "the .3tz breaks the archive's rules"
-grep -q '\.pnts$' "$dir/3tz.txt" || fail "the .3tz holds no tile: $(cat "$dir/3tz.txt")"
+grep -q '\.glb$' "$dir/3tz.txt" || fail "the .3tz holds no tile: $(cat "$dir/3tz.txt")"
 [[ -z $(ls "$data/jobs/$tzid" | grep -v '^result.3tz$') ]] || fail "the tileset folder stays: $(ls "$data/jobs/$tzid")"
 if [[ -d "$src/tests/js/node_modules/@loaders.gl/3d-tiles" ]]; then  # an independent reader, through the index
   node "$src/tests/js/check_3tz.mjs" "$dir/lattice.3tz" 1000 > "$dir/3tz.json" || fail "loaders.gl: $(cat "$dir/3tz.json")"

@@ -74,6 +74,10 @@ struct PointFileOptions {
   PointBuildOptions build;
   uint64_t memory = 0;         // host budget in bytes; 0 = default_host_memory()
   bool carry_extra_bytes = true;
+  // --format 3dtiles: 3D Tiles 1.1 (.glb tiles, placed on the globe when the cloud has a CRS) or 1.0 (.pnts).
+  int tiles_minor_version = 1;
+  // --format 3dtiles: the CRS to place the tileset with ("EPSG:N", WKT), over the one the input declares.
+  std::string crs;
   // LAS and LAZ: only the points in this box (world min x, y, z, max x, y, z); a COPC file decodes only the
   // chunks whose node meets it.
   std::optional<std::array<double, 6>> bounds;

@@ -10,6 +10,7 @@
 #include "io/temp_file.h"
 #include "points/omicron.h"
 #include "points/point_runs.h"
+#include "io/crs_frame.h"
 #include "io/tiles3d_writer.h"
 #include "megavox/build.h"
 #include "megavox/error.h"
@@ -171,6 +172,7 @@ std::string check_output(const PointFileOptions& o) {
   std::error_code size_error;
   const uint64_t input_bytes = std::filesystem::file_size(o.input, size_error);
   const bool file = o.format != PointOutput::tiles3d;
+  if (!o.crs.empty()) io::check_crs(o.crs);  // a wrong --crs costs nothing
   return io::resolve_output({o.output, file ? io::OutputKind::kFile : io::OutputKind::kFolder, file ? "mvx" : "",
                              {o.arrays ? std::string() : o.input}, size_error ? 0 : input_bytes / 2, o.no_clobber});
 }
@@ -220,7 +222,7 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   t0 = std::chrono::steady_clock::now();
   if (progress) progress("write", 0);
   if (o.format == PointOutput::mvx) write_mvx_points(output, h);
-  else io::write_3dtiles(output, h);
+  else io::write_3dtiles(output, h, io::Tiles3dOptions{o.tiles_minor_version, o.crs, true});
   r.write_seconds = seconds_since(t0);  // no report after the write: a cancel there would come too late
 
   r.points_in = h.points_in;

@@ -249,6 +249,8 @@ CrsFrame crs_build(const CrsExact& e, const double centre[3], double up[3]) {
 
 }  // namespace
 
+void check_crs(const std::string& crs) { (void)crs_open(crs); }
+
 CrsFrame crs_frame(const std::string& crs, const double centre[3]) {
   CrsExact e = crs_open(crs);
   e.lock_at(centre);

@@ -38,6 +38,10 @@ struct CrsFrame {
 // The frame of a cloud in `crs` about `centre` (x, y, z in the CRS's own units, as stored in the file).
 CrsFrame crs_frame(const std::string& crs, const double centre[3]);
 
+// Throws the mv::Error crs_frame would for a CRS that cannot be placed at all (unknown, unparseable, not linked
+// to the Earth), without a point: how a command refuses a wrong --crs before any work.
+void check_crs(const std::string& crs);
+
 // The largest horizontal distance (metres), over the corners and edge midpoints of the box centre ± half_extent
 // (CRS units), between PROJ's exact transform of a point to EPSG:4978 and crs_frame's transform of it:
 // what one rigid transform costs over that extent. Horizontal is perpendicular to the up direction at the

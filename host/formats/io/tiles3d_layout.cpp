@@ -71,25 +71,25 @@ std::string path_name(uint64_t code, uint32_t level) {
 }
 
 // The cube of a node: its Morton bits (x lowest, as kernels/common/morton.h) give its cell at its level.
-void place(const PointHierarchy& h, const PointNode& n, TileLayout& t) {
+void place(const PointHierarchy& h, const PointNode& n, const TileFrame& f, TileLayout& t) {
   const double side = std::ldexp(1.0, static_cast<int>(21 + h.shift - n.level));  // grid units
   for (int a = 0; a < 3; ++a) {
     uint64_t cell = 0;
     for (uint32_t l = 0; l < n.level; ++l) cell |= (n.code >> (3 * l + a) & 1) << l;
     const double lo = static_cast<double>(h.cube_min[a]) + static_cast<double>(cell) * side;
-    t.center[a] = h.source.offset[a] + h.source.scale[a] * (lo + side / 2);
-    t.half[a] = std::abs(h.source.scale[a]) * side / 2;
+    t.center[a] = (h.source.offset[a] + h.source.scale[a] * (lo + side / 2) - f.origin[a]) * f.factor[a];
+    t.half[a] = std::abs(h.source.scale[a] * f.factor[a]) * side / 2;
   }
 }
 
 }  // namespace
 
-std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h) {
+std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h, const TileFrame& frame) {
   check_tree(h);
   std::vector<TileLayout> tiles(h.nodes.size());
   for (size_t i = 0; i < h.nodes.size(); ++i) {
     tiles[i].name = path_name(h.nodes[i].code, h.nodes[i].level);
-    place(h, h.nodes[i], tiles[i]);
+    place(h, h.nodes[i], frame, tiles[i]);
   }
   // Children come after their parent: going backwards, a node's children are done before it.
   for (size_t i = h.nodes.size(); i-- > 0;) {

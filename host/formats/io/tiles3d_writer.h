@@ -1,5 +1,5 @@
-// Point-cloud LOD hierarchies as 3D Tiles 1.0: DIR/tileset.json and one Point Cloud tile (DIR/tiles/NAME.pnts)
-// per node that holds points.
+// Point-cloud LOD hierarchies as 3D Tiles: DIR/tileset.json and one tile per node that holds points, 3D Tiles 1.1
+// (DIR/tiles/NAME.glb, placed on the globe when the cloud has a CRS) or 1.0 (DIR/tiles/NAME.pnts).
 #pragma once
 #include <string>
 
@@ -7,16 +7,39 @@
 
 namespace mv::io {
 
+struct Tiles3dOptions {
+  int minor_version = 1;  // 1: 3D Tiles 1.1, glb content; 0: 3D Tiles 1.0, .pnts content
+  std::string crs;        // the CRS to place with ("EPSG:N", WKT), over the input's; empty: the input's
+  bool meshopt = true;    // 1.1: every glb buffer view compressed with EXT_meshopt_compression
+};
+
 // Writes the tileset for `h` into DIR (replacing an earlier tileset there; see write_dir_atomically).
+// Both versions:
 //   - Tiles nest as the nodes do, refine REPLACE: a leaf holds all of its points, an inner node its
-//     representatives, so the leaves' POINTS_LENGTH add up to h.points_kept.
-//   - Coordinates are the input's own (world = offset + scale * xyz, docs/points.md): RTC_CENTER is
-//     the node's cube centre (double), POSITION float32 relative to it; boundingVolume.box is the node's cube.
+//     representatives, so the leaves' point counts add up to h.points_kept. Tile names are the node's octant
+//     path ("r", "r3", "r37", ...); children's boxes are their node cubes; geometric errors as tiles3d_layout.h
+//     says, in the tileset's units.
 //   - RGB (with kPointRgb): the stored values where none of the cloud's exceeds 255, else value >> 8 (16-bit
 //     colour, as LAS stores it).
-//   - asset.extras: "crs" (the input's declared CRS, or null) and "upAxis" ("Z" or "Y").
-//   - Tile names are the node's octant path ("r", "r3", "r37", ...); geometric errors as tiles3d_layout.h says.
-// Throws mv::Error naming DIR on any failure, leaving DIR as it was.
-void write_3dtiles(const std::string& dir, const PointHierarchy& h);
+//   - Per-point properties (intensity, normals, the attribute record's fields) as tiles3d_properties.h says;
+//     asset.extras lists them ("properties") and those skipped with the reason ("skippedProperties").
+// 1.1 (the default):
+//   - Content: io/glb_points.h (KHR_mesh_quantization positions, COLOR_0, EXT_structural_metadata property
+//     attributes, "classification" as EXT_mesh_features feature IDs, EXT_meshopt_compression).
+//   - Coordinates: the local frame of tiles3d_place.h, about the centre of the points' bounds. The root's
+//     `transform` takes it to EPSG:4978 when the cloud has a CRS PROJ can place (options.crs, else the input's
+//     own; "GeoTIFF keys (EPSG:N)" is EPSG:N), else back to the input's coordinates. Units: metres when placed,
+//     else the input's. The root's box is the points' bounds, not its cube.
+//   - asset.extras: "crs" (the CRS placed with, or null), "declaredCrs", "placement" ("EPSG:4978" or
+//     "local"), "placementNote" (why a declared CRS was not used), "placementErrorMetres" and
+//     "placementVerticalErrorMetres" (crs_frame_error_metres over the bounds), "localOrigin" (the frame's
+//     origin in the input's coordinates), "unitsToMetres", "upAxis" ("Z" when placed, else the input's).
+// 1.0:
+//   - Coordinates are the input's own (world = offset + scale * xyz): RTC_CENTER is the node's cube centre
+//     (double), POSITION float32 relative to it; every box is the node's cube. Properties go in each tile's
+//     batch table. asset.extras: "crs" (options.crs, else the input's declared CRS, or null), "upAxis".
+// Throws mv::Error naming DIR on any failure, leaving DIR as it was; options.crs that PROJ cannot place is an
+// error before anything is written.
+void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& options = {});
 
 }  // namespace mv::io

@@ -1,5 +1,11 @@
 // The C API: point-cloud builds (a PLY or LAS cloud to a .mvx point hierarchy or a 3D Tiles folder), as a
 // call and as a job.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <string>
+
 #include "job.h"
 #include "megavox/point_build.h"
 #include "option_words.h"
@@ -22,11 +28,26 @@ PointBuild point_build(MvDevice device, const char* input, const char* output, c
   b.options.output = output;
   b.options.memory = device->host_memory;
   if (!args) return b;
-  require(args->byteSize == sizeof(MvPointBuildArguments),
+  constexpr size_t kFirstSize = offsetof(MvPointBuildArguments, tilesVersion);  // before the tiles' options
+  require(args->byteSize == sizeof(MvPointBuildArguments) || args->byteSize == kFirstSize,
           "points build: MvPointBuildArguments.byteSize is wrong (call mvInitPointBuildArguments)");
   b.options.format = parse_point_output(args->format ? args->format : "mvx");
   b.options.build.depth = args->depth;
   if (args->maxNodePoints) b.options.build.max_node_points = args->maxNodePoints;
+  if (args->byteSize == sizeof(MvPointBuildArguments)) {
+    const std::string version = args->tilesVersion ? args->tilesVersion : "1.1";
+    require(version == "1.1" || version == "1.0", ("points build: tilesVersion '" + version + "': 1.1 or 1.0").c_str());
+    b.options.tiles_minor_version = version == "1.0" ? 0 : 1;
+    if (args->crs) b.options.crs = args->crs;
+    if (args->bounds) {
+      std::array<double, 6> box;
+      std::copy(args->bounds, args->bounds + 6, box.begin());
+      for (int a = 0; a < 3; ++a)
+        require(std::isfinite(box[a]) && std::isfinite(box[3 + a]) && box[a] <= box[3 + a],
+                "points build: bounds must be finite, each min at most its max");
+      b.options.bounds = box;
+    }
+  }
   b.user = user_progress(args->progress, args->progressUserPtr, "points build");
   return b;
 }
@@ -57,6 +78,7 @@ void mvInitPointBuildArguments(MvPointBuildArguments* args) {
   *args = MvPointBuildArguments{};
   args->byteSize = sizeof(MvPointBuildArguments);
   args->format = "mvx";
+  args->tilesVersion = "1.1";
   args->maxNodePoints = mv::PointBuildOptions{}.max_node_points;
 }
 

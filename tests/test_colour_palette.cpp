@@ -261,7 +261,9 @@ TEST_P(ColourPaletteFilesTest, EveryEncodingRoundTrips) {
       EXPECT_EQ(encoded_octree_nodes(f.dag), f.svo_nodes);
       EXPECT_EQ(f.colour_stats.bytes, r.colour_bytes);
       EXPECT_EQ(f.colour_stats.format, colours ? 1u : 0u);
-      if (colours) EXPECT_GE(f.colour_stats.blocks, 1u);
+      if (colours) {
+        EXPECT_GE(f.colour_stats.blocks, 1u);
+      }
       for (ColourStorage s : {ColourStorage::raw, ColourStorage::palette}) {
         f.colour_storage = s;
         const std::string again = temp_path("palette_again.mvx");

@@ -307,6 +307,10 @@ typedef struct MvPointBuildArguments {
   uint32_t maxNodePoints;  /* points a node keeps at most (default 16384) */
   MvProgressMonitorFunction progress; /* stages "read", "build", "write"; NULL: none */
   void* progressUserPtr;
+  /* Added later: a caller built against the shorter struct (byteSize without them) gets their defaults. */
+  const char* tilesVersion; /* "3dtiles": "1.1" (default: glTF tiles, placed on the globe with a CRS) or "1.0" */
+  const char* crs;          /* "3dtiles": the CRS to place the tileset with (EPSG:N, WKT); NULL: the input's */
+  const double* bounds;     /* LAS and LAZ: only the points in {min x, y, z, max x, y, z}; NULL: every point */
 } MvPointBuildArguments;
 MV_API void mvInitPointBuildArguments(MvPointBuildArguments* args);
 

@@ -8,16 +8,19 @@ from ._megavox import _points_build, _points_open
 
 
 def build(source, out, *, format="mvx", depth=0, max_node_points=16384, rgb=None, intensity=None,
-          classification=None, device=None, progress=None):
+          classification=None, tiles_version="1.1", crs=None, bounds=None, device=None, progress=None):
     """Builds a point hierarchy at `out` (a .mvx file, or with format="3dtiles" a 3D Tiles folder).
 
     source: a PLY or LAS path, or positions as a float32 or float64 (n, 3) array in world units. Arrays go onto
     the grid a PLY of the same values gets (float32 as float, float64 as double), so they build what that PLY
     builds. With arrays: rgb uint8 or uint16 (n, 3), intensity uint16 (n,), classification uint8 (n,) (kept as one
-    extra byte per point). progress(stage, fraction) may return False to cancel.
+    extra byte per point). format="3dtiles": tiles_version "1.1" (glTF tiles, placed on the globe when the cloud
+    has a CRS; crs="EPSG:N" or WKT overrides the input's) or "1.0" (.pnts). bounds=(min x, y, z, max x, y, z):
+    only a LAS or LAZ file's points in that box (a COPC file decodes only the chunks that meet it).
+    progress(stage, fraction) may return False to cancel.
     """
     _points_build(_default.device(device), source, out, format, depth, max_node_points, rgb, intensity,
-                  classification, progress)
+                  classification, progress, tiles_version, crs, bounds)
 
 
 class PointHierarchy:

@@ -1,5 +1,5 @@
 import os
-from typing import Any, Callable, Optional, Union
+from typing import Any, Callable, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -10,7 +10,8 @@ def build(source: Union[str, bytes, os.PathLike, npt.NDArray[np.floating]], out:
           format: str = "mvx", depth: int = 0, max_node_points: int = 16384,
           rgb: Optional[npt.NDArray[Union[np.uint8, np.uint16]]] = None,
           intensity: Optional[npt.NDArray[np.uint16]] = None, classification: Optional[npt.NDArray[np.uint8]] = None,
-          device: Optional[Device] = None, progress: Optional[Callable[[str, float], Optional[bool]]] = None) -> None: ...
+          tiles_version: str = "1.1", crs: Optional[str] = None,
+          bounds: Optional[Tuple[float, float, float, float, float, float]] = None, device: Optional[Device] = None, progress: Optional[Callable[[str, float], Optional[bool]]] = None) -> None: ...
 
 class PointHierarchy:
     info: dict[str, Any]

@@ -1,6 +1,6 @@
 // megavox.points: point hierarchies built from a file or from arrays, and read back as arrays.
+#include <array>
 #include <memory>
-#include <vector>
 
 #include "devices.h"
 
@@ -25,13 +25,25 @@ void check_count(py::ssize_t rows_given, size_t n, const char* name) {
 
 void build(const Device& device, const py::object& source, const py::object& out, const std::string& format,
            uint32_t depth, uint32_t max_node_points, const py::object& rgb, const py::object& intensity,
-           const py::object& classification, const py::object& progress_fn) {
+           const py::object& classification, const py::object& progress_fn, const std::string& tiles_version,
+           const py::object& crs, const py::object& bounds) {
   const MvDevice d = device.get();
   const std::string output = fspath(out);
   Progress progress(progress_fn);
   MvPointBuildArguments args;
   mvInitPointBuildArguments(&args);
   args.format = format.c_str();
+  args.tilesVersion = tiles_version.c_str();
+  const std::string crs_text = crs.is_none() ? std::string() : crs.cast<std::string>();
+  if (!crs.is_none()) args.crs = crs_text.c_str();
+  std::array<double, 6> box{};
+  if (!bounds.is_none()) {
+    const py::sequence values = py::reinterpret_borrow<py::sequence>(bounds);
+    if (!py::isinstance<py::sequence>(bounds) || py::len(values) != 6)
+      throw py::value_error("bounds: six numbers, (min x, y, z, max x, y, z)");
+    for (size_t k = 0; k < 6; ++k) box[k] = py::float_(values[k]).cast<double>();
+    args.bounds = box.data();
+  }
   args.depth = depth;
   args.maxNodePoints = max_node_points;
   args.progress = progress.function();
@@ -170,7 +182,7 @@ py::tuple open_points(const Device& device, const py::object& path_obj) {
 void bind_points(py::module_& m) {
   m.def("_points_build", &build, py::arg("device"), py::arg("source"), py::arg("out"), py::arg("format"),
         py::arg("depth"), py::arg("max_node_points"), py::arg("rgb"), py::arg("intensity"), py::arg("classification"),
-        py::arg("progress"));
+        py::arg("progress"), py::arg("tiles_version"), py::arg("crs"), py::arg("bounds"));
   m.def("_points_open", &open_points, py::arg("device"), py::arg("path"));
 }
 

@@ -33,7 +33,9 @@ TEST(CApiDevices, TheListIsTheRuntimesWithOneDefault) {
     EXPECT_EQ(d[i].type, all[i].type);
     EXPECT_EQ(d[i].memoryBytes, all[i].global_memory_bytes);
     defaults += d[i].isDefault;
-    if (d[i].isDefault) EXPECT_EQ(d[i].selector, select_device("").selector());
+    if (d[i].isDefault) {
+      EXPECT_EQ(d[i].selector, select_device("").selector());
+    }
   }
   EXPECT_EQ(defaults, all.empty() ? 0 : 1);
   if (!all.empty()) {  // a short buffer gets the first ones, and the count

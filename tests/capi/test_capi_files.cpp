@@ -115,6 +115,28 @@ TEST_P(CApiFilesTest, PointBuildFailuresComeWithTheirCodes) {
   mvInitPointBuildArguments(&a);
   a.byteSize = 4;
   EXPECT_EQ(mvBuildPointsFile(dev.handle, cloud.c_str(), out.c_str(), &a), MV_ERROR_INVALID_ARGUMENT);
+  // A caller built against the struct before its tiles' options still builds, with their defaults.
+  mvInitPointBuildArguments(&a);
+  a.byteSize = offsetof(MvPointBuildArguments, tilesVersion);
+  a.tilesVersion = "2.0";  // not read: past the caller's struct
+  const std::string older = temp_path("capi_older_args.mvx");
+  EXPECT_EQ(mvBuildPointsFile(dev.handle, cloud.c_str(), older.c_str(), &a), MV_ERROR_NONE) << last_error(dev.handle, &m);
+  fs::remove(older);
+  mvInitPointBuildArguments(&a);
+  a.format = "3dtiles";
+  a.tilesVersion = "2.0";
+  EXPECT_EQ(mvBuildPointsFile(dev.handle, cloud.c_str(), temp_path("capi_tiles2").c_str(), &a), MV_ERROR_INVALID_ARGUMENT);
+  mvInitPointBuildArguments(&a);
+  const double inverted[6] = {1, 0, 0, 0, 1, 1};
+  a.bounds = inverted;
+  EXPECT_EQ(mvBuildPointsFile(dev.handle, cloud.c_str(), out.c_str(), &a), MV_ERROR_INVALID_ARGUMENT);
+  mvInitPointBuildArguments(&a);
+  a.format = "3dtiles";
+  a.crs = "EPSG:999999";
+  EXPECT_EQ(mvBuildPointsFile(dev.handle, cloud.c_str(), temp_path("capi_tiles_crs").c_str(), &a), MV_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(last_error(dev.handle, &m), MV_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(m.find("EPSG:999999"), std::string::npos) << m;
+  EXPECT_FALSE(fs::exists(temp_path("capi_tiles_crs")));
   mvInitPointBuildArguments(&a);
   EXPECT_EQ(mvBuildPointsFile(dev.handle, "/no/such/cloud.ply", out.c_str(), &a), MV_ERROR_IO);  // cannot open
   EXPECT_EQ(mvBuildPointsFile(dev.handle, cloud.c_str(), "/no/such/folder/x.mvx", &a), MV_ERROR_IO);

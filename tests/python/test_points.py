@@ -237,3 +237,30 @@ def test_las_fields_travel_by_name(tmp_path, device):
     assert np.array_equal(np.sort(gps), np.sort(np.ascontiguousarray(records[:, 20:28]).view("<f8")[:, 0]))
     with pytest.raises(KeyError, match="no field 'colour'"):
         h.field("colour")
+
+
+def test_tiles_version_crs_and_bounds(tmp_path, device):
+    laz = _shared_data("pointcloud_laz/autzen_trim.laz")
+    for version in ("1.1", "1.0"):
+        out = tmp_path / f"t{version}"
+        points.build(laz, str(out), format="3dtiles", tiles_version=version, device=device)
+        tileset = json.loads((out / "tileset.json").read_text())
+        assert tileset["asset"]["version"] == version
+        assert ("transform" in tileset["root"]) == (version == "1.1")  # 1.1 placed through the file's CRS
+    with pytest.raises(megavox.Error, match="EPSG:999999"):
+        points.build(laz, str(tmp_path / "bad"), format="3dtiles", crs="EPSG:999999", device=device)
+    assert not (tmp_path / "bad").exists()
+    # A box over the western half: fewer points, all inside it.
+    whole = points.open(_build(laz, tmp_path / "whole.mvx", device), device=device)
+    x0, x1 = whole.xyz[:, 0].min(), whole.xyz[:, 0].max()
+    box = (x0, -1e12, -1e12, (x0 + x1) / 2, 1e12, 1e12)
+    part = points.open(_build(laz, tmp_path / "part.mvx", device, bounds=box), device=device)
+    assert 0 < part.info["points_kept"] < whole.info["points_kept"]
+    assert (part.xyz[:, 0] <= box[3]).all()
+    with pytest.raises(ValueError, match="six numbers"):
+        points.build(laz, str(tmp_path / "x.mvx"), bounds=(1, 2, 3), device=device)
+
+
+def _build(source, out, device, **options):
+    points.build(source, str(out), device=device, **options)
+    return out

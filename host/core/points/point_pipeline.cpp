@@ -172,7 +172,13 @@ std::string check_output(const PointFileOptions& o) {
   std::error_code size_error;
   const uint64_t input_bytes = std::filesystem::file_size(o.input, size_error);
   const bool file = o.format != PointOutput::tiles3d;
-  if (!o.crs.empty()) io::check_crs(o.crs);  // a wrong --crs costs nothing
+  if (!o.crs.empty()) {  // a wrong --crs costs nothing
+    try {
+      io::check_crs(o.crs);
+    } catch (const Error& e) {
+      throw CodedError(ErrorCode::invalid_argument, e.what());
+    }
+  }
   return io::resolve_output({o.output, file ? io::OutputKind::kFile : io::OutputKind::kFolder, file ? "mvx" : "",
                              {o.arrays ? std::string() : o.input}, size_error ? 0 : input_bytes / 2, o.no_clobber});
 }

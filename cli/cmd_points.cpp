@@ -95,7 +95,8 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
   cmd->add_option("--sort-ranges", a->sort_ranges,
                   "Parts of the in-memory sort the builder takes while the rest sorts (1: after the whole sort)")
       ->capture_default_str();
-  cmd->add_flag("--skip-extra-bytes", a->skip_extra, "Do not carry a LAS file's extra bytes per point");
+  cmd->add_flag("--skip-attributes,--skip-extra-bytes", a->skip_extra,
+                "Do not carry a LAS file's attribute record (classification, returns, GPS time, ..., extra bytes)");
   cmd->add_option("--bounds", a->bounds,
                   "LAS and LAZ: only the points in MINX,MINY,MINZ,MAXX,MAXY,MAXZ (world units); a COPC file "
                   "decodes only the chunks whose octree node meets the box");

@@ -48,12 +48,3 @@ void PointColumns::append(const PointColumns& from, uint64_t i, uint32_t extra_b
 }
 
 }  // namespace mv
-
-namespace mv {
-
-const char* point_field_type_name(PointFieldType t) {
-  constexpr const char* kName[] = {"u8", "i8", "u16", "i16", "u32", "i32", "u64", "i64", "f32", "f64"};
-  return kName[static_cast<int>(t)];
-}
-
-}  // namespace mv

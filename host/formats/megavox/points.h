@@ -29,7 +29,10 @@ inline uint32_t point_field_size(PointFieldType t) {
   return kSize[static_cast<int>(t)];
 }
 // "u8", "f64", ...: the name .mvx and the docs use.
-const char* point_field_type_name(PointFieldType t);
+inline const char* point_field_type_name(PointFieldType t) {
+  constexpr const char* kName[] = {"u8", "i8", "u16", "i16", "u32", "i32", "u64", "i64", "f32", "f64"};
+  return kName[static_cast<int>(t)];
+}
 
 // A named per-point value inside the attribute record (PointColumns::extra): LAS's fields beyond position,
 // intensity and colour (return_number, number_of_returns, classification, classification_flags,

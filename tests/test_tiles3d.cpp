@@ -21,13 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const io::Tiles3dOptions kTiles10{0, "", true};  // 3D Tiles 1.0, the input's own CRS
 
-std::string octant_path(uint64_t code, uint32_t level) {
-  std::string s = "r";
-  for (uint32_t l = level; l-- > 0;) s += char('0' + ((code >> (3 * l)) & 7));
-  return s;
-}
 
 double world(const PointHierarchy& h, uint64_t point, int a) {
   return h.source.offset[a] + h.source.scale[a] * double(h.points.xyz[3 * point + a]);
@@ -43,15 +37,10 @@ struct Seen {
 void check_tile(const PointHierarchy& h, const std::string& dir, int colour_shift, const json& t, size_t i,
                 double parent_error, const std::vector<double>* parent_box, Seen& seen) {
   const PointNode& n = h.nodes[i];
-  SCOPED_TRACE("tile " + octant_path(n.code, n.level));
+  SCOPED_TRACE("tile " + tile_name(n.code, n.level));
   ++seen.tiles;
   const double error = t.at("geometricError");
-  EXPECT_LT(error, parent_error);
-  if (n.leaf()) {
-    EXPECT_EQ(error, 0.0);
-  } else {
-    EXPECT_GT(error, 0.0);
-  }
+  expect_error_falls(n, error, parent_error);
 
   const std::vector<double> box = t.at("boundingVolume").at("box");
   ASSERT_EQ(box.size(), 12u);
@@ -79,7 +68,7 @@ void check_tile(const PointHierarchy& h, const std::string& dir, int colour_shif
     EXPECT_FALSE(t.contains("content"));
   } else {
     const std::string uri = t.at("content").at("uri");
-    EXPECT_EQ(uri, "tiles/" + octant_path(n.code, n.level) + ".pnts");
+    EXPECT_EQ(uri, "tiles/" + tile_name(n.code, n.level) + ".pnts");
     const PntsRead p = read_pnts(dir + "/" + uri);
     ++seen.files;
     EXPECT_TRUE(p.magic_ok);

@@ -1,5 +1,7 @@
 #include "tiles3d_fixture.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -221,6 +223,21 @@ double synthetic_value(const PointHierarchy& h, const SyntheticProperty& p, uint
     case PointFieldType::f64: load(double{}); break;
   }
   return v * f.scale + f.add;
+}
+
+std::string tile_name(uint64_t code, uint32_t level) {
+  std::string s = "r";
+  for (uint32_t l = level; l-- > 0;) s += char('0' + ((code >> (3 * l)) & 7));
+  return s;
+}
+
+void expect_error_falls(const PointNode& n, double error, double parent_error) {
+  EXPECT_LT(error, parent_error);
+  if (n.leaf()) {
+    EXPECT_EQ(error, 0.0);
+  } else {
+    EXPECT_GT(error, 0.0);
+  }
 }
 
 }  // namespace mv::test

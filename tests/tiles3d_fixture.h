@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/tiles3d_writer.h"
 #include "megavox/points.h"
 
 namespace mv::test {
@@ -44,5 +45,13 @@ std::vector<SyntheticProperty> synthetic_properties(const PointHierarchy& h);
 std::vector<std::string> synthetic_skipped(const PointHierarchy& h);
 // Stored point `point`'s value of `p` (value * scale + add for a scaled field).
 double synthetic_value(const PointHierarchy& h, const SyntheticProperty& p, uint64_t point);
+
+// 3D Tiles 1.0 in the input's own CRS (the writer's options).
+inline const io::Tiles3dOptions kTiles10{0, "", true};
+
+// A node's tile name: "r", then one octant digit per level ("r07").
+std::string tile_name(uint64_t code, uint32_t level);
+// A tile's geometric error against its parent's: always falling, 0 exactly at the leaves (gtest expectations).
+void expect_error_falls(const PointNode& n, double error, double parent_error);
 
 }  // namespace mv::test

@@ -75,6 +75,14 @@ int read_fault() {
 }
 }  // namespace
 
+std::vector<uint8_t> read_at(std::FILE* f, uint64_t at, uint64_t n, const std::string& path) {
+  std::vector<uint8_t> out(n);
+  if (fseeko(f, static_cast<off_t>(at), SEEK_SET) != 0)
+    throw Error(path + ": cannot seek to byte " + std::to_string(at) + ": " + std::strerror(errno));
+  if (read_some(f, out.data(), n, path) != n) throw Error(path + ": the file ended early, at byte " + std::to_string(at));
+  return out;
+}
+
 size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path) {
   size_t want = bytes;
   switch (read_fault()) {

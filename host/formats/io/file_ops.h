@@ -52,6 +52,9 @@ void clear();
 // Up to `bytes` from `f`: fewer only at the end of the file. A read error throws mv::Error
 // "PATH: read error: ...".
 size_t read_some(std::FILE* f, void* data, size_t bytes, const std::string& path);
+// Exactly `n` bytes of `f` from byte `at`: mv::Error "PATH: cannot seek to byte AT: ..." or "PATH: the file
+// ended early, at byte AT", read errors as read_some's.
+std::vector<uint8_t> read_at(std::FILE* f, uint64_t at, uint64_t n, const std::string& path);
 // The first `n` bytes of a file (fewer when it is shorter), to tell its format; mv::Error when it cannot be
 // opened or read.
 std::string first_bytes(const std::string& path, size_t n);

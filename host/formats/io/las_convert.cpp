@@ -35,13 +35,6 @@ const char* compressor_name(laz::Compressor c) {
   }
 }
 
-std::vector<uint8_t> bytes_at(std::FILE* f, const std::string& path, uint64_t at, uint64_t n) {
-  std::vector<uint8_t> out(n);
-  if (fseeko(f, static_cast<off_t>(at), SEEK_SET) != 0)
-    throw Error(path + ": cannot seek to byte " + num(at) + ": " + std::strerror(errno));
-  if (read_some(f, out.data(), n, path) != n) throw Error(path + ": the file ended early, at byte " + num(at));
-  return out;
-}
 
 bool is_copc_record(const uint8_t* user_id) { return std::memcmp(user_id, "copc", 5) == 0; }
 
@@ -114,7 +107,7 @@ class Records {
 // The header and VLRs of the plain copy: LASzip's record dropped, the offsets and the format byte rewritten.
 std::vector<uint8_t> plain_head(Records& in, const std::string& path) {
   const detail::LasHeader& h = in.header();
-  std::vector<uint8_t> head = bytes_at(in.file(), path, 0, h.point_offset);
+  std::vector<uint8_t> head = read_at(in.file(), 0, h.point_offset, path);
   std::vector<uint8_t> out(head.begin(), head.begin() + h.header_size);
   uint64_t at = h.header_size;
   uint32_t kept = 0;
@@ -142,11 +135,11 @@ std::pair<std::vector<uint8_t>, uint32_t> plain_evlrs(Records& in, const std::st
   uint32_t kept = 0;
   uint64_t at = h.evlr_start;
   for (uint32_t k = 0; k < h.evlr_count; ++k) {  // bounded by read_las_header
-    const std::vector<uint8_t> head = bytes_at(in.file(), path, at, kEvlrHeader);
+    const std::vector<uint8_t> head = read_at(in.file(), at, kEvlrHeader, path);
     uint64_t length = 0;
     for (int i = 7; i >= 0; --i) length = (length << 8) | head[20 + i];
     if (!is_copc_record(&head[2])) {
-      const std::vector<uint8_t> body = bytes_at(in.file(), path, at + kEvlrHeader, length);
+      const std::vector<uint8_t> body = read_at(in.file(), at + kEvlrHeader, length, path);
       out.insert(out.end(), head.begin(), head.end());
       out.insert(out.end(), body.begin(), body.end());
       ++kept;

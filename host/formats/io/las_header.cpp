@@ -72,13 +72,7 @@ class HeaderReader {
  private:
   [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
 
-  std::vector<unsigned char> bytes_at(uint64_t at, uint64_t n) const {
-    std::vector<unsigned char> out(n);
-    if (fseeko(file_, static_cast<off_t>(at), SEEK_SET) != 0)
-      fail("cannot seek to byte " + num(at) + ": " + std::strerror(errno));
-    if (io::read_some(file_, out.data(), n, path_) != n) fail("the file ended early, at byte " + num(at));
-    return out;
-  }
+  std::vector<unsigned char> bytes_at(uint64_t at, uint64_t n) const { return io::read_at(file_, at, n, path_); }
 
   std::string version() const { return "LAS " + num(h_.version_major) + "." + num(h_.version_minor); }
 

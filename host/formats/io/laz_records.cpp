@@ -79,15 +79,7 @@ size_t LazRecords::read(uint8_t* out, size_t count) {
 }
 
 std::vector<uint8_t> LazRecords::chunk_bytes(size_t c) {
-  const laz::Chunk& k = chunks_[c];
-  std::vector<uint8_t> bytes(k.bytes);
-  if (fseeko(file_, static_cast<off_t>(k.offset), SEEK_SET) != 0)
-    throw Error(path_ + ": cannot seek to LAZ chunk " + num(c) + " at byte " + num(k.offset) + ": " +
-                std::strerror(errno));
-  if (read_some(file_, bytes.data(), k.bytes, path_) != k.bytes)
-    throw Error(path_ + ": truncated LAZ: chunk " + num(c) + " (" + num(k.bytes) + " bytes from byte " +
-                num(k.offset) + ") runs past the end of the file");
-  return bytes;
+  return read_at(file_, chunks_[c].offset, chunks_[c].bytes, path_);  // read_chunks placed it inside the file
 }
 
 [[noreturn]] void LazRecords::chunk_failed(size_t c, const laz::LazError& e) const {

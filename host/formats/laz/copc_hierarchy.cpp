@@ -64,10 +64,7 @@ std::vector<CopcNode> read_copc_nodes(std::FILE* file, const std::string& path, 
     if (offset > file_size || size > file_size - offset)
       fail("the page at byte " + num(offset) + " (" + num(size) + " bytes) runs past the end of the file");
     if (!seen.insert(offset).second) fail("the page at byte " + num(offset) + " is listed twice");
-    std::vector<uint8_t> page(size);
-    if (fseeko(file, static_cast<off_t>(offset), SEEK_SET) != 0)
-      throw Error(path + ": cannot seek to byte " + num(offset) + ": " + std::strerror(errno));
-    if (io::read_some(file, page.data(), size, path) != size) fail("the file ended inside the page at byte " + num(offset));
+    const std::vector<uint8_t> page = io::read_at(file, offset, size, path);  // inside the file: checked above
     for (uint64_t at = 0; at < size; at += kCopcEntryBytes) {
       const uint8_t* e = page.data() + at;
       CopcNode n;

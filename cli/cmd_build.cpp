@@ -16,6 +16,7 @@
 #include "megavox/build.h"
 #include "megavox/error.h"
 #include "megavox/ranks.h"
+#include "rank_checks.h"
 
 namespace mv::cli {
 
@@ -133,14 +134,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
     const bool lead = world.rank == 0;
     std::optional<dist::CubeRanks> ranks;
     if (world.size > 1) {
-      // Every rank reads the input: one that cannot is found before any work, and named.
-      const std::vector<int> blind = dist::ranks_failing(std::ifstream(o.input, std::ios::binary).good());
-      if (!blind.empty()) {
-        std::string names;
-        for (int r : blind) names += (names.empty() ? "" : ", ") + std::to_string(r);
-        throw IoError(o.input + ": rank" + (blind.size() > 1 ? "s " : " ") + names +
-                      " cannot read it, and every rank reads the input; nothing was built");
-      }
+      check_every_rank_reads(o.input);
       ranks.emplace(world);
       o.ranks = &ranks->build_ranks();
     }

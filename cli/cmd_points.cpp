@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <optional>
 #include <cstdio>
 #include <iostream>
 
@@ -16,6 +18,8 @@
 #include "megavox/point_render.h"
 #include "megavox/render.h"
 #include "option_words.h"
+#include "megavox/ranks.h"
+#include "rank_checks.h"
 
 namespace mv::cli {
 
@@ -45,6 +49,24 @@ nlohmann::json report_json(const PointFileReport& r) {
           {"points_per_second", r.points_per_second},
           {"sort_runs", r.sort_runs},
           {"out_of_core", r.out_of_core}};
+}
+
+// A build over ranks: what each rank read, built and exchanged, and the join's share of rank 0's wall time.
+nlohmann::json point_ranks_json(const PointFileReport& r, const std::vector<dist::RankReport>& ranks) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& rr : ranks)
+    list.push_back({{"seconds", rr.seconds}, {"points", rr.points}, {"points_read", rr.points_read},
+                    {"bytes_read", rr.bytes_read}, {"bytes_exchanged", rr.bytes_exchanged},
+                    {"peak_memory_bytes", rr.peak_memory_bytes}});
+  const double wall = ranks.empty() ? 0 : ranks[0].seconds;
+  return {{"ranks", list}, {"merge_share", wall > 0 ? r.ranks.join_seconds / wall : 0}};
+}
+
+void print_point_ranks(const std::vector<dist::RankReport>& ranks) {
+  for (size_t i = 0; i < ranks.size(); ++i)
+    std::printf("  rank %zu: read %llu points, built %llu, %s exchanged, %.2f s\n", i,
+                (unsigned long long)ranks[i].points_read, (unsigned long long)ranks[i].points,
+                format_bytes(ranks[i].bytes_exchanged).c_str(), ranks[i].seconds);
 }
 
 void print_levels(const std::vector<uint64_t>& per_level) {
@@ -123,14 +145,39 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     o.memory = a->memory.empty() ? 0 : parse_size(a->memory);
     o.carry_extra_bytes = !a->skip_extra;
     if (!a->bounds.empty()) o.bounds = parse_bounds(a->bounds);
-    check_output(o);  // before the device opens
-    auto dev = open_device(g);
-    const bool bar = !a->quiet && isatty(STDERR_FILENO);
+    // Under mpirun: every rank builds a share; rank 0 writes the output and reports.
+    const dist::World& world = dist::world();
+    const bool lead = world.rank == 0;
+    std::optional<RankCollectives> ranks;
+    if (world.size > 1) {
+      if (o.bounds)
+        throw CodedError(ErrorCode::invalid_argument,
+                         "points build: --bounds is not spread over ranks; run it in one process (without mpirun)");
+      check_every_rank_reads(o.input);
+      ranks = dist::collectives(world);
+      o.ranks = &*ranks;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    if (lead) check_output(o);  // before the device opens
+    auto dev = open_device(g, a->quiet || !lead);
+    const bool bar = !a->quiet && lead && isatty(STDERR_FILENO);
     ParallelismMeter meter(*dev);
     if (g.profile) meter.start();
     PointFileReport r = build_points_file(*dev, o, progress_bar(bar));
     if (bar) std::fprintf(stderr, "\n");
+    std::vector<dist::RankReport> rank_reports;
+    if (ranks) {
+      dist::RankReport mine;
+      mine.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      mine.points = r.ranks.points_built;
+      mine.points_read = r.ranks.points_read;
+      mine.bytes_read = r.ranks.bytes_read;
+      mine.bytes_exchanged = r.ranks.bytes_exchanged;
+      rank_reports = dist::gather_reports(mine);
+      if (!lead) return;
+    }
     nlohmann::json j = a->json ? report_json(r) : nlohmann::json();
+    if (a->json && ranks) j.update(point_ranks_json(r, rank_reports));
     if (g.profile) {
       const Parallelism p = meter.stop(r.read_seconds + r.write_seconds);
       if (a->json) j["parallelism"] = parallelism_json(p);
@@ -138,6 +185,7 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     }
     if (a->json) std::cout << j.dump(2) << "\n";
     else print_report(r);
+    if (!a->json && ranks) print_point_ranks(rank_reports);
   });
 }
 

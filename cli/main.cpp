@@ -158,10 +158,14 @@ int mv::cli::run(int argc, char** argv, const mv::dist::World& world) {
     for (int i = 1; i < argc && verb.empty(); ++i)
       for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
         if (sub->get_name() == argv[i]) verb = argv[i];
-    if (verb != "build") {
+    // `points build` too: the word after `points` names its verb
+    bool points_build = false;
+    for (int i = 1; i + 1 < argc; ++i)
+      if (std::string(argv[i]) == "points") points_build = std::string(argv[i + 1]) == "build";
+    if (verb != "build" && !(verb == "points" && points_build)) {
       fail(mv::ErrorCode::invalid_argument, "`megavox " + (verb.empty() ? std::string("...") : verb) +
-                                                "` runs in one process; under mpirun only `megavox build` runs, "
-                                                "spread over the ranks");
+                                                "` runs in one process; under mpirun only `megavox build` and "
+                                                "`megavox points build` run, spread over the ranks");
       return 1;
     }
   }

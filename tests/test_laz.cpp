@@ -148,6 +148,26 @@ TEST(Laz, ColumnsDoNotDependOnThreadsOrBatches) {
   EXPECT_NE(a.info.format.find("LAZ 1.4, point format 8"), std::string::npos) << a.info.format;
 }
 
+// skip(n) passes over whole chunks unread and decodes the rest of a chunk it ends in: the points after it are
+// the whole read's (a build over ranks reads its slice so).
+TEST(Laz, SkipPassesOverWholeChunksUnread) {
+  MV_SKIP_WITHOUT_SHARED_DATA("pointcloud_laz/autzen_trim.laz");
+  const std::string laz = laz_file("autzen_trim.laz");
+  const auto whole = mv::test::points::read_cloud(laz);
+  const uint64_t n = whole.info.points;
+  for (uint64_t k : {uint64_t{0}, uint64_t{50000}, uint64_t{50001}, n - 1, n, n + 10}) {
+    auto src = mv::io::open_points(laz);
+    const uint64_t unread = src->skip(k);
+    EXPECT_EQ(unread, k >= n ? n : k / 50000 * 50000) << k;  // its chunks hold 50,000 points (the last fewer)
+    mv::PointColumns rest;
+    while (src->next(rest, 4096)) {}
+    const uint64_t from = std::min(k, n);
+    ASSERT_EQ(rest.size(), n - from) << k;
+    EXPECT_TRUE(std::equal(rest.xyz.begin(), rest.xyz.end(), whole.points.xyz.begin() + 3 * from)) << k;
+    EXPECT_TRUE(std::equal(rest.extra.begin(), rest.extra.end(), whole.points.extra.begin() + whole.info.extra_bytes * from)) << k;
+  }
+}
+
 // laz-perf in node: the independent decoder of every staged LAZ file it reads (it has no version-1 items).
 TEST(Laz, EveryRecordEqualsLazPerfs) {
   MV_SKIP_WITHOUT_SHARED_DATA("pointcloud_laz/simple.laz");

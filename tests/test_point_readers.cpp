@@ -197,6 +197,37 @@ TEST(LasPoints, GapBeforePointsTinyBufferAndEmptyCloud) {
             std::string::npos);
 }
 
+// skip(n) passes over n points as next() would: an uncompressed LAS seeks (the next points are the same), a PLY
+// reader reads them; past the end it stops there. LAZ's chunks: test_laz.cpp.
+TEST(PointReaders, SkipPassesOverPoints) {
+  LasSpec spec;
+  spec.extra_bytes = 2;
+  const std::string las = write_file("skip.las", make_las(spec, las_points(300, 2, 11)));
+  const Cloud whole = read_cloud(las);
+  const uint32_t record = whole.info.extra_bytes;
+  for (uint64_t k : {0u, 1u, 137u, 299u, 300u, 1000u}) {
+    auto src = mv::io::open_points(las);
+    EXPECT_EQ(src->skip(k), std::min<uint64_t>(k, 300));
+    PointColumns rest;
+    while (src->next(rest, 64)) {}
+    const uint64_t from = std::min<uint64_t>(k, 300);
+    ASSERT_EQ(rest.size(), 300 - from) << k;
+    EXPECT_TRUE(std::equal(rest.xyz.begin(), rest.xyz.end(), whole.points.xyz.begin() + 3 * from)) << k;
+    EXPECT_TRUE(std::equal(rest.extra.begin(), rest.extra.end(), whole.points.extra.begin() + record * from)) << k;
+  }
+  std::vector<PlyColumn> cols{{"float", "x", {}}, {"float", "y", {}}, {"float", "z", {}}};
+  for (int i = 0; i < 50; ++i)
+    for (auto& c : cols) c.values.push_back(i * 0.5 + (c.name == "y"));
+  const std::string ply = write_file("skip.ply", make_cloud_ply(Fmt::le, cols));
+  auto src = mv::io::open_points(ply);
+  EXPECT_EQ(src->skip(20), 0u);  // read, not sought
+  PointColumns rest;
+  while (src->next(rest, 7)) {}
+  ASSERT_EQ(rest.size(), 30u);
+  const Cloud all = read_cloud(ply);
+  EXPECT_TRUE(std::equal(rest.xyz.begin(), rest.xyz.end(), all.points.xyz.begin() + 60));
+}
+
 // ---------------------------------------------------------------------------------------------------
 // PLY
 

@@ -8,6 +8,7 @@
 
 #include "io/cube_parts.h"
 #include "megavox/error.h"
+#include "megavox/rank_collectives.h"
 #include "megavox/ranks.h"
 
 #if MEGAVOX_HAVE_MPI
@@ -28,20 +29,6 @@ uint64_t peak_rss() {
 
 }  // namespace
 
-std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_voxels, int ranks) {
-  uint64_t total = 0;
-  for (uint64_t t : cube_voxels) total += t;
-  std::vector<int> owner(cube_voxels.size(), 0);
-  uint64_t before = 0;  // estimated voxels of the cubes before this one
-  for (size_t c = 0; c < cube_voxels.size(); ++c) {
-    // the rank whose equal share holds this cube's first voxel: contiguous ranges in Morton order
-    const uint64_t r = total == 0 ? 0 : static_cast<uint64_t>((unsigned __int128)before * ranks / total);
-    owner[c] = static_cast<int>(std::min<uint64_t>(r, ranks - 1));
-    before += cube_voxels[c];
-  }
-  return owner;
-}
-
 #if MEGAVOX_HAVE_MPI
 
 struct CubeRanks::Pending {
@@ -52,7 +39,7 @@ struct CubeRanks::Pending {
 CubeRanks::CubeRanks(const World& w) : world_(w) {
   ranks_.writes = w.rank == 0;
   ranks_.exchange = [this](const std::vector<uint64_t>& cube_voxels) {
-    owner_ = deal_cubes(cube_voxels, world_.size);
+    owner_ = deal_in_order(cube_voxels, world_.size);
     for (size_t c = 0; c < owner_.size(); ++c)
       if (owner_[c] == world_.rank) report.cubes += 1, report.voxel_estimate += cube_voxels[c];
     CubeExchange ex;

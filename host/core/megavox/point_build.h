@@ -12,6 +12,7 @@
 #include "megavox/device.h"
 #include "megavox/points.h"
 #include "megavox/primitives.h"
+#include "megavox/rank_collectives.h"
 
 namespace mv {
 
@@ -85,6 +86,19 @@ struct PointFileOptions {
   bool no_clobber = false;  // refuse to replace an existing output (an input is never replaced)
   // Set: the cloud is these arrays (the C API's build from memory), named `input` in messages; never out of core.
   const PointArrays* arrays = nullptr;
+  // Set with more than one rank: this process is one rank of a build spread over several (mpirun); rank 0
+  // writes the output, the bytes one process writes (docs/distributed.md).
+  const RankCollectives* ranks = nullptr;
+};
+
+// One rank's share of a build spread over ranks.
+struct PointRankCounts {
+  uint64_t points_read = 0;      // its slice of the input
+  uint64_t points_built = 0;     // in the cells dealt to it, whose subtrees it built
+  uint64_t bytes_read = 0;       // of the input file: its slice's share of the file (all before it too where the
+                                 // format cannot seek to a point)
+  uint64_t bytes_exchanged = 0;  // sent to and received from other ranks
+  double join_seconds = 0;       // rank 0: the levels above the dealt cells, and the gather into node order
 };
 
 struct PointFileReport {
@@ -97,6 +111,7 @@ struct PointFileReport {
   bool out_of_core = false;      // sorted in runs on disk (the cloud did not fit --memory), then merged
   uint64_t sort_runs = 1;
   PointBuildReport build;
+  PointRankCounts ranks;  // a build over ranks: this rank's counts
 };
 
 // Every point of a cloud file (PLY, LAS) in memory, and what the file says of them.

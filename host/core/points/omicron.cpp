@@ -26,6 +26,47 @@ OmicronBuilder::OmicronBuilder(Device& dev, const OmicronRule& rule)
     : dev_(dev), rule_(rule), levels_(rule.depth + 1), parented_(rule.depth + 1, 0) {
   if (rule.depth > 21) throw Error("points: depth " + std::to_string(rule.depth) + " is over 21, the deepest level 63-bit Morton codes hold");
   if (rule.max_node_points == 0) throw CodedError(ErrorCode::invalid_argument, "points: the node point limit must be at least 1", setting_max_node_points);
+  if (rule.top_level > rule.depth) throw Error("points: internal error: the top level is below the leaves");
+}
+
+OmicronPart OmicronBuilder::take_part() {
+  OmicronPart part;
+  part.top_level = rule_.top_level;
+  part.points = formed_;
+  for (uint32_t l = rule_.top_level; l <= rule_.depth; ++l) part.levels.push_back(std::move(levels_[l]));
+  part.reps = std::move(reps_);
+  return part;
+}
+
+void OmicronBuilder::join(OmicronPart&& part, uint64_t first_point) {
+  if (part.levels.size() != rule_.depth + 1 - part.top_level || part.top_level == 0 ||
+      (joined_top_ != 0 && joined_top_ != part.top_level) || first_point != formed_)
+    throw Error("points: internal error: a rank's part does not fit the join");
+  joined_top_ = part.top_level;
+  const uint64_t rep_offset = reps_.size();
+  // A node's children are the next nodes of the level below: count from where this part's start there.
+  std::vector<uint64_t> below(part.levels.size() + 1, 0);
+  for (uint32_t l = part.top_level; l <= rule_.depth; ++l) below[l - part.top_level] = l < rule_.depth ? levels_[l + 1].size() : 0;
+  for (uint32_t l = part.top_level; l <= rule_.depth; ++l) {
+    for (LodNode n : part.levels[l - part.top_level]) {
+      n.first += first_point;
+      if (n.child_mask != 0) {
+        n.rep_begin += rep_offset;
+        n.child_begin += below[l - part.top_level];
+      }
+      levels_[l].push_back(n);
+    }
+  }
+  reps_.reserve(rep_offset + part.reps.size());
+  for (uint64_t q : part.reps) reps_.push_back(q + first_point);
+  formed_ += part.points;
+}
+
+void OmicronBuilder::finish_join(std::span<const uint64_t> sorted) {
+  if (sorted.size() != formed_) throw Error("points: internal error: the join's codes are not its parts' points");
+  for (uint32_t l = joined_top_ + 1; l <= rule_.depth; ++l) parented_[l] = levels_[l].size();
+  frontier_ = uint64_t{1} << (3 * rule_.depth);
+  fix(sorted);
 }
 
 uint64_t OmicronBuilder::concatenate(std::span<const uint64_t> sorted, bool last) {
@@ -79,7 +120,7 @@ uint64_t OmicronBuilder::concatenate(std::span<const uint64_t> sorted, bool last
 
 void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
   ++stats_.fixes;
-  for (uint32_t l = rule_.depth; l >= 1; --l) {
+  for (uint32_t l = rule_.depth; l > rule_.top_level; --l) {
     std::vector<LodNode>& list = levels_[l];
     const uint32_t to_leaf = 3 * (rule_.depth - (l - 1));  // a parent's code times 8^to_leaf is its first leaf cell
     // Complete groups of sibling roots, in Morton order: a parent is complete when its span is before the frontier.

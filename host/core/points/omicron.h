@@ -24,7 +24,11 @@ struct OmicronRule {
   uint32_t depth = 0;            // the leaf level, at most 21
   uint32_t max_node_points = 0;  // leaf collapse threshold and the cap on representatives
   uint32_t grid_bits = 6;        // an inner node at level l keeps one point per cell of level l + grid_bits
+  // Parents are made down to this level only: the nodes of level top_level stay roots. A build over ranks
+  // (point_ranks.cpp) gives each rank whole subtrees of that level, and joins the levels above on rank 0.
+  uint32_t top_level = 0;
 };
+
 
 // A node of the lists: its subtree is the sorted points [first, first + points).
 struct LodNode {
@@ -46,6 +50,15 @@ struct NodePoints {
   bool reps = false;
 };
 
+// A builder's lists from its top level down, after concatenate(..., true) with rule.top_level > 0: what one
+// rank of a build over ranks sends for the join. Positions (first, reps) count from the rank's first point.
+struct OmicronPart {
+  uint32_t top_level = 0;
+  std::vector<std::vector<LodNode>> levels;  // index = level - top_level
+  std::vector<uint64_t> reps;
+  uint64_t points = 0;
+};
+
 // The flat node order those sources describe: point i of node order is sorted point order[i].
 void expand_order(std::span<const NodePoints> sources, std::span<const uint64_t> reps, std::vector<uint64_t>& order);
 
@@ -62,6 +75,14 @@ class OmicronBuilder {
   // least as long). Forms the leaves of every cell before the last one seen (all of them with `last`), then
   // fixes. Returns the frontier: leaf cells below it are complete.
   uint64_t concatenate(std::span<const uint64_t> sorted, bool last);
+
+  // The lists of rule().top_level and below (a build over ranks), after concatenate(..., true).
+  OmicronPart take_part();
+  // Appends a rank's part whose first point is sorted point `first_point` of the whole cloud (parts in Morton
+  // order, each over whole subtrees of its top level); after the last, finish_join makes the levels above with
+  // `sorted`, every code of the cloud, as one builder over the whole stream would have.
+  void join(OmicronPart&& part, uint64_t first_point);
+  void finish_join(std::span<const uint64_t> sorted);
 
   // The hierarchy's nodes in breadth-first order, after concatenate(..., true), and where each node's points
   // come from (sources[i] for nodes[i]; with reps()); the caller gathers the columns.
@@ -98,6 +119,7 @@ class OmicronBuilder {
   std::vector<uint64_t> cand_, cand_codes_;   // a selection call's candidates and their codes, reused
   uint64_t formed_ = 0;                       // sorted points already in a leaf
   uint64_t frontier_ = 0;
+  uint32_t joined_top_ = 0;  // the parts' top level, once join() took one
   OmicronStats stats_;
 };
 

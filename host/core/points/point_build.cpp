@@ -188,14 +188,7 @@ PointHierarchy build_point_hierarchy(Device& dev, PointColumns&& points, const P
   host_index = {};
   rep.gather_seconds = seconds_since(t0);
 
-  h.source = info;
-  for (int a = 0; a < 3; ++a) h.cube_min[a] = cube.min[a];
-  h.shift = cube.shift;
-  h.grid_bits = rule.grid_bits;
-  h.depth = static_cast<uint32_t>(h.nodes_per_level.size() - 1);
-  h.points_in = n;
-  h.points_kept = n;
-  h.points_dropped = 0;
+  points::set_grid_and_counts(h, info, cube, rule.grid_bits, n);
   return h;
 }
 

@@ -170,4 +170,15 @@ bool sorted_codes_in_place(Device& dev, std::span<const int32_t> xyz, const Poin
   }
 }
 
+void set_grid_and_counts(PointHierarchy& h, const PointCloudInfo& info, const PointCube& cube, uint32_t grid_bits,
+                         uint64_t points) {
+  h.source = info;
+  for (int a = 0; a < 3; ++a) h.cube_min[a] = cube.min[a];
+  h.shift = cube.shift;
+  h.grid_bits = grid_bits;
+  h.depth = static_cast<uint32_t>(h.nodes_per_level.size() - 1);
+  h.points_in = h.points_kept = points;
+  h.points_dropped = 0;
+}
+
 }  // namespace mv::points

@@ -29,6 +29,11 @@ void point_bounds(Device& dev, std::span<const int32_t> xyz, int64_t lo[3], int6
 // cube_of_bounds of point_bounds.
 PointCube cube_on_device(Device& dev, std::span<const int32_t> xyz);
 
+// A built hierarchy's grid and counts (its nodes, nodes_per_level and points set): every point of `info`'s cloud
+// kept, on the cube's grid.
+void set_grid_and_counts(PointHierarchy& h, const PointCloudInfo& info, const PointCube& cube, uint32_t grid_bits,
+                         uint64_t points);
+
 // codes[i] = the 63-bit Morton code of point i's cell, index[i] = i; computed on the device in chunks.
 void point_codes(Device& dev, std::span<const int32_t> xyz, const PointCube& cube, std::vector<uint64_t>& codes,
                  std::vector<uint32_t>& index);

@@ -9,6 +9,7 @@
 #include "io/point_source.h"
 #include "io/temp_file.h"
 #include "points/omicron.h"
+#include "points/point_ranks.h"
 #include "points/point_runs.h"
 #include "io/crs_frame.h"
 #include "io/tiles3d_writer.h"
@@ -155,14 +156,31 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
   r.build_seconds = seconds_since(t0);
   r.build.steps = builder.stats().fixes;
 
-  h.source = info;
-  for (int a = 0; a < 3; ++a) h.cube_min[a] = cube.min[a];
-  h.shift = cube.shift;
-  h.grid_bits = rule.grid_bits;
-  h.depth = static_cast<uint32_t>(h.nodes_per_level.size() - 1);
-  h.points_in = h.points_kept = n;
+  points::set_grid_and_counts(h, info, cube, rule.grid_bits, n);
   r.input_format = info.format;
   return h;
+}
+
+// Writes the hierarchy to the checked output and completes the report.
+PointFileReport write_points_output(const PointFileOptions& o, const std::string& output, PointHierarchy&& h,
+                                    PointFileReport& r, std::chrono::steady_clock::time_point start,
+                                    const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (progress) progress("write", 0);
+  if (o.format == PointOutput::mvx) write_mvx_points(output, h);
+  else io::write_3dtiles(output, h, io::Tiles3dOptions{o.tiles_minor_version, o.crs, true});
+  r.write_seconds = seconds_since(t0);  // no report after the write: a cancel there would come too late
+
+  r.points_in = h.points_in;
+  r.points_kept = h.points_kept;
+  r.points_dropped = h.points_dropped;
+  r.nodes = h.nodes.size();
+  r.stored_points = h.points.size();
+  r.depth = h.depth;
+  r.nodes_per_level = h.nodes_per_level;
+  r.total_seconds = seconds_since(start);
+  r.points_per_second = r.total_seconds > 0 ? double(r.points_in) / r.total_seconds : 0;
+  return r;
 }
 
 }  // namespace
@@ -184,7 +202,9 @@ std::string check_output(const PointFileOptions& o) {
 }
 
 PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const Progress& progress) {
-  const std::string output = check_output(o);
+  const bool spread = o.ranks && o.ranks->size > 1 && !o.arrays;
+  const bool writes = !spread || o.ranks->rank == 0;
+  const std::string output = writes ? check_output(o) : std::string();
   const auto start = std::chrono::steady_clock::now();
   PointFileReport r;
   r.input = o.input;
@@ -194,6 +214,14 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
 
   PointHierarchy h;
   auto t0 = std::chrono::steady_clock::now();
+  if (spread) {
+    h = points::build_over_ranks(dev, o, *o.ranks, r, progress);
+    if (!writes) {
+      r.total_seconds = seconds_since(start);
+      return r;
+    }
+    return write_points_output(o, output, std::move(h), r, start, progress);
+  }
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
   ro.bounds = o.bounds;
@@ -225,22 +253,7 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
     r.sort_runs = r.build.sort.runs;
   }
 
-  t0 = std::chrono::steady_clock::now();
-  if (progress) progress("write", 0);
-  if (o.format == PointOutput::mvx) write_mvx_points(output, h);
-  else io::write_3dtiles(output, h, io::Tiles3dOptions{o.tiles_minor_version, o.crs, true});
-  r.write_seconds = seconds_since(t0);  // no report after the write: a cancel there would come too late
-
-  r.points_in = h.points_in;
-  r.points_kept = h.points_kept;
-  r.points_dropped = h.points_dropped;
-  r.nodes = h.nodes.size();
-  r.stored_points = h.points.size();
-  r.depth = h.depth;
-  r.nodes_per_level = h.nodes_per_level;
-  r.total_seconds = seconds_since(start);
-  r.points_per_second = r.total_seconds > 0 ? double(r.points_in) / r.total_seconds : 0;
-  return r;
+  return write_points_output(o, output, std::move(h), r, start, progress);
 }
 
 }  // namespace mv

@@ -29,6 +29,26 @@ void pack(const RecordLayout& r, const PointColumns& c, uint64_t i, uint64_t cod
   if (r.extra_bytes) std::memcpy(out, &c.extra[i * r.extra_bytes], r.extra_bytes);
 }
 
+void unpack_at(const RecordLayout& r, const uint8_t* rec, PointColumns& out, uint64_t i) {
+  rec += 8;
+  std::memcpy(&out.xyz[3 * i], rec, 12);
+  rec += 12;
+  if (r.attributes & kPointRgb) std::memcpy(&out.rgb[3 * i], rec, 6), rec += 6;
+  if (r.attributes & kPointNormal) std::memcpy(&out.normal[3 * i], rec, 12), rec += 12;
+  if (r.attributes & kPointIntensity) std::memcpy(&out.intensity[i], rec, 2), rec += 2;
+  if (r.extra_bytes) std::memcpy(&out.extra[i * r.extra_bytes], rec, r.extra_bytes);
+}
+
+PointColumns columns_for(const RecordLayout& r, uint64_t n) {
+  PointColumns c;
+  c.xyz.resize(3 * n);
+  if (r.attributes & kPointRgb) c.rgb.resize(3 * n);
+  if (r.attributes & kPointNormal) c.normal.resize(3 * n);
+  if (r.attributes & kPointIntensity) c.intensity.resize(n);
+  c.extra.resize(n * r.extra_bytes);
+  return c;
+}
+
 void unpack(const RecordLayout& r, const uint8_t* rec, PointColumns& out) {
   rec += 8;
   const int32_t* xyz = reinterpret_cast<const int32_t*>(rec);

@@ -25,6 +25,10 @@ RecordLayout record_layout(const PointCloudInfo& info);
 void pack(const RecordLayout& r, const PointColumns& c, uint64_t i, uint64_t code, uint8_t* out);
 // Appends the point of `rec` to `out`.
 void unpack(const RecordLayout& r, const uint8_t* rec, PointColumns& out);
+// Writes the point of `rec` as point i of `out`, whose columns hold at least i + 1 points (columns_for).
+void unpack_at(const RecordLayout& r, const uint8_t* rec, PointColumns& out, uint64_t i);
+// Columns of n points (zeros) for the columns `r` carries.
+PointColumns columns_for(const RecordLayout& r, uint64_t n);
 inline uint64_t record_code(const uint8_t* rec) {
   uint64_t code;
   __builtin_memcpy(&code, rec, 8);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "megavox/build.h"
+#include "megavox/rank_collectives.h"
 
 namespace mv::dist {
 
@@ -32,6 +33,8 @@ std::string mpi_summary();
 struct RankReport {
   double seconds = 0;
   uint64_t voxels = 0;           // in the cubes it made
+  uint64_t points = 0;           // a point build: in the cells dealt to it, whose subtrees it built
+  uint64_t points_read = 0;      // a point build: its slice of the input
   uint64_t cubes = 0;            // cubes it owned
   uint64_t voxel_estimate = 0;   // of those cubes, as they were dealt
   uint64_t bytes_read = 0;       // of the input
@@ -61,14 +64,15 @@ class CubeRanks {
   std::vector<Pending*> pending_;
 };
 
+// The collectives a point build over ranks uses (megavox/rank_collectives.h), over MPI_COMM_WORLD.
+RankCollectives collectives(const World& w);
+
 // Collective: the ranks whose `ok` is false, in rank order, on every rank (empty without MPI).
 std::vector<int> ranks_failing(bool ok);
 
 // Every rank's report at rank 0 (the others get an empty list); a collective call.
 std::vector<RankReport> gather_reports(const RankReport& mine);
 
-// Which rank owns each cube: contiguous Morton ranges, each about total / ranks estimated voxels (pure).
-std::vector<int> deal_cubes(const std::vector<uint64_t>& cube_voxels, int ranks);
 
 
 }  // namespace mv::dist

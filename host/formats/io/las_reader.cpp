@@ -64,6 +64,22 @@ class LasSource final : public PointSource {
 
   const PointCloudInfo& info() const override { return info_; }
 
+  uint64_t skip(uint64_t n) override {
+    if (bounds_) return PointSource::skip(n);
+    n = std::min(n, info_.points - read_);
+    if (laz_) {  // whole chunks unread, then the rest of a chunk decoded
+      const uint64_t passed = laz_->skip_chunks(n);
+      read_ += passed;
+      PointSource::skip(n - passed);
+      return passed;
+    }
+    read_ += n;
+    const uint64_t at = h_.point_offset + read_ * h_.record_length;
+    if (fseeko(file_.get(), static_cast<off_t>(at), SEEK_SET) != 0)
+      throw Error(path_ + ": cannot seek to point " + std::to_string(read_) + ": " + std::strerror(errno));
+    return n;
+  }
+
   bool next(PointColumns& out, size_t max_points) override {
     if (max_points == 0) throw Error(path_ + ": next: max_points must be at least 1");
     if (read_ == info_.points) return false;

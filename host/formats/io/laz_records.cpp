@@ -78,6 +78,14 @@ size_t LazRecords::read(uint8_t* out, size_t count) {
   return done;
 }
 
+uint64_t LazRecords::skip_chunks(uint64_t count) {
+  if (ready_at_ != ready_.size() || big_) return 0;
+  uint64_t passed = 0;
+  while (next_chunk_ < chunks_.size() && passed + chunks_[next_chunk_].points <= count)
+    passed += chunks_[next_chunk_++].points;
+  return passed;
+}
+
 std::vector<uint8_t> LazRecords::chunk_bytes(size_t c) {
   return read_at(file_, chunks_[c].offset, chunks_[c].bytes, path_);  // read_chunks placed it inside the file
 }

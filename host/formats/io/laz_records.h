@@ -30,6 +30,9 @@ class LazRecords {
   // Up to `count` records into `out` (count * record length bytes); fewer only at the end of the points.
   // mv::Error naming the file and the chunk for data that does not decode.
   size_t read(uint8_t* out, size_t count);
+  // Passes over whole chunks of at most `count` records in all, unread, where no chunk is part read; returns the
+  // records passed over.
+  uint64_t skip_chunks(uint64_t count);
 
   const laz::Schema& schema() const { return schema_; }
   size_t chunks() const { return chunks_.size(); }  // the chunks read

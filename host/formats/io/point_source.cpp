@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 
 #include "file_ops.h"
 #include "las_reader.h"
@@ -11,6 +12,16 @@
 #include "ply_points.h"
 
 namespace mv::io {
+
+uint64_t PointSource::skip(uint64_t n) {
+  PointColumns scratch;
+  while (n > 0) {
+    scratch.clear();
+    if (!next(scratch, static_cast<size_t>(std::min<uint64_t>(n, uint64_t{1} << 20)))) break;
+    n -= std::min<uint64_t>(n, scratch.size());
+  }
+  return 0;
+}
 
 std::unique_ptr<PointSource> open_points(const std::string& path, const PointReadOptions& options) {
   const std::string head = first_bytes(path, 4);

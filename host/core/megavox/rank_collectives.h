@@ -1,0 +1,27 @@
+// megavox — what a build spread over several processes (MPI ranks) asks of them: a few collectives over byte
+// buffers, which host/dist implements over MPI (megavox/ranks.h), and a fair deal of weighted items to ranks.
+// The core calls them and never names MPI.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace mv {
+
+using RankBytes = std::vector<std::vector<uint8_t>>;  // one buffer per rank, in rank order
+
+struct RankCollectives {
+  int rank = 0, size = 1;
+  // Every rank's buffer, on every rank.
+  std::function<RankBytes(const std::vector<uint8_t>& mine)> all_gather;
+  // parts[r] goes to rank r; returns what each rank sent to this one.
+  std::function<RankBytes(RankBytes&& parts)> all_to_all;
+  // Every rank's buffer at rank 0; the others get an empty list.
+  std::function<RankBytes(std::vector<uint8_t>&& mine)> gather;
+};
+
+// Which rank gets each item of a sequence: contiguous ranges in its order, each about total / ranks of the
+// weights (an item goes to the rank whose equal share holds its first unit of weight).
+std::vector<int> deal_in_order(const std::vector<uint64_t>& weights, int ranks);
+
+}  // namespace mv

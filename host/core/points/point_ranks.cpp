@@ -1,0 +1,273 @@
+// `mpirun -np N megavox points build`: a point build spread over ranks (docs/distributed.md "Point clouds").
+// Each rank reads a contiguous slice of the input's points, the ranks agree on the cube, sort their slices by
+// Morton code and deal whole cells of one level (the top level) to ranks in Morton order; each rank builds its
+// cells' subtrees bottom-up, and rank 0 joins them and makes the levels above, then gathers and writes as one
+// process does. The bytes are those of one process: equal codes keep their input order (slices are in input
+// order and every sort is stable), and a node is a function of its subtree's points alone.
+#include "point_ranks.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <type_traits>
+
+#include "megavox/error.h"
+#include "megavox/rank_collectives.h"
+#include "omicron.h"
+#include "point_gather.h"
+#include "point_kernels.h"
+#include "point_runs.h"
+#include "timing.h"
+
+namespace mv::points {
+
+namespace {
+
+static_assert(std::is_trivially_copyable_v<LodNode>);
+
+// A message's bytes, written and read back in order.
+struct MessageWriter {
+  std::vector<uint8_t> bytes;
+  template <class T>
+  void put(const T& v) {
+    const auto* p = reinterpret_cast<const uint8_t*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof v);
+  }
+  template <class T>
+  void put_all(const std::vector<T>& v) {
+    put<uint64_t>(v.size());
+    const auto* p = reinterpret_cast<const uint8_t*>(v.data());
+    bytes.insert(bytes.end(), p, p + v.size() * sizeof(T));
+  }
+};
+
+struct MessageReader {
+  const uint8_t* at;
+  const uint8_t* end;
+  void need(uint64_t n) const {
+    if (n > static_cast<uint64_t>(end - at)) throw Error("points: internal error: a rank's message is cut short");
+  }
+  template <class T>
+  T get() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, at, sizeof v);
+    at += sizeof v;
+    return v;
+  }
+  template <class T>
+  void get_all(std::vector<T>& v) {
+    const uint64_t n = get<uint64_t>();
+    need(n * sizeof(T));
+    v.resize(n);
+    std::memcpy(v.data(), at, n * sizeof(T));
+    at += n * sizeof(T);
+  }
+};
+
+// The level whose cells are dealt: the shallowest with 64 cells a rank, at most the leaves.
+uint32_t dealt_level(uint32_t depth, int ranks) {
+  uint32_t level = 1;
+  while (level < depth && (uint64_t{1} << (3 * level)) < uint64_t{64} * static_cast<uint64_t>(ranks)) ++level;
+  return level;
+}
+
+uint64_t exchanged(const RankBytes& parts, int self) {
+  uint64_t n = 0;
+  for (size_t r = 0; r < parts.size(); ++r)
+    if (static_cast<int>(r) != self) n += parts[r].size();
+  return n;
+}
+
+}  // namespace
+
+PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const RankCollectives& ranks,
+                                PointFileReport& report, const Progress& progress) {
+  const bool lead = ranks.rank == 0;
+  if (o.bounds)
+    throw CodedError(ErrorCode::invalid_argument,
+                     "points build: --bounds is not spread over ranks; run it in one process (without mpirun)");
+  auto t0 = std::chrono::steady_clock::now();
+  io::PointReadOptions ro;
+  ro.carry_extra_bytes = o.carry_extra_bytes;
+  std::unique_ptr<io::PointSource> src = io::open_points(o.input, ro);
+  const PointCloudInfo info = src->info();
+  report.input_format = info.format;
+
+  // This rank's slice of the file's points, in input order.
+  const uint64_t declared = info.points;
+  const uint64_t lo = static_cast<uint64_t>((unsigned __int128)declared * ranks.rank / ranks.size);
+  const uint64_t hi = static_cast<uint64_t>((unsigned __int128)declared * (ranks.rank + 1) / ranks.size);
+  const uint64_t unread = src->skip(lo);
+  PointColumns mine;
+  mine.reserve_more(hi - lo, info.attributes, info.extra_bytes);
+  while (mine.size() < hi - lo && src->next(mine, static_cast<size_t>(std::min<uint64_t>(hi - lo - mine.size(), 1 << 20))))
+    if (progress && lead) progress("read", double(mine.size()) / double(std::max<uint64_t>(1, hi - lo)));
+  if (mine.size() != hi - lo)
+    throw Error(o.input + ": the file holds " + std::to_string(lo + mine.size()) + " points where its header declares " +
+                std::to_string(declared));
+  src.reset();
+  std::error_code size_error;
+  const uint64_t file_bytes = std::filesystem::file_size(o.input, size_error);
+  report.ranks.points_read = hi - lo;
+  // The share of the file the reader went through: a PLY reader reads all of it for its grid.
+  const bool whole = info.format.rfind("PLY", 0) == 0;
+  report.ranks.bytes_read = declared == 0 || whole ? file_bytes
+                                                   : static_cast<uint64_t>((unsigned __int128)file_bytes * (hi - unread) / declared);
+  report.read_seconds = seconds_since(t0);
+
+  // The cube of every rank's points: the same on every rank.
+  t0 = std::chrono::steady_clock::now();
+  int64_t box[7] = {INT64_MAX, INT64_MAX, INT64_MAX, INT64_MIN, INT64_MIN, INT64_MIN, static_cast<int64_t>(mine.size())};
+  if (mine.size()) point_bounds(dev, mine.xyz, box, box + 3);
+  std::vector<uint8_t> box_bytes(sizeof box);
+  std::memcpy(box_bytes.data(), box, sizeof box);
+  int64_t lo3[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi3[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+  uint64_t n = 0;
+  for (const std::vector<uint8_t>& b : ranks.all_gather(box_bytes)) {
+    int64_t other[7];
+    std::memcpy(other, b.data(), sizeof other);
+    for (int a = 0; a < 3; ++a) lo3[a] = std::min(lo3[a], other[a]), hi3[a] = std::max(hi3[a], other[3 + a]);
+    n += static_cast<uint64_t>(other[6]);
+  }
+  if (n == 0) throw Error(o.input + ": the cloud has no points");
+  const PointCube cube = cube_of_bounds(lo3, hi3);
+  OmicronRule rule;
+  rule.depth = o.build.depth ? o.build.depth : point_depth_for(n, o.build.max_node_points);
+  rule.max_node_points = o.build.max_node_points;
+  rule.grid_bits = o.build.grid_bits;
+  rule.top_level = dealt_level(rule.depth, ranks.size);
+  const uint32_t cell_shift = 3 * (21 - rule.top_level);
+
+  // Count the slice's points per cell of the top level; deal the cells in Morton order by count.
+  std::vector<uint64_t> codes;
+  std::vector<uint32_t> order;
+  if (mine.size()) point_codes(dev, mine.xyz, cube, codes, order);
+  std::vector<uint64_t> cells(uint64_t{1} << (3 * rule.top_level), 0);
+  for (uint64_t c : codes) ++cells[c >> cell_shift];
+  std::vector<uint8_t> count_bytes(cells.size() * 8);
+  std::memcpy(count_bytes.data(), cells.data(), count_bytes.size());
+  std::fill(cells.begin(), cells.end(), 0);
+  for (const std::vector<uint8_t>& b : ranks.all_gather(count_bytes))
+    for (size_t c = 0; c < cells.size(); ++c) {
+      uint64_t v;
+      std::memcpy(&v, b.data() + c * 8, 8);
+      cells[c] += v;
+    }
+  const std::vector<int> owner = deal_in_order(cells, ranks.size);
+
+  // Each point goes to its cell's rank as a record (code, then every column), in input order: a stable
+  // partition, so that the ranks' runs in rank order are the input order again.
+  const RecordLayout layout = record_layout(info);
+  RankBytes parts(static_cast<size_t>(ranks.size));
+  {
+    std::vector<uint64_t> at(static_cast<size_t>(ranks.size), 0);
+    for (uint64_t c : codes) ++at[static_cast<size_t>(owner[c >> cell_shift])];
+    for (size_t r = 0; r < parts.size(); ++r) parts[r].resize(at[r] * layout.bytes), at[r] = 0;
+    for (uint64_t i = 0; i < codes.size(); ++i) {
+      const size_t r = static_cast<size_t>(owner[codes[i] >> cell_shift]);
+      pack(layout, mine, i, codes[i], parts[r].data() + at[r]++ * layout.bytes);
+    }
+  }
+  mine = PointColumns();
+  codes = {};
+  order = {};
+  report.ranks.bytes_exchanged += exchanged(parts, ranks.rank);
+  RankBytes got = ranks.all_to_all(std::move(parts));
+  report.ranks.bytes_exchanged += exchanged(got, ranks.rank);
+
+  // The received runs in rank order, stably sorted: equal codes keep their input order.
+  uint64_t m = 0;
+  for (const auto& b : got) m += b.size() / layout.bytes;
+  if (m > UINT32_MAX) throw Error("points build: a rank's share is over 2^32 points; run it over more ranks");
+  std::vector<uint8_t> runs;
+  runs.reserve(m * layout.bytes);
+  for (auto& b : got) {
+    runs.insert(runs.end(), b.begin(), b.end());
+    b = {};
+  }
+  codes.resize(m);
+  order.resize(m);
+  for (uint64_t i = 0; i < m; ++i) codes[i] = record_code(runs.data() + i * layout.bytes), order[i] = static_cast<uint32_t>(i);
+  if (m) report.build.sort = radix_sort(dev, codes, &order);
+  report.sort_seconds = seconds_since(t0);
+  report.ranks.points_built = m;
+
+  // This rank's subtrees up to the top level, then its part for rank 0: the lists and the sorted records.
+  t0 = std::chrono::steady_clock::now();
+  OmicronBuilder builder(dev, rule);
+  builder.concatenate(codes, true);
+  OmicronPart part = builder.take_part();
+  MessageWriter msg;
+  msg.put(part.top_level);
+  msg.put(part.points);
+  for (const auto& level : part.levels) msg.put_all(level);
+  msg.put_all(part.reps);
+  part = OmicronPart();
+  const size_t head = msg.bytes.size();
+  msg.bytes.resize(head + m * layout.bytes);
+  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, m, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
+    for (uint64_t i = r.begin(); i < r.end(); ++i)
+      std::memcpy(msg.bytes.data() + head + i * layout.bytes, runs.data() + uint64_t{order[i]} * layout.bytes, layout.bytes);
+  });
+  runs = {};
+  codes = {};
+  order = {};
+  if (!lead) report.ranks.bytes_exchanged += msg.bytes.size();
+  const double subtree_seconds = seconds_since(t0);
+  RankBytes parts_at_lead = ranks.gather(std::move(msg.bytes));
+  report.build_seconds = subtree_seconds;
+  PointHierarchy h;
+  if (!lead) return h;
+
+  // Rank 0: the parts in rank order are the whole sorted stream; the levels above the top level, as one builder
+  // over that stream makes them, then the columns in node order.
+  t0 = std::chrono::steady_clock::now();
+  if (progress) progress("build", 0.5);
+  report.ranks.bytes_exchanged += exchanged(parts_at_lead, 0);
+  rule.top_level = 0;
+  OmicronBuilder joined(dev, rule);
+  std::vector<uint64_t> all_codes;
+  all_codes.reserve(n);
+  PointColumns sorted = columns_for(layout, n);
+  for (std::vector<uint8_t>& bytes : parts_at_lead) {
+    MessageReader in{bytes.data(), bytes.data() + bytes.size()};
+    OmicronPart p;
+    p.top_level = in.get<uint32_t>();
+    p.points = in.get<uint64_t>();
+    p.levels.resize(rule.depth + 1 - p.top_level);
+    for (auto& level : p.levels) in.get_all(level);
+    in.get_all(p.reps);
+    const uint64_t count = p.points;
+    const uint64_t first = all_codes.size();
+    if (static_cast<uint64_t>(in.end - in.at) != count * layout.bytes || first + count > n)
+      throw Error("points: internal error: a rank's part does not hold its points");
+    joined.join(std::move(p), first);
+    all_codes.resize(first + count);
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
+      for (uint64_t i = r.begin(); i < r.end(); ++i) {
+        const uint8_t* rec = in.at + i * layout.bytes;
+        all_codes[first + i] = record_code(rec);
+        unpack_at(layout, rec, sorted, first + i);
+      }
+    });
+    bytes = {};
+  }
+  if (all_codes.size() != n) throw Error("points: internal error: the ranks' parts do not hold every point");
+  joined.finish_join(all_codes);
+  all_codes = {};
+  std::vector<NodePoints> sources;
+  joined.assemble(h.nodes, sources, h.nodes_per_level);
+  h.points = gather_node_points(sorted, sources, joined.reps(), info.extra_bytes);
+  report.ranks.join_seconds = seconds_since(t0);
+  report.build_seconds += report.ranks.join_seconds;
+
+  set_grid_and_counts(h, info, cube, rule.grid_bits, n);
+  return h;
+}
+
+}  // namespace mv::points

@@ -1,0 +1,13 @@
+// A point build spread over MPI ranks (point_ranks.cpp; docs/distributed.md "Point clouds").
+#pragma once
+#include "megavox/point_build.h"
+#include "megavox/rank_collectives.h"
+
+namespace mv::points {
+
+// Collective: every rank calls it with the same options. Rank 0 returns the hierarchy one process builds from
+// the same input and options; the other ranks return an empty one. `report` gets this rank's times and counts.
+PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& options, const RankCollectives& ranks,
+                                PointFileReport& report, const Progress& progress);
+
+}  // namespace mv::points

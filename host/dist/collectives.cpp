@@ -1,0 +1,115 @@
+// The collectives of megavox/rank_collectives.h over MPI_COMM_WORLD: buffers of any size, sent in pieces of at
+// most 1 GiB (MPI counts are ints); messages between two ranks arrive in the order they were sent.
+#include <climits>
+#include <vector>
+
+#include "megavox/error.h"
+#include "megavox/ranks.h"
+
+#if MEGAVOX_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace mv::dist {
+
+#if MEGAVOX_HAVE_MPI
+
+namespace {
+
+constexpr int kCollectiveTag = 2;
+constexpr uint64_t kPiece = uint64_t{1} << 30;
+
+void post_send(const std::vector<uint8_t>& bytes, int to, std::vector<MPI_Request>& requests) {
+  for (uint64_t at = 0; at < bytes.size(); at += kPiece) {
+    requests.emplace_back();
+    MPI_Isend(bytes.data() + at, static_cast<int>(std::min<uint64_t>(kPiece, bytes.size() - at)), MPI_BYTE, to,
+              kCollectiveTag, MPI_COMM_WORLD, &requests.back());
+  }
+}
+
+void post_receive(std::vector<uint8_t>& bytes, int from, std::vector<MPI_Request>& requests) {
+  for (uint64_t at = 0; at < bytes.size(); at += kPiece) {
+    requests.emplace_back();
+    MPI_Irecv(bytes.data() + at, static_cast<int>(std::min<uint64_t>(kPiece, bytes.size() - at)), MPI_BYTE, from,
+              kCollectiveTag, MPI_COMM_WORLD, &requests.back());
+  }
+}
+
+void wait_all(std::vector<MPI_Request>& requests) {
+  if (!requests.empty()) MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+}
+
+// Every other rank r gets `to(r)` and sends sizes[r] bytes here; this rank's own entry stays empty.
+template <class To>
+RankBytes exchange(const World& w, const To& to, const std::vector<uint64_t>& sizes) {
+  RankBytes got(static_cast<size_t>(w.size));
+  std::vector<MPI_Request> requests;
+  for (int r = 0; r < w.size; ++r) {
+    if (r == w.rank) continue;
+    got[static_cast<size_t>(r)].resize(sizes[static_cast<size_t>(r)]);
+    post_receive(got[static_cast<size_t>(r)], r, requests);
+    post_send(to(r), r, requests);
+  }
+  wait_all(requests);
+  return got;
+}
+
+}  // namespace
+
+RankCollectives collectives(const World& w) {
+  RankCollectives c;
+  c.rank = w.rank;
+  c.size = w.size;
+  c.all_gather = [w](const std::vector<uint8_t>& mine) {
+    uint64_t size = mine.size();
+    std::vector<uint64_t> sizes(static_cast<size_t>(w.size));
+    MPI_Allgather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    RankBytes all = exchange(w, [&](int) -> const std::vector<uint8_t>& { return mine; }, sizes);
+    all[static_cast<size_t>(w.rank)] = mine;
+    return all;
+  };
+  c.all_to_all = [w](RankBytes&& parts) {
+    std::vector<uint64_t> out(static_cast<size_t>(w.size)), in(static_cast<size_t>(w.size));
+    for (int r = 0; r < w.size; ++r) out[static_cast<size_t>(r)] = parts[static_cast<size_t>(r)].size();
+    MPI_Alltoall(out.data(), 1, MPI_UINT64_T, in.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    RankBytes got = exchange(w, [&](int r) -> const std::vector<uint8_t>& { return parts[static_cast<size_t>(r)]; }, in);
+    got[static_cast<size_t>(w.rank)] = std::move(parts[static_cast<size_t>(w.rank)]);
+    return got;
+  };
+  c.gather = [w](std::vector<uint8_t>&& mine) {
+    uint64_t size = mine.size();
+    std::vector<uint64_t> sizes(static_cast<size_t>(w.size));
+    MPI_Gather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+    RankBytes all;
+    std::vector<MPI_Request> requests;
+    if (w.rank == 0) {
+      all.resize(static_cast<size_t>(w.size));
+      for (int r = 1; r < w.size; ++r) {
+        all[static_cast<size_t>(r)].resize(sizes[static_cast<size_t>(r)]);
+        post_receive(all[static_cast<size_t>(r)], r, requests);
+      }
+      all[0] = std::move(mine);
+    } else {
+      post_send(mine, 0, requests);
+    }
+    wait_all(requests);
+    return all;
+  };
+  return c;
+}
+
+#else
+
+RankCollectives collectives(const World& w) {
+  RankCollectives c;
+  c.rank = w.rank;
+  c.size = w.size;
+  c.all_gather = [](const std::vector<uint8_t>& mine) { return RankBytes{mine}; };
+  c.all_to_all = [](RankBytes&& parts) { return std::move(parts); };
+  c.gather = [](std::vector<uint8_t>&& mine) { return RankBytes{std::move(mine)}; };
+  return c;
+}
+
+#endif
+
+}  // namespace mv::dist

@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# `mpirun -np N megavox points build`: point builds spread over 1, 2, 3 and 5 ranks write the bytes of the
+# one-process build: .mvx and 3D Tiles 1.1 and 1.0, from a float PLY with colour, a LAS 1.4 with its attribute
+# record and (with ../shared) a LAZ file, on PoCL and lavapipe; --json reports every rank; a rank that fails or is
+# killed ends the run with nothing left. Only this machine: shared memory and loopback (never another interface).
+# Usage: mpi_points.sh MEGAVOX
+set -euo pipefail
+megavox=$1
+source "$(dirname "$0")/common.sh"
+
+mpi_test="mpi points"
+source "$(dirname "$0")/mpi_common.sh"
+
+# write_cloud PATH N: N points on a bumpy sphere, binary float PLY with colour (fixed seed).
+write_cloud() {
+  python3 - "$1" "$2" <<'PY'
+import array, math, random, sys
+path, n = sys.argv[1], int(sys.argv[2])
+rnd = random.Random(1)
+xyz, rgb = array.array("f"), bytearray()
+for _ in range(n):
+    t, p = math.acos(2 * rnd.random() - 1), 2 * math.pi * rnd.random()
+    r = 1 + 0.12 * math.sin(4 * t) * math.cos(5 * p)
+    x, y, z = r * math.sin(t) * math.cos(p), r * math.cos(t), r * math.sin(t) * math.sin(p)
+    xyz.extend((x, y, z))
+    rgb += bytes((int(110 * (x + 1.2)) & 255, int(110 * (y + 1.2)) & 255, int(110 * (z + 1.2)) & 255))
+with open(path, "wb") as out:
+    out.write((f"ply\nformat binary_little_endian 1.0\nelement vertex {n}\nproperty float x\nproperty float y\n"
+               "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n").encode())
+    for i in range(n):
+        out.write(xyz[3 * i:3 * i + 3].tobytes() + rgb[3 * i:3 * i + 3])
+PY
+}
+
+# same_as_one NAME ARGS...: the build in one process, then under mpirun with 1, 2, 3 and 5 ranks: the same bytes.
+same_as_one() {
+  local name=$1 n
+  shift
+  "$megavox" "$@" -o "$dir/one_$name" -q > /dev/null || fail "$name: one process failed"
+  for n in 1 2 3 5; do
+    mpirun -np "$n" "$megavox" "$@" -o "$dir/n_$name" -q > "$dir/out.txt" 2>&1 || fail "$name np $n: $(cat "$dir/out.txt")"
+    diff -r "$dir/one_$name" "$dir/n_$name" > /dev/null || fail "$name np $n: not the bytes of one process"
+    rm -rf "$dir/n_$name"
+  done
+}
+
+write_cloud "$dir/cloud.ply" 60000
+"$megavox" points convert "$dir/cloud.ply" -o "$dir/cloud.las" > /dev/null
+small=(--max-node-points 200)  # a deep hierarchy: levels above the cells dealt to ranks are joined on rank 0
+same_as_one ply.mvx points build "$dir/cloud.ply" "${small[@]}"
+same_as_one las.mvx points build "$dir/cloud.las" "${small[@]}"
+same_as_one tiles points build "$dir/cloud.las" --format 3dtiles "${small[@]}"
+same_as_one tiles10 points build "$dir/cloud.ply" --format 3dtiles --tiles-version 1.0 --max-node-points 2000
+same_as_one default.mvx points build "$dir/cloud.ply"
+same_as_one skip.mvx points build "$dir/cloud.las" --skip-attributes --max-node-points 50
+same_as_one vk.mvx --device vk:0 points build "$dir/cloud.ply" "${small[@]}"
+echo "mpi points: the same bytes over 1, 2, 3 and 5 ranks (PLY, LAS 1.4, .mvx, 3D Tiles 1.1 and 1.0, PoCL and lavapipe)"
+laz=$(dirname "$0")/../../../shared/data/pointcloud_laz/autzen_trim.laz
+if [[ -f $laz ]]; then
+  same_as_one laz.mvx points build "$laz" --max-node-points 1000
+  same_as_one laz_tiles points build "$laz" --format 3dtiles --max-node-points 5000
+  echo "mpi points: LAZ to .mvx and 3D Tiles 1.1, the same bytes over 1, 2, 3 and 5 ranks"
+else
+  echo "mpi points: ../shared is absent, so the LAZ comparison did not run"
+fi
+
+# --json: one entry per rank; the slices and the dealt cells each add up to the cloud.
+mpirun -np 3 "$megavox" points build "$dir/cloud.las" "${small[@]}" -o "$dir/j.mvx" --json > "$dir/ranks.json" ||
+  fail "json: $(cat "$dir/ranks.json")"
+python3 - "$dir/ranks.json" "$(stat -c %s "$dir/cloud.las")" <<'PY' || fail "ranks: $(cat "$dir/ranks.json")"
+import json, sys
+d = json.load(open(sys.argv[1]))  # one object: rank 0's; the other ranks print nothing
+r = d["ranks"]
+assert len(r) == 3 and all(x["points"] > 0 and x["points_read"] > 0 for x in r), r
+assert sum(x["points"] for x in r) == d["points_in"] == sum(x["points_read"] for x in r), r
+assert all(x["bytes_exchanged"] > 0 and x["peak_memory_bytes"] > 0 for x in r) and 0 <= d["merge_share"] < 1
+# an uncompressed LAS is read by slice: no rank reads the whole file
+assert all(0 < x["bytes_read"] < 0.5 * int(sys.argv[2]) for x in r), r
+PY
+
+# A rank that fails ends the run: rank 1 asks for a device that does not exist.
+if mpirun -np 1 "$megavox" points build "$dir/cloud.ply" -o "$dir/failed.mvx" : \
+  -np 1 "$megavox" --device no-such-device points build "$dir/cloud.ply" -o "$dir/failed.mvx" > "$dir/fail.txt" 2>&1; then
+  fail "a failed rank, yet mpirun succeeded: $(cat "$dir/fail.txt")"
+fi
+grep -q "rank 1 of 2: error: no device" "$dir/fail.txt" || fail "the failing rank is not named: $(cat "$dir/fail.txt")"
+[[ -z $(ls "$dir" | grep failed) ]] || fail "output left after a failed run: $(ls "$dir")"
+
+# An input one rank cannot read: refused on every rank before any work, naming the rank.
+if mpirun -np 1 "$megavox" points build "$dir/cloud.ply" -o "$dir/blind.mvx" : \
+  -np 1 "$megavox" points build "$dir/nowhere.ply" -o "$dir/blind.mvx" > "$dir/blind.txt" 2>&1; then
+  fail "a rank could not read its input, yet mpirun succeeded"
+fi
+grep -q "rank 1 cannot read it" "$dir/blind.txt" || fail "the blind rank is not named: $(cat "$dir/blind.txt")"
+[[ ! -e "$dir/blind.mvx" ]] || fail "output left after an unreadable input"
+
+# --bounds reads a box of the file: refused over ranks, before any work.
+if mpirun -np 2 "$megavox" points build "$dir/cloud.las" --bounds -1,-1,-1,0,0,0 -o "$dir/box.mvx" > "$dir/box.txt" 2>&1; then
+  fail "--bounds ran over ranks"
+fi
+grep -q "not spread over ranks" "$dir/box.txt" || fail "no refusal of --bounds: $(cat "$dir/box.txt")"
+
+# A rank killed mid-build: mpirun ends the others, the status is non-zero within 30 s, and nothing is left.
+write_cloud "$dir/big.ply" 600000
+expect_killed_rank_ends_run "$dir/killed.mvx" points build "$dir/big.ply" --max-node-points 100
+echo "mpi points: ranks reported; a failed, blind or killed rank ends the run with nothing left; --bounds refused"

@@ -64,7 +64,7 @@ RanksBench bench_ranks(const std::vector<std::string>& build, const GlobalOption
   std::string args;
   for (const std::string& a : build) args += " " + quoted(a);
   auto command = [&](int n, const std::string& out) {
-    return env + "mpirun -np " + std::to_string(n) + " " + global + " build" + args + " -q --json -o " + quoted(out);
+    return env + "mpirun -np " + std::to_string(n) + " " + global + args + " -q --json -o " + quoted(out);
   };
   const std::string one = scratch.file("one.mvx"), many = scratch.file("many.mvx"), log = scratch.file("log");
   try {
@@ -80,6 +80,11 @@ RanksBench bench_ranks(const std::vector<std::string>& build, const GlobalOption
   std::ifstream x(one, std::ios::binary), y(many, std::ios::binary);
   b.same_bytes = std::string(std::istreambuf_iterator<char>(x), {}) == std::string(std::istreambuf_iterator<char>(y), {});
   return b;
+}
+
+std::vector<std::string> with_verb(std::vector<std::string> verb, const std::vector<std::string>& args) {
+  verb.insert(verb.end(), args.begin(), args.end());
+  return verb;
 }
 
 nlohmann::json ranks_json(const RanksBench& b) {

@@ -178,7 +178,7 @@ void add_bench_build_command(CLI::App& bench, const GlobalOptions& g) {
     if (!peer.runs.empty()) c = bench::compare_with_peer(r, peer.runs, open_seconds);
     const std::string device = dev->info().name;
     std::optional<RanksBench> ranks;
-    if (a->ranks > 1) ranks = bench_ranks(build_argv(*a), g, a->ranks, a->repeats);
+    if (a->ranks > 1) ranks = bench_ranks(with_verb({"build"}, build_argv(*a)), g, a->ranks, a->repeats);
     if (a->json) {
       nlohmann::json j = result_json(r, device, open_seconds, *a, peer, c ? &*c : nullptr);
       if (ranks) j["ranks"] = ranks_json(*ranks);

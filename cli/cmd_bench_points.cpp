@@ -10,6 +10,7 @@
 #include "points_bench.h"
 #include "scratch_dir.h"
 #include "stopwatch.h"
+#include "bench_ranks.h"
 #include "cli_common.h"
 #include "profile_report.h"
 #include "megavox/error.h"
@@ -25,6 +26,7 @@ struct BenchPointsArgs {
   int repeats = 3, sample_repeats = 1;
   uint32_t max_node_points = 16384;
   uint32_t sort_ranges = PointBuildOptions().sort_ranges;
+  int ranks = 0;
   bool json = false, quiet = false;
 };
 
@@ -196,6 +198,10 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g) {
                   "Ranges of buckets the in-place sort hands the builder while it sorts (1: after the sort)")
       ->capture_default_str();
   cmd->add_option("--memory", a->memory, "As points build's: host budget, e.g. 16G (default: half the RAM)");
+  cmd->add_option("--ranks", a->ranks,
+                  "Also build each cloud under `mpirun -np 1` and `mpirun -np N` (this machine only: shared memory\n"
+                  "and loopback), and report the speed-up of N ranks over one and whether the bytes are the same")
+      ->check(CLI::Range(2, 256));
   cmd->add_flag("--json", a->json, "One JSON object per cloud (one a line) instead of the tables");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress lines on stderr");
   cmd->callback([&g, a] {
@@ -227,8 +233,21 @@ void add_bench_points_command(CLI::App& bench, const GlobalOptions& g) {
       c.sample = std::move(sample);
       c.repeats = repeats;
       if (g.profile && !a->json) print_parallelism(label(c) + " (best build, read to write)", c.r.parallelism);
-      if (a->json) std::cout << cloud_json(c, dev->info(), open_seconds, warmup_seconds).dump() << std::endl;
-      else print_cloud(c);
+      std::optional<RanksBench> ranks;
+      if (a->ranks > 1) {
+        note("building " + path + " over 1 and " + std::to_string(a->ranks) + " ranks");
+        std::vector<std::string> args{"points", "build", path, "--max-node-points", std::to_string(a->max_node_points)};
+        if (!a->memory.empty()) args.insert(args.end(), {"--memory", a->memory});
+        ranks = bench_ranks(args, g, a->ranks, repeats);
+      }
+      if (a->json) {
+        nlohmann::json j = cloud_json(c, dev->info(), open_seconds, warmup_seconds);
+        if (ranks) j["ranks"] = ranks_json(*ranks);
+        std::cout << j.dump() << std::endl;
+      } else {
+        print_cloud(c);
+        if (ranks) print_ranks_bench(*ranks);
+      }
       clouds.push_back(std::move(c));
     };
     for (const std::string& input : a->inputs) run(input, a->repeats, std::nullopt);

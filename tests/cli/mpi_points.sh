@@ -78,6 +78,15 @@ assert all(x["bytes_exchanged"] > 0 and x["peak_memory_bytes"] > 0 for x in r) a
 assert all(0 < x["bytes_read"] < 0.5 * int(sys.argv[2]) for x in r), r
 PY
 
+# bench points --ranks: one rank and three, timed from outside, the same bytes.
+"$megavox" bench points "$dir/cloud.las" --repeats 1 --max-node-points 500 --ranks 3 --json -q > "$dir/bench.json" ||
+  fail "bench points --ranks: $(cat "$dir/bench.json")"
+python3 - "$dir/bench.json" <<'PY' || fail "bench points --ranks: $(cat "$dir/bench.json")"
+import json, sys
+r = json.loads(open(sys.argv[1]).readline())["ranks"]
+assert r["ranks"] == 3 and r["same_bytes"] and r["speedup"] > 0 and len(r["per_rank"]) == 3, r
+PY
+
 # A rank that fails ends the run: rank 1 asks for a device that does not exist.
 if mpirun -np 1 "$megavox" points build "$dir/cloud.ply" -o "$dir/failed.mvx" : \
   -np 1 "$megavox" --device no-such-device points build "$dir/cloud.ply" -o "$dir/failed.mvx" > "$dir/fail.txt" 2>&1; then
@@ -103,4 +112,4 @@ grep -q "not spread over ranks" "$dir/box.txt" || fail "no refusal of --bounds: 
 # A rank killed mid-build: mpirun ends the others, the status is non-zero within 30 s, and nothing is left.
 write_cloud "$dir/big.ply" 600000
 expect_killed_rank_ends_run "$dir/killed.mvx" points build "$dir/big.ply" --max-node-points 100
-echo "mpi points: ranks reported; a failed, blind or killed rank ends the run with nothing left; --bounds refused"
+echo "mpi points: ranks reported, bench --ranks; a failed, blind or killed rank ends the run with nothing left; --bounds refused"

@@ -184,15 +184,18 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   uint64_t m = 0;
   for (const auto& b : got) m += b.size() / layout.bytes;
   if (m > UINT32_MAX) throw Error("points build: a rank's share is over 2^32 points; run it over more ranks");
-  std::vector<uint8_t> runs;
-  runs.reserve(m * layout.bytes);
-  for (auto& b : got) {
-    runs.insert(runs.end(), b.begin(), b.end());
-    b = {};
-  }
+  // record i of the runs in rank order: got[r] at i - first[r], for the r with first[r] <= i < first[r + 1]
+  std::vector<uint64_t> first(got.size() + 1, 0);
+  for (size_t r = 0; r < got.size(); ++r) first[r + 1] = first[r] + got[r].size() / layout.bytes;
+  const auto record = [&](uint64_t i) {
+    const size_t r = static_cast<size_t>(std::upper_bound(first.begin(), first.end(), i) - first.begin()) - 1;
+    return got[r].data() + (i - first[r]) * layout.bytes;
+  };
   codes.resize(m);
   order.resize(m);
-  for (uint64_t i = 0; i < m; ++i) codes[i] = record_code(runs.data() + i * layout.bytes), order[i] = static_cast<uint32_t>(i);
+  for (size_t r = 0; r < got.size(); ++r)
+    for (uint64_t i = first[r]; i < first[r + 1]; ++i)
+      codes[i] = record_code(got[r].data() + (i - first[r]) * layout.bytes), order[i] = static_cast<uint32_t>(i);
   if (m) report.build.sort = radix_sort(dev, codes, &order);
   report.sort_seconds = seconds_since(t0);
   report.ranks.points_built = m;
@@ -212,9 +215,9 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   msg.bytes.resize(head + m * layout.bytes);
   tbb::parallel_for(tbb::blocked_range<uint64_t>(0, m, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
     for (uint64_t i = r.begin(); i < r.end(); ++i)
-      std::memcpy(msg.bytes.data() + head + i * layout.bytes, runs.data() + uint64_t{order[i]} * layout.bytes, layout.bytes);
+      std::memcpy(msg.bytes.data() + head + i * layout.bytes, record(order[i]), layout.bytes);
   });
-  runs = {};
+  got = {};
   codes = {};
   order = {};
   if (!lead) report.ranks.bytes_exchanged += msg.bytes.size();

@@ -60,6 +60,7 @@ RankCollectives collectives(const World& w) {
   RankCollectives c;
   c.rank = w.rank;
   c.size = w.size;
+  c.lead_alone = take_node_threads;
   c.all_gather = [w](const std::vector<uint8_t>& mine) {
     uint64_t size = mine.size();
     std::vector<uint64_t> sizes(static_cast<size_t>(w.size));

@@ -2,7 +2,9 @@
 // partial DAGs sent to rank 0, which merges them in Morton order as one process would.
 #include <sys/resource.h>
 
+#include <chrono>
 #include <climits>
+#include <thread>
 #include <cstring>
 #include <stdexcept>
 
@@ -101,7 +103,12 @@ std::vector<RankReport> gather_reports(const RankReport& mine) {
   me.peak_memory_bytes = peak_rss();
   const World& w = world();
   std::vector<RankReport> all(w.rank == 0 ? size_t(w.size) : 0);
-  MPI_Gather(&me, sizeof me, MPI_BYTE, all.data(), sizeof me, MPI_BYTE, 0, MPI_COMM_WORLD);
+  // The other ranks wait here while rank 0 finishes alone (a point build's join and write): asleep, so that
+  // their cores are rank 0's (Open MPI's blocking wait polls).
+  MPI_Request request;
+  MPI_Igather(&me, sizeof me, MPI_BYTE, all.data(), sizeof me, MPI_BYTE, 0, MPI_COMM_WORLD, &request);
+  for (int done = 0; MPI_Test(&request, &done, MPI_STATUS_IGNORE), !done;)
+    if (w.rank != 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   return all;
 }
 

@@ -38,6 +38,11 @@ void share_node(int ranks) {
 
 const World& world() { return g_world; }
 
+void take_node_threads() {
+  if (!g_threads) return;
+  g_threads.reset();  // TBB's default again: every core of the node
+}
+
 #if MEGAVOX_HAVE_MPI
 
 const World& start(int* argc, char*** argv) {

@@ -18,6 +18,8 @@ struct RankCollectives {
   std::function<RankBytes(RankBytes&& parts)> all_to_all;
   // Every rank's buffer at rank 0; the others get an empty list.
   std::function<RankBytes(std::vector<uint8_t>&& mine)> gather;
+  // Called on rank 0 once the others only wait for it (they sleep): it may take every core of the node.
+  std::function<void()> lead_alone;
 };
 
 // Which rank gets each item of a sequence: contiguous ranges in its order, each about total / ranks of the

@@ -226,6 +226,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   report.build_seconds = subtree_seconds;
   PointHierarchy h;
   if (!lead) return h;
+  if (ranks.lead_alone) ranks.lead_alone();
 
   // Rank 0: the parts in rank order are the whole sorted stream; the levels above the top level, as one builder
   // over that stream makes them, then the columns in node order.

@@ -22,6 +22,8 @@ struct World {
 // (TBB, PoCL, lavapipe) are divided among them.
 const World& start(int* argc, char*** argv);
 const World& world();
+// Lifts this rank's share of the node's worker threads (TBB): for rank 0 once the others only wait for it.
+void take_node_threads();
 // MPI_Finalize, after a run that started MPI.
 void stop();
 // Ends every rank (MPI_Abort) with `code`, after this rank printed why; returns only without MPI.

@@ -109,6 +109,14 @@ if mpirun -np 2 "$megavox" points build "$dir/cloud.las" --bounds -1,-1,-1,0,0,0
 fi
 grep -q "not spread over ranks" "$dir/box.txt" || fail "no refusal of --bounds: $(cat "$dir/box.txt")"
 
+# Rank 0 gathers every point: a cloud over its memory budget is refused before any work, with nothing left.
+if mpirun -np 2 "$megavox" points build "$dir/cloud.las" --memory 1M -o "$dir/mem.mvx" > "$dir/mem.txt" 2>&1; then
+  fail "a cloud over rank 0's memory built"
+fi
+grep -q "rank 0 of 2: error: points build over ranks: rank 0 gathers every point" "$dir/mem.txt" ||
+  fail "no refusal over the memory budget: $(cat "$dir/mem.txt")"
+[[ ! -e "$dir/mem.mvx" ]] || fail "output left after a refused build"
+
 # A rank killed mid-build: mpirun ends the others, the status is non-zero within 30 s, and nothing is left.
 write_cloud "$dir/big.ply" 600000
 expect_killed_rank_ends_run "$dir/killed.mvx" points build "$dir/big.ply" --max-node-points 100

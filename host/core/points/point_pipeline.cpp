@@ -215,7 +215,16 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   PointHierarchy h;
   auto t0 = std::chrono::steady_clock::now();
   if (spread) {
-    h = points::build_over_ranks(dev, o, *o.ranks, r, progress);
+    const auto fits = [&](const PointCloudInfo& info) {
+      const uint64_t need = info.points * host_bytes_per_point(info);
+      if (need > memory)
+        throw CodedError(ErrorCode::out_of_memory,
+                         "points build over ranks: rank 0 gathers every point, and " + std::to_string(info.points) +
+                             " points need about " + format_bytes(need) + " there, over its host memory budget " +
+                             format_bytes(memory) + "; run it in one process, which builds out of core",
+                         setting_host_memory);
+    };
+    h = points::build_over_ranks(dev, o, *o.ranks, r, progress, fits);
     if (!writes) {
       r.total_seconds = seconds_since(start);
       return r;

@@ -86,7 +86,8 @@ uint64_t exchanged(const RankBytes& parts, int self) {
 }  // namespace
 
 PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const RankCollectives& ranks,
-                                PointFileReport& report, const Progress& progress) {
+                                PointFileReport& report, const Progress& progress,
+                                const std::function<void(const PointCloudInfo&)>& check_fits) {
   const bool lead = ranks.rank == 0;
   if (o.bounds)
     throw CodedError(ErrorCode::invalid_argument,
@@ -97,6 +98,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   std::unique_ptr<io::PointSource> src = io::open_points(o.input, ro);
   const PointCloudInfo info = src->info();
   report.input_format = info.format;
+  if (lead && check_fits) check_fits(info);
 
   // This rank's slice of the file's points, in input order.
   const uint64_t declared = info.points;

@@ -18,6 +18,9 @@ void run_points(MvDevice dev, const JobRun& run) {
   a.format = r.format.c_str();
   a.depth = r.depth;
   a.maxNodePoints = r.max_node_points;
+  a.tilesVersion = r.tiles_version.c_str();
+  if (!r.crs.empty()) a.crs = r.crs.c_str();
+  if (r.bounds) a.bounds = r.bounds->data();
   struct RemoveFolder {  // whether the archive is written, fails or the job stops on the way
     std::string path;
     ~RemoveFolder() {

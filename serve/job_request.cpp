@@ -37,6 +37,9 @@ const KeyKinds kKeys[] = {
     {"fov", {JobKind::render}},
     {"depth", {JobKind::points}},
     {"max_node_points", {JobKind::points}},
+    {"tiles_version", {JobKind::points}},
+    {"crs", {JobKind::points}},
+    {"bounds", {JobKind::points}},
     {"rect", {JobKind::mask}},
     {"seeds", {JobKind::mask}},
     {"model", {JobKind::mask}},
@@ -86,6 +89,16 @@ std::array<double, 3> vec3(const json& j, const char* key) {
   std::array<double, 3> v{};
   for (size_t i = 0; i < 3; ++i) v[i] = real(j[i], key);
   return v;
+}
+
+// min x, y, z, then max x, y, z: finite, each min at most its max.
+std::array<double, 6> box(const json& j) {
+  if (!j.is_array() || j.size() != 6) refuse("bounds", "must be an array of six numbers [minx, miny, minz, maxx, maxy, maxz]");
+  std::array<double, 6> b{};
+  for (size_t i = 0; i < 6; ++i) b[i] = real(j[i], "bounds");
+  for (size_t a = 0; a < 3; ++a)
+    if (b[a] > b[3 + a]) refuse("bounds", "must give each minimum at most its maximum");
+  return b;
 }
 
 // x, y, w, h in pixels; the largest image megavox reads has 2^28 pixels, so no side or corner lies past that.
@@ -187,6 +200,11 @@ JobRequest from_object(const json& j) {
       if (!(r.fov > 0 && r.fov < 180)) refuse("fov", "must lie between 0 and 180 degrees");
     } else if (key == "depth") r.depth = number(v, "depth", 0, 21);
     else if (key == "max_node_points") r.max_node_points = number(v, "max_node_points", 1, 1u << 24);
+    else if (key == "tiles_version") r.tiles_version = choice(v, "tiles_version", {"1.1", "1.0"});
+    else if (key == "crs") {
+      r.crs = text(v, "crs");
+      if (r.crs.empty() || r.crs.size() > 65536) refuse("crs", "must be EPSG:N or a WKT of at most 64 KiB");
+    } else if (key == "bounds") r.bounds = box(v);
     else if (key == "rect") r.rect = rect(v);
     else if (key == "seeds") r.seeds = text(v, "seeds");
     else if (key == "model") r.model = text(v, "model");
@@ -196,6 +214,8 @@ JobRequest from_object(const json& j) {
   if (!r.input.empty() && !r.scene.empty()) throw ServeError("job: give \"input\" or \"scene\", not both");
   if (r.kind == JobKind::build && r.format == "ssvdag" && r.resolution < 8)
     throw ServeError("job: format ssvdag needs a resolution of at least 8");
+  if (r.kind == JobKind::points && r.format != "3dtiles" && (r.tiles_version != "1.1" || !r.crs.empty()))
+    throw ServeError("job: \"tiles_version\" and \"crs\" apply to \"format\": \"3dtiles\" only");
   if (r.kind == JobKind::render) check_camera(r, j);
   if (r.kind == JobKind::open && r.input.empty())
     throw ServeError("job: an open job needs \"input\": a .mvx under the data folder");
@@ -207,7 +227,7 @@ JobRequest from_object(const json& j) {
 // A query value as the JSON the body would hold: integers, numbers, and comma-separated lists of them.
 json query_value(const std::string& key, const std::string& value) {
   static const char* const integers[] = {"resolution", "cube", "width", "height", "depth", "max_node_points", "iterations", "erode"};
-  static const char* const lists[] = {"eye", "target", "up", "rect"};
+  static const char* const lists[] = {"eye", "target", "up", "rect", "bounds"};
   const auto whole = [&](const std::string& s) {
     if (s.empty() || s.size() > 10 || s.find_first_not_of("0123456789") != std::string::npos)
       throw ServeError("job: " + quoted(key) + " must be " + (key == "rect" ? "four integers X,Y,W,H" : "an integer"));
@@ -231,7 +251,7 @@ json query_value(const std::string& key, const std::string& value) {
     if (key == k) {
       json a = json::array();
       size_t start = 0;
-      for (size_t i = 0; i <= value.size() && a.size() < 5; ++i)
+      for (size_t i = 0; i <= value.size() && a.size() < 7; ++i)
         if (i == value.size() || value[i] == ',') {
           const std::string part = value.substr(start, i - start);
           a.push_back(key == "rect" ? whole(part) : decimal(part));

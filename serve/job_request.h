@@ -33,6 +33,10 @@ struct JobRequest {
   double fov = MV_DEFAULT_FOV;
   // points: 0 picks the leaf level from the point count
   uint32_t depth = 0, max_node_points = 16384;
+  // points as 3dtiles: 3D Tiles 1.1 or 1.0, and a CRS to place the tileset with (EPSG:N or WKT) over the input's
+  std::string tiles_version = "1.1", crs;
+  // points from LAS or LAZ: only the points in this box (world min x, y, z, max x, y, z)
+  std::optional<std::array<double, 6>> bounds;
   // mask: at least one start (a box, a seed map under --data-dir, a .mvm model under --data-dir)
   std::optional<std::array<uint32_t, 4>> rect;  // x, y, w, h in pixels
   std::string seeds, model;

@@ -113,6 +113,14 @@ if [[ -d "$src/tests/js/node_modules/@loaders.gl/3d-tiles" ]]; then  # an indepe
 else
   echo "loaders.gl not installed (npm ci in tests/js): the .3tz not read by an independent reader"
 fi
+# 3D Tiles 1.0 on request: .pnts tiles
+tz10=$(curl -sf "${auth[@]}" -H 'Content-Type: application/json' \
+  -d '{"kind":"points","input":"lattice.ply","format":"3dtiles","tiles_version":"1.0","max_node_points":100}' "$url/v1/jobs")
+tz10id=$(jq -r .id <<< "$tz10")
+[[ $(jq -r .status <<< "$(wait_job "$tz10id")") == done ]] || fail "points 3dtiles 1.0"
+curl -sf "${auth[@]}" -o "$dir/lattice10.3tz" "$url/v1/jobs/$tz10id/result" || fail "the 1.0 archive"
+files 3tz "$dir/lattice10.3tz" > "$dir/3tz10.txt" || fail "the 1.0 .3tz breaks the archive's rules"
+grep -q '\.pnts$' "$dir/3tz10.txt" || fail "the 1.0 .3tz holds no .pnts tile: $(cat "$dir/3tz10.txt")"
 # an uploaded cloud goes the same way
 upts=$(curl -sf "${auth[@]}" -H 'Content-Type: application/octet-stream' --data-binary @"$data/lattice.ply" "$url/v1/jobs?kind=points&depth=3")
 [[ $(jq -r .status <<< "$(wait_job "$(jq -r .id <<< "$upts")")") == done ]] || fail "uploaded points"

@@ -42,6 +42,14 @@ TEST(ServeJobRequest, PointsJob) {
   EXPECT_EQ(t.format, "3dtiles");
   EXPECT_EQ(t.depth, 9u);
   EXPECT_EQ(t.max_node_points, 100u);
+  EXPECT_EQ(t.tiles_version, "1.1");
+  const JobRequest v = parse_job_request(
+      R"({"kind":"points","input":"a.laz","format":"3dtiles","tiles_version":"1.0","crs":"EPSG:32610",)"
+      R"("bounds":[1,2,3,4.5,5,6]})");
+  EXPECT_EQ(v.tiles_version, "1.0");
+  EXPECT_EQ(v.crs, "EPSG:32610");
+  ASSERT_TRUE(v.bounds);
+  EXPECT_EQ((*v.bounds)[3], 4.5);
 }
 
 TEST(ServeJobRequest, PointsRefusals) {
@@ -53,6 +61,12 @@ TEST(ServeJobRequest, PointsRefusals) {
   EXPECT_REFUSED(R"({"kind":"points","input":"a.ply","resolution":64})", "a points job takes no \"resolution\"");
   EXPECT_REFUSED(R"({"kind":"points","scene":"00ff"})", "a points job takes no \"scene\"");
   EXPECT_REFUSED(R"({"kind":"build","input":"a.ply","format":"3dtiles"})", "choose svo, svdag, ussvdag, ssvdag");
+  EXPECT_REFUSED(R"({"kind":"points","input":"a.las","format":"3dtiles","tiles_version":"2.0"})", "choose 1.1, 1.0");
+  EXPECT_REFUSED(R"({"kind":"points","input":"a.las","crs":"EPSG:4978"})", "apply to \"format\": \"3dtiles\" only");
+  EXPECT_REFUSED(R"({"kind":"points","input":"a.las","format":"3dtiles","crs":""})", "\"crs\" must be EPSG:N or a WKT");
+  EXPECT_REFUSED(R"({"kind":"points","input":"a.las","bounds":[1,2,3]})", "\"bounds\" must be an array of six numbers");
+  EXPECT_REFUSED(R"({"kind":"points","input":"a.las","bounds":[1,2,3,0,5,6]})", "each minimum at most its maximum");
+  EXPECT_REFUSED(R"({"kind":"build","input":"a.ply","bounds":[0,0,0,1,1,1]})", "a build job takes no \"bounds\"");
 }
 
 TEST(ServeJobRequest, MaskJob) {
@@ -163,6 +177,11 @@ TEST(ServeJobRequest, UploadQuery) {
   EXPECT_EQ(r.fov, 35);
   const std::multimap<std::string, std::string> points = {{"kind", "points"}, {"format", "3dtiles"}, {"depth", "7"}};
   EXPECT_EQ(mv::serve::job_request_from_query(points).depth, 7u);
+  const std::multimap<std::string, std::string> boxed = {{"kind", "points"}, {"bounds", "0,0,0,1,2,3"}, {"format", "3dtiles"}, {"tiles_version", "1.0"}};
+  const JobRequest b = mv::serve::job_request_from_query(boxed);
+  ASSERT_TRUE(b.bounds);
+  EXPECT_EQ((*b.bounds)[5], 3.0);
+  EXPECT_EQ(b.tiles_version, "1.0");
   for (const auto& [key, value] : std::multimap<std::string, std::string>{
            {"rect", "1,2,3"}, {"rect", "1,2,3,x"}, {"rect", "1,2,3,4,5"}, {"eye", "1,2,nan"}, {"fov", "40deg"}, {"depth", "-1"}}) {
     const std::string kind = key == "rect" ? "mask" : key == "depth" ? "points" : "render";

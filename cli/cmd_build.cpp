@@ -157,7 +157,9 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       ranks->report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       ranks->report.voxels = lead ? 0 : r.voxels;  // rank 0's own: the total less the others' (below)
       std::error_code ec;
-      ranks->report.bytes_read = std::filesystem::file_size(o.input, ec);  // each rank reads the whole input
+      // a share of the faces where the file allowed, else the whole input
+      ranks->report.bytes_read = r.bytes_read ? r.bytes_read : std::filesystem::file_size(o.input, ec);
+      ranks->report.bytes_exchanged += r.bytes_exchanged;
       rank_reports = dist::gather_reports(ranks->report);
       if (!lead) return;
       uint64_t others = 0;

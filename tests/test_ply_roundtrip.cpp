@@ -141,6 +141,44 @@ TEST(Ply, LargerThanTheBuffer) {
 // ---------------------------------------------------------------------------------------------------
 // Staged real meshes, counts from shared/data/README.md.
 
+// select_faces: a share of a binary file's triangles read by offset is that slice of the whole read; it refuses
+// ascii files and faces with other properties, and a face that is not a triangle fails as it is read.
+TEST(Ply, SelectFacesReadsAShareByOffset) {
+  MeshSpec m;
+  for (int i = 0; i < 40; ++i) m.vertices.push_back({double(i), double(i % 7), double(i % 3)});
+  for (int f = 0; f < 300; ++f) m.faces.push_back({double(f % 40), double((f * 7 + 1) % 40), double((f * 13 + 2) % 40)});
+  for (Fmt f : {Fmt::le, Fmt::be}) {
+    for (const std::string index_type : {"int", "ushort"}) {
+      m.index_type = index_type;
+      const std::string path = write_file("share.ply", make_ply(m, f));
+      const std::vector<uint32_t> all = read_all(path).triangles;
+      for (auto [first, last] : {std::pair<uint64_t, uint64_t>{0, 300}, {0, 1}, {17, 150}, {299, 300}, {120, 120}}) {
+        PlyMeshReader r(path);
+        ASSERT_TRUE(r.select_faces(first, last)) << fmt_name(f);
+        std::vector<uint32_t> got, batch;
+        while (r.next_triangles(batch, 7)) got.insert(got.end(), batch.begin(), batch.end());
+        EXPECT_EQ(got, std::vector<uint32_t>(all.begin() + 3 * first, all.begin() + 3 * last)) << first << " " << last;
+        EXPECT_EQ(r.bytes_spanned() < std::filesystem::file_size(path), last - first < 300);
+      }
+    }
+  }
+  m.index_type = "int";
+  PlyMeshReader ascii(write_file("share_ascii.ply", make_ply(m, Fmt::ascii)));
+  EXPECT_FALSE(ascii.select_faces(0, 10));
+  EXPECT_EQ(ascii.bytes_spanned(), std::filesystem::file_size(temp_file("share_ascii.ply")));
+  MeshSpec quad = m;
+  quad.faces[5] = {1, 2, 3, 4};
+  PlyMeshReader r(write_file("share_quad.ply", make_ply(quad, Fmt::le)));
+  ASSERT_TRUE(r.select_faces(0, 300));
+  std::vector<uint32_t> batch;
+  EXPECT_NE(mv::test::error_message([&] { while (r.next_triangles(batch, 100)) {} }).find("needs triangles"),
+            std::string::npos);
+  MeshSpec extras = m;
+  extras.extras = true;
+  PlyMeshReader e(write_file("share_extras.ply", make_ply(extras, Fmt::le)));
+  EXPECT_FALSE(e.select_faces(0, 10));
+}
+
 TEST(PlySharedData, StagedMeshesMatchTheReadme) {
   const char* env = std::getenv("MEGAVOX_TEST_DATA");
   fs::path root = env && *env ? fs::path(env) : fs::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";

@@ -38,8 +38,9 @@ struct CubeRanks::Pending {
   MPI_Request request = MPI_REQUEST_NULL;
 };
 
-CubeRanks::CubeRanks(const World& w) : world_(w) {
+CubeRanks::CubeRanks(const World& w) : world_(w), collectives_(collectives(w)) {
   ranks_.writes = w.rank == 0;
+  ranks_.collectives = &collectives_;
   ranks_.exchange = [this](const std::vector<uint64_t>& cube_voxels) {
     owner_ = deal_in_order(cube_voxels, world_.size);
     for (size_t c = 0; c < owner_.size(); ++c)

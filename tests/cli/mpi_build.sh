@@ -36,6 +36,51 @@ for n in 2 3; do
 done
 echo "mpi build: the same bytes over 1, 2, 3 and 5 ranks (svdag, ssvdag, svo; coloured over 2 and 3)"
 
+# binary_ply IN OUT [QUAD]: the ascii sphere as binary little-endian, its faces uchar + int lists (with QUAD, the
+# last two triangles as one quad face, which leaves its faces unreadable by offset).
+binary_ply() {
+  python3 - "$@" <<'PY'
+import struct, sys
+lines = open(sys.argv[1]).read().split("\n")
+end = lines.index("end_header")
+head, body = lines[:end], lines[end + 1:]
+nv = int(next(l for l in head if l.startswith("element vertex")).split()[2])
+nf = int(next(l for l in head if l.startswith("element face")).split()[2])
+rgb = any(l.endswith(" red") for l in head)
+faces = [list(map(int, l.split()[1:])) for l in body[nv:nv + nf]]
+if len(sys.argv) > 3:
+    a, b = faces[-2], faces[-1]
+    faces = faces[:-2] + [[a[0], a[1], b[2], a[2]]]
+out = open(sys.argv[2], "wb")
+out.write("\n".join(l.replace("format ascii 1.0", "format binary_little_endian 1.0").replace(f"element face {nf}", f"element face {len(faces)}") for l in head).encode() + b"\nend_header\n")
+for l in body[:nv]:
+    v = l.split()
+    out.write(struct.pack("<3f", *map(float, v[:3])) + (bytes(map(int, v[3:6])) if rgb else b""))
+for f in faces:
+    out.write(struct.pack("<B", len(f)) + struct.pack(f"<{len(f)}i", *f))
+PY
+}
+# Binary triangles: each rank reads the vertices and its share of the faces by offset, and the cubes' triangles
+# go to their owners; a quad face leaves every rank reading the whole mesh. The same bytes either way.
+binary_ply "$dir/sphere.ply" "$dir/sphere_bin.ply"
+binary_ply "$dir/coloured.ply" "$dir/coloured_bin.ply"
+binary_ply "$dir/sphere.ply" "$dir/quad_bin.ply" quad
+for input in sphere_bin coloured_bin quad_bin; do
+  shared=(build "$dir/$input.ply" --resolution 128 --cube 32 -q --format ssvdag)
+  "$megavox" "${shared[@]}" -o "$dir/${input}_one.mvx" > /dev/null
+  for n in 2 3 5; do
+    mpirun -np "$n" "$megavox" "${shared[@]}" -o "$dir/${input}_$n.mvx" --json > "$dir/shares.json" 2> "$dir/out.txt" ||
+      fail "$input np $n: $(cat "$dir/out.txt")"
+    cmp -s "$dir/${input}_one.mvx" "$dir/${input}_$n.mvx" || fail "$input np $n: not the bytes of one process"
+    python3 - "$dir/shares.json" "$(stat -c %s "$dir/$input.ply")" "$input" <<'PY' || fail "$input np $n: $(cat "$dir/shares.json")"
+import json, sys
+r, size, shared = json.load(open(sys.argv[1]))["ranks"], int(sys.argv[2]), sys.argv[3] != "quad_bin"
+assert all((x["bytes_read"] < size) == shared for x in r), r  # a share of the faces, or the whole file
+PY
+  done
+done
+echo "mpi build: binary triangles read in shares (coloured too), a quad face read whole: the same bytes"
+
 # The other device kind, and --json: one entry per rank, each with cubes and voxels of its own.
 mpirun -np 3 "$megavox" --device vk:0 "${args[@]}" --format ssvdag -o "$dir/vk.mvx" --json > "$dir/ranks.json" ||
   fail "vk:0: $(cat "$dir/ranks.json")"

@@ -10,6 +10,7 @@
 #include "megavox/dag.h"
 #include "megavox/device.h"
 #include "megavox/mvx.h"
+#include "megavox/rank_collectives.h"
 #include "megavox/voxelize.h"
 
 namespace mv {
@@ -33,6 +34,9 @@ struct MeshArrays {
 struct BuildRanks {
   std::function<CubeExchange(const std::vector<uint64_t>& cube_voxels)> exchange;
   bool writes = true;
+  // Set: the ranks read shares of the mesh's faces where the file allows, and swap triangles by cube owner
+  // (voxel/mesh_shares.h); unset: every rank reads the whole mesh.
+  const RankCollectives* collectives = nullptr;
 };
 
 // Voxel colours: automatic = rgb when the input has colour; rgb on an input without colour is an error.
@@ -105,6 +109,8 @@ struct BuildReport {
   std::string vdb_grid, vdb_class;  // the .vdb grid read and its class
   uint32_t cube = 0;                // out of core: the cube side used; 0 = in core
   uint64_t spilled_bytes = 0;       // out of core: triangle bytes spilled to a temporary file (over --memory)
+  uint64_t bytes_read = 0;          // over ranks reading shares of the faces: the input bytes this rank's spans
+  uint64_t bytes_exchanged = 0;     // then: triangle bytes it sent to and received from other ranks
   uint64_t vertex_scratch_bytes = 0;  // PLY vertex positions kept in a mapped scratch file (over --memory)
   uint32_t cube_retries = 0;        // times the cubes were halved because a cube did not fit device memory
   std::string grid_origin, voxelize;  // meshes: the placement and voxelization rule used

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <type_traits>
 
+#include "io/point_source.h"
 #include "megavox/error.h"
 #include "megavox/rank_collectives.h"
 #include "omicron.h"

@@ -12,6 +12,7 @@
 #include "io/cloud_input.h"
 #include "io/memory_mesh.h"
 #include "voxel/cube_hooks.h"
+#include "voxel/mesh_shares.h"
 #include "io/mesh_source.h"
 #include "io/output_path.h"
 #include "io/vdb_source.h"
@@ -139,25 +140,21 @@ GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds
 }
 
 // Bounds of the vertices a mesh's faces use (scans carry unreferenced vertices) and their surface, for the
-// plan: one streaming pass.
-MeshSurvey survey_mesh(const BuildOptions& o, BuildReport* r) {
+// plan: one streaming pass. `over_ranks`: a build in cubes, which every rank calls alike.
+MeshSurvey survey_mesh(const BuildOptions& o, BuildReport* r, bool over_ranks = false) {
   MeshSurvey s;
   auto mesh = open_budgeted_mesh(o);
   check_mesh_memory(o, *mesh);
-  const auto& pos = mesh->positions();
-  if (r) r->vertex_scratch_bytes = mesh->positions_mapped() ? pos.size_bytes() : 0;
-  std::vector<bool> used(pos.size() / 3, false);
-  std::vector<uint32_t> idx;
-  while (mesh->next_triangles(idx, batch_triangles(o)))
-    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
-      used[idx[t]] = used[idx[t + 1]] = used[idx[t + 2]] = true;
-      s.add_triangle(&pos[3 * size_t{idx[t]}], &pos[3 * size_t{idx[t + 1]}], &pos[3 * size_t{idx[t + 2]}]);
-    }
-  for (size_t i = 0; i < used.size(); ++i)
-    if (used[i]) {
-      s.bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-      ++s.vertices;
-    }
+  if (r) r->vertex_scratch_bytes = mesh->positions_mapped() ? mesh->positions().size_bytes() : 0;
+  // Over ranks, each reads a share of the faces where the file allows (every rank alike); else all of them.
+  if (over_ranks && o.ranks && o.ranks->collectives) {
+    if (survey_face_shares(*o.ranks->collectives, *mesh, batch_triangles(o), s)) return s;
+    s = MeshSurvey();
+    mesh = open_budgeted_mesh(o);
+  }
+  std::vector<bool> used;
+  survey_faces(*mesh, batch_triangles(o), s, used);
+  survey_used_vertices(mesh->positions(), used, s);
   return s;
 }
 
@@ -186,8 +183,11 @@ struct MeshColourInput {
 // mesh whether voxel colours are built and, if so, keeps every triangle with its vertex colours there.
 void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
                          const std::function<void(const std::vector<float>&, double)>& batch,
-                         MeshColourInput* colours = nullptr) {
+                         MeshColourInput* colours = nullptr, bool face_share = false) {
   auto mesh = open_budgeted_mesh(o);
+  if (face_share && !mesh->select_face_share(o.ranks->collectives->rank, o.ranks->collectives->size))
+    throw Error(o.input + ": the mesh changed while it was read (its faces can no longer be shared by offset)");
+  uint64_t ordinal = mesh->first_triangle();  // of the batch's first triangle in the file's
   const std::span<const uint32_t> vertex_rgb = mesh->vertex_colours(), vertex_tex = mesh->vertex_textures();
   const std::span<const float> vertex_uv = mesh->vertex_uvs();
   if (colours) {
@@ -214,11 +214,13 @@ void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint6
         const uint32_t* v = &idx[3 * size_t{t}];
         for (int k = 0; k < 3; ++k) c.rgb.push_back(vertex_rgb.empty() ? 0xffffffu : vertex_rgb[v[k]]);
         c.texture.push_back(vertex_tex.empty() ? io::kNoTexture : vertex_tex[v[0]]);
+        if (!colours->keep_tris) c.ordinal.push_back(static_cast<uint32_t>(ordinal + t));
         for (int k = 0; k < 3 && !vertex_tex.empty(); ++k)
           c.uv.insert(c.uv.end(), {vertex_uv[2 * size_t{v[k]}], vertex_uv[2 * size_t{v[k]} + 1]});
         if (vertex_tex.empty()) c.uv.insert(c.uv.end(), 6, 0.0f);
       }
     }
+    ordinal += idx.size() / 3;
     batch(tris, std::min(1.0, double(triangles) / faces));
   }
 }
@@ -277,7 +279,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     throw CodedError(ErrorCode::invalid_argument,
                      "cube size " + std::to_string(o.cube) + " must be a power of two >= 8", setting_cube);
   check_cube_table(o, resolution);
-  MeshSurvey survey = survey_mesh(o, &r);
+  MeshSurvey survey = survey_mesh(o, &r, true);
   const GridTransform grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
   const Bounds bounds = survey.bounds;
   r.resolution = resolution;
@@ -287,7 +289,6 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
   MeshColourInput colours;
   colours.keep_tris = false;
   std::unique_ptr<TriangleBuckets> buckets;
-  uint64_t tri_index = 0;
   std::vector<float> records;
   for_each_grid_batch(
       o, grid, r.triangles,
@@ -297,19 +298,23 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
         if (!colours.wanted) {
           buckets->add(tris);
         } else {
-          coloured_records(tris, colours.colours, tri_index, records);
-          tri_index += tris.size() / 9;
+          coloured_records(tris, colours.colours, records);
           buckets->add(records);
         }
         report("read", done);
       },
-      &colours);
-  if (!buckets) buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o));
+      &colours, survey.face_shares);
+  if (!buckets) buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o), colours.wanted ? kColourRecord : 9);
+  std::vector<uint64_t> dealt;  // over ranks reading shares of the faces: the estimates the cubes are dealt by
+  if (survey.face_shares) {
+    dealt = send_triangles_to_cube_owners(*o.ranks->collectives, *buckets, per_axis, r.triangles, r.bytes_exchanged);
+    r.bytes_read = survey.bytes_read;
+  }
   r.spilled_bytes = buckets->spilled_bytes();
   lap("read");
   CubeColours gathered;  // every cube's voxels and their colours, for the depth-first array
-  const std::optional<CubeExchange> exchange =
-      cube_hooks(o, *buckets, per_axis, colours.wanted ? &gathered : nullptr, r.cubes_resumed);
+  const std::optional<CubeExchange> exchange = cube_hooks(o, *buckets, per_axis, colours.wanted ? &gathered : nullptr,
+                                                          r.cubes_resumed, survey.face_shares ? &dealt : nullptr);
   std::vector<uint64_t>& colour_keys = gathered.keys;
   std::vector<uint32_t>& colour_rgb = gathered.rgb;
   const CubeExchange* ex = exchange ? &*exchange : nullptr;

@@ -83,6 +83,25 @@ void MeshSurvey::add_triangle(const float* a, const float* b, const float* c) {
   ++triangles;
 }
 
+void survey_faces(io::MeshSource& mesh, size_t batch, MeshSurvey& s, std::vector<bool>& used) {
+  const auto& pos = mesh.positions();
+  used.assign(pos.size() / 3, false);
+  std::vector<uint32_t> idx;
+  while (mesh.next_triangles(idx, batch))
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+      used[idx[t]] = used[idx[t + 1]] = used[idx[t + 2]] = true;
+      s.add_triangle(&pos[3 * size_t{idx[t]}], &pos[3 * size_t{idx[t + 1]}], &pos[3 * size_t{idx[t + 2]}]);
+    }
+}
+
+void survey_used_vertices(std::span<const float> pos, const std::vector<bool>& used, MeshSurvey& s) {
+  for (size_t i = 0; i < used.size(); ++i)
+    if (used[i]) {
+      s.bounds.extend(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+      ++s.vertices;
+    }
+}
+
 BuildPlan plan_mesh_build(const BuildOptions& o, const MeshSurvey& s, const GridTransform& grid,
                           const PlanBudgets& budgets) {
   BuildPlan p = grid_plan(grid);

@@ -2,9 +2,12 @@
 // work: the grid, in core or in cubes, and estimates of the voxels, the output and the memory.
 #pragma once
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "megavox/build.h"
 #include "megavox/grid.h"
+#include "io/mesh_source.h"
 
 namespace mv {
 
@@ -20,7 +23,14 @@ struct MeshSurvey {
   double shadow_area = 0;
   double dominant_area = 0;
   void add_triangle(const float* a, const float* b, const float* c);
+  bool face_shares = false;  // over ranks: each rank read a share of the faces (voxel/mesh_shares.h)
+  uint64_t bytes_read = 0;   // then: the file bytes this rank's share spans (the vertices and its faces)
 };
+
+// The faces `mesh` delivers (batches of `batch` triangles) into `s`, marking the vertices they use in `used`
+// (one flag per vertex); then the used vertices' bounds and count into `s`.
+void survey_faces(io::MeshSource& mesh, size_t batch, MeshSurvey& s, std::vector<bool>& used);
+void survey_used_vertices(std::span<const float> positions, const std::vector<bool>& used, MeshSurvey& s);
 
 // Host and device memory the estimates are checked against (0: not checked).
 struct PlanBudgets {

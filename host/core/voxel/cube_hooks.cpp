@@ -12,15 +12,6 @@ namespace mv {
 
 namespace {
 
-// Each cube's voxel estimate, in Morton order of the cubes (what the ranks are dealt by).
-std::vector<uint64_t> cube_voxel_estimates(const TriangleBuckets& buckets, uint32_t per_axis) {
-  std::vector<uint64_t> voxels(uint64_t{per_axis} * per_axis * per_axis);
-  for (uint64_t c = 0; c < voxels.size(); ++c)
-    voxels[c] = static_cast<uint64_t>(std::llround(buckets.voxel_estimate(
-        mv_morton3_64_axis(c, 0), mv_morton3_64_axis(c, 1), mv_morton3_64_axis(c, 2))));
-  return voxels;
-}
-
 void keep_cubes(const BuildOptions& o, CubeExchange& ex, uint64_t& cubes_resumed) {
   std::filesystem::create_directories(o.resume_dir);
   ex.load = [&o, &cubes_resumed](uint64_t c, std::vector<uint8_t>& payload) -> std::optional<Dag> {
@@ -72,10 +63,19 @@ void carry_colours(CubeExchange& ex, CubeColours& cc) {
 
 }  // namespace
 
+std::vector<uint64_t> cube_voxel_estimates(const TriangleBuckets& buckets, uint32_t per_axis) {
+  std::vector<uint64_t> voxels(uint64_t{per_axis} * per_axis * per_axis);
+  for (uint64_t c = 0; c < voxels.size(); ++c)
+    voxels[c] = static_cast<uint64_t>(std::llround(buckets.voxel_estimate(
+        mv_morton3_64_axis(c, 0), mv_morton3_64_axis(c, 1), mv_morton3_64_axis(c, 2))));
+  return voxels;
+}
+
 std::optional<CubeExchange> cube_hooks(const BuildOptions& o, const TriangleBuckets& buckets, uint32_t per_axis,
-                                       CubeColours* colours, uint64_t& cubes_resumed) {
+                                       CubeColours* colours, uint64_t& cubes_resumed,
+                                       const std::vector<uint64_t>* dealt) {
   std::optional<CubeExchange> ex;
-  if (o.ranks) ex = o.ranks->exchange(cube_voxel_estimates(buckets, per_axis));
+  if (o.ranks) ex = o.ranks->exchange(dealt ? *dealt : cube_voxel_estimates(buckets, per_axis));
   if (!o.resume_dir.empty()) {
     if (!ex) ex.emplace();
     keep_cubes(o, *ex, cubes_resumed);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "megavox/build.h"
+#include "megavox/rank_collectives.h"
 #include "voxel/triangle_buckets.h"
 
 namespace mv {
@@ -21,7 +22,12 @@ struct CubeColours {
 
 // The hooks `o` asks for (nullopt: none: one process, nothing kept). `colours`: the build's, when the mesh is
 // coloured, else null. `cubes_resumed` counts the kept cubes reused. What they capture must outlive the build.
+// `dealt`, when given: the cubes' estimates the ranks already agreed on (mesh_shares.h), else the buckets'.
 std::optional<CubeExchange> cube_hooks(const BuildOptions& o, const TriangleBuckets& buckets, uint32_t per_axis,
-                                       CubeColours* colours, uint64_t& cubes_resumed);
+                                       CubeColours* colours, uint64_t& cubes_resumed,
+                                       const std::vector<uint64_t>* dealt = nullptr);
+
+// Each cube's voxel estimate, rounded, in Morton order of the cubes (what the ranks are dealt by).
+std::vector<uint64_t> cube_voxel_estimates(const TriangleBuckets& buckets, uint32_t per_axis);
 
 }  // namespace mv

@@ -185,7 +185,7 @@ std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::
   return depth_first_voxel_colours(dev, std::move(v.keys), v.rgb, v.voxels, levels);
 }
 
-void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, uint64_t first, std::vector<float>& out) {
+void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, std::vector<float>& out) {
   const size_t n = tris.size() / 9;
   out.assign(n * kColourRecord, 0.0f);
   for (size_t t = 0; t < n; ++t) {
@@ -193,12 +193,13 @@ void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, ui
     std::copy_n(&tris[9 * t], 9, r);
     uint32_t words[MV_MESH_ATTR_WORDS] = {};
     pack_colour_words(c, t, words);
-    words[10] = static_cast<uint32_t>(first + t);
+    words[10] = c.ordinal.at(t);
     std::memcpy(r + 9, words, sizeof words);
   }
   c.rgb.clear();
   c.uv.clear();
   c.texture.clear();
+  c.ordinal.clear();
 }
 
 void split_records(std::vector<float>& records, MeshTriangleColours& c) {

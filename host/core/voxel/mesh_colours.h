@@ -20,6 +20,7 @@ struct MeshTriangleColours {
   std::vector<uint32_t> rgb, texture;
   std::vector<float> uv;
   std::vector<io::MeshTexture> textures;
+  std::vector<uint32_t> ordinal;  // out of core: each triangle's place in the file's triangles (coloured_records)
 };
 
 // `tris`: every triangle the voxels came from, in grid units (9 floats each), in the order the voxelizer took them,
@@ -49,7 +50,7 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, std::span<c
 inline constexpr uint32_t kColourRecord = 21;
 
 // The records of a batch of triangles (grid units) whose colours `c` holds (then cleared), from mesh index `first`.
-void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, uint64_t first, std::vector<float>& out);
+void coloured_records(const std::vector<float>& tris, MeshTriangleColours& c, std::vector<float>& out);
 
 // A cube's records back into its triangles (in `records`) and their colours (appended to `c`), in mesh order: the
 // order that breaks ties.

@@ -41,6 +41,13 @@ void TriangleBuckets::add(const std::vector<float>& tris) {
   }
 }
 
+void TriangleBuckets::put(uint32_t x, uint32_t y, uint32_t z, const std::vector<float>& records) {
+  std::vector<float>& b = mem_[bucket(x, y, z)];
+  b.insert(b.end(), records.begin(), records.end());
+  held_ += records.size() * sizeof(float);
+  if (held_ > budget_) spill();
+}
+
 void TriangleBuckets::spill() {
   if (!spill_) spill_ = std::make_unique<io::TempFile>("spilling triangles (over the host memory budget)");
   for (size_t b = 0; b < mem_.size(); ++b) {

@@ -26,6 +26,8 @@ class TriangleBuckets {
   TriangleBuckets& operator=(const TriangleBuckets&) = delete;
 
   void add(const std::vector<float>& grid_triangles);
+  // Appends records to cube (x, y, z)'s bucket alone (triangles another rank bucketed there); its estimate stays.
+  void put(uint32_t x, uint32_t y, uint32_t z, const std::vector<float>& records);
   // The triangles of cube (x, y, z) (in cubes), in no particular order; the bucket is emptied.
   std::vector<float> take(uint32_t x, uint32_t y, uint32_t z);
   uint64_t spilled_bytes() const { return file_bytes_; }

@@ -61,6 +61,7 @@ class CubeRanks {
  private:
   struct Pending;
   World world_;
+  RankCollectives collectives_;
   BuildRanks ranks_;
   std::vector<int> owner_;
   std::vector<Pending*> pending_;

@@ -26,12 +26,23 @@ class PlySource final : public MeshSource {
   bool positions_mapped() const override { return reader_.positions_mapped(); }
   std::span<const uint32_t> vertex_colours() const override { return reader_.colours(); }
   uint64_t triangles_hint() const override { return reader_.info().faces; }
+  bool select_face_share(int part, int parts) override {
+    const uint64_t faces = reader_.info().faces;
+    const uint64_t first = static_cast<uint64_t>((unsigned __int128)faces * part / parts);
+    const uint64_t last = static_cast<uint64_t>((unsigned __int128)faces * (part + 1) / parts);
+    if (!reader_.select_faces(first, last)) return false;
+    first_ = first;
+    return true;
+  }
+  uint64_t first_triangle() const override { return first_; }
+  uint64_t bytes_spanned() const override { return reader_.bytes_spanned(); }
   bool next_triangles(std::vector<uint32_t>& indices, size_t max) override {
     return reader_.next_triangles(indices, max);
   }
 
  private:
   PlyMeshReader reader_;
+  uint64_t first_ = 0;
 };
 
 // Every mesh of the scene, with its node transforms applied, as one triangle soup.

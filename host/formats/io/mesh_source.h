@@ -36,6 +36,13 @@ class MeshSource {
   virtual std::span<const float> vertex_uvs() const { return {}; }
   // Replaces `indices` with up to max_triangles triangles (3 indices each); false at the end.
   virtual bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) = 0;
+  // Before the first next_triangles: delivers only share `part` of `parts` of the faces (a build over ranks),
+  // read by offset, and returns true; false, changing nothing, where the file cannot be read so (only binary
+  // PLY triangles can: PlyMeshReader::select_faces). first_triangle() is then the share's first face.
+  virtual bool select_face_share(int /*part*/, int /*parts*/) { return false; }
+  virtual uint64_t first_triangle() const { return 0; }
+  // Bytes of the file this source reads (with a share: the vertices and its faces); 0: unknown.
+  virtual uint64_t bytes_spanned() const { return 0; }
 };
 
 // Chooses the reader by content (a PLY starts with "ply\n"), else by assimp. Throws mv::Error naming the file

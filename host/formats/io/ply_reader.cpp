@@ -113,4 +113,24 @@ bool PlyMeshReader::next_triangles(std::vector<uint32_t>& indices, size_t max_tr
   return !indices.empty();
 }
 
+bool PlyMeshReader::select_faces(uint64_t first, uint64_t last) {
+  Impl& m = *impl_;
+  if (m.face_el == Impl::kNone || m.header.format == detail::Format::ascii || m.next_el != m.face_el || m.face != 0 ||
+      m.poly_left != 0)
+    return false;
+  const Element& e = m.header.elements[m.face_el];
+  if (e.props.size() != 1 || first > last || last > e.count) return false;
+  const Property& ip = e.props[m.index_prop];
+  const uint64_t record = scalar_size(ip.count_type) + 3 * scalar_size(ip.type);
+  m.face_start = m.src.consumed();
+  m.src.seek(m.face_start + first * record);
+  m.face = first;
+  m.face_end = last;
+  m.triangles_only = true;
+  m.spanned = m.face_start + (last - first) * record;
+  return true;
+}
+
+uint64_t PlyMeshReader::bytes_spanned() const { return impl_->spanned ? impl_->spanned : impl_->src.size(); }
+
 }  // namespace mv::io

@@ -55,6 +55,14 @@ class PlyMeshReader {
   // polygon may be split across calls. Returns false, with `indices` empty, once every face was read.
   bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles);
 
+  // Before the first next_triangles: streams only faces [first, last), found by offset, which takes a binary
+  // file whose faces are index lists alone and triangles (each face's count is checked to be 3 as it is read;
+  // the first that is not fails). False, changing nothing, for any other layout. For a build over ranks.
+  bool select_faces(uint64_t first, uint64_t last);
+  // Bytes of the file that hold what this reader reads: the header, the elements before the faces and, with
+  // select_faces, its faces only.
+  uint64_t bytes_spanned() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -31,6 +31,13 @@ bool Source::header_line(std::string& out, size_t max_chars) {
   return true;
 }
 
+void Source::seek(uint64_t offset) {
+  if (fseeko(file_.get(), static_cast<off_t>(offset), SEEK_SET) != 0)
+    throw Error(path_ + ": cannot seek to byte " + num(offset) + ": " + std::strerror(errno));
+  pos_ = end_ = buffer_.get();
+  read_ = offset;
+}
+
 bool Source::fill(size_t n) {
   size_t have = static_cast<size_t>(end_ - pos_);
   std::memmove(buffer_.get(), pos_, have);

@@ -44,6 +44,8 @@ class Source final : public HeaderLines {
     return {pos_, end_};
   }
   void advance(size_t n) { pos_ += n; }
+  // Reads on from byte `offset` of the file (the buffer is dropped).
+  void seek(uint64_t offset);
 
   void skip(uint64_t n) {
     while (n > 0) {

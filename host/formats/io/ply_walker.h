@@ -67,6 +67,10 @@ struct PlyMeshReader::Impl {
   uint32_t poly_first = 0;
   uint32_t poly_prev = 0;
   bool done = false;
+  // A share of the faces (select_faces): faces before face_end, each a triangle, then the end.
+  uint64_t face_end = UINT64_MAX;
+  bool triangles_only = false;
+  uint64_t face_start = 0, spanned = 0;  // the face element's first byte; the bytes a share spans
 
   // Defined in ply_reader.cpp: construction, the layout checks, the messages of faults.
   Impl(const std::string& path, uint64_t ram);
@@ -132,6 +136,8 @@ struct PlyMeshReader::Impl {
   [[gnu::always_inline]] uint64_t checked_face_size(const V& v, const Element& e, uint64_t n) const {
     if (n < 3) [[unlikely]]
       fail_entry(v, e, face, " has " + num(n) + " vertex indices (a face needs at least 3)");
+    if (triangles_only && n != 3) [[unlikely]]
+      fail_entry(v, e, face, " has " + num(n) + " vertex indices: a share of the faces read by offset needs triangles");
     return n;
   }
 
@@ -267,6 +273,10 @@ struct PlyMeshReader::Impl {
           if (only_indices && poly_left == 0 && read_face_records(v, e, ip, out, max_triangles)) continue;
         }
         if (poly_left == 0) {
+          if (face == face_end) {  // the end of a share: what follows is another's
+            done = true;
+            return;
+          }
           if (face == e.count) {
             ++next_el;
             advance(v);
@@ -298,7 +308,7 @@ struct PlyMeshReader::Impl {
     const size_t count_bytes = scalar_size(ip.count_type), index_bytes = scalar_size(ip.type);
     auto [p, end] = src.window(count_bytes + 3 * index_bytes);
     const char* begin = p;
-    while (face < e.count && static_cast<size_t>(end - p) >= count_bytes) {
+    while (face < std::min(e.count, face_end) && static_cast<size_t>(end - p) >= count_bytes) {
       uint64_t n = checked_length(v, e, face, ip, decode<V::kSwap>(p, ip.count_type));
       if (static_cast<uint64_t>(end - p - count_bytes) / index_bytes < n) break;  // continues past the buffer
       if (max_triangles - out.size() / 3 < checked_face_size(v, e, n) - 2) break;  // continues past the batch

@@ -55,7 +55,7 @@ nlohmann::json report_json(const PointFileReport& r) {
 nlohmann::json point_ranks_json(const PointFileReport& r, const std::vector<dist::RankReport>& ranks) {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& rr : ranks)
-    list.push_back({{"seconds", rr.seconds}, {"points", rr.points}, {"points_read", rr.points_read},
+    list.push_back({{"seconds", rr.seconds}, {"points", rr.points}, {"points_read", rr.points_read}, {"tiles", rr.tiles},
                     {"bytes_read", rr.bytes_read}, {"bytes_exchanged", rr.bytes_exchanged},
                     {"peak_memory_bytes", rr.peak_memory_bytes}});
   const double wall = ranks.empty() ? 0 : ranks[0].seconds;
@@ -171,6 +171,7 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
       mine.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       mine.points = r.ranks.points_built;
       mine.points_read = r.ranks.points_read;
+      mine.tiles = r.ranks.tiles_written;
       mine.bytes_read = r.ranks.bytes_read;
       mine.bytes_exchanged = r.ranks.bytes_exchanged;
       rank_reports = dist::gather_reports(mine);

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # `mpirun -np N megavox points build`: point builds spread over 1, 2, 3 and 5 ranks write the bytes of the
-# one-process build: .mvx and 3D Tiles 1.1 and 1.0, from a float PLY with colour, a LAS 1.4 with its attribute
-# record and (with ../shared) a LAZ file, on PoCL and lavapipe; --json reports every rank; a rank that fails or is
-# killed ends the run with nothing left. Only this machine: shared memory and loopback (never another interface).
+# one-process build: .mvx and 3D Tiles 1.1 and 1.0 (every rank writing its own tiles), from a float PLY with
+# colour, a LAS 1.4 with its attribute record and (with ../shared) a LAZ file, on PoCL and lavapipe; --json
+# reports every rank; a rank that fails or is killed ends the run with nothing left. Only this machine: shared memory and loopback (never another interface).
 # Usage: mpi_points.sh MEGAVOX
 set -euo pipefail
 megavox=$1
@@ -76,6 +76,15 @@ assert sum(x["points"] for x in r) == d["points_in"] == sum(x["points_read"] for
 assert all(x["bytes_exchanged"] > 0 and x["peak_memory_bytes"] > 0 for x in r) and 0 <= d["merge_share"] < 1
 # an uncompressed LAS is read by slice: no rank reads the whole file
 assert all(0 < x["bytes_read"] < 0.5 * int(sys.argv[2]) for x in r), r
+PY
+
+# A tileset's tiles are written by every rank: each its cells' subtrees, rank 0 the levels above and tileset.json.
+mpirun -np 3 "$megavox" points build "$dir/cloud.las" --format 3dtiles "${small[@]}" -o "$dir/jt" --json > "$dir/tiles.json" ||
+  fail "tiles json: $(cat "$dir/tiles.json")"
+python3 - "$dir/tiles.json" "$(ls "$dir/jt/tiles" | wc -l)" <<'PY' || fail "tiles per rank: $(cat "$dir/tiles.json")"
+import json, sys
+r = json.load(open(sys.argv[1]))["ranks"]
+assert all(x["tiles"] > 0 for x in r) and sum(x["tiles"] for x in r) == int(sys.argv[2]), r
 PY
 
 # bench points --ranks: one rank and three, timed from outside, the same bytes.

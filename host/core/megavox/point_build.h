@@ -99,6 +99,7 @@ struct PointRankCounts {
                                  // format cannot seek to a point)
   uint64_t bytes_exchanged = 0;  // sent to and received from other ranks
   double join_seconds = 0;       // rank 0: the levels above the dealt cells, and the gather into node order
+  uint64_t tiles_written = 0;    // --format 3dtiles: the tiles this rank wrote
 };
 
 struct PointFileReport {

@@ -234,7 +234,7 @@ void OmicronBuilder::fix(std::span<const uint64_t> sorted) {
   }
 }
 
-PointNode OmicronBuilder::node_of(const LodNode& src, uint32_t level, uint64_t first_point, NodePoints& points) const {
+PointNode output_node(const LodNode& src, uint32_t level, uint64_t first_point, NodePoints& points) {
   PointNode node;
   node.code = (uint64_t{1} << (3 * level)) | src.prefix;
   node.level = static_cast<uint8_t>(level);
@@ -249,10 +249,26 @@ PointNode OmicronBuilder::node_of(const LodNode& src, uint32_t level, uint64_t f
 
 PointNode OmicronBuilder::emit(const LodNode& src, uint32_t level, std::vector<uint64_t>& order) const {
   NodePoints points;
-  PointNode node = node_of(src, level, order.size(), points);
+  PointNode node = output_node(src, level, order.size(), points);
   const NodePoints one[1] = {points};
   expand_order(one, reps_, order);
   return node;
+}
+
+void part_nodes(const OmicronPart& part, const std::vector<bool>& top_absorbed, std::vector<PointNode>& nodes,
+                std::vector<NodePoints>& sources) {
+  uint64_t first_point = 0;
+  for (size_t k = 0; k < part.levels.size(); ++k) {
+    const uint32_t level = part.top_level + static_cast<uint32_t>(k);
+    for (size_t i = 0; i < part.levels[k].size(); ++i) {
+      const LodNode& src = part.levels[k][i];
+      if (src.absorbed || (k == 0 && top_absorbed.at(i))) continue;
+      NodePoints points;
+      nodes.push_back(output_node(src, level, first_point, points));
+      sources.push_back(points);
+      first_point += points.count;
+    }
+  }
 }
 
 void expand_order(std::span<const NodePoints> sources, std::span<const uint64_t> reps, std::vector<uint64_t>& order) {
@@ -313,7 +329,7 @@ void OmicronBuilder::assemble(std::vector<PointNode>& nodes, std::vector<NodePoi
     for (const LodNode& src : levels_[l]) {
       if (src.absorbed) continue;
       NodePoints points;
-      PointNode node = node_of(src, l, first_point, points);
+      PointNode node = output_node(src, l, first_point, points);
       first_point += points.count;
       if (src.child_mask != 0) {
         node.first_child = static_cast<uint32_t>(next_level_start + children_taken);

@@ -59,6 +59,16 @@ struct OmicronPart {
   uint64_t points = 0;
 };
 
+// A node of the output (all but first_child) whose points start at first_point of node order, and where they
+// come from.
+PointNode output_node(const LodNode& src, uint32_t level, uint64_t first_point, NodePoints& points);
+
+// The nodes of a rank's part that the hierarchy keeps, level by level, each level in Morton order, and where
+// their points come from (positions in the part's): those it did not absorb, and of its top level those the
+// join did not (top_absorbed[k] for its k-th). first_child is not set.
+void part_nodes(const OmicronPart& part, const std::vector<bool>& top_absorbed, std::vector<PointNode>& nodes,
+                std::vector<NodePoints>& sources);
+
 // The flat node order those sources describe: point i of node order is sorted point order[i].
 void expand_order(std::span<const NodePoints> sources, std::span<const uint64_t> reps, std::vector<uint64_t>& order);
 
@@ -105,9 +115,6 @@ class OmicronBuilder {
 
  private:
   void fix(std::span<const uint64_t> sorted);
-  // A node of the output (all but first_child) whose points start at first_point of node order, and where they
-  // come from.
-  PointNode node_of(const LodNode& src, uint32_t level, uint64_t first_point, NodePoints& points) const;
   // The same, its points appended to `order`.
   PointNode emit(const LodNode& src, uint32_t level, std::vector<uint64_t>& order) const;
 

@@ -10,6 +10,7 @@
 #include "io/temp_file.h"
 #include "points/omicron.h"
 #include "points/point_ranks.h"
+#include "points/point_ranks_tiles.h"
 #include "points/point_runs.h"
 #include "io/crs_frame.h"
 #include "io/tiles3d_writer.h"
@@ -162,13 +163,14 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
 }
 
 // Writes the hierarchy to the checked output and completes the report.
+// `share`: over ranks, the other ranks' part in a tileset.
 PointFileReport write_points_output(const PointFileOptions& o, const std::string& output, PointHierarchy&& h,
                                     PointFileReport& r, std::chrono::steady_clock::time_point start,
-                                    const Progress& progress) {
+                                    const Progress& progress, const io::Tiles3dShare* share = nullptr) {
   const auto t0 = std::chrono::steady_clock::now();
   if (progress) progress("write", 0);
   if (o.format == PointOutput::mvx) write_mvx_points(output, h);
-  else io::write_3dtiles(output, h, io::Tiles3dOptions{o.tiles_minor_version, o.crs, true});
+  else io::write_3dtiles(output, h, points::tiles_options_of(o), share ? *share : io::Tiles3dShare{});
   r.write_seconds = seconds_since(t0);  // no report after the write: a cancel there would come too late
 
   r.points_in = h.points_in;
@@ -224,12 +226,13 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
                              format_bytes(memory) + "; run it in one process, which builds out of core",
                          setting_host_memory);
     };
-    h = points::build_over_ranks(dev, o, *o.ranks, r, progress, fits);
+    io::Tiles3dShare tiles;
+    h = points::build_over_ranks(dev, o, *o.ranks, r, progress, fits, &tiles);
     if (!writes) {
       r.total_seconds = seconds_since(start);
       return r;
     }
-    return write_points_output(o, output, std::move(h), r, start, progress);
+    return write_points_output(o, output, std::move(h), r, start, progress, &tiles);
   }
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;

@@ -21,6 +21,7 @@
 #include "omicron.h"
 #include "point_gather.h"
 #include "point_kernels.h"
+#include "point_ranks_tiles.h"
 #include "point_runs.h"
 #include "timing.h"
 
@@ -88,7 +89,7 @@ uint64_t exchanged(const RankBytes& parts, int self) {
 
 PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const RankCollectives& ranks,
                                 PointFileReport& report, const Progress& progress,
-                                const std::function<void(const PointCloudInfo&)>& check_fits) {
+                                const std::function<void(const PointCloudInfo&)>& check_fits, io::Tiles3dShare* tiles) {
   const bool lead = ranks.rank == 0;
   if (o.bounds)
     throw CodedError(ErrorCode::invalid_argument,
@@ -213,12 +214,17 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   msg.put(part.points);
   for (const auto& level : part.levels) msg.put_all(level);
   msg.put_all(part.reps);
-  part = OmicronPart();
+  // A tileset's other ranks write their own nodes' tiles: they keep their part and its points.
+  const bool own_tiles = o.format == PointOutput::tiles3d && !lead;
+  if (!own_tiles) part = OmicronPart();
+  PointColumns sorted_here = own_tiles ? columns_for(layout, m) : PointColumns();
   const size_t head = msg.bytes.size();
   msg.bytes.resize(head + m * layout.bytes);
   tbb::parallel_for(tbb::blocked_range<uint64_t>(0, m, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
-    for (uint64_t i = r.begin(); i < r.end(); ++i)
+    for (uint64_t i = r.begin(); i < r.end(); ++i) {
       std::memcpy(msg.bytes.data() + head + i * layout.bytes, record(order[i]), layout.bytes);
+      if (own_tiles) unpack_at(layout, record(order[i]), sorted_here, i);
+    }
   });
   got = {};
   codes = {};
@@ -228,8 +234,19 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   RankBytes parts_at_lead = ranks.gather(std::move(msg.bytes));
   report.build_seconds = subtree_seconds;
   PointHierarchy h;
+  PointHierarchy grid;  // the hierarchy's grid, without nodes
+  grid.source = info;
+  for (int a = 0; a < 3; ++a) grid.cube_min[a] = cube.min[a];
+  grid.shift = cube.shift;
+  grid.grid_bits = rule.grid_bits;
+  grid.depth = rule.depth;
+  if (own_tiles) {
+    report.ranks.tiles_written = write_part_tiles(ranks, part, sorted_here, std::move(grid), tiles_options_of(o), lo3, hi3);
+    return h;
+  }
   if (!lead) return h;
   if (ranks.lead_alone) ranks.lead_alone();
+  const uint32_t top = rule.top_level;
 
   // Rank 0: the parts in rank order are the whole sorted stream; the levels above the top level, as one builder
   // over that stream makes them, then the columns in node order.
@@ -241,7 +258,9 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   std::vector<uint64_t> all_codes;
   all_codes.reserve(n);
   PointColumns sorted = columns_for(layout, n);
+  std::vector<uint64_t> top_start;  // per rank: where its top-level nodes start in the joined list
   for (std::vector<uint8_t>& bytes : parts_at_lead) {
+    top_start.push_back(joined.level(top).size());
     MessageReader in{bytes.data(), bytes.data() + bytes.size()};
     OmicronPart p;
     p.top_level = in.get<uint32_t>();
@@ -265,11 +284,19 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
     bytes = {};
   }
   if (all_codes.size() != n) throw Error("points: internal error: the ranks' parts do not hold every point");
+  top_start.push_back(joined.level(top).size());
   joined.finish_join(all_codes);
   all_codes = {};
   std::vector<NodePoints> sources;
   joined.assemble(h.nodes, sources, h.nodes_per_level);
   h.points = gather_node_points(sorted, sources, joined.reps(), info.extra_bytes);
+  if (o.format == PointOutput::tiles3d && tiles) {
+    // which of each rank's top-level nodes the join absorbed into a leaf above
+    std::vector<std::vector<bool>> absorbed(static_cast<size_t>(ranks.size));
+    for (size_t r = 0; r < absorbed.size(); ++r)
+      for (uint64_t k = top_start[r]; k < top_start[r + 1]; ++k) absorbed[r].push_back(joined.level(top)[k].absorbed);
+    *tiles = lead_tiles_share(ranks, h, owner, top, std::move(absorbed), report.ranks.tiles_written);
+  }
   report.ranks.join_seconds = seconds_since(t0);
   report.build_seconds += report.ranks.join_seconds;
 

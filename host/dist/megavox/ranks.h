@@ -37,6 +37,7 @@ struct RankReport {
   uint64_t voxels = 0;           // in the cubes it made
   uint64_t points = 0;           // a point build: in the cells dealt to it, whose subtrees it built
   uint64_t points_read = 0;      // a point build: its slice of the input
+  uint64_t tiles = 0;            // a point build to 3D Tiles: the tiles it wrote
   uint64_t cubes = 0;            // cubes it owned
   uint64_t voxel_estimate = 0;   // of those cubes, as they were dealt
   uint64_t bytes_read = 0;       // of the input

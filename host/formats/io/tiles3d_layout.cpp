@@ -84,13 +84,17 @@ void place(const PointHierarchy& h, const PointNode& n, const TileFrame& f, Tile
 
 }  // namespace
 
+TileLayout tile_box(const PointHierarchy& h, const PointNode& n, const TileFrame& frame) {
+  TileLayout t;
+  t.name = path_name(n.code, n.level);
+  place(h, n, frame, t);
+  return t;
+}
+
 std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h, const TileFrame& frame) {
   check_tree(h);
   std::vector<TileLayout> tiles(h.nodes.size());
-  for (size_t i = 0; i < h.nodes.size(); ++i) {
-    tiles[i].name = path_name(h.nodes[i].code, h.nodes[i].level);
-    place(h, h.nodes[i], frame, tiles[i]);
-  }
+  for (size_t i = 0; i < h.nodes.size(); ++i) tiles[i] = tile_box(h, h.nodes[i], frame);
   // Children come after their parent: going backwards, a node's children are done before it.
   for (size_t i = h.nodes.size(); i-- > 0;) {
     const PointNode& n = h.nodes[i];

@@ -34,6 +34,10 @@ struct TileFrame {
 //   few representatives sit in one corner), it is twice the largest child's, so errors always fall downwards.
 std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h, const TileFrame& frame = {});
 
+// One node's name, centre and half side (no geometric error: that takes its subtree); the node may be of a part
+// of the hierarchy (h gives the grid).
+TileLayout tile_box(const PointHierarchy& h, const PointNode& n, const TileFrame& frame = {});
+
 // The error of showing none of the tileset: the root cube's side, or twice the root's error when that is larger.
 double tileset_geometric_error(const std::vector<TileLayout>& tiles);
 

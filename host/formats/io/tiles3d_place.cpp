@@ -18,17 +18,21 @@ std::string tiles3d_usable_crs(const std::string& declared) {
 }
 
 TilePlacement tiles3d_place(const PointHierarchy& h, const std::string& crs) {
-  TilePlacement p;
-  p.declared = h.source.crs;
   // Every stored point is a leaf's or a copy of one: their bounds are the cloud's.
   const auto& xyz = h.points.xyz;
   if (xyz.size() < 3) throw Error("the point hierarchy holds no points to place");
-  int32_t lo[3], hi[3];
+  int64_t lo[3], hi[3];
   for (int a = 0; a < 3; ++a) lo[a] = hi[a] = xyz[a];
   for (size_t i = 3; i < xyz.size(); i += 3)
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], xyz[i + a]), hi[a] = std::max(hi[a], xyz[i + a]);
+    for (int a = 0; a < 3; ++a) lo[a] = std::min<int64_t>(lo[a], xyz[i + a]), hi[a] = std::max<int64_t>(hi[a], xyz[i + a]);
+  return tiles3d_place(h.source, lo, hi, crs);
+}
+
+TilePlacement tiles3d_place(const PointCloudInfo& source, const int64_t lo[3], const int64_t hi[3], const std::string& crs) {
+  TilePlacement p;
+  p.declared = source.crs;
   for (int a = 0; a < 3; ++a) {
-    const double s = h.source.scale[a], o = h.source.offset[a];
+    const double s = source.scale[a], o = source.offset[a];
     const double x = o + s * lo[a], y = o + s * hi[a];  // a negative scale swaps them
     p.lo[a] = std::min(x, y), p.hi[a] = std::max(x, y);
     p.origin[a] = p.lo[a] + (p.hi[a] - p.lo[a]) / 2;

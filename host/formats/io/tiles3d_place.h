@@ -34,5 +34,7 @@ std::string tiles3d_usable_crs(const std::string& declared);
 // mv::Error names it and says why; a declared CRS PROJ cannot place leaves the tileset local, saying why in
 // `note`. Throws mv::Error when the hierarchy holds no points.
 TilePlacement tiles3d_place(const PointHierarchy& h, const std::string& crs);
+// The same from the cloud's grid bounds (its points' min and max per axis), for a part of the hierarchy.
+TilePlacement tiles3d_place(const PointCloudInfo& source, const int64_t lo[3], const int64_t hi[3], const std::string& crs);
 
 }  // namespace mv::io

@@ -163,13 +163,40 @@ void write_bytes(const std::string& path, const void* data, size_t bytes) {
   write_atomically(path, [&](std::FILE* f) { return write_all(f, data, bytes); });
 }
 
-}  // namespace
-
-void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& o) {
+void check_version(const std::string& dir, const Tiles3dOptions& o) {
   if (o.minor_version != 0 && o.minor_version != 1)
     throw CodedError(ErrorCode::invalid_argument, "cannot write '" + dir + "': 3D Tiles 1." +
                                                       std::to_string(o.minor_version) +
                                                       " is not a version megavox writes (1.0 or 1.1)");
+}
+
+// The frame a 1.1 tileset's boxes and positions are given in.
+TileFrame frame_of(const TilePlacement& place) {
+  TileFrame frame;
+  std::copy(place.origin, place.origin + 3, frame.origin);
+  std::copy(place.units_to_metres, place.units_to_metres + 3, frame.factor);
+  return frame;
+}
+
+// A node's tile (none for a node without points) into tmp/tiles.
+void write_tile(const std::string& tmp, const PointHierarchy& h, const PointNode& n, const TileLayout& t,
+                const Tiles3dOptions& o, const TilePlacement& place, int shift, const TileProperties& props) {
+  if (!n.point_count) return;  // a tile without content
+  const bool v11 = o.minor_version == 1;
+  const std::string name = tmp + "/tiles/" + t.name + (v11 ? ".glb" : ".pnts");
+  const std::vector<uint8_t> bytes = v11 ? encode_glb_points(t3w_glb(h, n, place, shift, props), o.meshopt)
+                                         : encode_pnts(t3w_pnts(h, n, t, shift, props));
+  write_bytes(name, bytes.data(), bytes.size());
+}
+
+}  // namespace
+
+void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& o) {
+  write_3dtiles(dir, h, o, Tiles3dShare{});
+}
+
+void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& o, const Tiles3dShare& share) {
+  check_version(dir, o);
   const bool v11 = o.minor_version == 1;
   // Everything that can refuse the input comes before anything is written: the hierarchy, the properties, the CRS.
   std::vector<TileLayout> tiles;
@@ -183,10 +210,7 @@ void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3
     if (v11) {
       fault = ErrorCode::invalid_argument;
       place = tiles3d_place(h, o.crs);
-      TileFrame frame;
-      std::copy(place.origin, place.origin + 3, frame.origin);
-      std::copy(place.units_to_metres, place.units_to_metres + 3, frame.factor);
-      tiles = tiles3d_layout(h, frame);
+      tiles = tiles3d_layout(h, frame_of(place));
     }
   } catch (const Error& e) {
     throw CodedError(classify_or(e, fault), "cannot write '" + dir + "': " + e.what(), error_settings(e));
@@ -194,18 +218,22 @@ void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3
   const int shift = colour_shift(h);
   write_dir_atomically(dir, "tileset.json", [&](const std::string& tmp) {
     std::filesystem::create_directory(tmp + "/tiles");
-    for (size_t i = 0; i < h.nodes.size(); ++i) {
-      const PointNode& n = h.nodes[i];
-      if (!n.point_count) continue;  // a tile without content
-      const std::string name = tmp + "/tiles/" + tiles[i].name + (v11 ? ".glb" : ".pnts");
-      const std::vector<uint8_t> bytes = v11 ? encode_glb_points(t3w_glb(h, n, place, shift, props), o.meshopt)
-                                             : encode_pnts(t3w_pnts(h, n, tiles[i], shift, props));
-      write_bytes(name, bytes.data(), bytes.size());
-    }
+    if (share.others) share.others(tmp, shift);
+    for (size_t i = 0; i < h.nodes.size(); ++i)
+      if (share.elsewhere.empty() || !share.elsewhere[i]) write_tile(tmp, h, h.nodes[i], tiles[i], o, place, shift, props);
     const json ts = v11 ? tileset_v11(h, tiles, props, place) : tileset_v10(h, tiles, props, o.crs);
     const std::string text = ts.dump() + "\n";  // compact: one object per node adds up
     write_bytes(tmp + "/tileset.json", text.data(), text.size());
   });
+}
+
+void write_3dtiles_part(const std::string& tmp_dir, const PointHierarchy& part, const Tiles3dOptions& o,
+                        const int64_t lo[3], const int64_t hi[3], int colour_shift) {
+  check_version(tmp_dir, o);
+  const TileProperties props = tile_properties(part);
+  const TilePlacement place = o.minor_version == 1 ? tiles3d_place(part.source, lo, hi, o.crs) : TilePlacement{};
+  const TileFrame frame = o.minor_version == 1 ? frame_of(place) : TileFrame{};
+  for (const PointNode& n : part.nodes) write_tile(tmp_dir, part, n, tile_box(part, n, frame), o, place, colour_shift, props);
 }
 
 }  // namespace mv::io

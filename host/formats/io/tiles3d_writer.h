@@ -1,7 +1,10 @@
 // Point-cloud LOD hierarchies as 3D Tiles: DIR/tileset.json and one tile per node that holds points, 3D Tiles 1.1
 // (DIR/tiles/NAME.glb, placed on the globe when the cloud has a CRS) or 1.0 (DIR/tiles/NAME.pnts).
 #pragma once
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "megavox/points.h"
 
@@ -41,5 +44,23 @@ struct Tiles3dOptions {
 // Throws mv::Error naming DIR on any failure, leaving DIR as it was; options.crs that PROJ cannot place is an
 // error before anything is written.
 void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& options = {});
+
+// A tileset written by several processes (a point build over MPI ranks, the same bytes): the process with the
+// whole hierarchy writes the tiles of the nodes `elsewhere` does not mark, calls `others` with the temporary
+// folder and the colour shift once everything that can refuse the input has passed, and writes tileset.json
+// once it returns (it throws when another process failed: the folder goes). The others write their nodes'
+// tiles with write_3dtiles_part.
+struct Tiles3dShare {
+  std::vector<bool> elsewhere;  // per node of h
+  std::function<void(const std::string& tmp_dir, int colour_shift)> others;
+};
+void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& options,
+                   const Tiles3dShare& share);
+
+// The tiles of every node of `part` (nodes of the whole hierarchy with their points, on its grid) into
+// tmp_dir/tiles, as write_3dtiles writes them: `lo`, `hi` are the whole cloud's grid bounds (its placement),
+// colour_shift the one `others` got.
+void write_3dtiles_part(const std::string& tmp_dir, const PointHierarchy& part, const Tiles3dOptions& options,
+                        const int64_t lo[3], const int64_t hi[3], int colour_shift);
 
 }  // namespace mv::io

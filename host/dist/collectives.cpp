@@ -1,6 +1,8 @@
 // The collectives of megavox/rank_collectives.h over MPI_COMM_WORLD: buffers of any size, sent in pieces of at
 // most 1 GiB (MPI counts are ints); messages between two ranks arrive in the order they were sent.
+#include <chrono>
 #include <climits>
+#include <thread>
 #include <vector>
 
 #include "megavox/error.h"
@@ -61,6 +63,12 @@ RankCollectives collectives(const World& w) {
   c.rank = w.rank;
   c.size = w.size;
   c.lead_alone = take_node_threads;
+  c.sleepy_barrier = [] {
+    MPI_Request request;
+    MPI_Ibarrier(MPI_COMM_WORLD, &request);
+    for (int done = 0; MPI_Test(&request, &done, MPI_STATUS_IGNORE), !done;)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  };
   c.all_gather = [w](const std::vector<uint8_t>& mine) {
     uint64_t size = mine.size();
     std::vector<uint64_t> sizes(static_cast<size_t>(w.size));

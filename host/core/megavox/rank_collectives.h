@@ -20,6 +20,8 @@ struct RankCollectives {
   std::function<RankBytes(std::vector<uint8_t>&& mine)> gather;
   // Called on rank 0 once the others only wait for it (they sleep): it may take every core of the node.
   std::function<void()> lead_alone;
+  // A barrier whose waiting ranks sleep: for the other ranks to wait out rank 0's work alone.
+  std::function<void()> sleepy_barrier;
 };
 
 // Which rank gets each item of a sequence: contiguous ranges in its order, each about total / ranks of the

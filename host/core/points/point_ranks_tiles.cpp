@@ -44,7 +44,8 @@ io::Tiles3dShare lead_tiles_share(const RankCollectives& ranks, const PointHiera
     }
     if (!share.elsewhere[i] && n.point_count) ++tiles;
   }
-  share.others = [&ranks, absorbed = std::move(absorbed)](const std::string& tmp, int colour_shift) {
+  share.start = [&ranks, absorbed = std::move(absorbed)](const std::string& tmp, int colour_shift) {
+    if (ranks.sleepy_barrier) ranks.sleepy_barrier();  // the others wait there
     RankBytes parts(static_cast<size_t>(ranks.size));
     for (int r = 1; r < ranks.size; ++r) {
       std::vector<uint8_t>& m = parts[static_cast<size_t>(r)];
@@ -53,6 +54,8 @@ io::Tiles3dShare lead_tiles_share(const RankCollectives& ranks, const PointHiera
       for (bool a : absorbed[static_cast<size_t>(r)]) m.push_back(a ? 1 : 0);
     }
     ranks.all_to_all(std::move(parts));
+  };
+  share.finish = [&ranks] {
     const RankBytes done = ranks.all_gather({1});
     for (int r = 1; r < ranks.size; ++r) {
       const std::vector<uint8_t>& d = done[static_cast<size_t>(r)];
@@ -68,6 +71,7 @@ io::Tiles3dShare lead_tiles_share(const RankCollectives& ranks, const PointHiera
 uint64_t write_part_tiles(const RankCollectives& ranks, const OmicronPart& part, const PointColumns& sorted,
                           PointHierarchy grid, const io::Tiles3dOptions& options, const int64_t lo[3],
                           const int64_t hi[3]) {
+  if (ranks.sleepy_barrier) ranks.sleepy_barrier();  // asleep while rank 0 joins the parts and checks the tileset
   const RankBytes got = ranks.all_to_all(RankBytes(static_cast<size_t>(ranks.size)));
   const std::vector<uint8_t>& m = got[0];
   std::vector<uint8_t> done{1};

@@ -218,9 +218,10 @@ void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3
   const int shift = colour_shift(h);
   write_dir_atomically(dir, "tileset.json", [&](const std::string& tmp) {
     std::filesystem::create_directory(tmp + "/tiles");
-    if (share.others) share.others(tmp, shift);
+    if (share.start) share.start(tmp, shift);
     for (size_t i = 0; i < h.nodes.size(); ++i)
       if (share.elsewhere.empty() || !share.elsewhere[i]) write_tile(tmp, h, h.nodes[i], tiles[i], o, place, shift, props);
+    if (share.finish) share.finish();
     const json ts = v11 ? tileset_v11(h, tiles, props, place) : tileset_v10(h, tiles, props, o.crs);
     const std::string text = ts.dump() + "\n";  // compact: one object per node adds up
     write_bytes(tmp + "/tileset.json", text.data(), text.size());

@@ -46,20 +46,21 @@ struct Tiles3dOptions {
 void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& options = {});
 
 // A tileset written by several processes (a point build over MPI ranks, the same bytes): the process with the
-// whole hierarchy writes the tiles of the nodes `elsewhere` does not mark, calls `others` with the temporary
-// folder and the colour shift once everything that can refuse the input has passed, and writes tileset.json
-// once it returns (it throws when another process failed: the folder goes). The others write their nodes'
-// tiles with write_3dtiles_part.
+// whole hierarchy calls `start` with the temporary folder and the colour shift once everything that can refuse
+// the input has passed, writes the tiles of the nodes `elsewhere` does not mark while the others write theirs
+// (write_3dtiles_part), then calls `finish`, which returns once they are done (it throws when one failed: the
+// folder goes), and writes tileset.json.
 struct Tiles3dShare {
   std::vector<bool> elsewhere;  // per node of h
-  std::function<void(const std::string& tmp_dir, int colour_shift)> others;
+  std::function<void(const std::string& tmp_dir, int colour_shift)> start;
+  std::function<void()> finish;
 };
 void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& options,
                    const Tiles3dShare& share);
 
 // The tiles of every node of `part` (nodes of the whole hierarchy with their points, on its grid) into
 // tmp_dir/tiles, as write_3dtiles writes them: `lo`, `hi` are the whole cloud's grid bounds (its placement),
-// colour_shift the one `others` got.
+// colour_shift the one `start` got.
 void write_3dtiles_part(const std::string& tmp_dir, const PointHierarchy& part, const Tiles3dOptions& options,
                         const int64_t lo[3], const int64_t hi[3], int colour_shift);
 

@@ -94,7 +94,7 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
   auto* cmd = points.add_subcommand(
       "build",
       "Build an LOD hierarchy of a point cloud (PLY binary or ASCII: x,y,z with optional colour, normals and\n"
-      "intensity; LAS 1.2-1.4 point formats 0-3 and 6-8) bottom-up from its Morton order (OMiCroN). Every point\n"
+      "intensity; LAS 1.0-1.4 point formats 0-10, LAZ 0-3 and 6-8) bottom-up from its Morton order (OMiCroN). Every point\n"
       "lands in exactly one leaf; a subtree of at most --max-node-points points is one leaf, and each inner node\n"
       "keeps copies of its children's points, one per cell of a 64^3 grid over its cube, nearest the cell centre.\n"
       "Examples:\n"

@@ -28,7 +28,7 @@ using mv::test::ply::fmt_name;
 using mv::test::ply::kAllFormats;
 using mv::test::ply::write_file;
 
-bool has_rgb(int format) { return format == 2 || format == 3 || format == 7 || format == 8; }
+bool has_rgb(int format) { return format == 2 || format == 3 || format == 5 || format == 7 || format == 8 || format == 10; }
 
 // ---------------------------------------------------------------------------------------------------
 // PointColumns
@@ -58,7 +58,7 @@ TEST(PointReaders, ColumnsAppendAndClear) {
 
 TEST(LasPoints, EveryVersionFormatAndExtraBytes) {
   for (int minor : {0, 1, 2, 3, 4}) {  // 1.0 and 1.1 share 1.2's layout
-    for (int format : {0, 1, 2, 3, 6, 7, 8}) {
+    for (int format : {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10}) {
       for (uint16_t extra : {0, 3}) {
         for (bool carry : {true, false}) {
           SCOPED_TRACE("LAS 1." + std::to_string(minor) + " format " + std::to_string(format) + " extra " +
@@ -83,23 +83,27 @@ TEST(LasPoints, EveryVersionFormatAndExtraBytes) {
           EXPECT_EQ(info.attributes, mv::kPointIntensity | (has_rgb(format) ? mv::kPointRgb : 0u) |
                                          (carry ? mv::kPointExtra : 0u));
           // The attribute record: the decoded LAS fields, then the extra bytes (unnamed: no Extra Bytes record).
-          const bool gps = format == 1 || format == 3 || format >= 6;
-          const uint32_t standard = 14 + (gps ? 8 : 0) + (format == 8 ? 2 : 0);
+          const bool gps = format == 1 || format >= 3;
+          const bool wave = format == 4 || format == 5 || format == 9 || format == 10;
+          const uint32_t standard = 14 + (gps ? 8 : 0) + (format == 8 || format == 10 ? 2 : 0) + (wave ? 29 : 0);
           EXPECT_EQ(info.extra_bytes, carry ? standard + extra : 0u);
           const mv::PointField* cls = nullptr;
           const mv::PointField* gps_time = nullptr;
           const mv::PointField* nir = nullptr;
           const mv::PointField* unnamed = nullptr;
+          const mv::PointField* wave_offset = nullptr;
           for (const mv::PointField& f : info.fields) {
             if (f.name == "classification") cls = &f;
             if (f.name == "gps_time") gps_time = &f;
             if (f.name == "nir") nir = &f;
             if (f.name == "extra_bytes") unnamed = &f;
+            if (f.name == "wave_packet_offset") wave_offset = &f;
           }
           if (carry) {
             ASSERT_TRUE(cls);
             EXPECT_EQ(gps_time != nullptr, gps);
-            EXPECT_EQ(nir != nullptr, format == 8);
+            EXPECT_EQ(nir != nullptr, format == 8 || format == 10);
+            EXPECT_EQ(wave_offset != nullptr, wave);
             ASSERT_EQ(unnamed != nullptr, extra > 0);
             if (unnamed) {
               EXPECT_EQ(unnamed->offset, standard);
@@ -132,6 +136,11 @@ TEST(LasPoints, EveryVersionFormatAndExtraBytes) {
                 ASSERT_EQ(t, pts[i].gps_time) << "point " << i;
               }
               if (nir) ASSERT_EQ(rec[nir->offset] | rec[nir->offset + 1] << 8, pts[i].nir);
+              if (wave) {  // the fixture fills the descriptor with 'w'
+                ASSERT_EQ(wave_offset->type, mv::PointFieldType::u64);
+                ASSERT_EQ(rec[wave_offset->offset - 1], 'w');
+                ASSERT_EQ(rec[wave_offset->offset + 27], 'w');
+              }
               for (int k = 0; k < extra; ++k) ASSERT_EQ(rec[standard + k], pts[i].extra[k]) << "point " << i;
             }
           }

@@ -14,7 +14,18 @@ namespace {
 
 constexpr uint32_t kDescriptorBytes = 192;
 
-bool las_has_gps(unsigned format) { return format == 1 || format == 3 || format >= 6; }
+bool las_has_gps(unsigned format) { return format == 1 || format >= 3; }
+
+// Formats 4, 5, 9 and 10: the byte where their waveform packet descriptor starts, else 0.
+uint32_t las_wave_packet_at(unsigned format) {
+  switch (format) {
+    case 4: return 28;
+    case 5: return 34;
+    case 9: return 30;
+    case 10: return 38;
+    default: return 0;
+  }
+}
 
 void add_field(LasRecordLayout& l, const char* name, PointFieldType type, const char* description) {
   PointField f;
@@ -57,7 +68,16 @@ LasRecordLayout las_record_layout(unsigned format, uint32_t surplus, const std::
   add_field(l, "scan_angle", T::f32, "degrees off nadir");
   add_field(l, "point_source_id", T::u16, "the flight line or source");
   if (las_has_gps(format)) add_field(l, "gps_time", T::f64, "GPS time of the pulse");
-  if (format == 8) add_field(l, "nir", T::u16, "near infrared");
+  if (format == 8 || format == 10) add_field(l, "nir", T::u16, "near infrared");
+  if (las_wave_packet_at(format)) {  // the descriptor of the point's waveform (the waveform itself is not read)
+    add_field(l, "wave_packet_descriptor_index", T::u8, "the Waveform Packet Descriptor record (0: none)");
+    add_field(l, "wave_packet_offset", T::u64, "bytes from the waveform data's start to this point's packet");
+    add_field(l, "wave_packet_bytes", T::u32, "the waveform packet's size");
+    add_field(l, "return_point_waveform_location", T::f32, "picoseconds from the packet's first sample");
+    add_field(l, "x_t", T::f32, "the pulse's direction: x per picosecond");
+    add_field(l, "y_t", T::f32, "the pulse's direction: y per picosecond");
+    add_field(l, "z_t", T::f32, "the pulse's direction: z per picosecond");
+  }
   l.standard = l.bytes;
 
   // The extra bytes: each documented run named and typed, the rest one unnamed run.
@@ -136,9 +156,13 @@ void las_attributes(unsigned format, uint32_t standard_length, const LasRecordLa
     std::memcpy(out + at, format >= 6 ? r + 22 : r + 20, 8);
     at += 8;
   }
-  if (format == 8) {
+  if (format == 8 || format == 10) {
     std::memcpy(out + at, r + 36, 2);
     at += 2;
+  }
+  if (const uint32_t wave = las_wave_packet_at(format)) {  // 29 bytes, little-endian as the record
+    std::memcpy(out + at, r + wave, 29);
+    at += 29;
   }
   std::memcpy(out + at, r + standard_length, layout.bytes - layout.standard);
 }

@@ -19,10 +19,10 @@ namespace mv::io::detail {
 
 namespace {
 
-// Point data record formats 0-10 (LAS 1.4, table "Point Data Record Format" sizes); 4, 5, 9 and 10 carry
-// waveform packets and are refused.
-constexpr uint32_t kStandardLength[] = {20, 28, 26, 34, 0, 0, 30, 36, 38, 0, 0};
-constexpr uint32_t kRgbOffset[] = {0, 0, 20, 28, 0, 0, 0, 30, 30, 0, 0};
+// Point data record formats 0-10 (LAS 1.4, table "Point Data Record Format" sizes); 4, 5, 9 and 10 are 1, 3,
+// 6 and 8 with a 29-byte waveform packet descriptor after them.
+constexpr uint32_t kStandardLength[] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
+constexpr uint32_t kRgbOffset[] = {0, 0, 20, 28, 0, 28, 0, 30, 30, 0, 30};
 
 constexpr uint32_t kLegacyHeader = 227;  // LAS 1.0-1.2
 constexpr uint32_t kHeader13 = 235;      // + start of waveform data
@@ -117,11 +117,8 @@ class HeaderReader {
     const uint8_t format = b[104] & 0x3F;
     h_.point_format = format;
     h_.standard_length = las_standard_record_length(format);
-    if (h_.standard_length == 0) {
-      const bool waveform = format == 4 || format == 5 || format == 9 || format == 10;
-      fail("point data record format " + num(format) + (waveform ? " (with waveform packets)" : "") +
-           " is not supported; formats 0, 1, 2, 3, 6, 7 and 8 are read");
-    }
+    if (h_.standard_length == 0)
+      fail("point data record format " + num(format) + " is not supported; formats 0 to 10 are read");
     if (h_.record_length < h_.standard_length)
       fail("bad LAS header: point records of " + num(h_.record_length) + " bytes are shorter than the " +
            num(h_.standard_length) + " bytes of point format " + num(format));

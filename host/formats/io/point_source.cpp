@@ -29,7 +29,7 @@ std::unique_ptr<PointSource> open_points(const std::string& path, const PointRea
   if (head == "ply\n" || head == "ply\r") return open_ply_points(path, options);
   throw Error(path +
               ": not a point cloud megavox reads: a PLY file starts with 'ply', a LAS file with 'LASF' "
-              "(LAS or LAZ 1.0 to 1.4, point formats 0, 1, 2, 3, 6, 7, 8)");
+              "(LAS 1.0 to 1.4, point formats 0 to 10; LAZ formats 0, 1, 2, 3, 6, 7, 8)");
 }
 
 }  // namespace mv::io

@@ -2,8 +2,8 @@
 // larger than RAM passes through a bounded buffer.
 //
 // Formats, chosen by content:
-// - LAS and LAZ 1.0 to 1.4, point data record formats 0, 1, 2, 3, 6, 7, 8 (io/las_reader.h): the raw
-//   int32 X, Y, Z with the header's scale and offset; intensity, RGB (formats 2, 3, 7, 8) and the record's
+// - LAS 1.0 to 1.4, point data record formats 0 to 10, and LAZ formats 0, 1, 2, 3, 6, 7, 8 (io/las_reader.h):
+//   the raw int32 X, Y, Z with the header's scale and offset; intensity, RGB (formats 2, 3, 5, 7, 8, 10) and the record's
 //   extra bytes; the CRS from the WKT or GeoTIFF-key records. LAZ is decompressed by megavox's own decoder
 //   (host/formats/laz), its chunks in parallel.
 // - PLY 1.0, ascii or binary (io/ply_points.h): the `vertex` element's x, y, z on a grid chosen from the data's

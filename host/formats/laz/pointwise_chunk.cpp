@@ -81,7 +81,11 @@ Schema parse_schema(const uint8_t* b, size_t size, unsigned point_format, uint32
 
   // The items must compose the point format's record, in order, with at most one item of extra bytes.
   const std::vector<ItemType> expected = items_of(point_format);
-  if (expected.empty()) throw LazError("point format " + n_of(point_format) + " is not read from LAZ");
+  if (expected.empty())
+    throw LazError("point format " + n_of(point_format) + " is not read from LAZ" +
+                   (point_format == 4 || point_format == 5 || point_format == 9 || point_format == 10
+                        ? std::string(" (its waveform packets' LAZ items are not decoded; uncompressed, it is read)")
+                        : std::string()));
   const bool layered_format = point_format >= 6;
   if (s.layered() != layered_format)
     throw LazError(std::string("point format ") + n_of(point_format) + " with the " +

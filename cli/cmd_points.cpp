@@ -150,9 +150,6 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
     const bool lead = world.rank == 0;
     std::optional<RankCollectives> ranks;
     if (world.size > 1) {
-      if (o.bounds)
-        throw CodedError(ErrorCode::invalid_argument,
-                         "points build: --bounds is not spread over ranks; run it in one process (without mpirun)");
       check_every_rank_reads(o.input);
       ranks = dist::collectives(world);
       o.ranks = &*ranks;

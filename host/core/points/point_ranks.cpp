@@ -91,28 +91,28 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
                                 PointFileReport& report, const Progress& progress,
                                 const std::function<void(const PointCloudInfo&)>& check_fits, io::Tiles3dShare* tiles) {
   const bool lead = ranks.rank == 0;
-  if (o.bounds)
-    throw CodedError(ErrorCode::invalid_argument,
-                     "points build: --bounds is not spread over ranks; run it in one process (without mpirun)");
   auto t0 = std::chrono::steady_clock::now();
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
+  ro.bounds = o.bounds;
   std::unique_ptr<io::PointSource> src = io::open_points(o.input, ro);
   const PointCloudInfo info = src->info();
   report.input_format = info.format;
   if (lead && check_fits) check_fits(info);
 
-  // This rank's slice of the file's points, in input order.
+  // This rank's slice of the file's point records, in input order (with --bounds, the points of it inside the
+  // box: the slices together are the points one process reads, in its order).
   const uint64_t declared = info.points;
   const uint64_t lo = static_cast<uint64_t>((unsigned __int128)declared * ranks.rank / ranks.size);
   const uint64_t hi = static_cast<uint64_t>((unsigned __int128)declared * (ranks.rank + 1) / ranks.size);
   const uint64_t unread = src->skip(lo);
   PointColumns mine;
-  mine.reserve_more(hi - lo, info.attributes, info.extra_bytes);
-  while (mine.size() < hi - lo && src->next(mine, static_cast<size_t>(std::min<uint64_t>(hi - lo - mine.size(), 1 << 20))))
-    if (progress && lead) progress("read", double(mine.size()) / double(std::max<uint64_t>(1, hi - lo)));
-  if (mine.size() != hi - lo)
-    throw Error(o.input + ": the file holds " + std::to_string(lo + mine.size()) + " points where its header declares " +
+  mine.reserve_more(o.bounds ? 0 : hi - lo, info.attributes, info.extra_bytes);
+  while (src->records_read() < hi &&
+         src->next(mine, static_cast<size_t>(std::min<uint64_t>(hi - src->records_read(), 1 << 20))))
+    if (progress && lead) progress("read", double(src->records_read() - lo) / double(std::max<uint64_t>(1, hi - lo)));
+  if (src->records_read() != hi)
+    throw Error(o.input + ": the file holds " + std::to_string(src->records_read()) + " points where its header declares " +
                 std::to_string(declared));
   src.reset();
   std::error_code size_error;

@@ -64,13 +64,20 @@ class LasSource final : public PointSource {
 
   const PointCloudInfo& info() const override { return info_; }
 
+  uint64_t records_read() const override { return read_; }
+
   uint64_t skip(uint64_t n) override {
-    if (bounds_) return PointSource::skip(n);
     n = std::min(n, info_.points - read_);
-    if (laz_) {  // whole chunks unread, then the rest of a chunk decoded
+    if (laz_) {  // whole chunks unread, then the rest of a chunk decoded and dropped
       const uint64_t passed = laz_->skip_chunks(n);
       read_ += passed;
-      PointSource::skip(n - passed);
+      for (uint64_t left = n - passed; left > 0;) {
+        buffer_.resize(std::min(left, batch_) * h_.record_length);
+        const size_t got = laz_->read(buffer_.data(), std::min(left, batch_));
+        if (got == 0) truncated();
+        read_ += got;
+        left -= got;
+      }
       return passed;
     }
     read_ += n;

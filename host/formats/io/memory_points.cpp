@@ -15,6 +15,7 @@ class MemoryPoints final : public PointSource {
   MemoryPoints(const PointArrays& a, PointCloudInfo info, double scale)
       : a_(a), info_(std::move(info)), scale_(scale), inv_(1 / scale), exact_inverse_(std::isfinite(inv_) && inv_ * scale == 1) {}
   const PointCloudInfo& info() const override { return info_; }
+  uint64_t records_read() const override { return next_; }
 
   bool next(PointColumns& out, size_t max_points) override {
     const uint64_t n = std::min<uint64_t>(max_points, info_.points - next_);

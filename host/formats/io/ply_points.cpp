@@ -100,6 +100,7 @@ class PlyPoints final : public PointSource {
   }
 
   const PointCloudInfo& info() const override { return info_; }
+  uint64_t records_read() const override { return next_; }
 
   bool next(PointColumns& out, size_t max_points) override {
     if (max_points == 0) fail("next: max_points must be at least 1");

@@ -15,10 +15,10 @@ namespace mv::io {
 
 uint64_t PointSource::skip(uint64_t n) {
   PointColumns scratch;
-  while (n > 0) {
+  const uint64_t end = records_read() + n;
+  while (records_read() < end) {
     scratch.clear();
-    if (!next(scratch, static_cast<size_t>(std::min<uint64_t>(n, uint64_t{1} << 20)))) break;
-    n -= std::min<uint64_t>(n, scratch.size());
+    if (!next(scratch, static_cast<size_t>(std::min<uint64_t>(end - records_read(), uint64_t{1} << 20)))) break;
   }
   return 0;
 }

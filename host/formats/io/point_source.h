@@ -31,9 +31,13 @@ class PointSource {
   // Appends up to max_points (at least 1) points to `out` (the columns info().attributes names); false,
   // appending nothing, once every point was read.
   virtual bool next(PointColumns& out, size_t max_points) = 0;
-  // Passes over the next n points, as next() would (a build over ranks reads its slice of the file); past the
-  // end it stops there. Returns how many it passed over unread: all where it seeks (uncompressed LAS), LAZ's
-  // whole chunks, none where it reads them (PLY, which also reads the whole file for its grid when opened).
+  // The file's point records next() went through so far: the points it delivered, and with a --bounds box
+  // (LAS, LAZ) those it tested and left out too. info().points in all.
+  virtual uint64_t records_read() const = 0;
+  // Passes over the next n records (a build over ranks reads its slice of the file; a box's test is not made on
+  // them); past the end it stops there. Returns how many it passed over unread: all where it seeks
+  // (uncompressed LAS), LAZ's whole chunks, none where it reads them (PLY, which also reads the whole file for its
+  // grid when opened).
   virtual uint64_t skip(uint64_t n);
 };
 

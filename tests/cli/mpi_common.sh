@@ -14,13 +14,17 @@ expect_killed_rank_ends_run() {
   mpirun -np 3 "$megavox" "$@" -q -o "$out" > "$dir/kill.txt" 2>&1 &
   run=$!
   ranks() { pgrep -f -- "^$megavox .*-o $out" || true; }
-  for _ in $(seq 200); do  # until the three ranks run
+  # Each rank is stopped as soon as it is seen, so that none can finish before one is killed (no rank finishes
+  # alone: the first collective waits for all three); then one is killed and the others go on.
+  for _ in $(seq 400); do
+    for pid in $(ranks); do kill -STOP "$pid" 2> /dev/null || true; done
     (($(ranks | wc -l) >= 3)) && break
-    sleep 0.05
+    sleep 0.02
   done
   victim=$(ranks | tail -1)
   [[ -n "$victim" ]] || fail "no rank to kill: $(cat "$dir/kill.txt")"
   kill -9 "$victim"
+  for pid in $(ranks); do kill -CONT "$pid" 2> /dev/null || true; done
   start=$SECONDS
   if wait "$run"; then fail "mpirun succeeded with a rank killed"; fi
   ((SECONDS - start <= 30)) || fail "the run took $((SECONDS - start)) s to end after a rank was killed"

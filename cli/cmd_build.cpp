@@ -110,7 +110,9 @@ void add_build_command(CLI::App& app, const GlobalOptions& g) {
       "voxel DAG in a .mvx file. The grid is a cube on the mesh's longest extent (--grid-origin, --bounds); voxel i\n"
       "covers [i, i+1) and the grid's top face belongs to the last voxel. Example:\n"
       "  megavox build bunny.ply --resolution 4K --format ssvdag -o bunny.mvx\n"
-      "  megavox build bunny.ply --resolution 2K --voxelize thin --grid-origin min -o bunny_thin.mvx");
+      "  megavox build bunny.ply --resolution 2K --voxelize thin --grid-origin min -o bunny_thin.mvx\n"
+      "Over MPI ranks (a build in cubes; a binary PLY of triangles is read in shares of its faces; the same bytes):\n"
+      "  mpirun -np 4 megavox build scan.ply --resolution 16K -o scan.mvx");
   add_build_options(*cmd, *a);
   cmd->add_option("-o,--output", a->output, "The .mvx file to write (named only once complete)")
       ->required();

@@ -94,12 +94,14 @@ void add_points_build(CLI::App& points, const GlobalOptions& g) {
   auto* cmd = points.add_subcommand(
       "build",
       "Build an LOD hierarchy of a point cloud (PLY binary or ASCII: x,y,z with optional colour, normals and\n"
-      "intensity; LAS 1.0-1.4 point formats 0-10, LAZ 0-3 and 6-8) bottom-up from its Morton order (OMiCroN). Every point\n"
-      "lands in exactly one leaf; a subtree of at most --max-node-points points is one leaf, and each inner node\n"
+      "intensity; LAS 1.0-1.4 point formats 0-10, LAZ 0-3 and 6-8) bottom-up from its Morton order (OMiCroN).\n"
+      "Every point lands in exactly one leaf; a subtree of at most --max-node-points points is one leaf, and each inner node\n"
       "keeps copies of its children's points, one per cell of a 64^3 grid over its cube, nearest the cell centre.\n"
       "Examples:\n"
       "  megavox points build scan.las -o scan.mvx\n"
-      "  megavox points build scan.las --format 3dtiles -o scan_tiles   (DIR/tileset.json + DIR/tiles/*.glb)");
+      "  megavox points build scan.las --format 3dtiles -o scan_tiles   (DIR/tileset.json + DIR/tiles/*.glb)\n"
+      "Over MPI ranks (each reads a slice, builds its cells' subtrees and writes their tiles; the same bytes):\n"
+      "  mpirun -np 4 megavox points build scan.laz -o scan.mvx");
   cmd->add_option("input", a->input, "The point cloud (.ply, .las)")->required();
   cmd->add_option("-o,--output", a->output, "The .mvx file or, with --format 3dtiles, the folder to write "
                                             "(written under a temporary name, renamed on success)")

@@ -24,6 +24,18 @@ struct RankCollectives {
   std::function<void()> sleepy_barrier;
 };
 
+// The bytes of the buffers for (or from) ranks other than `self`: what an exchange moves between processes.
+inline uint64_t bytes_of_others(const RankBytes& parts, int self) {
+  uint64_t n = 0;
+  for (size_t r = 0; r < parts.size(); ++r)
+    if (static_cast<int>(r) != self) n += parts[r].size();
+  return n;
+}
+
+// Collective: the element-wise sums of every rank's `values` (the same length on every rank), added in rank
+// order, on every rank.
+std::vector<uint64_t> sum_over_ranks(const RankCollectives& ranks, const std::vector<uint64_t>& values);
+
 // Which rank gets each item of a sequence: contiguous ranges in its order, each about total / ranks of the
 // weights (an item goes to the rank whose equal share holds its first unit of weight).
 std::vector<int> deal_in_order(const std::vector<uint64_t>& weights, int ranks);

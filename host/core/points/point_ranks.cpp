@@ -18,6 +18,7 @@
 #include "io/point_source.h"
 #include "megavox/error.h"
 #include "megavox/rank_collectives.h"
+#include "megavox/rank_message.h"
 #include "omicron.h"
 #include "point_gather.h"
 #include "point_kernels.h"
@@ -31,58 +32,11 @@ namespace {
 
 static_assert(std::is_trivially_copyable_v<LodNode>);
 
-// A message's bytes, written and read back in order.
-struct MessageWriter {
-  std::vector<uint8_t> bytes;
-  template <class T>
-  void put(const T& v) {
-    const auto* p = reinterpret_cast<const uint8_t*>(&v);
-    bytes.insert(bytes.end(), p, p + sizeof v);
-  }
-  template <class T>
-  void put_all(const std::vector<T>& v) {
-    put<uint64_t>(v.size());
-    const auto* p = reinterpret_cast<const uint8_t*>(v.data());
-    bytes.insert(bytes.end(), p, p + v.size() * sizeof(T));
-  }
-};
-
-struct MessageReader {
-  const uint8_t* at;
-  const uint8_t* end;
-  void need(uint64_t n) const {
-    if (n > static_cast<uint64_t>(end - at)) throw Error("points: internal error: a rank's message is cut short");
-  }
-  template <class T>
-  T get() {
-    need(sizeof(T));
-    T v;
-    std::memcpy(&v, at, sizeof v);
-    at += sizeof v;
-    return v;
-  }
-  template <class T>
-  void get_all(std::vector<T>& v) {
-    const uint64_t n = get<uint64_t>();
-    need(n * sizeof(T));
-    v.resize(n);
-    std::memcpy(v.data(), at, n * sizeof(T));
-    at += n * sizeof(T);
-  }
-};
-
 // The level whose cells are dealt: the shallowest with 64 cells a rank, at most the leaves.
 uint32_t dealt_level(uint32_t depth, int ranks) {
   uint32_t level = 1;
   while (level < depth && (uint64_t{1} << (3 * level)) < uint64_t{64} * static_cast<uint64_t>(ranks)) ++level;
   return level;
-}
-
-uint64_t exchanged(const RankBytes& parts, int self) {
-  uint64_t n = 0;
-  for (size_t r = 0; r < parts.size(); ++r)
-    if (static_cast<int>(r) != self) n += parts[r].size();
-  return n;
 }
 
 }  // namespace
@@ -128,13 +82,14 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   t0 = std::chrono::steady_clock::now();
   int64_t box[7] = {INT64_MAX, INT64_MAX, INT64_MAX, INT64_MIN, INT64_MIN, INT64_MIN, static_cast<int64_t>(mine.size())};
   if (mine.size()) point_bounds(dev, mine.xyz, box, box + 3);
-  std::vector<uint8_t> box_bytes(sizeof box);
-  std::memcpy(box_bytes.data(), box, sizeof box);
+  MessageWriter box_message;
+  for (int64_t v : box) box_message.put(v);
   int64_t lo3[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi3[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
   uint64_t n = 0;
-  for (const std::vector<uint8_t>& b : ranks.all_gather(box_bytes)) {
+  for (const std::vector<uint8_t>& b : ranks.all_gather(box_message.bytes)) {
+    MessageReader in(b);
     int64_t other[7];
-    std::memcpy(other, b.data(), sizeof other);
+    for (int64_t& v : other) v = in.get<int64_t>();
     for (int a = 0; a < 3; ++a) lo3[a] = std::min(lo3[a], other[a]), hi3[a] = std::max(hi3[a], other[3 + a]);
     n += static_cast<uint64_t>(other[6]);
   }
@@ -153,15 +108,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   if (mine.size()) point_codes(dev, mine.xyz, cube, codes, order);
   std::vector<uint64_t> cells(uint64_t{1} << (3 * rule.top_level), 0);
   for (uint64_t c : codes) ++cells[c >> cell_shift];
-  std::vector<uint8_t> count_bytes(cells.size() * 8);
-  std::memcpy(count_bytes.data(), cells.data(), count_bytes.size());
-  std::fill(cells.begin(), cells.end(), 0);
-  for (const std::vector<uint8_t>& b : ranks.all_gather(count_bytes))
-    for (size_t c = 0; c < cells.size(); ++c) {
-      uint64_t v;
-      std::memcpy(&v, b.data() + c * 8, 8);
-      cells[c] += v;
-    }
+  cells = sum_over_ranks(ranks, cells);
   const std::vector<int> owner = deal_in_order(cells, ranks.size);
 
   // Each point goes to its cell's rank as a record (code, then every column), in input order: a stable
@@ -180,9 +127,9 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   mine = PointColumns();
   codes = {};
   order = {};
-  report.ranks.bytes_exchanged += exchanged(parts, ranks.rank);
+  report.ranks.bytes_exchanged += bytes_of_others(parts, ranks.rank);
   RankBytes got = ranks.all_to_all(std::move(parts));
-  report.ranks.bytes_exchanged += exchanged(got, ranks.rank);
+  report.ranks.bytes_exchanged += bytes_of_others(got, ranks.rank);
 
   // The received runs in rank order, stably sorted: equal codes keep their input order.
   uint64_t m = 0;
@@ -252,7 +199,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   // over that stream makes them, then the columns in node order.
   t0 = std::chrono::steady_clock::now();
   if (progress) progress("build", 0.5);
-  report.ranks.bytes_exchanged += exchanged(parts_at_lead, 0);
+  report.ranks.bytes_exchanged += bytes_of_others(parts_at_lead, 0);
   rule.top_level = 0;
   OmicronBuilder joined(dev, rule);
   std::vector<uint64_t> all_codes;
@@ -261,7 +208,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   std::vector<uint64_t> top_start;  // per rank: where its top-level nodes start in the joined list
   for (std::vector<uint8_t>& bytes : parts_at_lead) {
     top_start.push_back(joined.level(top).size());
-    MessageReader in{bytes.data(), bytes.data() + bytes.size()};
+    MessageReader in(bytes);
     OmicronPart p;
     p.top_level = in.get<uint32_t>();
     p.points = in.get<uint64_t>();
@@ -270,7 +217,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
     in.get_all(p.reps);
     const uint64_t count = p.points;
     const uint64_t first = all_codes.size();
-    if (static_cast<uint64_t>(in.end - in.at) != count * layout.bytes || first + count > n)
+    if (in.left() != count * layout.bytes || first + count > n)
       throw Error("points: internal error: a rank's part does not hold its points");
     joined.join(std::move(p), first);
     all_codes.resize(first + count);

@@ -5,31 +5,10 @@
 #include <string>
 
 #include "megavox/error.h"
+#include "megavox/rank_message.h"
 #include "point_gather.h"
 
 namespace mv::points {
-
-namespace {
-
-void put_text(std::vector<uint8_t>& out, const std::string& s) {
-  const uint64_t n = s.size();
-  const auto* p = reinterpret_cast<const uint8_t*>(&n);
-  out.insert(out.end(), p, p + 8);
-  out.insert(out.end(), s.begin(), s.end());
-}
-
-std::string text_at(const std::vector<uint8_t>& in, size_t& at) {
-  uint64_t n = 0;
-  if (in.size() - at < 8) throw Error("points: internal error: a rank's message is cut short");
-  std::memcpy(&n, in.data() + at, 8);
-  at += 8;
-  if (in.size() - at < n) throw Error("points: internal error: a rank's message is cut short");
-  std::string s(reinterpret_cast<const char*>(in.data() + at), n);
-  at += n;
-  return s;
-}
-
-}  // namespace
 
 io::Tiles3dShare lead_tiles_share(const RankCollectives& ranks, const PointHierarchy& h, const std::vector<int>& owner,
                                   uint32_t top_level, std::vector<std::vector<bool>> absorbed, uint64_t& tiles) {
@@ -48,21 +27,23 @@ io::Tiles3dShare lead_tiles_share(const RankCollectives& ranks, const PointHiera
     if (ranks.sleepy_barrier) ranks.sleepy_barrier();  // the others wait there
     RankBytes parts(static_cast<size_t>(ranks.size));
     for (int r = 1; r < ranks.size; ++r) {
-      std::vector<uint8_t>& m = parts[static_cast<size_t>(r)];
-      put_text(m, tmp);
-      m.push_back(static_cast<uint8_t>(colour_shift));
-      for (bool a : absorbed[static_cast<size_t>(r)]) m.push_back(a ? 1 : 0);
+      MessageWriter m;
+      m.put_text(tmp);
+      m.put(static_cast<uint8_t>(colour_shift));
+      std::vector<uint8_t> flags;
+      for (bool a : absorbed[static_cast<size_t>(r)]) flags.push_back(a ? 1 : 0);
+      m.put_all(flags);
+      parts[static_cast<size_t>(r)] = std::move(m.bytes);
     }
     ranks.all_to_all(std::move(parts));
   };
   share.finish = [&ranks] {
-    const RankBytes done = ranks.all_gather({1});
+    MessageWriter ok;
+    ok.put_text("");
+    const RankBytes done = ranks.all_gather(ok.bytes);
     for (int r = 1; r < ranks.size; ++r) {
-      const std::vector<uint8_t>& d = done[static_cast<size_t>(r)];
-      if (d.empty() || d[0] != 1) {
-        size_t at = 1;
-        throw Error("rank " + std::to_string(r) + " could not write its tiles: " + (d.size() > 1 ? text_at(d, at) : ""));
-      }
+      const std::string failure = MessageReader(done[static_cast<size_t>(r)]).text();
+      if (!failure.empty()) throw Error("rank " + std::to_string(r) + " could not write its tiles: " + failure);
     }
   };
   return share;
@@ -73,15 +54,16 @@ uint64_t write_part_tiles(const RankCollectives& ranks, const OmicronPart& part,
                           const int64_t hi[3]) {
   if (ranks.sleepy_barrier) ranks.sleepy_barrier();  // asleep while rank 0 joins the parts and checks the tileset
   const RankBytes got = ranks.all_to_all(RankBytes(static_cast<size_t>(ranks.size)));
-  const std::vector<uint8_t>& m = got[0];
-  std::vector<uint8_t> done{1};
+  std::string failure;
   uint64_t tiles = 0;
   try {
-    size_t at = 0;
-    const std::string tmp = text_at(m, at);
-    if (m.size() - at != 1 + part.levels.at(0).size()) throw Error("points: internal error: rank 0's tile message does not fit");
-    const int colour_shift = m[at++];
-    const std::vector<bool> absorbed(m.begin() + static_cast<std::ptrdiff_t>(at), m.end());
+    MessageReader in(got[0]);
+    const std::string tmp = in.text();
+    const int colour_shift = in.get<uint8_t>();
+    std::vector<uint8_t> flags;
+    in.get_all(flags);
+    if (flags.size() != part.levels.at(0).size()) throw Error("points: internal error: rank 0's tile message does not fit");
+    const std::vector<bool> absorbed(flags.begin(), flags.end());
     std::vector<NodePoints> sources;
     part_nodes(part, absorbed, grid.nodes, sources);
     std::vector<uint64_t> order;
@@ -90,10 +72,12 @@ uint64_t write_part_tiles(const RankCollectives& ranks, const OmicronPart& part,
     io::write_3dtiles_part(tmp, grid, options, lo, hi, colour_shift);
     for (const PointNode& n : grid.nodes) tiles += n.point_count ? 1 : 0;
   } catch (const std::exception& e) {  // rank 0 says so and removes the folder; this rank must not end the run first
-    done = {0};
-    put_text(done, e.what());
+    failure = e.what();
+    if (failure.empty()) failure = "unknown error";
   }
-  ranks.all_gather(done);
+  MessageWriter done;
+  done.put_text(failure);
+  ranks.all_gather(done.bytes);
   return tiles;
 }
 

@@ -1,9 +1,23 @@
-// Dealing weighted items to ranks in contiguous ranges (megavox/rank_collectives.h).
+// Dealing weighted items to ranks in contiguous ranges, and the sums that deal by (megavox/rank_collectives.h).
 #include <algorithm>
 
+#include "megavox/error.h"
 #include "megavox/rank_collectives.h"
+#include "megavox/rank_message.h"
 
 namespace mv {
+
+std::vector<uint64_t> sum_over_ranks(const RankCollectives& ranks, const std::vector<uint64_t>& values) {
+  MessageWriter mine;
+  mine.put_all(values);
+  std::vector<uint64_t> sums(values.size(), 0), theirs;
+  for (const std::vector<uint8_t>& b : ranks.all_gather(mine.bytes)) {
+    MessageReader(b).get_all(theirs);
+    if (theirs.size() != sums.size()) throw Error("internal error: the ranks sum lists of different lengths");
+    for (size_t i = 0; i < sums.size(); ++i) sums[i] += theirs[i];
+  }
+  return sums;
+}
 
 std::vector<int> deal_in_order(const std::vector<uint64_t>& weights, int ranks) {
   uint64_t total = 0;

@@ -1,5 +1,6 @@
-// The out-of-core build's cubes over MPI ranks: dealt by triangle count, made where they are dealt, and their
-// partial DAGs sent to rank 0, which merges them in Morton order as one process would.
+// The out-of-core build's cubes over MPI ranks: dealt by voxel estimate and made where they are dealt. A
+// reduced build merges them over the ranks (dag/merge_over_ranks.h) and sends only their colours to rank 0;
+// the plain octree sends the partial DAGs to rank 0, which merges them in Morton order as one process would.
 #include <sys/resource.h>
 
 #include <chrono>
@@ -60,14 +61,20 @@ CubeRanks::CubeRanks(const World& w) : world_(w), collectives_(collectives(w)) {
       report.bytes_exchanged += p->bytes.size();
       MPI_Isend(p->bytes.data(), static_cast<int>(p->bytes.size()), MPI_BYTE, 0, kPartTag, MPI_COMM_WORLD, &p->request);
     };
+    // A reduced build merges over the ranks: only the cubes' colours travel, to rank 0.
+    ex.collectives = &collectives_;
+    ex.bytes_exchanged = &report.bytes_exchanged;
+    ex.send_payload = [this](uint64_t, std::vector<uint8_t> payload) {
+      auto* p = new Pending;
+      pending_.push_back(p);
+      p->bytes = std::move(payload);
+      if (p->bytes.size() > size_t{INT_MAX}) throw Error("a cube's colours are over 2 GiB: use a smaller --cube");
+      report.bytes_exchanged += p->bytes.size();
+      MPI_Isend(p->bytes.data(), static_cast<int>(p->bytes.size()), MPI_BYTE, 0, kPartTag, MPI_COMM_WORLD, &p->request);
+    };
+    ex.receive_payload = [this](uint64_t c, std::vector<uint8_t>& payload) { payload = receive_from(owner_.at(c)); };
     ex.receive = [this](uint64_t c, std::vector<uint8_t>& payload) -> std::optional<Dag> {
-      MPI_Status status;
-      MPI_Probe(owner_.at(c), kPartTag, MPI_COMM_WORLD, &status);
-      int n = 0;
-      MPI_Get_count(&status, MPI_BYTE, &n);
-      std::vector<uint8_t> bytes(static_cast<size_t>(n));
-      MPI_Recv(bytes.data(), n, MPI_BYTE, owner_.at(c), kPartTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      report.bytes_exchanged += bytes.size();
+      std::vector<uint8_t> bytes = receive_from(owner_.at(c));
       if (bytes.empty()) return std::nullopt;
       size_t used = 0;
       Dag part = io::unpack_dag(bytes, &used);
@@ -76,6 +83,17 @@ CubeRanks::CubeRanks(const World& w) : world_(w), collectives_(collectives(w)) {
     };
     return ex;
   };
+}
+
+std::vector<uint8_t> CubeRanks::receive_from(int rank) {
+  MPI_Status status;
+  MPI_Probe(rank, kPartTag, MPI_COMM_WORLD, &status);
+  int n = 0;
+  MPI_Get_count(&status, MPI_BYTE, &n);
+  std::vector<uint8_t> bytes(static_cast<size_t>(n));
+  MPI_Recv(bytes.data(), n, MPI_BYTE, rank, kPartTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  report.bytes_exchanged += bytes.size();
+  return bytes;
 }
 
 void CubeRanks::finish() {

@@ -17,7 +17,7 @@ write_sphere_ply "$dir/sphere.ply" 40
 write_sphere_ply "$dir/coloured.ply" 40 rgb
 args=(build "$dir/sphere.ply" --resolution 128 --cube 32 -q)
 
-for format in svdag ssvdag svo; do
+for format in svdag ssvdag ussvdag svo; do
   "$megavox" "${args[@]}" --format "$format" -o "$dir/one.mvx" > /dev/null
   for n in 1 2 3 5; do
     mpirun -np "$n" "$megavox" "${args[@]}" --format "$format" -o "$dir/n$n.mvx" > "$dir/out.txt" 2>&1 ||
@@ -26,6 +26,16 @@ for format in svdag ssvdag svo; do
   done
 done
 # Colours travel with their cube's part.
+# 8 cubes over 9 ranks: some ranks make no cube, yet take part in the merge's reductions.
+for format in svdag ssvdag; do
+  few=(build "$dir/sphere.ply" --resolution 128 --cube 64 -q --format "$format")
+  "$megavox" "${few[@]}" -o "$dir/few_one.mvx" > /dev/null
+  mpirun -np 9 "$megavox" "${few[@]}" -o "$dir/few9.mvx" --json > "$dir/few.json" 2> "$dir/out.txt" ||
+    fail "np 9 $format: $(cat "$dir/out.txt")"
+  cmp -s "$dir/few_one.mvx" "$dir/few9.mvx" || fail "np 9 $format: not the bytes of one process"
+  python3 -c 'import json, sys; assert 0 in [r["cubes"] for r in json.load(open(sys.argv[1]))["ranks"]]' "$dir/few.json" ||
+    fail "np 9: every rank had a cube: $(cat "$dir/few.json")"
+done
 coloured=(build "$dir/coloured.ply" --resolution 128 --cube 32 -q --format ssvdag)
 "$megavox" "${coloured[@]}" -o "$dir/c_one.mvx" > /dev/null
 "$megavox" info "$dir/c_one.mvx" | grep -q "colours:" || fail "the coloured sphere built without colours"
@@ -34,7 +44,7 @@ for n in 2 3; do
     fail "coloured np $n: $(cat "$dir/out.txt")"
   cmp -s "$dir/c_one.mvx" "$dir/c$n.mvx" || fail "coloured np $n: not the bytes of one process"
 done
-echo "mpi build: the same bytes over 1, 2, 3 and 5 ranks (svdag, ssvdag, svo; coloured over 2 and 3)"
+echo "mpi build: the same bytes over 1, 2, 3 and 5 ranks (svdag, ssvdag, ussvdag, svo; coloured over 2 and 3; 9 ranks for 8 cubes)"
 
 # binary_ply IN OUT [QUAD]: the ascii sphere as binary little-endian, its faces uchar + int lists (with QUAD, the
 # last two triangles as one quad face, which leaves its faces unreadable by offset).

@@ -44,8 +44,17 @@ struct Reduction {
 
 Reduction make_reduction(Device& dev, bool symmetric);
 
+// What a reduction spread over ranks (dag_merge_ranks.cpp) needs of each rank's: the classes' sort keys, in
+// id order (the 64-bit brick, canonical with symmetry, at level 2; the node hash above), and the hash seed,
+// tried first and then the one that held (a seed holds when no two different nodes share a hash).
+struct ClassKeys {
+  uint32_t seed = 1;
+  std::vector<uint64_t> keys;
+};
+
 // The classes of level `lv` given those of the level below; `leaf`: lv is level 1.
-Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red);
+Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red,
+                     ClassKeys* keys = nullptr);
 
 // No reduction (the plain octree): every node is its own class.
 Reduced identity_level(Device& dev, const SvoLevel& lv);

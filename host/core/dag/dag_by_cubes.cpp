@@ -1,11 +1,14 @@
 // Out-of-core DAG build: the grid cut into cubes, each built on its own (in core), their partial DAGs joined
 // level by level and reduced again as one, then an octree over the cube roots up to the full grid.
+#include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "dag_build_steps.h"
+#include "merge_over_ranks.h"
 #include "union_level.h"
 #include "megavox/dag.h"
 #include "megavox/error.h"
@@ -55,6 +58,7 @@ Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric
 SvoLevel upload_level(Device& dev, const UnionLevel& u) {
   SvoLevel lv;
   lv.n = static_cast<uint32_t>(u.mask.size());
+  if (lv.n == 0) return lv;  // a rank without cubes, merging over ranks
   lv.mask = dev.alloc(uint64_t{lv.n} * 4, "merge masks");
   dev.upload(lv.mask, u.mask.data(), uint64_t{lv.n} * 4);
   if (!u.first.empty()) {
@@ -85,6 +89,9 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   const uint32_t side = 1u << cube_levels;
   const uint64_t cubes = uint64_t{1} << (3 * (levels - cube_levels));
   const uint64_t local_mask = (uint64_t{1} << (3 * (cube_levels - 2))) - 1;  // brick keys in the cube
+  // Over ranks, a reduced build merges each rank's own parts and reduces the levels together.
+  const RankCollectives* over = reduce && exchange ? exchange->collectives : nullptr;
+  const bool payloads = exchange && exchange->take_payload;
   // A cube of this process: kept by an earlier run of the same build, else made now (nullopt: empty).
   auto own_part = [&](uint64_t c, uint32_t x, uint32_t y, uint32_t z) -> std::optional<Dag> {
     if (exchange && exchange->load) {
@@ -119,6 +126,14 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     Dag part;
     if (exchange && exchange->mine && !exchange->mine(c)) {  // another process's cube
       if (!exchange->merges) continue;
+      if (over) {  // its part stays there; its payload comes here
+        if (payloads) {
+          std::vector<uint8_t> payload;
+          exchange->receive_payload(c, payload);
+          exchange->put_payload(payload);
+        }
+        continue;
+      }
       std::vector<uint8_t> payload;
       std::optional<Dag> made = exchange->receive(c, payload);
       if (!made) continue;
@@ -127,12 +142,14 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     } else {
       std::optional<Dag> own = own_part(c, x, y, z);
       if (!own) {
-        if (exchange && !exchange->merges) exchange->send(c, nullptr, {});
+        if (exchange && !exchange->merges && (!over || payloads))
+          over ? exchange->send_payload(c, {}) : exchange->send(c, nullptr, {});
         continue;
       }
       part = std::move(*own);
     }
-    if (exchange && !exchange->merges) {
+    if (over && !exchange->merges && payloads) exchange->send_payload(c, exchange->take_payload());
+    if (exchange && !exchange->merges && !over) {
       dag.voxels += part.voxels;  // what this process made, for its report
       exchange->send(c, &part, exchange->take_payload ? exchange->take_payload() : std::vector<uint8_t>());
       continue;
@@ -164,20 +181,46 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
     root_keys.push_back(c);
     root_node.push_back(remap[0]);  // the cube's root
   }
-  if (root_keys.empty() || (exchange && !exchange->merges)) return dag;
+  std::optional<RankMerge> merge;
+  if (over) {
+    merge.emplace(RankMerge{*over});
+    // Every rank's counts: the merging one reports the whole build's, the others what they made.
+    std::vector<uint64_t> counts{root_keys.size(), dag.voxels};
+    counts.insert(counts.end(), dag.svo_nodes.begin(), dag.svo_nodes.begin() + cube_levels + 1);
+    const std::vector<uint64_t> sums = sum_over_ranks(*over, counts);
+    if (sums[0] == 0) return dag;  // no cube of any rank has a voxel
+    if (exchange->merges) {
+      dag.voxels = sums[1];
+      std::copy(sums.begin() + 2, sums.end(), dag.svo_nodes.begin());
+    }
+  } else if (root_keys.empty() || (exchange && !exchange->merges)) {
+    return dag;
+  }
   auto t1 = Clock::now();
 
   // 2. Reduce the union again, bottom-up, exactly as an in-core build reduces its octree levels: the same
-  // hashes of the same (mask, child class, tag) give the same classes, ids and stored orientations.
+  // hashes of the same (mask, child class, tag) give the same classes, ids and stored orientations. Over
+  // ranks, every rank its own union, the classes numbered together.
   Reduced below;
   for (uint32_t l = 1; l <= cube_levels; ++l) {
     dev.finish();  // the scratch of the level below returns to the pool (retired buffers wait for a finish)
     SvoLevel lv = upload_level(dev, u[l]);
     Reduced slots = l == 1 ? Reduced() : gather(dev, u[l], below, symmetric, u[l - 1].mask);
-    Reduced r = reduce ? reduce_level(dev, lv, slots, l == 1, red) : identity_level(dev, lv);
-    dag.level[l] = assemble(dev, lv, r, slots, l == 1, red);
+    Reduced r;
+    if (merge) {
+      r = reduce_level_over_ranks(dev, lv, slots, l == 1, red, *merge, dag.level[l]);
+    } else {
+      r = reduce ? reduce_level(dev, lv, slots, l == 1, red) : identity_level(dev, lv);
+      dag.level[l] = assemble(dev, lv, r, slots, l == 1, red);
+    }
     below = std::move(r);
     u[l - 1] = UnionLevel();
+  }
+  if (merge) {  // the merging rank takes every rank's cube roots, with their classes, in Morton order
+    below = cube_roots_at_lead(dev, below, static_cast<uint32_t>(u[cube_levels].size()), symmetric, root_keys,
+                               root_node, *merge);
+    *exchange->bytes_exchanged += merge->bytes_exchanged;
+    if (!exchange->merges) return dag;
   }
   // 3. Above the cubes: an octree over the cube roots, whose slots point at the roots' classes.
   SvoLevel roots;

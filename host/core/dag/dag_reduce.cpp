@@ -44,8 +44,9 @@ void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction&
 }
 
 // Equal keys grouped: sort (keys, order), mark runs, rank them: id per item, the first item of each run as
-// its representative; returns the number of runs.
-uint32_t group_keys(Device& dev, Buffer& keys, Buffer& order, uint32_t n, Buffer& id, Buffer& rep) {
+// its representative; returns the number of runs. `class_keys`, when given, gets each run's key, in id order.
+uint32_t group_keys(Device& dev, Buffer& keys, Buffer& order, uint32_t n, Buffer& id, Buffer& rep,
+                    std::vector<uint64_t>* class_keys = nullptr) {
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "key runs");
   const uint32_t groups = dev.groups_for(n, kLocal);
   const MvDagParams p{n, 0, 0, 0, 0};
@@ -59,13 +60,22 @@ uint32_t group_keys(Device& dev, Buffer& keys, Buffer& order, uint32_t n, Buffer
   rep = dev.alloc(uint64_t{distinct} * 4, "representatives");
   dev.dispatch(dev.kernel(KernelId::dag_assign), groups, kLocal, {&keys, &order, &run, &id, &rep}, p);
   dev.barrier();
+  if (class_keys) {
+    std::vector<uint64_t> sorted(n);
+    dev.download(keys, sorted.data(), uint64_t{n} * 8);
+    class_keys->clear();
+    class_keys->reserve(distinct);
+    for (uint32_t i = 0; i < n; ++i)
+      if (i == 0 || sorted[i] != sorted[i - 1]) class_keys->push_back(sorted[i]);
+  }
   return distinct;
 }
 
 // Level 2: 4x4x4 bricks are exact 64-bit keys, nothing to verify. With symmetry equal bricks are grouped
 // first (the plain reduction's work), then only those classes, few, are canonicalized (kernel brick_canon)
 // and grouped again up to reflection; each node takes its class's id, T* and tag row (brick_orient).
-void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduced& r, const Reduction& red) {
+void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduced& r, const Reduction& red,
+                   std::vector<uint64_t>* class_keys) {
   const uint32_t n = lv.n;
   Buffer keys = dev.alloc(uint64_t{n} * 8, "bricks");
   Buffer order = dev.alloc(uint64_t{n} * 4, "brick order");
@@ -73,7 +83,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   dev.dispatch(dev.kernel(KernelId::brick_keys), dev.groups_for(n, kLocal), kLocal,
                {&lv.mask, &lv.first, &below.child_mask, &keys, &order}, p);
   dev.barrier();
-  r.distinct = group_keys(dev, keys, order, n, r.id, r.rep);
+  r.distinct = group_keys(dev, keys, order, n, r.id, r.rep, red.symmetric ? nullptr : class_keys);
   if (!red.symmetric) return;
   const uint32_t raw = r.distinct;
   Buffer raw_rep = std::move(r.rep);
@@ -86,7 +96,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   dev.barrier();
   Buffer cls = dev.alloc(uint64_t{raw} * 4, "brick classes");
   Buffer rep_class;
-  r.distinct = group_keys(dev, ckeys, corder, raw, cls, rep_class);
+  r.distinct = group_keys(dev, ckeys, corder, raw, cls, rep_class, class_keys);
   r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
   Buffer none;
   dev.dispatch(dev.kernel(KernelId::gather_slots), dev.groups_for(r.distinct, kLocal), kLocal,
@@ -122,7 +132,8 @@ Reduction make_reduction(Device& dev, bool symmetric) {
   return red;
 }
 
-Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red) {
+Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red,
+                     ClassKeys* keys) {
   const bool symmetric = red.symmetric;
   const uint32_t n = lv.n;
   Reduced r;
@@ -132,7 +143,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   }
   r.id = dev.alloc(uint64_t{n} * 4, "node ids");
   if (!below.child_mask.empty()) {
-    reduce_bricks(dev, lv, below, r, red);
+    reduce_bricks(dev, lv, below, r, red, keys ? &keys->keys : nullptr);
     return r;
   }
   Buffer hashes = dev.alloc(uint64_t{n} * 8, "node hashes");
@@ -142,14 +153,14 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   if (symmetric) r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
   const uint32_t groups = dev.groups_for(n, kLocal);
   MvDagParams p{n, 0, 0, 0x6d766f78u, 0};
-  for (uint32_t seed = 1;; ++seed) {  // a new seed only after a 64-bit hash collision
+  for (uint32_t seed = keys ? keys->seed : 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
     if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dispatch_canon(dev, lv, below, mtab, r.row, hashes, order, p);
     else
       dev.dispatch(dev.kernel(KernelId::dag_hash), groups, kLocal, {&lv.mask, &lv.first, &below.id, &hashes, &order}, p);
     dev.barrier();
-    r.distinct = group_keys(dev, hashes, order, n, r.id, r.rep);
+    r.distinct = group_keys(dev, hashes, order, n, r.id, r.rep, keys ? &keys->keys : nullptr);
     dev.fill(collided, 0, 4);
     dev.barrier();
     if (symmetric)
@@ -160,8 +171,11 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
                    p);
     uint32_t bad = 0;
     dev.download(collided, &bad, 4);
-    if (!bad) break;
-    if (seed == 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
+    if (!bad) {
+      if (keys) keys->seed = seed;
+      break;
+    }
+    if (seed >= 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
   }
   return r;
 }

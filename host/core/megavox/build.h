@@ -29,8 +29,8 @@ struct MeshArrays {
 
 // A build spread over processes (host/dist, under mpirun). Out of core, every process buckets the triangles;
 // `exchange` then gets each cube's voxel estimate (TriangleBuckets::voxel_estimate), in Morton order, and says
-// which cubes this process makes and how their partial DAGs travel. The process that `writes` merges them and writes the output; in core it alone
-// builds.
+// which cubes this process makes and how their partial DAGs are merged (megavox/dag.h: over the ranks, or at
+// the process that `writes`, which writes the output); in core it alone builds.
 struct BuildRanks {
   std::function<CubeExchange(const std::vector<uint64_t>& cube_voxels)> exchange;
   bool writes = true;

@@ -14,6 +14,7 @@
 #include "megavox/bricks.h"
 #include "megavox/dag_types.h"
 #include "megavox/device.h"
+#include "megavox/rank_collectives.h"
 
 namespace mv {
 
@@ -46,7 +47,8 @@ class CubeMemoryError : public DeviceMemoryError {
 };
 
 // An out-of-core build spread over processes (host/dist): the process that makes each cube's partial DAG, and
-// how the parts reach the one process that merges them. Cubes go in Morton order; each is made by its owner.
+// how the parts are merged: over the processes (a reduced build) or by the one that receives them all (the
+// plain octree). Cubes go in Morton order; each is made by its owner.
 // Also how a build keeps its cubes to resume (below).
 struct CubeExchange {
   std::function<bool(uint64_t cube)> mine;  // this process voxelizes and reduces the cube (null: every cube)
@@ -66,6 +68,14 @@ struct CubeExchange {
   std::function<std::optional<Dag>(uint64_t cube, std::vector<uint8_t>& payload)> load;
   std::function<void(uint64_t cube, const Dag& part, std::vector<uint8_t> payload)> keep;
   std::function<std::vector<uint8_t>()> peek_payload;
+  // Set for a build over ranks: a reduced build (not the plain octree) then merges over them. Each rank
+  // merges the parts it made, the merged levels are reduced together (dag/merge_over_ranks.h), and parts
+  // never travel: only payloads do, sent by their maker in Morton order and received by the merging process
+  // (`merges`), which alone returns the DAG. `bytes_exchanged` counts what the merge moved.
+  const RankCollectives* collectives = nullptr;
+  std::function<void(uint64_t cube, std::vector<uint8_t> payload)> send_payload;
+  std::function<void(uint64_t cube, std::vector<uint8_t>& payload)> receive_payload;
+  uint64_t* bytes_exchanged = nullptr;
 };
 
 // Out-of-core: the grid is split into cubes of 2^cube_levels voxels per side, taken one at a time in Morton

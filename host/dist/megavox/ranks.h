@@ -46,8 +46,9 @@ struct RankReport {
 };
 
 // The build's side of the exchange (BuildOptions::ranks): cubes dealt to ranks in contiguous Morton ranges of
-// equal voxel estimates, partial DAGs sent to rank 0 as they are made (non-blocking), received there in Morton
-// order. `report` collects this rank's counts. Lives as long as the build.
+// equal voxel estimates; a reduced build's merge over the ranks (the collectives), and what travels to rank 0
+// as it is made (non-blocking), received there in Morton order: the cubes' colours, or the plain octree's
+// partial DAGs. `report` collects this rank's counts. Lives as long as the build.
 class CubeRanks {
  public:
   explicit CubeRanks(const World& w);
@@ -61,6 +62,7 @@ class CubeRanks {
 
  private:
   struct Pending;
+  std::vector<uint8_t> receive_from(int rank);  // the next message of a cube from `rank`
   World world_;
   RankCollectives collectives_;
   BuildRanks ranks_;

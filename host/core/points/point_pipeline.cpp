@@ -177,7 +177,8 @@ PointFileReport write_points_output(const PointFileOptions& o, const std::string
   r.points_kept = h.points_kept;
   r.points_dropped = h.points_dropped;
   r.nodes = h.nodes.size();
-  r.stored_points = h.points.size();
+  r.stored_points = 0;  // h holds only its own nodes' points when other processes wrote theirs
+  for (const PointNode& n : h.nodes) r.stored_points += n.point_count;
   r.depth = h.depth;
   r.nodes_per_level = h.nodes_per_level;
   r.total_seconds = seconds_since(start);
@@ -217,13 +218,17 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   PointHierarchy h;
   auto t0 = std::chrono::steady_clock::now();
   if (spread) {
+    // A .mvx is written by rank 0, which gathers every point; a tileset's ranks hold and write their shares.
     const auto fits = [&](const PointCloudInfo& info) {
-      const uint64_t need = info.points * host_bytes_per_point(info);
+      const bool tileset = o.format == PointOutput::tiles3d;
+      const uint64_t need = info.points * host_bytes_per_point(info) / (tileset ? uint64_t(o.ranks->size) : 1);
       if (need > memory)
         throw CodedError(ErrorCode::out_of_memory,
-                         "points build over ranks: rank 0 gathers every point, and " + std::to_string(info.points) +
-                             " points need about " + format_bytes(need) + " there, over its host memory budget " +
-                             format_bytes(memory) + "; run it in one process, which builds out of core",
+                         std::string("points build over ranks: ") +
+                             (tileset ? "each rank holds its share of the " : "rank 0 gathers every one of the ") +
+                             std::to_string(info.points) + " points, which needs about " + format_bytes(need) +
+                             " there, over its host memory budget " + format_bytes(memory) +
+                             (tileset ? "; run it over more ranks" : "; write 3D Tiles, or run it in one process, which builds out of core"),
                          setting_host_memory);
     };
     io::Tiles3dShare tiles;

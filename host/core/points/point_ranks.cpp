@@ -2,7 +2,7 @@
 // Each rank reads a contiguous slice of the input's points, the ranks agree on the cube, sort their slices by
 // Morton code and deal whole cells of one level (the top level) to ranks in Morton order; each rank builds its
 // cells' subtrees bottom-up, and rank 0 joins them and makes the levels above, then gathers and writes as one
-// process does. The bytes are those of one process: equal codes keep their input order (slices are in input
+// process does (a tileset: the nodes it writes; the others write theirs). The bytes are those of one process: equal codes keep their input order (slices are in input
 // order and every sort is stable), and a node is a function of its subtree's points alone.
 #include "point_ranks.h"
 
@@ -39,12 +39,60 @@ uint32_t dealt_level(uint32_t depth, int ranks) {
   return level;
 }
 
+// The positions (in a part's sorted points) of the candidates the levels above its top level are made from:
+// every point of its top-level leaves and the representatives of its top-level inner nodes, as sorted runs
+// [begin, end) (a leaf's points are one), so that the points they name keep their order.
+struct Run {
+  uint64_t begin, end;
+};
+using Runs = std::vector<Run>;
+Runs top_candidates(const OmicronPart& part) {
+  Runs runs;
+  for (const LodNode& n : part.levels.at(0)) {
+    if (n.child_mask == 0) {
+      runs.push_back({n.first, n.first + n.points});
+      continue;
+    }
+    for (uint64_t k = n.rep_begin; k < n.rep_begin + n.rep_count; ++k) runs.push_back({part.reps[k], part.reps[k] + 1});
+  }
+  std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.begin < b.begin; });
+  Runs merged;
+  for (const Run& r : runs) {
+    if (!merged.empty() && r.begin <= merged.back().end) merged.back().end = std::max(merged.back().end, r.end);
+    else merged.push_back(r);
+  }
+  return merged;
+}
+
+// A part whose sender sent only the points in `runs` (top_candidates): its positions become places among
+// them, in the same order. The join reads only those of its top level; the nodes below are the sender's to
+// write, and their positions only keep their order.
+void to_positions_sent(OmicronPart& part, const Runs& runs) {
+  std::vector<uint64_t> before(runs.size() + 1, 0);  // points sent before each run
+  for (size_t k = 0; k < runs.size(); ++k) before[k + 1] = before[k] + (runs[k].end - runs[k].begin);
+  const auto place = [&](uint64_t q) {
+    const auto after = std::upper_bound(runs.begin(), runs.end(), q, [](uint64_t v, const Run& r) { return v < r.begin; });
+    const auto k = static_cast<size_t>(after - runs.begin());  // runs[k - 1] is the last to begin at or before q
+    if (k == 0) return uint64_t{0};
+    return q < runs[k - 1].end ? before[k - 1] + (q - runs[k - 1].begin) : before[k];
+  };
+  for (auto& level : part.levels)
+    for (LodNode& node : level) node.first = place(node.first);
+  for (uint64_t& q : part.reps) q = place(q);
+  part.points = before.back();
+}
+
+bool wide_colour(const PointColumns& points) {
+  return std::any_of(points.rgb.begin(), points.rgb.end(), [](uint16_t v) { return v > 255; });
+}
+
 }  // namespace
 
 PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const RankCollectives& ranks,
                                 PointFileReport& report, const Progress& progress,
                                 const std::function<void(const PointCloudInfo&)>& check_fits, io::Tiles3dShare* tiles) {
   const bool lead = ranks.rank == 0;
+  if (o.format == PointOutput::tiles3d && !tiles) throw Error("points: internal error: a tileset over ranks without its share");
   auto t0 = std::chrono::steady_clock::now();
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
@@ -151,27 +199,39 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   report.sort_seconds = seconds_since(t0);
   report.ranks.points_built = m;
 
-  // This rank's subtrees up to the top level, then its part for rank 0: the lists and the sorted records.
+  // This rank's subtrees up to the top level, then its part for rank 0: the lists and the sorted records it
+  // needs. Rank 0 writes a .mvx alone, so it gets every point; a tileset's other ranks write their own nodes'
+  // tiles, so rank 0 gets only the points the levels above are made from (top_candidates).
   t0 = std::chrono::steady_clock::now();
   OmicronBuilder builder(dev, rule);
   builder.concatenate(codes, true);
   OmicronPart part = builder.take_part();
+  const bool own_tiles = o.format == PointOutput::tiles3d && !lead;
+  PointColumns sorted_here = own_tiles ? columns_for(layout, m) : PointColumns();
+  if (own_tiles)
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, m, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
+      for (uint64_t i = r.begin(); i < r.end(); ++i) unpack_at(layout, record(order[i]), sorted_here, i);
+    });
+  const Runs runs = own_tiles ? top_candidates(part) : Runs{{0, m}};
+  std::vector<uint64_t> sent;  // the sorted positions of the records sent, when not all
+  if (own_tiles)
+    for (const Run& r : runs)
+      for (uint64_t q = r.begin; q < r.end; ++q) sent.push_back(q);
+  const uint64_t records = own_tiles ? sent.size() : m;
   MessageWriter msg;
   msg.put(part.top_level);
   msg.put(part.points);
   for (const auto& level : part.levels) msg.put_all(level);
   msg.put_all(part.reps);
-  // A tileset's other ranks write their own nodes' tiles: they keep their part and its points.
-  const bool own_tiles = o.format == PointOutput::tiles3d && !lead;
+  msg.put<uint8_t>(own_tiles);  // then the positions of the records sent
+  if (own_tiles) msg.put_all(runs);
+  msg.put<uint8_t>(wide_colour(sorted_here));
   if (!own_tiles) part = OmicronPart();
-  PointColumns sorted_here = own_tiles ? columns_for(layout, m) : PointColumns();
   const size_t head = msg.bytes.size();
-  msg.bytes.resize(head + m * layout.bytes);
-  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, m, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
-    for (uint64_t i = r.begin(); i < r.end(); ++i) {
-      std::memcpy(msg.bytes.data() + head + i * layout.bytes, record(order[i]), layout.bytes);
-      if (own_tiles) unpack_at(layout, record(order[i]), sorted_here, i);
-    }
+  msg.bytes.resize(head + records * layout.bytes);
+  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, records, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
+    for (uint64_t i = r.begin(); i < r.end(); ++i)
+      std::memcpy(msg.bytes.data() + head + i * layout.bytes, record(order[own_tiles ? sent[i] : i]), layout.bytes);
   });
   got = {};
   codes = {};
@@ -202,48 +262,84 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   report.ranks.bytes_exchanged += bytes_of_others(parts_at_lead, 0);
   rule.top_level = 0;
   OmicronBuilder joined(dev, rule);
-  std::vector<uint64_t> all_codes;
-  all_codes.reserve(n);
-  PointColumns sorted = columns_for(layout, n);
-  std::vector<uint64_t> top_start;  // per rank: where its top-level nodes start in the joined list
+  struct Received {
+    OmicronPart part;
+    const uint8_t* records = nullptr;  // part.points of them
+  };
+  std::vector<Received> received;
+  uint64_t held = 0;  // points rank 0 got: every point, or for a tileset its own and the others' candidates
+  bool wide = false;  // some point's colour needs 16 bits
   for (std::vector<uint8_t>& bytes : parts_at_lead) {
-    top_start.push_back(joined.level(top).size());
     MessageReader in(bytes);
-    OmicronPart p;
+    Received got_part;
+    OmicronPart& p = got_part.part;
     p.top_level = in.get<uint32_t>();
     p.points = in.get<uint64_t>();
     p.levels.resize(rule.depth + 1 - p.top_level);
     for (auto& level : p.levels) in.get_all(level);
     in.get_all(p.reps);
-    const uint64_t count = p.points;
-    const uint64_t first = all_codes.size();
-    if (in.left() != count * layout.bytes || first + count > n)
-      throw Error("points: internal error: a rank's part does not hold its points");
-    joined.join(std::move(p), first);
-    all_codes.resize(first + count);
-    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
-      for (uint64_t i = r.begin(); i < r.end(); ++i) {
-        const uint8_t* rec = in.at + i * layout.bytes;
-        all_codes[first + i] = record_code(rec);
-        unpack_at(layout, rec, sorted, first + i);
+    if (in.get<uint8_t>()) {  // some of its points: positions count among those sent from here on
+      Runs runs;
+      in.get_all(runs);
+      to_positions_sent(p, runs);
+    }
+    wide |= in.get<uint8_t>() != 0;
+    if (in.left() != p.points * layout.bytes) throw Error("points: internal error: a rank's part does not hold its points");
+    got_part.records = in.at;
+    held += p.points;
+    received.push_back(std::move(got_part));
+  }
+  const bool tileset = o.format == PointOutput::tiles3d;
+  if (tileset ? held > n : held != n) throw Error("points: internal error: the ranks' parts do not hold every point");
+  std::vector<uint64_t> all_codes(held);
+  PointColumns sorted = columns_for(layout, held);
+  std::vector<uint64_t> top_start;  // per rank: where its top-level nodes start in the joined list
+  uint64_t joined_points = 0;
+  for (size_t r = 0; r < received.size(); ++r) {
+    top_start.push_back(joined.level(top).size());
+    const uint64_t count = received[r].part.points;
+    const uint8_t* records = received[r].records;
+    joined.join(std::move(received[r].part), joined_points);
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, count, 1 << 14), [&](const tbb::blocked_range<uint64_t>& b) {
+      for (uint64_t i = b.begin(); i < b.end(); ++i) {
+        const uint8_t* rec = records + i * layout.bytes;
+        all_codes[joined_points + i] = record_code(rec);
+        unpack_at(layout, rec, sorted, joined_points + i);
       }
     });
-    bytes = {};
+    joined_points += count;
+    parts_at_lead[r] = {};
   }
-  if (all_codes.size() != n) throw Error("points: internal error: the ranks' parts do not hold every point");
   top_start.push_back(joined.level(top).size());
   joined.finish_join(all_codes);
   all_codes = {};
   std::vector<NodePoints> sources;
   joined.assemble(h.nodes, sources, h.nodes_per_level);
-  h.points = gather_node_points(sorted, sources, joined.reps(), info.extra_bytes);
-  if (o.format == PointOutput::tiles3d && tiles) {
+  if (tileset && tiles) {
     // which of each rank's top-level nodes the join absorbed into a leaf above
     std::vector<std::vector<bool>> absorbed(static_cast<size_t>(ranks.size));
     for (size_t r = 0; r < absorbed.size(); ++r)
       for (uint64_t k = top_start[r]; k < top_start[r + 1]; ++k) absorbed[r].push_back(joined.level(top)[k].absorbed);
     *tiles = lead_tiles_share(ranks, h, owner, top, std::move(absorbed), report.ranks.tiles_written);
+    std::copy(lo3, lo3 + 3, tiles->lo);
+    std::copy(hi3, hi3 + 3, tiles->hi);
+    tiles->wide_colour = wide || wide_colour(sorted);
+    // Only the nodes written here keep their points, in node order.
+    std::vector<NodePoints> here;
+    uint64_t at = 0;
+    for (size_t i = 0; i < h.nodes.size(); ++i) {
+      PointNode& node = h.nodes[i];
+      if (tiles->elsewhere[i]) {
+        node.first_point = 0;
+        continue;
+      }
+      here.push_back(sources[i]);
+      node.first_point = at;
+      at += node.point_count;
+    }
+    sources = std::move(here);
   }
+  h.points = gather_node_points(sorted, sources, joined.reps(), info.extra_bytes);
   report.ranks.join_seconds = seconds_since(t0);
   report.build_seconds += report.ranks.join_seconds;
 

@@ -10,9 +10,10 @@ namespace mv::points {
 
 // Collective: every rank calls it with the same options. Rank 0 returns the hierarchy one process builds from
 // the same input and options; the other ranks return an empty one. `report` gets this rank's times and counts.
-// Rank 0 gathers every point: `check_fits` gets the cloud's header there before any work, and throws where
-// the cloud does not fit its memory. With --format 3dtiles the other ranks write their subtrees' tiles before
-// they return (point_ranks_tiles.h), and rank 0 gets in `tiles` what its write_3dtiles needs for that.
+// `check_fits` gets the cloud's header on rank 0 before any work, and throws where the cloud does not fit. For a
+// .mvx rank 0 gathers every point. With --format 3dtiles the other ranks write their subtrees' tiles before
+// they return (point_ranks_tiles.h), rank 0 gets only the points of the levels above, and in `tiles` what its
+// write_3dtiles needs for that; the hierarchy it returns then holds the points of its own nodes alone.
 PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& options, const RankCollectives& ranks,
                                 PointFileReport& report, const Progress& progress,
                                 const std::function<void(const PointCloudInfo&)>& check_fits,

@@ -23,7 +23,7 @@ std::string node_label(const PointHierarchy& h, size_t i) {
 
 // Breadth-first, root first, children contiguous and in octant order, codes and levels matching: then every
 // node is reached exactly once from the root.
-void check_tree(const PointHierarchy& h) {
+void check_tree(const PointHierarchy& h, const std::vector<bool>& elsewhere) {
   const auto& nodes = h.nodes;
   if (nodes.empty()) inconsistent("it has no nodes");
   if (nodes[0].code != 1 || nodes[0].level != 0) inconsistent("node 0 is not the root (code 1, level 0)");
@@ -38,7 +38,8 @@ void check_tree(const PointHierarchy& h) {
     const PointNode& n = nodes[i];
     if (n.level > 21 || n.code >> (3 * n.level) != 1)
       inconsistent(node_label(h, i) + " does not match its level " + std::to_string(n.level));
-    if (n.first_point > columns || n.point_count > columns - n.first_point)
+    const bool held = elsewhere.empty() || !elsewhere.at(i);
+    if (held && (n.first_point > columns || n.point_count > columns - n.first_point))
       inconsistent(node_label(h, i) + "'s points lie beyond the " + std::to_string(columns) + " points held");
     if (n.leaf()) {
       leaf_points += n.point_count;
@@ -91,8 +92,9 @@ TileLayout tile_box(const PointHierarchy& h, const PointNode& n, const TileFrame
   return t;
 }
 
-std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h, const TileFrame& frame) {
-  check_tree(h);
+std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h, const TileFrame& frame,
+                                       const std::vector<bool>& elsewhere) {
+  check_tree(h, elsewhere);
   std::vector<TileLayout> tiles(h.nodes.size());
   for (size_t i = 0; i < h.nodes.size(); ++i) tiles[i] = tile_box(h, h.nodes[i], frame);
   // Children come after their parent: going backwards, a node's children are done before it.

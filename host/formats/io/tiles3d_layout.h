@@ -32,7 +32,10 @@ struct TileFrame {
 //   representatives resolve (scans are surfaces: a surface through a cube of r^3 cells touches about r^2 of
 //   them); with no representatives, the side itself. Where that is not above every child's error (a node whose
 //   few representatives sit in one corner), it is twice the largest child's, so errors always fall downwards.
-std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h, const TileFrame& frame = {});
+// `elsewhere` marks nodes whose points another process holds (Tiles3dShare): their counts are checked, not where
+// their points lie in h.
+std::vector<TileLayout> tiles3d_layout(const PointHierarchy& h, const TileFrame& frame = {},
+                                       const std::vector<bool>& elsewhere = {});
 
 // One node's name, centre and half side (no geometric error: that takes its subtree); the node may be of a part
 // of the hierarchy (h gives the grid).

@@ -205,17 +205,17 @@ void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3
   // The hierarchy's faults are the builder's (unknown); a CRS PROJ cannot place is the caller's (invalid_argument).
   ErrorCode fault = ErrorCode::unknown;
   try {
-    tiles = tiles3d_layout(h);  // checks the hierarchy
+    tiles = tiles3d_layout(h, {}, share.elsewhere);  // checks the hierarchy
     props = tile_properties(h);
     if (v11) {
       fault = ErrorCode::invalid_argument;
-      place = tiles3d_place(h, o.crs);
-      tiles = tiles3d_layout(h, frame_of(place));
+      place = share.start ? tiles3d_place(h.source, share.lo, share.hi, o.crs) : tiles3d_place(h, o.crs);
+      tiles = tiles3d_layout(h, frame_of(place), share.elsewhere);
     }
   } catch (const Error& e) {
     throw CodedError(classify_or(e, fault), "cannot write '" + dir + "': " + e.what(), error_settings(e));
   }
-  const int shift = colour_shift(h);
+  const int shift = share.start ? (share.wide_colour ? 8 : 0) : colour_shift(h);
   write_dir_atomically(dir, "tileset.json", [&](const std::string& tmp) {
     std::filesystem::create_directory(tmp + "/tiles");
     if (share.start) share.start(tmp, shift);

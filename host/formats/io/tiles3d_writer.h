@@ -46,14 +46,17 @@ struct Tiles3dOptions {
 void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& options = {});
 
 // A tileset written by several processes (a point build over MPI ranks, the same bytes): the process with the
-// whole hierarchy calls `start` with the temporary folder and the colour shift once everything that can refuse
-// the input has passed, writes the tiles of the nodes `elsewhere` does not mark while the others write theirs
-// (write_3dtiles_part), then calls `finish`, which returns once they are done (it throws when one failed: the
-// folder goes), and writes tileset.json.
+// whole hierarchy's nodes calls `start` with the temporary folder and the colour shift once everything that can
+// refuse the input has passed, writes the tiles of the nodes `elsewhere` does not mark while the others write
+// theirs (write_3dtiles_part), then calls `finish`, which returns once they are done (it throws when one failed:
+// the folder goes), and writes tileset.json. h holds the points of its own nodes alone, so the points' bounds
+// and colour depth (the colour shift) over every process come with the share.
 struct Tiles3dShare {
   std::vector<bool> elsewhere;  // per node of h
   std::function<void(const std::string& tmp_dir, int colour_shift)> start;
   std::function<void()> finish;
+  int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  // every point's grid bounds, as write_3dtiles_part gets them
+  bool wide_colour = false;                       // some point's colour needs 16 bits
 };
 void write_3dtiles(const std::string& dir, const PointHierarchy& h, const Tiles3dOptions& options,
                    const Tiles3dShare& share);

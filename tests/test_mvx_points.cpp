@@ -1,5 +1,6 @@
-// The point content of .mvx (version 2): round trips of every column, version-1 voxel files still open, the
-// kinds refuse each other, and damage (bytes, structure with valid checksums, truncation) is a clear error.
+// The point content of .mvx (version 2): round trips of every column, files whose points other processes hold
+// in part, version-1 voxel files still open, the kinds refuse each other, and damage (bytes, structure with
+// valid checksums, truncation) is a clear error.
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
@@ -20,6 +21,21 @@ namespace mv::test {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The points at `index` of `from`, every column.
+PointColumns points_at(const PointColumns& from, const std::vector<uint64_t>& index, uint32_t extra_bytes) {
+  PointColumns out;
+  for (uint64_t i : index) {
+    out.xyz.insert(out.xyz.end(), from.xyz.begin() + 3 * i, from.xyz.begin() + 3 * i + 3);
+    if (!from.rgb.empty()) out.rgb.insert(out.rgb.end(), from.rgb.begin() + 3 * i, from.rgb.begin() + 3 * i + 3);
+    if (!from.normal.empty())
+      out.normal.insert(out.normal.end(), from.normal.begin() + 3 * i, from.normal.begin() + 3 * i + 3);
+    if (!from.intensity.empty()) out.intensity.push_back(from.intensity[i]);
+    if (!from.extra.empty())
+      out.extra.insert(out.extra.end(), from.extra.begin() + extra_bytes * i, from.extra.begin() + extra_bytes * (i + 1));
+  }
+  return out;
+}
 
 PointHierarchy sample_points(bool attributes) {
   std::mt19937_64 rng(3);
@@ -76,6 +92,61 @@ TEST(MvxPoints, RoundTripsEveryColumn) {
     write_mvx_points(p, g);
     EXPECT_EQ(file_bytes(p), once);
     EXPECT_NE(error_message([&] { read_mvx(p); }).find("point cloud"), std::string::npos);
+  }
+}
+
+// A file whose points other processes hold in part (a build over ranks): the same bytes as the whole file.
+TEST(MvxPoints, PointsHeldElsewhereWriteTheSameBytes) {
+  for (bool attributes : {false, true}) {
+    const PointHierarchy whole = sample_points(attributes);
+    const std::string p = temp_path("points_whole.mvx"), q = temp_path("points_shared.mvx");
+    write_mvx_points(p, whole);
+    // Below level 2, the later half of each level's nodes is held elsewhere.
+    PointsElsewhere share;
+    share.elsewhere.assign(whole.nodes.size(), false);
+    std::vector<uint64_t> seen(whole.depth + 1, 0);
+    for (size_t i = 0; i < whole.nodes.size(); ++i) {
+      const PointNode& n = whole.nodes[i];
+      share.elsewhere[i] = n.level >= 2 && 2 * seen[n.level]++ >= whole.nodes_per_level[n.level];
+    }
+    PointHierarchy here = whole;
+    here.points = PointColumns();
+    std::vector<uint64_t> held;
+    for (size_t i = 0; i < whole.nodes.size(); ++i)
+      for (uint64_t k = 0; !share.elsewhere[i] && k < whole.nodes[i].point_count; ++k)
+        held.push_back(whole.nodes[i].first_point + k);
+    here.points = points_at(whole.points, held, whole.source.extra_bytes);
+    uint64_t calls = 0;
+    share.others = [&](PointColumn c, uint32_t level, const PutPointBytes& put) {
+      ++calls;
+      for (size_t i = 0; i < whole.nodes.size(); ++i) {
+        const PointNode& n = whole.nodes[i];
+        if (!share.elsewhere[i] || n.level != level) continue;
+        const PointColumns& w = whole.points;
+        const uint64_t f = n.first_point, k = n.point_count;
+        switch (c) {
+          case PointColumn::xyz: put(w.xyz.data() + 3 * f, 12 * k); break;
+          case PointColumn::rgb: put(w.rgb.data() + 3 * f, 6 * k); break;
+          case PointColumn::normal: put(w.normal.data() + 3 * f, 12 * k); break;
+          case PointColumn::intensity: put(w.intensity.data() + f, 2 * k); break;
+          case PointColumn::extra: put(w.extra.data() + 3 * f, 3 * k); break;
+        }
+      }
+    };
+    write_mvx_points(q, here, share);
+    EXPECT_EQ(file_bytes(q), file_bytes(p)) << (attributes ? "with attributes" : "xyz alone");
+    EXPECT_EQ(calls, (attributes ? 5u : 1u) * (whole.depth + 1));
+    // A node held here after one held elsewhere on its level is refused.
+    PointsElsewhere wrong = share;
+    for (size_t i = whole.nodes.size(); i-- > 0;)
+      if (whole.nodes[i].level == whole.depth) {
+        wrong.elsewhere[i] = false;
+        break;
+      }
+    EXPECT_NE(error_message([&] { write_mvx_points(q, here, wrong); }).find("follows nodes held elsewhere"),
+              std::string::npos);
+    fs::remove(p);
+    fs::remove(q);
   }
 }
 

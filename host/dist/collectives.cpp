@@ -1,5 +1,6 @@
 // The collectives of megavox/rank_collectives.h over MPI_COMM_WORLD: buffers of any size, sent in pieces of at
 // most 1 GiB (MPI counts are ints); messages between two ranks arrive in the order they were sent.
+#include <algorithm>
 #include <chrono>
 #include <climits>
 #include <thread>
@@ -37,8 +38,21 @@ void post_receive(std::vector<uint8_t>& bytes, int from, std::vector<MPI_Request
   }
 }
 
+// Waits for every request without holding a core: a rank that waits for another's work (rank 0 writing the
+// output while the others hand it their points) would otherwise take a core from it, since Open MPI's blocking
+// waits poll. A short spin keeps quick exchanges quick; then the rank sleeps between tests, up to 1 ms.
 void wait_all(std::vector<MPI_Request>& requests) {
-  if (!requests.empty()) MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  if (requests.empty()) return;
+  int done = 0;
+  for (int spins = 0; MPI_Testall(static_cast<int>(requests.size()), requests.data(), &done, MPI_STATUSES_IGNORE),
+           !done;
+       ++spins)
+    if (spins >= 64) std::this_thread::sleep_for(std::chrono::microseconds(std::min(1000, 10 * (spins - 63))));
+}
+
+void wait_one(MPI_Request& request) {
+  std::vector<MPI_Request> one{request};
+  wait_all(one);
 }
 
 // Every other rank r gets `to(r)` and sends sizes[r] bytes here; this rank's own entry stays empty.
@@ -72,7 +86,9 @@ RankCollectives collectives(const World& w) {
   c.all_gather = [w](const std::vector<uint8_t>& mine) {
     uint64_t size = mine.size();
     std::vector<uint64_t> sizes(static_cast<size_t>(w.size));
-    MPI_Allgather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    MPI_Request request;
+    MPI_Iallgather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &request);
+    wait_one(request);
     RankBytes all = exchange(w, [&](int) -> const std::vector<uint8_t>& { return mine; }, sizes);
     all[static_cast<size_t>(w.rank)] = mine;
     return all;
@@ -80,7 +96,9 @@ RankCollectives collectives(const World& w) {
   c.all_to_all = [w](RankBytes&& parts) {
     std::vector<uint64_t> out(static_cast<size_t>(w.size)), in(static_cast<size_t>(w.size));
     for (int r = 0; r < w.size; ++r) out[static_cast<size_t>(r)] = parts[static_cast<size_t>(r)].size();
-    MPI_Alltoall(out.data(), 1, MPI_UINT64_T, in.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    MPI_Request request;
+    MPI_Ialltoall(out.data(), 1, MPI_UINT64_T, in.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD, &request);
+    wait_one(request);
     RankBytes got = exchange(w, [&](int r) -> const std::vector<uint8_t>& { return parts[static_cast<size_t>(r)]; }, in);
     got[static_cast<size_t>(w.rank)] = std::move(parts[static_cast<size_t>(w.rank)]);
     return got;
@@ -88,7 +106,9 @@ RankCollectives collectives(const World& w) {
   c.gather = [w](std::vector<uint8_t>&& mine) {
     uint64_t size = mine.size();
     std::vector<uint64_t> sizes(static_cast<size_t>(w.size));
-    MPI_Gather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+    MPI_Request request;
+    MPI_Igather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
+    wait_one(request);
     RankBytes all;
     std::vector<MPI_Request> requests;
     if (w.rank == 0) {

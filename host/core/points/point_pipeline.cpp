@@ -166,10 +166,11 @@ PointHierarchy build_out_of_core(Device& dev, const PointFileOptions& o, uint64_
 // `share`: over ranks, the other ranks' part in a tileset.
 PointFileReport write_points_output(const PointFileOptions& o, const std::string& output, PointHierarchy&& h,
                                     PointFileReport& r, std::chrono::steady_clock::time_point start,
-                                    const Progress& progress, const io::Tiles3dShare* share = nullptr) {
+                                    const Progress& progress, const io::Tiles3dShare* share = nullptr,
+                                    const PointsElsewhere* points_share = nullptr) {
   const auto t0 = std::chrono::steady_clock::now();
   if (progress) progress("write", 0);
-  if (o.format == PointOutput::mvx) write_mvx_points(output, h);
+  if (o.format == PointOutput::mvx) write_mvx_points(output, h, points_share ? *points_share : PointsElsewhere{});
   else io::write_3dtiles(output, h, points::tiles_options_of(o), share ? *share : io::Tiles3dShare{});
   r.write_seconds = seconds_since(t0);  // no report after the write: a cancel there would come too late
 
@@ -218,26 +219,24 @@ PointFileReport build_points_file(Device& dev, const PointFileOptions& o, const 
   PointHierarchy h;
   auto t0 = std::chrono::steady_clock::now();
   if (spread) {
-    // A .mvx is written by rank 0, which gathers every point; a tileset's ranks hold and write their shares.
+    // Each rank holds its share of the points (cells dealt by count) until they are written.
     const auto fits = [&](const PointCloudInfo& info) {
-      const bool tileset = o.format == PointOutput::tiles3d;
-      const uint64_t need = info.points * host_bytes_per_point(info) / (tileset ? uint64_t(o.ranks->size) : 1);
+      const uint64_t need = info.points * host_bytes_per_point(info) / uint64_t(o.ranks->size);
       if (need > memory)
         throw CodedError(ErrorCode::out_of_memory,
-                         std::string("points build over ranks: ") +
-                             (tileset ? "each rank holds its share of the " : "rank 0 gathers every one of the ") +
-                             std::to_string(info.points) + " points, which needs about " + format_bytes(need) +
-                             " there, over its host memory budget " + format_bytes(memory) +
-                             (tileset ? "; run it over more ranks" : "; write 3D Tiles, or run it in one process, which builds out of core"),
+                         "points build over ranks: each rank holds its share of the " + std::to_string(info.points) +
+                             " points, which needs about " + format_bytes(need) + ", over the host memory budget " +
+                             format_bytes(memory) + "; run it over more ranks, or in one process, which builds out of core",
                          setting_host_memory);
     };
     io::Tiles3dShare tiles;
-    h = points::build_over_ranks(dev, o, *o.ranks, r, progress, fits, &tiles);
+    PointsElsewhere points_share;
+    h = points::build_over_ranks(dev, o, *o.ranks, r, progress, fits, &tiles, &points_share);
     if (!writes) {
       r.total_seconds = seconds_since(start);
       return r;
     }
-    return write_points_output(o, output, std::move(h), r, start, progress, &tiles);
+    return write_points_output(o, output, std::move(h), r, start, progress, &tiles, &points_share);
   }
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;

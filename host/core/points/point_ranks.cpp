@@ -22,6 +22,7 @@
 #include "omicron.h"
 #include "point_gather.h"
 #include "point_kernels.h"
+#include "point_ranks_mvx.h"
 #include "point_ranks_tiles.h"
 #include "point_runs.h"
 #include "timing.h"
@@ -90,9 +91,11 @@ bool wide_colour(const PointColumns& points) {
 
 PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const RankCollectives& ranks,
                                 PointFileReport& report, const Progress& progress,
-                                const std::function<void(const PointCloudInfo&)>& check_fits, io::Tiles3dShare* tiles) {
+                                const std::function<void(const PointCloudInfo&)>& check_fits, io::Tiles3dShare* tiles,
+                                PointsElsewhere* points_share) {
   const bool lead = ranks.rank == 0;
-  if (o.format == PointOutput::tiles3d && !tiles) throw Error("points: internal error: a tileset over ranks without its share");
+  if (!(o.format == PointOutput::tiles3d ? tiles != nullptr : points_share != nullptr))
+    throw Error("points: internal error: a build over ranks without its output's share");
   auto t0 = std::chrono::steady_clock::now();
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
@@ -200,13 +203,13 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   report.ranks.points_built = m;
 
   // This rank's subtrees up to the top level, then its part for rank 0: the lists and the sorted records it
-  // needs. Rank 0 writes a .mvx alone, so it gets every point; a tileset's other ranks write their own nodes'
-  // tiles, so rank 0 gets only the points the levels above are made from (top_candidates).
+  // needs, the points the levels above are made from (top_candidates). Each other rank keeps its points and
+  // writes its nodes' tiles, or hands them to rank 0 as it writes the .mvx.
   t0 = std::chrono::steady_clock::now();
   OmicronBuilder builder(dev, rule);
   builder.concatenate(codes, true);
   OmicronPart part = builder.take_part();
-  const bool own_tiles = o.format == PointOutput::tiles3d && !lead;
+  const bool own_tiles = !lead;  // this rank's nodes' points stay here until they are written
   PointColumns sorted_here = own_tiles ? columns_for(layout, m) : PointColumns();
   if (own_tiles)
     tbb::parallel_for(tbb::blocked_range<uint64_t>(0, m, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
@@ -247,11 +250,13 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   grid.shift = cube.shift;
   grid.grid_bits = rule.grid_bits;
   grid.depth = rule.depth;
-  if (own_tiles) {
-    report.ranks.tiles_written = write_part_tiles(ranks, part, sorted_here, std::move(grid), tiles_options_of(o), lo3, hi3);
+  if (!lead) {
+    if (o.format == PointOutput::tiles3d)
+      report.ranks.tiles_written = write_part_tiles(ranks, part, sorted_here, std::move(grid), tiles_options_of(o), lo3, hi3);
+    else
+      report.ranks.bytes_exchanged += send_part_points(ranks, part, sorted_here, info);
     return h;
   }
-  if (!lead) return h;
   if (ranks.lead_alone) ranks.lead_alone();
   const uint32_t top = rule.top_level;
 
@@ -267,7 +272,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
     const uint8_t* records = nullptr;  // part.points of them
   };
   std::vector<Received> received;
-  uint64_t held = 0;  // points rank 0 got: every point, or for a tileset its own and the others' candidates
+  uint64_t held = 0;  // points rank 0 got: its own and the others' candidates
   bool wide = false;  // some point's colour needs 16 bits
   for (std::vector<uint8_t>& bytes : parts_at_lead) {
     MessageReader in(bytes);
@@ -289,8 +294,7 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
     held += p.points;
     received.push_back(std::move(got_part));
   }
-  const bool tileset = o.format == PointOutput::tiles3d;
-  if (tileset ? held > n : held != n) throw Error("points: internal error: the ranks' parts do not hold every point");
+  if (held > n) throw Error("points: internal error: the ranks' parts hold more than every point");
   std::vector<uint64_t> all_codes(held);
   PointColumns sorted = columns_for(layout, held);
   std::vector<uint64_t> top_start;  // per rank: where its top-level nodes start in the joined list
@@ -315,30 +319,33 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   all_codes = {};
   std::vector<NodePoints> sources;
   joined.assemble(h.nodes, sources, h.nodes_per_level);
-  if (tileset && tiles) {
-    // which of each rank's top-level nodes the join absorbed into a leaf above
-    std::vector<std::vector<bool>> absorbed(static_cast<size_t>(ranks.size));
-    for (size_t r = 0; r < absorbed.size(); ++r)
-      for (uint64_t k = top_start[r]; k < top_start[r + 1]; ++k) absorbed[r].push_back(joined.level(top)[k].absorbed);
+  // which of each rank's top-level nodes the join absorbed into a leaf above
+  std::vector<std::vector<bool>> absorbed(static_cast<size_t>(ranks.size));
+  for (size_t r = 0; r < absorbed.size(); ++r)
+    for (uint64_t k = top_start[r]; k < top_start[r + 1]; ++k) absorbed[r].push_back(joined.level(top)[k].absorbed);
+  const bool tileset = o.format == PointOutput::tiles3d;
+  std::vector<bool> elsewhere;
+  if (tileset) {
     *tiles = lead_tiles_share(ranks, h, owner, top, std::move(absorbed), report.ranks.tiles_written);
     std::copy(lo3, lo3 + 3, tiles->lo);
     std::copy(hi3, hi3 + 3, tiles->hi);
     tiles->wide_colour = wide || wide_colour(sorted);
-    // Only the nodes written here keep their points, in node order.
-    std::vector<NodePoints> here;
-    uint64_t at = 0;
-    for (size_t i = 0; i < h.nodes.size(); ++i) {
-      PointNode& node = h.nodes[i];
-      if (tiles->elsewhere[i]) {
-        node.first_point = 0;
-        continue;
-      }
-      here.push_back(sources[i]);
-      node.first_point = at;
-      at += node.point_count;
-    }
-    sources = std::move(here);
+    elsewhere = tiles->elsewhere;
+  } else {
+    *points_share = lead_points_share(ranks, h, owner, top, std::move(absorbed), report.ranks.bytes_exchanged);
+    elsewhere = points_share->elsewhere;
   }
+  // Only the nodes rank 0 holds keep their points, in node order. A tile's points start at first_point of
+  // those; a .mvx's node table keeps where they lie among every node's.
+  std::vector<NodePoints> here;
+  uint64_t at = 0;
+  for (size_t i = 0; i < h.nodes.size(); ++i) {
+    if (elsewhere[i]) continue;
+    here.push_back(sources[i]);
+    if (tileset) h.nodes[i].first_point = at;
+    at += h.nodes[i].point_count;
+  }
+  sources = std::move(here);
   h.points = gather_node_points(sorted, sources, joined.reps(), info.extra_bytes);
   report.ranks.join_seconds = seconds_since(t0);
   report.build_seconds += report.ranks.join_seconds;

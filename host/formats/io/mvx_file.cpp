@@ -195,24 +195,45 @@ MvxColourStats write_mvx(const std::string& path, const MvxFile& in, const MvxPa
 namespace mvx_format {
 
 void write_file(const std::string& path, Header& h, const std::vector<Blob>& blobs) {
+  std::vector<StreamedBlob> streamed;
+  for (const Blob& b : blobs)
+    streamed.push_back({b.kind, b.bytes, [&b](const PutBytes& put) { put(b.data, b.bytes); }, b.checked});
+  write_file(path, h, streamed);
+}
+
+void write_file(const std::string& path, Header& h, const std::vector<StreamedBlob>& blobs) {
   std::memcpy(h.magic, kMagic, 8);
   h.sections = static_cast<uint32_t>(blobs.size());
   uint64_t offset = kPage;
   for (uint32_t i = 0; i < h.sections; ++i) {
-    h.table[i] = {blobs[i].kind, 0, offset, blobs[i].bytes, blobs[i].checked ? hash(blobs[i].data, blobs[i].bytes) : 0};
+    h.table[i] = {blobs[i].kind, 0, offset, blobs[i].bytes, 0};
     offset += (blobs[i].bytes + kPage - 1) / kPage * kPage;
   }
-  h.checksum = hash(&h, offsetof(Header, checksum));
   io::write_atomically(path, [&](std::FILE* f) {
     std::vector<char> page(kPage, 0);
-    std::memcpy(page.data(), &h, sizeof h);
-    bool ok = io::write_all(f, page.data(), kPage);
+    bool ok = io::write_all(f, page.data(), kPage);  // the header, once the sections' checksums are known
+    std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(), &XXH3_freeState);
+    if (!state) throw std::bad_alloc();
     for (uint32_t i = 0; ok && i < h.sections; ++i) {
-      ok = io::write_all(f, blobs[i].data, blobs[i].bytes);
-      uint64_t pad = (kPage - blobs[i].bytes % kPage) % kPage;
-      std::vector<char> zeros(pad, 0);
-      ok = ok && io::write_all(f, zeros.data(), pad);
+      XXH3_64bits_reset(state.get());
+      uint64_t written = 0;
+      blobs[i].write([&](const void* data, size_t bytes) {
+        if (!ok || bytes == 0) return;
+        if (written + bytes > blobs[i].bytes) throw Error("internal error: a .mvx section runs past its size");
+        XXH3_64bits_update(state.get(), data, bytes);
+        ok = io::write_all(f, data, bytes);
+        written += bytes;
+      });
+      if (ok && written != blobs[i].bytes)
+        throw Error("internal error: .mvx section " + std::to_string(blobs[i].kind) + " holds " + std::to_string(written) +
+                    " bytes of " + std::to_string(blobs[i].bytes));
+      if (blobs[i].checked) h.table[i].checksum = XXH3_64bits_digest(state.get());
+      const uint64_t pad = (kPage - blobs[i].bytes % kPage) % kPage;
+      ok = ok && io::write_all(f, page.data(), pad);
     }
+    h.checksum = hash(&h, offsetof(Header, checksum));
+    std::memcpy(page.data(), &h, sizeof h);
+    ok = ok && std::fseek(f, 0, SEEK_SET) == 0 && io::write_all(f, page.data(), kPage);
     return ok;
   });
 }

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -101,6 +102,18 @@ struct Blob {
 // Fills h's magic, section table and checksum from `blobs` (each on its own 4 KiB pages after the header page)
 // and writes the file through a temporary name.
 void write_file(const std::string& path, Header& h, const std::vector<Blob>& blobs);
+
+// A section whose bytes come in pieces (a point file whose points other processes hold): its size, known
+// before, and `write`, which hands every piece to `put`, in order.
+using PutBytes = std::function<void(const void* data, size_t bytes)>;
+struct StreamedBlob {
+  uint32_t kind;
+  uint64_t bytes;
+  std::function<void(const PutBytes& put)> write;
+  bool checked = true;
+};
+// The same file as write_file writes from those sections, hashed as they pass; the header page goes last.
+void write_file(const std::string& path, Header& h, const std::vector<StreamedBlob>& blobs);
 
 // An opened file whose header, checksum, section table and total size were checked; versions 1 to 3.
 struct Opened {

@@ -29,7 +29,12 @@ struct PointMeta {
 };
 static_assert(sizeof(PointMeta) == 32 + 48 + 24 + 40);
 
-uint64_t stored_points(const PointHierarchy& h) { return h.points.size(); }
+// Every node's points, wherever they are held.
+uint64_t stored_points(const PointHierarchy& h) {
+  uint64_t n = 0;
+  for (const PointNode& node : h.nodes) n += node.point_count;
+  return n;
+}
 
 std::string fields_json(const PointCloudInfo& info) {
   if (info.fields.empty() || !(info.attributes & kPointExtra)) return {};
@@ -73,17 +78,26 @@ std::vector<PointField> parse_fields(const std::string& text, uint32_t record, c
   return out;
 }
 
-// The hierarchy's structure: what a reader relies on to walk it without further checks.
-void validate(const PointHierarchy& h, const std::string& path) {
+// The hierarchy's structure: what a reader relies on to walk it without further checks. `elsewhere`: nodes whose
+// points h does not hold (PointsElsewhere); at each level they follow those it holds.
+void validate(const PointHierarchy& h, const std::string& path, const std::vector<bool>& elsewhere = {}) {
   auto fail = [&](const std::string& what) { throw Error(path + ": bad point hierarchy: " + what); };
   const uint64_t n = h.nodes.size();
   if (n == 0 || h.nodes[0].code != 1 || h.nodes[0].level != 0) fail("no root node");
   if (h.depth > 21) fail("depth " + std::to_string(h.depth) + " over 21");
-  uint64_t next_child = 1, next_point = 0, leaf_points = 0;
+  uint64_t next_child = 1, next_point = 0, leaf_points = 0, held = 0;
   std::vector<uint64_t> per_level(h.depth + 1, 0);
+  std::vector<bool> level_elsewhere(h.depth + 1, false);  // a node of the level was elsewhere already
+  if (!elsewhere.empty() && elsewhere.size() != n) fail("the nodes held elsewhere are not marked node by node");
   for (uint64_t i = 0; i < n; ++i) {
     const PointNode& node = h.nodes[i];
     const std::string at = "node " + std::to_string(i);
+    if (node.level <= h.depth) {
+      const bool away = !elsewhere.empty() && elsewhere[i];
+      if (!away && level_elsewhere[node.level]) fail(at + " is held here but follows nodes held elsewhere");
+      if (away) level_elsewhere[node.level] = true;
+      else if ((held += node.point_count) > h.points.size()) fail(at + "'s points are not the next ones in node order");
+    }
     if (node.level > h.depth || std::bit_width(node.code) != 3u * node.level + 1) fail(at + "'s code and level disagree");
     if (node.first_point != next_point || node.point_count > stored_points(h) - next_point)
       fail(at + "'s points are not the next ones in node order");
@@ -109,6 +123,7 @@ void validate(const PointHierarchy& h, const std::string& path) {
   }
   if (next_child != n) fail(std::to_string(n - next_child) + " nodes are nobody's children");
   if (next_point != stored_points(h)) fail("points after the last node's");
+  if (held != h.points.size()) fail("it holds " + std::to_string(h.points.size()) + " points, but its nodes in node order hold " + std::to_string(held));
   if (leaf_points != h.points_kept) fail("the leaves hold " + std::to_string(leaf_points) + " points, not the " +
                                          std::to_string(h.points_kept) + " kept");
   if (per_level != h.nodes_per_level) fail("the nodes per level disagree with the node table");
@@ -116,8 +131,10 @@ void validate(const PointHierarchy& h, const std::string& path) {
 
 }  // namespace
 
-void write_mvx_points(const std::string& path, const PointHierarchy& h) {
-  validate(h, path);
+void write_mvx_points(const std::string& path, const PointHierarchy& h) { write_mvx_points(path, h, PointsElsewhere{}); }
+
+void write_mvx_points(const std::string& path, const PointHierarchy& h, const PointsElsewhere& share) {
+  validate(h, path, share.elsewhere);
   PointMeta meta{};
   const PointCloudInfo& info = h.source;
   meta.attributes = info.attributes;
@@ -137,23 +154,46 @@ void write_mvx_points(const std::string& path, const PointHierarchy& h) {
   meta.points_kept = h.points_kept;
   meta.points_dropped = h.points_dropped;
   meta.nodes = h.nodes.size();
-  meta.stored_points = h.points.size();
+  meta.stored_points = stored_points(h);
   std::vector<char> meta_bytes(sizeof meta + info.crs.size() + info.format.size());
   std::memcpy(meta_bytes.data(), &meta, sizeof meta);
   std::memcpy(meta_bytes.data() + sizeof meta, info.crs.data(), info.crs.size());
   std::memcpy(meta_bytes.data() + sizeof meta + info.crs.size(), info.format.data(), info.format.size());
 
-  std::vector<Blob> blobs = {{kSecPointMeta, meta_bytes.data(), meta_bytes.size()},
-                             {kSecPointLevels, h.nodes_per_level.data(), h.nodes_per_level.size() * 8},
-                             {kSecPointNodes, h.nodes.data(), h.nodes.size() * sizeof(PointNode)},
-                             {kSecPointXyz, h.points.xyz.data(), h.points.xyz.size() * 4}};
+  // This process's points of each level: where they start in h.points and how many.
+  std::vector<uint64_t> own_first(h.depth + 1, 0), own_count(h.depth + 1, 0);
+  uint64_t own = 0;
+  for (size_t i = 0; i < h.nodes.size(); ++i) {
+    if (!share.elsewhere.empty() && share.elsewhere[i]) continue;
+    const PointNode& n = h.nodes[i];
+    if (own_count[n.level] == 0) own_first[n.level] = own;
+    own_count[n.level] += n.point_count;
+    own += n.point_count;
+  }
+  const auto whole = [](uint32_t kind, const void* data, uint64_t bytes) {
+    return StreamedBlob{kind, bytes, [data, bytes](const PutBytes& put) { put(data, bytes); }};
+  };
+  // A point column: per level, this process's points, then the others'.
+  const auto column = [&](uint32_t kind, PointColumn c, const void* data, uint64_t per_point) {
+    return StreamedBlob{kind, stored_points(h) * per_point, [&, c, data, per_point](const PutBytes& put) {
+                          for (uint32_t l = 0; l <= h.depth; ++l) {
+                            put(static_cast<const char*>(data) + own_first[l] * per_point, own_count[l] * per_point);
+                            if (share.others) share.others(c, l, put);
+                          }
+                        }};
+  };
   const PointColumns& p = h.points;
-  if (info.attributes & kPointRgb) blobs.push_back({kSecPointRgb, p.rgb.data(), p.rgb.size() * 2});
-  if (info.attributes & kPointNormal) blobs.push_back({kSecPointNormal, p.normal.data(), p.normal.size() * 4});
-  if (info.attributes & kPointIntensity) blobs.push_back({kSecPointIntensity, p.intensity.data(), p.intensity.size() * 2});
-  if (info.attributes & kPointExtra) blobs.push_back({kSecPointExtra, p.extra.data(), p.extra.size()});
+  std::vector<StreamedBlob> blobs = {whole(kSecPointMeta, meta_bytes.data(), meta_bytes.size()),
+                                     whole(kSecPointLevels, h.nodes_per_level.data(), h.nodes_per_level.size() * 8),
+                                     whole(kSecPointNodes, h.nodes.data(), h.nodes.size() * sizeof(PointNode)),
+                                     column(kSecPointXyz, PointColumn::xyz, p.xyz.data(), 12)};
+  if (info.attributes & kPointRgb) blobs.push_back(column(kSecPointRgb, PointColumn::rgb, p.rgb.data(), 6));
+  if (info.attributes & kPointNormal) blobs.push_back(column(kSecPointNormal, PointColumn::normal, p.normal.data(), 12));
+  if (info.attributes & kPointIntensity)
+    blobs.push_back(column(kSecPointIntensity, PointColumn::intensity, p.intensity.data(), 2));
+  if (info.attributes & kPointExtra) blobs.push_back(column(kSecPointExtra, PointColumn::extra, p.extra.data(), info.extra_bytes));
   const std::string fields = fields_json(info);
-  if (!fields.empty()) blobs.push_back({kSecPointFields, fields.data(), fields.size()});
+  if (!fields.empty()) blobs.push_back(whole(kSecPointFields, fields.data(), fields.size()));
 
   Header hd{};
   hd.version = kMvxVersion;

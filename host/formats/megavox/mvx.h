@@ -34,6 +34,7 @@
 // the encoding itself before returning.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -104,6 +105,18 @@ MvxColourStats write_mvx(const std::string& path, const MvxFile& file, const Mvx
 MvxFile read_mvx(const std::string& path);
 
 void write_mvx_points(const std::string& path, const PointHierarchy& h);
+
+// A point file whose points other processes hold in part (a build over MPI ranks): h has every node, but
+// h.points only the points of the nodes `elsewhere` does not mark, in node order. At every level those nodes
+// come before the marked ones, whose points `others` hands over: one column's bytes of the marked nodes of one
+// level, in node order, through `put`.
+enum class PointColumn { xyz, rgb, normal, intensity, extra };
+using PutPointBytes = std::function<void(const void* data, size_t bytes)>;
+struct PointsElsewhere {
+  std::vector<bool> elsewhere;  // per node of h
+  std::function<void(PointColumn column, uint32_t level, const PutPointBytes& put)> others;
+};
+void write_mvx_points(const std::string& path, const PointHierarchy& h, const PointsElsewhere& share);
 // Checks every section and the hierarchy itself (codes, children, counts) before returning.
 PointHierarchy read_mvx_points(const std::string& path);
 

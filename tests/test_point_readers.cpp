@@ -227,14 +227,46 @@ TEST(PointReaders, SkipPassesOverPoints) {
   std::vector<PlyColumn> cols{{"float", "x", {}}, {"float", "y", {}}, {"float", "z", {}}};
   for (int i = 0; i < 50; ++i)
     for (auto& c : cols) c.values.push_back(i * 0.5 + (c.name == "y"));
-  const std::string ply = write_file("skip.ply", make_cloud_ply(Fmt::le, cols));
-  auto src = mv::io::open_points(ply);
-  EXPECT_EQ(src->skip(20), 0u);  // read, not sought
-  PointColumns rest;
-  while (src->next(rest, 7)) {}
-  ASSERT_EQ(rest.size(), 30u);
+  for (Fmt fmt : {Fmt::le, Fmt::ascii}) {
+    const std::string ply = write_file("skip.ply", make_cloud_ply(fmt, cols));
+    auto src = mv::io::open_points(ply);
+    EXPECT_EQ(src->skip(20), fmt == Fmt::ascii ? 0u : 20u);  // binary records are sought, ascii ones read
+    PointColumns rest;
+    while (src->next(rest, 7)) {}
+    ASSERT_EQ(rest.size(), 30u);
+    const Cloud all = read_cloud(ply);
+    EXPECT_TRUE(std::equal(rest.xyz.begin(), rest.xyz.end(), all.points.xyz.begin() + 60));
+  }
+}
+
+// A build over ranks: each opens a binary PLY with its slice, whose grid pass reads that slice alone, and the
+// ranks' agreed extent gives the grid of the whole file.
+TEST(PointReaders, PlySliceReadsItsShareForTheGrid) {
+  std::vector<PlyColumn> cols{{"float", "x", {}}, {"float", "y", {}}, {"float", "z", {}}};
+  for (int i = 0; i < 90; ++i)
+    for (auto& c : cols) c.values.push_back(i < 30 ? 1000.0 + i : i * 0.25);  // the largest in the first third
+  const std::string ply = write_file("slice.ply", make_cloud_ply(Fmt::le, cols));
   const Cloud all = read_cloud(ply);
-  EXPECT_TRUE(std::equal(rest.xyz.begin(), rest.xyz.end(), all.points.xyz.begin() + 60));
+  mv::io::PointReadOptions o;
+  o.slice_part = 2;
+  o.slice_parts = 3;
+  double seen = -1;
+  o.agree_extent = [&](double mine) {
+    seen = mine;
+    return 1089.0;  // what every rank's agree: the first third's largest
+  };
+  auto src = mv::io::open_points(ply, o);
+  EXPECT_EQ(seen, 89 * 0.25);  // its slice's alone
+  EXPECT_FALSE(src->read_whole_file());
+  EXPECT_EQ(src->info().scale[0], all.info.scale[0]);
+  EXPECT_EQ(src->skip(60), 60u);
+  PointColumns rest;
+  while (src->next(rest, 8)) {}
+  ASSERT_EQ(rest.size(), 30u);
+  EXPECT_TRUE(std::equal(rest.xyz.begin(), rest.xyz.end(), all.points.xyz.begin() + 180));
+  o.slice_part = 0;
+  o.slice_parts = 1;  // the whole file: read whole
+  EXPECT_TRUE(mv::io::open_points(ply, o)->read_whole_file());
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -100,6 +100,17 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   io::PointReadOptions ro;
   ro.carry_extra_bytes = o.carry_extra_bytes;
   ro.bounds = o.bounds;
+  // A PLY cloud's grid comes from its largest |coordinate|: each rank finds its slice's (where it can seek to it)
+  // and the ranks agree on the largest. Its slice is [lo, hi) of the records, below.
+  ro.slice_part = ranks.rank;
+  ro.slice_parts = ranks.size;
+  ro.agree_extent = [&ranks](double mine) {
+    MessageWriter w;
+    w.put(mine);
+    double most = mine;
+    for (const std::vector<uint8_t>& b : ranks.all_gather(w.bytes)) most = std::max(most, MessageReader(b).get<double>());
+    return most;
+  };
   std::unique_ptr<io::PointSource> src = io::open_points(o.input, ro);
   const PointCloudInfo info = src->info();
   report.input_format = info.format;
@@ -119,12 +130,12 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   if (src->records_read() != hi)
     throw Error(o.input + ": the file holds " + std::to_string(src->records_read()) + " points where its header declares " +
                 std::to_string(declared));
+  // The share of the file the reader went through: all of it where a PLY reader cannot seek to its slice.
+  const bool whole = src->read_whole_file();
   src.reset();
   std::error_code size_error;
   const uint64_t file_bytes = std::filesystem::file_size(o.input, size_error);
   report.ranks.points_read = hi - lo;
-  // The share of the file the reader went through: a PLY reader reads all of it for its grid.
-  const bool whole = info.format.rfind("PLY", 0) == 0;
   report.ranks.bytes_read = declared == 0 || whole ? file_bytes
                                                    : static_cast<uint64_t>((unsigned __int128)file_bytes * (hi - unread) / declared);
   report.read_seconds = seconds_since(t0);

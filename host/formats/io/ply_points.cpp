@@ -79,13 +79,20 @@ float to_float(double d) {
 
 class PlyPoints final : public PointSource {
  public:
-  PlyPoints(const std::string& path, const PointReadOptions&) : path_(path) {
+  PlyPoints(const std::string& path, const PointReadOptions& options) : path_(path) {
     Source first(path);
     header_ = detail::parse_header(first);
     find_layout();
     detail::check_counts(header_, path, first.size() - first.consumed(), vertex_el_ + 1);
     count_ = header_.elements[vertex_el_].count;
-    const double max_abs = scan_extent(first);
+    find_vertex_offset(first.consumed());
+    const auto part = static_cast<unsigned __int128>(options.slice_part);
+    const auto parts = static_cast<unsigned __int128>(std::max(options.slice_parts, 1));
+    const auto lo = static_cast<uint64_t>(std::min<unsigned __int128>(count_ * part / parts, count_));
+    const auto hi = static_cast<uint64_t>(std::min<unsigned __int128>(count_ * (part + 1) / parts, count_));
+    sliced_ = vertex_offset_ != 0 && (lo > 0 || hi < count_);
+    double max_abs = sliced_ ? slice_extent(first, lo, hi) : scan_extent(first);
+    if (options.agree_extent) max_abs = options.agree_extent(max_abs);
     scale_ = ply_grid_scale(grid_kind(max_abs), max_abs);
 
     info_.format = "PLY " + detail::format_name(header_.format);
@@ -101,6 +108,15 @@ class PlyPoints final : public PointSource {
 
   const PointCloudInfo& info() const override { return info_; }
   uint64_t records_read() const override { return next_; }
+  bool read_whole_file() const override { return !sliced_; }
+
+  uint64_t skip(uint64_t n) override {
+    if (vertex_offset_ == 0) return PointSource::skip(n);
+    n = std::min(n, count_ - next_);
+    next_ += n;
+    src_->seek(vertex_offset_ + next_ * record_);
+    return n;
+  }
 
   bool next(PointColumns& out, size_t max_points) override {
     if (max_points == 0) fail("next: max_points must be at least 1");
@@ -178,6 +194,35 @@ class PlyPoints final : public PointSource {
       if (r >= first && r < first + 3) r = kSkip;
     std::fill(seen + first, seen + first + 3, false);
     return false;
+  }
+
+  // Where the first vertex record starts, for seeking to any record: binary vertices of fixed-size records
+  // after elements whose records are fixed-size too; 0 where the file does not allow it.
+  void find_vertex_offset(uint64_t header_bytes) {
+    vertex_offset_ = 0;
+    if (header_.format == Format::ascii || record_ == 0) return;
+    uint64_t at = header_bytes;
+    for (size_t k = 0; k < vertex_el_; ++k) {
+      uint64_t bytes = 0;
+      for (const Property& p : header_.elements[k].props) {
+        if (p.is_list) return;
+        bytes += scalar_size(p.type);
+      }
+      at += bytes * header_.elements[k].count;
+    }
+    vertex_offset_ = at;
+  }
+
+  // The first pass over vertices [first, last) alone, reached by seeking.
+  double slice_extent(Source& src, uint64_t first, uint64_t last) const {
+    double max_abs = 0;
+    src.seek(vertex_offset_ + first * record_);
+    with_values(src, [&](auto& v) {
+      walk(src, v, first, last - first, [&](uint64_t i, const double* value) {
+        for (int a = 0; a < 3; ++a) max_abs = std::max(max_abs, std::fabs(coordinate(v, i, a, value)));
+      });
+    });
+    return max_abs;
   }
 
   // The first pass: the largest |coordinate|, every coordinate checked finite.
@@ -445,6 +490,8 @@ class PlyPoints final : public PointSource {
   PointCloudInfo info_;
   std::unique_ptr<Source> src_;  // the second pass
   uint64_t next_ = 0;
+  uint64_t vertex_offset_ = 0;  // byte of the first vertex record, where records can be sought (else 0)
+  bool sliced_ = false;         // the first pass read a slice of the vertices alone
 };
 
 }  // namespace

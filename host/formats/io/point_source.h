@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <array>
 #include <memory>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -36,9 +37,10 @@ class PointSource {
   virtual uint64_t records_read() const = 0;
   // Passes over the next n records (a build over ranks reads its slice of the file; a box's test is not made on
   // them); past the end it stops there. Returns how many it passed over unread: all where it seeks
-  // (uncompressed LAS), LAZ's whole chunks, none where it reads them (PLY, which also reads the whole file for its
-  // grid when opened).
+  // (uncompressed LAS, binary PLY of fixed-size records), LAZ's whole chunks, none where it reads them.
   virtual uint64_t skip(uint64_t n);
+  // Whether opening it read the whole file (a PLY's grid pass, where it cannot seek to PointReadOptions' slice).
+  virtual bool read_whole_file() const { return false; }
 };
 
 struct PointReadOptions {
@@ -52,6 +54,12 @@ struct PointReadOptions {
   // a COPC file decodes only the chunks whose octree node meets it. Unset: every point. info().points is then
   // the count of the points read before the test (the chunks decoded), which next() may deliver fewer of.
   std::optional<std::array<double, 6>> bounds;
+  // PLY, a build over ranks: the grid's first pass covers only the slice of the N records that rank `part` of
+  // `parts` reads, [N part / parts, N (part + 1) / parts), where the file lets the reader seek to it (binary,
+  // fixed-size records after elements of fixed-size records; else the whole file), and `agree_extent` turns
+  // its largest |coordinate| into the one every rank's grid is made from.
+  int slice_part = 0, slice_parts = 1;
+  std::function<double(double)> agree_extent;
 };
 
 // Opens `path` by its content: "ply\n" is PLY, "LASF" is LAS or LAZ. Anything else throws mv::Error naming

@@ -219,7 +219,7 @@ Dag build_by_cubes(Device& dev, uint32_t levels, uint32_t cube_levels, bool symm
   if (merge) {  // the merging rank takes every rank's cube roots, with their classes, in Morton order
     below = cube_roots_at_lead(dev, below, static_cast<uint32_t>(u[cube_levels].size()), symmetric, root_keys,
                                root_node, *merge);
-    *exchange->bytes_exchanged += merge->bytes_exchanged;
+    if (exchange->bytes_exchanged) *exchange->bytes_exchanged += merge->bytes_exchanged;
     if (!exchange->merges) return dag;
   }
   // 3. Above the cubes: an octree over the cube roots, whose slots point at the roots' classes.

@@ -1,9 +1,10 @@
 // `mpirun -np N megavox points build`: a point build spread over ranks (docs/distributed.md "Point clouds").
 // Each rank reads a contiguous slice of the input's points, the ranks agree on the cube, sort their slices by
 // Morton code and deal whole cells of one level (the top level) to ranks in Morton order; each rank builds its
-// cells' subtrees bottom-up, and rank 0 joins them and makes the levels above, then gathers and writes as one
-// process does (a tileset: the nodes it writes; the others write theirs). The bytes are those of one process: equal codes keep their input order (slices are in input
-// order and every sort is stable), and a node is a function of its subtree's points alone.
+// cells' subtrees bottom-up, and rank 0 joins them and makes the levels above. Each rank keeps its nodes' points
+// until they are written: its tiles, or handed to rank 0 as it writes the .mvx. The bytes are those of one
+// process: equal codes keep their input order (slices are in input order and every sort is stable), and a node
+// is a function of its subtree's points alone.
 #include "point_ranks.h"
 
 #include <tbb/blocked_range.h>
@@ -220,32 +221,32 @@ PointHierarchy build_over_ranks(Device& dev, const PointFileOptions& o, const Ra
   OmicronBuilder builder(dev, rule);
   builder.concatenate(codes, true);
   OmicronPart part = builder.take_part();
-  const bool own_tiles = !lead;  // this rank's nodes' points stay here until they are written
-  PointColumns sorted_here = own_tiles ? columns_for(layout, m) : PointColumns();
-  if (own_tiles)
+  const bool keeps_points = !lead;  // rank 0 gets only the candidates of the others' points
+  PointColumns sorted_here = keeps_points ? columns_for(layout, m) : PointColumns();
+  if (keeps_points)
     tbb::parallel_for(tbb::blocked_range<uint64_t>(0, m, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
       for (uint64_t i = r.begin(); i < r.end(); ++i) unpack_at(layout, record(order[i]), sorted_here, i);
     });
-  const Runs runs = own_tiles ? top_candidates(part) : Runs{{0, m}};
+  const Runs runs = keeps_points ? top_candidates(part) : Runs{{0, m}};
   std::vector<uint64_t> sent;  // the sorted positions of the records sent, when not all
-  if (own_tiles)
+  if (keeps_points)
     for (const Run& r : runs)
       for (uint64_t q = r.begin; q < r.end; ++q) sent.push_back(q);
-  const uint64_t records = own_tiles ? sent.size() : m;
+  const uint64_t records = keeps_points ? sent.size() : m;
   MessageWriter msg;
   msg.put(part.top_level);
   msg.put(part.points);
   for (const auto& level : part.levels) msg.put_all(level);
   msg.put_all(part.reps);
-  msg.put<uint8_t>(own_tiles);  // then the positions of the records sent
-  if (own_tiles) msg.put_all(runs);
+  msg.put<uint8_t>(keeps_points);  // then the positions of the records sent
+  if (keeps_points) msg.put_all(runs);
   msg.put<uint8_t>(wide_colour(sorted_here));
-  if (!own_tiles) part = OmicronPart();
+  if (!keeps_points) part = OmicronPart();
   const size_t head = msg.bytes.size();
   msg.bytes.resize(head + records * layout.bytes);
   tbb::parallel_for(tbb::blocked_range<uint64_t>(0, records, 1 << 14), [&](const tbb::blocked_range<uint64_t>& r) {
     for (uint64_t i = r.begin(); i < r.end(); ++i)
-      std::memcpy(msg.bytes.data() + head + i * layout.bytes, record(order[own_tiles ? sent[i] : i]), layout.bytes);
+      std::memcpy(msg.bytes.data() + head + i * layout.bytes, record(order[keeps_points ? sent[i] : i]), layout.bytes);
   });
   got = {};
   codes = {};

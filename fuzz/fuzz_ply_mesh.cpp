@@ -1,4 +1,6 @@
-// PlyMeshReader (host/formats/io/ply_reader.h): the header, every vertex and every triangle.
+// PlyMeshReader (host/formats/io/ply_reader.h): the header, every vertex and every triangle; and opened with its
+// vertices deferred, a range of them read by offset.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -27,6 +29,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     MV_FUZZ_CHECK(triangles.empty());
     MV_FUZZ_CHECK(total >= reader.info().faces);  // every polygon gives at least one triangle
+  } catch (const mv::Error&) {
+  }
+  // Opened for a build over ranks: the vertices deferred, then a range of them read by offset, each checked.
+  try {
+    mv::io::PlyMeshReader reader(path, ram_bytes, true);
+    const uint64_t vertices = reader.info().vertices;
+    if (reader.vertices_deferred()) {
+      MV_FUZZ_CHECK(reader.positions().empty());
+      const uint64_t first = vertices / 3, last = std::min<uint64_t>(vertices, first + 1 + size % 97);
+      std::vector<float> xyz;
+      std::vector<uint16_t> rgb;
+      reader.read_vertex_range(first, last, xyz, rgb);
+      MV_FUZZ_CHECK(xyz.size() == 3 * (last - first));
+      for (float c : xyz) MV_FUZZ_CHECK(std::isfinite(c));
+    }
   } catch (const mv::Error&) {
   }
   return 0;

@@ -179,6 +179,40 @@ TEST(Ply, SelectFacesReadsAShareByOffset) {
   EXPECT_FALSE(e.select_faces(0, 10));
 }
 
+// A build over ranks reads the vertices in shares: opened deferred, a binary file reads none, then any range by
+// offset gives the positions of a whole read; an ascii file reads them all as usual.
+TEST(Ply, DeferredVerticesReadARangeByOffset) {
+  MeshSpec m;
+  for (int i = 0; i < 40; ++i) m.vertices.push_back({double(i) * 0.5, double(i % 7), -double(i % 3)});
+  for (int f = 0; f < 30; ++f) m.faces.push_back({double(f % 40), double((f * 7 + 1) % 40), double((f * 13 + 2) % 40)});
+  for (Fmt f : {Fmt::le, Fmt::be}) {
+    const std::string path = write_file("deferred.ply", make_ply(m, f));
+    const PlyMeshReader whole(path);
+    PlyMeshReader r(path, UINT64_MAX, true);
+    ASSERT_TRUE(r.vertices_deferred()) << fmt_name(f);
+    EXPECT_TRUE(r.positions().empty());
+    for (auto [first, last] : {std::pair<uint64_t, uint64_t>{0, 40}, {3, 17}, {39, 40}, {12, 12}}) {
+      std::vector<float> xyz;
+      std::vector<uint16_t> rgb;
+      r.read_vertex_range(first, last, xyz, rgb);
+      EXPECT_TRUE(std::equal(xyz.begin(), xyz.end(), whole.positions().begin() + 3 * first)) << first;
+      EXPECT_EQ(xyz.size(), 3 * (last - first));
+    }
+    ASSERT_TRUE(r.select_faces(10, 20));  // the faces are where they are without the vertices read
+    std::vector<uint32_t> got, batch;
+    while (r.next_triangles(batch, 4)) got.insert(got.end(), batch.begin(), batch.end());
+    const std::vector<uint32_t> all = read_all(path).triangles;
+    EXPECT_EQ(got, std::vector<uint32_t>(all.begin() + 30, all.begin() + 60));
+    std::vector<float> xyz;
+    std::vector<uint16_t> rgb;
+    EXPECT_NE(mv::test::error_message([&] { r.read_vertex_range(30, 41, xyz, rgb); }).find("not a range"),
+              std::string::npos);
+  }
+  PlyMeshReader ascii(write_file("deferred_ascii.ply", make_ply(m, Fmt::ascii)), UINT64_MAX, true);
+  EXPECT_FALSE(ascii.vertices_deferred());
+  EXPECT_EQ(ascii.positions().size(), 120u);
+}
+
 TEST(PlySharedData, StagedMeshesMatchTheReadme) {
   const char* env = std::getenv("MEGAVOX_TEST_DATA");
   fs::path root = env && *env ? fs::path(env) : fs::path(MEGAVOX_SOURCE_DIR) / ".." / "shared" / "data";

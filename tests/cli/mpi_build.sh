@@ -75,7 +75,29 @@ PY
 binary_ply "$dir/sphere.ply" "$dir/sphere_bin.ply"
 binary_ply "$dir/coloured.ply" "$dir/coloured_bin.ply"
 binary_ply "$dir/sphere.ply" "$dir/quad_bin.ply" quad
-for input in sphere_bin coloured_bin quad_bin; do
+# ushort colours: 16-bit in the last vertex alone (each rank reads a share of the vertices, and they must agree
+# to keep the high byte), and 16-bit storage of 8-bit values.
+ushort_ply() {
+  python3 - "$@" <<'PY'
+import struct, sys
+src, out, wide = sys.argv[1], sys.argv[2], sys.argv[3] == "wide"
+data = open(src, "rb").read()
+head, body = data.split(b"end_header\n", 1)
+lines = head.decode().split("\n")
+nv = int(next(l for l in lines if l.startswith("element vertex")).split()[2])
+lines = [l.replace("property uchar", "property ushort") if (l.split() or [""])[-1] in ("red", "green", "blue") else l for l in lines]
+verts = []
+for i in range(nv):
+    x, y, z, r, g, b = struct.unpack_from("<3f3B", body, 15 * i)
+    if wide and i == nv - 1:
+        r = 4000
+    verts.append(struct.pack("<3f3H", x, y, z, r, g, b))
+open(out, "wb").write("\n".join(lines).encode() + b"end_header\n" + b"".join(verts) + body[15 * nv:])
+PY
+}
+ushort_ply "$dir/coloured_bin.ply" "$dir/wide_bin.ply" wide
+ushort_ply "$dir/coloured_bin.ply" "$dir/narrow_bin.ply" narrow
+for input in sphere_bin coloured_bin quad_bin wide_bin narrow_bin; do
   shared=(build "$dir/$input.ply" --resolution 128 --cube 32 -q --format ssvdag)
   "$megavox" "${shared[@]}" -o "$dir/${input}_one.mvx" > /dev/null
   for n in 2 3 5; do
@@ -89,7 +111,7 @@ assert all((x["bytes_read"] < size) == shared for x in r), r  # a share of the f
 PY
   done
 done
-echo "mpi build: binary triangles read in shares (coloured too), a quad face read whole: the same bytes"
+echo "mpi build: binary triangles and vertices read in shares (8- and 16-bit colours too), a quad face read whole: the same bytes"
 
 # The other device kind, and --json: one entry per rank, each with cubes and voxels of its own.
 mpirun -np 3 "$megavox" --device vk:0 "${args[@]}" --format ssvdag -o "$dir/vk.mvx" --json > "$dir/ranks.json" ||

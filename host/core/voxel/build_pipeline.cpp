@@ -85,9 +85,10 @@ size_t batch_triangles(const BuildOptions& o) {
 uint64_t vertex_share(const BuildOptions& o) { return memory_budget(o) / 4; }
 uint64_t bucket_share(const BuildOptions& o) { return memory_budget(o) / 4; }
 
-std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o) {
+// `defer_vertices`: a build over ranks, whose ranks read a binary PLY's vertices in shares where they can.
+std::unique_ptr<io::MeshSource> open_budgeted_mesh(const BuildOptions& o, bool defer_vertices = false) {
   if (o.mesh) return io::memory_mesh(o.mesh->positions, o.mesh->indices, o.input, o.mesh->colours);
-  return io::open_mesh(o.input, vertex_share(o));
+  return io::open_mesh(o.input, vertex_share(o), defer_vertices);
 }
 
 // Fails early, before the heavy work, when a mesh's host-side arrays would pass the budget: the positions
@@ -143,11 +144,12 @@ GridTransform place_mesh_grid(const BuildOptions& o, uint32_t resolution, Bounds
 // plan: one streaming pass. `over_ranks`: a build in cubes, which every rank calls alike.
 MeshSurvey survey_mesh(const BuildOptions& o, BuildReport* r, bool over_ranks = false) {
   MeshSurvey s;
-  auto mesh = open_budgeted_mesh(o);
+  const bool shares = over_ranks && o.ranks && o.ranks->collectives;
+  auto mesh = open_budgeted_mesh(o, shares);
   check_mesh_memory(o, *mesh);
   if (r) r->vertex_scratch_bytes = mesh->positions_mapped() ? mesh->positions().size_bytes() : 0;
   // Over ranks, each reads a share of the faces where the file allows (every rank alike); else all of them.
-  if (over_ranks && o.ranks && o.ranks->collectives) {
+  if (shares) {
     if (survey_face_shares(*o.ranks->collectives, *mesh, batch_triangles(o), s)) return s;
     s = MeshSurvey();
     mesh = open_budgeted_mesh(o);
@@ -183,11 +185,13 @@ struct MeshColourInput {
 // mesh whether voxel colours are built and, if so, keeps every triangle with its vertex colours there.
 void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
                          const std::function<void(const std::vector<float>&, double)>& batch,
-                         MeshColourInput* colours = nullptr, bool face_share = false) {
-  auto mesh = open_budgeted_mesh(o);
-  if (face_share && !mesh->select_face_share(o.ranks->collectives->rank, o.ranks->collectives->size))
+                         MeshColourInput* colours = nullptr, bool face_share = false,
+                         const MeshShare* share = nullptr) {
+  // With a share whose vertices were fetched from the ranks that read them, its own arrays.
+  auto mesh = share ? io::memory_mesh(share->positions, share->indices, o.input, share->colours) : open_budgeted_mesh(o);
+  if (face_share && !share && !mesh->select_face_share(o.ranks->collectives->rank, o.ranks->collectives->size))
     throw Error(o.input + ": the mesh changed while it was read (its faces can no longer be shared by offset)");
-  uint64_t ordinal = mesh->first_triangle();  // of the batch's first triangle in the file's
+  uint64_t ordinal = share ? share->first_triangle : mesh->first_triangle();  // of the batch's first triangle
   const std::span<const uint32_t> vertex_rgb = mesh->vertex_colours(), vertex_tex = mesh->vertex_textures();
   const std::span<const float> vertex_uv = mesh->vertex_uvs();
   if (colours) {
@@ -303,12 +307,13 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
         }
         report("read", done);
       },
-      &colours, survey.face_shares);
+      &colours, survey.face_shares, survey.share.get());
   if (!buckets) buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o), colours.wanted ? kColourRecord : 9);
   std::vector<uint64_t> dealt;  // over ranks reading shares of the faces: the estimates the cubes are dealt by
   if (survey.face_shares) {
     dealt = send_triangles_to_cube_owners(*o.ranks->collectives, *buckets, per_axis, r.triangles, r.bytes_exchanged);
     r.bytes_read = survey.bytes_read;
+    r.bytes_exchanged += survey.bytes_exchanged;
   }
   r.spilled_bytes = buckets->spilled_bytes();
   lap("read");

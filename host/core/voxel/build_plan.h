@@ -2,6 +2,7 @@
 // work: the grid, in core or in cubes, and estimates of the voxels, the output and the memory.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -10,6 +11,15 @@
 #include "io/mesh_source.h"
 
 namespace mv {
+
+// A rank's share of a mesh whose vertices the ranks read in shares (voxel/mesh_shares.h): its faces' triangles
+// as indices into its own table of the vertices they use (positions, 8-bit colours), and its first face's place
+// in the file's.
+struct MeshShare {
+  std::vector<float> positions;
+  std::vector<uint32_t> indices, colours;
+  uint64_t first_triangle = 0;
+};
 
 // What a pass over a mesh's faces finds: the bounds of the vertices they use and the surface they make.
 struct MeshSurvey {
@@ -25,6 +35,8 @@ struct MeshSurvey {
   void add_triangle(const float* a, const float* b, const float* c);
   bool face_shares = false;  // over ranks: each rank read a share of the faces (voxel/mesh_shares.h)
   uint64_t bytes_read = 0;   // then: the file bytes this rank's share spans (the vertices and its faces)
+  uint64_t bytes_exchanged = 0;        // and what fetching its faces' vertices moved
+  std::shared_ptr<const MeshShare> share;  // set where the vertices were read in shares too
 };
 
 // The faces `mesh` delivers (batches of `batch` triangles) into `s`, marking the vertices they use in `used`

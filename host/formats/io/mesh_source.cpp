@@ -21,7 +21,13 @@ namespace {
 
 class PlySource final : public MeshSource {
  public:
-  PlySource(const std::string& path, uint64_t ram_bytes) : reader_(path, ram_bytes) {}
+  PlySource(const std::string& path, uint64_t ram_bytes, bool defer) : reader_(path, ram_bytes, defer) {}
+  bool vertices_deferred() const override { return reader_.vertices_deferred(); }
+  uint64_t vertex_count() const override { return reader_.info().vertices; }
+  void read_vertex_range(uint64_t first, uint64_t last, std::vector<float>& xyz, std::vector<uint16_t>& rgb) override {
+    reader_.read_vertex_range(first, last, xyz, rgb);
+  }
+  int colour_bits() const override { return reader_.colour_bits(); }
   std::span<const float> positions() const override { return reader_.positions(); }
   bool positions_mapped() const override { return reader_.positions_mapped(); }
   std::span<const uint32_t> vertex_colours() const override { return reader_.colours(); }
@@ -167,9 +173,13 @@ bool starts_with_ply(const std::string& path) {
 
 }  // namespace
 
-std::unique_ptr<MeshSource> open_mesh(const std::string& path, uint64_t ram_bytes) {
-  if (starts_with_ply(path)) return std::make_unique<PlySource>(path, ram_bytes);
+std::unique_ptr<MeshSource> open_mesh(const std::string& path, uint64_t ram_bytes, bool defer_vertices) {
+  if (starts_with_ply(path)) return std::make_unique<PlySource>(path, ram_bytes, defer_vertices);
   return std::make_unique<AssimpSource>(path);
+}
+
+void MeshSource::read_vertex_range(uint64_t, uint64_t, std::vector<float>&, std::vector<uint16_t>&) {
+  throw Error("internal error: a mesh that read its vertices was asked for a range of them");
 }
 
 }  // namespace mv::io

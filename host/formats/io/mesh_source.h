@@ -43,10 +43,19 @@ class MeshSource {
   virtual uint64_t first_triangle() const { return 0; }
   // Bytes of the file this source reads (with a share: the vertices and its faces); 0: unknown.
   virtual uint64_t bytes_spanned() const { return 0; }
+  // A build over ranks reading the vertices in shares (open_mesh's defer_vertices; binary PLY): whether this
+  // source opened without its vertices (positions() and vertex_colours() then stay empty), their count, a range
+  // of them read by offset (3 floats each; with colours 3 channels each as stored, in colour_bits bits: 8 or 16,
+  // 0 without colours).
+  virtual bool vertices_deferred() const { return false; }
+  virtual uint64_t vertex_count() const { return positions().size() / 3; }
+  virtual void read_vertex_range(uint64_t first, uint64_t last, std::vector<float>& xyz, std::vector<uint16_t>& rgb);
+  virtual int colour_bits() const { return vertex_colours().empty() ? 0 : 8; }
 };
 
 // Chooses the reader by content (a PLY starts with "ply\n"), else by assimp. Throws mv::Error naming the file
 // and the fault. A PLY's vertex positions over `ram_bytes` go to a memory-mapped scratch file.
-std::unique_ptr<MeshSource> open_mesh(const std::string& path, uint64_t ram_bytes = UINT64_MAX);
+std::unique_ptr<MeshSource> open_mesh(const std::string& path, uint64_t ram_bytes = UINT64_MAX,
+                                      bool defer_vertices = false);
 
 }  // namespace mv::io

@@ -11,13 +11,32 @@
 
 namespace mv::io {
 
-PlyMeshReader::Impl::Impl(const std::string& path, uint64_t ram)
+PlyMeshReader::Impl::Impl(const std::string& path, uint64_t ram, bool defer_vertices)
     : src(path), header(detail::parse_header(src)), ram_bytes(ram) {
   check_counts();
   find_layout();
   info = {header.elements[vertex_el].count, face_el == kNone ? 0 : header.elements[face_el].count,
           detail::format_name(header.format), header.comments};
   vertex_limit = static_cast<double>(info.vertices);
+  if (defer_vertices && header.format != Format::ascii && face_el != kNone) {
+    // The faces' first byte, where every element before them has fixed-size records.
+    uint64_t at = src.consumed();
+    bool fixed = true;
+    for (size_t k = 0; k < face_el && fixed; ++k) {
+      const Element& e = header.elements[k];
+      if (k == vertex_el) vertex_offset = at;
+      if (e.props.empty()) continue;
+      const size_t record = record_bytes(e);
+      fixed = record != 0;
+      at += record * e.count;
+    }
+    if (fixed) {
+      src.seek(at);
+      next_el = face_el;
+      vertices_deferred = true;
+      return;
+    }
+  }
   with_values([&](auto& v) { advance(v); });
 }
 
@@ -93,8 +112,8 @@ size_t PlyMeshReader::Impl::record_bytes(const Element& e) {
   return bytes <= 4096 ? bytes : 0;  // the source buffer holds at least 4096 bytes
 }
 
-PlyMeshReader::PlyMeshReader(const std::string& path, uint64_t ram_bytes)
-    : impl_(std::make_unique<Impl>(path, ram_bytes)) {}
+PlyMeshReader::PlyMeshReader(const std::string& path, uint64_t ram_bytes, bool defer_vertices)
+    : impl_(std::make_unique<Impl>(path, ram_bytes, defer_vertices)) {}
 PlyMeshReader::~PlyMeshReader() = default;
 PlyMeshReader::PlyMeshReader(PlyMeshReader&&) noexcept = default;
 PlyMeshReader& PlyMeshReader::operator=(PlyMeshReader&&) noexcept = default;
@@ -127,10 +146,34 @@ bool PlyMeshReader::select_faces(uint64_t first, uint64_t last) {
   m.face = first;
   m.face_end = last;
   m.triangles_only = true;
-  m.spanned = m.face_start + (last - first) * record;
+  m.share_bytes = (last - first) * record;
+  m.spanned = m.face_start + m.share_bytes;
   return true;
 }
 
-uint64_t PlyMeshReader::bytes_spanned() const { return impl_->spanned ? impl_->spanned : impl_->src.size(); }
+uint64_t PlyMeshReader::bytes_spanned() const {
+  const Impl& m = *impl_;
+  if (m.vertices_deferred) return m.vertex_offset + m.vertex_bytes_read + m.share_bytes;
+  return m.spanned ? m.spanned : m.src.size();
+}
+
+bool PlyMeshReader::vertices_deferred() const { return impl_->vertices_deferred; }
+int PlyMeshReader::colour_bits() const { return impl_->colour_roles ? (impl_->colour_wide ? 16 : 8) : 0; }
+
+void PlyMeshReader::read_vertex_range(uint64_t first, uint64_t last, std::vector<float>& xyz, std::vector<uint16_t>& rgb) {
+  Impl& m = *impl_;
+  const Element& e = m.header.elements[m.vertex_el];
+  if (!m.vertices_deferred || first > last || last > e.count) m.fail("read_vertex_range: not a range of deferred vertices");
+  const size_t record = Impl::record_bytes(e);
+  Source from(m.src.path());
+  from.seek(m.vertex_offset + first * record);
+  xyz.resize(3 * (last - first));
+  rgb.resize(m.colour_roles ? 3 * (last - first) : 0);
+  m.with_values_on(from, [&](auto& v) {
+    if constexpr (std::decay_t<decltype(v)>::kBinary)
+      m.read_vertex_records(v, from, e, record, first, last - first, xyz.data(), rgb.data());
+  });
+  m.vertex_bytes_read += (last - first) * record;
+}
 
 }  // namespace mv::io

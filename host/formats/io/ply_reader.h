@@ -37,7 +37,7 @@ class PlyMeshReader {
  public:
   // Opens `path`, parses the header and reads all vertices; positions over `ram_bytes` go to a scratch file
   // in $TMPDIR (or /tmp), mapped into memory.
-  explicit PlyMeshReader(const std::string& path, uint64_t ram_bytes = UINT64_MAX);
+  explicit PlyMeshReader(const std::string& path, uint64_t ram_bytes = UINT64_MAX, bool defer_vertices = false);
   ~PlyMeshReader();
   PlyMeshReader(PlyMeshReader&&) noexcept;
   PlyMeshReader& operator=(PlyMeshReader&&) noexcept;
@@ -60,8 +60,17 @@ class PlyMeshReader {
   // the first that is not fails). False, changing nothing, for any other layout. For a build over ranks.
   bool select_faces(uint64_t first, uint64_t last);
   // Bytes of the file that hold what this reader reads: the header, the elements before the faces and, with
-  // select_faces, its faces only.
+  // select_faces, its faces only (with deferred vertices: the header, the vertices read and its faces).
   uint64_t bytes_spanned() const;
+
+  // A build over ranks reading the vertices in shares: opened with defer_vertices, a binary file whose elements
+  // before the faces all have fixed-size records skips its vertices (positions() and colours() stay empty) and
+  // says so here; any other file reads them as usual.
+  bool vertices_deferred() const;
+  // Deferred vertices [first, last) read by offset: 3 floats each and, with colours, 3 channels each as stored
+  // (colour_bits: 8 for uchar, 16 for ushort, 0 without), checked as reading them all checks them.
+  void read_vertex_range(uint64_t first, uint64_t last, std::vector<float>& xyz, std::vector<uint16_t>& rgb);
+  int colour_bits() const;
 
  private:
   struct Impl;

@@ -71,9 +71,14 @@ struct PlyMeshReader::Impl {
   uint64_t face_end = UINT64_MAX;
   bool triangles_only = false;
   uint64_t face_start = 0, spanned = 0;  // the face element's first byte; the bytes a share spans
+  uint64_t share_bytes = 0;               // the bytes of a share's faces
+  // Vertices left unread at opening (a build over ranks reads them in shares, read_vertex_range): where the
+  // first one starts, and the bytes of them read since.
+  bool vertices_deferred = false;
+  uint64_t vertex_offset = 0, vertex_bytes_read = 0;
 
   // Defined in ply_reader.cpp: construction, the layout checks, the messages of faults.
-  Impl(const std::string& path, uint64_t ram);
+  Impl(const std::string& path, uint64_t ram, bool defer_vertices);
   ~Impl();
   [[noreturn]] void fail(const std::string& what) const;
   [[noreturn]] void fail_at(uint64_t line, const std::string& what) const;
@@ -86,18 +91,21 @@ struct PlyMeshReader::Impl {
   // Bytes per entry of an element of scalars, 0 if it has lists or records too large for the fast paths.
   static size_t record_bytes(const Element& e);
 
-  // Runs f with the value reader of this file's format: the element walkers below are format-independent.
+  // Runs f with the value reader of this file's format over `from` (src by default): the element walkers below
+  // are format-independent.
   template <class F>
-  void with_values(F&& f) {
+  void with_values(F&& f) { with_values_on(src, f); }
+  template <class F>
+  void with_values_on(Source& from, F&& f) {
     constexpr bool host_le = std::endian::native == std::endian::little;
     if (header.format == Format::ascii) {
-      AsciiValues v(src);
+      AsciiValues v(from);
       f(v);
     } else if ((header.format == Format::binary_le) == host_le) {
-      BinaryValues<false> v(src);
+      BinaryValues<false> v(from);
       f(v);
     } else {
-      BinaryValues<true> v(src);
+      BinaryValues<true> v(from);
       f(v);
     }
   }
@@ -178,7 +186,7 @@ struct PlyMeshReader::Impl {
     if (colour_roles) rgb16.resize(3 * e.count);
     if constexpr (V::kBinary) {
       if (size_t record = record_bytes(e)) {
-        read_vertex_records(v, e, record);
+        read_vertex_records(v, src, e, record, 0, e.count, pos.data(), rgb16.data());
         return finish_colours();
       }
     }
@@ -220,9 +228,11 @@ struct PlyMeshReader::Impl {
     rgb16 = {};
   }
 
-  // Binary fast path: fixed-size vertex records decoded straight from the buffer, many at a time.
+  // Binary fast path: fixed-size vertex records [first, first + count) decoded straight from `from`'s buffer,
+  // many at a time, into `out` (3 floats each) and, with colours, `rgb` (3 channels each).
   template <class V>
-  void read_vertex_records(const V& v, const Element& e, size_t record) {
+  void read_vertex_records(const V& v, Source& from, const Element& e, size_t record, uint64_t first, uint64_t count,
+                           float* out, uint16_t* rgb) {
     size_t offset[6] = {};
     const Property* prop[6] = {};
     for (size_t k = 0, at = 0; k < e.props.size(); at += scalar_size(e.props[k].type), ++k) {
@@ -230,11 +240,10 @@ struct PlyMeshReader::Impl {
       offset[vertex_role[k]] = at;
       prop[vertex_role[k]] = &e.props[k];
     }
-    float* out = pos.data();
-    uint16_t* rgb = rgb16.data();
-    for (uint64_t i = 0; i < e.count;) {
-      auto [begin, end] = src.window(record);
-      uint64_t n = std::min<uint64_t>(e.count - i, static_cast<uint64_t>(end - begin) / record);
+    const uint64_t last = first + count;
+    for (uint64_t i = first; i < last;) {
+      auto [begin, end] = from.window(record);
+      uint64_t n = std::min<uint64_t>(last - i, static_cast<uint64_t>(end - begin) / record);
       if (n == 0) truncated(e, i);
       for (const char* r = begin; r != begin + n * record; r += record, out += 3, ++i) {
         for (int a = 0; a < 3; ++a) out[a] = checked_coordinate(v, e, i, *prop[a], decode<V::kSwap>(r + offset[a], prop[a]->type));
@@ -244,7 +253,7 @@ struct PlyMeshReader::Impl {
           rgb += 3;
         }
       }
-      src.advance(n * record);
+      from.advance(n * record);
     }
   }
 

@@ -75,16 +75,11 @@ std::shared_ptr<MeshShare> fetch_vertices(const RankCollectives& ranks, io::Mesh
   share->first_triangle = first_triangle;
   share->positions.reserve(3 * needed.size());
   if (bits) share->colours.reserve(needed.size());
-  const size_t each = bits ? 16 : 12;
-  for (size_t r = 0; r < n; ++r) {  // needed is in owner order, each owner's ids ascending: the replies follow it
-    if (got[r].size() % each) throw Error("internal error: a rank's vertices came cut short");
-    for (size_t at = 0; at < got[r].size(); at += each) {
-      MessageReader in(got[r]);
-      in.at += at;
+  for (size_t r = 0; r < n; ++r)  // needed is in owner order, each owner's ids ascending: the replies follow it
+    for (MessageReader in(got[r]); in.left() > 0;) {
       for (int a = 0; a < 3; ++a) share->positions.push_back(in.get<float>());
       if (bits) share->colours.push_back(in.get<uint32_t>());
     }
-  }
   if (share->positions.size() != 3 * needed.size()) throw Error("internal error: the ranks sent too few vertices");
   for (uint32_t& i : indices)
     i = static_cast<uint32_t>(std::lower_bound(needed.begin(), needed.end(), i) - needed.begin());

@@ -85,6 +85,7 @@ void validate(const PointHierarchy& h, const std::string& path, const std::vecto
   const uint64_t n = h.nodes.size();
   if (n == 0 || h.nodes[0].code != 1 || h.nodes[0].level != 0) fail("no root node");
   if (h.depth > 21) fail("depth " + std::to_string(h.depth) + " over 21");
+  const uint64_t stored = stored_points(h);
   uint64_t next_child = 1, next_point = 0, leaf_points = 0, held = 0;
   std::vector<uint64_t> per_level(h.depth + 1, 0);
   std::vector<bool> level_elsewhere(h.depth + 1, false);  // a node of the level was elsewhere already
@@ -99,7 +100,7 @@ void validate(const PointHierarchy& h, const std::string& path, const std::vecto
       else if ((held += node.point_count) > h.points.size()) fail(at + "'s points are not the next ones in node order");
     }
     if (node.level > h.depth || std::bit_width(node.code) != 3u * node.level + 1) fail(at + "'s code and level disagree");
-    if (node.first_point != next_point || node.point_count > stored_points(h) - next_point)
+    if (node.first_point != next_point || node.point_count > stored - next_point)
       fail(at + "'s points are not the next ones in node order");
     next_point += node.point_count;
     ++per_level[node.level];
@@ -122,7 +123,7 @@ void validate(const PointHierarchy& h, const std::string& path, const std::vecto
     if (sum != node.subtree_points || node.point_count > node.subtree_points) fail(at + "'s point counts disagree");
   }
   if (next_child != n) fail(std::to_string(n - next_child) + " nodes are nobody's children");
-  if (next_point != stored_points(h)) fail("points after the last node's");
+  if (next_point != stored) fail("points after the last node's");
   if (held != h.points.size()) fail("it holds " + std::to_string(h.points.size()) + " points, but its nodes in node order hold " + std::to_string(held));
   if (leaf_points != h.points_kept) fail("the leaves hold " + std::to_string(leaf_points) + " points, not the " +
                                          std::to_string(h.points_kept) + " kept");
@@ -154,7 +155,8 @@ void write_mvx_points(const std::string& path, const PointHierarchy& h, const Po
   meta.points_kept = h.points_kept;
   meta.points_dropped = h.points_dropped;
   meta.nodes = h.nodes.size();
-  meta.stored_points = stored_points(h);
+  const uint64_t stored = stored_points(h);
+  meta.stored_points = stored;
   std::vector<char> meta_bytes(sizeof meta + info.crs.size() + info.format.size());
   std::memcpy(meta_bytes.data(), &meta, sizeof meta);
   std::memcpy(meta_bytes.data() + sizeof meta, info.crs.data(), info.crs.size());
@@ -175,7 +177,7 @@ void write_mvx_points(const std::string& path, const PointHierarchy& h, const Po
   };
   // A point column: per level, this process's points, then the others'.
   const auto column = [&](uint32_t kind, PointColumn c, const void* data, uint64_t per_point) {
-    return StreamedBlob{kind, stored_points(h) * per_point, [&, c, data, per_point](const PutBytes& put) {
+    return StreamedBlob{kind, stored * per_point, [&, c, data, per_point](const PutBytes& put) {
                           for (uint32_t l = 0; l <= h.depth; ++l) {
                             put(static_cast<const char*>(data) + own_first[l] * per_point, own_count[l] * per_point);
                             if (share.others) share.others(c, l, put);

@@ -190,6 +190,20 @@ std::string plural(const Element& e) {
   return e.name == "vertex" ? "vertices" : e.name == "face" ? "faces" : "'" + e.name + "' elements";
 }
 
+uint64_t element_offset(const Header& h, size_t element, uint64_t header_bytes) {
+  if (h.format == Format::ascii) return 0;
+  uint64_t at = header_bytes;
+  for (size_t k = 0; k < element && k < h.elements.size(); ++k) {
+    uint64_t entry = 0;
+    for (const Property& p : h.elements[k].props) {
+      if (p.is_list) return 0;
+      entry += scalar_size(p.type);
+    }
+    at += entry * h.elements[k].count;
+  }
+  return at;
+}
+
 void check_counts(const Header& h, const std::string& path, uint64_t data_bytes, size_t elements) {
   const bool ascii = h.format == Format::ascii;
   const uint64_t available = data_bytes + (ascii ? 1 : 0);  // ascii: the last value may lack its "\n"

@@ -80,4 +80,8 @@ std::string plural(const Element& e);
 // elements, each entry at least its scalars and list counts (binary) or 2 characters per value, "0 " (ascii).
 void check_counts(const Header& h, const std::string& path, uint64_t data_bytes, size_t elements = SIZE_MAX);
 
+// The byte where element `element`'s first entry starts, for seeking to it: a binary file whose elements before
+// it have entries of scalars alone (fixed size), `header_bytes` after the header's start; 0 otherwise.
+uint64_t element_offset(const Header& h, size_t element, uint64_t header_bytes);
+
 }  // namespace mv::io::detail

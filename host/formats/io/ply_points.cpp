@@ -85,7 +85,8 @@ class PlyPoints final : public PointSource {
     find_layout();
     detail::check_counts(header_, path, first.size() - first.consumed(), vertex_el_ + 1);
     count_ = header_.elements[vertex_el_].count;
-    find_vertex_offset(first.consumed());
+    // Where the first vertex record starts, for seeking to any of them (fixed-size records; else 0).
+    vertex_offset_ = record_ == 0 ? 0 : detail::element_offset(header_, vertex_el_, first.consumed());
     const auto part = static_cast<unsigned __int128>(options.slice_part);
     const auto parts = static_cast<unsigned __int128>(std::max(options.slice_parts, 1));
     const auto lo = static_cast<uint64_t>(std::min<unsigned __int128>(count_ * part / parts, count_));
@@ -194,23 +195,6 @@ class PlyPoints final : public PointSource {
       if (r >= first && r < first + 3) r = kSkip;
     std::fill(seen + first, seen + first + 3, false);
     return false;
-  }
-
-  // Where the first vertex record starts, for seeking to any record: binary vertices of fixed-size records
-  // after elements whose records are fixed-size too; 0 where the file does not allow it.
-  void find_vertex_offset(uint64_t header_bytes) {
-    vertex_offset_ = 0;
-    if (header_.format == Format::ascii || record_ == 0) return;
-    uint64_t at = header_bytes;
-    for (size_t k = 0; k < vertex_el_; ++k) {
-      uint64_t bytes = 0;
-      for (const Property& p : header_.elements[k].props) {
-        if (p.is_list) return;
-        bytes += scalar_size(p.type);
-      }
-      at += bytes * header_.elements[k].count;
-    }
-    vertex_offset_ = at;
   }
 
   // The first pass over vertices [first, last) alone, reached by seeking.

@@ -18,24 +18,16 @@ PlyMeshReader::Impl::Impl(const std::string& path, uint64_t ram, bool defer_vert
   info = {header.elements[vertex_el].count, face_el == kNone ? 0 : header.elements[face_el].count,
           detail::format_name(header.format), header.comments};
   vertex_limit = static_cast<double>(info.vertices);
-  if (defer_vertices && header.format != Format::ascii && face_el != kNone) {
-    // The faces' first byte, where every element before them has fixed-size records.
-    uint64_t at = src.consumed();
-    bool fixed = true;
-    for (size_t k = 0; k < face_el && fixed; ++k) {
-      const Element& e = header.elements[k];
-      if (k == vertex_el) vertex_offset = at;
-      if (e.props.empty()) continue;
-      const size_t record = record_bytes(e);
-      fixed = record != 0;
-      at += record * e.count;
-    }
-    if (fixed) {
-      src.seek(at);
-      next_el = face_el;
-      vertices_deferred = true;
-      return;
-    }
+  // Deferred: the vertices' and the faces' first bytes, where every element before the faces has fixed-size
+  // records (and the vertices' fit the fast path's buffer).
+  const uint64_t faces_at =
+      defer_vertices && face_el != kNone ? detail::element_offset(header, face_el, src.consumed()) : 0;
+  if (faces_at != 0 && record_bytes(header.elements[vertex_el]) != 0) {
+    vertex_offset = detail::element_offset(header, vertex_el, src.consumed());
+    src.seek(faces_at);
+    next_el = face_el;
+    vertices_deferred = true;
+    return;
   }
   with_values([&](auto& v) { advance(v); });
 }

@@ -11,7 +11,9 @@
 #include "megavox/error.h"
 #include "megavox/image.h"
 #include "megavox/mvx.h"
+#include "megavox/voxelize.h"
 #include "test_support.h"
+#include "voxel/mesh_colours.h"
 
 namespace mv::test {
 namespace {
@@ -27,11 +29,11 @@ struct ColourMesh {
   std::vector<uint32_t> rgb16;  // 3 channels per vertex, 16-bit
 };
 
-ColourMesh colour_sphere() {
+ColourMesh colour_sphere(int rounds = 2) {
   ColourMesh m;
   m.pos = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
   m.idx = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
-  for (int round = 0; round < 2; ++round) {
+  for (int round = 0; round < rounds; ++round) {
     std::vector<uint32_t> next;
     auto mid = [&](uint32_t a, uint32_t b) {
       float p[3];
@@ -292,6 +294,54 @@ TEST_P(MeshColourTest, OutOfCoreEqualsInCore) {
       EXPECT_EQ(got.dag.words, want.dag.words);
       EXPECT_EQ(got.dag.inner, want.dag.inner);
     }
+  }
+}
+
+// Each voxel's best fragment, however its brick's fragments fall: a sphere of 2,048 triangles on grids of 8 to 64
+// voxels puts up to hundreds of triangles in a brick (runs longer than a work-item takes whole, split between
+// items) and a few in others; fed to the voxelizer in two halves (fragments sorted on the device) and in device
+// batches of 100 triangles (every run combined by the atomic passes). Always the reference's colours.
+TEST_P(MeshColourTest, EveryRunOfFragmentsFollowsTheRule) {
+  Device& dev = shared_device(GetParam());
+  const ColourMesh m = colour_sphere(4);
+  std::vector<uint32_t> tri_rgb;
+  for (uint32_t v : m.idx)
+    tri_rgb.push_back((m.rgb16[3 * v] >> 8) | (m.rgb16[3 * v + 1] >> 8) << 8 | (m.rgb16[3 * v + 2] >> 8) << 16);
+  MeshTriangleColours colours;
+  colours.rgb = tri_rgb;
+  colours.texture.assign(m.idx.size() / 3, io::kNoTexture);
+  colours.uv.assign(2 * m.idx.size(), 0.0f);
+  for (uint32_t levels : {3u, 5u, 6u}) {
+    const uint32_t n = 1u << levels;
+    std::vector<float> tris;
+    for (uint32_t v : m.idx)
+      for (int k = 0; k < 3; ++k) tris.push_back((m.pos[3 * v + k] + 1.0f) * 0.4995f * float(n));
+    const ref::MeshVoxelColours want_voxels = ref::mesh_voxel_colours(tris, tri_rgb, n);
+    const std::vector<uint8_t> want = depth_first_bytes(want_voxels, levels);
+    for (int halves : {1, 2})
+      for (uint64_t batch : {uint64_t{0}, uint64_t{100}}) {
+        SCOPED_TRACE("grid " + std::to_string(n) + ", halves " + std::to_string(halves) + ", batch " +
+                     std::to_string(batch));
+        Voxelizer v(dev, n);
+        v.record_fragments();
+        const size_t half = tris.size() / 9 / 2 * 9;
+        if (halves == 1) {
+          v.add(tris);
+        } else {
+          v.add(std::vector<float>(tris.begin(), tris.begin() + static_cast<std::ptrdiff_t>(half)));
+          v.add(std::vector<float>(tris.begin() + static_cast<std::ptrdiff_t>(half), tris.end()));
+        }
+        const Bricks bricks = v.take_bricks();
+        const Fragments fragments = v.take_fragments();
+        EXPECT_EQ(fragments.sorted, halves == 1);
+        EXPECT_EQ(fragments.size(), v.hits());
+        ASSERT_EQ(keys_from_bricks(bricks), want_voxels.keys);
+        const std::vector<uint8_t> got = mesh_voxel_colours(dev, bricks, fragments, tris, colours, levels, batch);
+        ASSERT_EQ(got.size(), want.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < want.size(); ++i) differ += got[i] != want[i];
+        EXPECT_EQ(differ, 0u);
+      }
   }
 }
 

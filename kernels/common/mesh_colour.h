@@ -2,24 +2,31 @@
  * colour at the point nearest its centre on any triangle that overlaps it (the voxelizer's own overlap test),
  * ties to the lowest triangle index; the colour at a point is its triangle's vertex colours interpolated there.
  *
- * The voxelizer's walk (voxelize.h) runs again over the triangles, and each brick it would emit instead updates
- * its voxels' best fragment: three passes of 32-bit atomic minima per voxel, over the squared distance's high
- * word, then its low word among the fragments that hold the high one, then the triangle index among those that
- * hold both. A positive double orders as its bits, so this is the exact (distance, index) minimum, the same on
- * every device in any order, with no fragment stored. Then one work-item per voxel interpolates its colour.
+ * The voxelizer records its fragments: per (triangle, brick) met, the brick's key, the voxels the triangle sets
+ * there and the triangle (voxelize.h, record_tris). Sorted by key, a brick's fragments are one run. A work-item
+ * takes the runs that start in its window of sorted fragments and, for each voxel of a run, the (squared
+ * distance, triangle) minimum over the run's fragments holding the voxel, stored straight away. A run too long
+ * for one item (or one whose triangles span batches) goes in shares, whose minima combine by three passes of
+ * 32-bit atomic minima: the squared distance's high word, then its low word among the shares that hold the high
+ * one, then the triangle index among those that hold both. A positive double orders as its bits, so either way it
+ * is the exact (distance, index) minimum, the same on every device whatever order the fragments came in. Then one
+ * work-item per voxel interpolates its colour.
  * Distances are in grid units, from the triangles as the voxelizer takes them (floats), in double. */
 #ifndef MV_MESH_COLOUR_H
 #define MV_MESH_COLOUR_H
-/* Included by voxelize.h (its walk calls mv_mesh_colour_brick), after MvVoxelizeParams. */
+/* Included by voxelize.h, after MvVoxelizeParams. */
 #include "morton.h"
 
 #define MV_MESH_ATTR_WORDS 12u /* per triangle: 3 vertex colours, 6 texture coordinates, the texture, 2 spare */
 #define MV_NO_TEXTURE 0xffffffffu
+#define MV_MESH_FRAGMENTS_PER_ITEM 16u /* a work-item's window of sorted fragments */
+#define MV_MESH_WHOLE_RUN 48u /* the longest run one work-item takes whole: 64 x (16 + 48) closest points at most,
+                                 within lavapipe's loop cap */
 
 /* The brick layout the passes read: `bmeta` holds per brick (sorted by key, as in `bkeys`) its 64-bit voxel mask
  * and the index of its first voxel (an exclusive scan of the masks' counts); voxel i of the brick's mask (Morton
  * order inside the brick) is voxel offset + the mask's bits below i. `best`: three planes of n words, the
- * distance's high words, its low words, the triangles. */
+ * distance's high words, its low words, the triangles (all ones: none yet). */
 
 /* The point of a triangle nearest a point: its squared distance, and b's and c's barycentric weights (a's: 1 -
  * both). */
@@ -95,26 +102,96 @@ MV_INLINE mv_u32 mv_brick_voxel(MvBufU64 bmeta, mv_u32 b, mv_u32 bit) {
   return MV_U32(MV_LD(bmeta, 2u * b + 1u)) + MV_POPCOUNT(MV_U32(below)) + MV_POPCOUNT(MV_U32(below >> 32));
 }
 
-/* One brick of triangle `tri`'s walk (voxels `mask` of the brick at (bx, by, bz)): colour pass `pass` (1: the
- * squared distance's high word, 2: its low word, 3: the triangle) into `best`. */
-MV_INLINE void mv_mesh_colour_brick(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
-                                    mv_f64 cy, mv_f64 cz, mv_u32 tri, mv_u32 kx, mv_u32 ky, mv_u32 kz, mv_u64 mask,
-                                    MvBufU64 bkeys, MvBufU64 bmeta, MvBufU32 best, mv_u32 bricks, mv_u32 n,
-                                    mv_u32 pass) {
-  mv_u32 b = mv_find_brick(bkeys, bricks, mv_morton3_64(kx, ky, kz));
+/* A voxel's best fragment: its squared distance and triangle (all ones: none). */
+MV_STRUCT_BEGIN(MvBestFragment)
+  mv_f64 d2;
+  mv_u32 tri;
+MV_STRUCT_END(MvBestFragment)
+
+/* Voxel `bit` of the brick with key `key`: the (squared distance, triangle) minimum over fragments [s, e) that
+ * hold it and whose triangle is in this batch. */
+MV_INLINE MvBestFragment mv_mesh_voxel_best(MvBufF32 tris, MvBufU64 fmasks, MvBufU32 ftris, mv_u32 s, mv_u32 e,
+                                            mv_u64 key, mv_u32 bit, MvVoxelizeParams p) {
+  mv_f64 px = MV_F64(4u * mv_morton3_64_axis(key, 0u) + ((bit & 1u) | ((bit >> 2) & 2u))) + 0.5;
+  mv_f64 py = MV_F64(4u * mv_morton3_64_axis(key, 1u) + (((bit >> 1) & 1u) | ((bit >> 3) & 2u))) + 0.5;
+  mv_f64 pz = MV_F64(4u * mv_morton3_64_axis(key, 2u) + (((bit >> 2) & 1u) | ((bit >> 4) & 2u))) + 0.5;
+  MvBestFragment best;
+  best.d2 = 0.0;
+  best.tri = 0xffffffffu;
+  for (mv_u32 f = s; f < e; ++f) {
+    if (((MV_LD(fmasks, f) >> bit) & MV_U64(1u)) == MV_U64(0u)) continue;
+    mv_u32 tri = MV_LD(ftris, f), t = tri - p.tri_base, r = 9u * t;
+    if (t >= p.batch_tris) continue;
+    MvClosest q = mv_closest_on_triangle(
+        MV_F64(MV_LD(tris, r)), MV_F64(MV_LD(tris, r + 1u)), MV_F64(MV_LD(tris, r + 2u)), MV_F64(MV_LD(tris, r + 3u)),
+        MV_F64(MV_LD(tris, r + 4u)), MV_F64(MV_LD(tris, r + 5u)), MV_F64(MV_LD(tris, r + 6u)),
+        MV_F64(MV_LD(tris, r + 7u)), MV_F64(MV_LD(tris, r + 8u)), px, py, pz);
+    if (best.tri == 0xffffffffu || q.d2 < best.d2 || (q.d2 == best.d2 && tri < best.tri)) {
+      best.d2 = q.d2;
+      best.tri = tri;
+    }
+  }
+  return best;
+}
+
+/* Pass p.colour_pass of fragments [s, e) of one brick's run: each voxel's minimum over them, stored straight away
+ * where the run is `whole` (pass 1: no other work-item holds any of it), else into the atomic minima. */
+MV_INLINE void mv_mesh_run(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
+                           MvBufU64 bmeta, MvBufU32 best, MvVoxelizeParams p, mv_u32 s, mv_u32 e, bool whole) {
+  if (whole && p.colour_pass != 1u) return;
+  mv_u32 n = p.capacity;
+  mv_u64 key = MV_LD(fkeys, s), any = MV_U64(0u);
+  for (mv_u32 f = s; f < e; ++f) any |= MV_LD(fmasks, f);
+  mv_u32 b = mv_find_brick(bkeys, p.bricks, key);
   for (mv_u32 bit = 0u; bit < 64u; ++bit) {
-    if (((mask >> bit) & MV_U64(1u)) == MV_U64(0u)) continue;
-    mv_u32 x = 4u * kx + ((bit & 1u) | ((bit >> 2) & 2u));
-    mv_u32 y = 4u * ky + (((bit >> 1) & 1u) | ((bit >> 3) & 2u));
-    mv_u32 z = 4u * kz + (((bit >> 2) & 1u) | ((bit >> 4) & 2u));
-    MvClosest q = mv_closest_on_triangle(ax, ay, az, bx, by, bz, cx, cy, cz, MV_F64(x) + 0.5, MV_F64(y) + 0.5,
-                                         MV_F64(z) + 0.5);
-    mv_f64 d = q.d2;
-    mv_u32 at = mv_brick_voxel(bmeta, b, bit);
-    mv_u32 hi = MV_DBITS_HI(d), lo = MV_DBITS_LO(d);
-    if (pass == 1u) MV_ATOMIC_MIN(best, at, hi);
-    else if (pass == 2u && MV_LD(best, at) == hi) MV_ATOMIC_MIN(best, n + at, lo);
-    else if (pass == 3u && MV_LD(best, at) == hi && MV_LD(best, n + at) == lo) MV_ATOMIC_MIN(best, 2u * n + at, tri);
+    if (((any >> bit) & MV_U64(1u)) == MV_U64(0u)) continue;
+    MvBestFragment v = mv_mesh_voxel_best(tris, fmasks, ftris, s, e, key, bit, p);
+    mv_u32 tri = v.tri;
+    if (tri == 0xffffffffu) continue;
+    mv_u32 at = mv_brick_voxel(bmeta, b, bit), hi = MV_DBITS_HI(v.d2), lo = MV_DBITS_LO(v.d2);
+    if (whole) MV_ST(best, 2u * n + at, tri);
+    else if (p.colour_pass == 1u) MV_ATOMIC_MIN(best, at, hi);
+    else if (p.colour_pass == 2u && MV_LD(best, at) == hi) MV_ATOMIC_MIN(best, n + at, lo);
+    else if (p.colour_pass == 3u && MV_LD(best, at) == hi && MV_LD(best, n + at) == lo)
+      MV_ATOMIC_MIN(best, 2u * n + at, tri);
+  }
+}
+
+/* Pass p.colour_pass (1 to 3) over the p.items fragments sorted by key (`fkeys`, their masks and triangles), a
+ * work-item per window of MV_MESH_FRAGMENTS_PER_ITEM of them; the voxels' best triangles into `best` (p.capacity
+ * voxels, p.bricks bricks). A run of at most MV_MESH_WHOLE_RUN fragments goes whole to the item whose window holds
+ * its start, even past the window's end; a longer one (or any, with p.split_runs) goes in shares, each window's to
+ * its item, and combines by the three passes. Every loop is bounded by the two constants. */
+MV_INLINE void mv_mesh_best_fragments(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
+                                      MvBufU64 bmeta, MvBufU32 best, MvVoxelizeParams p, mv_u32 gid, mv_u32 gsize) {
+  mv_u32 longest = p.split_runs != 0u ? 0u : MV_MESH_WHOLE_RUN, n = p.items;
+  mv_u32 items = (n + MV_MESH_FRAGMENTS_PER_ITEM - 1u) / MV_MESH_FRAGMENTS_PER_ITEM;
+  for (mv_u32 c = gid; c < items; c += gsize) {
+    mv_u32 s = c * MV_MESH_FRAGMENTS_PER_ITEM, w1 = MV_MIN(n, s + MV_MESH_FRAGMENTS_PER_ITEM);
+    if (s > 0u && MV_LD(fkeys, s - 1u) == MV_LD(fkeys, s)) { /* the window opens inside a run */
+      mv_u64 key = MV_LD(fkeys, s);
+      mv_u32 len = 1u, e = s + 1u;
+      for (mv_u32 b = s; b > 0u && len <= longest && MV_LD(fkeys, b - 1u) == key; --b) len = len + 1u;
+      for (; e < n && len <= longest && MV_LD(fkeys, e) == key; ++e) len = len + 1u;
+      if (len > longest) { /* long: this window's share */
+        for (e = s; e < w1 && MV_LD(fkeys, e) == key; ++e) {
+        }
+        mv_mesh_run(tris, fkeys, fmasks, ftris, bkeys, bmeta, best, p, s, e, false);
+      }
+      s = e; /* short: whole with the item that holds its start */
+    }
+    while (s < w1) { /* the runs that start in the window */
+      mv_u64 key = MV_LD(fkeys, s);
+      mv_u32 e = s + 1u;
+      for (; e < n && e - s <= longest && MV_LD(fkeys, e) == key; ++e) {
+      }
+      bool whole = e - s <= longest && (e == n || MV_LD(fkeys, e) != key);
+      if (!whole)
+        for (e = s; e < w1 && MV_LD(fkeys, e) == key; ++e) {
+        }
+      mv_mesh_run(tris, fkeys, fmasks, ftris, bkeys, bmeta, best, p, s, e, whole);
+      s = e;
+    }
   }
 }
 
@@ -170,14 +247,14 @@ MV_INLINE void mv_mesh_voxel_keys(MvBufU64 bkeys, MvBufU64 bmeta, MvBufU64 voxel
 
 /* Voxels [0, p.items): where the voxel's best fragment's triangle is one of this batch's (`tris`, 9 floats each in
  * grid units, and `attr`, MV_MESH_ATTR_WORDS each: 3 vertex colours, 6 texture coordinates as float bits, the
- * texture; from triangle p.tri_base on, p.capacity of them), its colour at that triangle's point nearest its
+ * texture; from triangle p.tri_base on, p.batch_tris of them), its colour at that triangle's point nearest its
  * centre. `best`: the triangle plane; `voxel_keys`: each voxel's key (mv_mesh_voxel_keys). */
 MV_INLINE void mv_mesh_voxel_colours(MvBufF32 tris, MvBufU32 attr, MvBufU32 texels, MvBufU32 best,
                                      MvBufU64 voxel_keys, MvBufU32 voxel_rgb, MvVoxelizeParams p, mv_u32 gid,
                                      mv_u32 gsize) {
   for (mv_u32 i = gid; i < p.items; i += gsize) {
     mv_u32 t = MV_LD(best, i) - p.tri_base;
-    if (t >= p.capacity) continue;
+    if (t >= p.batch_tris) continue;
     mv_u64 key = MV_LD(voxel_keys, i);
     mv_u32 kx = mv_morton3_64_axis(key, 0u), ky = mv_morton3_64_axis(key, 1u), kz = mv_morton3_64_axis(key, 2u);
     mv_u32 r = 9u * t;

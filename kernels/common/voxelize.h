@@ -17,7 +17,8 @@
  * lavapipe's loop cap holds). One pass: each non-empty brick takes the next slot of an atomic counter, so
  * the order of the output varies from run to run, and a brick met by several triangles comes out once per
  * triangle: the host sorts by key and ORs repeats, which gives the same bytes every time. A count past the
- * capacity tells the host to run those items again with more room. */
+ * capacity tells the host to run those items again with more room. With `record_tris`, each slot also gets
+ * its triangle's index: these (brick, mask, triangle) fragments are what mesh colours take (mesh_colour.h). */
 #ifndef MV_VOXELIZE_H
 #define MV_VOXELIZE_H
 #include "morton.h"
@@ -36,19 +37,23 @@ MV_STRUCT_BEGIN(MvVoxelizeParams)
   mv_u32 box_y;
   mv_u32 box_z;
   mv_u32 thin;             /* 0: conservative (tri_box.h); 1: thin, 6-separating (tri_thin.h) */
-  mv_u32 colour_pass;      /* mesh colours (mesh_colour.h): the pass, 1 to 3; 0 when voxelizing */
+  mv_u32 colour_pass;      /* mesh colours (mesh_colour.h): the pass, 1 to 3 */
   mv_u32 bricks;           /* mesh colours: the bricks of the voxel set */
-  mv_u32 tri_base;         /* mesh colours: the index of this batch's first triangle */
+  mv_u32 tri_base;         /* the index of this batch's first triangle (recorded, or mesh colours') */
+  mv_u32 record_tris;      /* voxelizing: 1 writes each slot's triangle index (tri_base + its place) */
+  mv_u32 batch_tris;       /* mesh colours: the triangles of this batch */
+  mv_u32 split_runs;       /* mesh colours: 1 when a brick's fragments may span batches of triangles */
 MV_STRUCT_END(MvVoxelizeParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvVoxelizeParams, 52);
+MV_LAYOUT_SIZE(MvVoxelizeParams, 64);
 MV_LAYOUT_AT(MvVoxelizeParams, first_item, 0); MV_LAYOUT_AT(MvVoxelizeParams, items, 4);
 MV_LAYOUT_AT(MvVoxelizeParams, grid, 8); MV_LAYOUT_AT(MvVoxelizeParams, columns_per_item, 12);
 MV_LAYOUT_AT(MvVoxelizeParams, capacity, 16); MV_LAYOUT_AT(MvVoxelizeParams, box_size, 20);
 MV_LAYOUT_AT(MvVoxelizeParams, box_x, 24); MV_LAYOUT_AT(MvVoxelizeParams, box_y, 28);
 MV_LAYOUT_AT(MvVoxelizeParams, box_z, 32); MV_LAYOUT_AT(MvVoxelizeParams, thin, 36);
 MV_LAYOUT_AT(MvVoxelizeParams, colour_pass, 40); MV_LAYOUT_AT(MvVoxelizeParams, bricks, 44);
-MV_LAYOUT_AT(MvVoxelizeParams, tri_base, 48);
+MV_LAYOUT_AT(MvVoxelizeParams, tri_base, 48); MV_LAYOUT_AT(MvVoxelizeParams, record_tris, 52);
+MV_LAYOUT_AT(MvVoxelizeParams, batch_tris, 56); MV_LAYOUT_AT(MvVoxelizeParams, split_runs, 60);
 #endif
 #include "mesh_colour.h"
 
@@ -202,7 +207,7 @@ MV_INLINE MvTriPlane mv_tri_plane(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv
 MV_INLINE void mv_voxelize_columns(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,
                                      mv_f64 cy, mv_f64 cz, MvTriFrame f, MvTriPlane pl, mv_u32 d, mv_u32 first,
                                      mv_u32 last, MvBufU32 counter, MvBufU64 keys, MvBufU64 masks,
-                                     MvVoxelizeParams p, mv_u32 tri, mv_u32 colour) {
+                                     MvBufU32 slot_tris, MvVoxelizeParams p, mv_u32 tri) {
   mv_u32 u = d == 0u ? 1u : 0u, v = d == 2u ? 1u : 2u;
   mv_u32 ulo = mv_frame_lo(f, u), uhi = mv_frame_hi(f, u), vlo = mv_frame_lo(f, v), vhi = mv_frame_hi(f, v);
   mv_u32 dlo = mv_frame_lo(f, d), dhi = mv_frame_hi(f, d);
@@ -264,24 +269,19 @@ MV_INLINE void mv_voxelize_columns(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, m
       mv_u32 bx_ = d == 0u ? layer : bu;
       mv_u32 by_ = d == 1u ? layer : d == 0u ? bu : bv;
       mv_u32 bz_ = d == 2u ? layer : bv;
-      if (colour != 0u) { /* keys, masks, counter: the voxel set's bricks, their masks and offsets, the best */
-        mv_mesh_colour_brick(ax, ay, az, bx, by, bz, cx, cy, cz, tri, bx_, by_, bz_, mask, keys, masks, counter,
-                             p.bricks, p.capacity, p.colour_pass);
-        continue;
-      }
       mv_u32 slot = MV_ATOMIC_ADD(counter, 0u, 1u);
       if (slot >= p.capacity) continue;
       MV_ST(keys, slot, mv_morton3_64(bx_, by_, bz_));
       MV_ST(masks, slot, mask);
+      if (p.record_tris != 0u) MV_ST(slot_tris, slot, tri);
     }
   }
 }
 
 /* One work item: brick columns [first, first + columns_per_item) of triangle t's walk; its non-empty bricks
- * go to the slots the counter hands out, or (colour, a constant of the entry) update the voxels' best fragments
- * (mesh_colour.h). */
-MV_INLINE void mv_voxelize_item(MvBufF32 tris, MvBufU32 counter, MvBufU64 keys, MvBufU64 masks, mv_u32 t,
-                                mv_u32 first, MvVoxelizeParams p, mv_u32 colour) {
+ * go to the slots the counter hands out. */
+MV_INLINE void mv_voxelize_item(MvBufF32 tris, MvBufU32 counter, MvBufU64 keys, MvBufU64 masks,
+                                MvBufU32 slot_tris, mv_u32 t, mv_u32 first, MvVoxelizeParams p) {
   mv_f64 ax = MV_F64(MV_LD(tris, 9u * t + 0u)), ay = MV_F64(MV_LD(tris, 9u * t + 1u)), az = MV_F64(MV_LD(tris, 9u * t + 2u));
   mv_f64 bx = MV_F64(MV_LD(tris, 9u * t + 3u)), by = MV_F64(MV_LD(tris, 9u * t + 4u)), bz = MV_F64(MV_LD(tris, 9u * t + 5u));
   mv_f64 cx = MV_F64(MV_LD(tris, 9u * t + 6u)), cy = MV_F64(MV_LD(tris, 9u * t + 7u)), cz = MV_F64(MV_LD(tris, 9u * t + 8u));
@@ -289,9 +289,9 @@ MV_INLINE void mv_voxelize_item(MvBufF32 tris, MvBufU32 counter, MvBufU64 keys, 
   MvTriPlane pl = mv_tri_plane(ax, ay, az, bx, by, bz, cx, cy, cz, f, p.grid, p.thin);
   mv_u32 last = MV_MIN(first + p.columns_per_item, mv_frame_columns(f));
   mv_u32 tri = p.tri_base + t;
-  if (f.d == 0u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 0u, first, last, counter, keys, masks, p, tri, colour);
-  else if (f.d == 1u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 1u, first, last, counter, keys, masks, p, tri, colour);
-  else mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 2u, first, last, counter, keys, masks, p, tri, colour);
+  if (f.d == 0u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 0u, first, last, counter, keys, masks, slot_tris, p, tri);
+  else if (f.d == 1u) mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 1u, first, last, counter, keys, masks, slot_tris, p, tri);
+  else mv_voxelize_columns(ax, ay, az, bx, by, bz, cx, cy, cz, f, pl, 2u, first, last, counter, keys, masks, slot_tris, p, tri);
 }
 
 #endif

@@ -18,19 +18,27 @@ void main() {
   mv_mesh_voxel_colours(args.tris, args.attr, args.texels, args.best, args.voxel_keys, args.voxel_rgb, args.p,
                         MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
+#elif defined(MV_ENTRY_mesh_best_fragments)
+layout(push_constant) uniform Args {
+  MvBufF32 tris; MvBufU64 fkeys; MvBufU64 fmasks; MvBufU32 ftris; MvBufU64 bkeys; MvBufU64 bmeta; MvBufU32 best;
+  MvVoxelizeParams p;
+} args;
+
+void main() {
+  mv_mesh_best_fragments(args.tris, args.fkeys, args.fmasks, args.ftris, args.bkeys, args.bmeta, args.best, args.p,
+                         MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
 #else
-/* MV_COLOUR_WALK: 0 the voxelizer; 1 the mesh colour walk (counter, keys, masks: best, bkeys, bmeta; see
- * voxelize.cl) */
 layout(push_constant) uniform Args {
   MvBufF32 tris; MvBufU32 item_tri; MvBufU32 item_col; MvBufU32 counter; MvBufU64 keys; MvBufU64 masks;
-  MvVoxelizeParams p;
+  MvBufU32 slot_tris; MvVoxelizeParams p;
 } args;
 
 void main() {
   for (uint j = MV_GLOBAL_ID(); j < args.p.items; j += MV_GLOBAL_SIZE()) {
     uint i = args.p.first_item + j;
-    mv_voxelize_item(args.tris, args.counter, args.keys, args.masks, MV_LD(args.item_tri, i), MV_LD(args.item_col, i),
-                     args.p, MV_COLOUR_WALK);
+    mv_voxelize_item(args.tris, args.counter, args.keys, args.masks, args.slot_tris, MV_LD(args.item_tri, i),
+                     MV_LD(args.item_col, i), args.p);
   }
 }
 #endif

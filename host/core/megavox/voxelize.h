@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "megavox/bricks.h"
@@ -22,6 +23,15 @@ struct WalkItems {
 };
 WalkItems walk_items(std::span<const float> tris, uint32_t resolution, const uint32_t box[3], uint32_t box_size);
 
+// What the voxelizer met, for mesh colours: per (triangle, brick) the brick's key, the voxels the triangle sets in
+// it and the triangle's index among those added (from 0). Sorted by key when one emission made them all.
+struct Fragments {
+  std::vector<uint64_t> keys, masks;
+  std::vector<uint32_t> tris;
+  bool sorted = true;
+  uint64_t size() const { return keys.size(); }
+};
+
 class Voxelizer {
  public:
   enum class Rule { kConservative, kThin };  // 26-separating exact overlap, or 6-separating (thin)
@@ -39,15 +49,21 @@ class Voxelizer {
   Bricks take_bricks();
   // The same as sorted, unique 64-bit Morton keys of the voxels.
   std::vector<uint64_t> take_keys() { return keys_from_bricks(take_bricks()); }
+  // Keep the fragments from here on (20 bytes each on the host, within limit_host_memory).
+  void record_fragments() { record_ = true; }
+  Fragments take_fragments() { return std::exchange(fragments_, {}); }
   uint64_t triangles() const { return triangles_; }
   uint64_t hits() const { return hits_; }  // (triangle, brick) pairs before merging repeats
 
  private:
   struct Emission {  // one batch's triangles and work items on the device
     Buffer tris, item_tri, item_col, counter;
+    uint32_t first_tri;  // the batch's first triangle among all added
   };
   void emit(Emission& e, uint32_t first, uint32_t last, uint64_t capacity, uint64_t room);
   void merge(Bricks&& chunk);
+  void keep_fragments(const std::vector<uint64_t>& keys, const std::vector<uint64_t>& masks, const Buffer& slot_tris,
+                      const Buffer& order, uint32_t found);
   Device& dev_;
   uint32_t resolution_;
   Rule rule_;
@@ -57,6 +73,8 @@ class Voxelizer {
   uint64_t hits_ = 0;
   uint64_t host_budget_ = 0;
   Bricks bricks_;
+  bool record_ = false;
+  Fragments fragments_;
 };
 
 }  // namespace mv

@@ -179,6 +179,7 @@ struct MeshColourInput {
   bool wanted = false;    // --attributes and the mesh's vertex colours or textures say so
   std::vector<float> tris;
   MeshTriangleColours colours;  // per triangle, from the first (out of core: the batch's, cleared by the caller)
+  Fragments fragments;          // in core: what the voxelizer met, for the colours
 };
 
 // Streams a mesh's triangles in grid units, a batch at a time; with `colours`, decides from --attributes and the
@@ -243,11 +244,13 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
   for_each_grid_batch(
       o, v.grid, triangles,
       [&](const std::vector<float>& tris, double done) {
+        if (colours && colours->wanted) vox.record_fragments();
         vox.add(tris);
         report("voxelize", done);
       },
       colours);
   v.bricks = vox.take_bricks();
+  if (colours) colours->fragments = vox.take_fragments();
   r.triangles = vox.triangles();
   return v;
 }
@@ -337,12 +340,12 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     Voxelizer v(dev, resolution, rule(o));
     v.limit_host_memory(memory_budget(o) - vertex_share(o) - bucket_share(o));
     v.restrict_to(x, y, z, size);
+    if (colours.wanted) v.record_fragments();
     v.add(tris);
     Bricks bricks = v.take_bricks();
     if (colours.wanted && !bricks.empty()) {
-      const uint32_t box[3] = {x, y, z};
-      MeshVoxelValues values = mesh_voxel_values(dev, bricks, tris, cube_colours, colours.colours.textures, resolution,
-                                                 rule(o), box, size);
+      MeshVoxelValues values =
+          mesh_voxel_values(dev, bricks, v.take_fragments(), tris, cube_colours, colours.colours.textures);
       const size_t at = colour_keys.size();
       colour_keys.resize(at + values.voxels);
       colour_rgb.resize(at + values.voxels);
@@ -503,7 +506,8 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   std::vector<uint8_t> colours;
   if (mesh_colours.wanted) {
     try {
-      colours = mesh_voxel_colours(dev, voxels.bricks, mesh_colours.tris, mesh_colours.colours, levels, o.voxelize);
+      colours = mesh_voxel_colours(dev, voxels.bricks, mesh_colours.fragments, mesh_colours.tris, mesh_colours.colours,
+                                   levels);
     } catch (const DeviceMemoryError& e) {  // not retried in cubes: those do not carry colours
       throw CodedError(ErrorCode::out_of_memory,
                        o.input + ": the voxel colours of " + std::to_string(voxels.bricks.voxels()) +

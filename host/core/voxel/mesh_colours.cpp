@@ -1,8 +1,8 @@
 // Host side of mesh colours (kernels/common/mesh_colour.h): the voxel set's bricks go up with each brick's first
-// voxel; the voxelizer's walk runs three times over the triangles in batches a binding holds, each pass a
-// 32-bit atomic minimum per voxel (distance high word, low word, triangle); then per batch the voxels whose
-// triangle it holds take their colours; the depth-first array comes from the cloud colours' bottom-up means and
-// top-down placement.
+// voxel, and the voxelizer's fragments in key order; each voxel's best fragment comes from the runs of its brick's
+// fragments (three passes, the last two only for runs split between work-items or batches of triangles); then per
+// batch the voxels whose triangle it holds take their colours; the depth-first array comes from the cloud colours'
+// bottom-up means and top-down placement.
 #include "voxel/mesh_colours.h"
 
 #include <algorithm>
@@ -59,24 +59,56 @@ Buffer upload_textures(Device& dev, const std::vector<io::MeshTexture>& textures
   return b;
 }
 
+// The fragments on the device in key order: as they are when one emission made them, else sorted there (the radix
+// sort with their places as values, then their masks and triangles gathered in that order).
+struct DeviceFragments {
+  Buffer keys, masks, tris;
+};
+DeviceFragments upload_fragments(Device& dev, const Fragments& f) {
+  const uint64_t n = f.size();
+  DeviceFragments d{dev.alloc(n * 8, "colour fragment keys"), dev.alloc(n * 8, "colour fragment masks"),
+                    dev.alloc(n * 4, "colour fragment triangles")};
+  dev.upload(d.keys, f.keys.data(), n * 8);
+  dev.upload(d.masks, f.masks.data(), n * 8);
+  dev.upload(d.tris, f.tris.data(), n * 4);
+  if (f.sorted) return d;
+  std::vector<uint32_t> iota(n);
+  for (uint32_t i = 0; i < n; ++i) iota[i] = i;
+  Buffer order = dev.alloc(n * 4, "colour fragment order");
+  dev.upload(order, iota.data(), n * 4);
+  radix_sort(dev, d.keys, &order, n, KeyBits::k64);
+  Buffer masks = dev.alloc(n * 8, "colour fragment masks");
+  Buffer tris = dev.alloc(n * 4, "colour fragment triangles");
+  gather_records(dev, d.masks, order, masks, n, 8);
+  gather_records(dev, d.tris, order, tris, n, 4);
+  dev.barrier();
+  d.masks = std::move(masks);
+  d.tris = std::move(tris);
+  return d;
+}
+
 }  // namespace
 
-MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, std::span<const float> tris,
-                                  const MeshTriangleColours& colours, const std::vector<io::MeshTexture>& textures,
-                                  uint32_t resolution, Voxelizer::Rule rule, const uint32_t box[3], uint32_t box_size) {
+MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragments& fragments,
+                                  std::span<const float> tris, const MeshTriangleColours& colours,
+                                  const std::vector<io::MeshTexture>& textures, uint64_t batch_triangles) {
   const uint64_t n_tris = tris.size() / 9;
   if (colours.rgb.size() != 3 * n_tris || colours.texture.size() != n_tris || colours.uv.size() != 6 * n_tris)
     throw Error("mesh colours: " + std::to_string(colours.rgb.size()) + " vertex colours for " +
                 std::to_string(n_tris) + " triangles");
+  if (fragments.masks.size() != fragments.size() || fragments.tris.size() != fragments.size())
+    throw Error("mesh colours: fragments of unequal columns");
   const Buffer texels = upload_textures(dev, textures);
   const uint64_t voxels = bricks.voxels();
   MeshVoxelValues out;
   if (voxels == 0) return out;
-  if (voxels >= UINT32_MAX / 3 || n_tris >= UINT32_MAX || bricks.size() >= UINT32_MAX)
-    throw Error("mesh colours: " + std::to_string(voxels) + " voxels of " + std::to_string(n_tris) +
-                " triangles, past what one device call indexes");
+  if (voxels >= UINT32_MAX / 3 || n_tris >= UINT32_MAX || bricks.size() >= UINT32_MAX ||
+      fragments.size() >= UINT32_MAX)
+    throw Error("mesh colours: " + std::to_string(voxels) + " voxels of " + std::to_string(n_tris) + " triangles (" +
+                std::to_string(fragments.size()) + " fragments), past what one device call indexes");
   const auto nb = static_cast<uint32_t>(bricks.size());
   const auto nv = static_cast<uint32_t>(voxels);
+  const auto nf = static_cast<uint32_t>(fragments.size());
   std::vector<uint64_t> meta(2 * uint64_t{nb});
   for (uint64_t b = 0, at = 0; b < nb; ++b) {
     meta[2 * b] = bricks.masks[b];
@@ -88,99 +120,85 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, std::span<c
   Buffer bmeta = dev.alloc(uint64_t{nb} * 16, "colour brick voxels");
   dev.upload(bmeta, meta.data(), meta.size() * 8);
   meta = {};
+  DeviceFragments frag = upload_fragments(dev, fragments);
   Buffer best = dev.alloc(uint64_t{nv} * 12, "best fragments");
   dev.fill(best, 0xffffffffu, uint64_t{nv} * 12);
-  Kernel& walk = dev.kernel(KernelId::mesh_colour_walk);
 
-  // The three passes, each over every batch of triangles (a pass must see them all before the next), then per
-  // batch the colours of the voxels whose triangle it holds. A batch's work items are found once; a single batch
-  // (most meshes) goes up once for all four passes, several go up again for each.
-  struct Batch {
-    uint64_t first, count;
-    WalkItems items;
+  // Triangles in batches a binding holds; a single batch (most meshes) goes up once for every pass. With several,
+  // a brick's fragments may name triangles of different batches, so every run combines by the atomic passes.
+  const uint64_t step = batch_triangles ? batch_triangles : mesh_batch_triangles(dev);
+  const bool one_batch = n_tris <= step;
+  auto upload_batch = [&](uint64_t first, uint64_t count) {
+    Buffer b = dev.alloc(count * 36, "colour triangles");
+    dev.upload(b, tris.data() + 9 * first, count * 36);
+    return b;
   };
-  struct Uploaded {
-    Buffer tris, item_tri, item_col;
+  Buffer only = one_batch ? upload_batch(0, n_tris) : Buffer();
+  auto params = [&](uint64_t first, uint64_t count) {
+    MvVoxelizeParams p{};
+    p.bricks = nb;
+    p.tri_base = static_cast<uint32_t>(first);
+    p.batch_tris = static_cast<uint32_t>(count);
+    p.split_runs = one_batch ? 0u : 1u;
+    return p;
   };
-  std::vector<Batch> batches;
-  for (uint64_t first = 0, step = mesh_batch_triangles(dev); first < n_tris; first += step) {
-    const uint64_t count = std::min(step, n_tris - first);
-    batches.push_back({first, count, walk_items(tris.subspan(9 * first, 9 * count), resolution, box, box_size)});
-  }
-  auto upload_batch = [&](const Batch& b) {
-    Uploaded u{dev.alloc(b.count * 36, "colour triangles"), dev.alloc(std::max<size_t>(b.items.tri.size(), 1) * 4, "colour work items"),
-               dev.alloc(std::max<size_t>(b.items.col.size(), 1) * 4, "colour work items")};
-    dev.upload(u.tris, tris.data() + 9 * b.first, b.count * 36);
-    if (!b.items.tri.empty()) {
-      dev.upload(u.item_tri, b.items.tri.data(), b.items.tri.size() * 4);
-      dev.upload(u.item_col, b.items.col.data(), b.items.col.size() * 4);
-    }
-    return u;
-  };
-  std::optional<Uploaded> only;
-  if (batches.size() == 1) only = upload_batch(batches[0]);
-  Buffer voxel_keys = dev.alloc(uint64_t{nv} * 8, "voxel codes");
-  Buffer voxel_rgb = dev.alloc(uint64_t{nv} * 4, "voxel colours");
-  Buffer tri_plane;
-  for (uint32_t pass = 1; pass <= 4; ++pass) {
-    if (pass == 4) {  // the triangle plane alone, and the voxels' keys
-      tri_plane = dev.alloc(uint64_t{nv} * 4, "voxel triangles");
-      dev.copy(best, tri_plane, uint64_t{nv} * 4, uint64_t{nv} * 8, 0);
-      dev.barrier();
-      best = Buffer();
-      MvVoxelizeParams p{};
-      p.bricks = nb;
-      dev.dispatch(dev.kernel(KernelId::mesh_voxel_keys), dev.groups_for(nb, kMeshColourLocal), kMeshColourLocal,
-                   {&bkeys, &bmeta, &voxel_keys}, p);
-      dev.barrier();
-    }
-    for (const Batch& b : batches) {
-      if (pass < 4 && b.items.tri.empty()) continue;
-      Uploaded fresh;
-      if (!only) fresh = upload_batch(b);
-      Uploaded& u = only ? *only : fresh;
-      MvVoxelizeParams p{};
-      p.grid = resolution;
-      p.columns_per_item = kVoxelizeColumnsPerItem;
-      p.box_x = box[0];
-      p.box_y = box[1];
-      p.box_z = box[2];
-      p.box_size = box_size;
-      p.thin = rule == Voxelizer::Rule::kThin ? 1u : 0u;
-      p.bricks = nb;
-      p.tri_base = static_cast<uint32_t>(b.first);
-      if (pass == 4) {
-        std::vector<uint32_t> attr(b.count * MV_MESH_ATTR_WORDS, 0);
-        for (uint64_t t = 0; t < b.count; ++t) pack_colour_words(colours, b.first + t, &attr[t * MV_MESH_ATTR_WORDS]);
-        Buffer ab = dev.alloc(attr.size() * 4, "colour triangle attributes");
-        dev.upload(ab, attr.data(), attr.size() * 4);
-        p.items = nv;
-        p.capacity = static_cast<uint32_t>(b.count);
-        dev.dispatch(dev.kernel(KernelId::mesh_voxel_colours), dev.groups_for(nv, kMeshColourLocal), kMeshColourLocal,
-                     {&u.tris, &ab, &texels, &tri_plane, &voxel_keys, &voxel_rgb}, p);
-        dev.barrier();
-        continue;
-      }
-      p.items = static_cast<uint32_t>(b.items.tri.size());
+  // Three passes, each over every batch (a pass must see them all before the next): runs held whole by a work-item
+  // finish in the first; split runs combine their minima in all three.
+  Kernel& pick = dev.kernel(KernelId::mesh_best_fragments);
+  const uint32_t items = (nf + MV_MESH_FRAGMENTS_PER_ITEM - 1) / MV_MESH_FRAGMENTS_PER_ITEM;
+  for (uint32_t pass = 1; pass <= 3 && nf; ++pass)
+    for (uint64_t first = 0; first < n_tris; first += step) {
+      const uint64_t count = std::min(step, n_tris - first);
+      Buffer fresh = one_batch ? Buffer() : upload_batch(first, count);
+      Buffer& t = one_batch ? only : fresh;
+      MvVoxelizeParams p = params(first, count);
+      p.items = nf;
       p.capacity = nv;
       p.colour_pass = pass;
-      dev.dispatch(walk, dev.groups_for(p.items, kMeshColourLocal), kMeshColourLocal,
-                   {&u.tris, &u.item_tri, &u.item_col, &best, &bkeys, &bmeta}, p);
+      dev.dispatch(pick, dev.groups_for(items, kMeshColourLocal), kMeshColourLocal,
+                   {&t, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best}, p);
       dev.barrier();
     }
+  frag = {};
+
+  // The triangle plane alone, the voxels' keys, then per batch the colours of the voxels whose triangle it holds.
+  Buffer tri_plane = dev.alloc(uint64_t{nv} * 4, "voxel triangles");
+  dev.copy(best, tri_plane, uint64_t{nv} * 4, uint64_t{nv} * 8, 0);
+  dev.barrier();
+  best = Buffer();
+  Buffer voxel_keys = dev.alloc(uint64_t{nv} * 8, "voxel codes");
+  Buffer voxel_rgb = dev.alloc(uint64_t{nv} * 4, "voxel colours");
+  {
+    MvVoxelizeParams p{};
+    p.bricks = nb;
+    dev.dispatch(dev.kernel(KernelId::mesh_voxel_keys), dev.groups_for(nb, kMeshColourLocal), kMeshColourLocal,
+                 {&bkeys, &bmeta, &voxel_keys}, p);
+    dev.barrier();
   }
-  only.reset();
-  tri_plane = Buffer();
+  for (uint64_t first = 0; first < n_tris; first += step) {
+    const uint64_t count = std::min(step, n_tris - first);
+    Buffer fresh = one_batch ? Buffer() : upload_batch(first, count);
+    Buffer& t = one_batch ? only : fresh;
+    std::vector<uint32_t> attr(count * MV_MESH_ATTR_WORDS, 0);
+    for (uint64_t k = 0; k < count; ++k) pack_colour_words(colours, first + k, &attr[k * MV_MESH_ATTR_WORDS]);
+    Buffer ab = dev.alloc(attr.size() * 4, "colour triangle attributes");
+    dev.upload(ab, attr.data(), attr.size() * 4);
+    MvVoxelizeParams p = params(first, count);
+    p.items = nv;
+    dev.dispatch(dev.kernel(KernelId::mesh_voxel_colours), dev.groups_for(nv, kMeshColourLocal), kMeshColourLocal,
+                 {&t, &ab, &texels, &tri_plane, &voxel_keys, &voxel_rgb}, p);
+    dev.barrier();
+  }
   out.keys = std::move(voxel_keys);
   out.rgb = std::move(voxel_rgb);
   out.voxels = nv;
   return out;
 }
 
-std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::span<const float> tris,
-                                        const MeshTriangleColours& colours, uint32_t levels, Voxelizer::Rule rule) {
-  const uint32_t resolution = 1u << levels, box[3] = {0, 0, 0};
-  MeshVoxelValues v = mesh_voxel_values(dev, bricks, tris, colours, colours.textures, resolution, rule, box, resolution);
+std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, const Fragments& fragments,
+                                        std::span<const float> tris, const MeshTriangleColours& colours,
+                                        uint32_t levels, uint64_t batch_triangles) {
+  MeshVoxelValues v = mesh_voxel_values(dev, bricks, fragments, tris, colours, colours.textures, batch_triangles);
   if (v.voxels == 0) return {};
   return depth_first_voxel_colours(dev, std::move(v.keys), v.rgb, v.voxels, levels);
 }

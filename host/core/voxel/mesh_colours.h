@@ -23,26 +23,28 @@ struct MeshTriangleColours {
   std::vector<uint32_t> ordinal;  // out of core: each triangle's place in the file's triangles (coloured_records)
 };
 
-// `tris`: every triangle the voxels came from, in grid units (9 floats each), in the order the voxelizer took them,
-// with its colours in `colours`; `bricks`: the voxel set (Voxelizer::take_bricks) on a grid of 2^levels voxels,
-// made with `rule`. A textured triangle's colour at a point is its texture sampled bilinearly (repeating) at the
-// interpolated coordinates; another's its vertex colours interpolated. Returns RGB24 per octree node in
-// pre-order. Throws mv::Error when the voxels or triangles pass what one device call indexes (2^32 - 1), the
-// textures one binding, or the sizes disagree.
-std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, std::span<const float> tris,
-                                        const MeshTriangleColours& colours, uint32_t levels, Voxelizer::Rule rule);
+// `bricks`: the voxel set (Voxelizer::take_bricks) on a grid of 2^levels voxels; `fragments`: what the voxelizer met
+// on its way (Voxelizer::record_fragments), whose triangle indices count in `tris`: every triangle the voxelizer
+// took, in grid units (9 floats each), in its order, with its colours in `colours`. A textured triangle's colour at a
+// point is its texture sampled bilinearly (repeating) at the interpolated coordinates; another's its vertex colours
+// interpolated. Returns RGB24 per octree node in pre-order. Throws mv::Error when the voxels, fragments or
+// triangles pass what one device call indexes (2^32 - 1), the textures one binding, or the sizes disagree.
+// `batch_triangles`: triangles a device batch holds (0: what one binding holds).
+std::vector<uint8_t> mesh_voxel_colours(Device& dev, const Bricks& bricks, const Fragments& fragments,
+                                        std::span<const float> tris, const MeshTriangleColours& colours,
+                                        uint32_t levels, uint64_t batch_triangles = 0);
 
 // The voxels' own colours before the depth-first array: their sorted codes and 0xBBGGRR each, on the device.
 struct MeshVoxelValues {
   Buffer keys, rgb;
   uint64_t voxels = 0;
 };
-// The same rule for the voxels `bricks` holds of the cube [box, box + box_size) of a grid of `resolution` voxels (an
-// out-of-core build's cube: `tris` are the triangles its bucket holds, in the order of their indices in the
-// mesh, which break ties). `colours.textures` is not read: `textures` are the mesh's.
-MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, std::span<const float> tris,
-                                  const MeshTriangleColours& colours, const std::vector<io::MeshTexture>& textures,
-                                  uint32_t resolution, Voxelizer::Rule rule, const uint32_t box[3], uint32_t box_size);
+// The same rule for the voxels `bricks` holds (an out-of-core build's cube: `tris` are the triangles its bucket
+// holds, in the order of their indices in the mesh, which break ties). `colours.textures` is not read: `textures`
+// are the mesh's.
+MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragments& fragments,
+                                  std::span<const float> tris, const MeshTriangleColours& colours,
+                                  const std::vector<io::MeshTexture>& textures, uint64_t batch_triangles = 0);
 
 // Out of core (build_pipeline.cpp), a coloured triangle travels through its cubes' buckets as one record: its 9
 // floats, then its MV_MESH_ATTR_WORDS colour words (vertex colours, texture coordinates, texture) with its index in

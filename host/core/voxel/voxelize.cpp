@@ -157,15 +157,20 @@ void Voxelizer::add(const std::vector<float>& tris) {
   const std::vector<uint32_t>& item_guess = w.guess;
   const auto items = static_cast<uint32_t>(item_tri.size());
   if (items == 0) return;
+  if (record_ && triangles_ >= UINT32_MAX)
+    throw Error("voxelize: " + std::to_string(triangles_) + " triangles, past the 2^32 - 1 a fragment indexes");
   Emission e{dev_.alloc(tris.size() * 4, "voxelizer triangles"), dev_.alloc(uint64_t{items} * 4, "voxelizer work items"),
-             dev_.alloc(uint64_t{items} * 4, "voxelizer work items"), dev_.alloc(4, "voxelizer brick counter")};
+             dev_.alloc(uint64_t{items} * 4, "voxelizer work items"), dev_.alloc(4, "voxelizer brick counter"),
+             static_cast<uint32_t>(triangles_ - count)};
   dev_.upload(e.tris, tris.data(), tris.size() * 4);
   dev_.upload(e.item_tri, item_tri.data(), uint64_t{items} * 4);
   dev_.upload(e.item_col, item_col.data(), uint64_t{items} * 4);
 
   // Bricks in flight: keys and masks (8 + 8 bytes), the sort's order and scratch (8 + 4 + 4), the gathered
-  // masks (8): 40 bytes each; half the free memory, for the sort's slack.
-  const uint64_t room = std::min((dev_.memory_budget() - dev_.memory_used()) / 2 / 40, kMaxDeviceItems);
+  // masks (8): 40 bytes each, and recording fragments their triangles before and after the gather (4 + 4); half
+  // the free memory, for the sort's slack.
+  const uint64_t each = record_ ? 48 : 40;
+  const uint64_t room = std::min((dev_.memory_budget() - dev_.memory_used()) / 2 / each, kMaxDeviceItems);
   if (room == 0) throw Error("voxelize: no device memory left for voxel bricks");
   for (uint32_t first = 0; first < items;) {
     uint64_t guess = 0;
@@ -183,16 +188,29 @@ void Voxelizer::emit(Emission& e, uint32_t first, uint32_t last, uint64_t capaci
   const uint32_t local = 64, zero = 0;
   Buffer keys = dev_.alloc(capacity * 8, "voxel brick keys");
   Buffer masks = dev_.alloc(capacity * 8, "voxel brick masks");
+  Buffer slot_tris = dev_.alloc(record_ ? capacity * 4 : 4, "voxel brick triangles");
   dev_.upload(e.counter, &zero, 4);
-  const MvVoxelizeParams p{first,    last - first, resolution_, kColumnsPerItem, static_cast<uint32_t>(capacity),
-                           box_size_, box_[0],      box_[1],     box_[2],         rule_ == Rule::kThin ? 1u : 0u};
+  MvVoxelizeParams p{};
+  p.first_item = first;
+  p.items = last - first;
+  p.grid = resolution_;
+  p.columns_per_item = kColumnsPerItem;
+  p.capacity = static_cast<uint32_t>(capacity);
+  p.box_size = box_size_;
+  p.box_x = box_[0];
+  p.box_y = box_[1];
+  p.box_z = box_[2];
+  p.thin = rule_ == Rule::kThin ? 1u : 0u;
+  p.tri_base = e.first_tri;
+  p.record_tris = record_ ? 1u : 0u;
   dev_.dispatch(dev_.kernel(KernelId::voxelize), dev_.groups_for(last - first, local), local,
-                {&e.tris, &e.item_tri, &e.item_col, &e.counter, &keys, &masks}, p);
+                {&e.tris, &e.item_tri, &e.item_col, &e.counter, &keys, &masks, &slot_tris}, p);
   uint32_t found = 0;
   dev_.download(e.counter, &found, 4);
   if (found > capacity) {
     keys = Buffer();
     masks = Buffer();
+    slot_tris = Buffer();
     if (found <= room) return emit(e, first, last, found, room);
     if (last - first == 1) throw Error("voxelize: one work item meets more bricks than device memory holds");
     const uint32_t mid = first + (last - first) / 2;
@@ -215,14 +233,27 @@ void Voxelizer::emit(Emission& e, uint32_t first, uint32_t last, uint64_t capaci
   std::vector<uint64_t> hk(found), hm(found);
   dev_.download(keys, hk.data(), uint64_t{found} * 8);
   dev_.download(sorted, hm.data(), uint64_t{found} * 8);
+  if (record_) keep_fragments(hk, hm, slot_tris, order, found);
   Bricks chunk;
   append_or_merged(hk, hm, chunk);
   merge(std::move(chunk));
 }
 
+void Voxelizer::keep_fragments(const std::vector<uint64_t>& keys, const std::vector<uint64_t>& masks,
+                               const Buffer& slot_tris, const Buffer& order, uint32_t found) {
+  Buffer tris = dev_.alloc(uint64_t{found} * 4, "sorted brick triangles");
+  gather_records(dev_, slot_tris, order, tris, found, 4);
+  const size_t at = fragments_.size();
+  fragments_.sorted = fragments_.sorted && at == 0;
+  fragments_.keys.insert(fragments_.keys.end(), keys.begin(), keys.end());
+  fragments_.masks.insert(fragments_.masks.end(), masks.begin(), masks.end());
+  fragments_.tris.resize(at + found);
+  dev_.download(tris, fragments_.tris.data() + at, uint64_t{found} * 4);
+}
+
 void Voxelizer::merge(Bricks&& chunk) {
-  // the merge holds the old bricks, the chunk and the union at once
-  const uint64_t need = 16 * (2 * (bricks_.size() + chunk.size()));
+  // the merge holds the old bricks, the chunk and the union at once, beside the fragments kept
+  const uint64_t need = 16 * (2 * (bricks_.size() + chunk.size())) + 20 * fragments_.size();
   if (host_budget_ && need > host_budget_)
     throw CodedError(ErrorCode::out_of_memory,
                      "voxelize: the voxel bricks need " + format_bytes(need) + " of host memory, over the " +

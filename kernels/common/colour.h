@@ -8,19 +8,21 @@
  * (octree nodes in the element's subtree, itself included), then the sums' high words (a sum over more than
  * 2^32 / 255 voxels passes 32 bits). The segmented sums of each plane over the elements' parents give that many
  * 64-bit planes for the level above; the host sums only the leading planes that can be nonzero.
- *   colour_unpack:      points' packed 0xBBGGRR -> planes (r, g, b, 1, 0, 0, 0, 0): a point is one sample;
- *                       `leaf` 1: they are voxels of one sample each, subtree size 1 (their own level's planes);
- *                       `used` nonzero: only the first `used` planes are written (all the sums need of points);
- *   colour_level:       64-bit plane sums of n nodes -> rgb[i] (each channel sum / count rounded half up) and the
- *                       planes the level above sums; `leaf` 1: the nodes are voxels made of points, so a voxel
- *                       counts as one sample of its mean colour, with subtree size 1; `used` nonzero: the sums
- *                       hold only their first `used` planes, the others being zero;
+ * Voxels carry no planes: a voxel counts as one sample of its colour, with subtree size 1, so its planes are
+ * (r, g, b, 1, 1, 0, 0, 0) from its packed colour alone, and the kernels that read a level below take its packed
+ * colours instead where that level is the voxels (`leaf` 1).
+ *   colour_unpack:      points' packed 0xBBGGRR -> their first MV_COLOUR_COUNT + 1 planes (r, g, b, 1): a point
+ *                       is one sample;
+ *   colour_level:       64-bit plane sums of n nodes -> rgb[i] (each channel sum / count rounded half up) and,
+ *                       unless `leaf` (voxels made of points), the planes the level above sums; `used` nonzero:
+ *                       the sums hold only their first `used` planes, the others being zero;
  *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> 3, the codes of the level above;
  *   colour_child_sums:  the 64-bit sums of the first `used` planes of each node over its children (at most 8,
- *                       consecutive from starts[s]): a work-item per node, bounded loops over its planes and
- *                       children (the segmented_sum of the points' runs into voxels has no bound, these do);
+ *                       consecutive from starts[s]; `leaf`: voxels, whose planes come from their colours): a
+ *                       work-item per node, bounded loops over its planes and children (the segmented_sum of the
+ *                       points' runs into voxels has no bound, these do);
  *   colour_place:       index[i] = parent_index[parent of i] + 1 + the subtree sizes of its earlier siblings (at
- *                       most 7), attributes[index[i]] = rgb[i].
+ *                       most 7; `leaf`: voxels, size 1 each), attributes[index[i]] = rgb[i].
  * Integer arithmetic only: the same bits on every device. */
 #ifndef MV_COLOUR_H
 #define MV_COLOUR_H
@@ -33,7 +35,7 @@
 
 MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;     /* elements of the dispatch */
-  mv_u32 leaf;  /* colour_level: 1 for voxels made of points; colour_unpack: 1 for voxels of one colour each */
+  mv_u32 leaf;  /* 1: the level written (colour_level) or read below (child sums, place) is the voxels */
   mv_u32 shift; /* colour_parent_keys: bits the keys shift right */
   mv_u32 below; /* colour_child_sums: elements of the level below (its planes' stride) */
   mv_u32 used;  /* the leading planes summed (the rest can only sum to zero; see each kernel; 0: all) */
@@ -48,13 +50,8 @@ MV_LAYOUT_AT(MvColourParams, below, 12); MV_LAYOUT_AT(MvColourParams, used, 16);
 MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 c = MV_LD(rgb, i);
-    mv_u32 all = p.used == 0u ? 1u : 0u;
-    for (mv_u32 k = 0u; k < 3u; ++k) {
-      MV_ST(planes, k * p.n + i, (c >> (8u * k)) & 255u);
-      if (all != 0u) MV_ST(planes, (MV_COLOUR_HIGH + k) * p.n + i, 0u);
-    }
+    for (mv_u32 k = 0u; k < 3u; ++k) MV_ST(planes, k * p.n + i, (c >> (8u * k)) & 255u);
     MV_ST(planes, MV_COLOUR_COUNT * p.n + i, 1u);
-    if (all != 0u) MV_ST(planes, MV_COLOUR_SIZE * p.n + i, p.leaf != 0u ? 1u : 0u);
   }
 }
 
@@ -83,12 +80,14 @@ MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvBufU32 planes, MvC
       mv_u64 s = MV_LD(sums, c * p.n + i) + (high << 32);
       mv_u32 mean = mv_colour_mean(s, count);
       packed |= mean << (8u * c);
-      MV_ST(planes, c * p.n + i, p.leaf != 0u ? mean : MV_U32(s));
-      MV_ST(planes, (MV_COLOUR_HIGH + c) * p.n + i, p.leaf != 0u ? 0u : MV_U32(s >> 32));
+      if (p.leaf != 0u) continue;
+      MV_ST(planes, c * p.n + i, MV_U32(s));
+      MV_ST(planes, (MV_COLOUR_HIGH + c) * p.n + i, MV_U32(s >> 32));
     }
     MV_ST(rgb, i, packed);
-    MV_ST(planes, MV_COLOUR_COUNT * p.n + i, p.leaf != 0u ? 1u : MV_U32(count));
-    mv_u32 below = p.leaf == 0u && MV_COLOUR_SIZE < held ? MV_U32(MV_LD(sums, MV_COLOUR_SIZE * p.n + i)) : 0u;
+    if (p.leaf != 0u) continue;
+    MV_ST(planes, MV_COLOUR_COUNT * p.n + i, MV_U32(count));
+    mv_u32 below = MV_COLOUR_SIZE < held ? MV_U32(MV_LD(sums, MV_COLOUR_SIZE * p.n + i)) : 0u;
     MV_ST(planes, MV_COLOUR_SIZE * p.n + i, 1u + below);
   }
 }
@@ -104,7 +103,12 @@ MV_INLINE void mv_colour_child_sums(MvBufU32 planes, MvBufU32 starts, MvBufU64 s
     mv_u32 first = MV_LD(starts, s), end = MV_LD(starts, s + 1u);
     for (mv_u32 k = 0u; k < p.used; ++k) {
       mv_u64 sum = MV_U64(0u);
-      for (mv_u32 c = first; c < end; ++c) sum += MV_U64(MV_LD(planes, k * p.below + c));
+      if (p.leaf == 0u)
+        for (mv_u32 c = first; c < end; ++c) sum += MV_U64(MV_LD(planes, k * p.below + c));
+      else if (k < 3u) /* voxels: `planes` holds their packed colours */
+        for (mv_u32 c = first; c < end; ++c) sum += MV_U64((MV_LD(planes, c) >> (8u * k)) & 255u);
+      else if (k == MV_COLOUR_COUNT || k == MV_COLOUR_SIZE)
+        sum = MV_U64(end - first);
       MV_ST(sums, k * p.n + s, sum);
     }
   }
@@ -115,7 +119,9 @@ MV_INLINE void mv_colour_place(MvBufU32 e, MvBufU32 starts, MvBufU32 sizes, MvBu
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 parent = MV_LD(e, i + 1u) - 1u;
     mv_u32 at = MV_LD(parent_index, parent) + 1u;
-    for (mv_u32 c = MV_LD(starts, parent); c < i; ++c) at += MV_LD(sizes, c); /* at most 7 earlier siblings */
+    if (p.leaf != 0u) at += i - MV_LD(starts, parent); /* voxels: size 1 each */
+    else
+      for (mv_u32 c = MV_LD(starts, parent); c < i; ++c) at += MV_LD(sizes, c); /* at most 7 earlier siblings */
     MV_ST(index, i, at);
     MV_ST(attributes, at, MV_LD(rgb, i));
   }

@@ -3,33 +3,31 @@
  * ties to the lowest triangle index; the colour at a point is its triangle's vertex colours interpolated there.
  *
  * The voxelizer records its fragments: per (triangle, brick) met, the brick's key, the voxels the triangle sets
- * there and the triangle (voxelize.h, record_tris). Sorted by key, a brick's fragments are one run. A work-item
- * takes the runs that start in its window of sorted fragments and, for each voxel of a run, the (squared
- * distance, triangle) minimum over the run's fragments holding the voxel, stored straight away. A run too long
- * for one item (or one whose triangles span batches) goes in shares, whose minima combine by three passes of
- * 32-bit atomic minima: the squared distance's high word, then its low word among the shares that hold the high
- * one, then the triangle index among those that hold both. A positive double orders as its bits, so either way it
- * is the exact (distance, index) minimum, the same on every device whatever order the fragments came in. Then one
- * work-item per voxel interpolates its colour.
- * Distances are in grid units, from the triangles as the voxelizer takes them (floats), in double. */
+ * there and the triangle (voxelize.h, record_tris). Sorted by key, a brick's fragments are one run. A run of at
+ * most MV_MESH_WHOLE_RUN fragments is read by a work-item per voxel of its brick (the lanes of a subgroup mostly
+ * share a brick, so they walk the same run): the (squared distance, triangle) minimum over the fragments holding
+ * the voxel, and its colour there. A longer run (or any, when the triangles span batches) goes in windows of
+ * sorted fragments, a work-item each, whose minima combine by three passes of 32-bit atomic minima: the squared
+ * distance's high word, then its low word among the windows holding the high one, then the triangle index among
+ * those holding both. A positive double orders as its bits, so either way it is the exact (distance, index)
+ * minimum, the same on every device whatever order the fragments came in; then a work-item per voxel of those
+ * runs interpolates its colour. Distances: in grid units, from the triangles as the voxelizer takes them
+ * (floats), in double. */
 #ifndef MV_MESH_COLOUR_H
 #define MV_MESH_COLOUR_H
-/* Included by voxelize.h, after MvVoxelizeParams. */
-#include "morton.h"
+#include "morton.h" /* included by voxelize.h, after MvVoxelizeParams */
 
 #define MV_MESH_ATTR_WORDS 12u /* per triangle: 3 vertex colours, 6 texture coordinates, the texture, 2 spare */
 #define MV_NO_TEXTURE 0xffffffffu
-#define MV_MESH_FRAGMENTS_PER_ITEM 16u /* a work-item's window of sorted fragments */
-#define MV_MESH_WHOLE_RUN 48u /* the longest run one work-item takes whole: 64 x (16 + 48) closest points at most,
-                                 within lavapipe's loop cap */
+#define MV_MESH_DONE 0xfffffffeu /* a voxel's triangle plane once its colour is written */
+#define MV_MESH_FRAGMENTS_PER_ITEM 16u /* a window of sorted fragments in a long run's passes */
+#define MV_MESH_WHOLE_RUN 48u /* the longest run read per voxel (48 closest points at most, in lavapipe's loop cap) */
 
-/* The brick layout the passes read: `bmeta` holds per brick (sorted by key, as in `bkeys`) its 64-bit voxel mask
- * and the index of its first voxel (an exclusive scan of the masks' counts); voxel i of the brick's mask (Morton
- * order inside the brick) is voxel offset + the mask's bits below i. `best`: three planes of n words, the
- * distance's high words, its low words, the triangles (all ones: none yet). */
+/* `bmeta`: per brick (sorted by key, as in `bkeys`) its voxel mask and first voxel; voxel i of its mask (Morton
+ * order in the brick) is that + the mask's bits below i. `best`: planes of n words, the distance's high words,
+ * its low words, the triangles (all ones: none yet). */
 
-/* The point of a triangle nearest a point: its squared distance, and b's and c's barycentric weights (a's: 1 -
- * both). */
+/* The point of a triangle nearest a point: its squared distance, b's and c's barycentric weights (a's: 1 - both). */
 MV_STRUCT_BEGIN(MvClosest)
   mv_f64 d2;
   mv_f64 wb;
@@ -102,9 +100,11 @@ MV_INLINE mv_u32 mv_brick_voxel(MvBufU64 bmeta, mv_u32 b, mv_u32 bit) {
   return MV_U32(MV_LD(bmeta, 2u * b + 1u)) + MV_POPCOUNT(MV_U32(below)) + MV_POPCOUNT(MV_U32(below >> 32));
 }
 
-/* A voxel's best fragment: its squared distance and triangle (all ones: none). */
+/* A voxel's best fragment: its squared distance, its nearest point's weights, its triangle (all ones: none). */
 MV_STRUCT_BEGIN(MvBestFragment)
   mv_f64 d2;
+  mv_f64 wb;
+  mv_f64 wc;
   mv_u32 tri;
 MV_STRUCT_END(MvBestFragment)
 
@@ -117,6 +117,8 @@ MV_INLINE MvBestFragment mv_mesh_voxel_best(MvBufF32 tris, MvBufU64 fmasks, MvBu
   mv_f64 pz = MV_F64(4u * mv_morton3_64_axis(key, 2u) + (((bit >> 2) & 1u) | ((bit >> 4) & 2u))) + 0.5;
   MvBestFragment best;
   best.d2 = 0.0;
+  best.wb = 0.0;
+  best.wc = 0.0;
   best.tri = 0xffffffffu;
   for (mv_u32 f = s; f < e; ++f) {
     if (((MV_LD(fmasks, f) >> bit) & MV_U64(1u)) == MV_U64(0u)) continue;
@@ -128,71 +130,12 @@ MV_INLINE MvBestFragment mv_mesh_voxel_best(MvBufF32 tris, MvBufU64 fmasks, MvBu
         MV_F64(MV_LD(tris, r + 7u)), MV_F64(MV_LD(tris, r + 8u)), px, py, pz);
     if (best.tri == 0xffffffffu || q.d2 < best.d2 || (q.d2 == best.d2 && tri < best.tri)) {
       best.d2 = q.d2;
+      best.wb = q.wb;
+      best.wc = q.wc;
       best.tri = tri;
     }
   }
   return best;
-}
-
-/* Pass p.colour_pass of fragments [s, e) of one brick's run: each voxel's minimum over them, stored straight away
- * where the run is `whole` (pass 1: no other work-item holds any of it), else into the atomic minima. */
-MV_INLINE void mv_mesh_run(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
-                           MvBufU64 bmeta, MvBufU32 best, MvVoxelizeParams p, mv_u32 s, mv_u32 e, bool whole) {
-  if (whole && p.colour_pass != 1u) return;
-  mv_u32 n = p.capacity;
-  mv_u64 key = MV_LD(fkeys, s), any = MV_U64(0u);
-  for (mv_u32 f = s; f < e; ++f) any |= MV_LD(fmasks, f);
-  mv_u32 b = mv_find_brick(bkeys, p.bricks, key);
-  for (mv_u32 bit = 0u; bit < 64u; ++bit) {
-    if (((any >> bit) & MV_U64(1u)) == MV_U64(0u)) continue;
-    MvBestFragment v = mv_mesh_voxel_best(tris, fmasks, ftris, s, e, key, bit, p);
-    mv_u32 tri = v.tri;
-    if (tri == 0xffffffffu) continue;
-    mv_u32 at = mv_brick_voxel(bmeta, b, bit), hi = MV_DBITS_HI(v.d2), lo = MV_DBITS_LO(v.d2);
-    if (whole) MV_ST(best, 2u * n + at, tri);
-    else if (p.colour_pass == 1u) MV_ATOMIC_MIN(best, at, hi);
-    else if (p.colour_pass == 2u && MV_LD(best, at) == hi) MV_ATOMIC_MIN(best, n + at, lo);
-    else if (p.colour_pass == 3u && MV_LD(best, at) == hi && MV_LD(best, n + at) == lo)
-      MV_ATOMIC_MIN(best, 2u * n + at, tri);
-  }
-}
-
-/* Pass p.colour_pass (1 to 3) over the p.items fragments sorted by key (`fkeys`, their masks and triangles), a
- * work-item per window of MV_MESH_FRAGMENTS_PER_ITEM of them; the voxels' best triangles into `best` (p.capacity
- * voxels, p.bricks bricks). A run of at most MV_MESH_WHOLE_RUN fragments goes whole to the item whose window holds
- * its start, even past the window's end; a longer one (or any, with p.split_runs) goes in shares, each window's to
- * its item, and combines by the three passes. Every loop is bounded by the two constants. */
-MV_INLINE void mv_mesh_best_fragments(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
-                                      MvBufU64 bmeta, MvBufU32 best, MvVoxelizeParams p, mv_u32 gid, mv_u32 gsize) {
-  mv_u32 longest = p.split_runs != 0u ? 0u : MV_MESH_WHOLE_RUN, n = p.items;
-  mv_u32 items = (n + MV_MESH_FRAGMENTS_PER_ITEM - 1u) / MV_MESH_FRAGMENTS_PER_ITEM;
-  for (mv_u32 c = gid; c < items; c += gsize) {
-    mv_u32 s = c * MV_MESH_FRAGMENTS_PER_ITEM, w1 = MV_MIN(n, s + MV_MESH_FRAGMENTS_PER_ITEM);
-    if (s > 0u && MV_LD(fkeys, s - 1u) == MV_LD(fkeys, s)) { /* the window opens inside a run */
-      mv_u64 key = MV_LD(fkeys, s);
-      mv_u32 len = 1u, e = s + 1u;
-      for (mv_u32 b = s; b > 0u && len <= longest && MV_LD(fkeys, b - 1u) == key; --b) len = len + 1u;
-      for (; e < n && len <= longest && MV_LD(fkeys, e) == key; ++e) len = len + 1u;
-      if (len > longest) { /* long: this window's share */
-        for (e = s; e < w1 && MV_LD(fkeys, e) == key; ++e) {
-        }
-        mv_mesh_run(tris, fkeys, fmasks, ftris, bkeys, bmeta, best, p, s, e, false);
-      }
-      s = e; /* short: whole with the item that holds its start */
-    }
-    while (s < w1) { /* the runs that start in the window */
-      mv_u64 key = MV_LD(fkeys, s);
-      mv_u32 e = s + 1u;
-      for (; e < n && e - s <= longest && MV_LD(fkeys, e) == key; ++e) {
-      }
-      bool whole = e - s <= longest && (e == n || MV_LD(fkeys, e) != key);
-      if (!whole)
-        for (e = s; e < w1 && MV_LD(fkeys, e) == key; ++e) {
-        }
-      mv_mesh_run(tris, fkeys, fmasks, ftris, bkeys, bmeta, best, p, s, e, whole);
-      s = e;
-    }
-  }
 }
 
 /* One channel of the colour at weights (1 - wb - wc, wb, wc) of packed vertex colours ca, cb, cc (0xBBGGRR),
@@ -230,25 +173,112 @@ MV_INLINE mv_u32 mv_texture_channel(MvBufU32 texels, mv_u32 tex, mv_f64 u, mv_f6
   return r <= 0.0 ? 0u : r >= 255.0 ? 255u : MV_U32(r);
 }
 
+/* The colour (0xBBGGRR) of the batch's triangle t at weights (1 - wb - wc, wb, wc): its vertex colours
+ * interpolated, or its texture sampled at its interpolated coordinates. `attr`: MV_MESH_ATTR_WORDS a triangle (3
+ * vertex colours, 6 texture coordinates as float bits, the texture). */
+MV_INLINE mv_u32 mv_mesh_colour_at(MvBufU32 attr, MvBufU32 texels, mv_u32 t, mv_f64 wb, mv_f64 wc) {
+  mv_u32 a = MV_MESH_ATTR_WORDS * t, tex = MV_LD(attr, a + 9u);
+  if (tex == MV_NO_TEXTURE) {
+    mv_u32 ca = MV_LD(attr, a), cb = MV_LD(attr, a + 1u), cc = MV_LD(attr, a + 2u);
+    return mv_mesh_channel(ca, cb, cc, 0u, wb, wc) | (mv_mesh_channel(ca, cb, cc, 8u, wb, wc) << 8) |
+           (mv_mesh_channel(ca, cb, cc, 16u, wb, wc) << 16);
+  }
+  MV_PRECISE mv_f64 wa = 1.0 - wb - wc;
+  MV_PRECISE mv_f64 u = MV_F64(MV_BITSF(MV_LD(attr, a + 3u))) * wa + MV_F64(MV_BITSF(MV_LD(attr, a + 5u))) * wb +
+                        MV_F64(MV_BITSF(MV_LD(attr, a + 7u))) * wc;
+  MV_PRECISE mv_f64 v = MV_F64(MV_BITSF(MV_LD(attr, a + 4u))) * wa + MV_F64(MV_BITSF(MV_LD(attr, a + 6u))) * wb +
+                        MV_F64(MV_BITSF(MV_LD(attr, a + 8u))) * wc;
+  return mv_texture_channel(texels, tex, u, v, 0u) | (mv_texture_channel(texels, tex, u, v, 8u) << 8) |
+         (mv_texture_channel(texels, tex, u, v, 16u) << 16);
+}
+
+/* Pass p.colour_pass of a long run's fragments [s, e) (a window's share): each voxel's minimum over them into the
+ * atomic minima. */
+MV_INLINE void mv_mesh_run_share(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
+                                 MvBufU64 bmeta, MvBufU32 best, MvVoxelizeParams p, mv_u32 s, mv_u32 e) {
+  mv_u32 n = p.capacity;
+  mv_u64 key = MV_LD(fkeys, s), any = MV_U64(0u);
+  for (mv_u32 f = s; f < e; ++f) any |= MV_LD(fmasks, f);
+  mv_u32 b = mv_find_brick(bkeys, p.bricks, key);
+  for (mv_u32 bit = 0u; bit < 64u; ++bit) {
+    if (((any >> bit) & MV_U64(1u)) == MV_U64(0u)) continue;
+    MvBestFragment v = mv_mesh_voxel_best(tris, fmasks, ftris, s, e, key, bit, p);
+    mv_u32 tri = v.tri, at = mv_brick_voxel(bmeta, b, bit), hi = MV_DBITS_HI(v.d2), lo = MV_DBITS_LO(v.d2);
+    if (tri == 0xffffffffu) continue;
+    if (p.colour_pass == 1u) MV_ATOMIC_MIN(best, at, hi);
+    else if (p.colour_pass == 2u && MV_LD(best, at) == hi) MV_ATOMIC_MIN(best, n + at, lo);
+    else if (p.colour_pass == 3u && MV_LD(best, at) == hi && MV_LD(best, n + at) == lo)
+      MV_ATOMIC_MIN(best, 2u * n + at, tri);
+  }
+}
+
+/* Pass p.colour_pass (1 to 3; 0: only `seen`, which becomes 1 where there is a long run) of the long runs among
+ * the p.items fragments sorted by key (`fkeys`, their masks and triangles; long: past MV_MESH_WHOLE_RUN fragments,
+ * or every run with p.split_runs), a work-item per window of MV_MESH_FRAGMENTS_PER_ITEM of them: each window's share
+ * of a long run into `best` (p.capacity voxels, p.bricks bricks). A window sees whether a run is long from at most
+ * MV_MESH_WHOLE_RUN keys either side. */
+MV_INLINE void mv_mesh_best_fragments(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
+                                      MvBufU64 bmeta, MvBufU32 best, MvBufU32 seen, MvVoxelizeParams p, mv_u32 gid,
+                                      mv_u32 gsize) {
+  mv_u32 longest = p.split_runs != 0u ? 0u : MV_MESH_WHOLE_RUN, n = p.items;
+  mv_u32 items = (n + MV_MESH_FRAGMENTS_PER_ITEM - 1u) / MV_MESH_FRAGMENTS_PER_ITEM;
+  for (mv_u32 c = gid; c < items; c += gsize) {
+    mv_u32 s = c * MV_MESH_FRAGMENTS_PER_ITEM, w1 = MV_MIN(n, s + MV_MESH_FRAGMENTS_PER_ITEM);
+    while (s < w1) { /* each run the window meets: its length, counted up to longest + 1 */
+      mv_u64 key = MV_LD(fkeys, s);
+      mv_u32 len = 1u, e = s + 1u;
+      for (mv_u32 b = s; b > 0u && len <= longest && MV_LD(fkeys, b - 1u) == key; --b) len = len + 1u;
+      for (; e < n && len <= longest && MV_LD(fkeys, e) == key; ++e) len = len + 1u;
+      if (len > longest) { /* long: this window's share */
+        MV_ST(seen, 0u, 1u);
+        for (e = s; e < w1 && MV_LD(fkeys, e) == key; ++e) {
+        }
+        if (p.colour_pass != 0u) mv_mesh_run_share(tris, fkeys, fmasks, ftris, bkeys, bmeta, best, p, s, e);
+      }
+      s = e;
+    }
+  }
+}
+
 #if !defined(MV_CPP)
 /* Each voxel's key, a work-item per brick (p.bricks of them): its at most 64 voxels, from its first voxel on. */
-MV_INLINE void mv_mesh_voxel_keys(MvBufU64 bkeys, MvBufU64 bmeta, MvBufU64 voxel_keys, MvVoxelizeParams p, mv_u32 gid,
-                                  mv_u32 gsize) {
+MV_INLINE void mv_mesh_voxel_keys(MvBufU64 bkeys, MvBufU64 bmeta, MvBufU64 voxel_keys, MvBufU32 voxel_brick,
+                                  MvVoxelizeParams p, mv_u32 gid, mv_u32 gsize) {
   for (mv_u32 b = gid; b < p.bricks; b += gsize) {
     mv_u64 mask = MV_LD(bmeta, 2u * b), key = MV_LD(bkeys, b) << 6;
     mv_u32 at = MV_U32(MV_LD(bmeta, 2u * b + 1u));
     for (mv_u32 bit = 0u; bit < 64u; ++bit)
       if (((mask >> bit) & MV_U64(1u)) != MV_U64(0u)) {
         MV_ST(voxel_keys, at, key | MV_U64(bit));
+        MV_ST(voxel_brick, at, b);
         at = at + 1u;
       }
   }
 }
 
+/* Voxels [0, p.items) whose brick's run of fragments (`run_starts`: per brick its first sorted fragment, then the
+ * fragments' count) is at most MV_MESH_WHOLE_RUN long: the best of those holding the voxel, and the colour there
+ * into `voxel_rgb`; with p.colour_pass 1 (there are long runs) its triangle (`best`'s third plane of p.capacity
+ * words) becomes MV_MESH_DONE. With p.split_runs nothing: every run goes through the passes. */
+MV_INLINE void mv_mesh_voxel_best_colours(MvBufF32 tris, MvBufU64 fmasks, MvBufU32 ftris, MvBufU32 run_starts,
+                                          MvBufU64 voxel_keys, MvBufU32 voxel_brick, MvBufU32 attr, MvBufU32 texels,
+                                          MvBufU32 best, MvBufU32 voxel_rgb, MvVoxelizeParams p, mv_u32 gid,
+                                          mv_u32 gsize) {
+  if (p.split_runs != 0u) return;
+  for (mv_u32 i = gid; i < p.items; i += gsize) {
+    mv_u32 b = MV_LD(voxel_brick, i), s = MV_LD(run_starts, b), e = MV_LD(run_starts, b + 1u);
+    if (e - s > MV_MESH_WHOLE_RUN) continue;
+    mv_u64 key = MV_LD(voxel_keys, i);
+    MvBestFragment v = mv_mesh_voxel_best(tris, fmasks, ftris, s, e, key >> 6, MV_U32(key & MV_U64(63u)), p);
+    MV_ST(voxel_rgb, i, mv_mesh_colour_at(attr, texels, v.tri - p.tri_base, v.wb, v.wc));
+    if (p.colour_pass != 0u) MV_ST(best, 2u * p.capacity + i, MV_MESH_DONE);
+  }
+}
+
 /* Voxels [0, p.items): where the voxel's best fragment's triangle is one of this batch's (`tris`, 9 floats each in
- * grid units, and `attr`, MV_MESH_ATTR_WORDS each: 3 vertex colours, 6 texture coordinates as float bits, the
- * texture; from triangle p.tri_base on, p.batch_tris of them), its colour at that triangle's point nearest its
- * centre. `best`: the triangle plane; `voxel_keys`: each voxel's key (mv_mesh_voxel_keys). */
+ * grid units, and `attr`; from triangle p.tri_base on, p.batch_tris of them), its colour at that triangle's point
+ * nearest its centre. `best`: the triangle plane (MV_MESH_DONE: coloured already); `voxel_keys`: each voxel's key
+ * (mv_mesh_voxel_keys). */
 MV_INLINE void mv_mesh_voxel_colours(MvBufF32 tris, MvBufU32 attr, MvBufU32 texels, MvBufU32 best,
                                      MvBufU64 voxel_keys, MvBufU32 voxel_rgb, MvVoxelizeParams p, mv_u32 gid,
                                      mv_u32 gsize) {
@@ -262,21 +292,7 @@ MV_INLINE void mv_mesh_voxel_colours(MvBufF32 tris, MvBufU32 attr, MvBufU32 texe
         MV_F64(MV_LD(tris, r)), MV_F64(MV_LD(tris, r + 1u)), MV_F64(MV_LD(tris, r + 2u)), MV_F64(MV_LD(tris, r + 3u)),
         MV_F64(MV_LD(tris, r + 4u)), MV_F64(MV_LD(tris, r + 5u)), MV_F64(MV_LD(tris, r + 6u)),
         MV_F64(MV_LD(tris, r + 7u)), MV_F64(MV_LD(tris, r + 8u)), MV_F64(kx) + 0.5, MV_F64(ky) + 0.5, MV_F64(kz) + 0.5);
-    mv_u32 a = MV_MESH_ATTR_WORDS * t, tex = MV_LD(attr, a + 9u), rgb = 0u;
-    if (tex == MV_NO_TEXTURE) {
-      mv_u32 ca = MV_LD(attr, a), cb = MV_LD(attr, a + 1u), cc = MV_LD(attr, a + 2u);
-      rgb = mv_mesh_channel(ca, cb, cc, 0u, q.wb, q.wc) | (mv_mesh_channel(ca, cb, cc, 8u, q.wb, q.wc) << 8) |
-            (mv_mesh_channel(ca, cb, cc, 16u, q.wb, q.wc) << 16);
-    } else {
-      MV_PRECISE mv_f64 wa = 1.0 - q.wb - q.wc;
-      MV_PRECISE mv_f64 u = MV_F64(MV_BITSF(MV_LD(attr, a + 3u))) * wa + MV_F64(MV_BITSF(MV_LD(attr, a + 5u))) * q.wb +
-                            MV_F64(MV_BITSF(MV_LD(attr, a + 7u))) * q.wc;
-      MV_PRECISE mv_f64 v = MV_F64(MV_BITSF(MV_LD(attr, a + 4u))) * wa + MV_F64(MV_BITSF(MV_LD(attr, a + 6u))) * q.wb +
-                            MV_F64(MV_BITSF(MV_LD(attr, a + 8u))) * q.wc;
-      rgb = mv_texture_channel(texels, tex, u, v, 0u) | (mv_texture_channel(texels, tex, u, v, 8u) << 8) |
-            (mv_texture_channel(texels, tex, u, v, 16u) << 16);
-    }
-    MV_ST(voxel_rgb, i, rgb);
+    MV_ST(voxel_rgb, i, mv_mesh_colour_at(attr, texels, t, q.wb, q.wc));
   }
 }
 #endif

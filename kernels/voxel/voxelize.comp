@@ -5,9 +5,21 @@
 #include "common/voxelize.h"
 
 #if defined(MV_ENTRY_mesh_voxel_keys)
-layout(push_constant) uniform Args { MvBufU64 bkeys; MvBufU64 bmeta; MvBufU64 voxel_keys; MvVoxelizeParams p; } args;
+MV_ARGS(MvBufU64 bkeys; MvBufU64 bmeta; MvBufU64 voxel_keys; MvBufU32 voxel_brick; MvVoxelizeParams p;);
 
-void main() { mv_mesh_voxel_keys(args.bkeys, args.bmeta, args.voxel_keys, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+void main() {
+  mv_mesh_voxel_keys(args.bkeys, args.bmeta, args.voxel_keys, args.voxel_brick, args.p, MV_GLOBAL_ID(),
+                     MV_GLOBAL_SIZE());
+}
+#elif defined(MV_ENTRY_mesh_voxel_best_colours)
+MV_ARGS(MvBufF32 tris; MvBufU64 fmasks; MvBufU32 ftris; MvBufU32 run_starts; MvBufU64 voxel_keys; MvBufU32 voxel_brick;
+        MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU32 voxel_rgb; MvVoxelizeParams p;);
+
+void main() {
+  mv_mesh_voxel_best_colours(args.tris, args.fmasks, args.ftris, args.run_starts, args.voxel_keys, args.voxel_brick,
+                             args.attr, args.texels, args.best, args.voxel_rgb, args.p, MV_GLOBAL_ID(),
+                             MV_GLOBAL_SIZE());
+}
 #elif defined(MV_ENTRY_mesh_voxel_colours)
 layout(push_constant) uniform Args {
   MvBufF32 tris; MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU64 voxel_keys; MvBufU32 voxel_rgb;
@@ -19,14 +31,12 @@ void main() {
                         MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_mesh_best_fragments)
-layout(push_constant) uniform Args {
-  MvBufF32 tris; MvBufU64 fkeys; MvBufU64 fmasks; MvBufU32 ftris; MvBufU64 bkeys; MvBufU64 bmeta; MvBufU32 best;
-  MvVoxelizeParams p;
-} args;
+MV_ARGS(MvBufF32 tris; MvBufU64 fkeys; MvBufU64 fmasks; MvBufU32 ftris; MvBufU64 bkeys; MvBufU64 bmeta; MvBufU32 best;
+        MvBufU32 seen; MvVoxelizeParams p;);
 
 void main() {
-  mv_mesh_best_fragments(args.tris, args.fkeys, args.fmasks, args.ftris, args.bkeys, args.bmeta, args.best, args.p,
-                         MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_mesh_best_fragments(args.tris, args.fkeys, args.fmasks, args.ftris, args.bkeys, args.bmeta, args.best, args.seen,
+                         args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #else
 layout(push_constant) uniform Args {

@@ -55,16 +55,18 @@ uint32_t colour_planes_used(uint32_t level, uint64_t voxels) {
   return most * 255 < (uint64_t{1} << 32) ? MV_COLOUR_HIGH : kColourPlanes;
 }
 
-// Divides the sums of m nodes (their first `used` planes) into their colours and the planes the level above sums.
+// Divides the sums of m nodes (their first `used` planes) into their colours and, above the voxels (which carry
+// none: their colours stand for their planes and sizes), the planes the level above sums.
 void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, uint32_t used, bool leaf) {
   const uint64_t m = level.n;
   level.rgb = colour_alloc(dev, m * 4, "node colours");
-  level.planes = colour_alloc(dev, kColourPlanes * m * 4, "colour planes");
+  level.planes = colour_alloc(dev, leaf ? 8 : kColourPlanes * m * 4, "colour planes");
   MvColourParams p{};
   p.n = static_cast<uint32_t>(m);
   p.leaf = leaf ? 1u : 0u;
   p.used = used;
   colour_dispatch(dev, KernelId::colour_level, m, {&sums, &level.rgb, &level.planes}, p);
+  if (leaf) return;
   level.sizes = colour_alloc(dev, m * 4, "subtree sizes");
   dev.copy(level.planes, level.sizes, m * 4, MV_COLOUR_SIZE * m * 4, 0);
   dev.barrier();
@@ -83,13 +85,6 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
     leaf.keys = std::move(voxel_keys);
     leaf.rgb = colour_alloc(dev, voxels * 4, "node colours");
     dev.copy(sorted_rgb, leaf.rgb, voxels * 4, 0, 0);
-    leaf.planes = colour_alloc(dev, kColourPlanes * voxels * 4, "colour planes");
-    MvColourParams p{};
-    p.n = static_cast<uint32_t>(voxels);
-    p.leaf = 1;
-    colour_dispatch(dev, KernelId::colour_unpack, voxels, {&sorted_rgb, &leaf.planes}, p);
-    leaf.sizes = colour_alloc(dev, voxels * 4, "subtree sizes");
-    dev.copy(leaf.planes, leaf.sizes, voxels * 4, MV_COLOUR_SIZE * voxels * 4, 0);
     dev.barrier();
   } else {  // voxels from their points
     if (!runs || runs->count != voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
@@ -120,7 +115,9 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
     p.used = colour_planes_used(l - 1, voxels);
     colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
     Buffer sums = colour_alloc(dev, p.used * level.n * 8, "colour sums");
-    colour_dispatch(dev, KernelId::colour_child_sums, level.n, {&below.planes, &below.by_parent.starts, &sums}, p);
+    p.leaf = l == 1 ? 1u : 0u;  // the voxels' colours stand for their planes
+    colour_dispatch(dev, KernelId::colour_child_sums, level.n,
+                    {l == 1 ? &below.rgb : &below.planes, &below.by_parent.starts, &sums}, p);
     finish_colour_level(dev, level, sums, p.used, false);
     below.keys = Buffer();
     below.planes = Buffer();
@@ -145,9 +142,10 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
     Buffer below_index = colour_alloc(dev, below.n * 4, "node indices");
     MvColourParams p{};
     p.n = static_cast<uint32_t>(below.n);
+    p.leaf = l == 1 ? 1u : 0u;  // voxels: size 1 each
     colour_dispatch(dev, KernelId::colour_place, below.n,
-                    {&below.by_parent.e, &below.by_parent.starts, &below.sizes, &index, &below.rgb, &below_index,
-                     &attributes},
+                    {&below.by_parent.e, &below.by_parent.starts, l == 1 ? &below.rgb : &below.sizes, &index,
+                     &below.rgb, &below_index, &attributes},
                     p);
     index = std::move(below_index);
     lv[l] = ColourLevel();

@@ -1,8 +1,8 @@
 // Host side of mesh colours (kernels/common/mesh_colour.h): the voxel set's bricks go up with each brick's first
-// voxel, and the voxelizer's fragments in key order; each voxel's best fragment comes from the runs of its brick's
-// fragments (three passes, the last two only for runs split between work-items or batches of triangles); then per
-// batch the voxels whose triangle it holds take their colours; the depth-first array comes from the cloud colours'
-// bottom-up means and top-down placement.
+// voxel, and the voxelizer's fragments in key order; a voxel whose brick's run of fragments is short takes its best
+// fragment and colour in one work-item, a long run's voxels (or every voxel when the triangles need several
+// batches) by three passes of atomic minima and then their colours per batch; the depth-first array comes from the
+// cloud colours' bottom-up means and top-down placement.
 #include "voxel/mesh_colours.h"
 
 #include <algorithm>
@@ -15,6 +15,7 @@
 #include "megavox/colour.h"
 #include "megavox/error.h"
 #include "megavox/primitives.h"
+#include "megavox/segmented.h"
 
 namespace mv {
 
@@ -121,72 +122,111 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
   dev.upload(bmeta, meta.data(), meta.size() * 8);
   meta = {};
   DeviceFragments frag = upload_fragments(dev, fragments);
-  Buffer best = dev.alloc(uint64_t{nv} * 12, "best fragments");
-  dev.fill(best, 0xffffffffu, uint64_t{nv} * 12);
+  Buffer voxel_rgb = dev.alloc(uint64_t{nv} * 4, "voxel colours");
+  Buffer voxel_keys = dev.alloc(uint64_t{nv} * 8, "voxel codes");
+  Buffer voxel_brick = dev.alloc(uint64_t{nv} * 4, "voxel bricks");
+  {
+    MvVoxelizeParams p{};
+    p.bricks = nb;
+    dev.dispatch(dev.kernel(KernelId::mesh_voxel_keys), dev.groups_for(nb, kMeshColourLocal), kMeshColourLocal,
+                 {&bkeys, &bmeta, &voxel_keys, &voxel_brick}, p);
+    dev.barrier();
+  }
 
-  // Triangles in batches a binding holds; a single batch (most meshes) goes up once for every pass. With several,
-  // a brick's fragments may name triangles of different batches, so every run combines by the atomic passes.
+  // Triangles (their floats and colour words) in batches a binding holds; a single batch (most meshes) goes up once
+  // for every pass. With several, a brick's fragments may name triangles of different batches, so every run goes
+  // through the passes.
   const uint64_t step = batch_triangles ? batch_triangles : mesh_batch_triangles(dev);
   const bool one_batch = n_tris <= step;
+  struct Batch {
+    Buffer tris, attr;
+  };
   auto upload_batch = [&](uint64_t first, uint64_t count) {
-    Buffer b = dev.alloc(count * 36, "colour triangles");
-    dev.upload(b, tris.data() + 9 * first, count * 36);
+    Batch b{dev.alloc(count * 36, "colour triangles"), dev.alloc(count * 4 * MV_MESH_ATTR_WORDS, "colour words")};
+    dev.upload(b.tris, tris.data() + 9 * first, count * 36);
+    std::vector<uint32_t> attr(count * MV_MESH_ATTR_WORDS, 0);
+    for (uint64_t k = 0; k < count; ++k) pack_colour_words(colours, first + k, &attr[k * MV_MESH_ATTR_WORDS]);
+    dev.upload(b.attr, attr.data(), attr.size() * 4);
     return b;
   };
-  Buffer only = one_batch ? upload_batch(0, n_tris) : Buffer();
+  Batch only = one_batch ? upload_batch(0, n_tris) : Batch();
   auto params = [&](uint64_t first, uint64_t count) {
     MvVoxelizeParams p{};
     p.bricks = nb;
+    p.capacity = nv;
     p.tri_base = static_cast<uint32_t>(first);
     p.batch_tris = static_cast<uint32_t>(count);
     p.split_runs = one_batch ? 0u : 1u;
     return p;
   };
-  // Three passes, each over every batch (a pass must see them all before the next): runs held whole by a work-item
-  // finish in the first; split runs combine their minima in all three.
+  // Whether any run is long (with several batches, every run is): then `best` holds the atomic minima.
   Kernel& pick = dev.kernel(KernelId::mesh_best_fragments);
   const uint32_t items = (nf + MV_MESH_FRAGMENTS_PER_ITEM - 1) / MV_MESH_FRAGMENTS_PER_ITEM;
-  for (uint32_t pass = 1; pass <= 3 && nf; ++pass)
+  uint32_t long_runs = nf && !one_batch ? 1 : 0;
+  Buffer best = dev.alloc(4, "long runs of fragments");
+  if (one_batch && nf) {
+    dev.upload(best, &long_runs, 4);
+    MvVoxelizeParams p = params(0, n_tris);
+    p.items = nf;
+    dev.dispatch(pick, dev.groups_for(items, kMeshColourLocal), kMeshColourLocal,
+                 {&only.tris, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &best}, p);
+    dev.download(best, &long_runs, 4);
+  }
+  if (long_runs) {
+    best = dev.alloc(uint64_t{nv} * 12, "best fragments");
+    dev.fill(best, 0xffffffffu, uint64_t{nv} * 12);
+  }
+  if (one_batch && nf) {  // the voxels of short runs, a work-item each: their best fragments and colours
+    const Segmentation runs = segment_by_key(dev, frag.keys, nf);
+    if (runs.count != nb)
+      throw Error("internal error: mesh colours: " + std::to_string(runs.count) + " runs of fragments for " +
+                  std::to_string(nb) + " bricks");
+    MvVoxelizeParams p = params(0, n_tris);
+    p.items = nv;
+    p.colour_pass = long_runs;
+    dev.dispatch(dev.kernel(KernelId::mesh_voxel_best_colours), dev.groups_for(nv, kMeshColourLocal),
+                 kMeshColourLocal,
+                 {&only.tris, &frag.masks, &frag.tris, &runs.starts, &voxel_keys, &voxel_brick, &only.attr, &texels,
+                  &best, &voxel_rgb},
+                 p);
+    dev.barrier();
+  }
+  voxel_brick = Buffer();
+  // The long runs: three passes, each over every batch (a pass must see them all before the next).
+  Buffer seen = dev.alloc(4, "long runs of fragments");
+  for (uint32_t pass = 1; pass <= 3 && long_runs; ++pass)
     for (uint64_t first = 0; first < n_tris; first += step) {
       const uint64_t count = std::min(step, n_tris - first);
-      Buffer fresh = one_batch ? Buffer() : upload_batch(first, count);
-      Buffer& t = one_batch ? only : fresh;
+      Buffer fresh = one_batch ? Buffer() : upload_batch(first, count).tris;
+      Buffer& t = one_batch ? only.tris : fresh;
       MvVoxelizeParams p = params(first, count);
       p.items = nf;
-      p.capacity = nv;
       p.colour_pass = pass;
       dev.dispatch(pick, dev.groups_for(items, kMeshColourLocal), kMeshColourLocal,
-                   {&t, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best}, p);
+                   {&t, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &seen}, p);
       dev.barrier();
     }
   frag = {};
+  if (!long_runs) {
+    out.keys = std::move(voxel_keys);
+    out.rgb = std::move(voxel_rgb);
+    out.voxels = nv;
+    return out;
+  }
 
-  // The triangle plane alone, the voxels' keys, then per batch the colours of the voxels whose triangle it holds.
+  // The triangle plane alone, then per batch the colours of the voxels of long runs whose triangle it holds.
   Buffer tri_plane = dev.alloc(uint64_t{nv} * 4, "voxel triangles");
   dev.copy(best, tri_plane, uint64_t{nv} * 4, uint64_t{nv} * 8, 0);
   dev.barrier();
   best = Buffer();
-  Buffer voxel_keys = dev.alloc(uint64_t{nv} * 8, "voxel codes");
-  Buffer voxel_rgb = dev.alloc(uint64_t{nv} * 4, "voxel colours");
-  {
-    MvVoxelizeParams p{};
-    p.bricks = nb;
-    dev.dispatch(dev.kernel(KernelId::mesh_voxel_keys), dev.groups_for(nb, kMeshColourLocal), kMeshColourLocal,
-                 {&bkeys, &bmeta, &voxel_keys}, p);
-    dev.barrier();
-  }
   for (uint64_t first = 0; first < n_tris; first += step) {
     const uint64_t count = std::min(step, n_tris - first);
-    Buffer fresh = one_batch ? Buffer() : upload_batch(first, count);
-    Buffer& t = one_batch ? only : fresh;
-    std::vector<uint32_t> attr(count * MV_MESH_ATTR_WORDS, 0);
-    for (uint64_t k = 0; k < count; ++k) pack_colour_words(colours, first + k, &attr[k * MV_MESH_ATTR_WORDS]);
-    Buffer ab = dev.alloc(attr.size() * 4, "colour triangle attributes");
-    dev.upload(ab, attr.data(), attr.size() * 4);
+    Batch fresh = one_batch ? Batch() : upload_batch(first, count);
+    Batch& t = one_batch ? only : fresh;
     MvVoxelizeParams p = params(first, count);
     p.items = nv;
     dev.dispatch(dev.kernel(KernelId::mesh_voxel_colours), dev.groups_for(nv, kMeshColourLocal), kMeshColourLocal,
-                 {&t, &ab, &texels, &tri_plane, &voxel_keys, &voxel_rgb}, p);
+                 {&t.tris, &t.attr, &texels, &tri_plane, &voxel_keys, &voxel_rgb}, p);
     dev.barrier();
   }
   out.keys = std::move(voxel_keys);

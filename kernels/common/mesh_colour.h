@@ -155,22 +155,24 @@ MV_INLINE mv_u32 mv_texel(MvBufU32 texels, mv_u32 tex, mv_i32 x, mv_i32 y) {
   return MV_LD(texels, MV_LD(texels, 1u + 3u * tex) + yy * w + xx);
 }
 
-/* One channel of texture `tex` sampled bilinearly at (u, v) (v = 0 at the bottom row; repeating), rounded half
- * up: texel centres at half-integers, the four around the point weighted by their distances. */
-MV_INLINE mv_u32 mv_texture_channel(MvBufU32 texels, mv_u32 tex, mv_f64 u, mv_f64 v, mv_u32 shift) {
+/* Texture `tex` sampled bilinearly at (u, v) (v = 0 at the bottom row; repeating), each channel rounded half up:
+ * texel centres at half-integers, the four around the point (read once) weighted by their distances. */
+MV_INLINE mv_u32 mv_texture_rgb(MvBufU32 texels, mv_u32 tex, mv_f64 u, mv_f64 v) {
   mv_f64 w = MV_F64(MV_LD(texels, 2u + 3u * tex)), h = MV_F64(MV_LD(texels, 3u + 3u * tex));
-  MV_PRECISE mv_f64 x = (u - floor(u)) * w - 0.5;
-  MV_PRECISE mv_f64 y = (1.0 - (v - floor(v))) * h - 0.5;
+  MV_PRECISE mv_f64 x = (u - floor(u)) * w - 0.5, y = (1.0 - (v - floor(v))) * h - 0.5;
   mv_f64 x0 = floor(x), y0 = floor(y);
   MV_PRECISE mv_f64 fx = x - x0, fy = y - y0;
   mv_i32 ix = MV_I32(x0), iy = MV_I32(y0);
-  mv_f64 c00 = MV_F64((mv_texel(texels, tex, ix, iy) >> shift) & 255u);
-  mv_f64 c10 = MV_F64((mv_texel(texels, tex, ix + 1, iy) >> shift) & 255u);
-  mv_f64 c01 = MV_F64((mv_texel(texels, tex, ix, iy + 1) >> shift) & 255u);
-  mv_f64 c11 = MV_F64((mv_texel(texels, tex, ix + 1, iy + 1) >> shift) & 255u);
-  MV_PRECISE mv_f64 c = (c00 * (1.0 - fx) + c10 * fx) * (1.0 - fy) + (c01 * (1.0 - fx) + c11 * fx) * fy;
-  mv_f64 r = floor(c + 0.5);
-  return r <= 0.0 ? 0u : r >= 255.0 ? 255u : MV_U32(r);
+  mv_u32 t00 = mv_texel(texels, tex, ix, iy), t10 = mv_texel(texels, tex, ix + 1, iy);
+  mv_u32 t01 = mv_texel(texels, tex, ix, iy + 1), t11 = mv_texel(texels, tex, ix + 1, iy + 1), rgb = 0u;
+  for (mv_u32 shift = 0u; shift < 24u; shift += 8u) {
+    mv_f64 c00 = MV_F64((t00 >> shift) & 255u), c10 = MV_F64((t10 >> shift) & 255u);
+    mv_f64 c01 = MV_F64((t01 >> shift) & 255u), c11 = MV_F64((t11 >> shift) & 255u);
+    MV_PRECISE mv_f64 c = (c00 * (1.0 - fx) + c10 * fx) * (1.0 - fy) + (c01 * (1.0 - fx) + c11 * fx) * fy;
+    mv_f64 r = floor(c + 0.5);
+    rgb |= (r <= 0.0 ? 0u : r >= 255.0 ? 255u : MV_U32(r)) << shift;
+  }
+  return rgb;
 }
 
 /* The colour (0xBBGGRR) of the batch's triangle t at weights (1 - wb - wc, wb, wc): its vertex colours
@@ -188,12 +190,10 @@ MV_INLINE mv_u32 mv_mesh_colour_at(MvBufU32 attr, MvBufU32 texels, mv_u32 t, mv_
                         MV_F64(MV_BITSF(MV_LD(attr, a + 7u))) * wc;
   MV_PRECISE mv_f64 v = MV_F64(MV_BITSF(MV_LD(attr, a + 4u))) * wa + MV_F64(MV_BITSF(MV_LD(attr, a + 6u))) * wb +
                         MV_F64(MV_BITSF(MV_LD(attr, a + 8u))) * wc;
-  return mv_texture_channel(texels, tex, u, v, 0u) | (mv_texture_channel(texels, tex, u, v, 8u) << 8) |
-         (mv_texture_channel(texels, tex, u, v, 16u) << 16);
+  return mv_texture_rgb(texels, tex, u, v);
 }
 
-/* Pass p.colour_pass of a long run's fragments [s, e) (a window's share): each voxel's minimum over them into the
- * atomic minima. */
+/* Pass p.colour_pass of a long run's fragments [s, e) (a window's share): each voxel's minimum, into the minima. */
 MV_INLINE void mv_mesh_run_share(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
                                  MvBufU64 bmeta, MvBufU32 best, MvVoxelizeParams p, mv_u32 s, mv_u32 e) {
   mv_u32 n = p.capacity;

@@ -54,3 +54,8 @@ fi
 if [[ -d $data/pointcloud_autzen ]]; then
   for dev in ocl:0 vk:0; do run build/megavox --device "$dev" bench attributes --data "$data" --json; done
 fi
+# ... and on a textured mesh (assimp-testmodels, installed by setup.sh --bench).
+truck=/usr/share/assimp/models/glTF/CesiumMilkTruck/CesiumMilkTruck.gltf
+if [[ -f $truck ]]; then
+  for dev in ocl:0 vk:0; do run build/megavox --device "$dev" bench attributes "$truck" --json; done
+fi

@@ -58,6 +58,7 @@ if ((bench)); then
   packages+=(libips4o-dev)    # ips4o::parallel::sort (header-only; OpenMP threads), a sort baseline of bench sort
   packages+=(libhwy-dev)      # Highway's vqsort (libhwy_contrib), a sort baseline of bench sort
   packages+=(libopencv-imgproc-dev)  # OpenCV 4.6 cv::grabCut, the GrabCut baseline of bench mask
+  packages+=(assimp-testmodels)  # assimp's test models: the textured Cesium Milk Truck (glTF) of bench attributes
   # voxcom, the peer of bench build, is built apart from megavox (scripts/bench.sh) where the shared folder holds
   # it; it also needs assimp, TBB and CLI11, listed above.
   if [[ -d "$(dirname "$0")/../../shared/peers/voxcom" ]]; then

@@ -300,23 +300,34 @@ TEST_P(MeshColourTest, OutOfCoreEqualsInCore) {
 // Each voxel's best fragment, however its brick's fragments fall: a sphere of 2,048 triangles on grids of 8 to 64
 // voxels puts up to hundreds of triangles in a brick (runs longer than a work-item takes whole, split between
 // items) and a few in others; fed to the voxelizer in two halves (fragments sorted on the device) and in device
-// batches of 100 triangles (every run combined by the atomic passes). Always the reference's colours.
+// batches of 100 triangles (every run combined by the atomic passes). Every third triangle samples a 7 x 5 texture
+// (coordinates from its vertices' positions, past 1: it repeats), the others interpolate vertex colours. Always
+// the reference's colours.
 TEST_P(MeshColourTest, EveryRunOfFragmentsFollowsTheRule) {
   Device& dev = shared_device(GetParam());
   const ColourMesh m = colour_sphere(4);
-  std::vector<uint32_t> tri_rgb;
-  for (uint32_t v : m.idx)
+  std::vector<uint32_t> tri_rgb, tri_tex;
+  std::vector<float> tri_uv;
+  for (uint32_t v : m.idx) {
     tri_rgb.push_back((m.rgb16[3 * v] >> 8) | (m.rgb16[3 * v + 1] >> 8) << 8 | (m.rgb16[3 * v + 2] >> 8) << 16);
+    tri_uv.insert(tri_uv.end(), {m.pos[3 * v] * 2.5f + 0.3f, m.pos[3 * v + 1] * 1.5f - 0.2f});
+  }
+  for (size_t t = 0; t < m.idx.size() / 3; ++t) tri_tex.push_back(t % 3 == 0 ? 0 : io::kNoTexture);
+  ref::RefTexture tex;
+  tex.width = 7;
+  tex.height = 5;
+  for (uint32_t i = 0; i < 35; ++i) tex.rgb.push_back((i + 1) * 2654435761u >> 8);
   MeshTriangleColours colours;
   colours.rgb = tri_rgb;
-  colours.texture.assign(m.idx.size() / 3, io::kNoTexture);
-  colours.uv.assign(2 * m.idx.size(), 0.0f);
+  colours.texture = tri_tex;
+  colours.uv = tri_uv;
+  colours.textures.push_back({tex.width, tex.height, tex.rgb});
   for (uint32_t levels : {3u, 5u, 6u}) {
     const uint32_t n = 1u << levels;
     std::vector<float> tris;
     for (uint32_t v : m.idx)
       for (int k = 0; k < 3; ++k) tris.push_back((m.pos[3 * v + k] + 1.0f) * 0.4995f * float(n));
-    const ref::MeshVoxelColours want_voxels = ref::mesh_voxel_colours(tris, tri_rgb, n);
+    const ref::MeshVoxelColours want_voxels = ref::mesh_voxel_colours(tris, tri_rgb, n, tri_tex, tri_uv, {tex});
     const std::vector<uint8_t> want = depth_first_bytes(want_voxels, levels);
     for (int halves : {1, 2})
       for (uint64_t batch : {uint64_t{0}, uint64_t{100}}) {

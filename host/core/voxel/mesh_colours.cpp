@@ -141,9 +141,11 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
   struct Batch {
     Buffer tris, attr;
   };
-  auto upload_batch = [&](uint64_t first, uint64_t count) {
-    Batch b{dev.alloc(count * 36, "colour triangles"), dev.alloc(count * 4 * MV_MESH_ATTR_WORDS, "colour words")};
+  auto upload_batch = [&](uint64_t first, uint64_t count, bool with_colours = true) {
+    Batch b{dev.alloc(count * 36, "colour triangles"), Buffer()};
     dev.upload(b.tris, tris.data() + 9 * first, count * 36);
+    if (!with_colours) return b;
+    b.attr = dev.alloc(count * 4 * MV_MESH_ATTR_WORDS, "colour words");
     std::vector<uint32_t> attr(count * MV_MESH_ATTR_WORDS, 0);
     for (uint64_t k = 0; k < count; ++k) pack_colour_words(colours, first + k, &attr[k * MV_MESH_ATTR_WORDS]);
     dev.upload(b.attr, attr.data(), attr.size() * 4);
@@ -192,12 +194,13 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
     dev.barrier();
   }
   voxel_brick = Buffer();
-  // The long runs: three passes, each over every batch (a pass must see them all before the next).
+  // The long runs: three passes, each over every batch (a pass must see them all before the next); what they say
+  // of long runs again goes to `seen`, unread.
   Buffer seen = dev.alloc(4, "long runs of fragments");
   for (uint32_t pass = 1; pass <= 3 && long_runs; ++pass)
     for (uint64_t first = 0; first < n_tris; first += step) {
       const uint64_t count = std::min(step, n_tris - first);
-      Buffer fresh = one_batch ? Buffer() : upload_batch(first, count).tris;
+      Buffer fresh = one_batch ? Buffer() : upload_batch(first, count, false).tris;
       Buffer& t = one_batch ? only.tris : fresh;
       MvVoxelizeParams p = params(first, count);
       p.items = nf;

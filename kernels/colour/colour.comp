@@ -8,14 +8,20 @@
 layout(push_constant) uniform Args { MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
 void main() { mv_colour_unpack(args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_level)
-layout(push_constant) uniform Args { MvBufU64 sums; MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
-void main() { mv_colour_level(args.sums, args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+layout(push_constant) uniform Args { MvBufU64 sums; MvBufU32 rgb; MvColourParams p; } args;
+void main() { mv_colour_level(args.sums, args.rgb, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_parent_keys)
 layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 starts; MvBufU64 up; MvColourParams p; } args;
 void main() { mv_colour_parent_keys(args.keys, args.starts, args.up, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
-#elif defined(MV_ENTRY_child_sums)
-layout(push_constant) uniform Args { MvBufU32 planes; MvBufU32 starts; MvBufU64 sums; MvColourParams p; } args;
-void main() { mv_colour_child_sums(args.planes, args.starts, args.sums, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_parents)
+layout(push_constant) uniform Args {
+  MvBufU64 keys; MvBufU32 below_planes; MvBufU32 starts; MvBufU64 up; MvBufU32 rgb; MvBufU32 planes; MvBufU32 sizes;
+  MvColourParams p;
+} args;
+void main() {
+  mv_colour_parents(args.keys, args.below_planes, args.starts, args.up, args.rgb, args.planes, args.sizes, args.p,
+                    MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
 #elif defined(MV_ENTRY_place)
 layout(push_constant) uniform Args {
   MvBufU32 e; MvBufU32 starts; MvBufU32 sizes; MvBufU32 parent_index; MvBufU32 rgb; MvBufU32 index;
@@ -27,5 +33,5 @@ void main() {
                   MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #else
-#error "define MV_ENTRY_unpack, _level, _parent_keys, _child_sums or _place"
+#error "define MV_ENTRY_unpack, _level, _parent_keys, _parents or _place"
 #endif

@@ -13,14 +13,14 @@
  * colours instead where that level is the voxels (`leaf` 1).
  *   colour_unpack:      points' packed 0xBBGGRR -> their first MV_COLOUR_COUNT + 1 planes (r, g, b, 1): a point
  *                       is one sample;
- *   colour_level:       64-bit plane sums of n nodes -> rgb[i] (each channel sum / count rounded half up) and,
- *                       unless `leaf` (voxels made of points), the planes the level above sums; `used` nonzero:
- *                       the sums hold only their first `used` planes, the others being zero;
- *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> 3, the codes of the level above;
- *   colour_child_sums:  the 64-bit sums of the first `used` planes of each node over its children (at most 8,
- *                       consecutive from starts[s]; `leaf`: voxels, whose planes come from their colours): a
- *                       work-item per node, bounded loops over its planes and children (the segmented_sum of the
- *                       points' runs into voxels has no bound, these do);
+ *   colour_level:       the 64-bit sums of n voxels' points (r, g, b, count) -> rgb[i], each channel sum / count
+ *                       rounded half up;
+ *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> shift, the codes of the level above (the voxels' from
+ *                       their points' runs, shift 0);
+ *   colour_parents:     a level above the voxels in one pass, a work-item per node: its code, the sums of the
+ *                       first `used` planes over its children (at most 8, consecutive from starts[s]; `leaf`: the
+ *                       voxels, whose planes come from their colours), its colour, its planes and its subtree
+ *                       size; bounded loops (the segmented_sum of the points' runs into voxels has no bound);
  *   colour_place:       index[i] = parent_index[parent of i] + 1 + the subtree sizes of its earlier siblings (at
  *                       most 7; `leaf`: voxels, size 1 each), attributes[index[i]] = rgb[i].
  * Integer arithmetic only: the same bits on every device. */
@@ -35,7 +35,7 @@
 
 MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;     /* elements of the dispatch */
-  mv_u32 leaf;  /* 1: the level written (colour_level) or read below (child sums, place) is the voxels */
+  mv_u32 leaf;  /* colour_parents, colour_place: 1 where the level below is the voxels */
   mv_u32 shift; /* colour_parent_keys: bits the keys shift right */
   mv_u32 below; /* colour_child_sums: elements of the level below (its planes' stride) */
   mv_u32 used;  /* the leading planes summed (the rest can only sum to zero; see each kernel; 0: all) */
@@ -69,26 +69,12 @@ MV_INLINE mv_u32 mv_colour_mean(mv_u64 sum, mv_u64 count) {
   return MV_U32(q) + (r >= count - r ? 1u : 0u);
 }
 
-MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid,
-                               mv_u32 stride) {
+MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvColourParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u64 count = MV_LD(sums, MV_COLOUR_COUNT * p.n + i);
-    mv_u32 held = p.used == 0u ? MV_COLOUR_PLANES : p.used; /* planes past these are zero */
     mv_u32 packed = 0u;
-    for (mv_u32 c = 0u; c < 3u; ++c) {
-      mv_u64 high = MV_COLOUR_HIGH + c < held ? MV_LD(sums, (MV_COLOUR_HIGH + c) * p.n + i) : MV_U64(0u);
-      mv_u64 s = MV_LD(sums, c * p.n + i) + (high << 32);
-      mv_u32 mean = mv_colour_mean(s, count);
-      packed |= mean << (8u * c);
-      if (p.leaf != 0u) continue;
-      MV_ST(planes, c * p.n + i, MV_U32(s));
-      MV_ST(planes, (MV_COLOUR_HIGH + c) * p.n + i, MV_U32(s >> 32));
-    }
+    for (mv_u32 c = 0u; c < 3u; ++c) packed |= mv_colour_mean(MV_LD(sums, c * p.n + i), count) << (8u * c);
     MV_ST(rgb, i, packed);
-    if (p.leaf != 0u) continue;
-    MV_ST(planes, MV_COLOUR_COUNT * p.n + i, MV_U32(count));
-    mv_u32 below = MV_COLOUR_SIZE < held ? MV_U32(MV_LD(sums, MV_COLOUR_SIZE * p.n + i)) : 0u;
-    MV_ST(planes, MV_COLOUR_SIZE * p.n + i, 1u + below);
   }
 }
 
@@ -97,20 +83,32 @@ MV_INLINE void mv_colour_parent_keys(MvBufU64 keys, MvBufU32 starts, MvBufU64 up
   for (mv_u32 s = gid; s < p.n; s += stride) MV_ST(up, s, MV_LD(keys, MV_LD(starts, s)) >> p.shift);
 }
 
-MV_INLINE void mv_colour_child_sums(MvBufU32 planes, MvBufU32 starts, MvBufU64 sums, MvColourParams p, mv_u32 gid,
-                                    mv_u32 stride) {
-  for (mv_u32 s = gid; s < p.n; s += stride) { /* a node's planes in turn: its children's range read once */
-    mv_u32 first = MV_LD(starts, s), end = MV_LD(starts, s + 1u);
-    for (mv_u32 k = 0u; k < p.used; ++k) {
-      mv_u64 sum = MV_U64(0u);
+MV_INLINE void mv_colour_parents(MvBufU64 keys, MvBufU32 below_planes, MvBufU32 starts, MvBufU64 up, MvBufU32 rgb,
+                                 MvBufU32 planes, MvBufU32 sizes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 s = gid; s < p.n; s += stride) { /* a node's planes in turn: its children's range read once each */
+    mv_u32 first = MV_LD(starts, s), end = MV_LD(starts, s + 1u), packed = 0u;
+    MV_ST(up, s, MV_LD(keys, first) >> p.shift);
+    mv_u64 sum[MV_COLOUR_PLANES];
+    for (mv_u32 k = 0u; k < MV_COLOUR_PLANES; ++k) {
+      sum[k] = MV_U64(0u);
+      if (k >= p.used) continue; /* the planes past `used` can only sum to zero */
       if (p.leaf == 0u)
-        for (mv_u32 c = first; c < end; ++c) sum += MV_U64(MV_LD(planes, k * p.below + c));
-      else if (k < 3u) /* voxels: `planes` holds their packed colours */
-        for (mv_u32 c = first; c < end; ++c) sum += MV_U64((MV_LD(planes, c) >> (8u * k)) & 255u);
+        for (mv_u32 c = first; c < end; ++c) sum[k] += MV_U64(MV_LD(below_planes, k * p.below + c));
+      else if (k < 3u) /* voxels: `below_planes` holds their packed colours */
+        for (mv_u32 c = first; c < end; ++c) sum[k] += MV_U64((MV_LD(below_planes, c) >> (8u * k)) & 255u);
       else if (k == MV_COLOUR_COUNT || k == MV_COLOUR_SIZE)
-        sum = MV_U64(end - first);
-      MV_ST(sums, k * p.n + s, sum);
+        sum[k] = MV_U64(end - first);
     }
+    for (mv_u32 c = 0u; c < 3u; ++c) {
+      mv_u64 total = sum[c] + (sum[MV_COLOUR_HIGH + c] << 32);
+      packed |= mv_colour_mean(total, sum[MV_COLOUR_COUNT]) << (8u * c);
+      MV_ST(planes, c * p.n + s, MV_U32(total));
+      MV_ST(planes, (MV_COLOUR_HIGH + c) * p.n + s, MV_U32(total >> 32));
+    }
+    MV_ST(rgb, s, packed);
+    MV_ST(planes, MV_COLOUR_COUNT * p.n + s, MV_U32(sum[MV_COLOUR_COUNT]));
+    MV_ST(planes, MV_COLOUR_SIZE * p.n + s, 1u + MV_U32(sum[MV_COLOUR_SIZE]));
+    MV_ST(sizes, s, 1u + MV_U32(sum[MV_COLOUR_SIZE]));
   }
 }
 

@@ -1,8 +1,8 @@
 // Voxels and their depth-first colours from a cloud's cells, on the device (megavox/colour.h,
 // kernels/common/colour.h). Bottom-up, the points' planes are summed over each voxel's run (one segmented_sum
-// for the planes that can be nonzero), each level's over its at most 8 children (colour_child_sums), and
-// divided; top-down, each node's pre-order index is its parent's + 1 + the subtree sizes of its earlier
-// siblings (at most 7), and its colour is scattered there.
+// for the planes that can be nonzero) and divided, then each level's over its at most 8 children and divided in
+// one pass (colour_parents); top-down, each node's pre-order index is its parent's + 1 + the subtree sizes of its
+// earlier siblings (at most 7), and its colour is scattered there.
 #include <algorithm>
 #include <chrono>
 #include <string>
@@ -38,8 +38,8 @@ void colour_dispatch(Device& dev, KernelId id, uint64_t n, std::initializer_list
   dev.barrier();
 }
 
-// The 64-bit sums of the first `used` planes of `planes` over `runs`: used x m sums (the planes not summed can only
-// sum to zero, and colour_level reads them as zero). One segmentation serves every plane.
+// The 64-bit sums of the first `used` planes of `planes` over `runs`: used x m sums. One segmentation serves every
+// plane.
 Buffer colour_plane_sums(Device& dev, const Segmentation& runs, uint32_t used, const Buffer& planes) {
   const uint64_t m = runs.count;
   Buffer sums = colour_alloc(dev, used * m * 8, "colour sums");
@@ -53,23 +53,6 @@ uint32_t colour_planes_used(uint32_t level, uint64_t voxels) {
   if (level == 0) return MV_COLOUR_HIGH;
   const uint64_t most = level >= 21 ? voxels : std::min<uint64_t>(voxels, uint64_t{1} << (3 * level));
   return most * 255 < (uint64_t{1} << 32) ? MV_COLOUR_HIGH : kColourPlanes;
-}
-
-// Divides the sums of m nodes (their first `used` planes) into their colours and, above the voxels (which carry
-// none: their colours stand for their planes and sizes), the planes the level above sums.
-void finish_colour_level(Device& dev, ColourLevel& level, const Buffer& sums, uint32_t used, bool leaf) {
-  const uint64_t m = level.n;
-  level.rgb = colour_alloc(dev, m * 4, "node colours");
-  level.planes = colour_alloc(dev, leaf ? 8 : kColourPlanes * m * 4, "colour planes");
-  MvColourParams p{};
-  p.n = static_cast<uint32_t>(m);
-  p.leaf = leaf ? 1u : 0u;
-  p.used = used;
-  colour_dispatch(dev, KernelId::colour_level, m, {&sums, &level.rgb, &level.planes}, p);
-  if (leaf) return;
-  level.sizes = colour_alloc(dev, m * 4, "subtree sizes");
-  dev.copy(level.planes, level.sizes, m * 4, MV_COLOUR_SIZE * m * 4, 0);
-  dev.barrier();
 }
 
 // `runs`: the points' runs of equal codes (one a voxel), when points > voxels.
@@ -98,7 +81,9 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
     Buffer sums = colour_plane_sums(dev, *runs, used, planes);
     lv[0].n = voxels;
     lv[0].keys = std::move(voxel_keys);
-    finish_colour_level(dev, lv[0], sums, used, true);
+    lv[0].rgb = colour_alloc(dev, voxels * 4, "node colours");
+    p.n = static_cast<uint32_t>(voxels);
+    colour_dispatch(dev, KernelId::colour_level, voxels, {&sums, &lv[0].rgb}, p);
   }
   for (uint32_t l = 1; l <= levels; ++l) {
     ColourLevel& below = lv[l - 1];
@@ -108,17 +93,19 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
     ColourLevel& level = lv[l];
     level.n = below.by_parent.count;
     level.keys = colour_alloc(dev, level.n * 8, "node codes");
+    level.rgb = colour_alloc(dev, level.n * 4, "node colours");
+    level.planes = colour_alloc(dev, kColourPlanes * level.n * 4, "colour planes");
+    level.sizes = colour_alloc(dev, level.n * 4, "subtree sizes");
     MvColourParams p{};
     p.n = static_cast<uint32_t>(level.n);
     p.shift = 3;
     p.below = static_cast<uint32_t>(below.n);
     p.used = colour_planes_used(l - 1, voxels);
-    colour_dispatch(dev, KernelId::colour_parent_keys, level.n, {&below.keys, &below.by_parent.starts, &level.keys}, p);
-    Buffer sums = colour_alloc(dev, p.used * level.n * 8, "colour sums");
     p.leaf = l == 1 ? 1u : 0u;  // the voxels' colours stand for their planes
-    colour_dispatch(dev, KernelId::colour_child_sums, level.n,
-                    {l == 1 ? &below.rgb : &below.planes, &below.by_parent.starts, &sums}, p);
-    finish_colour_level(dev, level, sums, p.used, false);
+    colour_dispatch(dev, KernelId::colour_parents, level.n,
+                    {&below.keys, l == 1 ? &below.rgb : &below.planes, &below.by_parent.starts, &level.keys,
+                     &level.rgb, &level.planes, &level.sizes},
+                    p);
     below.keys = Buffer();
     below.planes = Buffer();
   }

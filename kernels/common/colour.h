@@ -36,9 +36,9 @@
 MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;     /* elements of the dispatch */
   mv_u32 leaf;  /* colour_parents, colour_place: 1 where the level below is the voxels */
-  mv_u32 shift; /* colour_parent_keys: bits the keys shift right */
-  mv_u32 below; /* colour_child_sums: elements of the level below (its planes' stride) */
-  mv_u32 used;  /* the leading planes summed (the rest can only sum to zero; see each kernel; 0: all) */
+  mv_u32 shift; /* colour_parent_keys, colour_parents: bits the keys shift right */
+  mv_u32 below; /* colour_parents: elements of the level below (its planes' stride) */
+  mv_u32 used;  /* colour_parents: the leading planes of the level below summed (the rest can only be zero) */
   mv_u32 pad0;
 MV_STRUCT_END(MvColourParams)
 #if defined(MV_CPP)

@@ -76,7 +76,6 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
     Buffer planes = colour_alloc(dev, used * points * 4, "point colour planes");
     MvColourParams p{};
     p.n = static_cast<uint32_t>(points);
-    p.used = used;
     colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
     Buffer sums = colour_plane_sums(dev, *runs, used, planes);
     lv[0].n = voxels;

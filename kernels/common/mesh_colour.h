@@ -212,11 +212,11 @@ MV_INLINE void mv_mesh_run_share(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks,
   }
 }
 
-/* Pass p.colour_pass (1 to 3; 0: only `seen`, which becomes 1 where there is a long run) of the long runs among
- * the p.items fragments sorted by key (`fkeys`, their masks and triangles; long: past MV_MESH_WHOLE_RUN fragments,
- * or every run with p.split_runs), a work-item per window of MV_MESH_FRAGMENTS_PER_ITEM of them: each window's share
- * of a long run into `best` (p.capacity voxels, p.bricks bricks). A window sees whether a run is long from at most
- * MV_MESH_WHOLE_RUN keys either side. */
+/* Pass p.colour_pass (1 to 3; 0 only sets `seen` to 1 if there is one, passes 1 to 3 never touch it) of the long
+ * runs among the p.items fragments sorted by key (`fkeys`, their masks and triangles; long: past MV_MESH_WHOLE_RUN
+ * fragments, or every run with p.split_runs), a work-item per window of MV_MESH_FRAGMENTS_PER_ITEM of them: each
+ * window's share of a long run into `best` (p.capacity voxels, p.bricks bricks). A window sees whether a run is
+ * long from at most MV_MESH_WHOLE_RUN keys either side. */
 MV_INLINE void mv_mesh_best_fragments(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fmasks, MvBufU32 ftris, MvBufU64 bkeys,
                                       MvBufU64 bmeta, MvBufU32 best, MvBufU32 seen, MvVoxelizeParams p, mv_u32 gid,
                                       mv_u32 gsize) {
@@ -230,7 +230,7 @@ MV_INLINE void mv_mesh_best_fragments(MvBufF32 tris, MvBufU64 fkeys, MvBufU64 fm
       for (mv_u32 b = s; b > 0u && len <= longest && MV_LD(fkeys, b - 1u) == key; --b) len = len + 1u;
       for (; e < n && len <= longest && MV_LD(fkeys, e) == key; ++e) len = len + 1u;
       if (len > longest) { /* long: this window's share */
-        MV_ST(seen, 0u, 1u);
+        if (p.colour_pass == 0u) MV_ST(seen, 0u, 1u);
         for (e = s; e < w1 && MV_LD(fkeys, e) == key; ++e) {
         }
         if (p.colour_pass != 0u) mv_mesh_run_share(tris, fkeys, fmasks, ftris, bkeys, bmeta, best, p, s, e);

@@ -94,6 +94,10 @@ bool prefers_cooperative_sort(const DeviceInfo& info);
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits,
                       SortStrategy strategy = SortStrategy::Auto);
 
+// The same sort of n 64-bit keys, their places moved along: returns the permutation (n 32-bit values; value i =
+// the place sorted key i had), by which other columns follow the keys (gather_records).
+Buffer radix_sort_order(Device& dev, Buffer& keys, uint64_t n);
+
 // Sorted prefixes while the sort goes on: [0, end) of `keys` (and `values`) is sorted and final, readable on the
 // host (Device::host_view; a download waits for the rest too), and `end` grows from call to call up to n. Work
 // the callee records on the device runs after the part of the sort that is running then.

@@ -300,6 +300,15 @@ SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, Key
   return sort_on_device(dev, keys, values, n, bits, strategy, nullptr, 1);
 }
 
+Buffer radix_sort_order(Device& dev, Buffer& keys, uint64_t n) {
+  std::vector<uint32_t> places(n);
+  for (uint64_t i = 0; i < n; ++i) places[i] = static_cast<uint32_t>(i);
+  Buffer order = dev.alloc(std::max<uint64_t>(n, 1) * 4, "sort order");
+  dev.upload(order, places.data(), n * 4);
+  radix_sort(dev, keys, &order, n, KeyBits::k64);
+  return order;
+}
+
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy,
                       const SortedPrefix& on_prefix, uint32_t ranges) {
   SortReport report = sort_on_device(dev, keys, values, n, bits, strategy, on_prefix ? &on_prefix : nullptr,

@@ -73,11 +73,7 @@ DeviceFragments upload_fragments(Device& dev, const Fragments& f) {
   dev.upload(d.masks, f.masks.data(), n * 8);
   dev.upload(d.tris, f.tris.data(), n * 4);
   if (f.sorted) return d;
-  std::vector<uint32_t> iota(n);
-  for (uint32_t i = 0; i < n; ++i) iota[i] = i;
-  Buffer order = dev.alloc(n * 4, "colour fragment order");
-  dev.upload(order, iota.data(), n * 4);
-  radix_sort(dev, d.keys, &order, n, KeyBits::k64);
+  const Buffer order = radix_sort_order(dev, d.keys, n);
   Buffer masks = dev.alloc(n * 8, "colour fragment masks");
   Buffer tris = dev.alloc(n * 4, "colour fragment triangles");
   gather_records(dev, d.masks, order, masks, n, 8);
@@ -194,9 +190,7 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
     dev.barrier();
   }
   voxel_brick = Buffer();
-  // The long runs: three passes, each over every batch (a pass must see them all before the next); what they say
-  // of long runs again goes to `seen`, unread.
-  Buffer seen = dev.alloc(4, "long runs of fragments");
+  // The long runs: three passes, each over every batch (a pass must see them all before the next).
   for (uint32_t pass = 1; pass <= 3 && long_runs; ++pass)
     for (uint64_t first = 0; first < n_tris; first += step) {
       const uint64_t count = std::min(step, n_tris - first);
@@ -206,7 +200,7 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
       p.items = nf;
       p.colour_pass = pass;
       dev.dispatch(pick, dev.groups_for(items, kMeshColourLocal), kMeshColourLocal,
-                   {&t, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &seen}, p);
+                   {&t, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &best}, p);
       dev.barrier();
     }
   frag = {};

@@ -222,11 +222,7 @@ void Voxelizer::emit(Emission& e, uint32_t first, uint32_t last, uint64_t capaci
   if (found == 0) return;
   // Sort the keys with their slots, gather the masks in that order; repeats are OR-ed on the host (a brick
   // meets a few triangles at most, so there are few).
-  std::vector<uint32_t> iota(found);
-  for (uint32_t i = 0; i < found; ++i) iota[i] = i;
-  Buffer order = dev_.alloc(uint64_t{found} * 4, "voxel brick order");
-  dev_.upload(order, iota.data(), uint64_t{found} * 4);
-  radix_sort(dev_, keys, &order, found, KeyBits::k64);
+  const Buffer order = radix_sort_order(dev_, keys, found);
   Buffer sorted = dev_.alloc(uint64_t{found} * 8, "sorted brick masks");
   const MvDagParams g{found, 0, 0, 0, 0};
   dev_.dispatch(dev_.kernel(KernelId::brick_gather), dev_.groups_for(found, local), local, {&masks, &order, &sorted}, g);

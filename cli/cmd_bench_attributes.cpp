@@ -94,6 +94,7 @@ void add_bench_attributes_command(CLI::App& bench, const GlobalOptions& g) {
       j["coloured"] = nlohmann::json::array();
       for (const auto& b : r.coloured) j["coloured"].push_back(attribute_build_json(b, r.colourless));
       all.push_back(j);
+      if (g.profile) print_kernel_totals(*dev);
       if (a->json) continue;
       std::printf("%s: %llu %s, %llu voxels, %llu colour entries\n", cloud.c_str(),
                   (unsigned long long)(r.points ? r.points : r.triangles), r.points ? "points" : "triangles",

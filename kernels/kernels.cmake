@@ -117,5 +117,5 @@ mv_kernel(grabcut_labels           mask/grabcut.cl   mask/grabcut.comp    3  MvG
 mv_kernel(colour_unpack            colour/colour.cl  colour/colour.comp   2  MvColourParams    MV_ENTRY_unpack)
 mv_kernel(colour_level             colour/colour.cl  colour/colour.comp   2  MvColourParams    MV_ENTRY_level)
 mv_kernel(colour_parent_keys       colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_parent_keys)
-mv_kernel(colour_place             colour/colour.cl  colour/colour.comp   7  MvColourParams    MV_ENTRY_place)
-mv_kernel(colour_parents           colour/colour.cl  colour/colour.comp   7  MvColourParams    MV_ENTRY_parents)
+mv_kernel(colour_starts            colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_starts)
+mv_kernel(colour_nodes             colour/colour.cl  colour/colour.comp   4  MvColourParams    MV_ENTRY_nodes)

@@ -62,8 +62,8 @@ TEST_P(ColourTest, RandomCloudsMatchTheReference) {
                                std::to_string(spread));
 }
 
-// The mean's two paths (32-bit where sum and count fit, else 64-bit) against sum / count rounded half up in
-// 128 bits, on both sides of the 2^32 seam.
+// The mean (a float quotient made exact in integers) against sum / count rounded half up in 128 bits, for small
+// counts, counts past 2^32 and at that seam.
 TEST(ColourMean, BothWidthsRoundHalfUp) {
   std::mt19937_64 rng(5);
   auto want = [](uint64_t sum, uint64_t count) {

@@ -13,25 +13,16 @@ void main() { mv_colour_level(args.sums, args.rgb, args.p, MV_GLOBAL_ID(), MV_GL
 #elif defined(MV_ENTRY_parent_keys)
 layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 starts; MvBufU64 up; MvColourParams p; } args;
 void main() { mv_colour_parent_keys(args.keys, args.starts, args.up, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
-#elif defined(MV_ENTRY_parents)
+#elif defined(MV_ENTRY_starts)
+layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
+void main() { mv_colour_starts(args.keys, args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_nodes)
 layout(push_constant) uniform Args {
-  MvBufU64 keys; MvBufU32 below_planes; MvBufU32 starts; MvBufU64 up; MvBufU32 rgb; MvBufU32 planes; MvBufU32 sizes;
-  MvColourParams p;
+  MvBufU64 keys; MvBufU32 planes; MvBufU64 sums; MvBufU32 attributes; MvColourParams p;
 } args;
 void main() {
-  mv_colour_parents(args.keys, args.below_planes, args.starts, args.up, args.rgb, args.planes, args.sizes, args.p,
-                    MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
-}
-#elif defined(MV_ENTRY_place)
-layout(push_constant) uniform Args {
-  MvBufU32 e; MvBufU32 starts; MvBufU32 sizes; MvBufU32 parent_index; MvBufU32 rgb; MvBufU32 index;
-  MvBufU32 attributes;
-  MvColourParams p;
-} args;
-void main() {
-  mv_colour_place(args.e, args.starts, args.sizes, args.parent_index, args.rgb, args.index, args.attributes, args.p,
-                  MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_colour_nodes(args.keys, args.planes, args.sums, args.attributes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #else
-#error "define MV_ENTRY_unpack, _level, _parent_keys, _parents or _place"
+#error "define MV_ENTRY_unpack, _level, _parent_keys, _starts or _nodes"
 #endif

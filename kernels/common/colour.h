@@ -1,50 +1,45 @@
-/* Voxel colours from points: per-voxel and per-node means over Morton-sorted codes, and their place in the
- * depth-first (pre-order) attribute array. Host side: host/core/voxel/cloud_colours.cpp; the sums themselves are
- * the shared segmented_sum (kernels/common/segmented.h), these kernels only do what it does not: unpack, divide,
- * carry the sums up a level, and scatter into depth-first order.
+/* Voxel colours from points: per-voxel means over Morton-sorted codes, every node's mean above them, and their
+ * place in the depth-first (pre-order) attribute array. Host side: host/core/voxel/cloud_colours.cpp; the sums
+ * and offsets themselves are the shared segmented_sum and exclusive_scan64, these kernels only do what those do
+ * not: unpack, divide, and find each node's voxels.
  *
- * Planes: a level of n elements carries MV_COLOUR_PLANES 32-bit planes, plane-major (plane k of element i at
- * k * n + i): the low 32-bit words of the red, green and blue sums, the voxel count below, the subtree size
- * (octree nodes in the element's subtree, itself included), then the sums' high words (a sum over more than
- * 2^32 / 255 voxels passes 32 bits). The segmented sums of each plane over the elements' parents give that many
- * 64-bit planes for the level above; the host sums only the leading planes that can be nonzero.
- * Voxels carry no planes: a voxel counts as one sample of its colour, with subtree size 1, so its planes are
- * (r, g, b, 1, 1, 0, 0, 0) from its packed colour alone, and the kernels that read a level below take its packed
- * colours instead where that level is the voxels (`leaf` 1).
- *   colour_unpack:      points' packed 0xBBGGRR -> their first MV_COLOUR_COUNT + 1 planes (r, g, b, 1): a point
- *                       is one sample;
+ * A point's planes, plane-major (plane k of point i at k * n + i): its red, green and blue and a count of one.
+ * Their segmented sums over a voxel's points give its mean.
+ *
+ * Every node from the voxels' sorted codes alone, with no pass per level: voxel i starts the nodes of every level
+ * below the highest at which its code and voxel i - 1's differ, d[i] of them (levels + 1 for voxel 0, so the
+ * root). In pre-order the nodes starting at earlier voxels come first, then those starting at voxel i from the
+ * highest level down, so with o the exclusive scan of d, the node of level k starting at voxel i has index
+ * o[i] + d[i] - 1 - k. Its voxels run from i to the first voxel whose code leaves it, at most 8^k further on (a
+ * search), and its mean is the difference of the voxels' channel prefix sums there. d and the voxels' channels
+ * are four planes of n values, scanned as one (plane k of voxel i at k * n + i): the scan's sums start at 0 for
+ * d, so they are o, and a plane's differences do not see the planes before it.
+ *   colour_unpack:      points' packed 0xBBGGRR -> their MV_COLOUR_PLANES planes (r, g, b, 1);
  *   colour_level:       the 64-bit sums of n voxels' points (r, g, b, count) -> rgb[i], each channel sum / count
  *                       rounded half up;
- *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> shift, the codes of the level above (the voxels' from
- *                       their points' runs, shift 0);
- *   colour_parents:     a level above the voxels in one pass, a work-item per node: its code, the sums of the
- *                       first `used` planes over its children (at most 8, consecutive from starts[s]; `leaf`: the
- *                       voxels, whose planes come from their colours), its colour, its planes and its subtree
- *                       size; bounded loops (the segmented_sum of the points' runs into voxels has no bound);
- *   colour_place:       index[i] = parent_index[parent of i] + 1 + the subtree sizes of its earlier siblings (at
- *                       most 7; `leaf`: voxels, size 1 each), attributes[index[i]] = rgb[i].
+ *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> shift, the voxels' codes from their points' runs;
+ *   colour_starts:      the voxels' planes: d, r, g, b;
+ *   colour_nodes:       from the planes' exclusive scan (sums), a work-item per voxel, a bounded loop over the (at
+ *                       most levels + 1) nodes starting there: each node's voxel range, mean, and its place in the
+ *                       attributes.
  * Integer arithmetic only: the same bits on every device. */
 #ifndef MV_COLOUR_H
 #define MV_COLOUR_H
 #include "mv_lang.h"
 
-#define MV_COLOUR_PLANES 8u
-#define MV_COLOUR_COUNT 3u /* plane of the voxel count */
-#define MV_COLOUR_SIZE 4u  /* plane of the subtree size */
-#define MV_COLOUR_HIGH 5u  /* first plane of the sums' high words */
+#define MV_COLOUR_PLANES 4u
+#define MV_COLOUR_COUNT 3u /* plane of the count */
 
 MV_STRUCT_BEGIN(MvColourParams)
-  mv_u32 n;     /* elements of the dispatch */
-  mv_u32 leaf;  /* colour_parents, colour_place: 1 where the level below is the voxels */
-  mv_u32 shift; /* colour_parent_keys, colour_parents: bits the keys shift right */
-  mv_u32 below; /* colour_parents: elements of the level below (its planes' stride) */
-  mv_u32 used;  /* colour_parents: the leading planes of the level below summed (the rest can only be zero) */
+  mv_u32 n;      /* elements of the dispatch */
+  mv_u32 levels; /* colour_starts: the root's level, the voxels' being 0 */
+  mv_u32 shift;  /* colour_parent_keys: bits the keys shift right */
   mv_u32 pad0;
 MV_STRUCT_END(MvColourParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvColourParams, 24);
-MV_LAYOUT_AT(MvColourParams, n, 0); MV_LAYOUT_AT(MvColourParams, leaf, 4); MV_LAYOUT_AT(MvColourParams, shift, 8);
-MV_LAYOUT_AT(MvColourParams, below, 12); MV_LAYOUT_AT(MvColourParams, used, 16); MV_LAYOUT_AT(MvColourParams, pad0, 20);
+MV_LAYOUT_SIZE(MvColourParams, 16);
+MV_LAYOUT_AT(MvColourParams, n, 0); MV_LAYOUT_AT(MvColourParams, levels, 4); MV_LAYOUT_AT(MvColourParams, shift, 8);
+MV_LAYOUT_AT(MvColourParams, pad0, 12);
 #endif
 
 MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
@@ -55,18 +50,15 @@ MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p,
   }
 }
 
-/* sum / count rounded half up, without forming 2 * sum; in 32 bits where both fit (most nodes: a 64-bit division
- * is several times dearer on CPUs and emulated on GPUs). */
+/* sum / count rounded half up, for a mean of 8-bit values (at most 255): a float quotient within one of the answer,
+ * then made exact in integers. An integer division is several times dearer on CPUs, scalar on lavapipe and
+ * emulated on GPUs; the correction makes the bits independent of the device's float division. */
 MV_INLINE mv_u32 mv_colour_mean(mv_u64 sum, mv_u64 count) {
-  if (((sum | count) >> 32) == MV_U64(0u)) {
-    mv_u32 s32 = MV_U32(sum), c32 = MV_U32(count);
-    mv_u32 q32 = s32 / c32;
-    mv_u32 r32 = s32 - q32 * c32;
-    return q32 + (r32 >= c32 - r32 ? 1u : 0u);
-  }
-  mv_u64 q = sum / count;
-  mv_u64 r = sum - q * count;
-  return MV_U32(q) + (r >= count - r ? 1u : 0u);
+  mv_u32 q = MV_U32(MV_F32(sum) / MV_F32(count) + 0.5f);
+  mv_u64 twice = sum + sum + count, step = count + count; /* the answer q: q * step <= twice < (q + 1) * step */
+  if (MV_U64(q) * step > twice) q -= 1u;
+  else if (MV_U64(q + 1u) * step <= twice) q += 1u;
+  return q;
 }
 
 MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvColourParams p, mv_u32 gid, mv_u32 stride) {
@@ -83,45 +75,59 @@ MV_INLINE void mv_colour_parent_keys(MvBufU64 keys, MvBufU32 starts, MvBufU64 up
   for (mv_u32 s = gid; s < p.n; s += stride) MV_ST(up, s, MV_LD(keys, MV_LD(starts, s)) >> p.shift);
 }
 
-MV_INLINE void mv_colour_parents(MvBufU64 keys, MvBufU32 below_planes, MvBufU32 starts, MvBufU64 up, MvBufU32 rgb,
-                                 MvBufU32 planes, MvBufU32 sizes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 s = gid; s < p.n; s += stride) { /* a node's planes in turn: its children's range read once each */
-    mv_u32 first = MV_LD(starts, s), end = MV_LD(starts, s + 1u), packed = 0u;
-    MV_ST(up, s, MV_LD(keys, first) >> p.shift);
-    mv_u64 sum[MV_COLOUR_PLANES];
-    for (mv_u32 k = 0u; k < MV_COLOUR_PLANES; ++k) {
-      sum[k] = MV_U64(0u);
-      if (k >= p.used) continue; /* the planes past `used` can only sum to zero */
-      if (p.leaf == 0u)
-        for (mv_u32 c = first; c < end; ++c) sum[k] += MV_U64(MV_LD(below_planes, k * p.below + c));
-      else if (k < 3u) /* voxels: `below_planes` holds their packed colours */
-        for (mv_u32 c = first; c < end; ++c) sum[k] += MV_U64((MV_LD(below_planes, c) >> (8u * k)) & 255u);
-      else if (k == MV_COLOUR_COUNT || k == MV_COLOUR_SIZE)
-        sum[k] = MV_U64(end - first);
+MV_INLINE void mv_colour_starts(MvBufU64 keys, MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid,
+                                mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u32 d = p.levels + 1u;
+    if (i > 0u) {
+      mv_u64 x = MV_LD(keys, i) ^ MV_LD(keys, i - 1u); /* nonzero: the codes are distinct */
+      mv_u32 hi = MV_U32(x >> 32);
+      mv_u32 msb = hi != 0u ? 32u + MV_FIND_MSB(hi) : MV_FIND_MSB(MV_U32(x));
+      d = msb / 3u + 1u;
     }
-    for (mv_u32 c = 0u; c < 3u; ++c) {
-      mv_u64 total = sum[c] + (sum[MV_COLOUR_HIGH + c] << 32);
-      packed |= mv_colour_mean(total, sum[MV_COLOUR_COUNT]) << (8u * c);
-      MV_ST(planes, c * p.n + s, MV_U32(total));
-      MV_ST(planes, (MV_COLOUR_HIGH + c) * p.n + s, MV_U32(total >> 32));
-    }
-    MV_ST(rgb, s, packed);
-    MV_ST(planes, MV_COLOUR_COUNT * p.n + s, MV_U32(sum[MV_COLOUR_COUNT]));
-    MV_ST(planes, MV_COLOUR_SIZE * p.n + s, 1u + MV_U32(sum[MV_COLOUR_SIZE]));
-    MV_ST(sizes, s, 1u + MV_U32(sum[MV_COLOUR_SIZE]));
+    mv_u32 c = MV_LD(rgb, i);
+    MV_ST(planes, i, d);
+    for (mv_u32 k = 0u; k < 3u; ++k) MV_ST(planes, (k + 1u) * p.n + i, (c >> (8u * k)) & 255u);
   }
 }
 
-MV_INLINE void mv_colour_place(MvBufU32 e, MvBufU32 starts, MvBufU32 sizes, MvBufU32 parent_index, MvBufU32 rgb,
-                               MvBufU32 index, MvBufU32 attributes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 planes, MvBufU64 sums, MvBufU32 attributes, MvColourParams p,
+                               mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 parent = MV_LD(e, i + 1u) - 1u;
-    mv_u32 at = MV_LD(parent_index, parent) + 1u;
-    if (p.leaf != 0u) at += i - MV_LD(starts, parent); /* voxels: size 1 each */
-    else
-      for (mv_u32 c = MV_LD(starts, parent); c < i; ++c) at += MV_LD(sizes, c); /* at most 7 earlier siblings */
-    MV_ST(index, i, at);
-    MV_ST(attributes, at, MV_LD(rgb, i));
+    mv_u32 d = MV_LD(planes, i), last = MV_U32(MV_LD(sums, i)) + d - 1u; /* the voxel's own index */
+    mv_u64 key = MV_LD(keys, i);
+    mv_u32 end = i + 1u, below = end, packed = 0u;
+    for (mv_u32 k = 0u; k < d; ++k) {
+      /* Voxels [i, end) are in the level below's node, so in this one. It goes on past them where a sibling of
+       * that node starts at `end` (d[end] <= k); it holds at most 8^k voxels. The end is
+       * then found by galloping from there and a binary search: on sparse or noisy clouds it is mostly near. */
+      if (k > 0u && end < p.n && MV_LD(planes, end) <= k) {
+        mv_u32 shift = 3u * k, bound = p.n, lo = end + 1u, hi = end + 1u, step = 1u;
+        mv_u64 node = key >> shift;
+        if (shift < 31u && p.n - i > (1u << shift)) bound = i + (1u << shift);
+        while (hi < bound && (MV_LD(keys, hi) >> shift) == node) { /* [lo, hi] inside: look twice as far */
+          lo = hi + 1u;
+          hi = bound - hi > step ? hi + step : bound;
+          step *= 2u;
+        }
+        while (lo < hi) { /* the first voxel past the node is in [lo, hi] */
+          mv_u32 mid = lo + (hi - lo) / 2u;
+          if ((MV_LD(keys, mid) >> shift) == node) lo = mid + 1u;
+          else hi = mid;
+        }
+        end = lo;
+      }
+      if (k == 0u || end != below) { /* else the same voxels as the node below: its colour */
+        mv_u64 count = MV_U64(end - i), r = MV_LD(sums, p.n + end) - MV_LD(sums, p.n + i),
+               g = MV_LD(sums, 2u * p.n + end) - MV_LD(sums, 2u * p.n + i),
+               b = MV_LD(sums, 3u * p.n + end) - MV_LD(sums, 3u * p.n + i);
+        packed = MV_U32(r) | (MV_U32(g) << 8u) | (MV_U32(b) << 16u); /* one voxel: no division */
+        if (k > 0u)
+          packed = mv_colour_mean(r, count) | (mv_colour_mean(g, count) << 8u) | (mv_colour_mean(b, count) << 16u);
+      }
+      below = end;
+      MV_ST(attributes, last - k, packed);
+    }
   }
 }
 

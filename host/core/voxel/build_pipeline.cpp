@@ -261,8 +261,8 @@ using Report = std::function<void(const std::string&, double)>;
 void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
                       BuildReport& r, const Lap& lap, const Report& report, std::vector<uint8_t> colours = {}) {
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
-  attach_colours(file, std::move(colours), o, r);
   lap("encode");
+  if (attach_colours(file, std::move(colours), o, r)) lap("quantize");
   report("write", 0);
   const MvxColourStats stats = write_mvx(o.output, file, o.paging);
   lap("write");  // no report after the write: a cancel there would come too late

@@ -26,8 +26,8 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
                  const PlanListener& on_plan);
 
 // Voxel colours into `file` (depth-first RGB24; none when empty), quantized to o.colour_bits below 24 (its report
-// and a "quantize" stage into r).
-void attach_colours(MvxFile& file, std::vector<uint8_t> colours, const BuildOptions& o, BuildReport& r);
+// into r). Returns whether it quantized: the caller times that as a stage of its own.
+bool attach_colours(MvxFile& file, std::vector<uint8_t> colours, const BuildOptions& o, BuildReport& r);
 // The written colour section's figures into r (nothing without colours).
 void report_colours(const MvxFile& file, const MvxColourStats& stats, BuildReport& r);
 

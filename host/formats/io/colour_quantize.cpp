@@ -1,12 +1,19 @@
 // Colour quantization by weighted k-means in CIELAB (megavox/colour_quantize.h).
 #include "megavox/colour_quantize.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <numeric>
 #include <queue>
 #include <string>
+#include <utility>
 
 #include "megavox/error.h"
 
@@ -47,9 +54,11 @@ class CentreTree {
     std::iota(order_.begin(), order_.end(), 0u);
     build(0, order_.size(), 0);
   }
-  uint32_t nearest(const Lab& q) const {
-    uint32_t best = 0;
-    double d = INFINITY;
+  // `guess`: a centre to start from (the last round's): the search prunes from its distance at once, and the
+  // answer is the same as from nothing (the nearest, the lowest of equals).
+  uint32_t nearest(const Lab& q, uint32_t guess) const {
+    uint32_t best = guess;
+    double d = lab_distance2(c_[guess], q);
     search(0, order_.size(), 0, q, best, d);
     return best;
   }
@@ -89,14 +98,60 @@ class CentreTree {
 struct QuantizeBox {
   double spread;  // weighted sum of squared distances to the box's mean
   size_t lo, hi;
+  int axis;       // of the largest weighted variance
   bool operator<(const QuantizeBox& o) const { return spread != o.spread ? spread < o.spread : lo > o.lo; }
 };
 
 // Median cut over the colours' order `idx`: `k` boxes (ranges of idx), split where the weighted spread is
 // largest, along the axis of largest weighted variance, at the weighted median.
+// An order-preserving 64-bit key of a finite double (-0 as +0), for sorting by value with the index as tie-break.
+uint64_t sortable(double v) {
+  const uint64_t b = std::bit_cast<uint64_t>(v == 0 ? 0.0 : v);
+  return b >> 63 ? ~b : b | (uint64_t{1} << 63);
+}
+
+// Splits `a` ((value key, colour) pairs, a strict order) at its weighted median: returns m, 1 <= m < a.size(),
+// the fewest smallest pairs whose weight reaches half the total (at most all but one), and leaves those m first.
+// A quickselect: each round keeps the side holding that point, so it costs about what two passes over `a` do,
+// where sorting the box at every split made the median cut most of the quantizer's time.
+size_t weighted_median_split(std::vector<std::pair<uint64_t, uint32_t>>& a, const std::vector<uint64_t>& w) {
+  double total = 0;
+  for (const auto& x : a) total += double(w[x.second]);
+  const double half = total / 2;
+  double before = 0;  // the weight of a[0, lo): all smaller than a[lo, hi)
+  size_t lo = 0, hi = a.size();
+  while (hi - lo > 16) {
+    const size_t mid = lo + (hi - lo) / 2;  // median of three: some element is below it, and it is not below itself
+    if (a[mid] < a[lo]) std::swap(a[mid], a[lo]);
+    if (a[hi - 1] < a[mid]) std::swap(a[hi - 1], a[mid]);
+    if (a[mid] < a[lo]) std::swap(a[mid], a[lo]);
+    const std::pair<uint64_t, uint32_t> pivot = a[mid];
+    const size_t p = static_cast<size_t>(
+        std::partition(a.begin() + lo, a.begin() + hi, [&](const auto& x) { return x < pivot; }) - a.begin());
+    double left = 0;
+    for (size_t i = lo; i < p; ++i) left += double(w[a[i].second]);
+    if (before + left >= half) {
+      hi = p;
+    } else {
+      before += left;
+      lo = p;
+    }
+  }
+  std::sort(a.begin() + lo, a.begin() + hi);
+  size_t m = a.size() - 1;
+  for (size_t i = lo; i < hi; ++i) {
+    before += double(w[a[i].second]);
+    if (before >= half) {
+      m = std::min(i + 1, a.size() - 1);
+      break;
+    }
+  }
+  return std::max<size_t>(m, 1);
+}
+
 std::vector<std::pair<size_t, size_t>> median_cut(const std::vector<Lab>& lab, const std::vector<uint64_t>& w,
                                                   std::vector<uint32_t>& idx, size_t k) {
-  auto measure = [&](size_t lo, size_t hi, int* axis) {
+  auto box = [&](size_t lo, size_t hi) {
     double sw = 0, m[3] = {}, v[3] = {};
     for (size_t i = lo; i < hi; ++i) {
       sw += double(w[idx[i]]);
@@ -105,12 +160,12 @@ std::vector<std::pair<size_t, size_t>> median_cut(const std::vector<Lab>& lab, c
     for (double& x : m) x /= sw;
     for (size_t i = lo; i < hi; ++i)
       for (int a = 0; a < 3; ++a) v[a] += double(w[idx[i]]) * (lab[idx[i]][a] - m[a]) * (lab[idx[i]][a] - m[a]);
-    if (axis) *axis = int(std::max_element(v, v + 3) - v);
-    return hi - lo > 1 ? v[0] + v[1] + v[2] : 0.0;
+    return QuantizeBox{hi - lo > 1 ? v[0] + v[1] + v[2] : 0.0, lo, hi, int(std::max_element(v, v + 3) - v)};
   };
   std::priority_queue<QuantizeBox> boxes;
   std::vector<std::pair<size_t, size_t>> done;
-  boxes.push({measure(0, idx.size(), nullptr), 0, idx.size()});
+  std::vector<std::pair<uint64_t, uint32_t>> keyed;  // a box's (value on its axis, index)
+  boxes.push(box(0, idx.size()));
   while (!boxes.empty() && boxes.size() + done.size() < k) {
     const QuantizeBox b = boxes.top();
     boxes.pop();
@@ -118,21 +173,12 @@ std::vector<std::pair<size_t, size_t>> median_cut(const std::vector<Lab>& lab, c
       done.push_back({b.lo, b.hi});
       continue;
     }
-    int axis = 0;
-    measure(b.lo, b.hi, &axis);
-    std::sort(idx.begin() + b.lo, idx.begin() + b.hi, [&](uint32_t x, uint32_t y) {
-      return lab[x][axis] != lab[y][axis] ? lab[x][axis] < lab[y][axis] : x < y;
-    });
-    double total = 0, run = 0;
-    for (size_t i = b.lo; i < b.hi; ++i) total += double(w[idx[i]]);
-    size_t cut = b.lo + 1;
-    for (size_t i = b.lo; i + 1 < b.hi; ++i) {
-      run += double(w[idx[i]]);
-      cut = i + 1;
-      if (run >= total / 2) break;
-    }
-    boxes.push({measure(b.lo, cut, nullptr), b.lo, cut});
-    boxes.push({measure(cut, b.hi, nullptr), cut, b.hi});
+    keyed.resize(b.hi - b.lo);
+    for (size_t i = b.lo; i < b.hi; ++i) keyed[i - b.lo] = {sortable(lab[idx[i]][b.axis]), idx[i]};
+    const size_t cut = b.lo + weighted_median_split(keyed, w);
+    for (size_t i = b.lo; i < b.hi; ++i) idx[i] = keyed[i - b.lo].second;
+    boxes.push(box(b.lo, cut));
+    boxes.push(box(cut, b.hi));
   }
   for (; !boxes.empty(); boxes.pop()) done.push_back({boxes.top().lo, boxes.top().hi});
   return done;
@@ -166,7 +212,7 @@ ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits) 
   std::vector<uint32_t> packed(n);
   for (size_t i = 0; i < n; ++i) packed[i] = uint32_t{rgb[3 * i]} << 16 | uint32_t{rgb[3 * i + 1]} << 8 | rgb[3 * i + 2];
   std::vector<uint32_t> colours = packed;
-  std::sort(colours.begin(), colours.end());
+  tbb::parallel_sort(colours.begin(), colours.end());
   colours.erase(std::unique(colours.begin(), colours.end()), colours.end());
   r.colours_in = r.colours_out = colours.size();
   const size_t k = size_t{1} << bits;
@@ -176,10 +222,11 @@ ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits) 
   }
   std::vector<uint32_t> slot(n);
   std::vector<uint64_t> w(colours.size(), 0);
-  for (size_t i = 0; i < n; ++i) {
-    slot[i] = static_cast<uint32_t>(std::lower_bound(colours.begin(), colours.end(), packed[i]) - colours.begin());
-    ++w[slot[i]];
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i < range.end(); ++i)
+      slot[i] = static_cast<uint32_t>(std::lower_bound(colours.begin(), colours.end(), packed[i]) - colours.begin());
+  });
+  for (size_t i = 0; i < n; ++i) ++w[slot[i]];
   std::vector<Lab> lab(colours.size());
   for (size_t u = 0; u < colours.size(); ++u) {
     const uint8_t c[3] = {uint8_t(colours[u] >> 16), uint8_t(colours[u] >> 8), uint8_t(colours[u])};
@@ -207,12 +254,16 @@ ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits) 
   for (r.iterations = 0; r.iterations < kQuantizeIterations;) {
     ++r.iterations;
     const CentreTree tree(centre);
-    bool changed = false;
-    for (size_t u = 0; u < colours.size(); ++u) {
-      const uint32_t c = tree.nearest(lab[u]);
-      changed = changed || c != cluster[u];
-      cluster[u] = c;
-    }
+    std::atomic<bool> changed = false;  // each colour's answer is its own: the same whatever the threads do
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, colours.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+      bool moved = false;
+      for (size_t u = range.begin(); u < range.end(); ++u) {
+        const uint32_t c = tree.nearest(lab[u], cluster[u]);
+        moved = moved || c != cluster[u];
+        cluster[u] = c;
+      }
+      if (moved) changed = true;
+    });
     if (!changed) break;
     update_centres();
   }
@@ -221,12 +272,19 @@ ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits) 
   std::vector<uint32_t> seen;
   std::vector<double> delta(colours.size());
   std::vector<std::array<int, 3>> err(colours.size());
-  for (size_t u = 0; u < colours.size(); ++u) {
-    const auto& q = out[cluster[u]];
-    for (int a = 0; a < 3; ++a) err[u][a] = std::abs(int(q[a]) - int(colours[u] >> (16 - 8 * a) & 255));
-    delta[u] = delta_e94(lab[u], srgb_to_lab(q.data()));
-    seen.push_back(uint32_t{q[0]} << 16 | uint32_t{q[1]} << 8 | q[2]);
-  }
+  std::vector<Lab> out_lab(out.size());
+  for (size_t c = 0; c < out.size(); ++c) out_lab[c] = srgb_to_lab(out[c].data());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, colours.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t u = range.begin(); u < range.end(); ++u) {
+      const auto& q = out[cluster[u]];
+      for (int a = 0; a < 3; ++a) err[u][a] = std::abs(int(q[a]) - int(colours[u] >> (16 - 8 * a) & 255));
+      delta[u] = delta_e94(lab[u], out_lab[cluster[u]]);
+    }
+  });
+  std::vector<char> used(out.size(), 0);  // a cluster left empty by the last round has no entries
+  for (size_t u = 0; u < colours.size(); ++u) used[cluster[u]] = 1;
+  for (size_t c = 0; c < out.size(); ++c)
+    if (used[c]) seen.push_back(uint32_t{out[c][0]} << 16 | uint32_t{out[c][1]} << 8 | out[c][2]);
   std::sort(seen.begin(), seen.end());
   r.colours_out = static_cast<uint64_t>(std::unique(seen.begin(), seen.end()) - seen.begin());
   for (size_t i = 0; i < n; ++i) {

@@ -114,6 +114,7 @@ mv_kernel(grabcut_data             mask/grabcut.cl   mask/grabcut.comp    6  MvG
 mv_kernel(grabcut_moments          mask/grabcut.cl   mask/grabcut.comp    4  MvGrabCutParams   MV_ENTRY_moments)
 mv_kernel(grabcut_kmeans           mask/grabcut.cl   mask/grabcut.comp    5  MvGrabCutParams   MV_ENTRY_kmeans)
 mv_kernel(grabcut_labels           mask/grabcut.cl   mask/grabcut.comp    3  MvGrabCutParams   MV_ENTRY_labels)
+mv_kernel(colour_pack_keys         colour/colour.cl  colour/colour.comp   2  MvColourParams    MV_ENTRY_pack_keys)
 mv_kernel(colour_unpack            colour/colour.cl  colour/colour.comp   2  MvColourParams    MV_ENTRY_unpack)
 mv_kernel(colour_level             colour/colour.cl  colour/colour.comp   2  MvColourParams    MV_ENTRY_level)
 mv_kernel(colour_parent_keys       colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_parent_keys)

@@ -1,6 +1,10 @@
 // OpenCL entry points of the voxel colour kernels (bodies: common/colour.h).
 #include "common/colour.h"
 
+__kernel void colour_pack_keys(__global ulong* keys, __global uint* rgb, MvColourParams p) {
+  mv_colour_pack_keys(keys, rgb, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
 __kernel void colour_unpack(__global uint* rgb, __global uint* planes, MvColourParams p) {
   mv_colour_unpack(rgb, planes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }

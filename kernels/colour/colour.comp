@@ -4,7 +4,10 @@
 #include "common/mv_glsl_prelude.h"
 #include "common/colour.h"
 
-#if defined(MV_ENTRY_unpack)
+#if defined(MV_ENTRY_pack_keys)
+layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 rgb; MvColourParams p; } args;
+void main() { mv_colour_pack_keys(args.keys, args.rgb, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+#elif defined(MV_ENTRY_unpack)
 layout(push_constant) uniform Args { MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
 void main() { mv_colour_unpack(args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_level)
@@ -24,5 +27,5 @@ void main() {
   mv_colour_nodes(args.keys, args.planes, args.sums, args.attributes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #else
-#error "define MV_ENTRY_unpack, _level, _parent_keys, _starts or _nodes"
+#error "define MV_ENTRY_pack_keys, _unpack, _level, _parent_keys, _starts or _nodes"
 #endif

@@ -3,8 +3,11 @@
  * and offsets themselves are the shared segmented_sum and exclusive_scan64, these kernels only do what those do
  * not: unpack, divide, and find each node's voxels.
  *
- * A point's planes, plane-major (plane k of point i at k * n + i): its red, green and blue and a count of one.
- * Their segmented sums over a voxel's points give its mean.
+ * Where the codes leave room (3 x levels + 24 bits), a point's colour rides in its sort key, below the code
+ * (colour_pack_keys; radix_sort_packed sorts the code alone), so the sort moves no colour column; the colour is
+ * then the low word's 24 bits (`stride` 2 over the keys as 32-bit words). A point's planes, plane-major (plane k
+ * of point i at k * n + i): its red, green and blue and a count of one. Their segmented sums over a voxel's
+ * points give its mean.
  *
  * Every node from the voxels' sorted codes alone, with no pass per level: voxel i starts the nodes of every level
  * below the highest at which its code and voxel i - 1's differ, d[i] of them (levels + 1 for voxel 0, so the
@@ -14,6 +17,7 @@
  * search), and its mean is the difference of the voxels' channel prefix sums there. d and the voxels' channels
  * are four planes of n values, scanned as one (plane k of voxel i at k * n + i): the scan's sums start at 0 for
  * d, so they are o, and a plane's differences do not see the planes before it.
+ *   colour_pack_keys:   keys[i] = keys[i] << 24 | the point's 0xBBGGRR;
  *   colour_unpack:      points' packed 0xBBGGRR -> their MV_COLOUR_PLANES planes (r, g, b, 1);
  *   colour_level:       the 64-bit sums of n voxels' points (r, g, b, count) -> rgb[i], each channel sum / count
  *                       rounded half up;
@@ -29,22 +33,28 @@
 
 #define MV_COLOUR_PLANES 4u
 #define MV_COLOUR_COUNT 3u /* plane of the count */
+#define MV_COLOUR_PAYLOAD 24u /* a point's colour packed below its code: key = code << 24 | 0xBBGGRR */
 
 MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;      /* elements of the dispatch */
   mv_u32 levels; /* colour_starts: the root's level, the voxels' being 0 */
   mv_u32 shift;  /* colour_parent_keys: bits the keys shift right */
-  mv_u32 pad0;
+  mv_u32 stride; /* colour_unpack, colour_starts: words from one colour to the next (2: in packed keys' low words) */
 MV_STRUCT_END(MvColourParams)
 #if defined(MV_CPP)
 MV_LAYOUT_SIZE(MvColourParams, 16);
 MV_LAYOUT_AT(MvColourParams, n, 0); MV_LAYOUT_AT(MvColourParams, levels, 4); MV_LAYOUT_AT(MvColourParams, shift, 8);
-MV_LAYOUT_AT(MvColourParams, pad0, 12);
+MV_LAYOUT_AT(MvColourParams, stride, 12);
 #endif
+
+MV_INLINE void mv_colour_pack_keys(MvBufU64 keys, MvBufU32 rgb, MvColourParams p, mv_u32 gid, mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride)
+    MV_ST(keys, i, (MV_LD(keys, i) << MV_COLOUR_PAYLOAD) | MV_U64(MV_LD(rgb, i) & 0xffffffu));
+}
 
 MV_INLINE void mv_colour_unpack(MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 c = MV_LD(rgb, i);
+    mv_u32 c = MV_LD(rgb, i * p.stride);
     for (mv_u32 k = 0u; k < 3u; ++k) MV_ST(planes, k * p.n + i, (c >> (8u * k)) & 255u);
     MV_ST(planes, MV_COLOUR_COUNT * p.n + i, 1u);
   }
@@ -85,7 +95,7 @@ MV_INLINE void mv_colour_starts(MvBufU64 keys, MvBufU32 rgb, MvBufU32 planes, Mv
       mv_u32 msb = hi != 0u ? 32u + MV_FIND_MSB(hi) : MV_FIND_MSB(MV_U32(x));
       d = msb / 3u + 1u;
     }
-    mv_u32 c = MV_LD(rgb, i);
+    mv_u32 c = MV_LD(rgb, i * p.stride);
     MV_ST(planes, i, d);
     for (mv_u32 k = 0u; k < 3u; ++k) MV_ST(planes, (k + 1u) * p.n + i, (c >> (8u * k)) & 255u);
   }

@@ -94,6 +94,12 @@ bool prefers_cooperative_sort(const DeviceInfo& info);
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits,
                       SortStrategy strategy = SortStrategy::Auto);
 
+// The same sort of n 64-bit keys on their bits from `payload_bits` up (whole 8-bit digits): the bits below ride
+// along, so equal keys end up together, their payloads in an order that depends on the path the sort takes (for
+// what sums them). A payload packed beside the key (a point's colour beside its cell's code) costs no pass and no
+// second column.
+SortReport radix_sort_packed(Device& dev, Buffer& keys, uint64_t n, uint32_t payload_bits);
+
 // The same sort of n 64-bit keys, their places moved along: returns the permutation (n 32-bit values; value i =
 // the place sorted key i had), by which other columns follow the keys (gather_records).
 Buffer radix_sort_order(Device& dev, Buffer& keys, uint64_t n);

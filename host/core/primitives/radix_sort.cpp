@@ -152,7 +152,7 @@ bool prefers_cooperative_sort(const DeviceInfo& info) {
 namespace {
 
 SortReport sort_on_device(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy,
-                          const SortedPrefix* on_prefix, uint32_t ranges) {
+                          const SortedPrefix* on_prefix, uint32_t ranges, uint32_t payload_bits = 0) {
   SortReport report;
   if (n <= 1) return report;
   detail::check_device_items("radix_sort", n);
@@ -191,6 +191,7 @@ SortReport sort_on_device(Device& dev, Buffer& keys, Buffer* values, uint64_t n,
   dev.dispatch(or_and, s.groups, s.local_size, {&keys, &red, &hist}, p);
   dev.barrier();
   uint64_t varying = k64 ? varying_bits<uint64_t>(dev, red, s.blocks) : varying_bits<uint32_t>(dev, red, s.blocks);
+  if (payload_bits) varying &= ~uint64_t{0} << payload_bits;  // the payload is carried, not sorted
 
   for (uint32_t d = 0; d < key_bits / MV_RADIX_BITS; ++d)
     if (((varying >> (MV_RADIX_BITS * d)) & 0xff) == 0) ++report.digits_skipped;
@@ -298,6 +299,12 @@ SortReport sort_on_device(Device& dev, Buffer& keys, Buffer* values, uint64_t n,
 
 SortReport radix_sort(Device& dev, Buffer& keys, Buffer* values, uint64_t n, KeyBits bits, SortStrategy strategy) {
   return sort_on_device(dev, keys, values, n, bits, strategy, nullptr, 1);
+}
+
+SortReport radix_sort_packed(Device& dev, Buffer& keys, uint64_t n, uint32_t payload_bits) {
+  if (payload_bits % MV_RADIX_BITS != 0 || payload_bits >= 64)
+    throw Error("radix_sort_packed: a payload of " + std::to_string(payload_bits) + " bits is not whole digits below the key");
+  return sort_on_device(dev, keys, nullptr, n, KeyBits::k64, SortStrategy::Auto, nullptr, 1, payload_bits);
 }
 
 Buffer radix_sort_order(Device& dev, Buffer& keys, uint64_t n) {

@@ -29,8 +29,9 @@ void colour_dispatch(Device& dev, KernelId id, uint64_t n, std::initializer_list
 }
 
 // The depth-first colours of the octree over `voxels` sorted voxel codes (keys) with their packed colours
-// (rgb), the root at level `levels`.
-std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer& rgb, uint64_t voxels, uint32_t levels) {
+// (rgb: one per `stride` 32-bit words), the root at level `levels`.
+std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer& rgb, uint32_t stride, uint64_t voxels,
+                                  uint32_t levels) {
   uint64_t last_key = 0;
   dev.download(keys, &last_key, 8, (voxels - 1) * 8);
   if (levels < 21 && last_key >> (3 * levels) != 0)
@@ -41,6 +42,7 @@ std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer&
   MvColourParams p{};
   p.n = static_cast<uint32_t>(voxels);
   p.levels = levels;
+  p.stride = stride;
   Buffer planes = colour_alloc(dev, 4 * voxels * 4, "voxel colour planes");
   colour_dispatch(dev, KernelId::colour_starts, voxels, {&keys, &rgb, &planes}, p);
   Buffer sums = colour_alloc(dev, (4 * voxels + 1) * 8, "voxel colour prefix sums");
@@ -61,27 +63,29 @@ std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer&
   return out;
 }
 
-// `runs`: the points' runs of equal codes (one a voxel), when points > voxels.
-std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, const Segmentation* runs,
+// `sorted_rgb`: the points' colours in sorted order, one per `stride` 32-bit words; `runs`: the points' runs of
+// equal codes (one a voxel), when points > voxels.
+std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, uint32_t stride, const Segmentation* runs,
                                          uint64_t points, const Buffer& voxel_keys, uint64_t voxels, uint32_t levels) {
   // The sort's scratch is retired, not yet free: reused once the device is idle (one wait), the buffers below land
   // in storage already touched instead of fresh memory (a CPU device faults on each fresh page).
   dev.finish();
   if (points == voxels)  // one point a voxel (a mesh's voxels, or a sparse cloud): its colour is the voxel's
-    return node_colours(dev, voxel_keys, sorted_rgb, voxels, levels);
+    return node_colours(dev, voxel_keys, sorted_rgb, stride, voxels, levels);
   if (!runs || runs->count != voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
   Buffer rgb = colour_alloc(dev, voxels * 4, "voxel colours");
   {
     Buffer planes = colour_alloc(dev, kColourPlanes * points * 4, "point colour planes");
     MvColourParams p{};
     p.n = static_cast<uint32_t>(points);
+    p.stride = stride;
     colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
     Buffer sums = colour_alloc(dev, kColourPlanes * voxels * 8, "colour sums");
     segmented_sum(dev, *runs, planes, sums, kColourPlanes);
     p.n = static_cast<uint32_t>(voxels);
     colour_dispatch(dev, KernelId::colour_level, voxels, {&sums, &rgb}, p);
   }
-  return node_colours(dev, voxel_keys, rgb, voxels, levels);
+  return node_colours(dev, voxel_keys, rgb, 1, voxels, levels);
 }
 
 }  // namespace
@@ -90,7 +94,7 @@ std::vector<uint8_t> depth_first_voxel_colours(Device& dev, Buffer voxel_keys, c
                                                uint32_t levels) {
   if (voxels == 0) return {};
   // one colour a voxel: no runs of points to find, so no point codes
-  return depth_first_colours(dev, voxel_rgb, nullptr, voxels, voxel_keys, voxels, levels);
+  return depth_first_colours(dev, voxel_rgb, 1, nullptr, voxels, voxel_keys, voxels, levels);
 }
 
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
@@ -120,7 +124,18 @@ CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::sp
     dev.upload(values, rgb.data(), points * 4);
     dev.barrier();
   }
-  radix_sort(dev, keys, colour ? &values : nullptr, points, KeyBits::k64);
+  // Where the codes leave 24 bits, each point's colour rides below its code in the sort key: the sort then moves
+  // no colour column (on lavapipe that column doubled the scatter's time).
+  const bool packed = colour && 3 * levels + MV_COLOUR_PAYLOAD <= 64;
+  if (packed) {
+    MvColourParams p{};
+    p.n = static_cast<uint32_t>(points);
+    colour_dispatch(dev, KernelId::colour_pack_keys, points, {&keys, &values}, p);
+    values = Buffer();
+    radix_sort_packed(dev, keys, points, MV_COLOUR_PAYLOAD);
+  } else {
+    radix_sort(dev, keys, colour ? &values : nullptr, points, KeyBits::k64);
+  }
   dev.barrier();
   if (!colour) {
     Buffer unique = dev.alloc(points * 8, "voxel codes");
@@ -131,18 +146,20 @@ CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::sp
   }
   // With colour the points' runs are needed anyway: the voxels are their first codes (one segmentation serves
   // both, instead of unique_sorted and a second pass over the same keys).
-  const Segmentation runs = segment_by_key(dev, keys, points, 0);
+  const uint32_t payload = packed ? MV_COLOUR_PAYLOAD : 0;
+  const Segmentation runs = segment_by_key(dev, keys, points, payload);
   const uint64_t voxels = runs.count;
   Buffer unique = dev.alloc(voxels * 8, "voxel codes");
   MvColourParams first{};
   first.n = static_cast<uint32_t>(voxels);
+  first.shift = payload;
   colour_dispatch(dev, KernelId::colour_parent_keys, voxels, {&keys, &runs.starts, &unique}, first);
   out.keys.resize(voxels);
   dev.download(unique, out.keys.data(), voxels * 8);
-  keys = Buffer();  // the points' codes are done with: their runs and the voxels' codes stay
+  if (!packed) keys = Buffer();  // the points' codes are done with: their runs and the voxels' codes stay
   {
     const auto start = std::chrono::steady_clock::now();
-    out.colours = depth_first_colours(dev, values, &runs, points, unique, voxels, levels);
+    out.colours = depth_first_colours(dev, packed ? keys : values, packed ? 2 : 1, &runs, points, unique, voxels, levels);
     if (colour_seconds) *colour_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return out;

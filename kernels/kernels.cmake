@@ -20,6 +20,7 @@ mv_kernel(radix_coop_scatter_k64   sort/sort.cl      sort/radix_sort.comp 5  MvR
 mv_kernel(scan_reduce              scan/scan.cl      scan/scan.comp       2  MvScanParams      MV_ENTRY_reduce)
 mv_kernel(scan_small               scan/scan.cl      scan/scan.comp       1  MvScanParams      MV_ENTRY_small)
 mv_kernel(scan_apply               scan/scan.cl      scan/scan.comp       3  MvScanParams      MV_ENTRY_apply)
+mv_kernel(scan_reduce_group        scan/scan.cl      scan/scan.comp       2  MvScanParams      MV_ENTRY_reduce_group)
 mv_kernel(morton_encode32          morton/morton.cl  morton/morton.comp   2  MvMortonParams)
 mv_kernel(morton_encode64          morton/morton.cl  morton/morton.comp   2  MvMortonParams    MV_KEY64)
 mv_kernel(point_codes              points/points.cl  points/points.comp   3  MvPointParams     MV_ENTRY_point_codes)

@@ -10,6 +10,8 @@
 #define MV_SCAN_H
 #include "mv_lang.h"
 
+#define MV_SCAN_GROUP 64 /* the most items a group of scan_reduce_group (scan_group.h) has */
+
 MV_STRUCT_BEGIN(MvScanParams)
   mv_u32 n;          /* number of values */
   mv_u32 blocks;     /* number of blocks */

@@ -33,7 +33,12 @@ void record_scan(Device& dev, ScanPlan& plan, const Buffer& src, Buffer& dst, ui
   const BlockShape& s = plan.shape;
   const auto lo = static_cast<uint32_t>(start), hi = static_cast<uint32_t>(start >> 32);
   MvScanParams p{plan.n, s.blocks, s.block_size, plan.wide ? 1u : 0u, lo, hi};
-  dev.dispatch(dev.kernel(KernelId::scan_reduce), s.groups, s.local_size, {&src, &plan.sums}, p);
+  // Where a group's items run side by side (groups of more than one), a group sums each block, its items reading
+  // consecutive values; elsewhere (PoCL's groups of one) each item walks a block alone.
+  const bool grouped = s.local_size > 1 && s.local_size <= MV_SCAN_GROUP;
+  const uint32_t groups = grouped ? s.blocks : s.groups;
+  dev.dispatch(dev.kernel(grouped ? KernelId::scan_reduce_group : KernelId::scan_reduce), groups, s.local_size,
+               {&src, &plan.sums}, p);
   dev.barrier();
   MvScanParams small{s.blocks, 1, s.blocks, 0, lo, hi};
   dev.dispatch(dev.kernel(KernelId::scan_small), 1, 1, {&plan.sums}, small);

@@ -23,9 +23,9 @@
  *                       rounded half up;
  *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> shift, the voxels' codes from their points' runs;
  *   colour_starts:      the voxels' planes: d, r, g, b;
- *   colour_nodes:       from the planes' exclusive scan (sums), a work-item per voxel, a bounded loop over the (at
- *                       most levels + 1) nodes starting there: each node's voxel range, mean, and its place in the
- *                       attributes.
+ *   colour_nodes:       from the planes' exclusive scan (sums), a work-item per voxel: its own colour, then a
+ *                       bounded loop over the (at most levels) nodes above it starting there: each node's voxel
+ *                       range, mean, and its place in the attributes.
  * Integer arithmetic only: the same bits on every device. */
 #ifndef MV_COLOUR_H
 #define MV_COLOUR_H
@@ -101,17 +101,19 @@ MV_INLINE void mv_colour_starts(MvBufU64 keys, MvBufU32 rgb, MvBufU32 planes, Mv
   }
 }
 
-MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 planes, MvBufU64 sums, MvBufU32 attributes, MvColourParams p,
-                               mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 rgb, MvBufU32 planes, MvBufU64 sums, MvBufU32 attributes,
+                               MvColourParams p, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 d = MV_LD(planes, i), last = MV_U32(MV_LD(sums, i)) + d - 1u; /* the voxel's own index */
+    mv_u32 packed = MV_LD(rgb, i * p.stride) & 0xffffffu;
+    MV_ST(attributes, last, packed);
     mv_u64 key = MV_LD(keys, i);
-    mv_u32 end = i + 1u, below = end, packed = 0u;
-    for (mv_u32 k = 0u; k < d; ++k) {
+    mv_u32 end = i + 1u, below = end;
+    for (mv_u32 k = 1u; k < d; ++k) { /* the nodes above the voxel that start with it */
       /* Voxels [i, end) are in the level below's node, so in this one. It goes on past them where a sibling of
-       * that node starts at `end` (d[end] <= k); it holds at most 8^k voxels. The end is
-       * then found by galloping from there and a binary search: on sparse or noisy clouds it is mostly near. */
-      if (k > 0u && end < p.n && MV_LD(planes, end) <= k) {
+       * that node starts at `end` (d[end] <= k); it holds at most 8^k voxels. The end is then found by galloping
+       * from there and a binary search: on sparse or noisy clouds it is mostly near. */
+      if (end < p.n && MV_LD(planes, end) <= k) {
         mv_u32 shift = 3u * k, bound = p.n, lo = end + 1u, hi = end + 1u, step = 1u;
         mv_u64 node = key >> shift;
         if (shift < 31u && p.n - i > (1u << shift)) bound = i + (1u << shift);
@@ -127,13 +129,11 @@ MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 planes, MvBufU64 sums, Mv
         }
         end = lo;
       }
-      if (k == 0u || end != below) { /* else the same voxels as the node below: its colour */
+      if (end != below) { /* else the same voxels as the node below: its colour */
         mv_u64 count = MV_U64(end - i), r = MV_LD(sums, p.n + end) - MV_LD(sums, p.n + i),
                g = MV_LD(sums, 2u * p.n + end) - MV_LD(sums, 2u * p.n + i),
                b = MV_LD(sums, 3u * p.n + end) - MV_LD(sums, 3u * p.n + i);
-        packed = MV_U32(r) | (MV_U32(g) << 8u) | (MV_U32(b) << 16u); /* one voxel: no division */
-        if (k > 0u)
-          packed = mv_colour_mean(r, count) | (mv_colour_mean(g, count) << 8u) | (mv_colour_mean(b, count) << 16u);
+        packed = mv_colour_mean(r, count) | (mv_colour_mean(g, count) << 8u) | (mv_colour_mean(b, count) << 16u);
       }
       below = end;
       MV_ST(attributes, last - k, packed);

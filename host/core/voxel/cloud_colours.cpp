@@ -54,7 +54,7 @@ std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer&
     throw Error("voxel colours: " + std::to_string(entries) + " octree nodes, over the " +
                 std::to_string(kMaxDeviceItems) + " one attribute array holds");
   Buffer attributes = colour_alloc(dev, entries * 4, "depth-first colours");
-  colour_dispatch(dev, KernelId::colour_nodes, voxels, {&keys, &planes, &sums, &attributes}, p);
+  colour_dispatch(dev, KernelId::colour_nodes, voxels, {&keys, &rgb, &planes, &sums, &attributes}, p);
   std::vector<uint32_t> packed(entries);
   dev.download(attributes, packed.data(), entries * 4);
   std::vector<uint8_t> out(entries * 3);

@@ -9,8 +9,8 @@ __kernel void colour_unpack(__global uint* rgb, __global uint* planes, MvColourP
   mv_colour_unpack(rgb, planes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
-__kernel void colour_level(__global ulong* sums, __global uint* rgb, MvColourParams p) {
-  mv_colour_level(sums, rgb, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+__kernel void colour_level(__global ulong* keys, __global ulong* sums, __global uint* planes, MvColourParams p) {
+  mv_colour_level(keys, sums, planes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
 __kernel void colour_parent_keys(__global ulong* keys, __global uint* starts, __global ulong* up, MvColourParams p) {
@@ -21,7 +21,7 @@ __kernel void colour_starts(__global ulong* keys, __global uint* rgb, __global u
   mv_colour_starts(keys, rgb, planes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
-__kernel void colour_nodes(__global ulong* keys, __global uint* rgb, __global uint* planes, __global ulong* sums,
-                           __global uint* attributes, MvColourParams p) {
-  mv_colour_nodes(keys, rgb, planes, sums, attributes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+__kernel void colour_nodes(__global ulong* keys, __global uint* planes, __global ulong* sums, __global uint* attributes,
+                           MvColourParams p) {
+  mv_colour_nodes(keys, planes, sums, attributes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }

@@ -11,8 +11,8 @@ void main() { mv_colour_pack_keys(args.keys, args.rgb, args.p, MV_GLOBAL_ID(), M
 layout(push_constant) uniform Args { MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
 void main() { mv_colour_unpack(args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_level)
-layout(push_constant) uniform Args { MvBufU64 sums; MvBufU32 rgb; MvColourParams p; } args;
-void main() { mv_colour_level(args.sums, args.rgb, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
+layout(push_constant) uniform Args { MvBufU64 keys; MvBufU64 sums; MvBufU32 planes; MvColourParams p; } args;
+void main() { mv_colour_level(args.keys, args.sums, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_parent_keys)
 layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 starts; MvBufU64 up; MvColourParams p; } args;
 void main() { mv_colour_parent_keys(args.keys, args.starts, args.up, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
@@ -21,11 +21,10 @@ layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 rgb; MvBufU32 plane
 void main() { mv_colour_starts(args.keys, args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_nodes)
 layout(push_constant) uniform Args {
-  MvBufU64 keys; MvBufU32 rgb; MvBufU32 planes; MvBufU64 sums; MvBufU32 attributes; MvColourParams p;
+  MvBufU64 keys; MvBufU32 planes; MvBufU64 sums; MvBufU32 attributes; MvColourParams p;
 } args;
 void main() {
-  mv_colour_nodes(args.keys, args.rgb, args.planes, args.sums, args.attributes, args.p, MV_GLOBAL_ID(),
-                  MV_GLOBAL_SIZE());
+  mv_colour_nodes(args.keys, args.planes, args.sums, args.attributes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #else
 #error "define MV_ENTRY_pack_keys, _unpack, _level, _parent_keys, _starts or _nodes"

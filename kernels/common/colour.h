@@ -19,10 +19,10 @@
  * d, so they are o, and a plane's differences do not see the planes before it.
  *   colour_pack_keys:   keys[i] = keys[i] << 24 | the point's 0xBBGGRR;
  *   colour_unpack:      points' packed 0xBBGGRR -> their MV_COLOUR_PLANES planes (r, g, b, 1);
- *   colour_level:       the 64-bit sums of n voxels' points (r, g, b, count) -> rgb[i], each channel sum / count
- *                       rounded half up;
+ *   colour_level:       the 64-bit sums of n voxels' points (r, g, b, count) -> the voxels' planes: d, and each
+ *                       channel sum / count rounded half up;
  *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> shift, the voxels' codes from their points' runs;
- *   colour_starts:      the voxels' planes: d, r, g, b;
+ *   colour_starts:      the voxels' planes from their colours (a mesh's, or one point a voxel): d, r, g, b;
  *   colour_nodes:       from the planes' exclusive scan (sums), a work-item per voxel: its own colour, then a
  *                       bounded loop over the (at most levels) nodes above it starting there: each node's voxel
  *                       range, mean, and its place in the attributes.
@@ -71,41 +71,43 @@ MV_INLINE mv_u32 mv_colour_mean(mv_u64 sum, mv_u64 count) {
   return q;
 }
 
-MV_INLINE void mv_colour_level(MvBufU64 sums, MvBufU32 rgb, MvColourParams p, mv_u32 gid, mv_u32 stride) {
-  for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u64 count = MV_LD(sums, MV_COLOUR_COUNT * p.n + i);
-    mv_u32 packed = 0u;
-    for (mv_u32 c = 0u; c < 3u; ++c) packed |= mv_colour_mean(MV_LD(sums, c * p.n + i), count) << (8u * c);
-    MV_ST(rgb, i, packed);
-  }
-}
 
 MV_INLINE void mv_colour_parent_keys(MvBufU64 keys, MvBufU32 starts, MvBufU64 up, MvColourParams p, mv_u32 gid,
                                      mv_u32 stride) {
   for (mv_u32 s = gid; s < p.n; s += stride) MV_ST(up, s, MV_LD(keys, MV_LD(starts, s)) >> p.shift);
 }
 
+/* How many nodes start at voxel i of n sorted distinct codes (above). */
+MV_INLINE mv_u32 mv_colour_node_starts(MvBufU64 keys, mv_u32 i, mv_u32 levels) {
+  if (i == 0u) return levels + 1u;
+  mv_u64 x = MV_LD(keys, i) ^ MV_LD(keys, i - 1u); /* nonzero: the codes are distinct */
+  mv_u32 hi = MV_U32(x >> 32);
+  return (hi != 0u ? 32u + MV_FIND_MSB(hi) : MV_FIND_MSB(MV_U32(x))) / 3u + 1u;
+}
+
 MV_INLINE void mv_colour_starts(MvBufU64 keys, MvBufU32 rgb, MvBufU32 planes, MvColourParams p, mv_u32 gid,
                                 mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 d = p.levels + 1u;
-    if (i > 0u) {
-      mv_u64 x = MV_LD(keys, i) ^ MV_LD(keys, i - 1u); /* nonzero: the codes are distinct */
-      mv_u32 hi = MV_U32(x >> 32);
-      mv_u32 msb = hi != 0u ? 32u + MV_FIND_MSB(hi) : MV_FIND_MSB(MV_U32(x));
-      d = msb / 3u + 1u;
-    }
     mv_u32 c = MV_LD(rgb, i * p.stride);
-    MV_ST(planes, i, d);
+    MV_ST(planes, i, mv_colour_node_starts(keys, i, p.levels));
     for (mv_u32 k = 0u; k < 3u; ++k) MV_ST(planes, (k + 1u) * p.n + i, (c >> (8u * k)) & 255u);
   }
 }
 
-MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 rgb, MvBufU32 planes, MvBufU64 sums, MvBufU32 attributes,
-                               MvColourParams p, mv_u32 gid, mv_u32 stride) {
+MV_INLINE void mv_colour_level(MvBufU64 keys, MvBufU64 sums, MvBufU32 planes, MvColourParams p, mv_u32 gid,
+                               mv_u32 stride) {
+  for (mv_u32 i = gid; i < p.n; i += stride) {
+    mv_u64 count = MV_LD(sums, MV_COLOUR_COUNT * p.n + i);
+    MV_ST(planes, i, mv_colour_node_starts(keys, i, p.levels));
+    for (mv_u32 c = 0u; c < 3u; ++c) MV_ST(planes, (c + 1u) * p.n + i, mv_colour_mean(MV_LD(sums, c * p.n + i), count));
+  }
+}
+
+MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 planes, MvBufU64 sums, MvBufU32 attributes, MvColourParams p,
+                               mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
     mv_u32 d = MV_LD(planes, i), last = MV_U32(MV_LD(sums, i)) + d - 1u; /* the voxel's own index */
-    mv_u32 packed = MV_LD(rgb, i * p.stride) & 0xffffffu;
+    mv_u32 packed = MV_LD(planes, p.n + i) | (MV_LD(planes, 2u * p.n + i) << 8u) | (MV_LD(planes, 3u * p.n + i) << 16u);
     MV_ST(attributes, last, packed);
     mv_u64 key = MV_LD(keys, i);
     mv_u32 end = i + 1u, below = end;

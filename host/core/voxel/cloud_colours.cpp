@@ -28,10 +28,8 @@ void colour_dispatch(Device& dev, KernelId id, uint64_t n, std::initializer_list
   dev.barrier();
 }
 
-// The depth-first colours of the octree over `voxels` sorted voxel codes (keys) with their packed colours
-// (rgb: one per `stride` 32-bit words), the root at level `levels`.
-std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer& rgb, uint32_t stride, uint64_t voxels,
-                                  uint32_t levels) {
+// The checks before the voxels' planes (d, r, g, b: 4 x voxels 32-bit values) are made.
+void check_voxels(Device& dev, const Buffer& keys, uint64_t voxels, uint32_t levels) {
   uint64_t last_key = 0;
   dev.download(keys, &last_key, 8, (voxels - 1) * 8);
   if (levels < 21 && last_key >> (3 * levels) != 0)
@@ -39,12 +37,15 @@ std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer&
   if (4 * voxels > kMaxDeviceItems)
     throw Error("voxel colours: " + std::to_string(voxels) + " voxels, over the " +
                 std::to_string(kMaxDeviceItems / 4) + " one device call holds");
+}
+
+// The depth-first colours of the octree over `voxels` sorted voxel codes (keys), the root at level `levels`, from
+// the voxels' planes (colour_starts or colour_level).
+std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer& planes, uint64_t voxels,
+                                  uint32_t levels) {
   MvColourParams p{};
   p.n = static_cast<uint32_t>(voxels);
   p.levels = levels;
-  p.stride = stride;
-  Buffer planes = colour_alloc(dev, 4 * voxels * 4, "voxel colour planes");
-  colour_dispatch(dev, KernelId::colour_starts, voxels, {&keys, &rgb, &planes}, p);
   Buffer sums = colour_alloc(dev, (4 * voxels + 1) * 8, "voxel colour prefix sums");
   exclusive_scan64(dev, planes, sums, 4 * voxels);
   dev.barrier();
@@ -54,7 +55,7 @@ std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer&
     throw Error("voxel colours: " + std::to_string(entries) + " octree nodes, over the " +
                 std::to_string(kMaxDeviceItems) + " one attribute array holds");
   Buffer attributes = colour_alloc(dev, entries * 4, "depth-first colours");
-  colour_dispatch(dev, KernelId::colour_nodes, voxels, {&keys, &rgb, &planes, &sums, &attributes}, p);
+  colour_dispatch(dev, KernelId::colour_nodes, voxels, {&keys, &planes, &sums, &attributes}, p);
   std::vector<uint32_t> packed(entries);
   dev.download(attributes, packed.data(), entries * 4);
   std::vector<uint8_t> out(entries * 3);
@@ -70,22 +71,26 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
   // The sort's scratch is retired, not yet free: reused once the device is idle (one wait), the buffers below land
   // in storage already touched instead of fresh memory (a CPU device faults on each fresh page).
   dev.finish();
-  if (points == voxels)  // one point a voxel (a mesh's voxels, or a sparse cloud): its colour is the voxel's
-    return node_colours(dev, voxel_keys, sorted_rgb, stride, voxels, levels);
-  if (!runs || runs->count != voxels) throw Error("voxel colours: the points' runs disagree with the voxels");
-  Buffer rgb = colour_alloc(dev, voxels * 4, "voxel colours");
-  {
-    Buffer planes = colour_alloc(dev, kColourPlanes * points * 4, "point colour planes");
-    MvColourParams p{};
-    p.n = static_cast<uint32_t>(points);
-    p.stride = stride;
-    colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &planes}, p);
-    Buffer sums = colour_alloc(dev, kColourPlanes * voxels * 8, "colour sums");
-    segmented_sum(dev, *runs, planes, sums, kColourPlanes);
+  check_voxels(dev, voxel_keys, voxels, levels);
+  if (points != voxels && (!runs || runs->count != voxels))
+    throw Error("voxel colours: the points' runs disagree with the voxels");
+  MvColourParams p{};
+  p.levels = levels;
+  p.stride = stride;
+  Buffer planes = colour_alloc(dev, 4 * voxels * 4, "voxel colour planes");
+  if (points == voxels) {  // one point a voxel (a mesh's voxels, or a sparse cloud): its colour is the voxel's
     p.n = static_cast<uint32_t>(voxels);
-    colour_dispatch(dev, KernelId::colour_level, voxels, {&sums, &rgb}, p);
+    colour_dispatch(dev, KernelId::colour_starts, voxels, {&voxel_keys, &sorted_rgb, &planes}, p);
+  } else {
+    Buffer point_planes = colour_alloc(dev, kColourPlanes * points * 4, "point colour planes");
+    p.n = static_cast<uint32_t>(points);
+    colour_dispatch(dev, KernelId::colour_unpack, points, {&sorted_rgb, &point_planes}, p);
+    Buffer sums = colour_alloc(dev, kColourPlanes * voxels * 8, "colour sums");
+    segmented_sum(dev, *runs, point_planes, sums, kColourPlanes);
+    p.n = static_cast<uint32_t>(voxels);
+    colour_dispatch(dev, KernelId::colour_level, voxels, {&voxel_keys, &sums, &planes}, p);
   }
-  return node_colours(dev, voxel_keys, rgb, 1, voxels, levels);
+  return node_colours(dev, voxel_keys, planes, voxels, levels);
 }
 
 }  // namespace

@@ -4,9 +4,9 @@
 // Morton codes) and, when they carry colour, the attribute array: one RGB24 entry per octree node, voxels and
 // inner nodes alike, in pre-order (children in Morton octant order), so DAG node counts do not change with
 // colour. A voxel's colour is the mean of its points' 8-bit channels, an inner node's the mean of the voxel
-// colours below it (sum / count), each rounded half up. Runs on the device: Morton codes, the radix sort,
-// unique and the segmented sums are the shared primitives; kernels/common/colour.h adds the divide, the parent
-// codes and the scatter into depth-first order.
+// colours below it (sum / count), each rounded half up. Runs on the device: Morton codes, the radix sort, the
+// segmentation, the segmented sums and the scan are the shared primitives; kernels/common/colour.h adds the
+// colour packed into the sort key, the divides, and every node's range and place in depth-first order.
 #pragma once
 #include <cstdint>
 #include <functional>

@@ -228,10 +228,12 @@ ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits) 
   });
   for (size_t i = 0; i < n; ++i) ++w[slot[i]];
   std::vector<Lab> lab(colours.size());
-  for (size_t u = 0; u < colours.size(); ++u) {
-    const uint8_t c[3] = {uint8_t(colours[u] >> 16), uint8_t(colours[u] >> 8), uint8_t(colours[u])};
-    lab[u] = srgb_to_lab(c);
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, colours.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t u = range.begin(); u < range.end(); ++u) {
+      const uint8_t c[3] = {uint8_t(colours[u] >> 16), uint8_t(colours[u] >> 8), uint8_t(colours[u])};
+      lab[u] = srgb_to_lab(c);
+    }
+  });
   std::vector<uint32_t> idx(colours.size());
   std::iota(idx.begin(), idx.end(), 0u);
   const auto boxes = median_cut(lab, w, idx, k);

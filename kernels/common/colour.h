@@ -26,7 +26,8 @@
  *   colour_nodes:       from the planes' exclusive scan (sums), a work-item per voxel: its own colour, then a
  *                       bounded loop over the (at most levels) nodes above it starting there: each node's voxel
  *                       range, mean, and its place in the attributes.
- * Integer arithmetic only: the same bits on every device. */
+ * Integer arithmetic decides every value (a mean's float quotient is only an estimate that integers correct): the
+ * same bits on every device. */
 #ifndef MV_COLOUR_H
 #define MV_COLOUR_H
 #include "mv_lang.h"
@@ -37,7 +38,7 @@
 
 MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 n;      /* elements of the dispatch */
-  mv_u32 levels; /* colour_starts: the root's level, the voxels' being 0 */
+  mv_u32 levels; /* colour_starts, colour_level: the root's level, the voxels' being 0 */
   mv_u32 shift;  /* colour_parent_keys: bits the keys shift right */
   mv_u32 stride; /* colour_unpack, colour_starts: words from one colour to the next (2: in packed keys' low words) */
 MV_STRUCT_END(MvColourParams)

@@ -102,8 +102,6 @@ struct QuantizeBox {
   bool operator<(const QuantizeBox& o) const { return spread != o.spread ? spread < o.spread : lo > o.lo; }
 };
 
-// Median cut over the colours' order `idx`: `k` boxes (ranges of idx), split where the weighted spread is
-// largest, along the axis of largest weighted variance, at the weighted median.
 // An order-preserving 64-bit key of a finite double (-0 as +0), for sorting by value with the index as tie-break.
 uint64_t sortable(double v) {
   const uint64_t b = std::bit_cast<uint64_t>(v == 0 ? 0.0 : v);
@@ -149,6 +147,8 @@ size_t weighted_median_split(std::vector<std::pair<uint64_t, uint32_t>>& a, cons
   return std::max<size_t>(m, 1);
 }
 
+// Median cut over the colours' order `idx`: `k` boxes (ranges of idx), split where the weighted spread is
+// largest, along the axis of largest weighted variance, at the weighted median.
 std::vector<std::pair<size_t, size_t>> median_cut(const std::vector<Lab>& lab, const std::vector<uint64_t>& w,
                                                   std::vector<uint32_t>& idx, size_t k) {
   auto box = [&](size_t lo, size_t hi) {

@@ -44,7 +44,7 @@ if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
   packages+=(nodejs npm)
 fi
 if ((viewer)); then
-  packages+=(chromium)   # headless, software GL (SwiftShader): tests/js/render_tileset.mjs
+  packages+=(chromium)   # headless, software GL (SwiftShader): tests/js/render_tileset.mjs, cesium_tileset.mjs
 fi
 if ((fuzz)); then
   # clang 14 with libFuzzer and the sanitizer runtimes. clang only *recommends* the runtime package, and

@@ -1,12 +1,13 @@
 // Readers that share no code with megavox, where they are installed: loaders.gl under Node reads every tile of
 // 3D Tiles 1.1 and 1.0 tilesets (tests/js, `npm ci` by scripts/setup.sh), and headless Chromium renders them
-// with three.js and 3d-tiles-renderer (scripts/setup.sh --viewer). Without them each test says so in one line
-// and passes.
+// with three.js and 3d-tiles-renderer and loads them with CesiumJS (scripts/setup.sh --viewer). Without them
+// each test says so in one line and passes.
 #include <sys/wait.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 
 #include "io/tiles3d_writer.h"
 #include "megavox/point_build.h"
@@ -51,6 +52,13 @@ bool have_node_modules(const char* test, const std::vector<std::string>& package
     }
   }
   return true;
+}
+
+bool have_chromium(const char* test) {
+  const char* env = std::getenv("CHROMIUM");
+  if ((env && *env) || on_path("chromium") || on_path("chromium-browser")) return true;
+  std::printf("%s: not run: no Chromium (scripts/setup.sh --viewer installs it)\n", test);
+  return false;
 }
 
 // check_tileset.mjs on DIR: it must load every tile, count `tiles` of them and `leaf_points` at the leaves.
@@ -126,11 +134,7 @@ TEST(Tiles3dJs, LoadersGlReadsARealBuild) {
 
 // The screenshot stays in the test's working folder (build/tests/tiles3d_render.png) for a person to look at.
 TEST(Tiles3dJs, ChromiumRendersTileset) {
-  const char* env = std::getenv("CHROMIUM");
-  if (!(env && *env) && !on_path("chromium") && !on_path("chromium-browser")) {
-    std::printf("Tiles3dJs.ChromiumRendersTileset: not run: no Chromium (scripts/setup.sh --viewer installs it)\n");
-    return;
-  }
+  if (!have_chromium("Tiles3dJs.ChromiumRendersTileset")) return;
   if (!have_node_modules("Tiles3dJs.ChromiumRendersTileset", {"puppeteer-core", "three", "3d-tiles-renderer"})) return;
   // A synthetic cloud placed on the globe as 1.1 (glb through three's MeshoptDecoder), and as 1.0.
   const PointHierarchy h = synthetic_hierarchy({});
@@ -163,6 +167,56 @@ TEST(Tiles3dJs, ChromiumRendersTileset) {
     std::printf("%s", real.output.c_str());
     EXPECT_EQ(real.status, 0) << real.output;
     EXPECT_NE(real.output.find("\"ok\":true"), std::string::npos) << real.output;
+  }
+}
+
+// cesium_tileset.mjs on DIR with ARGS: CesiumJS loads every tile without an error or a request off the machine.
+void cesium_loads(const std::string& dir, const std::string& args) {
+  const Ran r = run("node " + quoted(kJs + "/cesium_tileset.mjs") + " " + quoted(dir) + " " + args);
+  std::printf("%s", r.output.c_str());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\"ok\":true"), std::string::npos) << r.output;
+}
+
+// CesiumJS (tests/js/cesium_tileset.mjs): a synthetic cloud with LAS-like fields as 1.1 (glb: meshopt, quantized,
+// classification as feature IDs and a property attribute) and as 1.0 (.pnts, batch table); the leaves hold every
+// point, and the classifications Cesium draws from the tiles' metadata are the cloud's. Then Autzen (LAS 1.2, classes
+// 1 and 2) as both, its 1.1 placed in Eugene, Oregon.
+TEST(Tiles3dJs, CesiumLoadsTileset) {
+  if (!have_chromium("Tiles3dJs.CesiumLoadsTileset")) return;
+  if (!have_node_modules("Tiles3dJs.CesiumLoadsTileset", {"puppeteer-core", "@cesium/engine", "esbuild"})) return;
+  SyntheticCloud c;
+  c.fields = true, c.points = 3000;
+  const PointHierarchy h = synthetic_hierarchy(c);
+  std::set<int> classes;
+  for (const SyntheticProperty& p : synthetic_properties(h)) {
+    if (p.name != "classification") continue;
+    for (const PointNode& n : h.nodes)
+      for (uint64_t k = 0; k < n.point_count; ++k) classes.insert(int(synthetic_value(h, p, n.first_point + k)));
+  }
+  ASSERT_FALSE(classes.empty());
+  std::string list;
+  for (int k : classes) list += (list.empty() ? "" : ",") + std::to_string(k);
+  for (int minor : {1, 0}) {
+    const std::string dir = temp_path("cesium" + std::to_string(minor));
+    io::write_3dtiles(dir, h, io::Tiles3dOptions{minor, "", true});
+    cesium_loads(dir, "--points " + std::to_string(h.points_kept) + " --classes " + list);
+  }
+  const char* autzen = "pointcloud_autzen/autzen_trim.las";
+  if (shared_data_file(autzen).empty() || all_devices().empty()) {
+    std::printf("Tiles3dJs.CesiumLoadsTileset: Autzen not run: no %s or no device\n", shared_data_path(autzen).c_str());
+    return;
+  }
+  for (int minor : {1, 0}) {
+    PointFileOptions o;
+    o.input = shared_data_file(autzen);
+    o.output = temp_path("cesium_autzen" + std::to_string(minor));
+    o.format = PointOutput::tiles3d;
+    o.tiles_minor_version = minor;
+    const PointFileReport rep = build_points_file(shared_device(all_devices()[0]), o);
+    // 1.0 stays in the input's coordinates (Oregon Lambert feet), which Cesium reads as ECEF: nowhere to check.
+    cesium_loads(o.output, "--points " + std::to_string(rep.points_kept) + " --classes 1,2" +
+                               (minor ? " --near 44.05,-123.07" : ""));
   }
 }
 

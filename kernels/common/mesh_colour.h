@@ -15,6 +15,7 @@
  * (floats), in double. */
 #ifndef MV_MESH_COLOUR_H
 #define MV_MESH_COLOUR_H
+#include "floor64.h"
 #include "morton.h" /* included by voxelize.h, after MvVoxelizeParams */
 
 #define MV_MESH_ATTR_WORDS 12u /* per triangle: 3 vertex colours, 6 texture coordinates, the texture, 2 spare */
@@ -138,39 +139,38 @@ MV_INLINE MvBestFragment mv_mesh_voxel_best(MvBufF32 tris, MvBufU64 fmasks, MvBu
   return best;
 }
 
-/* One channel of the colour at weights (1 - wb - wc, wb, wc) of packed vertex colours ca, cb, cc (0xBBGGRR),
- * rounded half up. */
+/* floor(c + 0.5) clamped to [0, 255]: a channel rounded half up (truncation is floor where it is not clamped). */
+MV_INLINE mv_u32 mv_channel_byte(mv_f64 c) {
+  return c + 0.5 < 1.0 ? 0u : c + 0.5 >= 255.0 ? 255u : MV_U32(c + 0.5);
+}
+
+/* One channel of the colour at weights (1 - wb - wc, wb, wc) of vertex colours ca, cb, cc (0xBBGGRR), rounded. */
 MV_INLINE mv_u32 mv_mesh_channel(mv_u32 ca, mv_u32 cb, mv_u32 cc, mv_u32 shift, mv_f64 wb, mv_f64 wc) {
   MV_PRECISE mv_f64 x = MV_F64((ca >> shift) & 255u) * (1.0 - wb - wc) + MV_F64((cb >> shift) & 255u) * wb +
                         MV_F64((cc >> shift) & 255u) * wc;
-  mv_f64 r = floor(x + 0.5);
-  return r <= 0.0 ? 0u : r >= 255.0 ? 255u : MV_U32(r);
+  return mv_channel_byte(x);
 }
 
-/* Texel (x, y) of texture `tex` (rows top first); x in [-1, w), y in [-1, h): -1 wraps to the last. `texels`: the
- * count, then per texture its first texel's word, width and height, then the texels (0xBBGGRR). */
-MV_INLINE mv_u32 mv_texel(MvBufU32 texels, mv_u32 tex, mv_i32 x, mv_i32 y) {
-  mv_u32 w = MV_LD(texels, 2u + 3u * tex), h = MV_LD(texels, 3u + 3u * tex);
-  mv_u32 xx = x < 0 ? w - 1u : MV_U32(x) % w, yy = y < 0 ? h - 1u : MV_U32(y) % h;
-  return MV_LD(texels, MV_LD(texels, 1u + 3u * tex) + yy * w + xx);
-}
-
-/* Texture `tex` sampled bilinearly at (u, v) (v = 0 at the bottom row; repeating), each channel rounded half up:
- * texel centres at half-integers, the four around the point (read once) weighted by their distances. */
+/* Texture `tex` sampled bilinearly at (u, v) (v = 0 at the bottom row; repeating; channels rounded half up): texel
+ * centres at half-integers, the four around the point weighted by their distances, wrapping at the edges. `texels`:
+ * the count, then per texture its first texel's word, width and height, then the texels (0xBBGGRR, top row first). */
 MV_INLINE mv_u32 mv_texture_rgb(MvBufU32 texels, mv_u32 tex, mv_f64 u, mv_f64 v) {
-  mv_f64 w = MV_F64(MV_LD(texels, 2u + 3u * tex)), h = MV_F64(MV_LD(texels, 3u + 3u * tex));
-  MV_PRECISE mv_f64 x = (u - floor(u)) * w - 0.5, y = (1.0 - (v - floor(v))) * h - 0.5;
-  mv_f64 x0 = floor(x), y0 = floor(y);
+  mv_u32 base = MV_LD(texels, 1u + 3u * tex), w = MV_LD(texels, 2u + 3u * tex), h = MV_LD(texels, 3u + 3u * tex);
+  MV_PRECISE mv_f64 x = (u - mv_floor64(u)) * MV_F64(w) - 0.5, y = (1.0 - (v - mv_floor64(v))) * MV_F64(h) - 0.5;
+  mv_f64 x0 = mv_floor64(x), y0 = mv_floor64(y);
   MV_PRECISE mv_f64 fx = x - x0, fy = y - y0;
+  /* x0 is in [-1, w - 1] and y0 in [-1, h - 1]; the clamps only keep a NaN coordinate inside the texture. */
   mv_i32 ix = MV_I32(x0), iy = MV_I32(y0);
-  mv_u32 t00 = mv_texel(texels, tex, ix, iy), t10 = mv_texel(texels, tex, ix + 1, iy);
-  mv_u32 t01 = mv_texel(texels, tex, ix, iy + 1), t11 = mv_texel(texels, tex, ix + 1, iy + 1), rgb = 0u;
+  mv_u32 xa = ix < 0 ? w - 1u : MV_MIN(MV_U32(ix), w - 1u), ya = iy < 0 ? h - 1u : MV_MIN(MV_U32(iy), h - 1u);
+  mv_u32 xb = ix + 1 >= MV_I32(w) ? 0u : MV_MIN(MV_U32(ix + 1), w - 1u);
+  mv_u32 yb = iy + 1 >= MV_I32(h) ? 0u : MV_MIN(MV_U32(iy + 1), h - 1u);
+  mv_u32 t00 = MV_LD(texels, base + ya * w + xa), t10 = MV_LD(texels, base + ya * w + xb);
+  mv_u32 t01 = MV_LD(texels, base + yb * w + xa), t11 = MV_LD(texels, base + yb * w + xb), rgb = 0u;
   for (mv_u32 shift = 0u; shift < 24u; shift += 8u) {
     mv_f64 c00 = MV_F64((t00 >> shift) & 255u), c10 = MV_F64((t10 >> shift) & 255u);
     mv_f64 c01 = MV_F64((t01 >> shift) & 255u), c11 = MV_F64((t11 >> shift) & 255u);
     MV_PRECISE mv_f64 c = (c00 * (1.0 - fx) + c10 * fx) * (1.0 - fy) + (c01 * (1.0 - fx) + c11 * fx) * fy;
-    mv_f64 r = floor(c + 0.5);
-    rgb |= (r <= 0.0 ? 0u : r >= 255.0 ? 255u : MV_U32(r)) << shift;
+    rgb |= mv_channel_byte(c) << shift;
   }
   return rgb;
 }

@@ -9,7 +9,7 @@
  *     series to degree 12. */
 #ifndef MV_GRABCUT_MATH_H
 #define MV_GRABCUT_MATH_H
-#include "mv_lang.h"
+#include "floor64.h"
 
 /* Double-precision constants, indices into the constants buffer (one buffer per GrabCut run). */
 #define MV_GC_EXP2 0u      /* 16: 2^(-j/16) */
@@ -38,14 +38,14 @@
 
 /* Round half up of a non-negative double (llround's result for x >= 0), as an integer. */
 MV_INLINE mv_u64 mv_gc_round(mv_f64 x) {
-  MV_PRECISE mv_f64 f = floor(x);
+  MV_PRECISE mv_f64 f = mv_floor64(x);
   MV_PRECISE mv_f64 frac = x - f;
   return MV_U64(f) + (frac >= 0.5 ? 1u : 0u);
 }
 
 MV_INLINE mv_f64 mv_gc_exp_neg(MvBufF64 c, mv_f64 x) {
   if (!(x < 707.0)) return 0.0;
-  MV_PRECISE mv_f64 t = floor(x * MV_LD(c, MV_GC_K16));
+  MV_PRECISE mv_f64 t = mv_floor64(x * MV_LD(c, MV_GC_K16));
   mv_u32 k = MV_U32(t);
   MV_PRECISE mv_f64 r = (x - t * MV_LD(c, MV_GC_LN2HI)) - t * MV_LD(c, MV_GC_LN2LO);
   MV_PRECISE mv_f64 p = MV_LD(c, MV_GC_EXPC + 10u);
@@ -60,7 +60,7 @@ MV_INLINE mv_f64 mv_gc_exp_neg(MvBufF64 c, mv_f64 x) {
 }
 
 MV_INLINE mv_f64 mv_gc_log_1_5(MvBufF64 c, mv_f64 t) {
-  MV_PRECISE mv_f64 jf = floor((t - 1.0) * 32.0);
+  MV_PRECISE mv_f64 jf = mv_floor64((t - 1.0) * 32.0);
   mv_u32 j = MV_MIN(MV_U32(MV_FMAX(jf, 0.0)), 128u);
   MV_PRECISE mv_f64 u = (t - (1.0 + MV_F64(j) * 0.03125)) * MV_LD(c, MV_GC_INVC + j);
   MV_PRECISE mv_f64 p = MV_LD(c, MV_GC_LOGA + 11u);

@@ -73,10 +73,10 @@ MV_STRUCT_BEGIN(MvTriFrame)
   mv_u32 empty;
 MV_STRUCT_END(MvTriFrame)
 
+/* The cell holding x, clamped to the grid: floor by truncation, x being positive (no floor(double) call). */
 MV_INLINE mv_u32 mv_voxel_floor(mv_f64 x, mv_u32 grid) {
   if (x <= 0.0) return 0u;
-  mv_f64 f = floor(x);
-  return f >= MV_F64(grid) ? grid - 1u : MV_U32(f);
+  return x >= MV_F64(grid) ? grid - 1u : MV_U32(x);
 }
 
 MV_INLINE MvTriFrame mv_tri_frame(mv_f64 ax, mv_f64 ay, mv_f64 az, mv_f64 bx, mv_f64 by, mv_f64 bz, mv_f64 cx,

@@ -156,7 +156,7 @@ MV_INLINE void mv_beam_starts(MvBufU32 marked, MvBufU32 cam, MvBeamParams p, mv_
       mv_u32 c[3];
       mv_f32 next[3];
       for (mv_u32 k = 0u; k < 3u; ++k) {
-        mv_f32 at = floor(q[k] + t_in * v[k]);
+        mv_f32 at = mv_floor32(q[k] + t_in * v[k]);
         c[k] = at < 0.0f ? 0u : (at > fn - 1.0f ? n - 1u : MV_U32(at));
         next[k] = (MV_F32(c[k] + (v[k] > 0.0f ? 1u : 0u)) - q[k]) * inv[k];
       }

@@ -4,6 +4,7 @@
  * on bit for bit (trace.h says why that makes every walk the same). */
 #ifndef MV_TRACE_RAY_H
 #define MV_TRACE_RAY_H
+#include "floor32.h"
 #include "trace_types.h"
 
 /* 1 / x for |x| in [1e-20, 1e20], identical on every device (not always correctly rounded). */
@@ -144,7 +145,7 @@ MV_INLINE MvRestart mv_restart(MvRay r, mv_f32 i0, mv_f32 i1, mv_f32 i2, MvEntry
     /* the plane behind the ray's position at `start` (any rounding there is caught by the check on t) */
     bool pos = inv[k] > 0.0f;
     MV_PRECISE mv_f32 at = (o[k] + start * d[k]) * planes;
-    mv_f32 q = pos ? floor(at) : ceil(at);
+    mv_f32 q = pos ? mv_floor32(at) : mv_ceil32(at);
     q = q < 0.0f ? 0.0f : (q > planes ? planes : q);
     mv_f32 t = mv_cross(q * side, o[k], inv[k]);
     if (t > start) {

@@ -66,6 +66,7 @@ TEST_P(LayoutTest, SharedStructsMatchTheHost) {
   expect_same_layout(dev, offsets, TestKernelId::probe_grabcut_params, mv_probe_grabcut_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_gather_params, mv_probe_gather_params);
   expect_same_layout(dev, offsets, TestKernelId::probe_colour_params, mv_probe_colour_params);
+  expect_same_layout(dev, offsets, TestKernelId::probe_quantize_params, mv_probe_quantize_params);
 }
 
 MV_INSTANTIATE_ON_ALL_DEVICES(LayoutTest);

@@ -1,8 +1,10 @@
-// Vulkan entry points of the voxel colour kernels, one module per -DMV_ENTRY_<name> (bodies: common/colour.h).
+// Vulkan entry points of the voxel colour kernels, one module per -DMV_ENTRY_<name> (bodies: common/colour.h,
+// common/quantize.h).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common/mv_glsl_prelude.h"
 #include "common/colour.h"
+#include "common/quantize.h"
 
 #if defined(MV_ENTRY_pack_keys)
 layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 rgb; MvColourParams p; } args;
@@ -26,6 +28,14 @@ layout(push_constant) uniform Args {
 void main() {
   mv_colour_nodes(args.keys, args.planes, args.sums, args.attributes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
+#elif defined(MV_ENTRY_quantize_nearest)
+layout(push_constant) uniform Args {
+  MvBufF64 lab; MvBufF64 centres; MvBufU32 order; MvBufU32 cluster; MvBufU32 moved; MvQuantizeParams p;
+} args;
+void main() {
+  mv_quantize_nearest(args.lab, args.centres, args.order, args.cluster, args.moved, args.p, MV_GLOBAL_ID(),
+                      MV_GLOBAL_SIZE());
+}
 #else
-#error "define MV_ENTRY_pack_keys, _unpack, _level, _parent_keys, _starts or _nodes"
+#error "define MV_ENTRY_pack_keys, _unpack, _level, _parent_keys, _starts, _nodes or _quantize_nearest"
 #endif

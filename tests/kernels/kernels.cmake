@@ -33,3 +33,4 @@ mv_kernel(probe_rep_params         probe/layout.cl   probe/layout.comp    1  MvR
 mv_kernel(probe_grabcut_params     probe/layout.cl   probe/layout.comp    1  MvGrabCutParams   MV_ENTRY_probe_grabcut_params)
 mv_kernel(probe_gather_params      probe/layout.cl   probe/layout.comp    1  MvGatherParams    MV_ENTRY_probe_gather_params)
 mv_kernel(probe_colour_params      probe/layout.cl   probe/layout.comp    1  MvColourParams    MV_ENTRY_probe_colour_params)
+mv_kernel(probe_quantize_params    probe/layout.cl   probe/layout.comp    1  MvQuantizeParams  MV_ENTRY_probe_quantize_params)

@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "megavox/colour_quantize.h"
 #include "megavox/dag_types.h"
 #include "megavox/device.h"
 
@@ -47,5 +48,11 @@ std::vector<std::vector<uint64_t>> subtree_sizes(const Dag& dag);
 // summed in the order the octants are shown, not stored. Nodes come in pre-order.
 void for_each_attribute_index(const Dag& dag,
                               const std::function<void(uint64_t index, uint32_t level, uint64_t code)>& visit);
+
+// A Lloyd round's assignment on `dev` (kernels/common/quantize.h), the answers of nearest_centres_on_host.
+NearestCentres nearest_centres_on(Device& dev);
+// quantize_colours (megavox/colour_quantize.h) with each round's nearest centres found on `dev` (on the host for a
+// CPU-shaped device that computes in host memory): the same palette and colours, byte for byte.
+ColourQuantizeReport quantize_colours(Device& dev, std::vector<uint8_t>& rgb, uint32_t bits);
 
 }  // namespace mv

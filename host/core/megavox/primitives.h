@@ -21,6 +21,11 @@ inline constexpr uint64_t kMaxDeviceItems = (uint64_t{1} << 31) - 1;
 
 enum class KeyBits { k32 = 32, k64 = 64 };
 
+// Whether `dev` computes in host memory (a CPU device: PoCL, lavapipe). There a step whose kernel would be the
+// host's own loop plus copies up and down stays on the host (the points' gathers, the quantizer's nearest
+// centres); its kernel is tested on every device all the same.
+bool computes_in_host_memory(Device& dev);
+
 // keys[i] = Morton code of (xyz[3i], xyz[3i+1], xyz[3i+2]); x in the lowest bit. 64-bit keys interleave
 // 3 x 21 bits, 32-bit keys 3 x 10 bits; higher coordinate bits are ignored.
 void morton_encode(Device& dev, const Buffer& xyz, Buffer& keys, uint64_t n, KeyBits bits);

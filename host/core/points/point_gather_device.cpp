@@ -119,9 +119,6 @@ PointColumns gather_node_points(Device& dev, PointColumns&& points, std::span<co
   return out;
 }
 
-bool gathers_on_host(Device& dev) {
-  const Buffer probe = dev.alloc(4, "host memory probe");
-  return dev.host_view(probe) != nullptr;
-}
+bool gathers_on_host(Device& dev) { return computes_in_host_memory(dev); }
 
 }  // namespace mv::points

@@ -258,11 +258,12 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
 using Lap = std::function<void(const std::string&)>;
 using Report = std::function<void(const std::string&, double)>;
 
-void encode_and_write(const Dag& dag, const BuildOptions& o, const GridTransform& grid, const Bounds& bounds,
-                      BuildReport& r, const Lap& lap, const Report& report, std::vector<uint8_t> colours = {}) {
+void encode_and_write(Device& dev, const Dag& dag, const BuildOptions& o, const GridTransform& grid,
+                      const Bounds& bounds, BuildReport& r, const Lap& lap, const Report& report,
+                      std::vector<uint8_t> colours = {}) {
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
   lap("encode");
-  if (attach_colours(file, std::move(colours), o, r)) lap("quantize");
+  if (attach_colours(dev, file, std::move(colours), o, r)) lap("quantize");
   report("write", 0);
   const MvxColourStats stats = write_mvx(o.output, file, o.paging);
   lap("write");  // no report after the write: a cancel there would come too late
@@ -373,7 +374,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
     depth_first = cube_colours_depth_first(dev, o.input, colour_keys, colour_rgb, levels);
     lap("colours");
   }
-  encode_and_write(dag, o, grid, bounds, r, lap, report, std::move(depth_first));
+  encode_and_write(dev, dag, o, grid, bounds, r, lap, report, std::move(depth_first));
   if (!o.resume_dir.empty()) std::filesystem::remove_all(o.resume_dir);  // the output holds every cube now
   return r;
 }
@@ -526,7 +527,7 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
   r.seconds.push_back(
       {o.encoding == Encoding::svo ? "encode octree" : symmetric ? "ssvdag" : "svdag", times.reduce_seconds});
   t = Clock::now();
-  encode_and_write(dag, o, grid, bounds, r, lap, report, std::move(colours));
+  encode_and_write(dev, dag, o, grid, bounds, r, lap, report, std::move(colours));
   return r;
 }
 

@@ -25,9 +25,9 @@ MvxFile mvx_for_dag(const Dag& dag, Encoding format, const GridTransform& grid, 
 void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::function<void(const std::string&)>& lap,
                  const PlanListener& on_plan);
 
-// Voxel colours into `file` (depth-first RGB24; none when empty), quantized to o.colour_bits below 24 (its report
-// into r). Returns whether it quantized: the caller times that as a stage of its own.
-bool attach_colours(MvxFile& file, std::vector<uint8_t> colours, const BuildOptions& o, BuildReport& r);
+// Voxel colours into `file` (depth-first RGB24; none when empty), quantized on `dev` to o.colour_bits below 24 (its
+// report into r). Returns whether it quantized: the caller times that as a stage of its own.
+bool attach_colours(Device& dev, MvxFile& file, std::vector<uint8_t> colours, const BuildOptions& o, BuildReport& r);
 // The written colour section's figures into r (nothing without colours).
 void report_colours(const MvxFile& file, const MvxColourStats& stats, BuildReport& r);
 

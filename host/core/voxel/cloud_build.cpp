@@ -91,7 +91,8 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   t = Clock::now();
   MvxFile file = mvx_for_dag(dag, o.encoding, grid, bounds);
   r.seconds.push_back({"encode", std::chrono::duration<double>(Clock::now() - t).count()});
-  if (attach_colours(file, std::move(voxels.colours), o, r)) r.seconds.push_back({"quantize", r.colour_quantize.seconds});
+  if (attach_colours(dev, file, std::move(voxels.colours), o, r))
+    r.seconds.push_back({"quantize", r.colour_quantize.seconds});
   t = Clock::now();
   const MvxColourStats colour = write_mvx(o.output, file, o.paging);
   r.seconds.push_back({"write", std::chrono::duration<double>(Clock::now() - t).count()});
@@ -104,10 +105,10 @@ void build_cloud(Device& dev, const BuildOptions& o, BuildReport& r, const std::
   report_colours(file, colour, r);
 }
 
-bool attach_colours(MvxFile& file, std::vector<uint8_t> colours, const BuildOptions& o, BuildReport& r) {
+bool attach_colours(Device& dev, MvxFile& file, std::vector<uint8_t> colours, const BuildOptions& o, BuildReport& r) {
   file.colours = std::move(colours);
   if (file.colours.empty() || o.colour_bits >= 24) return false;
-  r.colour_quantize = quantize_colours(file.colours, o.colour_bits);
+  r.colour_quantize = quantize_colours(dev, file.colours, o.colour_bits);
   file.colour_bits = o.colour_bits;
   return true;
 }

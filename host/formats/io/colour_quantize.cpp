@@ -45,15 +45,21 @@ double lab_distance2(const Lab& a, const Lab& b) {
   return d0 * d0 + d1 * d1 + d2 * d2;
 }
 
-// Nearest centre by a k-d tree over the centres (axes in turn, split at the median by (value, index), so the
-// tree and every answer are the same whatever the standard library's partition does); ties go to the lower
-// centre.
+void build_tree(const std::vector<Lab>& c, std::vector<uint32_t>& order, size_t lo, size_t hi, int axis) {
+  if (hi - lo <= 1) return;
+  const size_t mid = lo + (hi - lo) / 2;
+  std::nth_element(order.begin() + lo, order.begin() + mid, order.begin() + hi, [&](uint32_t a, uint32_t b) {
+    return c[a][axis] != c[b][axis] ? c[a][axis] < c[b][axis] : a < b;
+  });
+  build_tree(c, order, lo, mid, (axis + 1) % 3);
+  build_tree(c, order, mid + 1, hi, (axis + 1) % 3);
+}
+
+// Nearest centre by the k-d tree of centre_tree_order (split at the median by (value, index), so the tree and
+// every answer are the same whatever the standard library's partition does); ties go to the lower centre.
 class CentreTree {
  public:
-  explicit CentreTree(const std::vector<Lab>& centres) : c_(centres), order_(centres.size()) {
-    std::iota(order_.begin(), order_.end(), 0u);
-    build(0, order_.size(), 0);
-  }
+  CentreTree(const std::vector<Lab>& centres, const std::vector<uint32_t>& order) : c_(centres), order_(order) {}
   // `guess`: a centre to start from (the last round's): the search prunes from its distance at once, and the
   // answer is the same as from nothing (the nearest, the lowest of equals).
   uint32_t nearest(const Lab& q, uint32_t guess) const {
@@ -64,17 +70,6 @@ class CentreTree {
   }
 
  private:
-  bool less(uint32_t a, uint32_t b, int axis) const {
-    return c_[a][axis] != c_[b][axis] ? c_[a][axis] < c_[b][axis] : a < b;
-  }
-  void build(size_t lo, size_t hi, int axis) {
-    if (hi - lo <= 1) return;
-    const size_t mid = lo + (hi - lo) / 2;
-    std::nth_element(order_.begin() + lo, order_.begin() + mid, order_.begin() + hi,
-                     [&](uint32_t a, uint32_t b) { return less(a, b, axis); });
-    build(lo, mid, (axis + 1) % 3);
-    build(mid + 1, hi, (axis + 1) % 3);
-  }
   void search(size_t lo, size_t hi, int axis, const Lab& q, uint32_t& best, double& d) const {
     if (lo >= hi) return;
     const size_t mid = lo + (hi - lo) / 2;
@@ -92,7 +87,7 @@ class CentreTree {
     }
   }
   const std::vector<Lab>& c_;
-  std::vector<uint32_t> order_;
+  const std::vector<uint32_t>& order_;
 };
 
 struct QuantizeBox {
@@ -203,7 +198,30 @@ double delta_e94(const std::array<double, 3>& ref, const std::array<double, 3>& 
   return std::sqrt(dl * dl + (dc / sc) * (dc / sc) + dh2 / (sh * sh));
 }
 
-ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits) {
+bool nearest_centres_on_host(const std::vector<Lab>& lab, const std::vector<Lab>& centre,
+                             const std::vector<uint32_t>& order, std::vector<uint32_t>& cluster) {
+  const CentreTree tree(centre, order);
+  std::atomic<bool> changed = false;  // each colour's answer is its own: the same whatever the threads do
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, lab.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+    bool moved = false;
+    for (size_t u = range.begin(); u < range.end(); ++u) {
+      const uint32_t c = tree.nearest(lab[u], cluster[u]);
+      moved = moved || c != cluster[u];
+      cluster[u] = c;
+    }
+    if (moved) changed = true;
+  });
+  return changed;
+}
+
+std::vector<uint32_t> centre_tree_order(const std::vector<Lab>& centres) {
+  std::vector<uint32_t> order(centres.size());
+  std::iota(order.begin(), order.end(), 0u);
+  build_tree(centres, order, 0, order.size(), 0);
+  return order;
+}
+
+ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits, const NearestCentres& nearest) {
   if (bits < 1 || bits > 24) throw Error("--colour-bits " + std::to_string(bits) + ": 1 to 24 bits");
   const auto t0 = std::chrono::steady_clock::now();
   ColourQuantizeReport r;
@@ -255,18 +273,8 @@ ColourQuantizeReport quantize_colours(std::vector<uint8_t>& rgb, uint32_t bits) 
   update_centres();
   for (r.iterations = 0; r.iterations < kQuantizeIterations;) {
     ++r.iterations;
-    const CentreTree tree(centre);
-    std::atomic<bool> changed = false;  // each colour's answer is its own: the same whatever the threads do
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, colours.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
-      bool moved = false;
-      for (size_t u = range.begin(); u < range.end(); ++u) {
-        const uint32_t c = tree.nearest(lab[u], cluster[u]);
-        moved = moved || c != cluster[u];
-        cluster[u] = c;
-      }
-      if (moved) changed = true;
-    });
-    if (!changed) break;
+    const std::vector<uint32_t> order = centre_tree_order(centre);
+    if (!(nearest ? nearest(lab, centre, order, cluster) : nearest_centres_on_host(lab, centre, order, cluster))) break;
     update_centres();
   }
   std::vector<std::array<uint8_t, 3>> out(centre.size());

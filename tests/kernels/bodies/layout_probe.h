@@ -30,6 +30,7 @@
 #include "common/mask_post.h"
 #include "common/voxelize.h"
 #include "common/colour.h"
+#include "common/quantize.h"
 
 #define MV_PROBE_FIELDS 32u /* at most, per struct */
 #define MV_PROBE_WORDS (2u + 2u * MV_PROBE_FIELDS)
@@ -96,6 +97,7 @@
   X(MV_U32, colour_fg) X(MV_U32, pick_bg_lo) X(MV_U32, pick_bg_hi) X(MV_U32, pick_fg_lo) X(MV_U32, pick_fg_hi)
 #define MV_FIELDS_COLOUR(X)                                                                                            \
   X(MV_U32, n) X(MV_U32, levels) X(MV_U32, shift) X(MV_U32, stride)
+#define MV_FIELDS_QUANTIZE(X) X(MV_U32, n) X(MV_U32, centres) X(MV_U32, spare0) X(MV_U32, spare1)
 #define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
 
 #define MV_PROBE_VALUE(word, f)                                                                                        \
@@ -145,5 +147,6 @@ MV_PROBE(rep_params, MvRepParams, MV_FIELDS_REP)
 MV_PROBE(grabcut_params, MvGrabCutParams, MV_FIELDS_GRABCUT)
 MV_PROBE(gather_params, MvGatherParams, MV_FIELDS_GATHER)
 MV_PROBE(colour_params, MvColourParams, MV_FIELDS_COLOUR)
+MV_PROBE(quantize_params, MvQuantizeParams, MV_FIELDS_QUANTIZE)
 
 #endif /* MV_LAYOUT_PROBE_H */

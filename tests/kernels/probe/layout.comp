@@ -74,6 +74,9 @@
 #elif defined(MV_ENTRY_probe_colour_params)
 #define MV_PROBE_T MvColourParams
 #define MV_PROBE_FN mv_probe_colour_params
+#elif defined(MV_ENTRY_probe_quantize_params)
+#define MV_PROBE_T MvQuantizeParams
+#define MV_PROBE_FN mv_probe_quantize_params
 #else
 #error "define MV_ENTRY_probe_<struct>"
 #endif

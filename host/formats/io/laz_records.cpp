@@ -68,6 +68,15 @@ size_t LazRecords::read(uint8_t* out, size_t count) {
   while (done < count) {
     if (ready_at_ == ready_.size()) {
       if (next_chunk_ == chunks_.size() && !big_) break;
+      // Whole chunks that fit what the caller still wants go straight into its buffer: no copy, and no second
+      // buffer of fresh pages to fault in.
+      if (!big_) {
+        const size_t end = batch_end(count - done);
+        if (end != next_chunk_) {
+          done += decode_chunks(end, out + done * length);
+          continue;
+        }
+      }
       decode_batch();
     }
     const size_t take = std::min(count - done, (ready_.size() - ready_at_) / length);
@@ -124,16 +133,29 @@ void LazRecords::decode_batch() {
     return;
   }
 
-  size_t end = next_chunk_;
+  const size_t end = batch_end(buffer / length);
   uint64_t records = 0;
-  while (end < chunks_.size() && end - next_chunk_ < 4 * threads_ &&
-         (records + chunks_[end].points) * length <= buffer)
-    records += chunks_[end++].points;
-
-  std::vector<std::vector<uint8_t>> coded;
-  for (size_t c = next_chunk_; c < end; ++c) coded.push_back(chunk_bytes(c));
+  for (size_t c = next_chunk_; c < end; ++c) records += chunks_[c].points;
   ready_.resize(records * length);
   ready_at_ = 0;
+  decode_chunks(end, ready_.data());
+}
+
+// The end of the next batch: the chunks from next_chunk_ on, at most 4 a thread, of at most `room` records in all.
+size_t LazRecords::batch_end(uint64_t room) const {
+  size_t end = next_chunk_;
+  uint64_t records = 0;
+  while (end < chunks_.size() && end - next_chunk_ < 4 * threads_ && records + chunks_[end].points <= room)
+    records += chunks_[end++].points;
+  return end;
+}
+
+// Chunks [next_chunk_, end) read in order on this thread and decoded into `dest` on up to threads_ threads;
+// returns their records.
+uint64_t LazRecords::decode_chunks(size_t end, uint8_t* dest) {
+  const size_t length = schema_.record_length;
+  std::vector<std::vector<uint8_t>> coded;
+  for (size_t c = next_chunk_; c < end; ++c) coded.push_back(chunk_bytes(c));
   std::vector<uint64_t> at(end - next_chunk_ + 1, 0);
   for (size_t c = next_chunk_; c < end; ++c) at[c - next_chunk_ + 1] = at[c - next_chunk_] + chunks_[c].points;
   std::vector<std::exception_ptr> failed(end - next_chunk_);
@@ -142,7 +164,7 @@ void LazRecords::decode_batch() {
     for (size_t i; (i = next.fetch_add(1)) < coded.size();) {
       try {
         laz::decode_chunk(schema_, coded[i].data(), coded[i].size(), chunks_[next_chunk_ + i].points,
-                          ready_.data() + at[i] * length);
+                          dest + at[i] * length);
       } catch (...) {
         failed[i] = std::current_exception();
       }
@@ -163,6 +185,7 @@ void LazRecords::decode_batch() {
     }
   }
   next_chunk_ = end;
+  return at.back();
 }
 
 }  // namespace mv::io

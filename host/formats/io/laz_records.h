@@ -44,6 +44,8 @@ class LazRecords {
   static constexpr uint64_t kMaxBatchBytes = 64ull << 20;
 
   void decode_batch();
+  size_t batch_end(uint64_t room) const;
+  uint64_t decode_chunks(size_t end, uint8_t* dest);
   void keep_chunks_meeting(const laz::CopcInfo& info, const std::array<double, 6>& box, uint64_t file_size);
   std::vector<uint8_t> chunk_bytes(size_t c);
   [[noreturn]] void chunk_failed(size_t c, const laz::LazError& e) const;

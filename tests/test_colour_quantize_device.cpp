@@ -57,7 +57,8 @@ TEST_P(ColourQuantizeDeviceTest, PalettesEqualTheHostQuantizer) {
     std::vector<uint8_t> in;
     for (int i = 0; i < 40000; ++i) {
       uint32_t c = static_cast<uint32_t>(rng() & 0xffffff);
-      if (clumps) c = (static_cast<uint32_t>(rng() % clumps) * 0x0a1b2c3u + static_cast<uint32_t>(rng() % 7)) & 0xffffff;
+      const uint32_t clump = clumps ? static_cast<uint32_t>(rng() % clumps) : 0;
+      if (clumps) c = (clump * 0x0a1b2c3u + static_cast<uint32_t>(rng() % 7)) & 0xffffff;
       in.insert(in.end(), {uint8_t(c >> 16), uint8_t(c >> 8), uint8_t(c)});
     }
     for (uint32_t bits : {4u, 8u, 12u}) {

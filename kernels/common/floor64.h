@@ -1,6 +1,7 @@
-/* floor of a double from a conversion and a compare, written once for the host, OpenCL C and GLSL. PoCL calls a
- * library routine for floor(double): it was the costliest step of a mesh's texture lookups, and a sixth of
- * GrabCut's data terms. Exact for every double: past 2^52 every double is an integer, and NaN stays NaN. */
+/* floor of a double from a conversion and a compare, written once for the host, OpenCL C and GLSL. PoCL compiles
+ * floor(double) to a software sequence (no rounding instruction): it was the costliest step of a mesh's texture
+ * lookups, and a sixth of GrabCut's data terms. Exact for every double: past 2^52 every double is an integer,
+ * and NaN stays NaN. */
 #ifndef MV_FLOOR64_H
 #define MV_FLOOR64_H
 #include "mv_lang.h"

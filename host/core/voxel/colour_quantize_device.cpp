@@ -1,9 +1,10 @@
 // The colour quantizer with each Lloyd round's assignment on the device (megavox/colour.h; kernel:
 // kernels/common/quantize.h). The host keeps what is per centre: the median cut that seeds them, the k-d tree's
-// order and each round's means. On a CPU device that computes in host memory the host's own search runs instead
-// (--kernel-shape gpu forces the kernel there): on the same cores it takes 0.17 s a round where the kernel takes
-// 0.44 s on PoCL and more on lavapipe (igea at 1K, 2.9 M colours, 4,096 centres), with the same answers. Each round uploads the centres, their tree, and the colours' CIELAB values and
-// clusters (in slices that each bind under 128 MiB), and reads the clusters back.
+// order and each round's means. Each round uploads the centres, their tree, and the colours' CIELAB values and
+// clusters (in slices that each bind under 128 MiB), and reads the clusters back. On a CPU device that computes
+// in host memory the host's own search runs instead (--kernel-shape gpu forces the kernel there): on the same
+// cores it takes 0.17 s a round where the kernel takes 0.44 s on PoCL and more on lavapipe (igea at 1K, 2.9 M
+// colours, 4,096 centres), with the same answers.
 #include <algorithm>
 #include <array>
 

@@ -32,9 +32,4 @@ PointColumns gather_node_points(Device& dev, PointColumns&& points, std::span<co
                                 std::span<const NodePoints> sources, std::span<const uint64_t> reps,
                                 uint32_t extra_bytes, uint64_t chunk_records = 0, uint64_t slice_records = 0);
 
-// Whether the device computes in host memory (a CPU device: PoCL, lavapipe), where the columns already are: the
-// build then gathers them on the host, in two passes (sorted order, then node order), which there is the
-// device's own memory and 2-3x faster than a kernel plus its copies up and down.
-bool gathers_on_host(Device& dev);
-
 }  // namespace mv::points

@@ -119,6 +119,4 @@ PointColumns gather_node_points(Device& dev, PointColumns&& points, std::span<co
   return out;
 }
 
-bool gathers_on_host(Device& dev) { return computes_in_host_memory(dev); }
-
 }  // namespace mv::points

@@ -19,12 +19,18 @@ MV_STRUCT_BEGIN(MvDagParams)
   mv_u32 seed_lo;
   mv_u32 seed_hi;
   mv_u32 block; /* ssvdag_canon: nodes per work-item, contiguous (CPU devices); 0 = grid-stride */
+  mv_u32 hash_drop; /* high bits cleared from node hashes (0 in builds): lets tests force hash collisions */
 MV_STRUCT_END(MvDagParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvDagParams, 20);
+MV_LAYOUT_SIZE(MvDagParams, 24);
 MV_LAYOUT_AT(MvDagParams, n, 0); MV_LAYOUT_AT(MvDagParams, leaf, 4); MV_LAYOUT_AT(MvDagParams, seed_lo, 8);
-MV_LAYOUT_AT(MvDagParams, seed_hi, 12); MV_LAYOUT_AT(MvDagParams, block, 16);
+MV_LAYOUT_AT(MvDagParams, seed_hi, 12); MV_LAYOUT_AT(MvDagParams, block, 16); MV_LAYOUT_AT(MvDagParams, hash_drop, 20);
 #endif
+
+/* A node hash with its p.hash_drop high bits cleared (at most 63). */
+MV_INLINE mv_u64 mv_hash_kept(mv_u64 h, mv_u32 drop) {
+  return h & (~MV_U64(0u) >> drop);
+}
 
 MV_INLINE mv_u32 mv_popcount8(mv_u32 m) {
   m = m - ((m >> 1) & 0x55u);
@@ -110,7 +116,7 @@ MV_INLINE mv_u64 mv_node_hash(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvDag
     mv_u32 c = mv_popcount8(m);
     for (mv_u32 r = 0u; r < c; ++r) h = mv_hash_mix(h, MV_U64(MV_LD(cid, f + r)));
   }
-  return h;
+  return mv_hash_kept(h, p.hash_drop);
 }
 
 MV_INLINE bool mv_same_node(MvBufU32 mask, MvBufU32 first, MvBufU32 cid, MvDagParams p, mv_u32 a, mv_u32 b) {

@@ -111,7 +111,7 @@ MV_INLINE void mv_ssvdag_canon(MvBufU32 mask, MvBufU32 mtab, MvBufU32 first, MvB
       if (((m >> c) & 1u) != 0u)
         h = mv_hash_mix(h, mv_entry(id[c], mv_row_field(row[c], best)));
     }
-    MV_ST(hashes, i, h);
+    MV_ST(hashes, i, mv_hash_kept(h, p.hash_drop));
     MV_ST(order, i, i);
   }
 }

@@ -52,6 +52,12 @@ struct ClassKeys {
   std::vector<uint64_t> keys;
 };
 
+// A test hook: MEGAVOX_TEST_HASH_BITS=k (1 to 64) keeps only the low k bits of the node hashes made with the
+// first seed, so that tests meet the hash collisions (and the retries with the next seed) that 64-bit hashes
+// never show them; each one is then reported on stderr. Returns the high bits to clear for `seed`.
+uint32_t test_hash_drop(uint32_t seed);
+void report_test_collision(const char* where, uint32_t seed);
+
 // The classes of level `lv` given those of the level below; `leaf`: lv is level 1.
 Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool leaf, const Reduction& red,
                      ClassKeys* keys = nullptr);

@@ -2,6 +2,9 @@
 // exact 64-bit bricks, the levels above by hashing and verifying (kernels: kernels/common/dag.h, ssvdag.h);
 // with symmetry, up to reflections. Shared by the in-core build and the out-of-core merge.
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -125,6 +128,23 @@ void dispatch_canon(Device& dev, const SvoLevel& lv, const Reduced& below, const
 
 }  // namespace
 
+uint32_t test_hash_drop(uint32_t seed) {
+  static const uint32_t drop = [] {
+    const char* v = std::getenv("MEGAVOX_TEST_HASH_BITS");
+    if (!v || !*v) return 0u;
+    char* end = nullptr;
+    const unsigned long bits = std::strtoul(v, &end, 10);
+    if (*end || bits < 1 || bits > 64)
+      throw Error("MEGAVOX_TEST_HASH_BITS: \"" + std::string(v) + "\" is not a bit count from 1 to 64");
+    return static_cast<uint32_t>(64 - bits);
+  }();
+  return seed == 1 ? drop : 0u;
+}
+
+void report_test_collision(const char* where, uint32_t seed) {
+  if (test_hash_drop(1)) std::fprintf(stderr, "megavox: test hash: seed %u collided %s; next seed\n", seed, where);
+}
+
 Reduction make_reduction(Device& dev, bool symmetric) {
   Reduction red;
   red.symmetric = symmetric;
@@ -155,6 +175,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   MvDagParams p{n, 0, 0, 0x6d766f78u, 0};
   for (uint32_t seed = keys ? keys->seed : 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
+    p.hash_drop = test_hash_drop(seed);
     if (symmetric)  // T*, stabilizer and the canonical key's hash in one pass over the children
       dispatch_canon(dev, lv, below, mtab, r.row, hashes, order, p);
     else
@@ -175,6 +196,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
       if (keys) keys->seed = seed;
       break;
     }
+    report_test_collision("on one rank", seed);
     if (seed >= 16) throw Error("DAG reduction: 16 hash seeds collided; this should not happen");
   }
   return r;

@@ -331,6 +331,7 @@ Reduced reduce_level_over_ranks(Device& dev, const SvoLevel& lv, const Reduced& 
       r.distinct = nb.distinct;
       return r;
     }
+    if (m.ranks.rank == 0) report_test_collision("across ranks", seed);
     if (seed >= kMaxSeed) throw Error("DAG reduction over ranks: 16 hash seeds collided; this should not happen");
   }
 }

@@ -59,7 +59,8 @@
   X(MV_U32, first_item) X(MV_U32, items) X(MV_U32, grid) X(MV_U32, columns_per_item) X(MV_U32, capacity)                   \
   X(MV_U32, box_size) X(MV_U32, box_x) X(MV_U32, box_y) X(MV_U32, box_z) X(MV_U32, thin) X(MV_U32, colour_pass)        \
   X(MV_U32, bricks) X(MV_U32, tri_base) X(MV_U32, record_tris) X(MV_U32, batch_tris) X(MV_U32, split_runs)
-#define MV_FIELDS_DAG(X) X(MV_U32, n) X(MV_U32, leaf) X(MV_U32, seed_lo) X(MV_U32, seed_hi) X(MV_U32, block)
+#define MV_FIELDS_DAG(X) \
+  X(MV_U32, n) X(MV_U32, leaf) X(MV_U32, seed_lo) X(MV_U32, seed_hi) X(MV_U32, block) X(MV_U32, hash_drop)
 #define MV_FIELDS_TRACE(X)                                                                                             \
   X(MV_U32, first) X(MV_U32, count) X(MV_U32, mode) X(MV_U32, width) X(MV_U32, max_steps) X(MV_FBITS, proj)            \
   X(MV_U32, block) X(MV_U32, level_base[0]) X(MV_U32, level_base[1]) X(MV_U32, level_base[2])                          \

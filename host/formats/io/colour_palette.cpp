@@ -4,9 +4,10 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cstring>
 #include <map>
 #include <string>
@@ -240,21 +241,30 @@ ColourPalette palette_encode(std::span<const uint8_t> rgb) {
       for (uint64_t i = r.begin(); i < r.end(); ++i) f(i);
     });
   };
-  std::vector<uint32_t> packed(n);
-  each([&](uint64_t i) { packed[i] = uint32_t{rgb[3 * i]} << 16 | uint32_t{rgb[3 * i + 1]} << 8 | rgb[3 * i + 2]; });
-  std::vector<uint32_t> mats = packed;
-  tbb::parallel_sort(mats.begin(), mats.end());
-  mats.erase(std::unique(mats.begin(), mats.end()), mats.end());
-  const uint32_t lambda = static_cast<uint32_t>(mats.size());
+  // The materials are the distinct colours in ascending 0xRRGGBB order, and an entry's index its colour's rank
+  // among them: a bit per possible colour (2 MiB) and the count of set bits before each word give both, where a
+  // sort and a search per entry took several times longer.
+  auto packed = [&](uint64_t i) { return uint32_t{rgb[3 * i]} << 16 | uint32_t{rgb[3 * i + 1]} << 8 | rgb[3 * i + 2]; };
+  std::vector<uint64_t> seen(uint64_t{1} << 18, 0);
+  each([&](uint64_t i) {
+    const uint32_t c = packed(i);
+    std::atomic_ref<uint64_t>(seen[c >> 6]).fetch_or(uint64_t{1} << (c & 63), std::memory_order_relaxed);
+  });
+  std::vector<uint32_t> before(seen.size());
+  uint32_t lambda = 0;
+  for (size_t w = 0; w < seen.size(); ++w) before[w] = lambda, lambda += static_cast<uint32_t>(std::popcount(seen[w]));
   std::vector<uint32_t> m(n);
   each([&](uint64_t i) {
-    m[i] = static_cast<uint32_t>(std::lower_bound(mats.begin(), mats.end(), packed[i]) - mats.begin());
+    const uint32_t c = packed(i);
+    m[i] = before[c >> 6] + static_cast<uint32_t>(std::popcount(seen[c >> 6] & ((uint64_t{1} << (c & 63)) - 1)));
   });
-  packed = {};
   p.material_bits = palette_ceil_log2(lambda);
   p.materials.resize(3 * uint64_t{lambda});
-  for (uint32_t k = 0; k < lambda; ++k)
-    for (int c = 0; c < 3; ++c) p.materials[3 * k + c] = static_cast<uint8_t>(mats[k] >> (16 - 8 * c));
+  for (size_t w = 0, k = 0; w < seen.size(); ++w)
+    for (uint64_t bits = seen[w]; bits; bits &= bits - 1, ++k) {
+      const uint32_t c = static_cast<uint32_t>(w << 6) | static_cast<uint32_t>(std::countr_zero(bits));
+      for (int ch = 0; ch < 3; ++ch) p.materials[3 * k + ch] = static_cast<uint8_t>(c >> (16 - 8 * ch));
+    }
 
   std::vector<std::pair<uint32_t, uint32_t>> found;
   {  // the search tables live only here

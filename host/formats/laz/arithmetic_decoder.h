@@ -51,17 +51,21 @@ struct BitModel {
 };
 
 // An adaptive model over `symbols` symbols (2 to 2048): counts turned into a cumulative distribution every
-// update cycle, with a lookup table that narrows the search for alphabets above 16 symbols.
+// update cycle, with a lookup table that narrows the search for alphabets above 16 symbols. The table is the
+// decoder's own (the stream does not depend on it): at least two entries a symbol, where LASzip has one per four,
+// so a lookup mostly lands on the symbol and the search's unpredictable branches are skipped.
 class SymbolModel {
  public:
   explicit SymbolModel(uint32_t symbols) : symbols_(symbols), last_(symbols - 1) {
     if (symbols < 2 || symbols > 2048) throw std::logic_error("laz: a symbol model has 2 to 2048 symbols");
     if (symbols > 16) {
       uint32_t bits = 3;
-      while (symbols > (1u << (bits + 2))) ++bits;
+      while (2 * symbols > (1u << bits) && bits < kSymbolLengthShift) ++bits;
       table_size_ = 1u << bits;
       table_shift_ = kSymbolLengthShift - bits;
-      table_.assign(table_size_ + 2, 0);
+      // value / (length >> 15) reaches up to 2^15 + 63 (length is at least 2^24), so the lookup's index and the
+      // one after it may pass table_size_ by 63 >> table_shift_ + 1.
+      table_.assign(table_size_ + 2 + (63u >> table_shift_), 0);
     }
     distribution_.assign(symbols, 0);
     counts_.assign(symbols, 1);
@@ -85,7 +89,7 @@ class SymbolModel {
     }
     if (table_size_ != 0) {
       table_[0] = 0;
-      while (s <= table_size_) table_[++s] = symbols_ - 1;
+      while (s + 1 < table_.size()) table_[++s] = symbols_ - 1;
     }
     update_cycle_ = (5 * update_cycle_) >> 2;
     const uint32_t max_cycle = (symbols_ + 6) << 3;

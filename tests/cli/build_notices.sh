@@ -53,6 +53,8 @@ for k in ("voxel_size", "origin", "estimated_voxels", "estimated_output_bytes", 
     assert k in p, k
 # The tetrahedron's surface is known: the estimate is within a factor of two of the voxels built.
 assert 0.5 < p["estimated_voxels"] / obj["voxels"] < 2, (p["estimated_voxels"], obj["voxels"])
+# The stages: reading the file apart from the voxelization, as for every input.
+assert {"read", "voxelize"} <= set(obj["seconds"]), obj["seconds"]
 PY
 "$megavox" build "$dir/tetra.ply" --resolution 4K --cube 1024 --quiet -o "$dir/t.mvx" >/dev/null 2>"$dir/err"
 [[ ! -s "$dir/err" ]] || fail "--quiet printed on stderr: $(cat "$dir/err")"

@@ -52,7 +52,7 @@ void store_root_unreflected(Dag& dag, uint32_t t) {
 SvoLevel build_parents(Device& dev, const Buffer& keys, uint32_t n) {
   SvoLevel up;
   Buffer pos = dev.alloc((uint64_t{n} + 1) * 4, "octree parent positions");
-  MvDagParams p{n, 0, 0, 0, 0};
+  MvDagParams p{n, 0, 0, 0, 0, 0};
   dev.dispatch(dev.kernel(KernelId::svo_flags), dev.groups_for(n, kLocal), kLocal, {&keys, &pos}, p);
   dev.barrier();
   ScanPlan scan = plan_scan(dev, n);
@@ -81,7 +81,7 @@ DagLevel assemble(Device& dev, const SvoLevel& lv, const Reduced& r, const Reduc
   }
   Buffer masks = dev.alloc(uint64_t{n} * 4, "DAG level masks");
   Buffer entries = leaf ? Buffer() : dev.alloc(uint64_t{n} * 64, "DAG level entries");
-  MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0, 0};
+  MvDagParams p{n, leaf ? 1u : 0u, symmetric ? 1u : 0u, 0, 0, 0};
   if (!below.child_mask.empty())  // reduced level 2: children (id, tag) from their masks
     dev.dispatch(dev.kernel(KernelId::brick_emit), dev.groups_for(n, kLocal), kLocal,
                  {&lv.mask, &lv.first, &below.child_mask, &red.mask_table, &below.class_rank, &r.row, &r.rep,
@@ -156,7 +156,7 @@ void bottom_levels(Device& dev, const Bricks& bricks, uint32_t levels, std::vect
   dev.upload(masks, bricks.masks.data(), uint64_t{n} * 8);
   two.mask = dev.alloc(uint64_t{n} * 4, "octree node masks");
   two.first = dev.alloc((uint64_t{n} + 1) * 4, "octree first children");
-  const MvDagParams p{n, 0, 0, 0, 0};
+  const MvDagParams p{n, 0, 0, 0, 0, 0};
   dev.dispatch(dev.kernel(KernelId::brick_levels), dev.groups_for(n, kLocal), kLocal, {&masks, &two.mask, &two.first},
                p);
   dev.barrier();

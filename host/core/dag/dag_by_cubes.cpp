@@ -48,7 +48,7 @@ Reduced gather(Device& dev, const UnionLevel& u, Reduced& merged, bool symmetric
     slots.row = dev.alloc(uint64_t{n} * 4, "merged slot tag rows");
   }
   slots.id = dev.alloc(uint64_t{n} * 4, "merged slot ids");
-  MvDagParams p{n, symmetric ? 1u : 0u, 0, 0, 0};
+  MvDagParams p{n, symmetric ? 1u : 0u, 0, 0, 0, 0};
   dev.dispatch(dev.kernel(KernelId::gather_slots), dev.groups_for(n, kLocal), kLocal,
                {&node, &tag, &merged.id, &merged.row, &slots.id, &slots.row}, p);
   dev.barrier();

@@ -21,7 +21,8 @@ namespace {
 // Canonical form, T*, stabilizer and tag row of every 8-bit mask (kernel leaf_table).
 Buffer mask_table(Device& dev) {
   Buffer table = dev.alloc(MV_MASK_TABLE_WORDS * 4, "mask table");
-  dev.dispatch(dev.kernel(KernelId::leaf_table), dev.groups_for(256, kLocal), kLocal, {&table}, MvDagParams{256, 0, 0, 0, 0});
+  dev.dispatch(dev.kernel(KernelId::leaf_table), dev.groups_for(256, kLocal), kLocal, {&table},
+               MvDagParams{256, 0, 0, 0, 0, 0});
   dev.barrier();
   return table;
 }
@@ -31,7 +32,7 @@ Buffer mask_table(Device& dev) {
 void reduce_leaves(Device& dev, const SvoLevel& lv, Reduced& r, const Reduction& red) {
   const bool symmetric = red.symmetric;
   const Buffer& table = red.mask_table;
-  MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0, 0};
+  MvDagParams p{lv.n, symmetric ? 2u : 1u, 0, 0, 0, 0};
   Buffer& present = r.class_rank;
   present = dev.alloc(257 * 4, "leaf classes");
   dev.fill(present, 0, 257 * 4);
@@ -52,7 +53,7 @@ uint32_t group_keys(Device& dev, Buffer& keys, Buffer& order, uint32_t n, Buffer
                     std::vector<uint64_t>* class_keys = nullptr) {
   Buffer run = dev.alloc((uint64_t{n} + 1) * 4, "key runs");
   const uint32_t groups = dev.groups_for(n, kLocal);
-  const MvDagParams p{n, 0, 0, 0, 0};
+  const MvDagParams p{n, 0, 0, 0, 0, 0};
   radix_sort(dev, keys, &order, n, KeyBits::k64);
   dev.dispatch(dev.kernel(KernelId::dag_runs), groups, kLocal, {&keys, &run}, p);
   dev.barrier();
@@ -82,7 +83,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   const uint32_t n = lv.n;
   Buffer keys = dev.alloc(uint64_t{n} * 8, "bricks");
   Buffer order = dev.alloc(uint64_t{n} * 4, "brick order");
-  const MvDagParams p{n, 0, 0, 0, 0};
+  const MvDagParams p{n, 0, 0, 0, 0, 0};
   dev.dispatch(dev.kernel(KernelId::brick_keys), dev.groups_for(n, kLocal), kLocal,
                {&lv.mask, &lv.first, &below.child_mask, &keys, &order}, p);
   dev.barrier();
@@ -95,7 +96,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   Buffer crow = dev.alloc(uint64_t{raw} * 4, "brick class orientations");
   dev.dispatch(dev.kernel(KernelId::brick_canon), dev.groups_for(raw, kLocal), kLocal,
                {&lv.mask, &red.mask_table, &lv.first, &below.child_mask, &raw_rep, &ckeys, &crow, &corder},
-               MvDagParams{raw, 0, 0, 0, 0});
+               MvDagParams{raw, 0, 0, 0, 0, 0});
   dev.barrier();
   Buffer cls = dev.alloc(uint64_t{raw} * 4, "brick classes");
   Buffer rep_class;
@@ -103,7 +104,7 @@ void reduce_bricks(Device& dev, const SvoLevel& lv, const Reduced& below, Reduce
   r.rep = dev.alloc(uint64_t{r.distinct} * 4, "representative nodes");
   Buffer none;
   dev.dispatch(dev.kernel(KernelId::gather_slots), dev.groups_for(r.distinct, kLocal), kLocal,
-               {&rep_class, &none, &raw_rep, &none, &r.rep, &none}, MvDagParams{r.distinct, 0, 0, 0, 0});
+               {&rep_class, &none, &raw_rep, &none, &r.rep, &none}, MvDagParams{r.distinct, 0, 0, 0, 0, 0});
   r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
   dev.dispatch(dev.kernel(KernelId::brick_orient), dev.groups_for(n, kLocal), kLocal, {&r.id, &cls, &crow, &r.row}, p);
   dev.barrier();
@@ -172,7 +173,7 @@ Reduced reduce_level(Device& dev, const SvoLevel& lv, const Reduced& below, bool
   const Buffer& mtab = red.mask_table;
   if (symmetric) r.row = dev.alloc(uint64_t{n} * 4, "node orientations");
   const uint32_t groups = dev.groups_for(n, kLocal);
-  MvDagParams p{n, 0, 0, 0x6d766f78u, 0};
+  MvDagParams p{n, 0, 0, 0x6d766f78u, 0, 0};
   for (uint32_t seed = keys ? keys->seed : 1;; ++seed) {  // a new seed only after a 64-bit hash collision
     p.seed_lo = seed;
     p.hash_drop = test_hash_drop(seed);

@@ -232,7 +232,7 @@ void renumber(Device& dev, Reduced& r, uint32_t n, const std::vector<uint32_t>& 
   if (!global.empty()) dev.upload(table, global.data(), global.size() * 4);
   Buffer id = dev.alloc(uint64_t{n} * 4, "node ids over ranks"), none;
   dev.dispatch(dev.kernel(KernelId::gather_slots), dev.groups_for(n, kLocal), kLocal,
-               {&r.id, &none, &table, &none, &id, &none}, MvDagParams{n, 0, 0, 0, 0});
+               {&r.id, &none, &table, &none, &id, &none}, MvDagParams{n, 0, 0, 0, 0, 0});
   dev.barrier();
   r.id = std::move(id);
 }

@@ -187,9 +187,11 @@ struct MeshColourInput {
 void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
                          const std::function<void(const std::vector<float>&, double)>& batch,
                          MeshColourInput* colours = nullptr, bool face_share = false,
-                         const MeshShare* share = nullptr) {
+                         const MeshShare* share = nullptr, double* open_seconds = nullptr) {
+  const auto opening = std::chrono::steady_clock::now();
   // With a share whose vertices were fetched from the ranks that read them, its own arrays.
   auto mesh = share ? io::memory_mesh(share->positions, share->indices, o.input, share->colours) : open_budgeted_mesh(o);
+  if (open_seconds) *open_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - opening).count();
   if (face_share && !share && !mesh->select_face_share(o.ranks->collectives->rank, o.ranks->collectives->size))
     throw Error(o.input + ": the mesh changed while it was read (its faces can no longer be shared by offset)");
   uint64_t ordinal = share ? share->first_triangle : mesh->first_triangle();  // of the batch's first triangle
@@ -231,16 +233,20 @@ void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint6
 }
 
 // A mesh: its bounds, the grid, then the triangles voxelized in batches on the device.
+// A mesh's voxels; `read_seconds`: the time spent reading the file (its survey, and opening it again for the walk).
 Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, BuildReport& r,
                      const std::function<void(const std::string&, double)>& report, const PlanListener& on_plan,
-                     MeshColourInput* colours = nullptr) {
+                     MeshColourInput* colours, double& read_seconds) {
   Voxels v;
+  const auto start = std::chrono::steady_clock::now();
   MeshSurvey survey = survey_mesh(o, &r);
+  read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   v.grid = plan_mesh(o, resolution, survey, dev, r, on_plan);
   v.bounds = survey.bounds;
   Voxelizer vox(dev, resolution, rule(o));
   vox.limit_host_memory(memory_budget(o) - vertex_share(o));
   uint64_t triangles = 0;
+  double reopen_seconds = 0;
   for_each_grid_batch(
       o, v.grid, triangles,
       [&](const std::vector<float>& tris, double done) {
@@ -248,7 +254,8 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
         vox.add(tris);
         report("voxelize", done);
       },
-      colours);
+      colours, false, nullptr, &reopen_seconds);
+  read_seconds += reopen_seconds;
   v.bricks = vox.take_bricks();
   if (colours) colours->fragments = vox.take_fragments();
   r.triangles = vox.triangles();
@@ -493,8 +500,13 @@ BuildReport build_once(Device& dev, const BuildOptions& o, const Progress& progr
     vdb.keys = {};
     lap("read");
   } else {
-    voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report, on_plan, &mesh_colours);
+    double read_seconds = 0;
+    voxels = voxelize_mesh(dev, o, o.resolution ? o.resolution : 1024, r, report, on_plan, &mesh_colours,
+                           read_seconds);
     lap("voxelize");
+    // The file's reading is the read stage, as for the other inputs; a streamed PLY's faces stay in the walk.
+    r.seconds.back().seconds = std::max(0.0, r.seconds.back().seconds - read_seconds);
+    r.seconds.insert(r.seconds.end() - 1, {"read", read_seconds});
   }
   const uint32_t resolution = voxels.grid.resolution;
   check_ssvdag_resolution(o.encoding, resolution);

@@ -224,7 +224,7 @@ void Voxelizer::emit(Emission& e, uint32_t first, uint32_t last, uint64_t capaci
   // meets a few triangles at most, so there are few).
   const Buffer order = radix_sort_order(dev_, keys, found);
   Buffer sorted = dev_.alloc(uint64_t{found} * 8, "sorted brick masks");
-  const MvDagParams g{found, 0, 0, 0, 0};
+  const MvDagParams g{found, 0, 0, 0, 0, 0};
   dev_.dispatch(dev_.kernel(KernelId::brick_gather), dev_.groups_for(found, local), local, {&masks, &order, &sorted}, g);
   std::vector<uint64_t> hk(found), hm(found);
   dev_.download(keys, hk.data(), uint64_t{found} * 8);

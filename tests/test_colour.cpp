@@ -46,6 +46,8 @@ void check_colour_cloud(Device& dev, const ColourCloud& c, uint32_t levels, cons
   const std::vector<ref::ColourNode> want = ref::preorder_colours(c.cells, c.rgb, levels);
   ASSERT_EQ(got.colours.size(), want.size() * 3);
   EXPECT_EQ(got.colours, reference_bytes(want));
+  const CloudVoxels wide = voxelize_cloud(dev, c.cells, c.rgb, levels, nullptr, ColourSums::wide);
+  EXPECT_EQ(wide.colours, got.colours) << "64-bit prefix sums";
   const CloudVoxels plain = voxelize_cloud(dev, c.cells, {}, levels);
   EXPECT_EQ(plain.keys, got.keys);
   EXPECT_TRUE(plain.colours.empty());

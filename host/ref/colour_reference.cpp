@@ -106,22 +106,24 @@ struct Nearest {
 };
 
 // The point of triangle abc nearest p, as in Ericson's Real-Time Collision Detection 5.1.5 (regions: the three
-// corners, the three edges, the inside; a triangle of no area beside p goes to a or c).
+// corners, the three edges, the inside; a triangle of no area beside p goes to a or c). The dot products with
+// p - b and p - c come from those with p - a and the triangle's Gram matrix (ab.ab, ab.ac, ac.ac), and the inside
+// divides by that matrix's determinant, which equals Ericson's va + vb + vc.
 Nearest nearest_point(const double a[3], const double b[3], const double c[3], const double p[3]) {
-  double ab[3], ac[3], ap[3], bp[3], cp[3];
+  double ab[3], ac[3], ap[3];
   for (int k = 0; k < 3; ++k) {
     ab[k] = b[k] - a[k];
     ac[k] = c[k] - a[k];
     ap[k] = p[k] - a[k];
   }
+  const double ab_ab = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+  const double ab_ac = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
+  const double ac_ac = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
+  const double determinant = ab_ab * ac_ac - ab_ac * ab_ac;
   const double d1 = ab[0] * ap[0] + ab[1] * ap[1] + ab[2] * ap[2];
   const double d2 = ac[0] * ap[0] + ac[1] * ap[1] + ac[2] * ap[2];
-  for (int k = 0; k < 3; ++k) bp[k] = p[k] - b[k];
-  const double d3 = ab[0] * bp[0] + ab[1] * bp[1] + ab[2] * bp[2];
-  const double d4 = ac[0] * bp[0] + ac[1] * bp[1] + ac[2] * bp[2];
-  for (int k = 0; k < 3; ++k) cp[k] = p[k] - c[k];
-  const double d5 = ab[0] * cp[0] + ab[1] * cp[1] + ab[2] * cp[2];
-  const double d6 = ac[0] * cp[0] + ac[1] * cp[1] + ac[2] * cp[2];
+  const double d3 = d1 - ab_ab, d4 = d2 - ab_ac;  // ab.(p - b), ac.(p - b)
+  const double d5 = d1 - ab_ac, d6 = d2 - ac_ac;  // ab.(p - c), ac.(p - c)
   const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
   double v = 0, w = 0;
   if (d1 <= 0 && d2 <= 0) {
@@ -137,8 +139,8 @@ Nearest nearest_point(const double a[3], const double b[3], const double c[3], c
     const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
     v = 1 - t;
     w = t;
-  } else if (va + vb + vc > 0) {
-    const double inv = 1 / (va + vb + vc);
+  } else if (determinant > 0) {
+    const double inv = 1 / determinant;
     v = vb * inv;
     w = vc * inv;
   } else {

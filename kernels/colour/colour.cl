@@ -22,7 +22,7 @@ __kernel void colour_starts(__global ulong* keys, __global uint* rgb, __global u
   mv_colour_starts(keys, rgb, planes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
-__kernel void colour_nodes(__global ulong* keys, __global uint* planes, __global ulong* sums, __global uint* attributes,
+__kernel void colour_nodes(__global ulong* keys, __global uint* planes, __global uint* sums, __global uint* attributes,
                            MvColourParams p) {
   mv_colour_nodes(keys, planes, sums, attributes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }

@@ -23,7 +23,7 @@ layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 rgb; MvBufU32 plane
 void main() { mv_colour_starts(args.keys, args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_nodes)
 layout(push_constant) uniform Args {
-  MvBufU64 keys; MvBufU32 planes; MvBufU64 sums; MvBufU32 attributes; MvColourParams p;
+  MvBufU64 keys; MvBufU32 planes; MvBufU32 sums; MvBufU32 attributes; MvColourParams p;
 } args;
 void main() {
   mv_colour_nodes(args.keys, args.planes, args.sums, args.attributes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());

@@ -12,32 +12,36 @@ void main() {
                      MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_mesh_voxel_best_colours)
-MV_ARGS(MvBufF32 tris; MvBufU64 fmasks; MvBufU32 ftris; MvBufU32 run_starts; MvBufU64 voxel_keys; MvBufU32 voxel_brick;
-        MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU32 voxel_rgb; MvVoxelizeParams p;);
+MV_ARGS(MvBufF32 tris; MvBufF64 terms; MvBufU64 fmasks; MvBufU32 ftris; MvBufU32 run_starts; MvBufU64 voxel_keys;
+        MvBufU32 voxel_brick; MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU32 voxel_rgb; MvVoxelizeParams p;);
 
 void main() {
-  mv_mesh_voxel_best_colours(args.tris, args.fmasks, args.ftris, args.run_starts, args.voxel_keys, args.voxel_brick,
-                             args.attr, args.texels, args.best, args.voxel_rgb, args.p, MV_GLOBAL_ID(),
-                             MV_GLOBAL_SIZE());
+  mv_mesh_voxel_best_colours(args.tris, args.terms, args.fmasks, args.ftris, args.run_starts, args.voxel_keys,
+                             args.voxel_brick, args.attr, args.texels, args.best, args.voxel_rgb, args.p,
+                             MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_mesh_voxel_colours)
 layout(push_constant) uniform Args {
-  MvBufF32 tris; MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU64 voxel_keys; MvBufU32 voxel_rgb;
-  MvVoxelizeParams p;
+  MvBufF32 tris; MvBufF64 terms; MvBufU32 attr; MvBufU32 texels; MvBufU32 best; MvBufU64 voxel_keys;
+  MvBufU32 voxel_rgb; MvVoxelizeParams p;
 } args;
 
 void main() {
-  mv_mesh_voxel_colours(args.tris, args.attr, args.texels, args.best, args.voxel_keys, args.voxel_rgb, args.p,
-                        MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_mesh_voxel_colours(args.tris, args.terms, args.attr, args.texels, args.best, args.voxel_keys, args.voxel_rgb,
+                        args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_mesh_best_fragments)
-MV_ARGS(MvBufF32 tris; MvBufU64 fkeys; MvBufU64 fmasks; MvBufU32 ftris; MvBufU64 bkeys; MvBufU64 bmeta; MvBufU32 best;
-        MvBufU32 seen; MvVoxelizeParams p;);
+MV_ARGS(MvBufF32 tris; MvBufF64 terms; MvBufU64 fkeys; MvBufU64 fmasks; MvBufU32 ftris; MvBufU64 bkeys; MvBufU64 bmeta;
+        MvBufU32 best; MvBufU32 seen; MvVoxelizeParams p;);
 
 void main() {
-  mv_mesh_best_fragments(args.tris, args.fkeys, args.fmasks, args.ftris, args.bkeys, args.bmeta, args.best, args.seen,
-                         args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_mesh_best_fragments(args.tris, args.terms, args.fkeys, args.fmasks, args.ftris, args.bkeys, args.bmeta, args.best,
+                         args.seen, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
+#elif defined(MV_ENTRY_mesh_triangle_terms)
+layout(push_constant) uniform Args { MvBufF32 tris; MvBufF64 terms; MvVoxelizeParams p; } args;
+
+void main() { mv_mesh_triangle_terms(args.tris, args.terms, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #else
 layout(push_constant) uniform Args {
   MvBufF32 tris; MvBufU32 item_tri; MvBufU32 item_col; MvBufU32 counter; MvBufU64 keys; MvBufU64 masks;

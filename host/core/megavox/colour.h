@@ -28,14 +28,18 @@ struct CloudVoxels {
 // colour. Throws mv::Error when the points pass what one device call holds (2^28 points with colour, 2^31
 // without) or the octree has 2^32 nodes or more (the attribute array's 32-bit indices).
 // `colour_seconds`, when given, receives the time spent on the colours (included in the call's).
+// The inner nodes' means come from prefix sums of the voxels' channels: 32-bit ones (exact mod 2^32) below
+// 2^32 / 255 voxels, 64-bit past that; `wide` takes 64-bit ones always (the same bytes; for tests).
+enum class ColourSums { automatic, wide };
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
-                           uint32_t levels, double* colour_seconds = nullptr);
+                           uint32_t levels, double* colour_seconds = nullptr,
+                           ColourSums width = ColourSums::automatic);
 
 // The depth-first colours of voxels with one colour each (a mesh's: host/core/voxel/mesh_colours.cpp): voxel_keys
 // sorted unique codes and voxel_rgb 0xBBGGRR in the same order, both on the device; inner nodes get the means
 // of the voxels below them, as for clouds.
 std::vector<uint8_t> depth_first_voxel_colours(Device& dev, Buffer voxel_keys, const Buffer& voxel_rgb, uint64_t voxels,
-                                               uint32_t levels);
+                                               uint32_t levels, ColourSums width = ColourSums::automatic);
 
 // The number of octree nodes in the subtree of every DAG node (itself included, voxels counted as nodes), by
 // level and node id: sizes[l][i] for l >= 1 (level 1: 1 + its voxels). A mirrored subtree has the size of the

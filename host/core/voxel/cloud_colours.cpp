@@ -4,7 +4,9 @@
 // pre-order places by one scan of those counts, their means by differences of the voxels' channel prefix sums.
 // A fixed handful of dispatches and one wait, whatever the depth.
 #include <algorithm>
+#include <bit>
 #include <chrono>
+#include <cstring>
 #include <string>
 
 #include "common/colour.h"
@@ -42,32 +44,48 @@ void check_voxels(Device& dev, const Buffer& keys, uint64_t voxels, uint32_t lev
 // The depth-first colours of the octree over `voxels` sorted voxel codes (keys), the root at level `levels`, from
 // the voxels' planes (colour_starts or colour_level).
 std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer& planes, uint64_t voxels,
-                                  uint32_t levels) {
+                                  uint32_t levels, ColourSums width) {
   MvColourParams p{};
   p.n = static_cast<uint32_t>(voxels);
   p.levels = levels;
-  Buffer sums = colour_alloc(dev, (4 * voxels + 1) * 8, "voxel colour prefix sums");
-  exclusive_scan64(dev, planes, sums, 4 * voxels);
+  // 32-bit sums where no node's channel sum reaches 2^32 (colour.h): half the scan's output and colour_nodes' reads.
+  p.wide = width == ColourSums::wide || voxels * 255 >= (uint64_t{1} << 32) ? 1u : 0u;
+  const uint64_t word = p.wide ? 8 : 4;
+  Buffer sums = colour_alloc(dev, (4 * voxels + 1) * word, "voxel colour prefix sums");
+  if (p.wide) exclusive_scan64(dev, planes, sums, 4 * voxels);
+  else exclusive_scan(dev, planes, sums, 4 * voxels);
   dev.barrier();
-  uint64_t entries = 0;  // the sum of the nodes starting at each voxel
-  dev.download(sums, &entries, 8, voxels * 8);
+  uint64_t entries = 0;  // the sum of the nodes starting at each voxel (below 2^32: checked against the maximum)
+  dev.download(sums, &entries, word, voxels * word);
   if (entries > kMaxDeviceItems)
     throw Error("voxel colours: " + std::to_string(entries) + " octree nodes, over the " +
                 std::to_string(kMaxDeviceItems) + " one attribute array holds");
   Buffer attributes = colour_alloc(dev, entries * 4, "depth-first colours");
   colour_dispatch(dev, KernelId::colour_nodes, voxels, {&keys, &planes, &sums, &attributes}, p);
-  std::vector<uint32_t> packed(entries);
-  dev.download(attributes, packed.data(), entries * 4);
-  std::vector<uint8_t> out(entries * 3);
-  for (uint64_t i = 0; i < entries; ++i)
-    for (int c = 0; c < 3; ++c) out[3 * i + c] = static_cast<uint8_t>(packed[i] >> (8 * c));
+  // Read in place where the device computes in host memory (no copy of the packed words), else downloaded.
+  std::vector<uint32_t> downloaded;
+  const auto* packed = static_cast<const uint32_t*>(dev.host_view(attributes));
+  if (packed) {
+    dev.finish();
+  } else {
+    downloaded.resize(entries);
+    dev.download(attributes, downloaded.data(), entries * 4);
+    packed = downloaded.data();
+  }
+  // Each word's low three bytes are its RGB24 (little-endian): a 4-byte store a word, the fourth byte overwritten
+  // by the next word's (or left past the end, which the resize drops).
+  static_assert(std::endian::native == std::endian::little);
+  std::vector<uint8_t> out(entries * 3 + 1);
+  for (uint64_t i = 0; i < entries; ++i) std::memcpy(&out[3 * i], &packed[i], 4);
+  out.resize(entries * 3);
   return out;
 }
 
 // `sorted_rgb`: the points' colours in sorted order, one per `stride` 32-bit words; `runs`: the points' runs of
 // equal codes (one a voxel), when points > voxels.
 std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, uint32_t stride, const Segmentation* runs,
-                                         uint64_t points, const Buffer& voxel_keys, uint64_t voxels, uint32_t levels) {
+                                         uint64_t points, const Buffer& voxel_keys, uint64_t voxels, uint32_t levels,
+                                         ColourSums width) {
   // The sort's scratch is retired, not yet free: reused once the device is idle (one wait), the buffers below land
   // in storage already touched instead of fresh memory (a CPU device faults on each fresh page).
   dev.finish();
@@ -90,20 +108,20 @@ std::vector<uint8_t> depth_first_colours(Device& dev, const Buffer& sorted_rgb, 
     p.n = static_cast<uint32_t>(voxels);
     colour_dispatch(dev, KernelId::colour_level, voxels, {&voxel_keys, &sums, &planes}, p);
   }
-  return node_colours(dev, voxel_keys, planes, voxels, levels);
+  return node_colours(dev, voxel_keys, planes, voxels, levels, width);
 }
 
 }  // namespace
 
 std::vector<uint8_t> depth_first_voxel_colours(Device& dev, Buffer voxel_keys, const Buffer& voxel_rgb, uint64_t voxels,
-                                               uint32_t levels) {
+                                               uint32_t levels, ColourSums width) {
   if (voxels == 0) return {};
   // one colour a voxel: no runs of points to find, so no point codes
-  return depth_first_colours(dev, voxel_rgb, 1, nullptr, voxels, voxel_keys, voxels, levels);
+  return depth_first_colours(dev, voxel_rgb, 1, nullptr, voxels, voxel_keys, voxels, levels, width);
 }
 
 CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::span<const uint32_t> rgb,
-                           uint32_t levels, double* colour_seconds) {
+                           uint32_t levels, double* colour_seconds, ColourSums width) {
   if (levels < 1 || levels > 21) throw Error("voxelize_cloud: " + std::to_string(levels) + " levels (1 to 21)");
   const uint64_t points = cells.size() / 3;
   const bool colour = !rgb.empty();
@@ -164,7 +182,8 @@ CloudVoxels voxelize_cloud(Device& dev, std::span<const uint32_t> cells, std::sp
   if (!packed) keys = Buffer();  // the points' codes are done with: their runs and the voxels' codes stay
   {
     const auto start = std::chrono::steady_clock::now();
-    out.colours = depth_first_colours(dev, packed ? keys : values, packed ? 2 : 1, &runs, points, unique, voxels, levels);
+    out.colours =
+        depth_first_colours(dev, packed ? keys : values, packed ? 2 : 1, &runs, points, unique, voxels, levels, width);
     if (colour_seconds) *colour_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return out;

@@ -40,23 +40,26 @@ void pack_colour_words(const MeshTriangleColours& c, uint64_t t, uint32_t* words
 }
 
 // The textures as the kernel samples them: a table (the count, then offset, width, height per texture) and the
-// texels after it, in one buffer.
+// texels after it, in one buffer; each texture goes up from its own array.
 Buffer upload_textures(Device& dev, const std::vector<io::MeshTexture>& textures) {
-  std::vector<uint32_t> words(1 + 3 * textures.size());
-  words[0] = static_cast<uint32_t>(textures.size());
+  std::vector<uint32_t> table(1 + 3 * textures.size());
+  table[0] = static_cast<uint32_t>(textures.size());
+  uint64_t words = table.size();
   for (size_t k = 0; k < textures.size(); ++k) {
     const io::MeshTexture& t = textures[k];
     if (t.rgb.size() != uint64_t{t.width} * t.height || t.rgb.empty()) throw Error("mesh colours: a texture of no texels");
-    words[1 + 3 * k] = static_cast<uint32_t>(words.size());
-    words[2 + 3 * k] = t.width;
-    words[3 + 3 * k] = t.height;
-    words.insert(words.end(), t.rgb.begin(), t.rgb.end());
-    if (words.size() * 4 > dev.info().max_binding_bytes)
-      throw Error("mesh colours: the textures take " + format_bytes(words.size() * 4) + ", over the " +
+    table[1 + 3 * k] = static_cast<uint32_t>(words);
+    table[2 + 3 * k] = t.width;
+    table[3 + 3 * k] = t.height;
+    words += t.rgb.size();
+    if (words * 4 > dev.info().max_binding_bytes)
+      throw Error("mesh colours: the textures take " + format_bytes(words * 4) + ", over the " +
                   format_bytes(dev.info().max_binding_bytes) + " one device binding holds");
   }
-  Buffer b = dev.alloc(words.size() * 4, "mesh textures");
-  dev.upload(b, words.data(), words.size() * 4);
+  Buffer b = dev.alloc(words * 4, "mesh textures");
+  dev.upload(b, table.data(), table.size() * 4);
+  for (size_t k = 0; k < textures.size(); ++k)
+    dev.upload(b, textures[k].rgb.data(), textures[k].rgb.size() * 4, uint64_t{table[1 + 3 * k]} * 4);
   return b;
 }
 
@@ -135,11 +138,18 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
   const uint64_t step = batch_triangles ? batch_triangles : mesh_batch_triangles(dev);
   const bool one_batch = n_tris <= step;
   struct Batch {
-    Buffer tris, attr;
+    Buffer tris, terms, attr;
   };
   auto upload_batch = [&](uint64_t first, uint64_t count, bool with_colours = true) {
-    Batch b{dev.alloc(count * 36, "colour triangles"), Buffer()};
+    Batch b{dev.alloc(count * 36, "colour triangles"), dev.alloc(count * 8 * MV_MESH_TERMS, "colour triangle terms"),
+            Buffer()};
     dev.upload(b.tris, tris.data() + 9 * first, count * 36);
+    MvVoxelizeParams p{};
+    p.batch_tris = static_cast<uint32_t>(count);
+    dev.barrier();
+    dev.dispatch(dev.kernel(KernelId::mesh_triangle_terms), dev.groups_for(count, kMeshColourLocal), kMeshColourLocal,
+                 {&b.tris, &b.terms}, p);
+    dev.barrier();
     if (!with_colours) return b;
     b.attr = dev.alloc(count * 4 * MV_MESH_ATTR_WORDS, "colour words");
     std::vector<uint32_t> attr(count * MV_MESH_ATTR_WORDS, 0);
@@ -167,7 +177,7 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
     MvVoxelizeParams p = params(0, n_tris);
     p.items = nf;
     dev.dispatch(pick, dev.groups_for(items, kMeshColourLocal), kMeshColourLocal,
-                 {&only.tris, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &best}, p);
+                 {&only.tris, &only.terms, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &best}, p);
     dev.download(best, &long_runs, 4);
   }
   if (long_runs) {
@@ -184,8 +194,8 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
     p.colour_pass = long_runs;
     dev.dispatch(dev.kernel(KernelId::mesh_voxel_best_colours), dev.groups_for(nv, kMeshColourLocal),
                  kMeshColourLocal,
-                 {&only.tris, &frag.masks, &frag.tris, &runs.starts, &voxel_keys, &voxel_brick, &only.attr, &texels,
-                  &best, &voxel_rgb},
+                 {&only.tris, &only.terms, &frag.masks, &frag.tris, &runs.starts, &voxel_keys, &voxel_brick,
+                  &only.attr, &texels, &best, &voxel_rgb},
                  p);
     dev.barrier();
   }
@@ -194,13 +204,13 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
   for (uint32_t pass = 1; pass <= 3 && long_runs; ++pass)
     for (uint64_t first = 0; first < n_tris; first += step) {
       const uint64_t count = std::min(step, n_tris - first);
-      Buffer fresh = one_batch ? Buffer() : upload_batch(first, count, false).tris;
-      Buffer& t = one_batch ? only.tris : fresh;
+      Batch fresh = one_batch ? Batch() : upload_batch(first, count, false);
+      Batch& t = one_batch ? only : fresh;
       MvVoxelizeParams p = params(first, count);
       p.items = nf;
       p.colour_pass = pass;
       dev.dispatch(pick, dev.groups_for(items, kMeshColourLocal), kMeshColourLocal,
-                   {&t, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &best}, p);
+                   {&t.tris, &t.terms, &frag.keys, &frag.masks, &frag.tris, &bkeys, &bmeta, &best, &best}, p);
       dev.barrier();
     }
   frag = {};
@@ -223,7 +233,7 @@ MeshVoxelValues mesh_voxel_values(Device& dev, const Bricks& bricks, const Fragm
     MvVoxelizeParams p = params(first, count);
     p.items = nv;
     dev.dispatch(dev.kernel(KernelId::mesh_voxel_colours), dev.groups_for(nv, kMeshColourLocal), kMeshColourLocal,
-                 {&t.tris, &t.attr, &texels, &tri_plane, &voxel_keys, &voxel_rgb}, p);
+                 {&t.tris, &t.terms, &t.attr, &texels, &tri_plane, &voxel_keys, &voxel_rgb}, p);
     dev.barrier();
   }
   out.keys = std::move(voxel_keys);

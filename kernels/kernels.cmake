@@ -122,4 +122,5 @@ mv_kernel(colour_level             colour/colour.cl  colour/colour.comp   3  MvC
 mv_kernel(colour_parent_keys       colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_parent_keys)
 mv_kernel(colour_starts            colour/colour.cl  colour/colour.comp   3  MvColourParams    MV_ENTRY_starts)
 mv_kernel(colour_nodes             colour/colour.cl  colour/colour.comp   4  MvColourParams    MV_ENTRY_nodes)
+mv_kernel(colour_nodes_wide        colour/colour.cl  colour/colour.comp   4  MvColourParams    MV_ENTRY_nodes MV_COLOUR_WIDE)
 mv_kernel(quantize_nearest         colour/colour.cl  colour/colour.comp   5  MvQuantizeParams  MV_ENTRY_quantize_nearest)

@@ -24,7 +24,12 @@ __kernel void colour_starts(__global ulong* keys, __global uint* rgb, __global u
 
 __kernel void colour_nodes(__global ulong* keys, __global uint* planes, __global uint* sums, __global uint* attributes,
                            MvColourParams p) {
-  mv_colour_nodes(keys, planes, sums, attributes, p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_colour_nodes(keys, planes, sums, attributes, p, 0u, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+}
+
+__kernel void colour_nodes_wide(__global ulong* keys, __global uint* planes, __global uint* sums,
+                                __global uint* attributes, MvColourParams p) {
+  mv_colour_nodes(keys, planes, sums, attributes, p, 1u, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
 }
 
 __kernel void quantize_nearest(__global double* lab, __global double* centres, __global uint* order,

@@ -22,11 +22,17 @@ void main() { mv_colour_parent_keys(args.keys, args.starts, args.up, args.p, MV_
 layout(push_constant) uniform Args { MvBufU64 keys; MvBufU32 rgb; MvBufU32 planes; MvColourParams p; } args;
 void main() { mv_colour_starts(args.keys, args.rgb, args.planes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE()); }
 #elif defined(MV_ENTRY_nodes)
+#if defined(MV_COLOUR_WIDE)
+#define MV_COLOUR_SUMS_WIDE 1u
+#else
+#define MV_COLOUR_SUMS_WIDE 0u
+#endif
 layout(push_constant) uniform Args {
   MvBufU64 keys; MvBufU32 planes; MvBufU32 sums; MvBufU32 attributes; MvColourParams p;
 } args;
 void main() {
-  mv_colour_nodes(args.keys, args.planes, args.sums, args.attributes, args.p, MV_GLOBAL_ID(), MV_GLOBAL_SIZE());
+  mv_colour_nodes(args.keys, args.planes, args.sums, args.attributes, args.p, MV_COLOUR_SUMS_WIDE, MV_GLOBAL_ID(),
+                  MV_GLOBAL_SIZE());
 }
 #elif defined(MV_ENTRY_quantize_nearest)
 layout(push_constant) uniform Args {

@@ -16,16 +16,17 @@
  * o[i] + d[i] - 1 - k. Its voxels run from i to the first voxel whose code leaves it, at most 8^k further on (a
  * search), and its mean is the difference of the voxels' channel prefix sums there. d and the voxels' channels
  * are four planes of n values, scanned as one (plane k of voxel i at k * n + i): the scan's sums start at 0 for
- * d, so they are o, and a plane's differences do not see the planes before it. The sums are 32-bit (the true sums
- * mod 2^32) unless `wide`: a node's channel sum is at most 255 x n, so below 2^32 / 255 voxels the differences
- * mod 2^32 are exact, and the scan writes and colour_nodes reads half the bytes.
+ * d, so they are o, and a plane's differences do not see the planes before it. colour_nodes reads 32-bit sums
+ * (the true sums mod 2^32): a node's channel sum is at most 255 x n, so below 2^32 / 255 voxels the differences
+ * mod 2^32 are exact, and the scan writes half the bytes; colour_nodes_wide reads 64-bit sums. The width is the
+ * entry's constant, not a parameter: a choice at each load slowed lavapipe by half.
  *   colour_pack_keys:   keys[i] = keys[i] << 24 | the point's 0xBBGGRR;
  *   colour_unpack:      points' packed 0xBBGGRR -> their MV_COLOUR_PLANES planes (r, g, b, 1);
  *   colour_level:       the 64-bit sums of n voxels' points (r, g, b, count) -> the voxels' planes: d, and each
  *                       channel sum / count rounded half up;
  *   colour_parent_keys: keys_up[s] = keys[starts[s]] >> shift, the voxels' codes from their points' runs;
  *   colour_starts:      the voxels' planes from their colours (a mesh's, or one point a voxel): d, r, g, b;
- *   colour_nodes:       from the planes' exclusive scan (sums), a work-item per voxel: its own colour, then a
+ *   colour_nodes(_wide): from the planes' exclusive scan (sums), a work-item per voxel: its own colour, then a
  *                       bounded loop over the (at most levels) nodes above it starting there: each node's voxel
  *                       range, mean, and its place in the attributes.
  * Integer arithmetic decides every value (a mean's float quotient is only an estimate that integers correct): the
@@ -43,12 +44,11 @@ MV_STRUCT_BEGIN(MvColourParams)
   mv_u32 levels; /* colour_starts, colour_level: the root's level, the voxels' being 0 */
   mv_u32 shift;  /* colour_parent_keys: bits the keys shift right */
   mv_u32 stride; /* colour_unpack, colour_starts: words from one colour to the next (2: in packed keys' low words) */
-  mv_u32 wide;   /* colour_nodes: nonzero where the planes' prefix sums are 64-bit, else 32-bit */
 MV_STRUCT_END(MvColourParams)
 #if defined(MV_CPP)
-MV_LAYOUT_SIZE(MvColourParams, 20);
+MV_LAYOUT_SIZE(MvColourParams, 16);
 MV_LAYOUT_AT(MvColourParams, n, 0); MV_LAYOUT_AT(MvColourParams, levels, 4); MV_LAYOUT_AT(MvColourParams, shift, 8);
-MV_LAYOUT_AT(MvColourParams, stride, 12); MV_LAYOUT_AT(MvColourParams, wide, 16);
+MV_LAYOUT_AT(MvColourParams, stride, 12);
 #endif
 
 MV_INLINE void mv_colour_pack_keys(MvBufU64 keys, MvBufU32 rgb, MvColourParams p, mv_u32 gid, mv_u32 stride) {
@@ -107,22 +107,22 @@ MV_INLINE void mv_colour_level(MvBufU64 keys, MvBufU64 sums, MvBufU32 planes, Mv
   }
 }
 
-/* Prefix sum `at` of the planes' scan (32- or 64-bit words, p.wide). */
-MV_INLINE mv_u64 mv_colour_prefix(MvBufU32 sums, MvColourParams p, mv_u32 at) {
-  if (p.wide == 0u) return MV_U64(MV_LD(sums, at));
+/* Prefix sum `at` of the planes' scan: 32-bit words, or 64-bit with `wide` (a constant of the entry). */
+MV_INLINE mv_u64 mv_colour_prefix(MvBufU32 sums, mv_u32 wide, mv_u32 at) {
+  if (wide == 0u) return MV_U64(MV_LD(sums, at));
   return MV_U64(MV_LD(sums, 2u * at)) | (MV_U64(MV_LD(sums, 2u * at + 1u)) << 32);
 }
 
 /* The sum of plane k over voxels [i, end): a difference of prefix sums, mod 2^32 where they are 32-bit. */
-MV_INLINE mv_u64 mv_colour_range_sum(MvBufU32 sums, MvColourParams p, mv_u32 k, mv_u32 i, mv_u32 end) {
-  mv_u64 d = mv_colour_prefix(sums, p, k * p.n + end) - mv_colour_prefix(sums, p, k * p.n + i);
-  return p.wide != 0u ? d : d & MV_U64(0xffffffffu);
+MV_INLINE mv_u64 mv_colour_range_sum(MvBufU32 sums, mv_u32 wide, mv_u32 n, mv_u32 k, mv_u32 i, mv_u32 end) {
+  mv_u64 d = mv_colour_prefix(sums, wide, k * n + end) - mv_colour_prefix(sums, wide, k * n + i);
+  return wide != 0u ? d : d & MV_U64(0xffffffffu);
 }
 
 MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 planes, MvBufU32 sums, MvBufU32 attributes, MvColourParams p,
-                               mv_u32 gid, mv_u32 stride) {
+                               mv_u32 wide, mv_u32 gid, mv_u32 stride) {
   for (mv_u32 i = gid; i < p.n; i += stride) {
-    mv_u32 d = MV_LD(planes, i), last = MV_U32(mv_colour_prefix(sums, p, i)) + d - 1u; /* the voxel's own index */
+    mv_u32 d = MV_LD(planes, i), last = MV_U32(mv_colour_prefix(sums, wide, i)) + d - 1u; /* the voxel's own index */
     mv_u32 packed = MV_LD(planes, p.n + i) | (MV_LD(planes, 2u * p.n + i) << 8u) | (MV_LD(planes, 3u * p.n + i) << 16u);
     MV_ST(attributes, last, packed);
     mv_u64 key = MV_LD(keys, i);
@@ -148,8 +148,9 @@ MV_INLINE void mv_colour_nodes(MvBufU64 keys, MvBufU32 planes, MvBufU32 sums, Mv
         end = lo;
       }
       if (end != below) { /* else the same voxels as the node below: its colour */
-        mv_u64 count = MV_U64(end - i), r = mv_colour_range_sum(sums, p, 1u, i, end),
-               g = mv_colour_range_sum(sums, p, 2u, i, end), b = mv_colour_range_sum(sums, p, 3u, i, end);
+        mv_u64 count = MV_U64(end - i), r = mv_colour_range_sum(sums, wide, p.n, 1u, i, end),
+               g = mv_colour_range_sum(sums, wide, p.n, 2u, i, end),
+               b = mv_colour_range_sum(sums, wide, p.n, 3u, i, end);
         packed = mv_colour_mean(r, count) | (mv_colour_mean(g, count) << 8u) | (mv_colour_mean(b, count) << 16u);
       }
       below = end;

@@ -48,11 +48,11 @@ std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer&
   MvColourParams p{};
   p.n = static_cast<uint32_t>(voxels);
   p.levels = levels;
-  // 32-bit sums where no node's channel sum reaches 2^32 (colour.h): half the scan's output and colour_nodes' reads.
-  p.wide = width == ColourSums::wide || voxels * 255 >= (uint64_t{1} << 32) ? 1u : 0u;
-  const uint64_t word = p.wide ? 8 : 4;
+  // 32-bit sums where no node's channel sum reaches 2^32 (colour.h): half the scan's output.
+  const bool wide = width == ColourSums::wide || voxels * 255 >= (uint64_t{1} << 32);
+  const uint64_t word = wide ? 8 : 4;
   Buffer sums = colour_alloc(dev, (4 * voxels + 1) * word, "voxel colour prefix sums");
-  if (p.wide) exclusive_scan64(dev, planes, sums, 4 * voxels);
+  if (wide) exclusive_scan64(dev, planes, sums, 4 * voxels);
   else exclusive_scan(dev, planes, sums, 4 * voxels);
   dev.barrier();
   uint64_t entries = 0;  // the sum of the nodes starting at each voxel (below 2^32: checked against the maximum)
@@ -61,7 +61,8 @@ std::vector<uint8_t> node_colours(Device& dev, const Buffer& keys, const Buffer&
     throw Error("voxel colours: " + std::to_string(entries) + " octree nodes, over the " +
                 std::to_string(kMaxDeviceItems) + " one attribute array holds");
   Buffer attributes = colour_alloc(dev, entries * 4, "depth-first colours");
-  colour_dispatch(dev, KernelId::colour_nodes, voxels, {&keys, &planes, &sums, &attributes}, p);
+  colour_dispatch(dev, wide ? KernelId::colour_nodes_wide : KernelId::colour_nodes, voxels,
+                  {&keys, &planes, &sums, &attributes}, p);
   // Read in place where the device computes in host memory (no copy of the packed words), else downloaded.
   std::vector<uint32_t> downloaded;
   const auto* packed = static_cast<const uint32_t*>(dev.host_view(attributes));

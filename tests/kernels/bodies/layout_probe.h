@@ -97,7 +97,7 @@
   X(MV_U32, sum_at) X(MV_U32, centres_bg) X(MV_U32, centres_fg) X(MV_U32, seeding) X(MV_U32, colour_bg)                \
   X(MV_U32, colour_fg) X(MV_U32, pick_bg_lo) X(MV_U32, pick_bg_hi) X(MV_U32, pick_fg_lo) X(MV_U32, pick_fg_hi)
 #define MV_FIELDS_COLOUR(X)                                                                                            \
-  X(MV_U32, n) X(MV_U32, levels) X(MV_U32, shift) X(MV_U32, stride) X(MV_U32, wide)
+  X(MV_U32, n) X(MV_U32, levels) X(MV_U32, shift) X(MV_U32, stride)
 #define MV_FIELDS_QUANTIZE(X) X(MV_U32, n) X(MV_U32, centres) X(MV_U32, spare0) X(MV_U32, spare1)
 #define MV_FIELDS_HIT(X) X(MV_FBITS, t) X(MV_U32, x) X(MV_U32, y) X(MV_U32, z) X(MV_U32, info) X(MV_U32, steps)
 

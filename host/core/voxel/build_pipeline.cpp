@@ -157,6 +157,7 @@ MeshSurvey survey_mesh(const BuildOptions& o, BuildReport* r, bool over_ranks = 
   std::vector<bool> used;
   survey_faces(*mesh, batch_triangles(o), s, used);
   survey_used_vertices(mesh->positions(), used, s);
+  if (mesh->rewind()) s.source = std::move(mesh);
   return s;
 }
 
@@ -187,10 +188,15 @@ struct MeshColourInput {
 void for_each_grid_batch(const BuildOptions& o, const GridTransform& grid, uint64_t& triangles,
                          const std::function<void(const std::vector<float>&, double)>& batch,
                          MeshColourInput* colours = nullptr, bool face_share = false,
-                         const MeshShare* share = nullptr, double* open_seconds = nullptr) {
+                         const MeshShare* share = nullptr, double* open_seconds = nullptr,
+                         std::shared_ptr<io::MeshSource> surveyed = nullptr) {
   const auto opening = std::chrono::steady_clock::now();
-  // With a share whose vertices were fetched from the ranks that read them, its own arrays.
-  auto mesh = share ? io::memory_mesh(share->positions, share->indices, o.input, share->colours) : open_budgeted_mesh(o);
+  // With a share whose vertices were fetched from the ranks that read them, its own arrays; else the surveyed
+  // source where it could start again, or the file opened anew.
+  std::shared_ptr<io::MeshSource> mesh =
+      share      ? io::memory_mesh(share->positions, share->indices, o.input, share->colours)
+      : surveyed ? std::move(surveyed)
+                 : open_budgeted_mesh(o);
   if (open_seconds) *open_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - opening).count();
   if (face_share && !share && !mesh->select_face_share(o.ranks->collectives->rank, o.ranks->collectives->size))
     throw Error(o.input + ": the mesh changed while it was read (its faces can no longer be shared by offset)");
@@ -254,7 +260,7 @@ Voxels voxelize_mesh(Device& dev, const BuildOptions& o, uint32_t resolution, Bu
         vox.add(tris);
         report("voxelize", done);
       },
-      colours, false, nullptr, &reopen_seconds);
+      colours, false, nullptr, &reopen_seconds, std::move(survey.source));
   read_seconds += reopen_seconds;
   v.bricks = vox.take_bricks();
   if (colours) colours->fragments = vox.take_fragments();
@@ -318,7 +324,7 @@ BuildReport build_out_of_core(Device& dev, const BuildOptions& o, uint32_t resol
         }
         report("read", done);
       },
-      &colours, survey.face_shares, survey.share.get());
+      &colours, survey.face_shares, survey.share.get(), nullptr, std::move(survey.source));
   if (!buckets) buckets = std::make_unique<TriangleBuckets>(per_axis, o.cube, bucket_share(o), colours.wanted ? kColourRecord : 9);
   std::vector<uint64_t> dealt;  // over ranks reading shares of the faces: the estimates the cubes are dealt by
   if (survey.face_shares) {

@@ -37,6 +37,9 @@ struct MeshSurvey {
   uint64_t bytes_read = 0;   // then: the file bytes this rank's share spans (the vertices and its faces)
   uint64_t bytes_exchanged = 0;        // and what fetching its faces' vertices moved
   std::shared_ptr<const MeshShare> share;  // set where the vertices were read in shares too
+  // The surveyed source, rewound, where it can walk its faces again without reading the file (else: none, and the
+  // walk opens the file anew).
+  std::shared_ptr<io::MeshSource> source;
 };
 
 // The faces `mesh` delivers (batches of `batch` triangles) into `s`, marking the vertices they use in `used`

@@ -109,6 +109,10 @@ class AssimpSource final : public MeshSource {
   std::span<const float> positions() const override { return positions_; }
   std::span<const uint32_t> vertex_colours() const override { return colours_; }
   uint64_t triangles_hint() const override { return indices_.size() / 3; }
+  bool rewind() override {
+    next_ = 0;
+    return true;
+  }
   bool next_triangles(std::vector<uint32_t>& indices, size_t max) override {
     indices.clear();
     size_t n = std::min(max * 3, indices_.size() - next_);

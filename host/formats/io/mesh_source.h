@@ -36,6 +36,9 @@ class MeshSource {
   virtual std::span<const float> vertex_uvs() const { return {}; }
   // Replaces `indices` with up to max_triangles triangles (3 indices each); false at the end.
   virtual bool next_triangles(std::vector<uint32_t>& indices, size_t max_triangles) = 0;
+  // Starts the faces again from the first, without reading the file again, and returns true; false, changing
+  // nothing, where this source streams its faces from the file (open it anew instead).
+  virtual bool rewind() { return false; }
   // Before the first next_triangles: delivers only share `part` of `parts` of the faces (a build over ranks),
   // read by offset, and returns true; false, changing nothing, where the file cannot be read so (only binary
   // PLY triangles can: PlyMeshReader::select_faces). first_triangle() is then the share's first face.
